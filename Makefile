@@ -1,0 +1,36 @@
+# vastray: `make demo` and `make test` work on a fresh Debian 12 machine.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+DEMO_DIR ?= $(BUILD_DIR)/demo
+
+.PHONY: all deps configure build test test-long demo bench-import clean format
+
+all: build
+
+deps:
+	bash scripts/install-deps.sh
+
+configure: deps
+	@if [ ! -f $(BUILD_DIR)/build.ninja ]; then cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo; fi
+
+build: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# Unit and integration tests; the multi-million-triangle runs carry the label `long`.
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE long
+
+test-long: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -L long
+
+demo: build
+	bash scripts/demo.sh $(BUILD_DIR)/vastray $(DEMO_DIR)
+
+bench-import: build
+	bash bench/import_throughput.sh $(BUILD_DIR)
+
+format:
+	find core streamer cli tests bench -name '*.cpp' -o -name '*.h' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD_DIR)

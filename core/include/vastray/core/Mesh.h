@@ -1,0 +1,38 @@
+#pragma once
+// The in-core triangle mesh every importer produces and every later stage reads:
+// world-space positions, shared vertex indices, one material id per triangle.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Aabb.h"
+#include "vastray/core/Vec3.h"
+
+namespace vastray {
+
+struct Material {
+    std::string name;
+    std::array<float, 4> baseColor{0.8f, 0.8f, 0.8f, 1.0f};  // linear RGBA
+    std::array<float, 3> emissive{0.0f, 0.0f, 0.0f};         // linear RGB radiance
+    bool doubleSided = true;
+};
+
+struct TriangleMesh {
+    std::vector<Vec3f> positions;      // world space
+    std::vector<uint32_t> indices;     // 3 per triangle, into positions
+    std::vector<uint32_t> materialIds; // one per triangle, or empty: every triangle uses material 0
+    std::vector<Material> materials;   // at least one once imported
+
+    uint64_t triangleCount() const { return indices.size() / 3; }
+    uint32_t materialOf(uint64_t triangle) const {
+        return materialIds.empty() ? 0u : materialIds[triangle];
+    }
+    Aabb bounds() const {
+        Aabb b;
+        for (const Vec3f& p : positions) b.extend(p);
+        return b;
+    }
+};
+
+}  // namespace vastray

@@ -1,0 +1,39 @@
+#pragma once
+// Progress of long work on stderr: a redrawn bar on a TTY, plain "label: 40% (...)" lines
+// otherwise (logs, CI). advance() may be called from any thread.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+namespace vastray {
+
+class Progress {
+public:
+    enum class Mode { Auto, Bar, Lines, None };
+
+    Progress(std::string label, uint64_t total, Mode mode = Mode::Auto);
+    ~Progress();
+    Progress(const Progress&) = delete;
+    Progress& operator=(const Progress&) = delete;
+
+    void advance(uint64_t amount);
+    // Prints the final state once (100% when done == total).
+    void finish();
+
+private:
+    void print(uint64_t done, bool final);
+
+    std::string label_;
+    uint64_t total_;
+    Mode mode_;
+    std::atomic<uint64_t> done_{0};
+    std::mutex printMutex_;
+    std::chrono::steady_clock::time_point start_;
+    std::chrono::steady_clock::time_point lastPrint_;
+    int lastDecile_ = -1;
+    bool finished_ = false;
+};
+
+}  // namespace vastray

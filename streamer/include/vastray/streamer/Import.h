@@ -1,0 +1,47 @@
+#pragma once
+// Mesh importers: OBJ, PLY (ASCII, binary LE/BE), glTF 2.0 (.gltf/.glb, with
+// KHR_draco_mesh_compression). Each returns a validated world-space TriangleMesh or an
+// error that names the file and the element ("bunny.ply: face 1203 index 40122 >= vertex
+// count 35947"). None throws; none trusts a count it has not bounded by the file size.
+#include <cstdint>
+#include <string>
+
+#include "vastray/core/Mesh.h"
+#include "vastray/core/Result.h"
+
+namespace vastray {
+
+struct ImportOptions {
+    // Overrides every material's doubleSided flag when set (CLI --double-sided/--single-sided).
+    enum class Sidedness { FromFile, ForceDoubleSided, ForceSingleSided };
+    Sidedness sidedness = Sidedness::FromFile;
+};
+
+// What an importer saw and what it did about it.
+struct ImportReport {
+    std::string format;                // "obj", "ply-ascii", "ply-binary-le", "ply-binary-be", "gltf", "glb"
+    uint64_t inputTriangles = 0;       // after polygon/strip/fan triangulation, before dropping
+    uint64_t degenerateDropped = 0;    // repeated index, coincident positions or zero area
+    uint64_t verticesRead = 0;
+    uint64_t normalsRead = 0;          // parsed and validated; not carried into the package yet
+    uint64_t texcoordsRead = 0;        // likewise
+};
+
+struct ImportedMesh {
+    TriangleMesh mesh;
+    ImportReport report;
+};
+
+// Picks the importer by extension (.obj, .ply, .gltf, .glb; case-insensitive).
+Result<ImportedMesh> importMesh(const std::string& path, const ImportOptions& options = {});
+
+Result<ImportedMesh> importObj(const std::string& path, const ImportOptions& options = {});
+Result<ImportedMesh> importPly(const std::string& path, const ImportOptions& options = {});
+Result<ImportedMesh> importGltf(const std::string& path, const ImportOptions& options = {});
+
+// Shared last step of every importer: rejects NaN/Inf positions and out-of-range indices,
+// drops degenerate triangles (counted in report), guarantees at least one material and
+// applies the sidedness override. `fileName` prefixes every message.
+Status finalizeMesh(const std::string& fileName, const ImportOptions& options, ImportedMesh& imported);
+
+}  // namespace vastray
