@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace vastray {
@@ -12,7 +13,7 @@ Progress::Progress(std::string label, uint64_t total, Mode mode)
     start_ = lastPrint_ = std::chrono::steady_clock::now();
 }
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() { end(false); }
 
 void Progress::advance(uint64_t amount) {
     const uint64_t done = done_.fetch_add(amount) + amount;
@@ -29,17 +30,17 @@ void Progress::advance(uint64_t amount) {
     print(done, false);
 }
 
-void Progress::finish() {
+void Progress::finish() { end(true); }
+
+void Progress::end(bool complete) {
     std::lock_guard lock(printMutex_);
-    if (finished_ || mode_ == Mode::None) {
-        finished_ = true;
-        return;
-    }
+    if (finished_) return;
     finished_ = true;
-    print(done_.load(), true);
+    if (mode_ != Mode::None) print(complete ? total_ : done_.load(), true);
 }
 
 void Progress::print(uint64_t done, bool final) {
+    done = std::min(done, total_);  // work units may be estimates (e.g. duplicated references)
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const double fraction = total_ ? std::min(1.0, double(done) / double(total_)) : 1.0;

@@ -19,10 +19,12 @@ public:
     Progress& operator=(const Progress&) = delete;
 
     void advance(uint64_t amount);
-    // Prints the final state once (100% when done == total).
+    // The work is complete: prints 100% once. Destroying an unfinished Progress (an error
+    // path) prints how far it got instead.
     void finish();
 
 private:
+    void end(bool complete);
     void print(uint64_t done, bool final);
 
     std::string label_;

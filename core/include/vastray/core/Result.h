@@ -17,6 +17,7 @@ public:
     bool isOk() const { return !failed_; }
     explicit operator bool() const { return isOk(); }
     const std::string& message() const { return message_; }
+    const Status& status() const { return *this; }  // lets VASTRAY_TRY take a Status or a Result
 
     // Prefixes context ("bunny.ply: ") to an error; a no-op on success.
     Status withContext(const std::string& prefix) const {

@@ -25,6 +25,7 @@ struct ImportReport {
     uint64_t verticesRead = 0;
     uint64_t normalsRead = 0;          // parsed and validated; not carried into the package yet
     uint64_t texcoordsRead = 0;        // likewise
+    uint64_t primitivesSkipped = 0;    // glTF points/lines primitives (no triangles to render)
 };
 
 struct ImportedMesh {

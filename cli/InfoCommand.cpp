@@ -1,0 +1,124 @@
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "CellExport.h"
+#include "Commands.h"
+#include "vastray/core/ByteSize.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray::cli {
+namespace {
+
+nlohmann::json boundsJson(const Aabb& b) {
+    return {{"min", {b.lo.x, b.lo.y, b.lo.z}}, {"max", {b.hi.x, b.hi.y, b.hi.z}}};
+}
+
+nlohmann::json infoJson(const PackageInfo& info) {
+    nlohmann::json chunks = nlohmann::json::array();
+    for (const ChunkInfo& c : info.chunks)
+        chunks.push_back({{"id", c.id},
+                          {"offset", c.offset},
+                          {"size", c.size},
+                          {"triangles", c.triangleCount},
+                          {"vertices", c.vertexCount},
+                          {"kd_nodes", c.kdNodeCount},
+                          {"kd_refs", c.kdRefCount},
+                          {"resident_bytes", c.residentBytes},
+                          {"checksum", c.checksum},
+                          {"bounds", boundsJson(c.cell)}});
+    nlohmann::json materials = nlohmann::json::array();
+    for (const Material& m : info.materials)
+        materials.push_back({{"name", m.name},
+                             {"base_color", m.baseColor},
+                             {"emissive", m.emissive},
+                             {"double_sided", m.doubleSided}});
+    return {{"format_version", info.formatVersion},
+            {"triangles", info.triangleCount},
+            {"references", info.referenceCount},
+            {"duplicated_references", info.duplicatedReferences()},
+            {"chunks", info.chunks.size()},
+            {"top_level_nodes", info.topTree.size()},
+            {"chunk_size_bytes", info.chunkSizeBytes},
+            {"max_chunk_resident_bytes", info.maxChunkResidentBytes},
+            {"bounds", boundsJson(info.bounds)},
+            {"file_bytes", info.fileBytes},
+            {"quantize_bits", info.grid.bits},
+            {"quantize_step", info.grid.step()},
+            {"degenerate_dropped", info.degenerateDropped},
+            {"collapsed_dropped", info.collapsedDropped},
+            {"materials", materials},
+            {"chunk", chunks}};
+}
+
+void printHuman(const std::string& path, const PackageInfo& info) {
+    const Aabb& b = info.bounds;
+    std::printf("%s: vastray package v%u, %s\n", path.c_str(), info.formatVersion, formatBytes(info.fileBytes).c_str());
+    std::printf("  triangles            %llu (+%llu duplicated references across cells)\n",
+                (unsigned long long)info.triangleCount, (unsigned long long)info.duplicatedReferences());
+    std::printf("  chunks               %zu (top-level tree: %zu nodes)\n", info.chunks.size(), info.topTree.size());
+    std::printf("  chunk size           %s (largest chunk resident: %s)\n", formatBytes(info.chunkSizeBytes).c_str(),
+                formatBytes(info.maxChunkResidentBytes).c_str());
+    std::printf("  bounds               (%g, %g, %g) .. (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+    if (info.grid.bits)
+        std::printf("  quantization         %u bits, step %.3g\n", info.grid.bits, info.grid.step());
+    else
+        std::printf("  quantization         lossless\n");
+    std::printf("  materials            %zu\n", info.materials.size());
+    std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",
+                (unsigned long long)info.degenerateDropped, (unsigned long long)info.collapsedDropped);
+}
+
+}  // namespace
+
+CommandRun addInfoCommand(CLI::App& app) {
+    struct Args {
+        std::string path, exportCells;
+        bool verify = false, json = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("info", "Describe a scene package; optionally verify it or export its cells.");
+    cmd->add_option("scene", args->path, "scene package (.vast)")->required()->check(CLI::ExistingFile);
+    cmd->add_flag("--verify", args->verify,
+                  "read and decode every chunk, check checksums and structure; exit 1 naming each damaged chunk");
+    cmd->add_flag("--json", args->json, "print machine-readable JSON (with a per-chunk array)");
+    cmd->add_option("--export-cells", args->exportCells,
+                    "write every cell's box tagged with its chunk id (.obj or .ply) for Blender/Houdini");
+    return [args]() {
+        auto reader = PackageReader::open(args->path);
+        if (!reader) {
+            std::fprintf(stderr, "vastray info: %s\n", reader.message().c_str());
+            return 1;
+        }
+        const PackageInfo& info = (*reader)->info();
+        if (!args->exportCells.empty()) {
+            if (Status s = exportCells(info, args->exportCells); !s) {
+                std::fprintf(stderr, "vastray info: %s\n", s.message().c_str());
+                return 1;
+            }
+        }
+        std::vector<std::string> problems;
+        if (args->verify) problems = (*reader)->verify();
+        if (args->json) {
+            nlohmann::json j = infoJson(info);
+            if (args->verify) j["verify"] = {{"ok", problems.empty()}, {"problems", problems}};
+            std::printf("%s\n", j.dump(2).c_str());
+        } else {
+            printHuman(args->path, info);
+            if (!args->exportCells.empty()) std::printf("  cells written to     %s\n", args->exportCells.c_str());
+            if (args->verify && problems.empty())
+                std::printf("  verify               all %zu chunks intact\n", info.chunks.size());
+        }
+        for (const std::string& p : problems) std::fprintf(stderr, "%s\n", p.c_str());
+        if (!problems.empty())
+            std::fprintf(stderr, "vastray info: %zu of %zu chunks damaged\n", problems.size(), info.chunks.size());
+        return problems.empty() ? 0 : 1;
+    };
+}
+
+}  // namespace vastray::cli

@@ -1,0 +1,44 @@
+#pragma once
+// Turns an imported mesh into a scene package: quantize on one grid, partition with a
+// top-level KD-tree until every chunk fits the chunk size, Draco-encode each chunk, decode
+// it again and build its KD-tree on the decoder's output, write the .vast atomically.
+#include <cstdint>
+#include <string>
+
+#include "vastray/core/Mesh.h"
+#include "vastray/core/Progress.h"
+#include "vastray/core/Result.h"
+
+namespace vastray {
+
+struct PackageBuildOptions {
+    uint64_t chunkSizeBytes = 16ull << 20;  // resident footprint limit of one chunk
+    uint32_t quantizeBits = 20;             // grid precision over the scene extent; 0 = lossless
+    uint32_t threads = 0;                   // 0 = all cores
+    int dracoSpeed = 5;                     // Draco's 0 (smallest, slowest) … 10 (fastest, largest)
+    bool defaultDoubleSided = true;         // recorded in the header for tools
+    Progress::Mode progress = Progress::Mode::Auto;
+    uint64_t degenerateDropped = 0;         // from the importer's report, recorded in the header
+};
+
+// Smallest chunk size accepted: below it the per-chunk overheads dominate.
+constexpr uint64_t kMinChunkSizeBytes = 16ull << 10;
+constexpr uint32_t kMaxQuantizeBits = 30;
+
+struct PackageBuildReport {
+    uint64_t triangles = 0;          // in the package
+    uint64_t collapsedDropped = 0;   // triangles quantization reduced to zero area
+    uint64_t references = 0;
+    uint32_t chunks = 0;
+    uint32_t emptyCells = 0;
+    uint64_t fileBytes = 0;
+    uint64_t maxChunkResidentBytes = 0;
+    double quantizeSeconds = 0, partitionSeconds = 0, encodeSeconds = 0, decodeSeconds = 0,
+           kdBuildSeconds = 0, writeSeconds = 0, totalSeconds = 0;
+};
+
+// `mesh` is consumed (positions are replaced by their quantized values).
+Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& outPath,
+                                        const PackageBuildOptions& options);
+
+}  // namespace vastray

@@ -1,0 +1,119 @@
+#pragma once
+// The scene package (.vast): header, materials, top-level KD-tree over cells, chunk
+// directory, chunk blobs. docs/PACKAGE_FORMAT.md gives the byte layout. A reader validates
+// every field before use; every section and every chunk carries a 64-bit checksum.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Aabb.h"
+#include "vastray/core/KdTree.h"
+#include "vastray/core/Mesh.h"
+#include "vastray/core/Result.h"
+
+namespace vastray {
+
+// One scene-wide grid: a triangle referenced by several chunks decodes to the same
+// coordinates in each. bits == 0 means lossless float positions.
+struct QuantizationGrid {
+    uint32_t bits = 20;
+    double origin[3] = {0, 0, 0};
+    double range = 1;  // the same step on every axis: range / (2^bits - 1)
+
+    static QuantizationGrid forBounds(const Aabb& bounds, uint32_t bits);
+    double step() const;
+    // Integer grid coordinate of one axis value (bits > 0).
+    int32_t quantize(float value, int axis) const;
+    float dequantize(int32_t q, int axis) const;
+    // The position a chunk stores as three words: grid coordinates, or float bits if lossless.
+    Vec3f position(const int32_t* words) const;
+};
+
+// The top-level tree uses the chunk tree's node format; a leaf's firstRef() is the chunk id
+// of its cell, or kEmptyCell when no triangle touches the cell.
+constexpr uint32_t kEmptyCell = 0xFFFFFFFFu;
+
+struct ChunkInfo {
+    uint32_t id = 0;
+    Aabb cell;                  // the cell's box (cells are disjoint and cover the scene bounds)
+    uint64_t offset = 0;        // of the blob in the file
+    uint64_t size = 0;          // bytes in the file
+    uint64_t checksum = 0;      // XXH64 of the blob
+    uint64_t residentBytes = 0; // decoded footprint: positions, indices, ids, KD-tree
+    uint32_t triangleCount = 0; // references, duplicates included
+    uint32_t vertexCount = 0;
+    uint32_t kdNodeCount = 0;
+    uint32_t kdRefCount = 0;
+};
+
+struct PackageInfo {
+    uint32_t formatVersion = 0;
+    uint64_t fileBytes = 0;
+    uint64_t triangleCount = 0;        // distinct triangles in the package
+    uint64_t referenceCount = 0;       // sum over chunks; minus triangleCount = duplicated refs
+    uint64_t chunkSizeBytes = 0;       // the budget each chunk was cut to
+    uint64_t maxChunkResidentBytes = 0;
+    uint64_t degenerateDropped = 0;    // by the importer
+    uint64_t collapsedDropped = 0;     // by quantization
+    bool defaultDoubleSided = true;
+    Aabb bounds;
+    QuantizationGrid grid;
+    std::vector<Material> materials;
+    std::vector<KdNode> topTree;
+    std::vector<ChunkInfo> chunks;
+
+    uint64_t duplicatedReferences() const { return referenceCount - triangleCount; }
+};
+
+// A leaf of the top-level tree: its box and its chunk (kEmptyCell when empty).
+struct Cell {
+    Aabb box;
+    uint32_t chunk = kEmptyCell;
+};
+// Every leaf cell, in depth-first order (the scene bounds split at each node's plane).
+std::vector<Cell> topLevelCells(const PackageInfo& info);
+
+// A chunk as the renderer uses it, in the order edgebreaker decoded it.
+struct DecodedChunk {
+    uint32_t id = 0;
+    std::vector<Vec3f> positions;
+    std::vector<uint32_t> indices;      // 3 per triangle, into positions
+    std::vector<uint32_t> primitiveIds; // per triangle: its index in the imported mesh
+    std::vector<uint32_t> materialIds;  // per triangle, or empty: material 0
+    KdTree kdTree;                      // over this chunk's triangles
+    uint64_t residentBytes() const;
+};
+
+class PackageReader {
+public:
+    // Reads and validates header, materials, top-level tree and directory (not the chunks).
+    static Result<std::unique_ptr<PackageReader>> open(const std::string& path);
+    ~PackageReader();
+
+    const PackageInfo& info() const { return info_; }
+    const std::string& path() const { return path_; }
+
+    // Reads one blob and checks its checksum ("scene.vast: chunk 17: checksum mismatch").
+    Result<std::vector<uint8_t>> readChunkBlob(uint32_t id) const;
+    Result<DecodedChunk> readChunk(uint32_t id) const;
+    // Every chunk's checksum and structure; one message per damaged chunk, empty when sound.
+    std::vector<std::string> verify() const;
+
+private:
+    PackageReader() = default;
+    std::string path_;
+    PackageInfo info_;
+    struct File;
+    std::unique_ptr<File> file_;
+};
+
+// Decodes a blob read from a package (checksum already checked) and validates every count
+// and every KD node against the blob's size.
+// `importedTriangles` bounds the primitive ids (the package's triangles plus those that
+// quantization collapsed).
+Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const ChunkInfo& info,
+                                     const QuantizationGrid& grid, uint32_t materialCount,
+                                     uint64_t importedTriangles);
+
+}  // namespace vastray

@@ -1,0 +1,35 @@
+#pragma once
+// Builds one chunk from the triangles of one cell: Draco round trip, original-id recovery,
+// KD-tree on the decoder's output, serialized blob.
+#include <cstdint>
+#include <vector>
+
+#include "package/Partitioner.h"
+#include "vastray/core/Result.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+
+// Scene-wide inputs every chunk reads (shared, read-only, by all worker threads).
+struct ChunkSource {
+    const Vec3f* positions;          // dequantized (what the renderer sees)
+    const int32_t* vertexWords;      // 3 per vertex: grid coordinates, or float bits if lossless
+    const uint32_t* indices;
+    const uint32_t* materialIds;     // nullptr when the scene has one material
+    const QuantizationGrid* grid;
+    int dracoSpeed = 5;
+};
+
+struct BuiltChunk {
+    std::vector<uint8_t> blob;
+    ChunkInfo info;                  // id and offset are assigned when the package is written
+    double encodeSeconds = 0, decodeSeconds = 0, kdBuildSeconds = 0;
+};
+
+Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell);
+
+// Decoded resident footprint of a chunk with these counts (what the GPU will hold).
+uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t kdNodes,
+                            uint64_t kdRefs);
+
+}  // namespace vastray

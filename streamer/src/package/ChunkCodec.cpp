@@ -1,0 +1,124 @@
+#include "package/ChunkCodec.h"
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#include "package/ByteIo.h"
+
+namespace vastray {
+namespace {
+
+// Draco's integer coder sizes a symbol histogram by the largest value it sees (the first
+// vertex of each component is coded against zero), so its cost grows with the coordinate
+// range. Grid coordinates are therefore made chunk-relative, and beyond kPredictedBits the
+// low bits travel in a second attribute: the high part keeps edgebreaker's parallelogram
+// prediction, the low part is near-random at such precision anyway.
+constexpr uint32_t kPredictedBits = 18;
+// Codec prefix before the Draco stream: chunk minimum (3 × int32), low-bit count (uint32).
+constexpr size_t kPrefixBytes = 16;
+
+void addAttribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, draco::DataType dataType,
+                  const std::vector<int32_t>& words) {
+    const uint32_t count = uint32_t(words.size() / 3);
+    draco::GeometryAttribute attribute;
+    attribute.Init(type, nullptr, 3, dataType, false, 12, 0);
+    draco::PointAttribute* added = mesh.attribute(mesh.AddAttribute(attribute, true, count));
+    for (uint32_t v = 0; v < count; ++v) added->SetAttributeValue(draco::AttributeValueIndex(v), &words[3 * size_t(v)]);
+}
+
+bool readAttribute(const draco::Mesh& mesh, const draco::PointAttribute* attribute, draco::DataType dataType,
+                   std::vector<int32_t>& words) {
+    if (!attribute || attribute->num_components() != 3 || attribute->data_type() != dataType) return false;
+    words.resize(size_t(mesh.num_points()) * 3);
+    for (uint32_t p = 0; p < mesh.num_points(); ++p)
+        std::memcpy(&words[3 * size_t(p)], attribute->GetAddress(attribute->mapped_index(draco::PointIndex(p))), 12);
+    return true;
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, bool lossless, int speed) {
+    const size_t vertexCount = geometry.vertexWords.size() / 3;
+    int32_t minimum[3] = {0, 0, 0};
+    uint32_t lowBits = 0;
+    std::vector<int32_t> high = geometry.vertexWords, low;
+    if (!lossless && vertexCount > 0) {
+        for (int axis = 0; axis < 3; ++axis) {
+            minimum[axis] = geometry.vertexWords[axis];
+            for (size_t v = 0; v < vertexCount; ++v) minimum[axis] = std::min(minimum[axis], geometry.vertexWords[3 * v + axis]);
+        }
+        uint32_t largest = 0;
+        for (size_t i = 0; i < high.size(); ++i) largest = std::max(largest, uint32_t(high[i] -= minimum[i % 3]));
+        const uint32_t width = uint32_t(std::bit_width(largest));
+        lowBits = width > kPredictedBits ? width - kPredictedBits : 0;
+        if (lowBits) {
+            low.resize(high.size());
+            for (size_t i = 0; i < high.size(); ++i) {
+                low[i] = high[i] & int32_t((1u << lowBits) - 1);
+                high[i] >>= lowBits;
+            }
+        }
+    }
+    draco::Mesh mesh;
+    mesh.set_num_points(uint32_t(vertexCount));
+    addAttribute(mesh, draco::GeometryAttribute::POSITION, lossless ? draco::DT_FLOAT32 : draco::DT_INT32, high);
+    if (lowBits) addAttribute(mesh, draco::GeometryAttribute::GENERIC, draco::DT_INT32, low);
+    const uint32_t faceCount = uint32_t(geometry.indices.size() / 3);
+    mesh.SetNumFaces(faceCount);
+    for (uint32_t f = 0; f < faceCount; ++f) {
+        const uint32_t* i = &geometry.indices[3 * size_t(f)];
+        mesh.SetFace(draco::FaceIndex(f), {draco::PointIndex(i[0]), draco::PointIndex(i[1]), draco::PointIndex(i[2])});
+    }
+    draco::Encoder encoder;
+    encoder.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
+    encoder.SetSpeedOptions(speed, speed);
+    draco::EncoderBuffer buffer;
+    const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+    if (!status.ok()) return Status::error(std::string("Draco encode failed: ") + status.error_msg());
+    ByteWriter out;
+    for (int32_t m : minimum) out.put(m);
+    out.put(lowBits);
+    out.putBytes(buffer.data(), buffer.size());
+    return std::move(out.bytes());
+}
+
+Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless) {
+    ByteReader in(data, size);
+    int32_t minimum[3];
+    uint32_t lowBits = 0;
+    for (int32_t& m : minimum) in.get(m);
+    in.get(lowBits);
+    if (!in.ok() || lowBits > 31) return Status::error("bad geometry prefix");
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(data + kPrefixBytes), size - kPrefixBytes);
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok()) return Status::error(std::string("Draco decode failed: ") + decoded.status().error_msg());
+    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    ChunkGeometry geometry;
+    if (!readAttribute(*mesh, mesh->GetNamedAttribute(draco::GeometryAttribute::POSITION),
+                       lossless ? draco::DT_FLOAT32 : draco::DT_INT32, geometry.vertexWords))
+        return Status::error("Draco stream has no 3-component position of the expected type");
+    if (lowBits) {
+        std::vector<int32_t> low;
+        if (!readAttribute(*mesh, mesh->GetNamedAttribute(draco::GeometryAttribute::GENERIC), draco::DT_INT32, low))
+            return Status::error("Draco stream lacks the low position bits");
+        for (size_t i = 0; i < low.size(); ++i)
+            geometry.vertexWords[i] = int32_t((uint32_t(geometry.vertexWords[i]) << lowBits) | uint32_t(low[i]));
+    }
+    if (!lossless)
+        for (size_t i = 0; i < geometry.vertexWords.size(); ++i) geometry.vertexWords[i] += minimum[i % 3];
+    geometry.indices.resize(size_t(mesh->num_faces()) * 3);
+    for (uint32_t f = 0; f < mesh->num_faces(); ++f) {
+        const draco::Mesh::Face& face = mesh->face(draco::FaceIndex(f));
+        for (int c = 0; c < 3; ++c) geometry.indices[3 * size_t(f) + c] = face[c].value();
+    }
+    return geometry;
+}
+
+}  // namespace vastray

@@ -1,0 +1,31 @@
+#pragma once
+// Byte layout of the .vast package (docs/PACKAGE_FORMAT.md is the prose version).
+//
+//   header     kHeaderBytes, fixed; ends with the XXH64 of its own preceding bytes
+//   materials  materialCount × kMaterialBytes
+//   top tree   topNodeCount × 8 (KdNode)
+//   directory  chunkCount × kDirectoryEntryBytes
+//   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
+#include <cstdint>
+
+namespace vastray::format {
+
+constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
+constexpr uint32_t kVersion = 1;
+constexpr uint32_t kHeaderBytes = 256;
+constexpr uint32_t kMaterialNameBytes = 64;
+constexpr uint32_t kMaterialBytes = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
+constexpr uint32_t kDirectoryEntryBytes = 4 * 8 + 4 * 4 + 6 * 4;
+
+// Upper bounds a reader enforces before allocating anything.
+constexpr uint32_t kMaxMaterials = 1u << 20;
+constexpr uint32_t kMaxChunks = 1u << 24;
+
+constexpr char kChunkMagic[4] = {'V', 'C', 'H', 'K'};
+constexpr uint32_t kChunkVersion = 1;
+constexpr uint32_t kChunkHeaderBytes = 64;
+constexpr uint32_t kChunkHasMaterialIds = 1u;
+
+enum HeaderFlags : uint32_t { kDefaultDoubleSided = 1u };
+
+}  // namespace vastray::format

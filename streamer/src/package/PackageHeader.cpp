@@ -1,0 +1,136 @@
+#include "package/PackageHeader.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "package/PackageFormat.h"
+#include "vastray/core/Checksum.h"
+
+namespace vastray {
+
+std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout) {
+    ByteWriter out;
+    out.putBytes(format::kMagic, 8);
+    out.put(format::kVersion);
+    out.put(format::kHeaderBytes);
+    for (uint64_t v : {info.fileBytes, info.triangleCount, info.referenceCount, info.chunkSizeBytes,
+                       info.maxChunkResidentBytes, info.degenerateDropped, info.collapsedDropped})
+        out.put(v);
+    out.put(info.defaultDoubleSided ? uint32_t(format::kDefaultDoubleSided) : uint32_t(0));
+    out.put(info.grid.bits);
+    out.put(layout.materialCount);
+    out.put(layout.topNodeCount);
+    out.put(layout.chunkCount);
+    out.put(uint32_t(0));
+    out.put(info.bounds.lo);
+    out.put(info.bounds.hi);
+    for (double v : info.grid.origin) out.put(v);
+    out.put(info.grid.range);
+    for (uint64_t v : {layout.materialsOffset, layout.treeOffset, layout.directoryOffset, layout.blobsOffset,
+                       layout.materialsChecksum, layout.treeChecksum, layout.directoryChecksum})
+        out.put(v);
+    out.padTo(format::kHeaderBytes - 8);
+    out.put(checksum64(out.bytes().data(), out.size()));
+    return std::move(out.bytes());
+}
+
+Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo& info) {
+    if (size < format::kHeaderBytes) return Status::error("file is too short to be a package");
+    if (std::memcmp(bytes, format::kMagic, 8) != 0) return Status::error("not a vastray package (bad magic)");
+    ByteReader in(bytes + 8, format::kHeaderBytes - 8);
+    uint32_t headerBytes = 0, flags = 0, reserved = 0;
+    in.get(info.formatVersion);
+    in.get(headerBytes);
+    if (info.formatVersion != format::kVersion)
+        return Status::error("package format version " + std::to_string(info.formatVersion) + " is not supported (expected " +
+                             std::to_string(format::kVersion) + ")");
+    uint64_t stored = 0;
+    std::memcpy(&stored, bytes + format::kHeaderBytes - 8, 8);
+    if (headerBytes != format::kHeaderBytes || stored != checksum64(bytes, format::kHeaderBytes - 8))
+        return Status::error("header checksum mismatch");
+    SectionLayout layout;
+    for (uint64_t* v : {&info.fileBytes, &info.triangleCount, &info.referenceCount, &info.chunkSizeBytes,
+                        &info.maxChunkResidentBytes, &info.degenerateDropped, &info.collapsedDropped})
+        in.get(*v);
+    in.get(flags);
+    in.get(info.grid.bits);
+    in.get(layout.materialCount);
+    in.get(layout.topNodeCount);
+    in.get(layout.chunkCount);
+    in.get(reserved);
+    in.get(info.bounds.lo);
+    in.get(info.bounds.hi);
+    for (double& v : info.grid.origin) in.get(v);
+    in.get(info.grid.range);
+    for (uint64_t* v : {&layout.materialsOffset, &layout.treeOffset, &layout.directoryOffset, &layout.blobsOffset,
+                        &layout.materialsChecksum, &layout.treeChecksum, &layout.directoryChecksum})
+        in.get(*v);
+    info.defaultDoubleSided = (flags & format::kDefaultDoubleSided) != 0;
+    if (!in.ok()) return Status::error("truncated header");
+    if (info.grid.bits > 30 || !(info.grid.range > 0) || !std::isfinite(info.grid.range))
+        return Status::error("header has an invalid quantization grid");
+    if (layout.materialCount == 0 || layout.materialCount > format::kMaxMaterials || layout.chunkCount > format::kMaxChunks)
+        return Status::error("header counts out of range");
+    if (info.triangleCount > info.referenceCount) return Status::error("header has fewer references than triangles");
+    return layout;
+}
+
+std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) {
+    ByteWriter out;
+    for (const Material& m : materials) {
+        out.put(m.baseColor);
+        out.put(m.emissive);
+        out.put(uint32_t(m.doubleSided ? 1 : 0));
+        out.putFixedString(m.name, format::kMaterialNameBytes);
+    }
+    return std::move(out.bytes());
+}
+
+Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count) {
+    ByteReader in(bytes.data(), bytes.size());
+    std::vector<Material> materials(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        Material& m = materials[i];
+        uint32_t doubleSided = 0;
+        in.get(m.baseColor);
+        in.get(m.emissive);
+        in.get(doubleSided);
+        in.getFixedString(m.name, format::kMaterialNameBytes);
+        m.doubleSided = doubleSided != 0;
+        for (float v : m.baseColor)
+            if (!std::isfinite(v)) return Status::error("material " + std::to_string(i) + " has a non-finite colour");
+        for (float v : m.emissive)
+            if (!std::isfinite(v)) return Status::error("material " + std::to_string(i) + " has a non-finite emission");
+    }
+    if (!in.ok()) return Status::error("truncated materials");
+    return materials;
+}
+
+std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks) {
+    ByteWriter out;
+    for (const ChunkInfo& c : chunks) {
+        for (uint64_t v : {c.offset, c.size, c.checksum, c.residentBytes}) out.put(v);
+        for (uint32_t v : {c.triangleCount, c.vertexCount, c.kdNodeCount, c.kdRefCount}) out.put(v);
+        out.put(c.cell.lo);
+        out.put(c.cell.hi);
+    }
+    return std::move(out.bytes());
+}
+
+Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count) {
+    ByteReader in(bytes.data(), bytes.size());
+    std::vector<ChunkInfo> chunks(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        ChunkInfo& c = chunks[i];
+        c.id = i;
+        for (uint64_t* v : {&c.offset, &c.size, &c.checksum, &c.residentBytes}) in.get(*v);
+        for (uint32_t* v : {&c.triangleCount, &c.vertexCount, &c.kdNodeCount, &c.kdRefCount}) in.get(*v);
+        in.get(c.cell.lo);
+        in.get(c.cell.hi);
+    }
+    if (!in.ok()) return Status::error("truncated chunk directory");
+    return chunks;
+}
+
+}  // namespace vastray

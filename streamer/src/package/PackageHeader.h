@@ -1,0 +1,28 @@
+#pragma once
+// Serialization of the package's header, materials and directory, shared by writer and reader.
+#include <cstdint>
+#include <vector>
+
+#include "package/ByteIo.h"
+#include "vastray/core/Result.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+
+struct SectionLayout {
+    uint64_t materialsOffset = 0, treeOffset = 0, directoryOffset = 0, blobsOffset = 0;
+    uint64_t materialsChecksum = 0, treeChecksum = 0, directoryChecksum = 0;
+    uint32_t materialCount = 0, topNodeCount = 0, chunkCount = 0;
+};
+
+std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout);
+// Checks magic, version and the header's own checksum; fills the scalar fields of `info`.
+Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo& info);
+
+std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials);
+Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count);
+
+std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks);
+Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count);
+
+}  // namespace vastray

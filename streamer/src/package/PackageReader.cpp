@@ -1,0 +1,172 @@
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <string>
+
+#include "package/PackageFormat.h"
+#include "package/PackageHeader.h"
+#include "vastray/core/Checksum.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+
+// pread() on one descriptor: safe to share between threads that read different chunks.
+struct PackageReader::File {
+    int fd = -1;
+    ~File() {
+        if (fd >= 0) ::close(fd);
+    }
+    bool read(uint64_t offset, uint64_t size, std::vector<uint8_t>& out) const {
+        out.resize(size);
+        uint64_t done = 0;
+        while (done < size) {
+            const ssize_t n = ::pread(fd, out.data() + done, size - done, off_t(offset + done));
+            if (n <= 0) return false;
+            done += uint64_t(n);
+        }
+        return true;
+    }
+};
+
+namespace {
+
+// The top-level tree: children after their parent, every chunk in exactly one leaf.
+Status validateTopTree(const std::vector<KdNode>& nodes, uint32_t chunkCount) {
+    if (nodes.empty()) return Status::error("top-level tree is empty");
+    std::vector<uint8_t> parents(nodes.size(), 0), chunkSeen(chunkCount, 0);
+    std::vector<uint16_t> depth(nodes.size(), 0);
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        const KdNode& node = nodes[i];
+        if (i > 0 && parents[i] != 1) return Status::error("top-level node " + std::to_string(i) + " is not in the tree");
+        if (node.isLeaf()) {
+            const uint32_t chunk = node.firstRef();
+            if (chunk == kEmptyCell) continue;
+            if (chunk >= chunkCount || chunkSeen[chunk]++)
+                return Status::error("top-level leaf " + std::to_string(i) + " names an invalid chunk");
+            continue;
+        }
+        const uint64_t above = node.aboveChild();
+        if (i + 1 >= nodes.size() || above <= i + 1 || above >= nodes.size() || !std::isfinite(node.split()) ||
+            depth[i] >= 64)
+            return Status::error("top-level node " + std::to_string(i) + " is malformed");
+        for (size_t child : {i + 1, size_t(above)}) {
+            parents[child]++;
+            depth[child] = uint16_t(depth[i] + 1);
+        }
+    }
+    for (uint32_t c = 0; c < chunkCount; ++c)
+        if (!chunkSeen[c]) return Status::error("chunk " + std::to_string(c) + " is in no cell");
+    return Status::ok();
+}
+
+// Blobs lie after the directory, in order, without overlap, inside the file.
+Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOffset, uint64_t fileBytes) {
+    uint64_t next = blobsOffset;
+    for (const ChunkInfo& c : chunks) {
+        const std::string name = "chunk " + std::to_string(c.id) + ": ";
+        if (c.offset != next || c.size > fileBytes - c.offset) return Status::error(name + "blob outside the file");
+        const uint64_t minimum = format::kChunkHeaderBytes + uint64_t(c.triangleCount) * 4 +
+                                 uint64_t(c.kdNodeCount) * 8 + uint64_t(c.kdRefCount) * 4;
+        if (c.size < minimum) return Status::error(name + "counts larger than its blob could hold");
+        if (c.triangleCount == 0 || c.kdNodeCount == 0 || c.cell.isEmpty())
+            return Status::error(name + "empty or invalid cell");
+        next = c.offset + c.size;
+    }
+    if (next != fileBytes) return Status::error("file size disagrees with the chunk directory");
+    return Status::ok();
+}
+
+}  // namespace
+
+PackageReader::~PackageReader() = default;
+
+Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& path) {
+    std::unique_ptr<PackageReader> reader(new PackageReader());
+    reader->path_ = path;
+    reader->file_ = std::make_unique<File>();
+    reader->file_->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (reader->file_->fd < 0) return Status::error(path + ": cannot open: " + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(reader->file_->fd, &st) != 0) return Status::error(path + ": cannot stat: " + std::strerror(errno));
+    const uint64_t fileSize = uint64_t(st.st_size);
+    auto fail = [&](const Status& status) { return status.withContext(path + ": "); };
+
+    std::vector<uint8_t> bytes;
+    if (fileSize < format::kHeaderBytes || !reader->file_->read(0, format::kHeaderBytes, bytes))
+        return fail(Status::error("file is too short to be a package"));
+    PackageInfo& info = reader->info_;
+    auto layout = parseHeader(bytes.data(), bytes.size(), info);
+    if (!layout) return fail(layout.status());
+    if (info.fileBytes != fileSize)
+        return fail(Status::error("file is " + std::to_string(fileSize) + " bytes, header says " +
+                                  std::to_string(info.fileBytes) + " (truncated or appended to)"));
+    const SectionLayout& l = *layout;
+    const uint64_t materialsBytes = uint64_t(l.materialCount) * format::kMaterialBytes;
+    const uint64_t treeBytes = uint64_t(l.topNodeCount) * sizeof(KdNode);
+    const uint64_t directoryBytes = uint64_t(l.chunkCount) * format::kDirectoryEntryBytes;
+    if (l.materialsOffset != format::kHeaderBytes || l.treeOffset != l.materialsOffset + materialsBytes ||
+        l.directoryOffset != l.treeOffset + treeBytes || l.blobsOffset != l.directoryOffset + directoryBytes ||
+        l.blobsOffset > fileSize)
+        return fail(Status::error("section offsets are inconsistent"));
+
+    auto readSection = [&](uint64_t offset, uint64_t size, uint64_t checksum, const char* name) -> Status {
+        if (!reader->file_->read(offset, size, bytes)) return Status::error(std::string("cannot read ") + name);
+        if (checksum64(bytes.data(), bytes.size()) != checksum)
+            return Status::error(std::string(name) + " checksum mismatch");
+        return Status::ok();
+    };
+    if (auto s = readSection(l.materialsOffset, materialsBytes, l.materialsChecksum, "materials"); !s) return fail(s);
+    auto materials = parseMaterials(bytes, l.materialCount);
+    if (!materials) return fail(materials.status());
+    info.materials = std::move(*materials);
+    if (auto s = readSection(l.treeOffset, treeBytes, l.treeChecksum, "top-level tree"); !s) return fail(s);
+    info.topTree.resize(l.topNodeCount);
+    std::memcpy(info.topTree.data(), bytes.data(), treeBytes);
+    if (auto s = readSection(l.directoryOffset, directoryBytes, l.directoryChecksum, "chunk directory"); !s) return fail(s);
+    auto chunks = parseDirectory(bytes, l.chunkCount);
+    if (!chunks) return fail(chunks.status());
+    info.chunks = std::move(*chunks);
+    if (auto s = validateDirectory(info.chunks, l.blobsOffset, fileSize); !s) return fail(s);
+    if (auto s = validateTopTree(info.topTree, l.chunkCount); !s) return fail(s);
+    uint64_t references = 0;
+    for (const ChunkInfo& c : info.chunks) references += c.triangleCount;
+    if (references != info.referenceCount) return fail(Status::error("reference count disagrees with the directory"));
+    return reader;
+}
+
+Result<std::vector<uint8_t>> PackageReader::readChunkBlob(uint32_t id) const {
+    if (id >= info_.chunks.size())
+        return Status::error(path_ + ": chunk " + std::to_string(id) + " does not exist (" +
+                             std::to_string(info_.chunks.size()) + " chunks)");
+    const ChunkInfo& chunk = info_.chunks[id];
+    std::vector<uint8_t> blob;
+    if (!file_->read(chunk.offset, chunk.size, blob))
+        return Status::error(path_ + ": chunk " + std::to_string(id) + ": read failed");
+    if (checksum64(blob.data(), blob.size()) != chunk.checksum)
+        return Status::error(path_ + ": chunk " + std::to_string(id) + ": checksum mismatch");
+    return blob;
+}
+
+Result<DecodedChunk> PackageReader::readChunk(uint32_t id) const {
+    auto blob = readChunkBlob(id);
+    if (!blob) return blob.status();
+    // Primitive ids index the imported mesh, which still had the triangles quantization dropped.
+    auto chunk = decodeChunkBlob(*blob, info_.chunks[id], info_.grid, uint32_t(info_.materials.size()),
+                                 info_.triangleCount + info_.collapsedDropped);
+    if (!chunk) return chunk.status().withContext(path_ + ": chunk " + std::to_string(id) + ": ");
+    return chunk;
+}
+
+std::vector<std::string> PackageReader::verify() const {
+    std::vector<std::string> problems;
+    for (const ChunkInfo& chunk : info_.chunks) {
+        auto decoded = readChunk(chunk.id);
+        if (!decoded) problems.push_back(decoded.message());
+    }
+    return problems;
+}
+
+}  // namespace vastray

@@ -1,0 +1,184 @@
+// Chunk round trip: what a chunk decodes to against what was imported.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "PackageTestUtil.h"
+
+namespace vastray::test {
+namespace {
+
+struct DecodedTriangles {
+    // primitive id -> canonical corners, from the first chunk that holds it
+    std::map<uint32_t, std::array<Vec3f, 3>> corners;
+    uint64_t references = 0;
+    uint64_t mismatchedDuplicates = 0;  // same triangle decoded differently in two chunks
+};
+
+DecodedTriangles decodeAll(const PackageReader& reader) {
+    DecodedTriangles out;
+    for (const ChunkInfo& info : reader.info().chunks) {
+        auto chunk = reader.readChunk(info.id);
+        EXPECT_TRUE(chunk.isOk()) << chunk.message();
+        if (!chunk) continue;
+        for (size_t t = 0; t < chunk->primitiveIds.size(); ++t) {
+            const uint32_t* i = &chunk->indices[3 * t];
+            const auto c = canonicalCorners(chunk->positions[i[0]], chunk->positions[i[1]], chunk->positions[i[2]]);
+            auto [it, inserted] = out.corners.emplace(chunk->primitiveIds[t], c);
+            if (!inserted && it->second != c) out.mismatchedDuplicates++;
+            out.references++;
+        }
+    }
+    return out;
+}
+
+// Each corner of each decoded triangle is within half a grid step (per axis) of the imported
+// corner, plus the float rounding of the dequantized value (one ulp of the coordinate).
+void expectWithinHalfStep(const TriangleMesh& original, const DecodedTriangles& decoded, double step) {
+    size_t checked = 0;
+    for (const auto& [id, corners] : decoded.corners) {
+        const uint32_t* i = &original.indices[3 * size_t(id)];
+        const Vec3f v[3] = {original.positions[i[0]], original.positions[i[1]], original.positions[i[2]]};
+        // The decoder may rotate corners; find the rotation that matches best.
+        double bestError = 1e30;
+        for (int r = 0; r < 3; ++r) {
+            double error = 0;
+            for (int k = 0; k < 3; ++k)
+                for (int axis = 0; axis < 3; ++axis)
+                    error = std::max(error, std::abs(double(corners[k][axis]) - v[(k + r) % 3][axis]));
+            bestError = std::min(bestError, error);
+        }
+        const double tolerance = step / 2 + 2 * std::ldexp(1.0, -23) * 4.0;  // coordinates here are |x| <= 4
+        EXPECT_LE(bestError, tolerance) << "triangle " << id;
+        if (++checked > 100000) break;
+    }
+}
+
+TEST(PackageRoundTrip, QuantizedPositionsWithinHalfStepAndNoCracks) {
+    const TriangleMesh mesh = generatedMesh(GeneratorKind::Sphere, 20000);
+    const std::string path = tempPath("roundtrip16.vast");
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.quantizeBits = 16;
+    auto reader = buildAndOpen(mesh, path, options);
+    ASSERT_TRUE(reader);
+    const DecodedTriangles decoded = decodeAll(*reader);
+    EXPECT_EQ(decoded.corners.size() + reader->info().collapsedDropped, mesh.triangleCount());
+    EXPECT_EQ(decoded.references, reader->info().referenceCount);
+    EXPECT_GT(reader->info().duplicatedReferences(), 0u) << "the sphere must straddle cell planes";
+    EXPECT_EQ(decoded.mismatchedDuplicates, 0u) << "a triangle shared by two chunks must decode identically";
+    expectWithinHalfStep(mesh, decoded, reader->info().grid.step());
+}
+
+TEST(PackageRoundTrip, LosslessIsExact) {
+    const TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 5000);
+    const std::string path = tempPath("lossless.vast");
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.quantizeBits = 0;
+    auto reader = buildAndOpen(mesh, path, options);
+    ASSERT_TRUE(reader);
+    const DecodedTriangles decoded = decodeAll(*reader);
+    ASSERT_EQ(decoded.corners.size(), mesh.triangleCount());
+    for (const auto& [id, corners] : decoded.corners) {
+        const uint32_t* i = &mesh.indices[3 * size_t(id)];
+        EXPECT_EQ(corners, canonicalCorners(mesh.positions[i[0]], mesh.positions[i[1]], mesh.positions[i[2]]));
+    }
+}
+
+TEST(PackageRoundTrip, ThirtyBitGridRoundTrips) {
+    const TriangleMesh mesh = generatedMesh(GeneratorKind::Terrain, 4000);
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.quantizeBits = 30;
+    auto reader = buildAndOpen(mesh, tempPath("bits30.vast"), options);
+    ASSERT_TRUE(reader);
+    const DecodedTriangles decoded = decodeAll(*reader);
+    EXPECT_EQ(decoded.mismatchedDuplicates, 0u);
+    expectWithinHalfStep(mesh, decoded, reader->info().grid.step());
+}
+
+TEST(PackageRoundTrip, CoarseGridDropsAndCountsCollapsedTriangles) {
+    const TriangleMesh mesh = generatedMesh(GeneratorKind::Sphere, 20000);
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.quantizeBits = 6;  // 63 steps across the sphere: small triangles collapse
+    auto reader = buildAndOpen(mesh, tempPath("bits6.vast"), options);
+    ASSERT_TRUE(reader);
+    const PackageInfo& info = reader->info();
+    EXPECT_GT(info.collapsedDropped, 0u);
+    EXPECT_EQ(info.triangleCount + info.collapsedDropped, mesh.triangleCount());
+    EXPECT_EQ(decodeAll(*reader).corners.size(), info.triangleCount);
+}
+
+TEST(PackageRoundTrip, MaterialIdsFollowTheirTriangles) {
+    TriangleMesh mesh = generatedMesh(GeneratorKind::City, 3000);
+    mesh.materials.resize(3);
+    mesh.materialIds.resize(mesh.triangleCount());
+    for (size_t t = 0; t < mesh.materialIds.size(); ++t) mesh.materialIds[t] = uint32_t(t * 7 % 3);
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 32 << 10;
+    auto reader = buildAndOpen(mesh, tempPath("materials.vast"), options);
+    ASSERT_TRUE(reader);
+    ASSERT_EQ(reader->info().materials.size(), 3u);
+    for (const ChunkInfo& info : reader->info().chunks) {
+        auto chunk = reader->readChunk(info.id);
+        ASSERT_TRUE(chunk.isOk()) << chunk.message();
+        ASSERT_EQ(chunk->materialIds.size(), chunk->primitiveIds.size());
+        for (size_t t = 0; t < chunk->primitiveIds.size(); ++t)
+            EXPECT_EQ(chunk->materialIds[t], chunk->primitiveIds[t] * 7 % 3);
+    }
+}
+
+TEST(PackageRoundTrip, SameInputGivesByteIdenticalPackageWhateverTheThreads) {
+    const TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 6000, 3);
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 48 << 10;
+    options.threads = 1;
+    ASSERT_TRUE(buildAndOpen(mesh, tempPath("det1.vast"), options));
+    options.threads = 2;
+    ASSERT_TRUE(buildAndOpen(mesh, tempPath("det2.vast"), options));
+    const auto a = readFile(tempPath("det1.vast")), b = readFile(tempPath("det2.vast"));
+    ASSERT_FALSE(a.empty());
+    EXPECT_TRUE(a == b);
+    EXPECT_FALSE(std::filesystem::exists(tempPath("det2.vast") + ".tmp"));
+}
+
+TEST(PackageBuild, RejectsBadOptions) {
+    const TriangleMesh mesh = generatedMesh(GeneratorKind::Sphere, 2000);
+    PackageBuildOptions options;
+    options.progress = Progress::Mode::None;
+    options.chunkSizeBytes = 1024;
+    auto r = buildPackage(mesh, tempPath("bad.vast"), options);
+    ASSERT_FALSE(r.isOk());
+    EXPECT_NE(r.message().find("minimum"), std::string::npos) << r.message();
+    options.chunkSizeBytes = 1 << 20;
+    options.quantizeBits = 31;
+    r = buildPackage(mesh, tempPath("bad.vast"), options);
+    ASSERT_FALSE(r.isOk());
+    EXPECT_NE(r.message().find("31"), std::string::npos) << r.message();
+    EXPECT_FALSE(std::filesystem::exists(tempPath("bad.vast")));
+}
+
+TEST(PackageBuild, ChunkSizeTooSmallForOverlappingTrianglesIsAnError) {
+    // 3000 large triangles all crossing the centre: no plane separates them.
+    TriangleMesh mesh;
+    for (uint32_t t = 0; t < 3000; ++t) {
+        const float a = float(t) * 0.002f;
+        mesh.positions.push_back({-1.0f, std::sin(a), std::cos(a)});
+        mesh.positions.push_back({1.0f, -std::sin(a), std::cos(a) * 0.5f});
+        mesh.positions.push_back({0.0f, std::cos(a), -std::sin(a)});
+        mesh.indices.insert(mesh.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    mesh.materials.push_back({});
+    PackageBuildOptions options;
+    options.progress = Progress::Mode::None;
+    options.chunkSizeBytes = 16 << 10;
+    auto r = buildPackage(mesh, tempPath("dense.vast"), options);
+    ASSERT_FALSE(r.isOk());
+    EXPECT_NE(r.message().find("--chunk-size"), std::string::npos) << r.message();
+}
+
+}  // namespace
+}  // namespace vastray::test

@@ -1,0 +1,83 @@
+#pragma once
+// Meshes and helpers for the package tests.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "vastray/streamer/Generate.h"
+#include "vastray/streamer/PackageBuilder.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray::test {
+
+// Collects a generated scene into an in-core mesh (small scenes only).
+struct MeshCollector : MeshSink {
+    TriangleMesh mesh;
+    Status begin(uint64_t, uint64_t) override { return Status::ok(); }
+    Status vertex(Vec3f p) override {
+        mesh.positions.push_back(p);
+        return Status::ok();
+    }
+    Status face(uint32_t a, uint32_t b, uint32_t c) override {
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+        return Status::ok();
+    }
+    Status end() override {
+        mesh.materials.push_back({});
+        return Status::ok();
+    }
+};
+
+inline TriangleMesh generatedMesh(GeneratorKind kind, uint64_t triangles, uint64_t seed = 1) {
+    MeshCollector collector;
+    const Status s = generate({kind, triangles, seed}, collector);
+    EXPECT_TRUE(s.isOk()) << s.message();
+    return std::move(collector.mesh);
+}
+
+inline std::string tempPath(const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "package";
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+inline std::vector<uint8_t> readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+inline void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// Builds a package and opens it; fails the test on any error.
+inline std::unique_ptr<PackageReader> buildAndOpen(TriangleMesh mesh, const std::string& path,
+                                                   PackageBuildOptions options) {
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report.isOk()) << report.message();
+    if (!report) return nullptr;
+    auto reader = PackageReader::open(path);
+    EXPECT_TRUE(reader.isOk()) << reader.message();
+    return reader ? std::move(*reader) : nullptr;
+}
+
+// A triangle's corners rotated so the smallest (lexicographic) comes first: equal for the
+// same triangle whatever corner the decoder starts at.
+inline std::array<Vec3f, 3> canonicalCorners(Vec3f a, Vec3f b, Vec3f c) {
+    std::array<Vec3f, 3> v{a, b, c};
+    auto less = [](Vec3f p, Vec3f q) {
+        return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+    };
+    int first = 0;
+    for (int k = 1; k < 3; ++k)
+        if (less(v[k], v[first])) first = k;
+    return {v[first], v[(first + 1) % 3], v[(first + 2) % 3]};
+}
+
+}  // namespace vastray::test
