@@ -87,7 +87,9 @@ TEST_P(PartitionInvariants, Hold) {
         total += volume(cells[i].box);
         for (size_t j = i + 1; j < cells.size(); ++j)
             EXPECT_EQ(volume(cells[i].box.intersect(cells[j].box)), 0.0) << "cells " << i << " and " << j;
-        if (cells[i].chunk != kEmptyCell) EXPECT_EQ(cells[i].box, info.chunks[cells[i].chunk].cell);
+        if (cells[i].chunk != kEmptyCell) {
+            EXPECT_EQ(cells[i].box, info.chunks[cells[i].chunk].cell);
+        }
     }
     EXPECT_NEAR(total, volume(info.bounds), volume(info.bounds) * 1e-5);
 

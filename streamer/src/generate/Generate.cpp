@@ -1,0 +1,80 @@
+// Public entry points: kind names, option validation and dispatch to the per-kind generators.
+#include <array>
+#include <limits>
+
+#include "generate/Generators.h"
+
+namespace vastray {
+namespace {
+
+struct KindInfo {
+    GeneratorKind kind;
+    const char* name;
+    uint64_t minTriangles;
+    const char* whyMinimum;
+    GeneratedCounts (*counts)(uint64_t triangles);
+    Status (*generate)(const GenerateOptions& options, MeshSink& sink);
+};
+
+constexpr std::array<KindInfo, 4> kKinds = {{
+    {GeneratorKind::Sphere, "sphere", 20, "one per icosahedron face", gen::sphereCounts, gen::generateSphere},
+    {GeneratorKind::Terrain, "terrain", 2, "one grid cell", gen::terrainCounts, gen::generateTerrain},
+    {GeneratorKind::Soup, "soup", 1, "one triangle", gen::soupCounts, gen::generateSoup},
+    {GeneratorKind::City, "city", 12, "a ground quad and one box", gen::cityCounts, gen::generateCity},
+}};
+
+// Above this the index type is not the only problem: nobody should stream such a file by accident.
+constexpr uint64_t kMaxTriangles = 4'000'000'000ull;
+constexpr uint64_t kMaxVertices = std::numeric_limits<uint32_t>::max();  // PLY indices are uint32
+
+const KindInfo& infoOf(GeneratorKind kind) {
+    for (const KindInfo& info : kKinds) {
+        if (info.kind == kind) return info;
+    }
+    return kKinds[0];  // unreachable for a valid enum value
+}
+
+Status validate(const GenerateOptions& options) {
+    const KindInfo& info = infoOf(options.kind);
+    const std::string kind = info.name, asked = std::to_string(options.triangles);
+    if (options.triangles < info.minTriangles) {
+        return Status::error(kind + " needs at least " + std::to_string(info.minTriangles) + " triangles (" +
+                             info.whyMinimum + "), got " + asked);
+    }
+    if (options.triangles > kMaxTriangles) {
+        return Status::error(kind + ": at most " + std::to_string(kMaxTriangles) + " triangles, got " +
+                             asked);
+    }
+    GeneratedCounts counts = info.counts(options.triangles);
+    if (counts.vertices > kMaxVertices) {
+        return Status::error(kind + ": " + asked + " triangles need " + std::to_string(counts.vertices) +
+                             " vertices, more than the " + std::to_string(kMaxVertices) +
+                             " a uint32 vertex index can address");
+    }
+    return Status::ok();
+}
+
+}  // namespace
+
+Result<GeneratorKind> parseGeneratorKind(std::string_view name) {
+    std::string valid;
+    for (const KindInfo& info : kKinds) {
+        if (name == info.name) return info.kind;
+        valid += valid.empty() ? info.name : std::string(", ") + info.name;
+    }
+    return Status::error("unknown generator kind '" + std::string(name) + "' (valid kinds: " + valid + ")");
+}
+
+const char* generatorKindName(GeneratorKind kind) { return infoOf(kind).name; }
+
+Result<GeneratedCounts> generatedCounts(const GenerateOptions& options) {
+    if (Status status = validate(options); !status) return status;
+    return infoOf(options.kind).counts(options.triangles);
+}
+
+Status generate(const GenerateOptions& options, MeshSink& sink) {
+    VASTRAY_TRY(validate(options));
+    return infoOf(options.kind).generate(options, sink);
+}
+
+}  // namespace vastray
