@@ -1,0 +1,143 @@
+// The command line as a user drives it: exit codes, messages, files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+struct CommandResult {
+    int exitCode = -1;
+    std::string output;  // stdout and stderr together
+};
+
+CommandResult run(const std::string& arguments) {
+    CommandResult result;
+    const std::string command = std::string(VASTRAY_BINARY) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    size_t n;
+    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+std::string tmp(const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "cli";
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Cli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        CommandResult g = run("generate terrain --triangles 20000 --seed 4 -o " + tmp("terrain.ply"));
+        ASSERT_EQ(g.exitCode, 0) << g.output;
+        CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("terrain.vast") + " --chunk-size 64KiB --progress lines");
+        ASSERT_EQ(i.exitCode, 0) << i.output;
+    }
+};
+
+TEST_F(Cli, ImportPrintsProgressLinesWithoutATerminal) {
+    CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("again.vast") + " --chunk-size 64KiB");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("import: 100%"), std::string::npos) << i.output;
+    EXPECT_EQ(i.output.find('\r'), std::string::npos) << "no bar redraws in a log";
+}
+
+TEST_F(Cli, InfoJsonHasTheDocumentedFields) {
+    CommandResult r = run("info " + tmp("terrain.vast") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* key : {"\"triangles\"", "\"chunks\"", "\"chunk_size_bytes\": 65536", "\"max_chunk_resident_bytes\"",
+                            "\"bounds\"", "\"min\"", "\"max\"", "\"file_bytes\"", "\"duplicated_references\"",
+                            "\"quantize_bits\": 20", "\"chunk\"", "\"offset\"", "\"size\"", "\"resident_bytes\""})
+        EXPECT_NE(r.output.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, VerifyNamesTheDamagedChunkAndFails) {
+    ASSERT_EQ(run("info " + tmp("terrain.vast") + " --verify").exitCode, 0);
+    // Damage the last byte of the file: it belongs to the last chunk.
+    std::filesystem::copy_file(tmp("terrain.vast"), tmp("damaged.vast"), std::filesystem::copy_options::overwrite_existing);
+    {
+        std::fstream f(tmp("damaged.vast"), std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(-1, std::ios::end);
+        char c = 0;
+        f.get(c);
+        f.seekp(-1, std::ios::end);
+        f.put(char(c ^ 0x40));
+    }
+    CommandResult r = run("info " + tmp("damaged.vast") + " --verify");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find(": checksum mismatch"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("1 of "), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, ExportCellsWritesOneBoxPerCell) {
+    CommandResult r = run("info " + tmp("terrain.vast") + " --json --export-cells " + tmp("cells.obj"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string obj = slurp(tmp("cells.obj"));
+    size_t objects = 0, vertices = 0;
+    std::istringstream lines(obj);
+    for (std::string line; std::getline(lines, line);) {
+        objects += line.rfind("o ", 0) == 0;
+        vertices += line.rfind("v ", 0) == 0;
+    }
+    EXPECT_GT(objects, 1u);
+    EXPECT_EQ(vertices, objects * 8);
+    EXPECT_NE(obj.find("o chunk_0\n"), std::string::npos);
+    ASSERT_EQ(run("info " + tmp("terrain.vast") + " --export-cells " + tmp("cells.ply")).exitCode, 0);
+    EXPECT_NE(slurp(tmp("cells.ply")).find("property int chunk_id"), std::string::npos);
+    CommandResult bad = run("info " + tmp("terrain.vast") + " --export-cells " + tmp("cells.txt"));
+    EXPECT_NE(bad.exitCode, 0);
+    EXPECT_NE(bad.output.find("must end in .obj or .ply"), std::string::npos) << bad.output;
+}
+
+TEST_F(Cli, BadArgumentsAreClearErrors) {
+    struct Case {
+        std::string arguments, expected;
+    } cases[] = {
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --chunk-size 12parsecs", "unknown unit"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --chunk-size 1KiB", "minimum"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --quantize-bits 31", "--quantize-bits"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.ply"), "must end in .vast"},
+        {"import " + tmp("missing.ply") + " -o " + tmp("x.vast"), "missing.ply"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --double-sided --single-sided", "excludes"},
+        {"generate cube --triangles 100 -o " + tmp("x.ply"), "sphere"},
+        {"generate sphere --triangles 100 -o " + tmp("x.txt"), "x.txt"},
+        {"info " + tmp("terrain.ply"), "not a vastray package"},
+    };
+    for (const Case& c : cases) {
+        CommandResult r = run(c.arguments);
+        EXPECT_NE(r.exitCode, 0) << c.arguments;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.arguments << "\n" << r.output;
+    }
+    EXPECT_FALSE(std::filesystem::exists(tmp("x.vast")));
+}
+
+TEST_F(Cli, SizesAcceptBinarySuffixes) {
+    CommandResult r = run("import " + tmp("terrain.ply") + " -o " + tmp("big.vast") + " --chunk-size 1MiB --progress none");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(run("info " + tmp("big.vast") + " --json").output.find("\"chunk_size_bytes\": 1048576"), std::string::npos);
+}
+
+TEST_F(Cli, HelpListsEveryCommand) {
+    CommandResult r = run("--help");
+    EXPECT_EQ(r.exitCode, 0);
+    for (const char* command : {"generate", "import", "info"}) EXPECT_NE(r.output.find(command), std::string::npos);
+}
+
+}  // namespace
