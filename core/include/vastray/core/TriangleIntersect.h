@@ -1,0 +1,78 @@
+#pragma once
+// Watertight ray/triangle test after Woop, Benthin and Wald, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1), 2013. A ray that passes exactly through a shared edge or vertex
+// of a closed mesh hits at least one of the triangles meeting there: no cracks.
+// The GPU shader mirrors this function operation for operation.
+#include <cmath>
+#include <cstdint>
+
+#include "vastray/core/Ray.h"
+#include "vastray/core/Vec3.h"
+
+namespace vastray {
+
+// Per-ray constants of the test: the axis permutation that makes the dominant direction
+// component z (winding-preserving), and the shear that maps the ray onto +z.
+struct WatertightRay {
+    Vec3f origin;
+    int kx = 0, ky = 1, kz = 2;
+    float sx = 0, sy = 0, sz = 1;
+};
+
+struct TriangleHit {
+    float t = 0;
+    float u = 0;  // barycentric weight of v1; the hit point is (1-u-v)*v0 + u*v1 + v*v2
+    float v = 0;  // barycentric weight of v2
+    // Counter-clockwise seen from the ray origin: dot(direction, cross(v1-v0, v2-v0)) < 0.
+    bool frontFacing = false;
+};
+
+// Returns false when the direction is zero or not finite (no test can hit then).
+bool prepareWatertightRay(const Ray& ray, WatertightRay* out);
+
+namespace detail {
+// Recomputes the three 2D edge functions in double precision; called only when one of the
+// float results is exactly 0, where float rounding could decide the sign wrongly.
+void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, float* u, float* v,
+                         float* w);
+}  // namespace detail
+
+// Hit when the ray passes through the triangle (edges and vertices included) at a t with
+// tMin <= t <= tMax (the check is on the returned t, so callers can rely on it exactly).
+// cullBackFace: a single-sided triangle is invisible from behind. Degenerate triangles and
+// rays lying in the triangle's plane never hit. Inline because it is the inner loop of traversal.
+inline bool intersectTriangle(const WatertightRay& r, Vec3f v0, Vec3f v1, Vec3f v2, bool cullBackFace,
+                              float tMin, float tMax, TriangleHit* hit) {
+    const Vec3f a = v0 - r.origin, b = v1 - r.origin, c = v2 - r.origin;
+    const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+    const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+    const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+    float u = cx * by - cy * bx;  // weight of v0
+    float v = ax * cy - ay * cx;  // weight of v1
+    float w = bx * ay - by * ax;  // weight of v2
+    if (u == 0.0f || v == 0.0f || w == 0.0f) detail::edgeFunctionsDouble(ax, ay, bx, by, cx, cy, &u, &v, &w);
+    const bool anyNegative = u < 0.0f || v < 0.0f || w < 0.0f;
+    const bool anyPositive = u > 0.0f || v > 0.0f || w > 0.0f;
+    if (anyNegative && (anyPositive || cullBackFace)) return false;
+    const float det = u + v + w;
+    if (det == 0.0f) return false;
+    const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+    const float scaledT = u * az + v * bz + w * cz;
+    const float rcpDet = 1.0f / det;
+    const float t = scaledT * rcpDet;
+    if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
+    hit->t = t;
+    hit->u = v * rcpDet;
+    hit->v = w * rcpDet;
+    hit->frontFacing = det > 0.0f;
+    return true;
+}
+
+// Convenience form for one-off tests; traversal prepares the ray once instead.
+inline bool intersectTriangle(const Ray& ray, Vec3f v0, Vec3f v1, Vec3f v2, bool cullBackFace, float tMin,
+                              float tMax, TriangleHit* hit) {
+    WatertightRay r;
+    return prepareWatertightRay(ray, &r) && intersectTriangle(r, v0, v1, v2, cullBackFace, tMin, tMax, hit);
+}
+
+}  // namespace vastray

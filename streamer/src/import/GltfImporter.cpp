@@ -1,0 +1,236 @@
+// glTF 2.0 (.gltf/.glb): flattens the default scene's node hierarchy into world-space
+// triangles. Each node that references a mesh produces its own copy (instancing).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "import/GltfAccessor.h"
+#include "import/GltfLoader.h"
+#include "import/ImportCommon.h"
+#include "vastray/streamer/Import.h"
+
+namespace vastray {
+namespace {
+
+using Mat4 = std::array<double, 16>;  // column-major, as glTF stores it
+
+constexpr Mat4 kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+Mat4 multiply(const Mat4& a, const Mat4& b) {
+    Mat4 r{};
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row)
+            for (int k = 0; k < 4; ++k) r[c * 4 + row] += a[k * 4 + row] * b[c * 4 + k];
+    return r;
+}
+
+// T * R * S (glTF 2.0 spec 3.5.3); rotation is a unit quaternion (x, y, z, w).
+Mat4 localTransform(const tinygltf::Node& n) {
+    if (n.matrix.size() == 16) {
+        Mat4 m;
+        std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
+        return m;
+    }
+    const std::vector<double> t = n.translation.size() == 3 ? n.translation : std::vector<double>{0, 0, 0};
+    const std::vector<double> q = n.rotation.size() == 4 ? n.rotation : std::vector<double>{0, 0, 0, 1};
+    const std::vector<double> s = n.scale.size() == 3 ? n.scale : std::vector<double>{1, 1, 1};
+    const double x = q[0], y = q[1], z = q[2], w = q[3];
+    const Mat4 r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
+                    2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
+                    2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
+                    0,                       0,                       0,                       1};
+    Mat4 m = r;
+    for (int c = 0; c < 3; ++c)
+        for (int row = 0; row < 3; ++row) m[c * 4 + row] *= s[c];
+    m[12] = t[0], m[13] = t[1], m[14] = t[2];
+    return m;
+}
+
+double determinant3(const Mat4& m) {
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+Material convertMaterial(const tinygltf::Material& g, size_t index) {
+    Material m;
+    m.name = g.name.empty() ? "material " + std::to_string(index) : g.name;
+    const auto& base = g.pbrMetallicRoughness.baseColorFactor;
+    for (size_t i = 0; i < 4 && i < base.size(); ++i) m.baseColor[i] = float(base[i]);
+    double strength = 1.0;
+    const auto ext = g.extensions.find("KHR_materials_emissive_strength");
+    if (ext != g.extensions.end() && ext->second.Has("emissiveStrength"))
+        strength = ext->second.Get("emissiveStrength").GetNumberAsDouble();
+    for (size_t i = 0; i < 3 && i < g.emissiveFactor.size(); ++i) m.emissive[i] = float(g.emissiveFactor[i] * strength);
+    m.doubleSided = g.doubleSided;
+    return m;
+}
+
+class GltfFlattener {
+public:
+    GltfFlattener(const tinygltf::Model& model, ImportedMesh& out) : model_(model), out_(out) {
+        for (size_t i = 0; i < model.materials.size(); ++i) out_.mesh.materials.push_back(convertMaterial(model.materials[i], i));
+    }
+
+    Status run() {
+        std::vector<int> roots = rootNodes();
+        std::vector<uint8_t> visited(model_.nodes.size(), 0);
+        std::vector<std::pair<int, Mat4>> stack;
+        for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, kIdentity);
+        while (!stack.empty()) {
+            const auto [index, parent] = stack.back();
+            stack.pop_back();
+            if (index < 0 || size_t(index) >= model_.nodes.size())
+                return Status::error("node " + std::to_string(index) + " does not exist");
+            // glTF node graphs are strict trees; a second visit means a cycle or a shared child.
+            if (visited[index]++) return Status::error("node " + std::to_string(index) + " is reached twice (cycle or shared child)");
+            const tinygltf::Node& node = model_.nodes[index];
+            const Mat4 world = multiply(parent, localTransform(node));
+            if (node.mesh >= 0) {
+                if (Status s = addMesh(node.mesh, world); !s.isOk()) return s;
+            }
+            for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, world);
+        }
+        return Status::ok();
+    }
+
+private:
+    // The default scene, else scene 0, else every node that is nobody's child.
+    std::vector<int> rootNodes() const {
+        if (!model_.scenes.empty()) {
+            const int s = model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size() ? model_.defaultScene : 0;
+            return model_.scenes[s].nodes;
+        }
+        std::vector<uint8_t> isChild(model_.nodes.size(), 0);
+        for (const tinygltf::Node& n : model_.nodes)
+            for (int c : n.children)
+                if (c >= 0 && size_t(c) < isChild.size()) isChild[c] = 1;
+        std::vector<int> roots;
+        for (size_t i = 0; i < isChild.size(); ++i)
+            if (!isChild[i]) roots.push_back(int(i));
+        return roots;
+    }
+
+    Status addMesh(int meshIndex, const Mat4& world) {
+        if (size_t(meshIndex) >= model_.meshes.size()) return Status::error("mesh " + std::to_string(meshIndex) + " does not exist");
+        const auto& prims = model_.meshes[meshIndex].primitives;
+        for (size_t p = 0; p < prims.size(); ++p) {
+            const std::string where = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p) + ": ";
+            if (Status s = addPrimitive(prims[p], world); !s.isOk()) return s.withContext(where);
+        }
+        return Status::ok();
+    }
+
+    Status addPrimitive(const tinygltf::Primitive& prim, const Mat4& world) {
+        if (prim.mode >= TINYGLTF_MODE_POINTS && prim.mode <= TINYGLTF_MODE_LINE_STRIP) {
+            ++out_.report.primitivesSkipped;
+            return Status::ok();
+        }
+        if (prim.mode < TINYGLTF_MODE_TRIANGLES || prim.mode > TINYGLTF_MODE_TRIANGLE_FAN)
+            return Status::error("unknown primitive mode " + std::to_string(prim.mode));
+        const auto position = prim.attributes.find("POSITION");
+        if (position == prim.attributes.end()) return Status::error("no POSITION attribute");
+        if (Status s = import::readVec3Accessor(model_, position->second, xyz_); !s.isOk()) return s;
+        const uint64_t vertexCount = xyz_.size() / 3;
+        if (Status s = readCorners(prim, vertexCount); !s.isOk()) return s;
+        const uint64_t base = out_.mesh.positions.size();
+        if (base + vertexCount > std::numeric_limits<uint32_t>::max())
+            return Status::error("total vertex count " + std::to_string(base + vertexCount) + " exceeds the uint32 index range");
+        countAttributes(prim);
+        appendPositions(world);
+        return appendTriangles(prim, uint32_t(base), determinant3(world) < 0);
+    }
+
+    Status readCorners(const tinygltf::Primitive& prim, uint64_t vertexCount) {
+        if (prim.indices >= 0) {
+            if (Status s = import::readIndexAccessor(model_, prim.indices, corners_); !s.isOk()) return s;
+        } else {
+            corners_.resize(vertexCount);
+            for (uint64_t i = 0; i < vertexCount; ++i) corners_[i] = uint32_t(i);
+        }
+        for (size_t i = 0; i < corners_.size(); ++i)
+            if (corners_[i] >= vertexCount)
+                return Status::error("index " + std::to_string(i) + " value " + std::to_string(corners_[i]) +
+                                     " >= vertex count " + std::to_string(vertexCount));
+        if (prim.mode == TINYGLTF_MODE_TRIANGLES && corners_.size() % 3 != 0)
+            return Status::error((prim.indices >= 0 ? "index count " : "vertex count ") + std::to_string(corners_.size()) +
+                                 " is not a multiple of 3");
+        return Status::ok();
+    }
+
+    void countAttributes(const tinygltf::Primitive& prim) {
+        const uint64_t count = xyz_.size() / 3;
+        out_.report.verticesRead += count;
+        if (prim.attributes.count("NORMAL")) out_.report.normalsRead += count;
+        if (prim.attributes.count("TEXCOORD_0")) out_.report.texcoordsRead += count;
+    }
+
+    void appendPositions(const Mat4& m) {
+        for (size_t i = 0; i < xyz_.size(); i += 3) {
+            const double x = xyz_[i], y = xyz_[i + 1], z = xyz_[i + 2];
+            out_.mesh.positions.push_back({float(m[0] * x + m[4] * y + m[8] * z + m[12]),
+                                           float(m[1] * x + m[5] * y + m[9] * z + m[13]),
+                                           float(m[2] * x + m[6] * y + m[10] * z + m[14])});
+        }
+    }
+
+    uint32_t materialId(int material) {
+        if (material >= 0 && size_t(material) < model_.materials.size()) return uint32_t(material);
+        if (defaultMaterial_ < 0) {
+            Material m{"default"};
+            m.baseColor = {1, 1, 1, 1};  // glTF default material (spec 3.9.6)
+            m.doubleSided = false;
+            defaultMaterial_ = int64_t(out_.mesh.materials.size());
+            out_.mesh.materials.push_back(m);
+        }
+        return uint32_t(defaultMaterial_);
+    }
+
+    // A mirroring transform (negative determinant) flips winding; swapping two corners
+    // restores it so that front faces stay front (glTF 2.0 spec 3.7.4).
+    Status appendTriangles(const tinygltf::Primitive& prim, uint32_t base, bool mirrored) {
+        if (prim.material >= 0 && size_t(prim.material) >= model_.materials.size())
+            return Status::error("material " + std::to_string(prim.material) + " does not exist");
+        const uint32_t material = materialId(prim.material);
+        auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+            if (mirrored) std::swap(b, c);
+            out_.mesh.indices.insert(out_.mesh.indices.end(), {base + a, base + b, base + c});
+            out_.mesh.materialIds.push_back(material);
+        };
+        const std::vector<uint32_t>& v = corners_;
+        if (prim.mode == TINYGLTF_MODE_TRIANGLES)
+            for (size_t i = 0; i + 2 < v.size(); i += 3) emit(v[i], v[i + 1], v[i + 2]);
+        else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+            for (size_t i = 0; i + 2 < v.size(); ++i) i % 2 == 0 ? emit(v[i], v[i + 1], v[i + 2]) : emit(v[i + 1], v[i], v[i + 2]);
+        else
+            for (size_t i = 1; i + 1 < v.size(); ++i) emit(v[0], v[i], v[i + 1]);
+        return Status::ok();
+    }
+
+    const tinygltf::Model& model_;
+    ImportedMesh& out_;
+    std::vector<double> xyz_;        // reused per primitive
+    std::vector<uint32_t> corners_;  // reused per primitive
+    int64_t defaultMaterial_ = -1;
+};
+
+Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {
+    const std::string name = import::fileNameOf(path);
+    const bool binary = import::lowerExtension(path) == "glb";
+    auto model = import::loadGltfModel(path, binary);
+    if (!model) return model.status();
+    ImportedMesh imported;
+    imported.report.format = binary ? "glb" : "gltf";
+    GltfFlattener flattener(*model, imported);
+    if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
+    if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
+    return imported;
+}
+
+}  // namespace
+
+Result<ImportedMesh> importGltf(const std::string& path, const ImportOptions& options) {
+    return import::guarded(path, [&]() -> Result<ImportedMesh> { return importGltfUnguarded(path, options); });
+}
+
+}  // namespace vastray

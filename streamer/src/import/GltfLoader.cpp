@@ -1,0 +1,236 @@
+#include "import/GltfLoader.h"
+
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "import/GltfDracoCheck.h"
+#include "import/ImportCommon.h"
+
+namespace vastray::import {
+namespace {
+
+// Textures are not rendered yet, so a required texture transform changes nothing we draw;
+// quantized (normalized integer) positions are read by GltfAccessor.
+const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
+                                                  "KHR_materials_emissive_strength", "KHR_texture_transform"};
+
+struct Sandbox {
+    std::string folder;     // the model's folder, as passed to tinygltf as base_dir
+    std::string violation;  // first forbidden URI seen, reported instead of tinygltf's message
+};
+
+// tinygltf hands us base_dir joined with the URI; also "./uri" (its CWD fallback), refused.
+bool allowedPath(const std::string& path, Sandbox& box) {
+    const std::string prefix = box.folder + "/";
+    if (path.compare(0, prefix.size(), prefix) != 0) return false;
+    const std::string uri = path.substr(prefix.size());
+    std::string why;
+    if (isSafeRelativeUri(uri, why)) return true;
+    if (box.violation.empty()) box.violation = "uri '" + uri + "' " + why;
+    return false;
+}
+
+bool sandboxFileExists(const std::string& path, void* user) {
+    std::error_code ec;
+    return allowedPath(path, *static_cast<Sandbox*>(user)) && std::filesystem::is_regular_file(path, ec);
+}
+
+std::string sandboxExpand(const std::string& path, void*) { return path; }
+
+bool sandboxRead(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    if (!allowedPath(path, *static_cast<Sandbox*>(user))) {
+        if (err) *err = "refused";
+        return false;
+    }
+    auto bytes = readWholeFile(path);
+    if (!bytes) {
+        if (err) *err = bytes.message();
+        return false;
+    }
+    out->assign(bytes->begin(), bytes->end());
+    return true;
+}
+
+bool sandboxWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err = "writing is disabled";
+    return false;
+}
+
+// Images are not rendered: accept and drop them so that a PNG never costs a decode.
+bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                 void*) {
+    return true;
+}
+
+uint32_t readU32(const std::vector<char>& b, size_t at) {
+    uint32_t v;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;  // GLB is little endian, as are the hosts vastray runs on
+}
+
+// Finds the JSON chunk and, when present, the BIN chunk that follows it.
+Status checkGlbHeader(const std::vector<char>& b, std::string_view& json, std::string_view& bin) {
+    if (b.size() < 20) return Status::error("GLB header: file has " + std::to_string(b.size()) + " bytes, need at least 20");
+    if (std::memcmp(b.data(), "glTF", 4) != 0) return Status::error("GLB header: bad magic (not 'glTF')");
+    if (readU32(b, 4) != 2) return Status::error("GLB header: version " + std::to_string(readU32(b, 4)) + " is not 2");
+    const uint64_t length = readU32(b, 8);
+    if (length > b.size() || length < 20)
+        return Status::error("GLB header: declared length " + std::to_string(length) + " but file has " +
+                             std::to_string(b.size()) + " bytes");
+    const uint64_t jsonLength = readU32(b, 12);
+    if (readU32(b, 16) != 0x4E4F534Au) return Status::error("GLB header: first chunk is not JSON");
+    if (jsonLength == 0 || 20 + jsonLength > length)
+        return Status::error("GLB header: JSON chunk length " + std::to_string(jsonLength) + " exceeds the file");
+    json = std::string_view(b.data() + 20, jsonLength);
+    const uint64_t binHeader = 20 + jsonLength;
+    if (binHeader + 8 <= length && readU32(b, binHeader + 4) == 0x004E4942u) {
+        const uint64_t binLength = readU32(b, binHeader);
+        if (binHeader + 8 + binLength > length)
+            return Status::error("GLB header: BIN chunk length " + std::to_string(binLength) + " exceeds the file");
+        bin = std::string_view(b.data() + binHeader + 8, binLength);
+    }
+    return Status::ok();
+}
+
+bool validIndex(const nlohmann::json& v, size_t size) {
+    return v.is_number_integer() && v.get<int64_t>() >= 0 && v.get<uint64_t>() < size;
+}
+
+uint64_t unsignedField(const nlohmann::json& object, const char* key) {
+    const auto& v = object.value(key, nlohmann::json(0));
+    return v.is_number_integer() && v.get<int64_t>() >= 0 ? v.get<uint64_t>() : ~uint64_t(0);
+}
+
+bool validComponentType(const nlohmann::json& accessor, bool index) {
+    const int64_t t = accessor.is_object() ? accessor.value("componentType", int64_t(0)) : 0;
+    return t == 5121 || t == 5123 || t == 5125 || (!index && (t == 5120 || t == 5122 || t == 5126));
+}
+
+// The bufferView that holds the Draco bitstream must lie inside its buffer's declared length
+// (tinygltf made the buffer's data exactly that long, or failed).
+Status checkDracoView(const nlohmann::json& view, const nlohmann::json& buffers) {
+    if (!view.is_object() || !validIndex(view.value("buffer", nlohmann::json()), buffers.size()))
+        return Status::error("KHR_draco_mesh_compression: bufferView refers to no buffer");
+    const auto& buffer = buffers[view["buffer"].get<size_t>()];
+    if (!buffer.is_object()) return Status::error("KHR_draco_mesh_compression: buffer is not an object");
+    const uint64_t offset = unsignedField(view, "byteOffset"), length = unsignedField(view, "byteLength");
+    const uint64_t capacity = unsignedField(buffer, "byteLength");
+    if (offset > capacity || length > capacity - offset)
+        return Status::error("KHR_draco_mesh_compression: bufferView exceeds its buffer");
+    return Status::ok();
+}
+
+// tinygltf's Draco path indexes arrays without bounds checks; refuse bad references first.
+Status checkDracoPrimitive(const nlohmann::json& doc, const nlohmann::json& prim) {
+    const auto& ext = prim["extensions"]["KHR_draco_mesh_compression"];
+    const auto& views = doc.value("bufferViews", nlohmann::json::array());
+    const auto& buffers = doc.value("buffers", nlohmann::json::array());
+    const auto& accessors = doc.value("accessors", nlohmann::json::array());
+    if (!ext.is_object() || !validIndex(ext.value("bufferView", nlohmann::json()), views.size()))
+        return Status::error("KHR_draco_mesh_compression: bad bufferView");
+    if (Status s = checkDracoView(views[ext["bufferView"].get<size_t>()], buffers); !s.isOk()) return s;
+    if (prim.contains("indices") &&
+        (!validIndex(prim["indices"], accessors.size()) || !validComponentType(accessors[prim["indices"].get<size_t>()], true)))
+        return Status::error("KHR_draco_mesh_compression: bad indices accessor");
+    const auto& attributes = ext.value("attributes", nlohmann::json());
+    const auto& primAttributes = prim.value("attributes", nlohmann::json::object());
+    if (!attributes.is_object() || !primAttributes.is_object())
+        return Status::error("KHR_draco_mesh_compression: missing attributes");
+    for (const auto& [name, id] : attributes.items()) {
+        if (!id.is_number_integer() || !primAttributes.contains(name) ||
+            !validIndex(primAttributes[name], accessors.size()) ||
+            !validComponentType(accessors[primAttributes[name].get<size_t>()], false))
+            return Status::error("KHR_draco_mesh_compression: attribute " + name + " has no valid accessor");
+    }
+    return Status::ok();
+}
+
+Status checkDocument(const nlohmann::json& doc) {
+    if (!doc.is_object()) return Status::error("top level JSON value is not an object");
+    for (const auto& ext : doc.value("extensionsRequired", nlohmann::json::array())) {
+        const std::string name = ext.is_string() ? ext.get<std::string>() : ext.dump();
+        if (!kSupportedRequired.count(name)) return Status::error("required extension '" + name + "' is not supported");
+    }
+    const auto& meshes = doc.value("meshes", nlohmann::json::array());
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        const auto& prims = meshes[m].is_object() ? meshes[m].value("primitives", nlohmann::json::array())
+                                                   : nlohmann::json::array();
+        for (size_t p = 0; p < prims.size(); ++p) {
+            if (!prims[p].is_object() || !prims[p].contains("extensions") || !prims[p]["extensions"].is_object() ||
+                !prims[p]["extensions"].contains("KHR_draco_mesh_compression"))
+                continue;
+            if (Status s = checkDracoPrimitive(doc, prims[p]); !s.isOk())
+                return s.withContext("mesh " + std::to_string(m) + " primitive " + std::to_string(p) + ": ");
+        }
+    }
+    return Status::ok();
+}
+
+Status precheckJson(std::string_view text, std::string_view bin, const std::string& folder) {
+    try {
+        const nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end());
+        if (Status s = checkDocument(doc); !s.isOk()) return s;
+        return checkDracoAttributes(doc, bin, folder);
+    } catch (const std::exception& e) {
+        return Status::error(std::string("JSON: ") + e.what());
+    }
+}
+
+}  // namespace
+
+bool isSafeRelativeUri(const std::string& uri, std::string& why) {
+    if (uri.empty()) return why = "is empty", false;
+    if (uri[0] == '/' || uri[0] == '\\') return why = "is an absolute path", false;
+    const size_t colon = uri.find(':');
+    if (colon != std::string::npos && uri.find_first_of("/\\") > colon)
+        return why = "has a scheme ('" + uri.substr(0, colon) + ":'); only relative paths and data: URIs are allowed",
+               false;
+    size_t start = 0;
+    while (start <= uri.size()) {
+        const size_t end = std::min(uri.find_first_of("/\\", start), uri.size());
+        if (uri.compare(start, end - start, "..") == 0) return why = "escapes the model folder ('..')", false;
+        start = end + 1;
+    }
+    return true;
+}
+
+Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary) {
+    const std::string name = fileNameOf(path);
+    auto bytes = readWholeFile(path);
+    if (!bytes) return bytes.status();
+    if (bytes->size() > std::numeric_limits<unsigned>::max())  // tinygltf takes 32-bit lengths
+        return errorIn(name, "file of " + std::to_string(bytes->size()) + " bytes exceeds the 4 GiB glTF limit");
+    std::string_view json(bytes->data(), bytes->size()), bin;
+    if (binary) {
+        if (Status s = checkGlbHeader(*bytes, json, bin); !s.isOk()) return s.withContext(name + ": ");
+    }
+    if (Status s = precheckJson(json, bin, directoryOf(path)); !s.isOk()) return s.withContext(name + ": ");
+
+    Sandbox box{directoryOf(path), {}};
+    tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&sandboxFileExists, &sandboxExpand, &sandboxRead, &sandboxWrite, &box});
+    loader.SetImageLoader(&ignoreImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    bool ok = false;
+    try {
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes->data());
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes->size()), box.folder)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, bytes->data(), unsigned(bytes->size()),
+                                                 box.folder);
+    } catch (const std::exception& e) {
+        return errorIn(name, std::string("glTF parse error: ") + e.what());
+    }
+    if (!box.violation.empty()) return errorIn(name, box.violation);
+    if (!ok) {
+        while (!err.empty() && err.back() == '\n') err.pop_back();
+        return errorIn(name, err.empty() ? "glTF load failed" : err);
+    }
+    return model;
+}
+
+}  // namespace vastray::import

@@ -1,0 +1,114 @@
+// importMesh (dispatch by extension) and finalizeMesh, the validation step every importer
+// ends with.
+#include "vastray/streamer/Import.h"
+
+#include <limits>
+
+#include "import/ImportCommon.h"
+
+namespace vastray {
+namespace {
+
+std::string formatVertex(Vec3f p) {
+    return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")";
+}
+
+Status checkPositions(const TriangleMesh& mesh) {
+    if (mesh.positions.size() > std::numeric_limits<uint32_t>::max())
+        return Status::error("vertex count " + std::to_string(mesh.positions.size()) +
+                             " exceeds the uint32 index range");
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        if (!isFinite(mesh.positions[i]))
+            return Status::error("vertex " + std::to_string(i) + " has a non-finite coordinate " +
+                                 formatVertex(mesh.positions[i]));
+    }
+    return Status::ok();
+}
+
+Status checkIndices(const TriangleMesh& mesh) {
+    if (mesh.indices.size() % 3 != 0)
+        return Status::error("index count " + std::to_string(mesh.indices.size()) +
+                             " is not a multiple of 3");
+    const uint64_t vertexCount = mesh.positions.size();
+    for (size_t i = 0; i < mesh.indices.size(); ++i) {
+        if (mesh.indices[i] >= vertexCount)
+            return Status::error("triangle " + std::to_string(i / 3) + " index " +
+                                 std::to_string(mesh.indices[i]) + " >= vertex count " +
+                                 std::to_string(vertexCount));
+    }
+    if (!mesh.materialIds.empty() && mesh.materialIds.size() != mesh.indices.size() / 3)
+        return Status::error("material id count does not match the triangle count");
+    for (size_t t = 0; t < mesh.materialIds.size(); ++t) {
+        if (mesh.materialIds[t] >= mesh.materials.size())
+            return Status::error("triangle " + std::to_string(t) + " material " +
+                                 std::to_string(mesh.materialIds[t]) + " >= material count " +
+                                 std::to_string(mesh.materials.size()));
+    }
+    return Status::ok();
+}
+
+// Zero area is decided in double so that thin but valid float triangles survive.
+bool isDegenerate(const TriangleMesh& mesh, const uint32_t* t) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
+    const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+    if (a == b || b == c || a == c) return true;
+    const double ux = double(b.x) - a.x, uy = double(b.y) - a.y, uz = double(b.z) - a.z;
+    const double vx = double(c.x) - a.x, vy = double(c.y) - a.y, vz = double(c.z) - a.z;
+    const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+    return cx == 0.0 && cy == 0.0 && cz == 0.0;
+}
+
+// Compacts indices and material ids in place; no second copy of the mesh is made.
+uint64_t dropDegenerates(TriangleMesh& mesh) {
+    const uint64_t count = mesh.triangleCount();
+    const bool hasIds = !mesh.materialIds.empty();
+    uint64_t kept = 0;
+    for (uint64_t t = 0; t < count; ++t) {
+        const uint32_t* tri = &mesh.indices[t * 3];
+        if (isDegenerate(mesh, tri)) continue;
+        if (kept != t) {
+            for (int k = 0; k < 3; ++k) mesh.indices[kept * 3 + k] = tri[k];
+            if (hasIds) mesh.materialIds[kept] = mesh.materialIds[t];
+        }
+        ++kept;
+    }
+    mesh.indices.resize(kept * 3);
+    if (hasIds) mesh.materialIds.resize(kept);
+    return count - kept;
+}
+
+void applySidedness(const ImportOptions& options, std::vector<Material>& materials) {
+    if (options.sidedness == ImportOptions::Sidedness::FromFile) return;
+    const bool doubleSided = options.sidedness == ImportOptions::Sidedness::ForceDoubleSided;
+    for (Material& m : materials) m.doubleSided = doubleSided;
+}
+
+}  // namespace
+
+Status finalizeMesh(const std::string& fileName, const ImportOptions& options, ImportedMesh& imported) {
+    TriangleMesh& mesh = imported.mesh;
+    const std::string prefix = fileName + ": ";
+    if (mesh.materials.empty()) mesh.materials.push_back(Material{"default"});
+    if (Status s = checkPositions(mesh); !s.isOk()) return s.withContext(prefix);
+    if (Status s = checkIndices(mesh); !s.isOk()) return s.withContext(prefix);
+    imported.report.inputTriangles = mesh.triangleCount();
+    if (mesh.triangleCount() == 0) return Status::error(prefix + "no triangles");
+    imported.report.degenerateDropped = dropDegenerates(mesh);
+    if (mesh.triangleCount() == 0)
+        return Status::error(prefix + "all " + std::to_string(imported.report.inputTriangles) +
+                             " triangles are degenerate");
+    applySidedness(options, mesh.materials);
+    return Status::ok();
+}
+
+Result<ImportedMesh> importMesh(const std::string& path, const ImportOptions& options) {
+    const std::string ext = import::lowerExtension(path);
+    if (ext == "obj") return importObj(path, options);
+    if (ext == "ply") return importPly(path, options);
+    if (ext == "gltf" || ext == "glb") return importGltf(path, options);
+    return import::errorIn(import::fileNameOf(path),
+                           "unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : "." + ext) +
+                               "' (supported: .obj, .ply, .gltf, .glb)");
+}
+
+}  // namespace vastray

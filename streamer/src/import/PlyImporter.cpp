@@ -1,0 +1,220 @@
+// PLY (ASCII, binary little/big endian): vertex x/y/z of any scalar type, face polygons
+// (fan-triangulated), tristrips (-1 restarts), every other element skipped.
+#include <algorithm>
+#include <limits>
+
+#include "import/ImportCommon.h"
+#include "import/PlyHeader.h"
+#include "import/PlyReaders.h"
+#include "vastray/streamer/Import.h"
+
+namespace vastray {
+namespace {
+
+using import::PlyElement;
+using import::PlyProperty;
+
+enum class Role : uint8_t { Skip, X, Y, Z, Normal, Texcoord };
+
+Role roleOf(const PlyProperty& p) {
+    if (p.isList) return Role::Skip;
+    if (p.name == "x") return Role::X;
+    if (p.name == "y") return Role::Y;
+    if (p.name == "z") return Role::Z;
+    if (p.name == "nx") return Role::Normal;
+    if (p.name == "u" || p.name == "s" || p.name == "texture_u") return Role::Texcoord;
+    return Role::Skip;
+}
+
+template <typename Reader>
+class PlyBody {
+public:
+    PlyBody(Reader reader, const std::string& name, ImportedMesh& out) : r_(reader), name_(name), out_(out) {}
+
+    Status element(const PlyElement& e) {
+        if (e.name == "vertex") return vertices(e);
+        if (e.name == "face") return polygons(e, false);
+        if (e.name == "tristrips") return polygons(e, true);
+        return skipElement(e);
+    }
+
+private:
+    Status rowError(const PlyElement& e, uint64_t row, const std::string& what) const {
+        return import::errorIn(name_, e.name + " " + std::to_string(row) + ": " + what);
+    }
+
+    bool skipList(const PlyProperty& p) {
+        int64_t count;
+        if (!r_.readInt(p.countType, count) || count < 0) return false;
+        if (r_.canSkipRowsInBulk()) return r_.skipBytes(uint64_t(count) * import::plySize(p.type));
+        for (int64_t i = 0; i < count; ++i)
+            if (!r_.skip(p.type)) return false;
+        return true;
+    }
+
+    bool skipProperty(const PlyProperty& p) { return p.isList ? skipList(p) : r_.skip(p.type); }
+
+    Status skipElement(const PlyElement& e) {
+        if (r_.canSkipRowsInBulk() && !e.hasLists()) {
+            // count * row size cannot overflow: the header bounded count by the file size.
+            if (!r_.skipBytes(e.count * e.minRowBytes(import::PlyFormat::BinaryLittleEndian)))
+                return rowError(e, 0, "element extends past the end of the file");
+            return Status::ok();
+        }
+        for (uint64_t row = 0; row < e.count; ++row)
+            for (const PlyProperty& p : e.properties)
+                if (!skipProperty(p)) return rowError(e, row, std::string(r_.failure()) + " in " + p.name);
+        return Status::ok();
+    }
+
+    Status vertices(const PlyElement& e) {
+        if (vertexCount_ != kNoVertices) return rowError(e, 0, "second vertex element");
+        std::vector<Role> roles;
+        for (const PlyProperty& p : e.properties) roles.push_back(roleOf(p));
+        for (Role axis : {Role::X, Role::Y, Role::Z})
+            if (std::find(roles.begin(), roles.end(), axis) == roles.end())
+                return rowError(e, 0, "vertex element lacks an x, y or z property");
+        out_.mesh.positions.reserve(e.count);
+        for (uint64_t row = 0; row < e.count; ++row) {
+            double xyz[3] = {0, 0, 0};
+            for (size_t i = 0; i < roles.size(); ++i) {
+                const PlyProperty& p = e.properties[i];
+                const Role role = roles[i];
+                const bool ok = role >= Role::X && role <= Role::Z
+                                    ? r_.readReal(p.type, xyz[int(role) - int(Role::X)])
+                                    : skipProperty(p);
+                if (!ok) return rowError(e, row, std::string(r_.failure()) + " in " + p.name);
+            }
+            out_.mesh.positions.push_back(Vec3f{float(xyz[0]), float(xyz[1]), float(xyz[2])});
+        }
+        vertexCount_ = e.count;
+        for (Role role : roles) {
+            if (role == Role::Normal) out_.report.normalsRead = e.count;
+            if (role == Role::Texcoord) out_.report.texcoordsRead = e.count;
+        }
+        return Status::ok();
+    }
+
+    static const PlyProperty* indexList(const PlyElement& e) {
+        for (const PlyProperty& p : e.properties)
+            if (p.isList && (p.name == "vertex_indices" || p.name == "vertex_index")) return &p;
+        return nullptr;
+    }
+
+    Status polygons(const PlyElement& e, bool strips) {
+        const PlyProperty* list = indexList(e);
+        if (!list) return rowError(e, 0, "no vertex_indices list property");
+        if (vertexCount_ == kNoVertices && e.count > 0) return rowError(e, 0, "comes before the vertex element");
+        if (!strips) out_.mesh.indices.reserve(out_.mesh.indices.size() + e.count * 3);
+        for (uint64_t row = 0; row < e.count; ++row) {
+            for (const PlyProperty& p : e.properties) {
+                if (&p != list) {
+                    if (!skipProperty(p)) return rowError(e, row, std::string(r_.failure()) + " in " + p.name);
+                    continue;
+                }
+                if (Status s = readIndices(e, row, p, strips); !s.isOk()) return s;
+                if (Status s = strips ? emitStrip(e, row) : emitFan(e, row); !s.isOk()) return s;
+            }
+        }
+        return Status::ok();
+    }
+
+    Status readIndices(const PlyElement& e, uint64_t row, const PlyProperty& p, bool strips) {
+        int64_t count;
+        if (!r_.readInt(p.countType, count)) return rowError(e, row, std::string(r_.failure()) + " in list count");
+        if (count < 0) return rowError(e, row, "negative list count " + std::to_string(count));
+        corners_.clear();
+        for (int64_t i = 0; i < count; ++i) {
+            int64_t index;
+            if (!r_.readInt(p.type, index)) return rowError(e, row, std::string(r_.failure()) + " in index list");
+            const bool restart = strips && (index == -1 || (p.type == import::PlyType::UInt32 && index == 0xFFFFFFFFll));
+            if (restart) {
+                corners_.push_back(kRestart);
+                continue;
+            }
+            if (index < 0 || uint64_t(index) >= vertexCount_)
+                return rowError(e, row, "index " + std::to_string(index) + " >= vertex count " +
+                                            std::to_string(vertexCount_));
+            corners_.push_back(uint32_t(index));
+        }
+        return Status::ok();
+    }
+
+    Status emitFan(const PlyElement& e, uint64_t row) {
+        if (corners_.size() < 3)
+            return rowError(e, row, "polygon with " + std::to_string(corners_.size()) + " vertices");
+        for (size_t i = 1; i + 1 < corners_.size(); ++i)
+            out_.mesh.indices.insert(out_.mesh.indices.end(), {corners_[0], corners_[i], corners_[i + 1]});
+        return Status::ok();
+    }
+
+    // Every second strip triangle is flipped so that all keep the strip's winding.
+    Status emitStrip(const PlyElement&, uint64_t) {
+        size_t run = 0;
+        for (size_t i = 0; i < corners_.size(); ++i) {
+            if (corners_[i] == kRestart) {
+                run = 0;
+                continue;
+            }
+            if (++run < 3) continue;
+            const uint32_t a = corners_[i - 2], b = corners_[i - 1], c = corners_[i];
+            if (run % 2 == 1) out_.mesh.indices.insert(out_.mesh.indices.end(), {a, b, c});
+            else out_.mesh.indices.insert(out_.mesh.indices.end(), {b, a, c});
+        }
+        return Status::ok();
+    }
+
+    static constexpr uint64_t kNoVertices = std::numeric_limits<uint64_t>::max();
+    static constexpr uint32_t kRestart = std::numeric_limits<uint32_t>::max();
+
+    Reader r_;
+    const std::string& name_;
+    ImportedMesh& out_;
+    uint64_t vertexCount_ = kNoVertices;
+    std::vector<uint32_t> corners_;  // reused for every row: no per-face allocation
+};
+
+template <typename Reader>
+Status readBody(Reader reader, const import::PlyHeader& header, const std::string& name, ImportedMesh& out) {
+    PlyBody<Reader> body(reader, name, out);
+    for (const PlyElement& e : header.elements)
+        if (Status s = body.element(e); !s.isOk()) return s;
+    return Status::ok();
+}
+
+const char* formatName(import::PlyFormat f) {
+    switch (f) {
+        case import::PlyFormat::Ascii: return "ply-ascii";
+        case import::PlyFormat::BinaryLittleEndian: return "ply-binary-le";
+        case import::PlyFormat::BinaryBigEndian: return "ply-binary-be";
+    }
+    return "ply";
+}
+
+Result<ImportedMesh> importPlyUnguarded(const std::string& path, const ImportOptions& options) {
+    const std::string name = import::fileNameOf(path);
+    auto bytes = import::readWholeFile(path);
+    if (!bytes) return bytes.status();
+    auto header = import::parsePlyHeader(bytes->data(), bytes->size(), name);
+    if (!header) return header.status();
+    ImportedMesh imported;
+    imported.report.format = formatName(header->format);
+    const char* body = bytes->data() + header->bodyOffset;
+    const char* end = bytes->data() + bytes->size();
+    const Status status = header->format == import::PlyFormat::Ascii
+                              ? readBody(import::PlyAsciiReader(body, end), *header, name, imported)
+                              : readBody(import::PlyBinaryReader(body, end, header->format == import::PlyFormat::BinaryBigEndian),
+                                         *header, name, imported);
+    if (!status.isOk()) return status;
+    imported.report.verticesRead = imported.mesh.positions.size();
+    if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
+    return imported;
+}
+
+}  // namespace
+
+Result<ImportedMesh> importPly(const std::string& path, const ImportOptions& options) {
+    return import::guarded(path, [&]() -> Result<ImportedMesh> { return importPlyUnguarded(path, options); });
+}
+
+}  // namespace vastray

@@ -1,0 +1,131 @@
+// glTF importer on hand-built files: node hierarchy, TRS, mirroring, primitive modes,
+// index widths, data: URIs, materials, GLB container and KHR_draco_mesh_compression.
+#include "DracoTestFile.h"
+#include "ImportTestFiles.h"
+
+namespace vastray::test {
+namespace {
+
+// A right triangle in the z=0 plane, counter-clockwise seen from +z.
+const std::vector<float> kTriangle = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+
+// Normal (z component of the cross product) of triangle t: tells the winding.
+float windingZ(const TriangleMesh& m, size_t t) {
+    const Vec3f a = m.positions[m.indices[t * 3]], b = m.positions[m.indices[t * 3 + 1]],
+                c = m.positions[m.indices[t * 3 + 2]];
+    const Vec3f u = b - a, v = c - a;
+    return u.x * v.y - u.y * v.x;
+}
+
+TEST(GltfImport, HierarchyTrsAndMirrorKeepFrontFaces) {
+    GltfBuilder b;
+    b.addPositions(kTriangle);
+    // Node 0 (translate x+10) has child 1 (scale 2) ; node 2 mirrors x (scale -1) and
+    // reuses mesh 0: instancing must give two copies.
+    const std::string json = b.json(
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+           "nodes":[{"translation":[10,0,0],"children":[1]},{"scale":[2,2,2],"mesh":0},
+                    {"matrix":[-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],"mesh":0}],
+           "scenes":[{"nodes":[0,2]}],"scene":0)");
+    auto r = importGltf(writeFile("tree.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.triangleCount(), 2u);
+    EXPECT_EQ(r->mesh.positions[1], (Vec3f{12, 0, 0}));  // 10 + 2 * 1
+    EXPECT_EQ(r->mesh.positions[4], (Vec3f{-1, 0, 0}));
+    EXPECT_GT(windingZ(r->mesh, 0), 0.0f);
+    EXPECT_GT(windingZ(r->mesh, 1), 0.0f) << "mirrored instance must keep its front face toward +z";
+    EXPECT_EQ(r->report.format, "gltf");
+}
+
+TEST(GltfImport, RotationQuaternionIsApplied) {
+    GltfBuilder b;
+    b.addPositions(kTriangle);
+    // 90 degrees about z: (1,0,0) -> (0,1,0). Tolerance 1e-6: float rounding of sin/cos.
+    const std::string json = b.json(
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+           "nodes":[{"rotation":[0,0,0.7071067811865476,0.7071067811865476],"mesh":0}],"scenes":[{"nodes":[0]}])");
+    auto r = importGltf(writeFile("rotate.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_NEAR(r->mesh.positions[1].x, 0.0f, 1e-6);
+    EXPECT_NEAR(r->mesh.positions[1].y, 1.0f, 1e-6);
+}
+
+TEST(GltfImport, StripFanAndIndexWidths) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    b.addIndices<uint8_t>({0, 1, 2, 3});
+    b.addIndices<uint16_t>({0, 1, 3, 2});
+    b.addIndices<uint32_t>({0, 1, 3});
+    const std::string json = b.json(
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":5},
+                                    {"attributes":{"POSITION":0},"indices":2,"mode":6},
+                                    {"attributes":{"POSITION":0},"indices":3,"mode":4},
+                                    {"attributes":{"POSITION":0},"mode":1}]}],
+           "nodes":[{"mesh":0}])");  // no scenes: every root node is drawn
+    auto r = importGltf(writeFile("modes.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.triangleCount(), 5u);  // strip 2 + fan 2 + list 1; lines skipped
+    EXPECT_EQ(r->report.primitivesSkipped, 1u);
+    for (size_t t = 0; t < r->mesh.triangleCount(); ++t) EXPECT_GT(windingZ(r->mesh, t), 0.0f) << "triangle " << t;
+}
+
+TEST(GltfImport, MaterialsFromFile) {
+    GltfBuilder b;
+    b.addPositions(kTriangle);
+    const std::string json = b.json(
+        R"("extensionsUsed":["KHR_materials_emissive_strength"],
+           "materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.5,0.25,1,1]},"emissiveFactor":[1,0.5,0],
+                         "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":4}},"doubleSided":true}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0}}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+    auto r = importGltf(writeFile("materials.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.materials.size(), 2u);
+    const Material& m = r->mesh.materials[0];
+    EXPECT_EQ(m.baseColor, (std::array<float, 4>{0.5f, 0.25f, 1, 1}));
+    EXPECT_EQ(m.emissive, (std::array<float, 3>{4, 2, 0}));
+    EXPECT_TRUE(m.doubleSided);
+    EXPECT_FALSE(r->mesh.materials[1].doubleSided);  // glTF default material is single-sided
+    EXPECT_EQ(r->mesh.materialIds, (std::vector<uint32_t>{0, 1}));
+}
+
+TEST(GltfImport, GlbWithBinChunk) {
+    std::string bin;
+    for (float f : kTriangle) appendRaw(bin, f);
+    const std::string json =
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],
+            "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3}],
+            "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
+    auto r = importMesh(writeFile("tri.GLB", glb(json, bin)));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->report.format, "glb");
+    EXPECT_EQ(r->mesh.triangleCount(), 1u);
+}
+
+TEST(GltfImport, ExternalBufferInsideTheModelFolderLoads) {
+    std::string bin;
+    for (float f : kTriangle) appendRaw(bin, f);
+    std::filesystem::create_directories(tmpPath("sub"));
+    writeFile("sub/tri.bin", bin);
+    const std::string json =
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"sub/tri.bin"}],
+            "bufferViews":[{"buffer":0,"byteLength":36}],
+            "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3}],
+            "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}]})";
+    auto r = importGltf(writeFile("external.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.triangleCount(), 1u);
+}
+
+TEST(GltfImport, DracoCompressedPrimitiveDecodes) {
+    const std::string json = dracoGridGltf(4);
+    auto r = importGltf(writeFile("draco.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.triangleCount(), 32u);
+    const Aabb box = r->mesh.bounds();
+    EXPECT_EQ(box.lo, (Vec3f{0, 0, 0}));  // lossless: exact
+    EXPECT_EQ(box.hi, (Vec3f{4, 4, 0}));
+}
+
+}  // namespace
+}  // namespace vastray::test

@@ -1,0 +1,115 @@
+#pragma once
+// Helpers for the importer tests: tiny files written into VASTRAY_TEST_TMP, and a small
+// glTF builder that embeds its buffer as a base64 data: URI.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "vastray/streamer/Import.h"
+
+namespace vastray::test {
+
+inline std::string tmpPath(const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "import";
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+inline std::string writeFile(const std::string& name, const std::string& bytes) {
+    const std::string path = tmpPath(name);
+    std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    return path;
+}
+
+template <typename T>
+void appendRaw(std::string& out, T value, bool bigEndian = false) {
+    char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    if (bigEndian) std::reverse(raw, raw + sizeof(T));
+    out.append(raw, sizeof(T));
+}
+
+inline std::string base64(const std::string& in) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < in.size(); i += 3) {
+        uint32_t n = uint8_t(in[i]) << 16;
+        if (i + 1 < in.size()) n |= uint8_t(in[i + 1]) << 8;
+        if (i + 2 < in.size()) n |= uint8_t(in[i + 2]);
+        out += table[(n >> 18) & 63];
+        out += table[(n >> 12) & 63];
+        out += i + 1 < in.size() ? table[(n >> 6) & 63] : '=';
+        out += i + 2 < in.size() ? table[n & 63] : '=';
+    }
+    return out;
+}
+
+// One buffer, one bufferView per accessor. Callers add meshes/nodes/scenes as raw JSON.
+class GltfBuilder {
+public:
+    int addPositions(const std::vector<float>& xyz) {
+        std::string bytes;
+        for (float f : xyz) appendRaw(bytes, f);
+        return addAccessor(bytes, 5126, "VEC3", xyz.size() / 3);
+    }
+    template <typename T>
+    int addIndices(const std::vector<T>& indices) {
+        std::string bytes;
+        for (T i : indices) appendRaw(bytes, i);
+        const int type = sizeof(T) == 1 ? 5121 : sizeof(T) == 2 ? 5123 : 5125;
+        return addAccessor(bytes, type, "SCALAR", indices.size());
+    }
+    int addAccessor(const std::string& bytes, int componentType, const char* type, size_t count) {
+        while (bin_.size() % 4) bin_ += '\0';
+        views_ += (views_.empty() ? "" : ",") + std::string("{\"buffer\":0,\"byteOffset\":") +
+                  std::to_string(bin_.size()) + ",\"byteLength\":" + std::to_string(bytes.size()) + "}";
+        bin_ += bytes;
+        accessors_ += (accessors_.empty() ? "" : ",") + std::string("{\"bufferView\":") + std::to_string(viewCount_++) +
+                      ",\"componentType\":" + std::to_string(componentType) + ",\"type\":\"" + type +
+                      "\",\"count\":" + std::to_string(count) + "}";
+        return accessorCount_++;
+    }
+    std::string json(const std::string& rest) const {
+        return "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":" + std::to_string(bin_.size()) +
+               ",\"uri\":\"data:application/octet-stream;base64," + base64(bin_) + "\"}],\"bufferViews\":[" + views_ +
+               "],\"accessors\":[" + accessors_ + "]," + rest + "}";
+    }
+
+private:
+    std::string bin_, views_, accessors_;
+    int viewCount_ = 0, accessorCount_ = 0;
+};
+
+inline std::string glb(std::string json, std::string bin) {
+    while (json.size() % 4) json += ' ';
+    while (bin.size() % 4) bin += '\0';
+    std::string out = "glTF";
+    const uint32_t length = uint32_t(12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin.size()));
+    appendRaw(out, uint32_t(2));
+    appendRaw(out, length);
+    appendRaw(out, uint32_t(json.size()));
+    appendRaw(out, uint32_t(0x4E4F534A));
+    out += json;
+    if (!bin.empty()) {
+        appendRaw(out, uint32_t(bin.size()));
+        appendRaw(out, uint32_t(0x004E4942));
+        out += bin;
+    }
+    return out;
+}
+
+// Asserts failure and that the message names the file and contains `element`.
+#define EXPECT_IMPORT_ERROR(result, file, element)                                   \
+    do {                                                                             \
+        const auto& r_ = (result);                                                   \
+        ASSERT_FALSE(r_.isOk()) << "import unexpectedly succeeded";                  \
+        EXPECT_NE(r_.message().find(file), std::string::npos) << r_.message();       \
+        EXPECT_NE(r_.message().find(element), std::string::npos) << r_.message();    \
+    } while (0)
+
+}  // namespace vastray::test

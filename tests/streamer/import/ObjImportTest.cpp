@@ -1,0 +1,90 @@
+// OBJ importer features on hand-written files.
+#include "ImportTestFiles.h"
+
+namespace vastray::test {
+namespace {
+
+constexpr const char* kSquareVertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+TEST(ObjImport, AllCornerFormsGiveTheSameTriangles) {
+    const std::string obj = std::string(kSquareVertices) +
+                            "vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n"
+                            "f 1 2 3\nf 1/1 3/3 4/2\nf 1//1 2//1 3//1\nf 1/1/1 3/2/1 4/3/1\n";
+    auto r = importObj(writeFile("forms.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 1, 2, 0, 2, 3}));
+    EXPECT_EQ(r->report.texcoordsRead, 3u);
+    EXPECT_EQ(r->report.normalsRead, 1u);
+    EXPECT_EQ(r->report.format, "obj");
+}
+
+TEST(ObjImport, NegativeIndicesAreRelativeToTheLastVertex) {
+    const std::string obj = "v 9 9 9\n" + std::string(kSquareVertices) + "f -4 -3 -2\nv 5 5 1\nf -1 -5 -4\n";
+    auto r = importObj(writeFile("negative.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.indices, (std::vector<uint32_t>{1, 2, 3, 5, 1, 2}));
+}
+
+TEST(ObjImport, PolygonsAreFanTriangulated) {
+    const std::string obj = "v 0 0 0\nv 2 0 0\nv 3 1 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4 5\n";
+    auto r = importObj(writeFile("pentagon.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
+    EXPECT_EQ(r->report.inputTriangles, 3u);
+}
+
+TEST(ObjImport, UsemtlGivesMaterialsInFirstUseOrderWithMtlColours) {
+    writeFile("colours.mtl", "newmtl red\nKd 1 0 0\nd 0.5\nnewmtl lamp\nKd 0 0 0\nKe 4 3 2\nTr 0.1\n");
+    const std::string obj = "mtllib colours.mtl\n" + std::string(kSquareVertices) +
+                            "f 1 2 3\nusemtl lamp\nf 1 3 4\nusemtl red\nf 1 2 4\nusemtl lamp\nf 2 3 4\n";
+    auto r = importObj(writeFile("materials.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    const auto& m = r->mesh.materials;
+    ASSERT_EQ(m.size(), 3u);  // default (faces before usemtl), lamp, red
+    EXPECT_EQ(m[1].name, "lamp");
+    EXPECT_EQ(m[2].name, "red");
+    EXPECT_EQ(r->mesh.materialIds, (std::vector<uint32_t>{0, 1, 2, 1}));
+    EXPECT_EQ(m[2].baseColor, (std::array<float, 4>{1, 0, 0, 1}));  // d ignored: alpha stays 1
+    EXPECT_EQ(m[1].emissive, (std::array<float, 3>{4, 3, 2}));
+    EXPECT_TRUE(m[0].doubleSided);  // OBJ has no sidedness: Material's default
+}
+
+TEST(ObjImport, MissingMtlIsNotAnError) {
+    const std::string obj = "mtllib nowhere.mtl\n" + std::string(kSquareVertices) + "usemtl x\nf 1 2 3\n";
+    auto r = importObj(writeFile("nomtl.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.materials[0].name, "x");
+}
+
+TEST(ObjImport, CrlfCommentsAndUnknownStatementsAreHandled) {
+    const std::string obj =
+        "# comment\r\no thing\r\ng group\r\ns 1\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 1\r\n"
+        "l 1 2\r\np 1\r\nvp 0.5\r\nf 1 2 3\r\nf 1 2 4";  // last line without a line ending
+    auto r = importObj(writeFile("crlf.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.triangleCount(), 2u);
+    EXPECT_EQ(r->mesh.positions[3].z, 1.0f);
+}
+
+TEST(ObjImport, DegenerateTrianglesAreDroppedAndCounted) {
+    const std::string obj = std::string(kSquareVertices) + "v 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\nf 2 5 3\nf 1 2 6\nf 1 2 2\n";
+    // f 1 1 2: repeated index; f 2 5 3: coincident positions; f 1 2 6: zero area (collinear).
+    auto r = importObj(writeFile("degenerate.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->report.inputTriangles, 5u);
+    EXPECT_EQ(r->report.degenerateDropped, 4u);
+    EXPECT_EQ(r->mesh.triangleCount(), 1u);
+    EXPECT_EQ(r->mesh.materialIds.size(), 1u);
+}
+
+TEST(ObjImport, SidednessOverrideAppliesToEveryMaterial) {
+    const std::string obj = std::string(kSquareVertices) + "usemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n";
+    ImportOptions options;
+    options.sidedness = ImportOptions::Sidedness::ForceSingleSided;
+    auto r = importMesh(writeFile("sided.OBJ", obj), options);  // extension is case-insensitive
+    ASSERT_TRUE(r.isOk()) << r.message();
+    for (const Material& m : r->mesh.materials) EXPECT_FALSE(m.doubleSided) << m.name;
+}
+
+}  // namespace
+}  // namespace vastray::test
