@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cstring>
 #include <string>
 
 #include "package/ChunkBlob.h"
 #include "package/ChunkCodec.h"
+#include "vastray/core/Checksum.h"
 
 namespace vastray {
 namespace {
@@ -18,66 +20,82 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 // A triangle identified by its corner words, rotated so the smallest corner comes first:
 // invariant under edgebreaker's corner rotation, and it keeps the winding.
-struct TriangleKey {
-    std::array<int32_t, 9> words;
-    uint32_t id;  // original triangle id (input side) or decoded face index (output side)
+using TriangleWords = std::array<int32_t, 9>;
 
-    bool operator<(const TriangleKey& other) const {
-        return words != other.words ? words < other.words : id < other.id;
-    }
-};
-
-TriangleKey makeKey(const int32_t* vertexWords, const uint32_t* corners, uint32_t id) {
+TriangleWords triangleWords(const int32_t* vertexWords, const uint32_t* corners) {
     std::array<std::array<int32_t, 3>, 3> c;
     for (int k = 0; k < 3; ++k) std::memcpy(c[k].data(), &vertexWords[3 * size_t(corners[k])], 12);
     int first = 0;
     for (int k = 1; k < 3; ++k)
         if (c[k] < c[first]) first = k;
-    TriangleKey key;
-    for (int k = 0; k < 3; ++k) std::memcpy(&key.words[3 * k], c[(first + k) % 3].data(), 12);
-    key.id = id;
-    return key;
+    TriangleWords words;
+    for (int k = 0; k < 3; ++k) std::memcpy(&words[3 * k], c[(first + k) % 3].data(), 12);
+    return words;
 }
 
-// Local vertex table of a cell: sorted unique global vertex ids.
+// Triangles in a canonical order: by a 64-bit hash of their words (small elements to sort),
+// equal hashes by the words, equal words by position. Two sides holding the same triangles
+// come out in corresponding order.
+std::vector<uint32_t> canonicalOrder(const std::vector<TriangleWords>& words) {
+    struct Entry {
+        uint64_t hash;
+        uint32_t index;
+    };
+    std::vector<Entry> entries(words.size());
+    for (size_t t = 0; t < words.size(); ++t) entries[t] = {checksum64(words[t].data(), sizeof(TriangleWords)), uint32_t(t)};
+    std::sort(entries.begin(), entries.end(), [&](const Entry& a, const Entry& b) {
+        if (a.hash != b.hash) return a.hash < b.hash;
+        return words[a.index] != words[b.index] ? words[a.index] < words[b.index] : a.index < b.index;
+    });
+    std::vector<uint32_t> order(entries.size());
+    for (size_t k = 0; k < entries.size(); ++k) order[k] = entries[k].index;
+    return order;
+}
+
+// Local vertex table of a cell, in first-use order, through an open-addressing map from
+// global to local vertex id (no sort: this runs for every reference of the scene).
 ChunkGeometry gatherGeometry(const ChunkSource& source, const std::vector<TriangleRef>& refs) {
-    std::vector<uint32_t> globalIds;
-    globalIds.reserve(refs.size() * 3);
-    for (const TriangleRef& ref : refs)
-        for (int k = 0; k < 3; ++k) globalIds.push_back(source.indices[3 * size_t(ref.triangle) + k]);
-    std::vector<uint32_t> unique = globalIds;
-    std::sort(unique.begin(), unique.end());
-    unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+    const size_t corners = refs.size() * 3;
+    size_t capacity = 16;
+    while (capacity < corners * 2) capacity *= 2;
+    constexpr uint32_t kFree = 0xFFFFFFFFu;
+    std::vector<std::pair<uint32_t, uint32_t>> table(capacity, {kFree, 0});
     ChunkGeometry geometry;
-    geometry.vertexWords.resize(unique.size() * 3);
-    for (size_t v = 0; v < unique.size(); ++v)
-        std::memcpy(&geometry.vertexWords[3 * v], &source.vertexWords[3 * size_t(unique[v])], 12);
-    geometry.indices.resize(globalIds.size());
-    for (size_t c = 0; c < globalIds.size(); ++c)
-        geometry.indices[c] =
-            uint32_t(std::lower_bound(unique.begin(), unique.end(), globalIds[c]) - unique.begin());
+    geometry.indices.resize(corners);
+    geometry.vertexWords.reserve(corners);
+    uint32_t localCount = 0;
+    for (size_t c = 0; c < corners; ++c) {
+        const uint32_t global = source.indices[3 * size_t(refs[c / 3].triangle) + c % 3];
+        size_t slot = (global * 0x9E3779B1u) & (capacity - 1);
+        while (table[slot].first != kFree && table[slot].first != global) slot = (slot + 1) & (capacity - 1);
+        if (table[slot].first == kFree) {
+            table[slot] = {global, localCount++};
+            geometry.vertexWords.insert(geometry.vertexWords.end(), &source.vertexWords[3 * size_t(global)],
+                                        &source.vertexWords[3 * size_t(global)] + 3);
+        }
+        geometry.indices[c] = table[slot].second;
+    }
     return geometry;
 }
 
-// For every decoded face, the original triangle id: both sides sorted by key and zipped.
+// For every decoded face, the original triangle id: both sides put in canonical order and zipped.
 Result<std::vector<uint32_t>> recoverPrimitiveIds(const ChunkGeometry& input, const std::vector<TriangleRef>& refs,
                                                   const ChunkGeometry& decoded) {
     const size_t n = refs.size();
     if (decoded.indices.size() != n * 3)
         return Status::error("Draco returned " + std::to_string(decoded.indices.size() / 3) + " faces for " +
                              std::to_string(n) + " triangles");
-    std::vector<TriangleKey> before(n), after(n);
+    std::vector<TriangleWords> before(n), after(n);
     for (size_t t = 0; t < n; ++t) {
-        before[t] = makeKey(input.vertexWords.data(), &input.indices[3 * t], refs[t].triangle);
-        after[t] = makeKey(decoded.vertexWords.data(), &decoded.indices[3 * t], uint32_t(t));
+        before[t] = triangleWords(input.vertexWords.data(), &input.indices[3 * t]);
+        after[t] = triangleWords(decoded.vertexWords.data(), &decoded.indices[3 * t]);
     }
-    std::sort(before.begin(), before.end());
-    std::sort(after.begin(), after.end());
+    const std::vector<uint32_t> beforeOrder = canonicalOrder(before), afterOrder = canonicalOrder(after);
     std::vector<uint32_t> ids(n);
     for (size_t k = 0; k < n; ++k) {
-        if (before[k].words != after[k].words)
-            return Status::error("decoded face " + std::to_string(after[k].id) + " matches no input triangle");
-        ids[after[k].id] = before[k].id;
+        if (before[beforeOrder[k]] != after[afterOrder[k]])
+            return Status::error("decoded face " + std::to_string(afterOrder[k]) + " matches no input triangle");
+        ids[afterOrder[k]] = refs[beforeOrder[k]].triangle;
     }
     return ids;
 }
@@ -86,6 +104,18 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
     std::vector<Vec3f> positions(words.size() / 3);
     for (size_t v = 0; v < positions.size(); ++v) positions[v] = grid.position(&words[3 * v]);
     return positions;
+}
+
+// Chunk trees are capped at depth log2(N) + 3: leaves of about ten references keep the
+// resident footprint near 32 bytes per triangle. pbrt's 8 + 1.3·log2(N) rule gives trees of
+// about 50 bytes per triangle for fewer triangle tests (docs/PERFORMANCE.md, notes).
+KdBuildOptions chunkKdOptions(uint32_t triangles) {
+    KdBuildOptions options;
+    options.maxLeafSize = 4;
+    options.intersectionCost = 2.0f;
+    options.bins = 16;
+    options.maxDepth = std::clamp(uint32_t(std::bit_width(triangles)) + 3u, 8u, kMaxKdDepth);
+    return options;
 }
 
 }  // namespace
@@ -121,7 +151,7 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
 
     start = std::chrono::steady_clock::now();
     const uint32_t triangles = uint32_t(refs.size());
-    const KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles);
+    const KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles, chunkKdOptions(triangles));
     chunk.kdBuildSeconds = secondsSince(start);
 
     chunk.info.cell = cell;
