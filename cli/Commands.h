@@ -14,5 +14,7 @@ using CommandRun = std::function<int()>;
 CommandRun addGenerateCommand(CLI::App& app);
 CommandRun addImportCommand(CLI::App& app);
 CommandRun addInfoCommand(CLI::App& app);
+CommandRun addRenderCommand(CLI::App& app);
+CommandRun addDiffCommand(CLI::App& app);
 
 }  // namespace vastray::cli

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
         {"generate", vastray::cli::addGenerateCommand(app)},
         {"import", vastray::cli::addImportCommand(app)},
         {"info", vastray::cli::addInfoCommand(app)},
+        {"render", vastray::cli::addRenderCommand(app)},
+        {"diff", vastray::cli::addDiffCommand(app)},
     };
     try {
         app.parse(argc, argv);

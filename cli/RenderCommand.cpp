@@ -1,0 +1,247 @@
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "Commands.h"
+#include "vastray/core/ByteSize.h"
+#include "vastray/core/ImageFile.h"
+#include "vastray/core/Progress.h"
+#include "vastray/core/RenderOptions.h"
+#include "vastray/cpu/EmbreeRenderer.h"
+
+namespace vastray::cli {
+namespace {
+
+struct RenderArgs {
+    std::string input, output, backend = "embree", resolution = "640x480";
+    std::string eye, target, up = "0,1,0", integrator = "path", aovs, statsJson, progress = "auto";
+    int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
+    double fov = 45.0;
+    bool stats = false;
+};
+
+Result<Vec3f> parseVector(const std::string& flag, const std::string& text) {
+    Vec3f v;
+    const char* at = text.c_str();
+    for (int axis = 0; axis < 3; ++axis) {
+        char* end = nullptr;
+        v[axis] = std::strtof(at, &end);
+        if (end == at || !std::isfinite(v[axis]))
+            return Status::error(flag + " '" + text + "': expected three finite numbers x,y,z");
+        at = end;
+        if (axis < 2 && *at++ != ',') return Status::error(flag + " '" + text + "': expected x,y,z");
+    }
+    if (*at != '\0') return Status::error(flag + " '" + text + "': unexpected text after x,y,z");
+    return v;
+}
+
+Status parseResolution(const std::string& text, RenderOptions& options) {
+    unsigned long long w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (text.empty() || text[0] == '-' ||
+        std::sscanf(text.c_str(), "%llu%c%llu%c", &w, &x, &h, &extra) != 3 || x != 'x')
+        return Status::error("--resolution '" + text + "': expected WxH, e.g. 640x480");
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        return Status::error("--resolution " + text + ": each side must be in [1, " +
+                             std::to_string(kMaxImageSide) + "]");
+    options.width = uint32_t(w);
+    options.height = uint32_t(h);
+    return Status::ok();
+}
+
+Status checkRange(const char* flag, int64_t value, int64_t lo, int64_t hi) {
+    if (value >= lo && value <= hi) return Status::ok();
+    return Status::error(std::string(flag) + " " + std::to_string(value) + " is outside [" +
+                         std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+Status parseCamera(const RenderArgs& args, RenderOptions& options) {
+    options.camera.fovYDegrees = float(args.fov);
+    if (args.eye.empty() != args.target.empty()) return Status::error("--eye and --target go together");
+    if (args.eye.empty()) return Status::ok();
+    auto eye = parseVector("--eye", args.eye);
+    if (!eye) return eye.status();
+    auto target = parseVector("--target", args.target);
+    if (!target) return target.status();
+    auto up = parseVector("--up", args.up);
+    if (!up) return up.status();
+    options.frameScene = false;
+    options.camera.eye = *eye;
+    options.camera.target = *target;
+    options.camera.up = *up;
+    return Status::ok();
+}
+
+Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
+    std::string ext = std::filesystem::path(args.output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".png" && ext != ".exr") return Status::error(args.output + ": output must be .png or .exr");
+    if (ext == ".png" && options.aovs != kAovNone) return Status::error("--aovs needs an .exr output");
+    if (args.progress != "auto" && args.progress != "bar" && args.progress != "openjd" &&
+        args.progress != "none")
+        return Status::error("--progress '" + args.progress + "': expected auto, bar, openjd or none");
+    return Status::ok();
+}
+
+// Every flag checked and mapped onto RenderOptions before any file is read.
+Result<RenderOptions> optionsFrom(const RenderArgs& args) {
+    if (args.backend == "vulkan")
+        return Status::error("--backend vulkan is not implemented yet (use embree)");
+    if (args.backend != "embree") return Status::error("--backend '" + args.backend + "': expected embree");
+    RenderOptions options;
+    VASTRAY_TRY(parseResolution(args.resolution, options));
+    VASTRAY_TRY(checkRange("--spp", args.spp, 1, kMaxSamplesPerPixel));
+    VASTRAY_TRY(checkRange("--max-depth", args.maxDepth, 0, kMaxDepthLimit));
+    VASTRAY_TRY(checkRange("--seed", args.seed, 0, 0xFFFFFFFFll));
+    VASTRAY_TRY(checkRange("--threads", args.threads, 0, 4096));
+    options.samplesPerPixel = uint32_t(args.spp);
+    options.maxDepth = uint32_t(args.maxDepth);
+    options.seed = uint32_t(args.seed);
+    options.threads = uint32_t(args.threads);
+    auto integrator = parseIntegrator(args.integrator);
+    if (!integrator) return integrator.status();
+    options.integrator = *integrator;
+    auto aovs = parseAovList(args.aovs);
+    if (!aovs) return aovs.status();
+    options.aovs = *aovs;
+    VASTRAY_TRY(parseCamera(args, options));
+    VASTRAY_TRY(checkOutput(args, options));
+    VASTRAY_TRY(validateRenderOptions(options));
+    return options;
+}
+
+// Tile progress as the chosen front end shows it; called from worker threads.
+class RenderProgressView {
+public:
+    explicit RenderProgressView(std::string mode) : mode_(std::move(mode)) {}
+
+    RenderProgress callback() {
+        if (mode_ == "none") return {};
+        return [this](uint64_t done, uint64_t total) { report(done, total); };
+    }
+    void finish() {
+        if (bar_) bar_->finish();
+    }
+
+private:
+    void report(uint64_t done, uint64_t total) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (mode_ == "openjd") {
+            // OpenJD progress protocol: one "openjd_progress: <percent>" line on stdout.
+            const int percent = int(100 * done / total);
+            if (percent == lastPercent_) return;
+            lastPercent_ = percent;
+            std::printf("openjd_progress: %d\n", percent);
+            std::fflush(stdout);
+            return;
+        }
+        if (!bar_)
+            bar_ = std::make_unique<Progress>("render", total,
+                                              mode_ == "bar" ? Progress::Mode::Bar : Progress::Mode::Auto);
+        bar_->advance(1);
+    }
+
+    std::string mode_;
+    std::mutex mutex_;
+    std::unique_ptr<Progress> bar_;
+    int lastPercent_ = -1;
+};
+
+void printStats(const RenderStats& s, const RenderOptions& o) {
+    std::printf("render: %s backend, %s integrator, %ux%u, %u spp, max depth %u\n", s.backend.c_str(),
+                integratorName(o.integrator), o.width, o.height, o.samplesPerPixel, o.maxDepth);
+    std::printf("  triangles            %llu\n", (unsigned long long)s.triangles);
+    std::printf("  BVH build            %.3f s\n", s.buildSeconds);
+    std::printf("  render               %.3f s\n", s.renderSeconds);
+    std::printf("  rays                 %llu (%.2f M rays/s)\n", (unsigned long long)s.rays,
+                s.raysPerSecond() / 1e6);
+    std::printf("  peak host memory     %s\n", formatBytes(s.peakHostBytes).c_str());
+}
+
+Status writeStatsJson(const std::string& path, const RenderStats& s) {
+    const nlohmann::json j{{"backend", s.backend},
+                           {"render_seconds", s.renderSeconds},
+                           {"build_seconds", s.buildSeconds},
+                           {"rays", s.rays},
+                           {"rays_per_second", s.raysPerSecond()},
+                           {"triangles", s.triangles},
+                           {"peak_host_bytes", s.peakHostBytes}};
+    std::ofstream out(path);
+    out << j.dump(2) << "\n";
+    if (!out) return Status::error(path + ": cannot write stats");
+    return Status::ok();
+}
+
+int runRender(const RenderArgs& args) {
+    auto options = optionsFrom(args);
+    if (!options) {
+        std::fprintf(stderr, "vastray render: %s\n", options.message().c_str());
+        return 2;
+    }
+    auto scene = loadRenderScene(args.input);
+    if (!scene) {
+        std::fprintf(stderr, "vastray render: %s\n", scene.message().c_str());
+        return 1;
+    }
+    RenderStats stats;
+    RenderProgressView progress(args.progress);
+    auto image = renderWithEmbree(*scene, *options, &stats, progress.callback());
+    if (!image) {
+        std::fprintf(stderr, "vastray render: %s\n", image.message().c_str());
+        return 1;
+    }
+    progress.finish();
+    Status written = writeImageFile(args.output, *image);
+    if (written && !args.statsJson.empty()) written = writeStatsJson(args.statsJson, stats);
+    if (!written) {
+        std::fprintf(stderr, "vastray render: %s\n", written.message().c_str());
+        return 1;
+    }
+    if (args.stats) printStats(stats, *options);
+    return 0;
+}
+
+}  // namespace
+
+CommandRun addRenderCommand(CLI::App& app) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "render", "Render a mesh file or a scene package to .png (tone mapped) or .exr (linear).");
+    cmd->add_option("input", args->input,
+                    "mesh file (.obj, .ply, .gltf, .glb: rendered whole, in core) or package (.vast)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("-o,--output", args->output, "image to write (.png or .exr; AOVs need .exr)")->required();
+    cmd->add_option("--backend", args->backend, "embree (CPU reference) | vulkan (not implemented yet)")
+        ->capture_default_str();
+    cmd->add_option("--spp", args->spp, "samples per pixel, 1..65536")->capture_default_str();
+    cmd->add_option("--resolution", args->resolution, "WxH, each side 1..16384")->capture_default_str();
+    cmd->add_option("--eye", args->eye, "camera position x,y,z (with --target; default: frame the scene)");
+    cmd->add_option("--target", args->target, "point the camera looks at, x,y,z");
+    cmd->add_option("--up", args->up, "camera up vector x,y,z")->capture_default_str();
+    cmd->add_option("--fov", args->fov, "vertical field of view in degrees, (0, 180)")->capture_default_str();
+    cmd->add_option("--integrator", args->integrator, "path | ao (ambient occlusion)")->capture_default_str();
+    cmd->add_option("--max-depth", args->maxDepth, "scattering events per path, 0..1024")
+        ->capture_default_str();
+    cmd->add_option("--seed", args->seed, "random seed, 0..4294967295; same seed, same image")
+        ->capture_default_str();
+    cmd->add_option("--aovs", args->aovs, "extra EXR channels: any of depth,normal,albedo,primid");
+    cmd->add_option("--threads", args->threads,
+                    "worker threads (0 = all cores); the image does not depend on it")
+        ->capture_default_str();
+    cmd->add_flag("--stats", args->stats, "print rays, timings and memory");
+    cmd->add_option("--stats-json", args->statsJson, "write the figures as JSON to this file");
+    cmd->add_option("--progress", args->progress, "auto | bar | openjd | none")->capture_default_str();
+    return [args]() { return runRender(*args); };
+}
+
+}  // namespace vastray::cli

@@ -1,0 +1,40 @@
+#pragma once
+// Pinhole camera shared by every backend. World space, y up by default; pixel (0, 0) is
+// the top-left corner of the image.
+#include <cstdint>
+
+#include "vastray/core/Aabb.h"
+#include "vastray/core/Ray.h"
+#include "vastray/core/Result.h"
+#include "vastray/core/Vec3.h"
+
+namespace vastray {
+
+struct Camera {
+    Vec3f eye{0, 0, 3};
+    Vec3f target{0, 0, 0};
+    Vec3f up{0, 1, 0};
+    float fovYDegrees = 45.0f;  // vertical field of view, in (0, 180)
+};
+
+// Finite vectors, eye != target, up not parallel to the view direction, fov in (0, 180).
+Status validateCamera(const Camera& camera);
+
+// A camera that sees the whole of `bounds` (its bounding sphere) from above and to the
+// front-right, for a width/height aspect ratio.
+Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect);
+
+// Primary rays of one camera at one resolution. Directions are unit length, so a hit's t
+// is its distance from the eye.
+class CameraRays {
+public:
+    CameraRays(const Camera& camera, uint32_t width, uint32_t height);
+    // (jitterX, jitterY) in [0, 1) place the ray inside pixel (x, y); 0.5, 0.5 is its centre.
+    Ray primary(uint32_t x, uint32_t y, float jitterX, float jitterY) const;
+
+private:
+    Vec3f eye_, forward_, right_, up_;
+    float width_, height_;
+};
+
+}  // namespace vastray

@@ -1,0 +1,49 @@
+#pragma once
+// Counter-based random numbers: every number is a pure function of
+// (pixel, sample, bounce, dimension, seed), so any backend, thread count or tile order
+// draws the same sequence. docs/RENDERING.md specifies it; the GLSL port must match bit
+// for bit (32-bit unsigned arithmetic wraps, shifts are logical).
+#include <cstdint>
+
+namespace vastray {
+
+// PCG-RXS-M-XS 32-bit output permutation (Jarzynski & Olano, "Hash Functions for GPU
+// Rendering", JCGT 9(3), 2020). A bijection on 32-bit words.
+constexpr uint32_t pcgHash(uint32_t v) {
+    const uint32_t state = v * 747796405u + 2891336453u;
+    const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// What a random number is keyed by. pixel = y * width + x.
+struct RandomKey {
+    uint32_t pixel = 0;
+    uint32_t sample = 0;
+    uint32_t bounce = 0;
+};
+
+// Dimensions in use (docs/RENDERING.md): at bounce 0, 0 and 1 jitter the pixel; at every
+// bounce, 2 and 3 pick the scattered (or ambient occlusion) direction, 4 decides Russian
+// roulette.
+enum RandomDimension : uint32_t {
+    kDimPixelX = 0,
+    kDimPixelY = 1,
+    kDimDirectionU = 2,
+    kDimDirectionV = 3,
+    kDimRoulette = 4,
+};
+
+constexpr uint32_t randomBits(RandomKey key, uint32_t dimension, uint32_t seed) {
+    uint32_t h = pcgHash(seed);
+    h = pcgHash(h ^ key.pixel);
+    h = pcgHash(h ^ key.sample);
+    h = pcgHash(h ^ key.bounce);
+    return pcgHash(h ^ dimension);
+}
+
+// Uniform in [0, 1): the top 24 bits scaled by 2^-24 (exact in float, never 1).
+constexpr float randomFloat(RandomKey key, uint32_t dimension, uint32_t seed) {
+    return float(randomBits(key, dimension, seed) >> 8u) * (1.0f / 16777216.0f);
+}
+
+}  // namespace vastray

@@ -1,0 +1,61 @@
+#pragma once
+// What a render is asked to do, independent of the backend. CLI flags map one-to-one onto
+// these fields; defaults are documented here and in docs/RENDERING.md.
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include "vastray/core/Camera.h"
+#include "vastray/core/Result.h"
+
+namespace vastray {
+
+enum class IntegratorKind { Path, AmbientOcclusion };
+
+Result<IntegratorKind> parseIntegrator(std::string_view name);
+const char* integratorName(IntegratorKind kind);
+
+// Which extra images to produce besides the beauty (bit flags).
+enum AovFlags : uint32_t {
+    kAovNone = 0,
+    kAovDepth = 1u << 0,
+    kAovNormal = 1u << 1,
+    kAovAlbedo = 1u << 2,
+    kAovPrimId = 1u << 3,
+};
+// "depth,normal,albedo,primid" (any subset, any order); "" is none.
+Result<uint32_t> parseAovList(std::string_view list);
+
+// The environment of the `path` integrator. The sky's radiance for unit direction d is
+// `ground` when d.y < 0, else horizon + (zenith - horizon) * d.y. The sun is a directional
+// light: irradiance `sunIrradiance` on a surface facing `sunDirection` (towards the sun).
+struct Environment {
+    std::array<float, 3> zenith{0.25f, 0.45f, 0.9f};
+    std::array<float, 3> horizon{0.85f, 0.9f, 1.0f};
+    std::array<float, 3> ground{0.3f, 0.28f, 0.25f};
+    Vec3f sunDirection{0.4f, 0.8f, 0.3f};                  // need not be unit; normalized when used
+    std::array<float, 3> sunIrradiance{3.0f, 2.9f, 2.7f};  // zero: no sun
+};
+
+constexpr uint32_t kMaxImageSide = 16384;
+constexpr uint32_t kMaxSamplesPerPixel = 65536;
+constexpr uint32_t kMaxDepthLimit = 1024;
+
+struct RenderOptions {
+    uint32_t width = 640, height = 480;
+    uint32_t samplesPerPixel = 16;
+    IntegratorKind integrator = IntegratorKind::Path;
+    uint32_t maxDepth = 5;  // scattering events per path; 0 shows emitters and sky only
+    uint32_t seed = 0;
+    uint32_t aovs = kAovNone;
+    uint32_t threads = 0;     // 0: all cores
+    float aoDistance = 0.0f;  // occlusion range of `ao`; 0: unbounded
+    bool frameScene = true;   // ignore `camera` and frame the scene bounds
+    Camera camera;
+    Environment environment;
+};
+
+// Every limit above; the message names the field and the limit.
+Status validateRenderOptions(const RenderOptions& options);
+
+}  // namespace vastray

@@ -1,0 +1,67 @@
+#include "vastray/core/Camera.h"
+
+#include <cmath>
+
+#include "vastray/core/VecMath.h"
+
+namespace vastray {
+namespace {
+
+constexpr float kDegrees = 3.14159265358979323846f / 180.0f;
+
+std::string describe(Vec3f v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+}  // namespace
+
+Status validateCamera(const Camera& c) {
+    if (!isFinite(c.eye)) return Status::error("camera eye is not finite: " + describe(c.eye));
+    if (!isFinite(c.target)) return Status::error("camera target is not finite: " + describe(c.target));
+    if (!isFinite(c.up)) return Status::error("camera up is not finite: " + describe(c.up));
+    if (!(c.fovYDegrees > 0.0f && c.fovYDegrees < 180.0f))
+        return Status::error("camera fov " + std::to_string(c.fovYDegrees) + " is outside (0, 180) degrees");
+    const Vec3f view = c.target - c.eye;
+    if (!(length(view) > 0.0f)) return Status::error("camera eye equals target " + describe(c.eye));
+    const Vec3f side = cross(normalize(view), normalize(c.up));
+    if (!(length(side) > 1e-6f))
+        return Status::error("camera up " + describe(c.up) + " is parallel to the view direction");
+    return Status::ok();
+}
+
+Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect) {
+    Camera camera;
+    camera.fovYDegrees = fovYDegrees;
+    Vec3f centre{0, 0, 0};
+    float radius = 1.0f;
+    if (!bounds.isEmpty()) {
+        centre = (bounds.lo + bounds.hi) * 0.5f;
+        radius = std::fmax(0.5f * length(bounds.extent()), 1e-6f);
+    }
+    // The bounding sphere must fit the narrower of the two fields of view.
+    const float halfY = 0.5f * fovYDegrees * kDegrees;
+    const float halfX = std::atan(std::tan(halfY) * aspect);
+    const float distance = 1.05f * radius / std::sin(std::fmin(halfX, halfY));
+    const Vec3f viewFrom = normalize({0.6f, 0.5f, 1.0f});
+    camera.target = centre;
+    camera.eye = centre + viewFrom * distance;
+    return camera;
+}
+
+CameraRays::CameraRays(const Camera& camera, uint32_t width, uint32_t height)
+    : eye_(camera.eye), width_(float(width)), height_(float(height)) {
+    forward_ = normalize(camera.target - camera.eye);
+    const Vec3f right = normalize(cross(forward_, camera.up));
+    const Vec3f up = cross(right, forward_);
+    const float halfHeight = std::tan(0.5f * camera.fovYDegrees * kDegrees);
+    up_ = up * halfHeight;
+    right_ = right * (halfHeight * width_ / height_);
+}
+
+Ray CameraRays::primary(uint32_t x, uint32_t y, float jitterX, float jitterY) const {
+    const float sx = 2.0f * (float(x) + jitterX) / width_ - 1.0f;
+    const float sy = 1.0f - 2.0f * (float(y) + jitterY) / height_;
+    return {eye_, normalize(forward_ + right_ * sx + up_ * sy)};
+}
+
+}  // namespace vastray

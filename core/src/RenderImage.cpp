@@ -1,0 +1,20 @@
+#include "vastray/core/RenderImage.h"
+
+#include "vastray/core/RenderOptions.h"
+
+namespace vastray {
+
+void RenderImage::allocate(uint32_t w, uint32_t h, uint32_t aovFlags) {
+    width = w;
+    height = h;
+    aovs = aovFlags;
+    const size_t n = size_t(w) * h;
+    rgb.assign(3 * n, 0.0f);
+    alpha.assign(n, 0.0f);
+    depth.assign((aovFlags & kAovDepth) ? n : 0, std::numeric_limits<float>::infinity());
+    normal.assign((aovFlags & kAovNormal) ? 3 * n : 0, 0.0f);
+    albedo.assign((aovFlags & kAovAlbedo) ? 3 * n : 0, 0.0f);
+    primId.assign((aovFlags & kAovPrimId) ? n : 0, kMissPrimId);
+}
+
+}  // namespace vastray

@@ -1,0 +1,57 @@
+#include "vastray/core/RenderOptions.h"
+
+#include <string>
+
+namespace vastray {
+
+Result<IntegratorKind> parseIntegrator(std::string_view name) {
+    if (name == "path") return IntegratorKind::Path;
+    if (name == "ao") return IntegratorKind::AmbientOcclusion;
+    return Status::error("unknown integrator '" + std::string(name) + "' (expected path or ao)");
+}
+
+const char* integratorName(IntegratorKind kind) { return kind == IntegratorKind::Path ? "path" : "ao"; }
+
+Result<uint32_t> parseAovList(std::string_view list) {
+    uint32_t flags = kAovNone;
+    while (!list.empty()) {
+        const size_t comma = list.find(',');
+        const std::string_view name = list.substr(0, comma);
+        if (name == "depth")
+            flags |= kAovDepth;
+        else if (name == "normal")
+            flags |= kAovNormal;
+        else if (name == "albedo")
+            flags |= kAovAlbedo;
+        else if (name == "primid")
+            flags |= kAovPrimId;
+        else
+            return Status::error("unknown AOV '" + std::string(name) +
+                                 "' (expected depth, normal, albedo, primid)");
+        if (comma == std::string_view::npos) break;
+        list.remove_prefix(comma + 1);
+        if (list.empty()) return Status::error("AOV list ends with a comma");
+    }
+    return flags;
+}
+
+Status validateRenderOptions(const RenderOptions& o) {
+    auto outside = [](const char* what, uint64_t value, uint64_t lo, uint64_t hi) {
+        return Status::error(std::string(what) + " " + std::to_string(value) + " is outside [" +
+                             std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    };
+    if (o.width < 1 || o.width > kMaxImageSide) return outside("image width", o.width, 1, kMaxImageSide);
+    if (o.height < 1 || o.height > kMaxImageSide) return outside("image height", o.height, 1, kMaxImageSide);
+    if (o.samplesPerPixel < 1 || o.samplesPerPixel > kMaxSamplesPerPixel)
+        return outside("samples per pixel", o.samplesPerPixel, 1, kMaxSamplesPerPixel);
+    if (o.maxDepth > kMaxDepthLimit) return outside("max depth", o.maxDepth, 0, kMaxDepthLimit);
+    if (o.threads > 4096) return outside("threads", o.threads, 0, 4096);
+    if (!(o.aoDistance >= 0.0f)) return Status::error("ambient occlusion distance must be >= 0");
+    if (!o.frameScene)
+        VASTRAY_TRY(validateCamera(o.camera).withContext("camera: "));
+    else if (!(o.camera.fovYDegrees > 0.0f && o.camera.fovYDegrees < 180.0f))
+        return Status::error("camera fov is outside (0, 180) degrees");
+    return Status::ok();
+}
+
+}  // namespace vastray

@@ -1,0 +1,115 @@
+#include "vastray/core/ImageFile.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "vastray/core/RenderOptions.h"
+
+namespace vastray {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+Status writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc format,
+                 const void* pixels) {
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) return Status::error(path + ": cannot write: " + OIIO::geterror());
+    if (!out->open(path, spec)) return Status::error(path + ": " + out->geterror());
+    if (!out->write_image(format, pixels)) return Status::error(path + ": " + out->geterror());
+    if (!out->close()) return Status::error(path + ": " + out->geterror());
+    return Status::ok();
+}
+
+Status writePng(const std::string& path, const RenderImage& image) {
+    if (image.aovs != kAovNone)
+        return Status::error(path + ": AOVs need an .exr output (PNG holds the beauty only)");
+    std::vector<uint8_t> pixels(image.pixelCount() * 4);
+    for (uint64_t i = 0; i < image.pixelCount(); ++i) {
+        for (int c = 0; c < 3; ++c)
+            pixels[4 * i + c] = uint8_t(std::lround(255.0f * toneMapToDisplay(image.rgb[3 * i + c])));
+        pixels[4 * i + 3] = uint8_t(std::lround(255.0f * std::clamp(image.alpha[i], 0.0f, 1.0f)));
+    }
+    OIIO::ImageSpec spec(int(image.width), int(image.height), 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    return writeWith(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
+}
+
+// One pixel record matching the EXR channel list: floats, then the uint32 primid.
+struct ChannelLayout {
+    std::vector<std::string> names;
+    size_t floatCount = 0;
+    bool primId = false;
+};
+
+ChannelLayout exrLayout(uint32_t aovs) {
+    ChannelLayout layout{{"R", "G", "B", "A"}};
+    if (aovs & kAovDepth) layout.names.push_back("Z");
+    if (aovs & kAovNormal) layout.names.insert(layout.names.end(), {"N.x", "N.y", "N.z"});
+    if (aovs & kAovAlbedo) layout.names.insert(layout.names.end(), {"albedo.R", "albedo.G", "albedo.B"});
+    layout.floatCount = layout.names.size();
+    if (aovs & kAovPrimId) {
+        layout.names.push_back("primid");
+        layout.primId = true;
+    }
+    return layout;
+}
+
+std::vector<uint8_t> packExrPixels(const RenderImage& image, const ChannelLayout& layout) {
+    const size_t stride = layout.floatCount * 4 + (layout.primId ? 4 : 0);
+    std::vector<uint8_t> bytes(image.pixelCount() * stride);
+    for (uint64_t i = 0; i < image.pixelCount(); ++i) {
+        std::vector<float> f{image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2], image.alpha[i]};
+        if (image.aovs & kAovDepth) f.push_back(image.depth[i]);
+        if (image.aovs & kAovNormal) f.insert(f.end(), &image.normal[3 * i], &image.normal[3 * i] + 3);
+        if (image.aovs & kAovAlbedo) f.insert(f.end(), &image.albedo[3 * i], &image.albedo[3 * i] + 3);
+        uint8_t* at = bytes.data() + i * stride;
+        std::memcpy(at, f.data(), f.size() * 4);
+        if (layout.primId) std::memcpy(at + f.size() * 4, &image.primId[i], 4);
+    }
+    return bytes;
+}
+
+Status writeExr(const std::string& path, const RenderImage& image) {
+    const ChannelLayout layout = exrLayout(image.aovs);
+    OIIO::ImageSpec spec(int(image.width), int(image.height), int(layout.names.size()),
+                         OIIO::TypeDesc::FLOAT);
+    spec.channelnames = layout.names;
+    spec.alpha_channel = 3;
+    if (image.aovs & kAovDepth) spec.z_channel = 4;
+    if (layout.primId) {
+        spec.channelformats.assign(layout.names.size(), OIIO::TypeDesc::FLOAT);
+        spec.channelformats.back() = OIIO::TypeDesc::UINT32;
+    }
+    spec.attribute("compression", "zip");
+    const std::vector<uint8_t> bytes = packExrPixels(image, layout);
+    // With per-channel formats, UNKNOWN means "the data is in the file's native formats".
+    return writeWith(path, spec, layout.primId ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT,
+                     bytes.data());
+}
+
+}  // namespace
+
+float toneMapToDisplay(float linear) {
+    constexpr float kWhiteSquared = 16.0f;
+    const float x = std::fmax(linear, 0.0f);
+    const float mapped = std::fmin(x * (1.0f + x / kWhiteSquared) / (1.0f + x), 1.0f);
+    return mapped <= 0.0031308f ? 12.92f * mapped : 1.055f * std::pow(mapped, 1.0f / 2.4f) - 0.055f;
+}
+
+Status writeImageFile(const std::string& path, const RenderImage& image) {
+    const std::string ext = lowerExtension(path);
+    if (ext == ".png") return writePng(path, image);
+    if (ext == ".exr") return writeExr(path, image);
+    return Status::error(path + ": unsupported image format '" + ext + "' (expected .png or .exr)");
+}
+
+}  // namespace vastray

@@ -1,0 +1,31 @@
+#pragma once
+// The whole scene in core, as the Embree reference renders it: one flat triangle list,
+// no partitioning. From a mesh file the triangles are the imported mesh's; from a .vast
+// package every chunk is decoded and a triangle referenced by several cells is kept once.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Mesh.h"
+#include "vastray/core/Result.h"
+
+namespace vastray {
+
+class PackageReader;
+
+struct RenderScene {
+    TriangleMesh mesh;
+    // Per triangle of `mesh`: its index in the imported mesh. Empty: the identity.
+    std::vector<uint32_t> primitiveIds;
+
+    uint32_t primitiveId(uint32_t triangle) const {
+        return primitiveIds.empty() ? triangle : primitiveIds[triangle];
+    }
+};
+
+// By extension: .vast is a scene package, anything else goes to importMesh().
+Result<RenderScene> loadRenderScene(const std::string& path);
+// Decodes every chunk; duplicated references (same primitive id) are dropped.
+Result<RenderScene> renderSceneFromPackage(const PackageReader& reader);
+
+}  // namespace vastray

@@ -1,0 +1,133 @@
+#include "vastray/cpu/EmbreeRenderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <chrono>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "Integrators.h"
+#include "vastray/core/VecMath.h"
+
+namespace vastray {
+namespace {
+
+constexpr uint32_t kTileSize = 16;
+using Clock = std::chrono::steady_clock;
+
+struct Tile {
+    uint32_t x0, y0, x1, y1;
+};
+
+Tile tileAt(uint32_t index, uint32_t width, uint32_t height) {
+    const uint32_t tilesX = (width + kTileSize - 1) / kTileSize;
+    const uint32_t x0 = (index % tilesX) * kTileSize, y0 = (index / tilesX) * kTileSize;
+    return {x0, y0, std::min(x0 + kTileSize, width), std::min(y0 + kTileSize, height)};
+}
+
+// The AOVs come from one unjittered ray through the pixel centre, so they are exact
+// rather than averaged over samples (a primid cannot be averaged).
+void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, RenderImage& image,
+               uint64_t& rays) {
+    SceneHit hit;
+    ++rays;
+    if (!context.scene.intersect(ray, std::numeric_limits<float>::infinity(), &hit)) return;
+    const SurfacePoint point = surfaceAt(context.mesh, hit, ray.direction);
+    if (image.aovs & kAovDepth) image.depth[pixel] = hit.t;
+    if (image.aovs & kAovNormal)
+        for (int c = 0; c < 3; ++c) image.normal[3 * pixel + c] = point.normal[c];
+    if (image.aovs & kAovAlbedo)
+        for (int c = 0; c < 3; ++c) image.albedo[3 * pixel + c] = point.material->baseColor[c];
+    if (image.aovs & kAovPrimId) image.primId[pixel] = hit.triangle;
+}
+
+void renderPixel(const ShadingContext& context, const CameraRays& camera, uint32_t x, uint32_t y,
+                 RenderImage& image, uint64_t& rays) {
+    const RenderOptions& options = context.options;
+    const uint64_t pixel = uint64_t(y) * image.width + x;
+    double sum[3] = {0, 0, 0};
+    uint32_t hits = 0;
+    for (uint32_t sample = 0; sample < options.samplesPerPixel; ++sample) {
+        const RandomKey key{uint32_t(pixel), sample, 0};
+        const Ray ray = camera.primary(x, y, randomFloat(key, kDimPixelX, options.seed),
+                                       randomFloat(key, kDimPixelY, options.seed));
+        const SampleResult s = options.integrator == IntegratorKind::Path
+                                   ? tracePath(context, ray, key, rays)
+                                   : traceAmbientOcclusion(context, ray, key, rays);
+        for (int c = 0; c < 3; ++c) sum[c] += s.radiance[c];
+        hits += s.cameraRayHit;
+    }
+    for (int c = 0; c < 3; ++c) image.rgb[3 * pixel + c] = float(sum[c] / options.samplesPerPixel);
+    image.alpha[pixel] = float(double(hits) / options.samplesPerPixel);
+    if (image.aovs != kAovNone) shadeAovs(context, camera.primary(x, y, 0.5f, 0.5f), pixel, image, rays);
+}
+
+uint64_t renderTiles(const ShadingContext& context, const CameraRays& camera, RenderImage& image,
+                     const RenderProgress& progress) {
+    const uint32_t tilesX = (image.width + kTileSize - 1) / kTileSize;
+    const uint32_t tileCount = tilesX * ((image.height + kTileSize - 1) / kTileSize);
+    std::atomic<uint64_t> rays{0}, tilesDone{0};
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, tileCount, 1),
+                      [&](const tbb::blocked_range<uint32_t>& range) {
+                          for (uint32_t index = range.begin(); index != range.end(); ++index) {
+                              const Tile tile = tileAt(index, image.width, image.height);
+                              uint64_t tileRays = 0;
+                              for (uint32_t y = tile.y0; y < tile.y1; ++y)
+                                  for (uint32_t x = tile.x0; x < tile.x1; ++x)
+                                      renderPixel(context, camera, x, y, image, tileRays);
+                              rays += tileRays;
+                              const uint64_t done = ++tilesDone;
+                              if (progress) progress(done, tileCount);
+                          }
+                      });
+    return rays.load();
+}
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptions& options,
+                                     RenderStats* stats, const RenderProgress& progress) {
+    VASTRAY_TRY(validateRenderOptions(options));
+    std::optional<tbb::global_control> threadLimit;
+    if (options.threads > 0)
+        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
+
+    const Clock::time_point buildStart = Clock::now();
+    auto embree = EmbreeScene::build(scene.mesh);
+    if (!embree) return embree.status();
+    const double buildSeconds = secondsSince(buildStart);
+
+    const Camera camera = options.frameScene ? frameBounds(scene.mesh.bounds(), options.camera.fovYDegrees,
+                                                           float(options.width) / float(options.height))
+                                             : options.camera;
+    VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
+    const ShadingContext context{scene.mesh, **embree, options, normalize(options.environment.sunDirection)};
+    RenderImage image;
+    image.allocate(options.width, options.height, options.aovs);
+
+    const Clock::time_point renderStart = Clock::now();
+    const uint64_t rays =
+        renderTiles(context, CameraRays(camera, options.width, options.height), image, progress);
+    if (image.aovs & kAovPrimId)
+        for (uint32_t& id : image.primId)
+            if (id != kMissPrimId) id = scene.primitiveId(id);
+    if (stats) {
+        stats->backend = "embree";
+        stats->renderSeconds = secondsSince(renderStart);
+        stats->buildSeconds = buildSeconds;
+        stats->rays = rays;
+        stats->triangles = scene.mesh.triangleCount();
+        stats->peakHostBytes = peakHostBytes();
+    }
+    return image;
+}
+
+}  // namespace vastray

@@ -1,0 +1,70 @@
+#include "vastray/cpu/RenderScene.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "vastray/streamer/Import.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+namespace {
+
+bool isPackagePath(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".vast";
+}
+
+// Appends the chunk's triangles whose primitive id has not been seen yet. The chunk's
+// vertices are appended whole: a few unused ones are cheaper than a remap.
+Status appendChunk(const DecodedChunk& chunk, const std::string& path, std::vector<uint8_t>& seen,
+                   RenderScene& scene) {
+    const auto base = uint32_t(scene.mesh.positions.size());
+    scene.mesh.positions.insert(scene.mesh.positions.end(), chunk.positions.begin(), chunk.positions.end());
+    for (size_t t = 0; t < chunk.primitiveIds.size(); ++t) {
+        const uint32_t id = chunk.primitiveIds[t];
+        if (id >= seen.size())
+            return Status::error(path + ": chunk " + std::to_string(chunk.id) + ": primitive id " +
+                                 std::to_string(id) + " >= " + std::to_string(seen.size()));
+        if (seen[id]) continue;
+        seen[id] = 1;
+        for (int corner = 0; corner < 3; ++corner)
+            scene.mesh.indices.push_back(base + chunk.indices[3 * t + corner]);
+        scene.mesh.materialIds.push_back(chunk.materialIds.empty() ? 0u : chunk.materialIds[t]);
+        scene.primitiveIds.push_back(id);
+    }
+    return Status::ok();
+}
+
+}  // namespace
+
+Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
+    const PackageInfo& info = reader.info();
+    RenderScene scene;
+    scene.mesh.materials = info.materials;
+    if (scene.mesh.materials.empty()) scene.mesh.materials.push_back(Material{"default"});
+    // Ids count every imported triangle, those that quantization collapsed included.
+    std::vector<uint8_t> seen(info.triangleCount + info.collapsedDropped, 0);
+    for (const ChunkInfo& chunkInfo : info.chunks) {
+        auto chunk = reader.readChunk(chunkInfo.id);
+        if (!chunk) return chunk.status();
+        VASTRAY_TRY(appendChunk(*chunk, reader.path(), seen, scene));
+    }
+    return scene;
+}
+
+Result<RenderScene> loadRenderScene(const std::string& path) {
+    if (isPackagePath(path)) {
+        auto reader = PackageReader::open(path);
+        if (!reader) return reader.status();
+        return renderSceneFromPackage(**reader);
+    }
+    auto imported = importMesh(path);
+    if (!imported) return imported.status();
+    RenderScene scene;
+    scene.mesh = std::move(imported->mesh);
+    return scene;
+}
+
+}  // namespace vastray

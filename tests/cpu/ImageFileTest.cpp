@@ -1,0 +1,121 @@
+// Image files as other tools read them: channel names and types, primid round trip, diff.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "TestScenes.h"
+#include "vastray/core/ImageDiff.h"
+#include "vastray/core/ImageFile.h"
+#include "vastray/core/RenderOptions.h"
+
+namespace vastray {
+namespace {
+
+RenderImage gradientImage(uint32_t aovs, float scale = 1.0f) {
+    RenderImage image;
+    image.allocate(8, 4, aovs);
+    for (uint32_t p = 0; p < image.pixelCount(); ++p) {
+        for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = scale * 0.1f * float(p % 7 + c);
+        image.alpha[p] = 1.0f;
+        if (aovs & kAovDepth) image.depth[p] = p % 5 == 0 ? INFINITY : 1.0f + float(p);
+        if (aovs & kAovPrimId) image.primId[p] = p % 5 == 0 ? kMissPrimId : 0xFFFFFF00u + p;  // above 2^24
+        if (aovs & kAovNormal) image.normal[3 * p + 2] = 1.0f;
+        if (aovs & kAovAlbedo) image.albedo[3 * p] = 0.5f;
+    }
+    return image;
+}
+
+constexpr uint32_t kAllAovs = kAovDepth | kAovNormal | kAovAlbedo | kAovPrimId;
+
+TEST(ImageFile, ExrHasTheDocumentedChannelsAndTypes) {
+    const std::string path = test::tmpPath("aovs.exr");
+    ASSERT_TRUE(writeImageFile(path, gradientImage(kAllAovs)));
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec& spec = in->spec();
+    // EXR stores channels sorted by name, so the set is the contract, not the order.
+    std::vector<std::string> names = spec.channelnames,
+                             expected{"R",   "G",   "B",        "A",        "Z",        "N.x",
+                                      "N.y", "N.z", "albedo.R", "albedo.G", "albedo.B", "primid"};
+    std::sort(names.begin(), names.end());
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(names, expected);
+    for (int c = 0; c < spec.nchannels; ++c)
+        EXPECT_EQ(spec.channelformat(c),
+                  spec.channelnames[c] == "primid" ? OIIO::TypeDesc::UINT32 : OIIO::TypeDesc::FLOAT)
+            << spec.channelnames[c];
+}
+
+TEST(ImageFile, PrimIdsAboveFloatPrecisionSurviveTheRoundTrip) {
+    const RenderImage image = gradientImage(kAllAovs);
+    const std::string path = test::tmpPath("primid.exr");
+    ASSERT_TRUE(writeImageFile(path, image));
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    const auto& names = in->spec().channelnames;
+    const int channel = int(std::find(names.begin(), names.end(), "primid") - names.begin());
+    std::vector<uint32_t> ids(image.pixelCount());
+    ASSERT_TRUE(in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::UINT32, ids.data()));
+    EXPECT_EQ(ids, image.primId);
+}
+
+TEST(ImageFile, PngRefusesAovs) {
+    EXPECT_FALSE(writeImageFile(test::tmpPath("aovs.png"), gradientImage(kAovDepth)));
+    EXPECT_TRUE(writeImageFile(test::tmpPath("beauty.png"), gradientImage(kAovNone)));
+}
+
+TEST(ImageFile, ToneMapIsMonotoneAndBounded) {
+    EXPECT_EQ(toneMapToDisplay(0.0f), 0.0f);
+    EXPECT_EQ(toneMapToDisplay(-1.0f), 0.0f);
+    EXPECT_FLOAT_EQ(toneMapToDisplay(4.0f), 1.0f);  // the white point
+    EXPECT_FLOAT_EQ(toneMapToDisplay(100.0f), 1.0f);
+    EXPECT_LT(toneMapToDisplay(0.2f), toneMapToDisplay(0.3f));
+}
+
+TEST(ImageDiff, IdenticalImagesAgreeEverywhere) {
+    const std::string a = test::tmpPath("diff-a.exr"), b = test::tmpPath("diff-b.exr");
+    ASSERT_TRUE(writeImageFile(a, gradientImage(kAllAovs)));
+    ASSERT_TRUE(writeImageFile(b, gradientImage(kAllAovs)));
+    auto report = diffImageFiles(a, b);
+    ASSERT_TRUE(report) << report.message();
+    EXPECT_EQ(report->beautyRmse, 0.0);
+    EXPECT_EQ(report->depthMeanRelativeError, 0.0);
+    EXPECT_EQ(report->depthHitMismatch, 0u);
+    EXPECT_EQ(report->primIdAgreement, 1.0);
+}
+
+TEST(ImageDiff, MeasuresBeautyDepthAndPrimIdDifferences) {
+    RenderImage changed = gradientImage(kAllAovs, 1.0f);
+    for (float& v : changed.rgb) v += 0.1f;                  // RMSE exactly 0.1 (float: 1e-6)
+    for (float& z : changed.depth) z *= 1.02f;               // 2% relative everywhere
+    for (uint32_t p = 0; p < 8; ++p) changed.primId[p] = 7;  // 8 of 32 pixels changed
+    const std::string a = test::tmpPath("diff-c.exr"), b = test::tmpPath("diff-d.exr");
+    ASSERT_TRUE(writeImageFile(a, changed));
+    ASSERT_TRUE(writeImageFile(b, gradientImage(kAllAovs)));
+    auto report = diffImageFiles(a, b);
+    ASSERT_TRUE(report) << report.message();
+    EXPECT_NEAR(report->beautyRmse, 0.1, 1e-6);
+    EXPECT_NEAR(report->depthMeanRelativeError, 0.02, 1e-6);
+    EXPECT_DOUBLE_EQ(report->primIdAgreement, 24.0 / 32.0);
+}
+
+TEST(ImageDiff, DifferentSizesOrChannelsAreErrors) {
+    RenderImage wide;
+    wide.allocate(9, 4, kAovNone);
+    const std::string a = test::tmpPath("size-a.exr"), b = test::tmpPath("size-b.exr"),
+                      c = test::tmpPath("chan-c.exr");
+    ASSERT_TRUE(writeImageFile(a, wide));
+    ASSERT_TRUE(writeImageFile(b, gradientImage(kAovNone)));
+    ASSERT_TRUE(writeImageFile(c, gradientImage(kAovDepth)));
+    auto sizes = diffImageFiles(a, b);
+    ASSERT_FALSE(sizes);
+    EXPECT_NE(sizes.message().find("sizes differ"), std::string::npos) << sizes.message();
+    auto channels = diffImageFiles(b, c);
+    ASSERT_FALSE(channels);
+    EXPECT_NE(channels.message().find("channels differ"), std::string::npos) << channels.message();
+}
+
+}  // namespace
+}  // namespace vastray

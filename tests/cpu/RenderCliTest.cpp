@@ -1,0 +1,163 @@
+// `vastray render` and `vastray diff` as a user drives them: exit codes, messages, files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "TestScenes.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+namespace {
+
+struct CommandResult {
+    int exitCode = -1;
+    std::string output;  // stdout and stderr together
+};
+
+CommandResult run(const std::string& arguments) {
+    CommandResult result;
+    const std::string command = std::string(VASTRAY_BINARY) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    size_t n;
+    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+double jsonNumber(const std::string& json, const std::string& key) {
+    const size_t at = json.find("\"" + key + "\":");
+    return at == std::string::npos ? NAN : std::stod(json.substr(at + key.size() + 3));
+}
+
+class RenderCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        CommandResult g =
+            run("generate terrain --triangles 20000 --seed 3 -o " + test::tmpPath("terrain.ply"));
+        ASSERT_EQ(g.exitCode, 0) << g.output;
+        CommandResult i = run("import " + test::tmpPath("terrain.ply") + " -o " +
+                              test::tmpPath("terrain.vast") + " --chunk-size 64KiB --progress none");
+        ASSERT_EQ(i.exitCode, 0) << i.output;
+    }
+    static std::string terrain() { return test::tmpPath("terrain.ply"); }
+};
+
+TEST_F(RenderCli, BadInputIsAClearErrorBeforeAnyWork) {
+    const std::vector<std::pair<std::string, std::string>> cases{
+        {"--resolution 0x64", "--resolution"},
+        {"--resolution 64x-3", "--resolution"},
+        {"--resolution 100000x64", "--resolution"},
+        {"--resolution 64", "--resolution"},
+        {"--spp 0", "--spp"},
+        {"--spp -4", "--spp"},
+        {"--spp 10000000", "--spp"},
+        {"--eye nan,0,0 --target 0,0,0", "--eye"},
+        {"--eye 1,2,3 --target 1,2,3", "eye equals target"},
+        {"--eye 1,2,3", "--eye and --target"},
+        {"--aovs depth,colour", "unknown AOV 'colour'"},
+        {"--integrator whitted", "unknown integrator 'whitted'"},
+        {"--backend vulkan", "not implemented yet"},
+        {"--backend optix", "--backend 'optix'"},
+        {"--fov 0", "fov"},
+        {"--max-depth 5000", "--max-depth"},
+    };
+    const std::string out = test::tmpPath("never.exr");
+    for (const auto& [flags, message] : cases) {
+        std::filesystem::remove(out);
+        CommandResult r = run("render " + terrain() + " -o " + out + " " + flags);
+        EXPECT_EQ(r.exitCode, 2) << flags << "\n" << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << flags << "\n" << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << flags;
+    }
+    CommandResult png = run("render " + terrain() + " -o " + test::tmpPath("never.png") + " --aovs depth");
+    EXPECT_EQ(png.exitCode, 2) << png.output;
+}
+
+TEST_F(RenderCli, HelpSaysVulkanIsNotImplementedYet) {
+    CommandResult r = run("render --help");
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_NE(r.output.find("vulkan (not implemented yet)"), std::string::npos) << r.output;
+}
+
+TEST_F(RenderCli, WritesAPngAndTheStatsJson) {
+    const std::string png = test::tmpPath("terrain.png"), stats = test::tmpPath("stats.json");
+    CommandResult r = run("render " + terrain() + " -o " + png +
+                          " --resolution 48x32 --spp 2 --stats --stats-json " + stats + " --progress openjd");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(std::filesystem::exists(png));
+    EXPECT_NE(r.output.find("openjd_progress: 100"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("rays/s"), std::string::npos) << r.output;
+    std::ifstream in(stats);
+    std::stringstream json;
+    json << in.rdbuf();
+    EXPECT_NE(json.str().find("\"backend\": \"embree\""), std::string::npos) << json.str();
+    for (const char* key : {"render_seconds", "rays", "rays_per_second", "triangles", "peak_host_bytes"})
+        EXPECT_GT(jsonNumber(json.str(), key), 0.0) << key << "\n" << json.str();
+}
+
+TEST_F(RenderCli, TwoRendersAreIdenticalAndDiffSaysSo) {
+    const std::string a = test::tmpPath("same-a.exr"), b = test::tmpPath("same-b.exr");
+    const std::string flags = " --resolution 40x30 --spp 2 --aovs depth,primid --progress none";
+    ASSERT_EQ(run("render " + terrain() + " -o " + a + flags).exitCode, 0);
+    ASSERT_EQ(run("render " + terrain() + " -o " + b + flags + " --threads 1").exitCode, 0);
+    CommandResult d = run("diff " + a + " " + b + " --json");
+    ASSERT_EQ(d.exitCode, 0) << d.output;
+    EXPECT_EQ(jsonNumber(d.output, "rmse"), 0.0) << d.output;
+    EXPECT_EQ(jsonNumber(d.output, "primid_agreement"), 1.0) << d.output;
+}
+
+TEST_F(RenderCli, MeshFileAndPackageGiveTheSamePrimIds) {
+    const std::string a = test::tmpPath("mesh.exr"), b = test::tmpPath("package.exr");
+    const std::string flags = " --resolution 64x64 --spp 1 --aovs depth,primid --progress none";
+    ASSERT_EQ(run("render " + terrain() + " -o " + a + flags).exitCode, 0);
+    CommandResult r = run("render " + test::tmpPath("terrain.vast") + " -o " + b + flags);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    CommandResult d = run("diff " + b + " " + a + " --json");
+    ASSERT_EQ(d.exitCode, 0) << d.output;
+    // 20-bit quantization moves a vertex by at most half a step (~1e-6 of the scene size):
+    // only a pixel-centre ray passing that close to an edge may pick the neighbouring
+    // triangle, far fewer than 1% of the pixels; depth moves by about as little.
+    EXPECT_GE(jsonNumber(d.output, "primid_agreement"), 0.99) << d.output;
+    EXPECT_LT(jsonNumber(d.output, "depth_mean_relative_error"), 1e-4) << d.output;
+}
+
+TEST_F(RenderCli, PackageSceneKeepsEachTriangleOnce) {
+    auto reader = PackageReader::open(test::tmpPath("terrain.vast"));
+    ASSERT_TRUE(reader) << reader.message();
+    ASSERT_GT((*reader)->info().duplicatedReferences(), 0u) << "the test needs triangles shared by cells";
+    auto scene = renderSceneFromPackage(**reader);
+    ASSERT_TRUE(scene) << scene.message();
+    EXPECT_EQ(scene->mesh.triangleCount(), (*reader)->info().triangleCount);
+}
+
+TEST_F(RenderCli, DiffFailsOnDifferentSizesOrChannels) {
+    const std::string small = test::tmpPath("small.exr"), big = test::tmpPath("big.exr"),
+                      aov = test::tmpPath("aov.exr");
+    ASSERT_EQ(
+        run("render " + terrain() + " -o " + small + " --resolution 16x16 --spp 1 --progress none").exitCode,
+        0);
+    ASSERT_EQ(
+        run("render " + terrain() + " -o " + big + " --resolution 16x17 --spp 1 --progress none").exitCode,
+        0);
+    ASSERT_EQ(
+        run("render " + terrain() + " -o " + aov + " --resolution 16x16 --spp 1 --aovs depth --progress none")
+            .exitCode,
+        0);
+    CommandResult sizes = run("diff " + small + " " + big);
+    EXPECT_NE(sizes.exitCode, 0);
+    EXPECT_NE(sizes.output.find("sizes differ"), std::string::npos) << sizes.output;
+    CommandResult channels = run("diff " + small + " " + aov);
+    EXPECT_NE(channels.exitCode, 0);
+    EXPECT_NE(channels.output.find("channels differ"), std::string::npos) << channels.output;
+}
+
+}  // namespace
+}  // namespace vastray
