@@ -105,6 +105,11 @@ CommandRun addImportCommand(CLI::App& app) {
         ImportOptions importOptions;
         if (args->doubleSided) importOptions.sidedness = ImportOptions::Sidedness::ForceDoubleSided;
         if (args->singleSided) importOptions.sidedness = ImportOptions::Sidedness::ForceSingleSided;
+        if (options->progress != Progress::Mode::None) {
+            std::error_code error;
+            const uint64_t bytes = std::filesystem::file_size(args->input, error);
+            std::fprintf(stderr, "reading %s (%s)...\n", args->input.c_str(), formatBytes(error ? 0 : bytes).c_str());
+        }
         const auto start = std::chrono::steady_clock::now();
         auto imported = importMesh(args->input, importOptions);
         if (!imported) {
