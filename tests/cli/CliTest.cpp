@@ -1,4 +1,5 @@
 // The command line as a user drives it: exit codes, messages, files.
+#include "TestTmp.h"
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -30,7 +31,7 @@ CommandResult run(const std::string& arguments) {
 }
 
 std::string tmp(const std::string& name) {
-    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "cli";
+    const std::filesystem::path dir = vastray::test::testTmpDir("cli");
     std::filesystem::create_directories(dir);
     return (dir / name).string();
 }

@@ -1,5 +1,6 @@
 #pragma once
 // Small scenes built in code for the reference renderer's tests.
+#include "TestTmp.h"
 #include <filesystem>
 #include <string>
 
@@ -11,7 +12,7 @@
 namespace vastray::test {
 
 inline std::string tmpPath(const std::string& name) {
-    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "cpu";
+    const std::filesystem::path dir = vastray::test::testTmpDir("cpu");
     std::filesystem::create_directories(dir);
     return (dir / name).string();
 }

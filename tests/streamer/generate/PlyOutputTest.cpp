@@ -1,5 +1,6 @@
 // The PLY file is what the CLI hands to importers: its size, header and bytes must be exact,
 // and failures must never leave a file under the real name.
+#include "TestTmp.h"
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -16,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path tmpDir() {
-    fs::path dir = fs::path(VASTRAY_TEST_TMP) / "generate";
+    fs::path dir = vastray::test::testTmpDir("generate");
     fs::create_directories(dir);
     return dir;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers for the importer tests: tiny files written into VASTRAY_TEST_TMP, and a small
 // glTF builder that embeds its buffer as a base64 data: URI.
+#include "TestTmp.h"
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -15,7 +16,7 @@
 namespace vastray::test {
 
 inline std::string tmpPath(const std::string& name) {
-    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "import";
+    const std::filesystem::path dir = vastray::test::testTmpDir("import");
     std::filesystem::create_directories(dir);
     return (dir / name).string();
 }

@@ -1,5 +1,6 @@
 #pragma once
 // Meshes and helpers for the package tests.
+#include "TestTmp.h"
 #include <gtest/gtest.h>
 
 #include <array>
@@ -40,7 +41,7 @@ inline TriangleMesh generatedMesh(GeneratorKind kind, uint64_t triangles, uint64
 }
 
 inline std::string tempPath(const std::string& name) {
-    const std::filesystem::path dir = std::filesystem::path(VASTRAY_TEST_TMP) / "package";
+    const std::filesystem::path dir = vastray::test::testTmpDir("package");
     std::filesystem::create_directories(dir);
     return (dir / name).string();
 }
