@@ -157,8 +157,11 @@ int main(int argc, char** argv) {
     vastray::Bench bench;
     unsigned threads = 0;
     std::vector<std::string> scenes;
+    bool help = false;
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
+        if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h"))
+            help = true;
+        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
             threads = unsigned(std::stoul(argv[++i]));
         else if (!std::strcmp(argv[i], "--resolution") && i + 1 < argc) {
             if (std::sscanf(argv[++i], "%ux%u", &bench.width, &bench.height) != 2 || !bench.width ||
@@ -167,11 +170,11 @@ int main(int argc, char** argv) {
         } else
             scenes.push_back(argv[i]);
     }
-    if (scenes.empty()) {
+    if (scenes.empty() || help) {
         std::fprintf(stderr,
                      "usage: embree_rays_bench [--threads N] [--resolution WxH] SCENE... (mesh, .vast, "
                      "gen:KIND:TRIANGLES)\n");
-        return 2;
+        return help ? 0 : 2;
     }
     std::optional<tbb::global_control> limit;
     if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
