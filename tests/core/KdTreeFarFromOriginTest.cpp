@@ -80,10 +80,14 @@ TEST(KdTreeFarFromOrigin, ThinStackOfLargeTrianglesFarAway) {
     EXPECT_GE(hit.t, 9.99f);
 }
 
-TEST(KdTreeFarFromOrigin, SmallTrianglesWhoseConservativeBoundsCrossLaterPlanes) {
-    // Triangles of size ~0.05 at 1e4 from the origin: the 2^-20 padding of a straddler's part
-    // bounds (~0.01) is a fifth of a triangle, so later planes often cut a padded bound without
-    // cutting the triangle. Such a reference must go to one side only, not get an empty part.
+class KdTreeSmallTrianglesFarAway : public ::testing::TestWithParam<float> {};
+
+TEST_P(KdTreeSmallTrianglesFarAway, ConservativeBoundsCrossingLaterPlanesAreHandled) {
+    const float offset = GetParam();
+    // Triangles of size ~0.05 far from the origin: the 2^-20 padding of a straddler's part
+    // bounds (0.01 at 1e4, 0.3 at 3e5) reaches past the triangle, so later planes cut padded
+    // bounds without cutting the triangle. The side it does not reach must not get an empty
+    // (inverted) part: that used to index outside the SAH bins.
     Grid grid;
     uint64_t state = 12345;
     auto next = [&state] {
@@ -92,7 +96,7 @@ TEST(KdTreeFarFromOrigin, SmallTrianglesWhoseConservativeBoundsCrossLaterPlanes)
     };
     const uint32_t count = 40000;
     for (uint32_t k = 0; k < count; ++k) {
-        const Vec3f c{1e4f + 10 * next(), 1e4f + 10 * next(), 1e4f + 10 * next()};
+        const Vec3f c{offset + 10 * next(), offset + 10 * next(), offset + 10 * next()};
         for (int v = 0; v < 3; ++v)
             grid.positions.push_back({c.x + 0.05f * next(), c.y + 0.05f * next(), c.z + 0.05f * next()});
         grid.indices.insert(grid.indices.end(), {3 * k, 3 * k + 1, 3 * k + 2});
@@ -123,6 +127,8 @@ TEST(KdTreeFarFromOrigin, SmallTrianglesWhoseConservativeBoundsCrossLaterPlanes)
     }
     EXPECT_EQ(mismatches, 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Offsets, KdTreeSmallTrianglesFarAway, ::testing::Values(1e4f, 1e5f, 3e5f));
 
 }  // namespace
 }  // namespace vastray
