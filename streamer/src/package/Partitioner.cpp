@@ -4,10 +4,36 @@
 #include <array>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 namespace vastray {
 namespace {
 
 constexpr double kMaxSideFraction = 0.9;
+// Large cells are binned and split in fixed blocks on all cores. Blocks are fixed by index
+// (not by the scheduler), and their outputs are joined in block order, so the result does
+// not depend on the thread count.
+constexpr size_t kBlock = 1 << 16;
+
+size_t blockCount(size_t n) { return (n + kBlock - 1) / kBlock; }
+
+template <typename Body>
+void forEachBlock(size_t n, Body body) {
+    tbb::parallel_for(size_t(0), blockCount(n), [&](size_t b) { body(b, b * kBlock, std::min(n, (b + 1) * kBlock)); });
+}
+
+template <typename T>
+std::vector<T> joinBlocks(std::vector<std::vector<T>>& blocks) {
+    size_t total = 0;
+    for (const auto& block : blocks) total += block.size();
+    std::vector<T> joined;
+    joined.reserve(total);
+    for (auto& block : blocks) {
+        joined.insert(joined.end(), block.begin(), block.end());
+        std::vector<T>().swap(block);
+    }
+    return joined;
+}
 
 struct Point3d {
     double v[3];
@@ -70,14 +96,16 @@ Aabb Partitioner::clipTriangle(Vec3f a, Vec3f b, Vec3f c, const Aabb& box) {
 
 std::vector<TriangleRef> Partitioner::initialRefs(const std::vector<uint32_t>& triangles,
                                                   const Aabb& cell) const {
-    std::vector<TriangleRef> refs;
-    refs.reserve(triangles.size());
-    for (uint32_t t : triangles) {
-        const uint32_t* i = &indices_[3 * size_t(t)];
-        const Aabb bounds = clipTriangle(positions_[i[0]], positions_[i[1]], positions_[i[2]], cell);
-        if (!bounds.isEmpty()) refs.push_back({t, bounds});
-    }
-    return refs;
+    std::vector<std::vector<TriangleRef>> blocks(blockCount(triangles.size()));
+    forEachBlock(triangles.size(), [&](size_t b, size_t begin, size_t end) {
+        blocks[b].reserve(end - begin);
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t* i = &indices_[3 * size_t(triangles[k])];
+            const Aabb bounds = clipTriangle(positions_[i[0]], positions_[i[1]], positions_[i[2]], cell);
+            if (!bounds.isEmpty()) blocks[b].push_back({triangles[k], bounds});
+        }
+    });
+    return joinBlocks(blocks);
 }
 
 Aabb Partitioner::childBox(const Aabb& cell, const SplitPlane& plane, bool above) {
@@ -86,22 +114,47 @@ Aabb Partitioner::childBox(const Aabb& cell, const SplitPlane& plane, bool above
     return box;
 }
 
+// Start/end histograms of every axis: counts[axis][0][bin] starts, counts[axis][1][bin] ends.
+using BinCounts = std::array<std::array<std::vector<uint64_t>, 2>, 3>;
+
+static BinCounts binRefs(const std::vector<TriangleRef>& refs, const Aabb& cell, int bins) {
+    std::vector<BinCounts> perBlock(blockCount(refs.size()));
+    forEachBlock(refs.size(), [&](size_t b, size_t begin, size_t end) {
+        BinCounts& counts = perBlock[b];
+        for (int axis = 0; axis < 3; ++axis) {
+            counts[axis][0].assign(bins, 0);
+            counts[axis][1].assign(bins, 0);
+            const double lo = cell.lo[axis], hi = cell.hi[axis];
+            if (!(hi > lo)) continue;
+            const double scale = bins / (hi - lo);
+            for (size_t k = begin; k < end; ++k) {
+                const Aabb& r = refs[k].bounds;
+                counts[axis][0][std::clamp(int((r.lo[axis] - lo) * scale), 0, bins - 1)]++;
+                counts[axis][1][std::clamp(int((r.hi[axis] - lo) * scale), 0, bins - 1)]++;
+            }
+        }
+    });
+    BinCounts total;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            total[axis][side].assign(bins, 0);
+            for (const BinCounts& block : perBlock)
+                for (int i = 0; i < bins; ++i) total[axis][side][i] += block[axis][side][i];
+        }
+    return total;
+}
+
 std::optional<SplitPlane> Partitioner::findSplit(const std::vector<TriangleRef>& refs, const Aabb& cell) const {
     const int bins = options_.bins;
     const double n = double(refs.size());
     const double cellArea = cell.surfaceArea();
+    const BinCounts counts = binRefs(refs, cell, bins);
     std::optional<SplitPlane> best;
-    std::vector<uint64_t> starts(bins), ends(bins);
     for (int axis = 0; axis < 3; ++axis) {
         const double lo = cell.lo[axis], hi = cell.hi[axis];
         if (!(hi > lo)) continue;
-        std::fill(starts.begin(), starts.end(), 0);
-        std::fill(ends.begin(), ends.end(), 0);
-        const double scale = bins / (hi - lo);
-        for (const TriangleRef& ref : refs) {
-            starts[std::clamp(int((ref.bounds.lo[axis] - lo) * scale), 0, bins - 1)]++;
-            ends[std::clamp(int((ref.bounds.hi[axis] - lo) * scale), 0, bins - 1)]++;
-        }
+        const std::vector<uint64_t>& starts = counts[axis][0];
+        const std::vector<uint64_t>& ends = counts[axis][1];
         // Left of plane i: triangles starting in bins < i; right: ending in bins >= i.
         uint64_t left = 0, right = uint64_t(refs.size());
         for (int i = 1; i < bins; ++i) {
@@ -127,26 +180,33 @@ void Partitioner::split(std::vector<TriangleRef>& refs, const Aabb& cell, const 
     const int axis = plane.axis;
     const float p = plane.position;
     const Aabb below = childBox(cell, plane, false), above = childBox(cell, plane, true);
-    for (const TriangleRef& ref : refs) {
-        const float lo = ref.bounds.lo[axis], hi = ref.bounds.hi[axis];
-        if (lo == p && hi == p) {
-            left.push_back({ref.triangle, ref.bounds});
-            right.push_back({ref.triangle, ref.bounds});
-        } else if (hi <= p) {
-            left.push_back(ref);
-        } else if (lo >= p) {
-            right.push_back(ref);
-        } else {
-            const uint32_t* i = &indices_[3 * size_t(ref.triangle)];
-            const Vec3f a = positions_[i[0]], b = positions_[i[1]], c = positions_[i[2]];
-            const Aabb inBelow = clipTriangle(a, b, c, below);
-            const Aabb inAbove = clipTriangle(a, b, c, above);
-            if (!inBelow.isEmpty()) left.push_back({ref.triangle, inBelow});
-            if (!inAbove.isEmpty()) right.push_back({ref.triangle, inAbove});
+    std::vector<std::vector<TriangleRef>> lefts(blockCount(refs.size())), rights(lefts.size());
+    forEachBlock(refs.size(), [&](size_t block, size_t begin, size_t end) {
+        std::vector<TriangleRef>& l = lefts[block];
+        std::vector<TriangleRef>& r = rights[block];
+        for (size_t k = begin; k < end; ++k) {
+            const TriangleRef& ref = refs[k];
+            const float lo = ref.bounds.lo[axis], hi = ref.bounds.hi[axis];
+            if (lo == p && hi == p) {
+                l.push_back(ref);
+                r.push_back(ref);
+            } else if (hi <= p) {
+                l.push_back(ref);
+            } else if (lo >= p) {
+                r.push_back(ref);
+            } else {
+                const uint32_t* i = &indices_[3 * size_t(ref.triangle)];
+                const Vec3f a = positions_[i[0]], b = positions_[i[1]], c = positions_[i[2]];
+                const Aabb inBelow = clipTriangle(a, b, c, below);
+                const Aabb inAbove = clipTriangle(a, b, c, above);
+                if (!inBelow.isEmpty()) l.push_back({ref.triangle, inBelow});
+                if (!inAbove.isEmpty()) r.push_back({ref.triangle, inAbove});
+            }
         }
-    }
-    refs.clear();
-    refs.shrink_to_fit();
+    });
+    std::vector<TriangleRef>().swap(refs);
+    left = joinBlocks(lefts);
+    right = joinBlocks(rights);
 }
 
 }  // namespace vastray
