@@ -1,0 +1,37 @@
+#pragma once
+// One compute pipeline built from embedded SPIR-V, with a push-constant block as its only input
+// (shaders reach their buffers through device addresses carried in the push constants).
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "vastray/core/Result.h"
+#include "vastray/gpu/VulkanDevice.h"
+
+namespace vastray::gpu {
+
+class ComputePipeline {
+public:
+    // spirv: the module's words; entry point "main"; pushConstantBytes: size of the block.
+    static Result<std::unique_ptr<ComputePipeline>> create(VulkanDevice& device, std::span<const uint32_t> spirv,
+                                                           uint32_t pushConstantBytes);
+    ~ComputePipeline();
+    ComputePipeline(const ComputePipeline&) = delete;
+    ComputePipeline& operator=(const ComputePipeline&) = delete;
+
+    // Records a dispatch of groupCount workgroups along x, with these push constants.
+    void record(VkCommandBuffer cmd, const void* pushConstants, uint32_t groupCount) const;
+
+private:
+    explicit ComputePipeline(VulkanDevice& device) : device_(device) {}
+    Status init(std::span<const uint32_t> spirv);
+
+    VulkanDevice& device_;
+    uint32_t pushConstantBytes_ = 0;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+}  // namespace vastray::gpu

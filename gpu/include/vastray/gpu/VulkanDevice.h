@@ -1,0 +1,109 @@
+#pragma once
+// The Vulkan device the GPU backend runs on (a real GPU or Mesa's lavapipe), its compute queue,
+// and counted buffers. Every device allocation goes through createBuffer, so liveBytes() and
+// peakBytes() are the whole device footprint of whatever uses this device.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Result.h"
+
+namespace vastray::gpu {
+
+struct VulkanDeviceOptions {
+    // Index into the physical devices Vulkan reports (listVulkanDevices order); -1 picks the
+    // first discrete GPU, else the first device of any kind (lavapipe on a machine without GPU).
+    int deviceIndex = -1;
+};
+
+struct VulkanDeviceInfo {
+    std::string name;
+    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+    bool usable = false;  // has a compute queue and every feature the backend needs
+    std::string missing;  // why not usable
+};
+
+// Every physical device, usable or not (for `--gpu-device` help and error messages).
+Result<std::vector<VulkanDeviceInfo>> listVulkanDevices();
+
+class VulkanDevice;
+
+// A buffer in host-visible memory, mapped for its whole life; addressed from shaders by its
+// device address. Move-only; releases its memory (and its share of the accounting) when destroyed.
+class GpuBuffer {
+public:
+    GpuBuffer() = default;
+    GpuBuffer(GpuBuffer&& other) noexcept;
+    GpuBuffer& operator=(GpuBuffer&& other) noexcept;
+    GpuBuffer(const GpuBuffer&) = delete;
+    GpuBuffer& operator=(const GpuBuffer&) = delete;
+    ~GpuBuffer();
+
+    uint64_t size() const { return size_; }                // bytes usable
+    uint64_t allocatedBytes() const { return allocated_; } // bytes counted against the device
+    VkDeviceAddress address() const { return address_; }
+    bool isValid() const { return buffer_ != VK_NULL_HANDLE; }
+
+    // Copies between host memory and [offset, offset + bytes) of the buffer. Call only while
+    // no dispatch that uses the buffer is running (VulkanDevice::submit waits for completion).
+    Status upload(const void* data, uint64_t bytes, uint64_t offset = 0);
+    Status download(void* data, uint64_t bytes, uint64_t offset = 0) const;
+
+private:
+    friend class VulkanDevice;
+    void release();
+
+    VulkanDevice* device_ = nullptr;
+    VkBuffer buffer_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    void* mapped_ = nullptr;
+    uint64_t size_ = 0;
+    uint64_t allocated_ = 0;
+    VkDeviceAddress address_ = 0;
+};
+
+class VulkanDevice {
+public:
+    static Result<std::unique_ptr<VulkanDevice>> create(const VulkanDeviceOptions& options = {});
+    ~VulkanDevice();
+    VulkanDevice(const VulkanDevice&) = delete;
+    VulkanDevice& operator=(const VulkanDevice&) = delete;
+
+    const VulkanDeviceInfo& info() const { return info_; }
+    VkDevice handle() const { return device_; }
+
+    // A zero-size request allocates a small buffer, so that every binding has a valid address.
+    Result<GpuBuffer> createBuffer(uint64_t bytes);
+    uint64_t liveBytes() const { return liveBytes_; }
+    uint64_t peakBytes() const { return peakBytes_; }
+    uint32_t allocationCount() const { return allocationCount_; }
+
+    // Records commands into a fresh command buffer, submits it to the compute queue and waits.
+    Status submit(const std::function<void(VkCommandBuffer)>& record);
+
+private:
+    friend class GpuBuffer;
+    VulkanDevice() = default;
+    Status init(const VulkanDeviceOptions& options);
+    Status createLogicalDevice(VkPhysicalDevice physical, uint32_t queueFamily);
+    Result<uint32_t> findMemoryType(uint32_t typeBits) const;
+    void freeBuffer(GpuBuffer& buffer);
+
+    VulkanDeviceInfo info_;
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    VkCommandPool commandPool_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    VkPhysicalDeviceMemoryProperties memoryProperties_{};
+    uint64_t liveBytes_ = 0;
+    uint64_t peakBytes_ = 0;
+    uint32_t allocationCount_ = 0;
+};
+
+}  // namespace vastray::gpu

@@ -1,0 +1,92 @@
+// Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2013), operation for operation the
+// same as core/include/vastray/core/TriangleIntersect.h, so that t, u, v match the CPU bit for
+// bit. Rules that make that hold:
+// - every float result that feeds a multiply-add is `precise` (no FMA contraction, no
+//   reassociation): the C++ side has none either (GCC in ISO C++20 mode does not contract,
+//   and the x86-64 baseline has no FMA);
+// - divisions go through exactDivide: GLSL's float division may be approximate (2.5 ulp), but
+//   a float quotient computed in double and rounded to float is the correctly rounded float
+//   quotient (53 >= 2*24 + 2, and it stays so if the double division is off by an ulp);
+// - the edge-function fallback is in double, as on the CPU (needs shaderFloat64).
+// lavapipe would match even without the first two (its division is exact and it does not
+// contract); an NVIDIA H100 does not: without them ~80% of random rays differ in some bit.
+// Denormal inputs are out of scope: a device that flushes them to zero may differ there.
+#ifndef VASTRAY_WATERTIGHT_GLSL
+#define VASTRAY_WATERTIGHT_GLSL
+
+float exactDivide(float a, float b) {
+    precise double q = double(a) / double(b);
+    return float(q);
+}
+
+struct WatertightRay {
+    vec3 origin;
+    int kx, ky, kz;
+    float sx, sy, sz;
+};
+
+bool isFiniteVec(vec3 v) { return !any(isinf(v)) && !any(isnan(v)); }
+
+// Mirrors prepareWatertightRay: false for a zero or non-finite direction.
+bool prepareWatertightRay(vec3 origin, vec3 d, out WatertightRay r) {
+    r.origin = origin;
+    r.kx = 0, r.ky = 1, r.kz = 2;
+    r.sx = 0.0, r.sy = 0.0, r.sz = 1.0;
+    if (!isFiniteVec(d) || !isFiniteVec(origin)) return false;
+    const float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
+    const int kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
+    if (d[kz] == 0.0) return false;
+    int kx = (kz + 1) % 3;
+    int ky = (kx + 1) % 3;
+    if (d[kz] < 0.0) {  // looking down -z mirrors the plane; swapping x and y restores the winding
+        const int swap = kx;
+        kx = ky, ky = swap;
+    }
+    r.kx = kx, r.ky = ky, r.kz = kz;
+    r.sx = exactDivide(d[kx], d[kz]);
+    r.sy = exactDivide(d[ky], d[kz]);
+    r.sz = exactDivide(1.0, d[kz]);
+    return true;
+}
+
+// Mirrors detail::edgeFunctionsDouble: products of floats are exact in double.
+void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, inout float u,
+                         inout float v, inout float w) {
+    precise double du = double(cx) * double(by) - double(cy) * double(bx);
+    precise double dv = double(ax) * double(cy) - double(ay) * double(cx);
+    precise double dw = double(bx) * double(ay) - double(by) * double(ax);
+    u = float(du), v = float(dv), w = float(dw);
+}
+
+struct TriangleHit {
+    float t, u, v;
+    bool frontFacing;
+};
+
+bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, bool cullBackFace, float tMin, float tMax,
+                       out TriangleHit hit) {
+    hit = TriangleHit(0.0, 0.0, 0.0, false);
+    precise vec3 a = v0 - r.origin, b = v1 - r.origin, c = v2 - r.origin;
+    precise float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+    precise float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+    precise float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+    precise float u = cx * by - cy * bx;  // weight of v0
+    precise float v = ax * cy - ay * cx;  // weight of v1
+    precise float w = bx * ay - by * ax;  // weight of v2
+    if (u == 0.0 || v == 0.0 || w == 0.0) edgeFunctionsDouble(ax, ay, bx, by, cx, cy, u, v, w);
+    const bool anyNegative = u < 0.0 || v < 0.0 || w < 0.0;
+    const bool anyPositive = u > 0.0 || v > 0.0 || w > 0.0;
+    if (anyNegative && (anyPositive || cullBackFace)) return false;
+    precise float det = u + v + w;
+    if (det == 0.0) return false;
+    precise float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+    precise float scaledT = u * az + v * bz + w * cz;
+    precise float rcpDet = exactDivide(1.0, det);
+    precise float t = scaledT * rcpDet;
+    if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
+    precise float hu = v * rcpDet, hv = w * rcpDet;
+    hit = TriangleHit(t, hu, hv, det > 0.0);
+    return true;
+}
+
+#endif  // VASTRAY_WATERTIGHT_GLSL

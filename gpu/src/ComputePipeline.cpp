@@ -1,0 +1,50 @@
+#include "vastray/gpu/ComputePipeline.h"
+
+#include "VkCheck.h"
+
+namespace vastray::gpu {
+
+Result<std::unique_ptr<ComputePipeline>> ComputePipeline::create(VulkanDevice& device,
+                                                                 std::span<const uint32_t> spirv,
+                                                                 uint32_t pushConstantBytes) {
+    std::unique_ptr<ComputePipeline> pipeline(new ComputePipeline(device));
+    pipeline->pushConstantBytes_ = pushConstantBytes;
+    VASTRAY_TRY(pipeline->init(spirv).withContext("compute pipeline: "));
+    return pipeline;
+}
+
+Status ComputePipeline::init(std::span<const uint32_t> spirv) {
+    const VkDevice device = device_.handle();
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes_};
+    auto layoutInfo = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &range;
+    VASTRAY_VK_TRY(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout_));
+    auto moduleInfo = vkStruct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+    moduleInfo.codeSize = spirv.size_bytes();
+    moduleInfo.pCode = spirv.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VASTRAY_VK_TRY(vkCreateShaderModule(device, &moduleInfo, nullptr, &module));
+    auto info = vkStruct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+    info.stage = vkStruct<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module;
+    info.stage.pName = "main";
+    info.layout = layout_;
+    const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+    vkDestroyShaderModule(device, module, nullptr);  // the pipeline keeps what it needs
+    return vkStatus(r, "vkCreateComputePipelines");
+}
+
+ComputePipeline::~ComputePipeline() {
+    if (pipeline_) vkDestroyPipeline(device_.handle(), pipeline_, nullptr);
+    if (layout_) vkDestroyPipelineLayout(device_.handle(), layout_, nullptr);
+}
+
+void ComputePipeline::record(VkCommandBuffer cmd, const void* pushConstants, uint32_t groupCount) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes_, pushConstants);
+    vkCmdDispatch(cmd, groupCount, 1, 1);
+}
+
+}  // namespace vastray::gpu

@@ -1,0 +1,207 @@
+#include "vastray/gpu/VulkanDevice.h"
+
+#include <cstring>
+#include <utility>
+
+#include "VkCheck.h"
+
+namespace vastray::gpu {
+namespace {
+
+Result<VkInstance> createInstance() {
+    auto app = vkStruct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+    app.pApplicationName = "vastray";
+    app.apiVersion = VK_API_VERSION_1_2;
+    auto info = vkStruct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+    info.pApplicationInfo = &app;
+    VkInstance instance = VK_NULL_HANDLE;
+    const VkResult r = vkCreateInstance(&info, nullptr, &instance);
+    if (r != VK_SUCCESS)
+        return Status::error(vkStatus(r, "vkCreateInstance").message() +
+                             " (is a Vulkan driver installed? lavapipe comes with mesa-vulkan-drivers)");
+    return instance;
+}
+
+Result<std::vector<VkPhysicalDevice>> physicalDevices(VkInstance instance) {
+    uint32_t count = 0;
+    VASTRAY_VK_TRY(vkEnumeratePhysicalDevices(instance, &count, nullptr));
+    std::vector<VkPhysicalDevice> devices(count);
+    VASTRAY_VK_TRY(vkEnumeratePhysicalDevices(instance, &count, devices.data()));
+    devices.resize(count);
+    return devices;
+}
+
+// Index of a queue family with compute, or -1.
+int computeQueueFamily(VkPhysicalDevice device) {
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
+    for (uint32_t i = 0; i < count; ++i)
+        if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return int(i);
+    return -1;
+}
+
+// What the tracer needs: Vulkan 1.2, device addresses, 64-bit ints (addresses in push constants)
+// and 64-bit floats (the watertight test's exact fallback and exact division, see Watertight.glsl).
+VulkanDeviceInfo describe(VkPhysicalDevice device) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(device, &props);
+    auto f12 = vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    auto f = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+    f.pNext = &f12;
+    if (props.apiVersion >= VK_API_VERSION_1_2) vkGetPhysicalDeviceFeatures2(device, &f);
+    VulkanDeviceInfo info;
+    info.name = props.deviceName;
+    info.type = props.deviceType;
+    if (props.apiVersion < VK_API_VERSION_1_2) info.missing = "Vulkan 1.2";
+    else if (computeQueueFamily(device) < 0) info.missing = "a compute queue";
+    else if (!f12.bufferDeviceAddress) info.missing = "bufferDeviceAddress";
+    else if (!f.features.shaderInt64) info.missing = "shaderInt64";
+    else if (!f.features.shaderFloat64) info.missing = "shaderFloat64";
+    info.usable = info.missing.empty();
+    return info;
+}
+
+// -1 when none fits; explicit index first, else the first usable discrete GPU, else any usable.
+int pickDevice(const std::vector<VulkanDeviceInfo>& infos, int requested) {
+    if (requested >= 0) return requested < int(infos.size()) && infos[size_t(requested)].usable ? requested : -1;
+    for (size_t i = 0; i < infos.size(); ++i)
+        if (infos[i].usable && infos[i].type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU) return int(i);
+    for (size_t i = 0; i < infos.size(); ++i)
+        if (infos[i].usable) return int(i);
+    return -1;
+}
+
+std::string deviceListText(const std::vector<VulkanDeviceInfo>& infos) {
+    if (infos.empty()) return "Vulkan reports no physical device";
+    std::string text = "devices:";
+    for (size_t i = 0; i < infos.size(); ++i)
+        text += " [" + std::to_string(i) + "] " + infos[i].name +
+                (infos[i].usable ? "" : " (lacks " + infos[i].missing + ")");
+    return text;
+}
+
+}  // namespace
+
+Result<std::vector<VulkanDeviceInfo>> listVulkanDevices() {
+    auto instance = createInstance();
+    if (!instance) return instance.status();
+    auto devices = physicalDevices(*instance);
+    std::vector<VulkanDeviceInfo> infos;
+    if (devices)
+        for (VkPhysicalDevice d : *devices) infos.push_back(describe(d));
+    vkDestroyInstance(*instance, nullptr);
+    if (!devices) return devices.status();
+    return infos;
+}
+
+Result<std::unique_ptr<VulkanDevice>> VulkanDevice::create(const VulkanDeviceOptions& options) {
+    std::unique_ptr<VulkanDevice> device(new VulkanDevice());
+    VASTRAY_TRY(device->init(options).withContext("Vulkan: "));
+    return device;
+}
+
+Status VulkanDevice::init(const VulkanDeviceOptions& options) {
+    auto instance = createInstance();
+    if (!instance) return instance.status();
+    instance_ = *instance;
+    auto devices = physicalDevices(instance_);
+    if (!devices) return devices.status();
+    std::vector<VulkanDeviceInfo> infos;
+    for (VkPhysicalDevice d : *devices) infos.push_back(describe(d));
+    const int index = pickDevice(infos, options.deviceIndex);
+    if (index < 0) {
+        const std::string wanted = options.deviceIndex >= 0
+                                       ? "device " + std::to_string(options.deviceIndex) + " is not usable"
+                                       : "no usable device";
+        return Status::error(wanted + "; " + deviceListText(infos));
+    }
+    physical_ = (*devices)[size_t(index)];
+    info_ = infos[size_t(index)];
+    vkGetPhysicalDeviceMemoryProperties(physical_, &memoryProperties_);
+    return createLogicalDevice(physical_, uint32_t(computeQueueFamily(physical_)));
+}
+
+Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, uint32_t queueFamily) {
+    const float priority = 1.0f;
+    auto queueInfo = vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+    queueInfo.queueFamilyIndex = queueFamily;
+    queueInfo.queueCount = 1;
+    queueInfo.pQueuePriorities = &priority;
+    auto f12 = vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    f12.bufferDeviceAddress = VK_TRUE;
+    auto features = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+    features.pNext = &f12;
+    features.features.shaderInt64 = VK_TRUE;
+    features.features.shaderFloat64 = VK_TRUE;
+    auto info = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+    info.pNext = &features;
+    info.queueCreateInfoCount = 1;
+    info.pQueueCreateInfos = &queueInfo;
+    VASTRAY_VK_TRY(vkCreateDevice(physical, &info, nullptr, &device_));
+    vkGetDeviceQueue(device_, queueFamily, 0, &queue_);
+    auto poolInfo = vkStruct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = queueFamily;
+    VASTRAY_VK_TRY(vkCreateCommandPool(device_, &poolInfo, nullptr, &commandPool_));
+    auto fenceInfo = vkStruct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+    VASTRAY_VK_TRY(vkCreateFence(device_, &fenceInfo, nullptr, &fence_));
+    return Status::ok();
+}
+
+VulkanDevice::~VulkanDevice() {
+    if (device_) {
+        vkDeviceWaitIdle(device_);
+        if (fence_) vkDestroyFence(device_, fence_, nullptr);
+        if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
+        vkDestroyDevice(device_, nullptr);
+    }
+    if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+// Host-visible and coherent (the buffers stay mapped); device-local too when a heap offers both
+// (lavapipe: all memory; discrete GPUs: the resizable-BAR heap).
+Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits) const {
+    const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    for (VkMemoryPropertyFlags wanted : {host | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, host})
+        for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i)
+            if ((typeBits & (1u << i)) && (memoryProperties_.memoryTypes[i].propertyFlags & wanted) == wanted)
+                return i;
+    return Status::error("no host-visible coherent memory type for a buffer");
+}
+
+Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) {
+    auto allocInfo = vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+    allocInfo.commandPool = commandPool_;
+    allocInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    allocInfo.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VASTRAY_VK_TRY(vkAllocateCommandBuffers(device_, &allocInfo, &cmd));
+    struct FreeOnExit {
+        VkDevice device;
+        VkCommandPool pool;
+        VkCommandBuffer cmd;
+        ~FreeOnExit() { vkFreeCommandBuffers(device, pool, 1, &cmd); }
+    } freeOnExit{device_, commandPool_, cmd};
+    auto begin = vkStruct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VASTRAY_VK_TRY(vkBeginCommandBuffer(cmd, &begin));
+    record(cmd);
+    // Host writes before the submit are visible to it (submission order); make the shaders'
+    // writes visible to host reads after the fence.
+    auto barrier = vkStruct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                         nullptr, 0, nullptr);
+    VASTRAY_VK_TRY(vkEndCommandBuffer(cmd));
+    auto submitInfo = vkStruct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+    submitInfo.commandBufferCount = 1;
+    submitInfo.pCommandBuffers = &cmd;
+    VASTRAY_VK_TRY(vkResetFences(device_, 1, &fence_));
+    VASTRAY_VK_TRY(vkQueueSubmit(queue_, 1, &submitInfo, fence_));
+    return vkStatus(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+}
+
+}  // namespace vastray::gpu
