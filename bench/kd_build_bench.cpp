@@ -62,19 +62,8 @@ const BenchMesh& cachedMesh(bool soup, uint32_t triangles) {
     return it->second;
 }
 
-// The options the import pipeline uses for chunk trees (streamer/src/package/ChunkBuilder.cpp,
-// chunkKdOptions); kept in sync by hand because the bench depends on core only.
-KdBuildOptions importOptions(uint32_t triangles) {
-    KdBuildOptions options;
-    options.maxLeafSize = 4;
-    options.intersectionCost = 2.0f;
-    options.bins = 16;
-    options.maxDepth = std::clamp(uint32_t(std::bit_width(triangles)) + 3u, 8u, kMaxKdDepth);
-    return options;
-}
-
 KdBuildOptions benchOptions(bool import, uint32_t triangles) {
-    return import ? importOptions(triangles) : KdBuildOptions{};
+    return import ? compactKdBuildOptions(triangles) : KdBuildOptions{};
 }
 
 // SAH cost of the built tree relative to its root box, with the cost model of `options`

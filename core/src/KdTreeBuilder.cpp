@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -517,6 +518,15 @@ KdTreeStats computeKdTreeStats(const KdTree& tree) {
     const uint64_t filled = stats.leaves - stats.emptyLeaves;
     stats.meanLeafSize = filled ? double(stats.references) / double(filled) : 0.0;
     return stats;
+}
+
+KdBuildOptions compactKdBuildOptions(uint32_t triangleCount) {
+    KdBuildOptions options;
+    options.maxLeafSize = 4;
+    options.intersectionCost = 2.0f;
+    options.bins = 16;
+    options.maxDepth = std::clamp(uint32_t(std::bit_width(triangleCount)) + 3u, 8u, kMaxKdDepth);
+    return options;
 }
 
 }  // namespace vastray

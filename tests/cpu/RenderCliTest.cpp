@@ -1,4 +1,5 @@
 // `vastray render` and `vastray diff` as a user drives them: exit codes, messages, files.
+#include "CommandRunner.h"
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -14,23 +15,9 @@
 namespace vastray {
 namespace {
 
-struct CommandResult {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr together
-};
+using vastray::test::CommandResult;
 
-CommandResult run(const std::string& arguments) {
-    CommandResult result;
-    const std::string command = std::string(VASTRAY_BINARY) + " " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
-}
+CommandResult run(const std::string& arguments) { return vastray::test::runVastray(arguments); }
 
 double jsonNumber(const std::string& json, const std::string& key) {
     const size_t at = json.find("\"" + key + "\":");

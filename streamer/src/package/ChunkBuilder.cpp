@@ -106,18 +106,6 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
     return positions;
 }
 
-// Chunk trees are capped at depth log2(N) + 3: leaves of about ten references keep the
-// resident footprint near 32 bytes per triangle. pbrt's 8 + 1.3·log2(N) rule gives trees of
-// about 50 bytes per triangle for fewer triangle tests (docs/PERFORMANCE.md, notes).
-KdBuildOptions chunkKdOptions(uint32_t triangles) {
-    KdBuildOptions options;
-    options.maxLeafSize = 4;
-    options.intersectionCost = 2.0f;
-    options.bins = 16;
-    options.maxDepth = std::clamp(uint32_t(std::bit_width(triangles)) + 3u, 8u, kMaxKdDepth);
-    return options;
-}
-
 }  // namespace
 
 uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t kdNodes,
@@ -151,7 +139,7 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
 
     start = std::chrono::steady_clock::now();
     const uint32_t triangles = uint32_t(refs.size());
-    const KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles, chunkKdOptions(triangles));
+    const KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles, compactKdBuildOptions(triangles));
     chunk.kdBuildSeconds = secondsSince(start);
 
     chunk.info.cell = cell;

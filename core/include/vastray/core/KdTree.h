@@ -57,6 +57,11 @@ struct KdBuildOptions {
     uint32_t maxDepth = 0;      // 0: min(8 + 1.3 * log2(N), kMaxKdDepth); otherwise clamped to kMaxKdDepth
 };
 
+// The options scene packages use for chunk trees: depth capped at log2(N) + 3 and leaves of
+// up to 4 triangles keep a chunk near 32 resident bytes per triangle (pbrt's 8 + 1.3·log2 N
+// depth rule gives about 50; docs/PERF_NOTES.md).
+KdBuildOptions compactKdBuildOptions(uint32_t triangleCount);
+
 // positions/indices: the chunk's triangles (3 indices per triangle). Deterministic: the same
 // input always gives identical nodes and references. Triangles are assumed finite (the
 // importer rejects NaN/Inf); degenerate triangles are kept and simply never hit.
