@@ -18,7 +18,7 @@ constexpr uint64_t kMinBufferBytes = 16;
 }  // namespace
 
 
-Result<GpuBuffer> VulkanDevice::createBuffer(uint64_t bytes) {
+Result<GpuBuffer> VulkanDevice::createBuffer(uint64_t bytes, MemoryUse use) {
     GpuBuffer buffer;  // released by its destructor on any early return below
     buffer.device_ = this;
     buffer.size_ = bytes;
@@ -29,7 +29,7 @@ Result<GpuBuffer> VulkanDevice::createBuffer(uint64_t bytes) {
     VASTRAY_VK_TRY(vkCreateBuffer(device_, &info, nullptr, &buffer.buffer_));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device_, buffer.buffer_, &req);
-    auto type = findMemoryType(req.memoryTypeBits);
+    auto type = findMemoryType(req.memoryTypeBits, use);
     VASTRAY_TRY(type);
     auto flags = vkStruct<VkMemoryAllocateFlagsInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO);
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;

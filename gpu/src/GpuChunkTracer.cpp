@@ -120,7 +120,7 @@ Status GpuChunkTracer::reserveRays(uint64_t count) {
     rayCapacity_ = 0;
     auto rays = device_.createBuffer(count * sizeof(TraceRay));
     if (!rays) return rays.status();
-    auto hits = device_.createBuffer(count * sizeof(TraceHit));
+    auto hits = device_.createBuffer(count * sizeof(TraceHit), VulkanDevice::MemoryUse::Readback);
     if (!hits) return hits.status();
     rays_ = std::move(rays).value(), hits_ = std::move(hits).value();
     rayCapacity_ = count;

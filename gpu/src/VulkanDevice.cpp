@@ -162,9 +162,11 @@ VulkanDevice::~VulkanDevice() {
 
 // Host-visible and coherent (the buffers stay mapped); device-local too when a heap offers both
 // (lavapipe: all memory; discrete GPUs: the resizable-BAR heap).
-Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits) const {
+Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits, MemoryUse use) const {
     const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    for (VkMemoryPropertyFlags wanted : {host | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, host})
+    const VkMemoryPropertyFlags first = use == MemoryUse::Readback ? host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT
+                                                                    : host | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    for (VkMemoryPropertyFlags wanted : {first, host})
         for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i)
             if ((typeBits & (1u << i)) && (memoryProperties_.memoryTypes[i].propertyFlags & wanted) == wanted)
                 return i;

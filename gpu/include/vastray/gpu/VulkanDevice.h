@@ -76,8 +76,13 @@ public:
     const VulkanDeviceInfo& info() const { return info_; }
     VkDevice handle() const { return device_; }
 
+    // Where a buffer lives. DeviceLocal: GPU memory the host can map (resizable BAR) when there
+    // is such a heap, for data the GPU reads often. Readback: host-cached system memory, for
+    // results the host reads: reading device memory through an uncached mapping is very slow.
+    enum class MemoryUse { DeviceLocal, Readback };
+
     // A zero-size request allocates a small buffer, so that every binding has a valid address.
-    Result<GpuBuffer> createBuffer(uint64_t bytes);
+    Result<GpuBuffer> createBuffer(uint64_t bytes, MemoryUse use = MemoryUse::DeviceLocal);
     uint64_t liveBytes() const { return liveBytes_; }
     uint64_t peakBytes() const { return peakBytes_; }
     uint32_t allocationCount() const { return allocationCount_; }
@@ -90,7 +95,7 @@ private:
     VulkanDevice() = default;
     Status init(const VulkanDeviceOptions& options);
     Status createLogicalDevice(VkPhysicalDevice physical, uint32_t queueFamily);
-    Result<uint32_t> findMemoryType(uint32_t typeBits) const;
+    Result<uint32_t> findMemoryType(uint32_t typeBits, MemoryUse use) const;
     void freeBuffer(GpuBuffer& buffer);
 
     VulkanDeviceInfo info_;
