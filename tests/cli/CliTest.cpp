@@ -102,6 +102,8 @@ TEST_F(Cli, BadArgumentsAreClearErrors) {
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --chunk-size 1KiB", "minimum"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --quantize-bits 31", "--quantize-bits"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.ply"), "must end in .vast"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --draco-speed 11", "--draco-speed must be 0..10"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --progress loud", "--progress"},
         {"import " + tmp("missing.ply") + " -o " + tmp("x.vast"), "missing.ply"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --double-sided --single-sided", "excludes"},
         {"generate cube --triangles 100 -o " + tmp("x.ply"), "sphere"},

@@ -6,6 +6,7 @@
 #include <random>
 #include <utility>
 
+#include "TestMeshes.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/core/TriangleIntersect.h"
 
@@ -14,90 +15,11 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-struct Mesh {
-    std::vector<Vec3f> positions;
-    std::vector<uint32_t> indices;
-    std::vector<uint8_t> singleSided;  // empty: all double-sided
-    uint32_t count() const { return uint32_t(indices.size() / 3); }
-    KdTree build(const KdBuildOptions& o = {}) const {
-        return buildKdTree(positions.data(), indices.data(), count(), o);
-    }
-};
-
-Vec3f normalize(Vec3f v) {
-    const float l = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
-    return v * (1.0f / l);
-}
-
-// Closed sphere with shared vertices: each subdivision splits every edge once (midpoint cache).
-Mesh makeIcosphere(int subdivisions, Vec3f center, float radius) {
-    const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    std::vector<Vec3f> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<uint32_t> f = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4,
-                               11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8,
-                               3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
-    for (Vec3f& v : p) v = normalize(v);
-    for (int s = 0; s < subdivisions; ++s) {
-        std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-        auto midpoint = [&](uint32_t a, uint32_t b) {
-            const auto key = std::minmax(a, b);
-            auto [it, inserted] = mid.try_emplace(key, uint32_t(p.size()));
-            if (inserted) p.push_back(normalize((p[a] + p[b]) * 0.5f));
-            return it->second;
-        };
-        std::vector<uint32_t> g;
-        for (size_t i = 0; i < f.size(); i += 3) {
-            const uint32_t a = f[i], b = f[i + 1], c = f[i + 2];
-            const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-            g.insert(g.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
-        }
-        f = std::move(g);
-    }
-    Mesh m;
-    for (const Vec3f& v : p) m.positions.push_back(center + v * radius);
-    m.indices = std::move(f);
-    return m;
-}
-
-Vec3f randomVec(std::mt19937& rng, float lo, float hi) {
-    std::uniform_real_distribution<float> d(lo, hi);
-    return {d(rng), d(rng), d(rng)};
-}
-
-Mesh makeSoup(uint32_t count, uint32_t seed) {
-    std::mt19937 rng(seed);
-    Mesh m;
-    for (uint32_t i = 0; i < count; ++i) {
-        const Vec3f c = randomVec(rng, -10, 10);
-        for (int k = 0; k < 3; ++k) {
-            m.positions.push_back(c + randomVec(rng, -1.5f, 1.5f));
-            m.indices.push_back(uint32_t(m.positions.size() - 1));
-        }
-    }
-    return m;
-}
-
-// Unit squares on every integer plane x=i, y=j, z=k of an n^3 lattice: many triangles lie
-// exactly in planes that the SAH will pick as split planes.
-Mesh makeAxisGrid(int n) {
-    Mesh m;
-    for (int axis = 0; axis < 3; ++axis)
-        for (int i = 0; i <= n; ++i)
-            for (int j = 0; j < n; ++j)
-                for (int k = 0; k < n; ++k) {
-                    const uint32_t base = uint32_t(m.positions.size());
-                    for (int c = 0; c < 4; ++c) {
-                        Vec3f v;
-                        v[axis] = float(i);
-                        v[(axis + 1) % 3] = float(j + (c & 1));
-                        v[(axis + 2) % 3] = float(k + (c >> 1));
-                        m.positions.push_back(v);
-                    }
-                    m.indices.insert(m.indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});
-                }
-    return m;
-}
+using test::makeAxisGrid;
+using test::makeIcosphere;
+using test::makeSoup;
+using test::Mesh;
+using test::randomVec;
 
 struct RefHit {
     bool found = false;
