@@ -9,6 +9,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unistd.h>
 
 #include "Commands.h"
 #include "vastray/core/ByteSize.h"
@@ -16,12 +17,20 @@
 #include "vastray/core/Progress.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/cpu/EmbreeRenderer.h"
+#include "vastray/gpu/VulkanChunkBackend.h"
+#include "vastray/gpu/VulkanDevice.h"
+#include "vastray/streamer/Import.h"
+#include "vastray/streamer/PackageBuilder.h"
+#include "vastray/streamer/ScenePackage.h"
+#include "vastray/streamer/StreamingRenderer.h"
 
 namespace vastray::cli {
 namespace {
 
 struct RenderArgs {
-    std::string input, output, backend = "embree", resolution = "640x480";
+    std::string input, output, backend = "vulkan", resolution = "640x480";
+    std::string memoryBudget = "1GiB", hostCache = "1GiB";
+    int64_t gpuDevice = -1;
     std::string eye, target, up = "0,1,0", integrator = "path", aovs, statsJson, progress = "auto";
     int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
     double fov = 45.0;
@@ -94,9 +103,8 @@ Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
 
 // Every flag checked and mapped onto RenderOptions before any file is read.
 Result<RenderOptions> optionsFrom(const RenderArgs& args) {
-    if (args.backend == "vulkan")
-        return Status::error("--backend vulkan is not implemented yet (use embree)");
-    if (args.backend != "embree") return Status::error("--backend '" + args.backend + "': expected embree");
+    if (args.backend != "embree" && args.backend != "vulkan")
+        return Status::error("--backend '" + args.backend + "': expected vulkan or embree");
     RenderOptions options;
     VASTRAY_TRY(parseResolution(args.resolution, options));
     VASTRAY_TRY(checkRange("--spp", args.spp, 1, kMaxSamplesPerPixel));
@@ -113,6 +121,12 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args) {
     auto aovs = parseAovList(args.aovs);
     if (!aovs) return aovs.status();
     options.aovs = *aovs;
+    if (args.backend == "embree" && (options.aovs & kAovStreamingOnly))
+        return Status::error("--aovs chunkid and cost need --backend vulkan (the Embree reference has no chunks)");
+    auto budget = parseByteSize(args.memoryBudget);
+    if (!budget) return budget.status().withContext("--memory-budget: ");
+    auto hostCache = parseByteSize(args.hostCache);
+    if (!hostCache) return hostCache.status().withContext("--host-cache: ");
     VASTRAY_TRY(parseCamera(args, options));
     VASTRAY_TRY(checkOutput(args, options));
     VASTRAY_TRY(validateRenderOptions(options));
@@ -156,7 +170,7 @@ private:
     int lastPercent_ = -1;
 };
 
-void printStats(const RenderStats& s, const RenderOptions& o) {
+void printStats(const RenderStats& s, const RenderOptions& o, const StreamingStats* st) {
     std::printf("render: %s backend, %s integrator, %ux%u, %u spp, max depth %u\n", s.backend.c_str(),
                 integratorName(o.integrator), o.width, o.height, o.samplesPerPixel, o.maxDepth);
     std::printf("  triangles            %llu\n", (unsigned long long)s.triangles);
@@ -165,20 +179,106 @@ void printStats(const RenderStats& s, const RenderOptions& o) {
     std::printf("  rays                 %llu (%.2f M rays/s)\n", (unsigned long long)s.rays,
                 s.raysPerSecond() / 1e6);
     std::printf("  peak host memory     %s\n", formatBytes(s.peakHostBytes).c_str());
+    if (!st) return;
+    std::printf("  memory budget        %s (%u chunk slots), peak device %s\n",
+                formatBytes(st->memoryBudgetBytes).c_str(), st->slots, formatBytes(st->peakDeviceBytes).c_str());
+    std::printf("  chunks               %llu touched of %llu, %llu loads, %llu decodes\n",
+                (unsigned long long)st->chunksTouched, (unsigned long long)st->chunksTotal,
+                (unsigned long long)st->chunkLoads, (unsigned long long)st->decodes);
+    std::printf("  bytes                %s read, %s uploaded\n", formatBytes(st->bytesRead).c_str(),
+                formatBytes(st->bytesUploaded).c_str());
+    std::printf("  seconds              trace %.3f, decode %.3f (workers), upload %.3f, walk %.3f, shade %.3f\n",
+                st->traceSeconds, st->decodeSeconds, st->uploadSeconds, st->walkSeconds, st->shadeSeconds);
 }
 
-Status writeStatsJson(const std::string& path, const RenderStats& s) {
-    const nlohmann::json j{{"backend", s.backend},
+Status writeStatsJson(const std::string& path, const RenderStats& s, const StreamingStats* st) {
+    nlohmann::json j{{"backend", s.backend},
                            {"render_seconds", s.renderSeconds},
                            {"build_seconds", s.buildSeconds},
                            {"rays", s.rays},
                            {"rays_per_second", s.raysPerSecond()},
                            {"triangles", s.triangles},
                            {"peak_host_bytes", s.peakHostBytes}};
+    if (st) {
+        j["chunks_total"] = st->chunksTotal;
+        j["chunks_touched"] = st->chunksTouched;
+        j["chunk_loads"] = st->chunkLoads;
+        j["chunk_decodes"] = st->decodes;
+        j["chunk_slots"] = st->slots;
+        j["bytes_read"] = st->bytesRead;
+        j["bytes_uploaded"] = st->bytesUploaded;
+        j["decode_seconds"] = st->decodeSeconds;
+        j["upload_seconds"] = st->uploadSeconds;
+        j["trace_seconds"] = st->traceSeconds;
+        j["walk_seconds"] = st->walkSeconds;
+        j["shade_seconds"] = st->shadeSeconds;
+        j["ray_streams"] = st->streams;
+        j["chunk_traces"] = st->chunkTraces;
+        j["peak_device_bytes"] = st->peakDeviceBytes;
+        j["memory_budget_bytes"] = st->memoryBudgetBytes;
+    }
     std::ofstream out(path);
     out << j.dump(2) << "\n";
     if (!out) return Status::error(path + ": cannot write stats");
     return Status::ok();
+}
+
+bool isPackagePath(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".vast";
+}
+
+// A mesh file given to the streaming backend is imported into a temporary package first
+// (chunks of a quarter of the budget, at most 16 MiB); the package is removed afterwards.
+class TemporaryPackage {
+public:
+    ~TemporaryPackage() {
+        if (!path_.empty()) std::filesystem::remove(path_);
+    }
+    Result<std::string> import(const std::string& mesh, uint64_t budget) {
+        auto imported = importMesh(mesh);
+        if (!imported) return imported.status();
+        PackageBuildOptions build;
+        build.chunkSizeBytes = std::max<uint64_t>(kMinChunkSizeBytes, std::min<uint64_t>(16ull << 20, budget / 4));
+        build.progress = Progress::Mode::None;
+        build.degenerateDropped = imported->report.degenerateDropped;
+        path_ = (std::filesystem::temp_directory_path() /
+                 ("vastray-render-" + std::to_string(::getpid()) + ".vast")).string();
+        auto report = buildPackage(std::move(imported->mesh), path_, build);
+        if (!report) return report.status().withContext(mesh + ": importing for --backend vulkan: ");
+        return path_;
+    }
+
+private:
+    std::string path_;
+};
+
+Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& options, RenderStats& stats,
+                                 StreamingStats& streaming, const RenderProgress& progress) {
+    auto budget = parseByteSize(args.memoryBudget);  // checked by optionsFrom
+    auto hostCache = parseByteSize(args.hostCache);
+    if (!budget || !hostCache) return Status::error("bad --memory-budget or --host-cache");
+    TemporaryPackage temporary;
+    std::string path = args.input;
+    if (!isPackagePath(path)) {
+        auto imported = temporary.import(path, *budget);
+        if (!imported) return imported.status();
+        path = *imported;
+    }
+    auto reader = PackageReader::open(path);
+    if (!reader) return reader.status();
+    gpu::VulkanDeviceOptions deviceOptions;
+    deviceOptions.deviceIndex = int(args.gpuDevice);
+    auto device = gpu::VulkanDevice::create(deviceOptions);
+    if (!device) return device.status();
+    StreamingOptions streamingOptions;
+    streamingOptions.hostCacheBytes = *hostCache;
+    streaming.memoryBudgetBytes = *budget;
+    const ChunkBackendFactory factory = [&](const PackageInfo& info, const ChunkAttributes& attributes) {
+        return gpu::createVulkanChunkBackend(**device, info, attributes, *budget);
+    };
+    return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
 
 int runRender(const RenderArgs& args) {
@@ -187,26 +287,33 @@ int runRender(const RenderArgs& args) {
         std::fprintf(stderr, "vastray render: %s\n", options.message().c_str());
         return 2;
     }
-    auto scene = loadRenderScene(args.input);
-    if (!scene) {
-        std::fprintf(stderr, "vastray render: %s\n", scene.message().c_str());
-        return 1;
-    }
     RenderStats stats;
+    StreamingStats streaming;
+    const bool vulkan = args.backend == "vulkan";
     RenderProgressView progress(args.progress);
-    auto image = renderWithEmbree(*scene, *options, &stats, progress.callback());
+    Result<RenderImage> image = Status::error("no image");
+    if (vulkan) {
+        image = renderVulkan(args, *options, stats, streaming, progress.callback());
+    } else {
+        auto scene = loadRenderScene(args.input);
+        if (!scene) {
+            std::fprintf(stderr, "vastray render: %s\n", scene.message().c_str());
+            return 1;
+        }
+        image = renderWithEmbree(*scene, *options, &stats, progress.callback());
+    }
     if (!image) {
         std::fprintf(stderr, "vastray render: %s\n", image.message().c_str());
         return 1;
     }
     progress.finish();
     Status written = writeImageFile(args.output, *image);
-    if (written && !args.statsJson.empty()) written = writeStatsJson(args.statsJson, stats);
+    if (written && !args.statsJson.empty()) written = writeStatsJson(args.statsJson, stats, vulkan ? &streaming : nullptr);
     if (!written) {
         std::fprintf(stderr, "vastray render: %s\n", written.message().c_str());
         return 1;
     }
-    if (args.stats) printStats(stats, *options);
+    if (args.stats) printStats(stats, *options, vulkan ? &streaming : nullptr);
     return 0;
 }
 
@@ -221,7 +328,17 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->required()
         ->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", args->output, "image to write (.png or .exr; AOVs need .exr)")->required();
-    cmd->add_option("--backend", args->backend, "embree (CPU reference) | vulkan (not implemented yet)")
+    cmd->add_option("--backend", args->backend,
+                    "vulkan (streaming GPU tracer; a mesh file is imported to a temporary package first) | "
+                    "embree (CPU reference, whole scene in core)")
+        ->capture_default_str();
+    cmd->add_option("--memory-budget", args->memoryBudget,
+                    "vulkan: device memory for chunk slots, rays and tables, all of it (KiB/MiB/GiB)")
+        ->capture_default_str();
+    cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (0 = none)")
+        ->capture_default_str();
+    cmd->add_option("--gpu-device", args->gpuDevice,
+                    "vulkan: index of the Vulkan device to use (-1: the first discrete GPU, else the first device)")
         ->capture_default_str();
     cmd->add_option("--spp", args->spp, "samples per pixel, 1..65536")->capture_default_str();
     cmd->add_option("--resolution", args->resolution, "WxH, each side 1..16384")->capture_default_str();
@@ -234,7 +351,7 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--seed", args->seed, "random seed, 0..4294967295; same seed, same image")
         ->capture_default_str();
-    cmd->add_option("--aovs", args->aovs, "extra EXR channels: any of depth,normal,albedo,primid");
+    cmd->add_option("--aovs", args->aovs, "extra EXR channels: any of depth,normal,albedo,primid,chunkid,cost (the last two: vulkan only)");
     cmd->add_option("--threads", args->threads,
                     "worker threads (0 = all cores); the image does not depend on it")
         ->capture_default_str();

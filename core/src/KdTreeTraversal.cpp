@@ -36,14 +36,14 @@ struct TraversalRay {
 
 float maxAbs(const Vec3f& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
-bool prepareTraversalRay(const KdTree& tree, const Ray& ray, TraversalRay* out) {
+bool prepareTraversalRay(const Aabb& bounds, const Ray& ray, TraversalRay* out) {
     if (!prepareWatertightRay(ray, &out->watertight)) return false;
     for (int a = 0; a < 3; ++a) {
         out->origin[a] = ray.origin[a];
         out->direction[a] = ray.direction[a];
         out->invDirection[a] = 1.0f / ray.direction[a];  // +-inf for a zero component: never used then
     }
-    const float scale = std::max({maxAbs(ray.origin), maxAbs(tree.bounds.lo), maxAbs(tree.bounds.hi)});
+    const float scale = std::max({maxAbs(ray.origin), maxAbs(bounds.lo), maxAbs(bounds.hi)});
     out->slack = kAbsoluteMargin * scale / maxAbs(ray.direction);
     return true;
 }
@@ -61,15 +61,15 @@ float planeDistance(const TraversalRay& r, int axis, float value) {
 
 // Slab test against the tree bounds, closed boxes; a zero direction component is handled
 // explicitly so 0 * inf never enters the interval.
-bool clipToBounds(const KdTree& tree, const TraversalRay& r, float* tMin, float* tMax) {
-    if (tree.bounds.isEmpty() || !(*tMin <= *tMax)) return false;
+bool clipToBounds(const Aabb& bounds, const TraversalRay& r, float* tMin, float* tMax) {
+    if (bounds.isEmpty() || !(*tMin <= *tMax)) return false;
     for (int a = 0; a < 3; ++a) {
         if (r.direction[a] == 0.0f) {
-            if (!(r.origin[a] >= tree.bounds.lo[a] && r.origin[a] <= tree.bounds.hi[a])) return false;
+            if (!(r.origin[a] >= bounds.lo[a] && r.origin[a] <= bounds.hi[a])) return false;
             continue;
         }
-        float tNear = planeDistance(r, a, tree.bounds.lo[a]);
-        float tFar = planeDistance(r, a, tree.bounds.hi[a]);
+        float tNear = planeDistance(r, a, bounds.lo[a]);
+        float tFar = planeDistance(r, a, bounds.hi[a]);
         if (tNear > tFar) std::swap(tNear, tFar);
         *tMin = std::max(*tMin, tNear - margin(r, tNear));
         *tMax = std::min(*tMax, tFar + margin(r, tFar));
@@ -113,7 +113,7 @@ bool traverse(const KdTree& tree, const Vec3f* positions, const uint32_t* indice
     best->nodesVisited = best->trianglesTested = 0;
     TraversalRay r;
     float t0 = tMin, t1 = tMax;
-    if (tree.nodes.empty() || !prepareTraversalRay(tree, ray, &r) || !clipToBounds(tree, r, &t0, &t1))
+    if (tree.nodes.empty() || !prepareTraversalRay(tree.bounds, ray, &r) || !clipToBounds(tree.bounds, r, &t0, &t1))
         return false;
     StackEntry stack[kMaxKdDepth];
     uint32_t stackSize = 0;
@@ -160,9 +160,31 @@ bool intersectKdTree(const KdTree& tree, const Vec3f* positions, const uint32_t*
 }
 
 bool occludedKdTree(const KdTree& tree, const Vec3f* positions, const uint32_t* indices,
-                    const uint8_t* singleSided, const Ray& ray, float tMin, float tMax) {
+                    const uint8_t* singleSided, const Ray& ray, float tMin, float tMax, KdHit* counters) {
     KdHit hit;
-    return traverse(tree, positions, indices, singleSided, ray, tMin, tMax, true, &hit);
+    return traverse(tree, positions, indices, singleSided, ray, tMin, tMax, true, counters ? counters : &hit);
+}
+
+void kdLeavesAlongRay(std::span<const KdNode> nodes, const Aabb& bounds, const Ray& ray, float tMin, float tMax,
+                      std::vector<KdLeafVisit>* out) {
+    out->clear();
+    TraversalRay r;
+    float t0 = tMin, t1 = tMax;
+    if (nodes.empty() || !prepareTraversalRay(bounds, ray, &r) || !clipToBounds(bounds, r, &t0, &t1)) return;
+    StackEntry stack[kMaxKdDepth];
+    uint32_t stackSize = 0;
+    uint32_t index = 0;
+    for (;;) {
+        const KdNode node = nodes[index];
+        if (!node.isLeaf()) {
+            index = descend(r, node, index, &t0, &t1, stack, &stackSize);
+            continue;
+        }
+        out->push_back({index, t0 - margin(r, t0), t1 + margin(r, t1)});
+        if (stackSize == 0) break;
+        const StackEntry e = stack[--stackSize];
+        index = e.node, t0 = e.tMin, t1 = e.tMax;
+    }
 }
 
 }  // namespace vastray

@@ -15,6 +15,8 @@ void RenderImage::allocate(uint32_t w, uint32_t h, uint32_t aovFlags) {
     normal.assign((aovFlags & kAovNormal) ? 3 * n : 0, 0.0f);
     albedo.assign((aovFlags & kAovAlbedo) ? 3 * n : 0, 0.0f);
     primId.assign((aovFlags & kAovPrimId) ? n : 0, kMissPrimId);
+    chunkId.assign((aovFlags & kAovChunkId) ? n : 0, kMissPrimId);
+    cost.assign((aovFlags & kAovCost) ? 2 * n : 0, 0.0f);
 }
 
 }  // namespace vastray

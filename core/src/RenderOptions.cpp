@@ -25,9 +25,13 @@ Result<uint32_t> parseAovList(std::string_view list) {
             flags |= kAovAlbedo;
         else if (name == "primid")
             flags |= kAovPrimId;
+        else if (name == "chunkid")
+            flags |= kAovChunkId;
+        else if (name == "cost")
+            flags |= kAovCost;
         else
             return Status::error("unknown AOV '" + std::string(name) +
-                                 "' (expected depth, normal, albedo, primid)");
+                                 "' (expected depth, normal, albedo, primid, chunkid, cost)");
         if (comma == std::string_view::npos) break;
         list.remove_prefix(comma + 1);
         if (list.empty()) return Status::error("AOV list ends with a comma");

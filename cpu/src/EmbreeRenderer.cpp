@@ -96,6 +96,8 @@ double secondsSince(Clock::time_point start) {
 Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptions& options,
                                      RenderStats* stats, const RenderProgress& progress) {
     VASTRAY_TRY(validateRenderOptions(options));
+    if (options.aovs & kAovStreamingOnly)
+        return Status::error("the chunkid and cost AOVs need a streaming backend (--backend vulkan)");
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
@@ -105,7 +107,7 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
     if (!embree) return embree.status();
     const double buildSeconds = secondsSince(buildStart);
 
-    const Camera camera = options.frameScene ? frameBounds(scene.mesh.bounds(), options.camera.fovYDegrees,
+    const Camera camera = options.frameScene ? frameBounds(scene.bounds.isEmpty() ? scene.mesh.bounds() : scene.bounds, options.camera.fovYDegrees,
                                                            float(options.width) / float(options.height))
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));

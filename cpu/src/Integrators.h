@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "vastray/core/Mesh.h"
+#include "vastray/core/PathShading.h"
 #include "vastray/core/Random.h"
 #include "vastray/core/Ray.h"
 #include "vastray/core/RenderOptions.h"
@@ -16,12 +17,6 @@ struct ShadingContext {
     const EmbreeScene& scene;
     const RenderOptions& options;
     Vec3f sunDirection;  // unit, towards the sun
-};
-
-struct SurfacePoint {
-    Vec3f position;  // from barycentrics (more exact than origin + t * direction)
-    Vec3f normal;    // unit geometric normal, on the side the ray came from
-    const Material* material = nullptr;
 };
 
 SurfacePoint surfaceAt(const TriangleMesh& mesh, const SceneHit& hit, Vec3f rayDirection);

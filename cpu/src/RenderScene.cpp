@@ -42,6 +42,7 @@ Status appendChunk(const DecodedChunk& chunk, const std::string& path, std::vect
 Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
     const PackageInfo& info = reader.info();
     RenderScene scene;
+    scene.bounds = info.bounds;
     scene.mesh.materials = info.materials;
     if (scene.mesh.materials.empty()) scene.mesh.materials.push_back(Material{"default"});
     // Ids count every imported triangle, those that quantization collapsed included.
@@ -64,6 +65,7 @@ Result<RenderScene> loadRenderScene(const std::string& path) {
     if (!imported) return imported.status();
     RenderScene scene;
     scene.mesh = std::move(imported->mesh);
+    scene.bounds = scene.mesh.bounds();
     return scene;
 }
 

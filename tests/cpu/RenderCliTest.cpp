@@ -51,8 +51,10 @@ TEST_F(RenderCli, BadInputIsAClearErrorBeforeAnyWork) {
         {"--eye 1,2,3", "--eye and --target"},
         {"--aovs depth,colour", "unknown AOV 'colour'"},
         {"--integrator whitted", "unknown integrator 'whitted'"},
-        {"--backend vulkan", "not implemented yet"},
-        {"--backend optix", "--backend 'optix'"},
+        {"--backend optix", "--backend 'optix': expected vulkan or embree"},
+        {"--backend embree --aovs primid,chunkid", "need --backend vulkan"},
+        {"--memory-budget 12XB", "--memory-budget"},
+        {"--host-cache -1", "--host-cache"},
         {"--fov 0", "fov"},
         {"--max-depth 5000", "--max-depth"},
     };
@@ -68,15 +70,17 @@ TEST_F(RenderCli, BadInputIsAClearErrorBeforeAnyWork) {
     EXPECT_EQ(png.exitCode, 2) << png.output;
 }
 
-TEST_F(RenderCli, HelpSaysVulkanIsNotImplementedYet) {
+TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {
     CommandResult r = run("render --help");
     EXPECT_EQ(r.exitCode, 0);
-    EXPECT_NE(r.output.find("vulkan (not implemented yet)"), std::string::npos) << r.output;
+    for (const char* text : {"vulkan (streaming GPU tracer", "embree (CPU reference", "--memory-budget",
+                             "--host-cache", "--gpu-device", "chunkid,cost"})
+        EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
 }
 
 TEST_F(RenderCli, WritesAPngAndTheStatsJson) {
     const std::string png = test::tmpPath("terrain.png"), stats = test::tmpPath("stats.json");
-    CommandResult r = run("render " + terrain() + " -o " + png +
+    CommandResult r = run("render --backend embree " + terrain() + " -o " + png +
                           " --resolution 48x32 --spp 2 --stats --stats-json " + stats + " --progress openjd");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(std::filesystem::exists(png));
@@ -93,8 +97,8 @@ TEST_F(RenderCli, WritesAPngAndTheStatsJson) {
 TEST_F(RenderCli, TwoRendersAreIdenticalAndDiffSaysSo) {
     const std::string a = test::tmpPath("same-a.exr"), b = test::tmpPath("same-b.exr");
     const std::string flags = " --resolution 40x30 --spp 2 --aovs depth,primid --progress none";
-    ASSERT_EQ(run("render " + terrain() + " -o " + a + flags).exitCode, 0);
-    ASSERT_EQ(run("render " + terrain() + " -o " + b + flags + " --threads 1").exitCode, 0);
+    ASSERT_EQ(run("render --backend embree " + terrain() + " -o " + a + flags).exitCode, 0);
+    ASSERT_EQ(run("render --backend embree " + terrain() + " -o " + b + flags + " --threads 1").exitCode, 0);
     CommandResult d = run("diff " + a + " " + b + " --json");
     ASSERT_EQ(d.exitCode, 0) << d.output;
     EXPECT_EQ(jsonNumber(d.output, "rmse"), 0.0) << d.output;
@@ -104,8 +108,8 @@ TEST_F(RenderCli, TwoRendersAreIdenticalAndDiffSaysSo) {
 TEST_F(RenderCli, MeshFileAndPackageGiveTheSamePrimIds) {
     const std::string a = test::tmpPath("mesh.exr"), b = test::tmpPath("package.exr");
     const std::string flags = " --resolution 64x64 --spp 1 --aovs depth,primid --progress none";
-    ASSERT_EQ(run("render " + terrain() + " -o " + a + flags).exitCode, 0);
-    CommandResult r = run("render " + test::tmpPath("terrain.vast") + " -o " + b + flags);
+    ASSERT_EQ(run("render --backend embree " + terrain() + " -o " + a + flags).exitCode, 0);
+    CommandResult r = run("render --backend embree " + test::tmpPath("terrain.vast") + " -o " + b + flags);
     ASSERT_EQ(r.exitCode, 0) << r.output;
     CommandResult d = run("diff " + b + " " + a + " --json");
     ASSERT_EQ(d.exitCode, 0) << d.output;
@@ -129,13 +133,13 @@ TEST_F(RenderCli, DiffFailsOnDifferentSizesOrChannels) {
     const std::string small = test::tmpPath("small.exr"), big = test::tmpPath("big.exr"),
                       aov = test::tmpPath("aov.exr");
     ASSERT_EQ(
-        run("render " + terrain() + " -o " + small + " --resolution 16x16 --spp 1 --progress none").exitCode,
+        run("render --backend embree " + terrain() + " -o " + small + " --resolution 16x16 --spp 1 --progress none").exitCode,
         0);
     ASSERT_EQ(
-        run("render " + terrain() + " -o " + big + " --resolution 16x17 --spp 1 --progress none").exitCode,
+        run("render --backend embree " + terrain() + " -o " + big + " --resolution 16x17 --spp 1 --progress none").exitCode,
         0);
     ASSERT_EQ(
-        run("render " + terrain() + " -o " + aov + " --resolution 16x16 --spp 1 --aovs depth --progress none")
+        run("render --backend embree " + terrain() + " -o " + aov + " --resolution 16x16 --spp 1 --aovs depth --progress none")
             .exitCode,
         0);
     CommandResult sizes = run("diff " + small + " " + big);

@@ -43,11 +43,11 @@ Status writePng(const std::string& path, const RenderImage& image) {
     return writeWith(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
 }
 
-// One pixel record matching the EXR channel list: floats, then the uint32 primid.
+// One pixel record matching the EXR channel list: floats, then the uint32 channels (primid, chunkid).
 struct ChannelLayout {
     std::vector<std::string> names;
     size_t floatCount = 0;
-    bool primId = false;
+    size_t uintCount = 0;
 };
 
 ChannelLayout exrLayout(uint32_t aovs) {
@@ -55,25 +55,28 @@ ChannelLayout exrLayout(uint32_t aovs) {
     if (aovs & kAovDepth) layout.names.push_back("Z");
     if (aovs & kAovNormal) layout.names.insert(layout.names.end(), {"N.x", "N.y", "N.z"});
     if (aovs & kAovAlbedo) layout.names.insert(layout.names.end(), {"albedo.R", "albedo.G", "albedo.B"});
+    if (aovs & kAovCost) layout.names.insert(layout.names.end(), {"cost.cells", "cost.triangles"});
     layout.floatCount = layout.names.size();
-    if (aovs & kAovPrimId) {
-        layout.names.push_back("primid");
-        layout.primId = true;
-    }
+    if (aovs & kAovPrimId) layout.names.push_back("primid");
+    if (aovs & kAovChunkId) layout.names.push_back("chunkid");
+    layout.uintCount = layout.names.size() - layout.floatCount;
     return layout;
 }
 
 std::vector<uint8_t> packExrPixels(const RenderImage& image, const ChannelLayout& layout) {
-    const size_t stride = layout.floatCount * 4 + (layout.primId ? 4 : 0);
+    const size_t stride = (layout.floatCount + layout.uintCount) * 4;
     std::vector<uint8_t> bytes(image.pixelCount() * stride);
     for (uint64_t i = 0; i < image.pixelCount(); ++i) {
         std::vector<float> f{image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2], image.alpha[i]};
         if (image.aovs & kAovDepth) f.push_back(image.depth[i]);
         if (image.aovs & kAovNormal) f.insert(f.end(), &image.normal[3 * i], &image.normal[3 * i] + 3);
         if (image.aovs & kAovAlbedo) f.insert(f.end(), &image.albedo[3 * i], &image.albedo[3 * i] + 3);
+        if (image.aovs & kAovCost) f.insert(f.end(), &image.cost[2 * i], &image.cost[2 * i] + 2);
         uint8_t* at = bytes.data() + i * stride;
         std::memcpy(at, f.data(), f.size() * 4);
-        if (layout.primId) std::memcpy(at + f.size() * 4, &image.primId[i], 4);
+        at += f.size() * 4;
+        if (image.aovs & kAovPrimId) std::memcpy(at, &image.primId[i], 4), at += 4;
+        if (image.aovs & kAovChunkId) std::memcpy(at, &image.chunkId[i], 4);
     }
     return bytes;
 }
@@ -85,14 +88,15 @@ Status writeExr(const std::string& path, const RenderImage& image) {
     spec.channelnames = layout.names;
     spec.alpha_channel = 3;
     if (image.aovs & kAovDepth) spec.z_channel = 4;
-    if (layout.primId) {
+    if (layout.uintCount > 0) {
         spec.channelformats.assign(layout.names.size(), OIIO::TypeDesc::FLOAT);
-        spec.channelformats.back() = OIIO::TypeDesc::UINT32;
+        for (size_t c = layout.floatCount; c < layout.names.size(); ++c)
+            spec.channelformats[c] = OIIO::TypeDesc::UINT32;
     }
     spec.attribute("compression", "zip");
     const std::vector<uint8_t> bytes = packExrPixels(image, layout);
     // With per-channel formats, UNKNOWN means "the data is in the file's native formats".
-    return writeWith(path, spec, layout.primId ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT,
+    return writeWith(path, spec, layout.uintCount > 0 ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT,
                      bytes.data());
 }
 

@@ -3,6 +3,7 @@
 // non-recursive traversal with a fixed-size stack that the GPU shader mirrors exactly.
 #include <bit>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "vastray/core/Aabb.h"
@@ -86,8 +87,23 @@ bool intersectKdTree(const KdTree& tree, const Vec3f* positions, const uint32_t*
                      const uint8_t* singleSided, const Ray& ray, float tMin, float tMax, KdHit* hit);
 
 // Any hit with tMin <= t <= tMax (shadow rays); stops at the first one found.
+// counters, when given, receives nodesVisited and trianglesTested.
 bool occludedKdTree(const KdTree& tree, const Vec3f* positions, const uint32_t* indices,
-                    const uint8_t* singleSided, const Ray& ray, float tMin, float tMax);
+                    const uint8_t* singleSided, const Ray& ray, float tMin, float tMax, KdHit* counters = nullptr);
+
+// A leaf the ray reaches, with the ray's interval inside it widened by the traversal margin
+// on both ends (so consecutive leaves' intervals overlap and leave no gap).
+struct KdLeafVisit {
+    uint32_t node;  // index of the leaf in the node array
+    float t0, t1;
+};
+
+// Every leaf of a tree (nodes + the bounds its root splits) that [tMin, tMax] of the ray
+// reaches, front to back up to the margins, with the same decisions as intersectKdTree. The
+// scene package's top-level tree is walked with this; `out` is cleared first. A ray with a
+// zero direction or one that misses the bounds reaches no leaf.
+void kdLeavesAlongRay(std::span<const KdNode> nodes, const Aabb& bounds, const Ray& ray, float tMin, float tMax,
+                      std::vector<KdLeafVisit>* out);
 
 struct KdTreeStats {
     uint64_t nodes = 0;

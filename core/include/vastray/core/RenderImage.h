@@ -18,6 +18,8 @@ struct RenderImage {
     std::vector<float> normal;     // 3 per pixel, unit geometric normal facing the camera; 0 on a miss
     std::vector<float> albedo;     // 3 per pixel, base colour; 0 on a miss
     std::vector<uint32_t> primId;  // triangle index in the imported mesh; kMissPrimId on a miss
+    std::vector<uint32_t> chunkId; // chunk whose cell produced the pixel-centre hit; kMissPrimId on a miss
+    std::vector<float> cost;       // 2 per pixel: cells traced, triangles tested, over all the pixel's rays
 
     // Sizes every buffer for width x height (AOV buffers only when requested).
     void allocate(uint32_t w, uint32_t h, uint32_t aovFlags);

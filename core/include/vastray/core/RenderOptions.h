@@ -22,8 +22,12 @@ enum AovFlags : uint32_t {
     kAovNormal = 1u << 1,
     kAovAlbedo = 1u << 2,
     kAovPrimId = 1u << 3,
+    kAovChunkId = 1u << 4,  // streaming backends only: the chunk whose cell produced the hit
+    kAovCost = 1u << 5,     // streaming backends only: cells visited and triangles tested per pixel
 };
-// "depth,normal,albedo,primid" (any subset, any order); "" is none.
+// Backends without chunks (the Embree reference) cannot produce these.
+constexpr uint32_t kAovStreamingOnly = kAovChunkId | kAovCost;
+// "depth,normal,albedo,primid,chunkid,cost" (any subset, any order); "" is none.
 Result<uint32_t> parseAovList(std::string_view list);
 
 // The environment of the `path` integrator. The sky's radiance for unit direction d is

@@ -17,6 +17,9 @@ struct RenderScene {
     TriangleMesh mesh;
     // Per triangle of `mesh`: its index in the imported mesh. Empty: the identity.
     std::vector<uint32_t> primitiveIds;
+    // What a render without --eye frames: the mesh's bounds, or a package's recorded bounds
+    // (so that every backend rendering the package frames it identically).
+    Aabb bounds;
 
     uint32_t primitiveId(uint32_t triangle) const {
         return primitiveIds.empty() ? triangle : primitiveIds[triangle];

@@ -1,0 +1,53 @@
+#pragma once
+// The shading steps of the `path` and `ao` integrators (docs/RENDERING.md), shared by every
+// backend: the Embree reference calls them per sample, the streaming renderer per wavefront.
+// Given the same hits, both therefore produce the same floats.
+#include <cstdint>
+#include <span>
+
+#include "vastray/core/Mesh.h"
+#include "vastray/core/Random.h"
+#include "vastray/core/RenderOptions.h"
+#include "vastray/core/Vec3.h"
+
+namespace vastray {
+
+// Russian roulette starts after this many scattering events; before it every path
+// continues, so shallow --max-depth renders carry no roulette noise.
+constexpr uint32_t kRouletteStartBounce = 3;
+constexpr float kMaxSurvival = 0.95f;
+
+struct SurfacePoint {
+    Vec3f position;  // from barycentrics (more exact than origin + t * direction)
+    Vec3f normal;    // unit geometric normal, on the side the ray came from
+    const Material* material = nullptr;
+};
+
+// v0 + (v1 - v0) * u + (v2 - v0) * v, evaluated in exactly this order (the GPU kernel too).
+Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v);
+// cross(v1 - v0, v2 - v0), not normalized.
+Vec3f geometricNormal(Vec3f v0, Vec3f v1, Vec3f v2);
+// The material a triangle's id names; out-of-range ids fall back to material 0.
+const Material& materialAt(std::span<const Material> materials, uint32_t id);
+// Normalizes `geometricNormal` and turns it towards the side `rayDirection` came from.
+SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometricNormal, Vec3f rayDirection,
+                              const Material& material);
+
+Vec3f skyRadiance(const Environment& environment, Vec3f direction);
+Vec3f emission(const Material& material);
+Vec3f baseColor(const Material& material);
+
+// The sun's unshadowed Lambertian reflection at `point` in *light. Returns false (no shadow
+// ray needed, no light) when there is no sun or the surface faces away from it. sunDirection: unit.
+bool unshadowedSunLight(const Environment& environment, Vec3f sunDirection, const SurfacePoint& point,
+                        Vec3f* light);
+
+// A cosine-distributed direction about `normal`, from the key's direction dimensions.
+Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed);
+
+// After scattering event `bounce` (throughput already multiplied by the base colour): from
+// kRouletteStartBounce on, ends the path with probability 1 - min(0.95, max throughput) and
+// rescales the survivors. Returns whether the path goes on.
+bool surviveRoulette(Vec3f& throughput, uint32_t bounce, RandomKey key, uint32_t seed);
+
+}  // namespace vastray

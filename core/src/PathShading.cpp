@@ -1,0 +1,63 @@
+#include "vastray/core/PathShading.h"
+
+#include <cmath>
+
+#include "vastray/core/Sampling.h"
+#include "vastray/core/VecMath.h"
+
+namespace vastray {
+namespace {
+Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
+}  // namespace
+
+Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v) {
+    return v0 + (v1 - v0) * u + (v2 - v0) * v;
+}
+
+Vec3f geometricNormal(Vec3f v0, Vec3f v1, Vec3f v2) { return cross(v1 - v0, v2 - v0); }
+
+const Material& materialAt(std::span<const Material> materials, uint32_t id) {
+    return id < materials.size() ? materials[id] : materials[0];
+}
+
+SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material) {
+    SurfacePoint point;
+    point.position = position;
+    point.normal = normalize(geometric);
+    if (dot(point.normal, rayDirection) > 0.0f) point.normal = point.normal * -1.0f;
+    point.material = &material;
+    return point;
+}
+
+Vec3f skyRadiance(const Environment& env, Vec3f direction) {
+    if (direction.y < 0.0f) return toVec(env.ground);
+    const Vec3f horizon = toVec(env.horizon);
+    return horizon + (toVec(env.zenith) - horizon) * direction.y;
+}
+
+Vec3f emission(const Material& m) { return toVec(m.emissive); }
+Vec3f baseColor(const Material& m) { return {m.baseColor[0], m.baseColor[1], m.baseColor[2]}; }
+
+bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const SurfacePoint& point, Vec3f* light) {
+    const Vec3f irradiance = toVec(env.sunIrradiance);
+    const float cosine = dot(point.normal, sunDirection);
+    if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f) return false;
+    *light = mul(baseColor(*point.material), irradiance) * (cosine / kPi);
+    return true;
+}
+
+Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed) {
+    const float u1 = randomFloat(key, kDimDirectionU, seed);
+    const float u2 = randomFloat(key, kDimDirectionV, seed);
+    return normalize(frameAround(normal).toWorld(cosineHemisphere(u1, u2)));
+}
+
+bool surviveRoulette(Vec3f& throughput, uint32_t bounce, RandomKey key, uint32_t seed) {
+    if (bounce + 1 < kRouletteStartBounce) return true;
+    const float survival = std::fmin(kMaxSurvival, maxComponent(throughput));
+    if (!(randomFloat(key, kDimRoulette, seed) < survival)) return false;
+    throughput = throughput * (1.0f / survival);
+    return true;
+}
+
+}  // namespace vastray

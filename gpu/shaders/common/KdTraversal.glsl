@@ -1,0 +1,184 @@
+// Non-recursive KD-tree traversal of one chunk with a fixed stack of kTraceStackSize entries.
+// This mirrors core/src/KdTreeTraversal.cpp decision for decision (same t-margins, same early
+// out, same tie rule, same node/triangle counters), so the result equals intersectKdTree (and,
+// with anyHit, occludedKdTree) bit for bit. Included by trace.comp and stream_trace.comp.
+// Needs GL_EXT_buffer_reference and GL_EXT_shader_explicit_arithmetic_types_int64, and
+// shared/TraceTypes.h (TraceHit, kTraceStackSize, flag bits) before it.
+#ifndef VASTRAY_KD_TRAVERSAL_GLSL
+#define VASTRAY_KD_TRAVERSAL_GLSL
+
+#include "common/Watertight.glsl"
+
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
+
+// Same values as KdTreeTraversal.cpp's kRelativeMargin / kAbsoluteMargin.
+const float kRelativeMargin = 1e-5;
+const float kAbsoluteMargin = 1e-6;
+
+// The arrays of one resident chunk (buffer device addresses) and its tree's bounds.
+struct ChunkView {
+    uint64_t nodes, leafRefs, positions, indices, singleSided;
+    uint nodeCount;
+    bool hasSingleSided;
+    vec3 lo, hi;
+};
+
+struct TraversalRay {
+    WatertightRay watertight;
+    vec3 origin;
+    vec3 direction;
+    vec3 invDirection;
+    float slack;  // absolute part of the margin, in units of t
+};
+
+// std::max / std::min exactly (GLSL's max/min may pick either of +0 and -0).
+float cppMax(float a, float b) { return a < b ? b : a; }
+float cppMin(float a, float b) { return b < a ? b : a; }
+
+float maxAbs(vec3 v) { return cppMax(cppMax(abs(v.x), abs(v.y)), abs(v.z)); }
+
+bool prepareTraversalRay(ChunkView c, vec3 origin, vec3 direction, out TraversalRay r) {
+    r.origin = origin, r.direction = direction;
+    r.invDirection = vec3(0.0), r.slack = 0.0;
+    if (!prepareWatertightRay(origin, direction, r.watertight)) return false;
+    for (int a = 0; a < 3; ++a) r.invDirection[a] = exactDivide(1.0, direction[a]);
+    const float scale = cppMax(cppMax(maxAbs(origin), maxAbs(c.lo)), maxAbs(c.hi));
+    precise float scaled = kAbsoluteMargin * scale;
+    r.slack = exactDivide(scaled, maxAbs(direction));
+    return true;
+}
+
+float margin(TraversalRay r, float t) {
+    precise float relative = r.slack + kRelativeMargin * abs(t);
+    return (isinf(t) || isnan(t)) ? r.slack : relative;
+}
+
+// 0 (not NaN) when the origin lies on the plane and 1/direction overflowed.
+float planeDistance(TraversalRay r, int axis, float value) {
+    precise float t = (value - r.origin[axis]) * r.invDirection[axis];
+    return isnan(t) ? 0.0 : t;
+}
+
+bool clipToBounds(ChunkView c, TraversalRay r, inout float tMin, inout float tMax) {
+    const vec3 lo = c.lo, hi = c.hi;
+    if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z || !(tMin <= tMax)) return false;
+    for (int a = 0; a < 3; ++a) {
+        if (r.direction[a] == 0.0) {
+            if (!(r.origin[a] >= lo[a] && r.origin[a] <= hi[a])) return false;
+            continue;
+        }
+        float tNear = planeDistance(r, a, lo[a]);
+        float tFar = planeDistance(r, a, hi[a]);
+        if (tNear > tFar) {
+            const float swap = tNear;
+            tNear = tFar, tFar = swap;
+        }
+        precise float nearWithMargin = tNear - margin(r, tNear);
+        precise float farWithMargin = tFar + margin(r, tFar);
+        tMin = cppMax(tMin, nearWithMargin);
+        tMax = cppMin(tMax, farWithMargin);
+    }
+    return tMin <= tMax;
+}
+
+uint stackNode[kTraceStackSize];
+float stackT0[kTraceStackSize];
+float stackT1[kTraceStackSize];
+
+// Mirrors descend(): the child to visit now; the other one is pushed when the interval reaches it.
+uint descend(TraversalRay r, uint word0, uint word1, uint index, inout float t0, inout float t1,
+             inout uint stackSize) {
+    const int axis = int(word1 & 3u);
+    const float split = uintBitsToFloat(word0);
+    const uint below = index + 1u, above = word1 >> 2;
+    if (r.direction[axis] == 0.0) {
+        if (r.origin[axis] != split) return r.origin[axis] < split ? below : above;
+        stackNode[stackSize] = above, stackT0[stackSize] = t0, stackT1[stackSize] = t1;
+        ++stackSize;
+        return below;
+    }
+    const bool belowFirst = r.direction[axis] > 0.0;
+    const uint first = belowFirst ? below : above, second = belowFirst ? above : below;
+    const float tPlane = planeDistance(r, axis, split);
+    const float m = margin(r, tPlane);
+    precise float planeLo = tPlane - m, planeHi = tPlane + m;
+    if (tPlane < t0 - m) return second;
+    if (tPlane > t1 + m) return first;
+    stackNode[stackSize] = second, stackT0[stackSize] = cppMax(t0, planeLo), stackT1[stackSize] = t1;
+    ++stackSize;
+    t1 = cppMin(t1, planeHi);
+    return first;
+}
+
+// Mirrors betterHit(): closest, then front-facing, then the lower triangle index.
+bool betterHit(TriangleHit h, uint triangle, bool found, TraceHit best) {
+    if (!found || h.t != best.t) return !found || h.t < best.t;
+    const bool bestFront = (best.flags & kHitFrontFacing) != 0u;
+    if (h.frontFacing != bestFront) return h.frontFacing;
+    return triangle < best.triangle;
+}
+
+vec3 vertex(ChunkView c, uint i) {
+    FloatArray p = FloatArray(c.positions);
+    return vec3(p.v[3u * i], p.v[3u * i + 1u], p.v[3u * i + 2u]);
+}
+
+bool isSingleSided(ChunkView c, uint triangle) {
+    if (!c.hasSingleSided) return false;
+    const uint word = UintArray(c.singleSided).v[triangle >> 2];
+    return ((word >> (8u * (triangle & 3u))) & 0xffu) != 0u;
+}
+
+// Tests the leaf's triangles against [tMin, best so far]; updates best and found.
+void intersectLeaf(ChunkView c, TraversalRay r, uint firstRef, uint count, float tMin, float tMax, bool anyHit,
+                   inout TraceHit best, inout bool found) {
+    UintArray refs = UintArray(c.leafRefs);
+    UintArray indices = UintArray(c.indices);
+    for (uint i = 0u; i < count; ++i) {
+        const uint tri = refs.v[firstRef + i];
+        TriangleHit h;
+        ++best.trianglesTested;
+        const vec3 v0 = vertex(c, indices.v[3u * tri]), v1 = vertex(c, indices.v[3u * tri + 1u]);
+        const vec3 v2 = vertex(c, indices.v[3u * tri + 2u]);
+        if (!intersectTriangle(r.watertight, v0, v1, v2, isSingleSided(c, tri), tMin, found ? best.t : tMax, h))
+            continue;
+        if (!betterHit(h, tri, found, best)) continue;
+        best.t = h.t, best.u = h.u, best.v = h.v, best.triangle = tri;
+        best.flags = kHitFound | (h.frontFacing ? kHitFrontFacing : 0u);
+        found = true;
+        if (anyHit) return;
+    }
+}
+
+// Mirrors traverse(): the closest hit, or with anyHit the first one found.
+TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit) {
+    TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
+    TraversalRay r;
+    float t0 = tMin, t1 = tMax;
+    if (c.nodeCount == 0u || !prepareTraversalRay(c, origin, direction, r) || !clipToBounds(c, r, t0, t1))
+        return best;
+    UintArray nodes = UintArray(c.nodes);
+    uint stackSize = 0u, index = 0u;
+    bool found = false;
+    for (;;) {
+        // Early out: a hit before this node's entry (with margin) cannot be beaten in it.
+        precise float entry = t0 - margin(r, t0);
+        if (!found || !(best.t < entry)) {
+            const uint word0 = nodes.v[2u * index], word1 = nodes.v[2u * index + 1u];
+            ++best.nodesVisited;
+            if ((word1 & 3u) != 3u) {
+                index = descend(r, word0, word1, index, t0, t1, stackSize);
+                continue;
+            }
+            intersectLeaf(c, r, word0, word1 >> 2, tMin, tMax, anyHit, best, found);
+            if (anyHit && found) break;
+        }
+        if (stackSize == 0u) break;
+        --stackSize;
+        index = stackNode[stackSize], t0 = stackT0[stackSize], t1 = stackT1[stackSize];
+    }
+    return best;
+}
+
+#endif  // VASTRAY_KD_TRAVERSAL_GLSL

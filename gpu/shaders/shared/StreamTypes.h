@@ -1,0 +1,71 @@
+// Structs that cross the host/device line for stream_trace.comp (the streaming backend),
+// compiled both as C++ (layout checked by static_assert) and as GLSL (scalar members only).
+// GLSL needs GL_EXT_shader_explicit_arithmetic_types_int64 enabled before including this.
+#ifndef VASTRAY_GPU_SHARED_STREAM_TYPES_H
+#define VASTRAY_GPU_SHARED_STREAM_TYPES_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+namespace vastray::gpu {
+using uint = uint32_t;
+#endif
+
+// ChunkSlot::flags bits: which optional arrays the slot holds.
+const uint kSlotSingleSided = 1u;
+const uint kSlotPrimitiveIds = 2u;
+const uint kSlotMaterialIds = 4u;
+
+// One device slot of the chunk pool, as the slot table holds it: buffer device addresses of the
+// resident chunk's arrays (laid out as vastray::ChunkLayout says) and its tree's bounds.
+struct ChunkSlot {
+    uint64_t nodes;
+    uint64_t leafRefs;
+    uint64_t positions;
+    uint64_t indices;
+    uint64_t singleSided;   // bytes packed four to a word; valid with kSlotSingleSided
+    uint64_t primitiveIds;  // valid with kSlotPrimitiveIds
+    uint64_t materialIds;   // valid with kSlotMaterialIds
+    uint nodeCount;
+    uint flags;
+    float boundsLoX, boundsLoY, boundsLoZ;
+    float boundsHiX, boundsHiY, boundsHiZ;
+};
+
+// A ray (vastray::StreamRay) and its result (vastray::StreamHit), byte for byte.
+struct StreamRayGpu {
+    float originX, originY, originZ;
+    float tMin;
+    float directionX, directionY, directionZ;
+    float tMax;
+};
+struct StreamHitGpu {
+    float t;
+    float positionX, positionY, positionZ;
+    float normalX, normalY, normalZ;
+    uint primitive;
+    uint material;
+    uint flags;  // kHitFound | kHitFrontFacing (TraceTypes.h), equal to kStreamHitFound/FrontFacing
+    uint nodesVisited;
+    uint trianglesTested;
+};
+
+// Push constants of stream_trace.comp: rays [0, rayCount) of the batch against slot `slot`.
+struct StreamPushConstants {
+    uint64_t slotTable;
+    uint64_t rays;
+    uint64_t hits;
+    uint slot;
+    uint rayCount;
+    uint anyHit;
+    uint padding;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(ChunkSlot) == 88 && offsetof(ChunkSlot, nodeCount) == 56 && offsetof(ChunkSlot, boundsHiZ) == 84);
+static_assert(sizeof(StreamRayGpu) == 32 && sizeof(StreamHitGpu) == 48 && offsetof(StreamHitGpu, flags) == 36);
+static_assert(sizeof(StreamPushConstants) == 40 && offsetof(StreamPushConstants, slot) == 24);
+}  // namespace vastray::gpu
+#endif
+
+#endif  // VASTRAY_GPU_SHARED_STREAM_TYPES_H

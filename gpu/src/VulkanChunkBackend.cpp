@@ -1,0 +1,245 @@
+#include "vastray/gpu/VulkanChunkBackend.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+#include "shared/StreamTypes.h"
+#include "vastray/core/ByteSize.h"
+#include "shared/TraceTypes.h"
+#include "vastray/gpu/ComputePipeline.h"
+
+namespace vastray::gpu {
+namespace {
+
+const uint32_t kStreamTraceSpirv[] =
+#include "stream_trace.spv.inc"
+    ;
+
+static_assert(sizeof(StreamRayGpu) == sizeof(StreamRay) && sizeof(StreamHitGpu) == sizeof(StreamHit));
+static_assert(kHitFound == kStreamHitFound && kHitFrontFacing == kStreamHitFrontFacing);
+static_assert(kTraceStackSize == kMaxKdDepth, "the kernel's stack must hold the deepest tree");
+
+// Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
+// granularity keeps the allocated total under the budget.
+constexpr uint64_t kAllocationGranule = 64 * 1024;
+constexpr uint64_t kRayBytes = sizeof(StreamRayGpu) + sizeof(StreamHitGpu);
+// Largest x group count every device supports (maxComputeWorkGroupCount[0] >= 65535).
+constexpr uint64_t kMaxRaysPerDispatch = 65535ull * kTraceWorkgroupSize;
+
+uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
+uint64_t batchBytes(uint64_t rays) { return granules(rays * sizeof(StreamRayGpu)) + granules(rays * sizeof(StreamHitGpu)); }
+
+class VulkanChunkBackend final : public ChunkBackend {
+public:
+    VulkanChunkBackend(VulkanDevice& device, const PoolPlan& plan, const ChunkAttributes& attributes)
+        : device_(device), plan_(plan), attributes_(attributes) {}
+
+    Status init() {
+        auto pipeline = ComputePipeline::create(device_, kStreamTraceSpirv, sizeof(StreamPushConstants));
+        if (!pipeline) return pipeline.status();
+        pipeline_ = std::move(pipeline).value();
+        for (uint32_t s = 0; s < plan_.slots; ++s) {
+            auto slot = device_.createBuffer(plan_.slotBytes);
+            if (!slot) return slot.status().withContext("chunk slot " + std::to_string(s) + ": ");
+            slots_.push_back(std::move(slot).value());
+        }
+        auto table = device_.createBuffer(plan_.slots * sizeof(ChunkSlot));
+        if (!table) return table.status();
+        table_ = std::move(table).value();
+        auto rays = device_.createBuffer(uint64_t(plan_.batchRays) * sizeof(StreamRayGpu));
+        if (!rays) return rays.status();
+        rays_ = std::move(rays).value();
+        auto hits = device_.createBuffer(uint64_t(plan_.batchRays) * sizeof(StreamHitGpu),
+                                         VulkanDevice::MemoryUse::Readback);
+        if (!hits) return hits.status();
+        hits_ = std::move(hits).value();
+        allocated_ = table_.allocatedBytes() + rays_.allocatedBytes() + hits_.allocatedBytes();
+        for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
+        const std::vector<ChunkSlot> empty(plan_.slots, ChunkSlot{});
+        return table_.upload(empty.data(), empty.size() * sizeof(ChunkSlot));
+    }
+
+    std::string name() const override { return "vulkan"; }
+    uint32_t slotCount() const override { return plan_.slots; }
+    uint32_t maxBatchRays() const override { return plan_.batchRays; }
+    uint64_t bytesUploaded() const override { return uploaded_; }
+    uint64_t peakDeviceBytes() const override { return allocated_; }  // everything is allocated up front
+    double uploadSeconds() const override { return uploadSeconds_; }
+
+    Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) override {
+        if (slot >= slots_.size()) return Status::error("slot " + std::to_string(slot) + " does not exist");
+        const auto start = std::chrono::steady_clock::now();
+        const KdTree& tree = chunk.kdTree;
+        const uint64_t triangles = chunk.indices.size() / 3;
+        VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
+        const ChunkLayout layout =
+            chunkLayout(tree.nodes.size(), tree.leafRefs.size(), chunk.positions.size(), triangles, attributes_);
+        if (layout.totalBytes > plan_.slotBytes)
+            return Status::error("chunk " + std::to_string(chunk.id) + " needs " + std::to_string(layout.totalBytes) +
+                                 " bytes, more than a slot's " + std::to_string(plan_.slotBytes) +
+                                 " (the package directory understates it: damaged package?)");
+        GpuBuffer& b = slots_[slot];
+        uint64_t bytes = 0;
+        auto put = [&](uint64_t offset, const void* data, uint64_t size) -> Status {
+            bytes += size;
+            return size == 0 ? Status::ok() : b.upload(data, size, offset);
+        };
+        VASTRAY_TRY(put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(KdNode)));
+        VASTRAY_TRY(put(layout.leafRefs, tree.leafRefs.data(), tree.leafRefs.size() * 4));
+        VASTRAY_TRY(put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12));
+        VASTRAY_TRY(put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4));
+        ChunkSlot entry{};
+        const uint64_t base = b.address();
+        entry.nodes = base + layout.nodes, entry.leafRefs = base + layout.leafRefs;
+        entry.positions = base + layout.positions, entry.indices = base + layout.indices;
+        if (attributes_.singleSided) {
+            // One byte per triangle, read four to a word: the bytes in order, zero padded.
+            std::vector<uint8_t> padded((triangles + 3) / 4 * 4, 0);
+            std::copy(singleSided.begin(), singleSided.end(), padded.begin());
+            VASTRAY_TRY(put(layout.singleSided, padded.data(), padded.size()));
+            entry.singleSided = base + layout.singleSided, entry.flags |= kSlotSingleSided;
+        }
+        if (attributes_.primitiveIds) {
+            VASTRAY_TRY(put(layout.primitiveIds, chunk.primitiveIds.data(), triangles * 4));
+            entry.primitiveIds = base + layout.primitiveIds, entry.flags |= kSlotPrimitiveIds;
+        }
+        if (attributes_.materialIds && !chunk.materialIds.empty()) {
+            VASTRAY_TRY(put(layout.materialIds, chunk.materialIds.data(), triangles * 4));
+            entry.materialIds = base + layout.materialIds, entry.flags |= kSlotMaterialIds;
+        }
+        entry.nodeCount = uint32_t(tree.nodes.size());
+        entry.boundsLoX = tree.bounds.lo.x, entry.boundsLoY = tree.bounds.lo.y, entry.boundsLoZ = tree.bounds.lo.z;
+        entry.boundsHiX = tree.bounds.hi.x, entry.boundsHiY = tree.bounds.hi.y, entry.boundsHiZ = tree.bounds.hi.z;
+        VASTRAY_TRY(table_.upload(&entry, sizeof(entry), slot * sizeof(ChunkSlot)));
+        uploaded_ += bytes + sizeof(entry);
+        uploadSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return Status::ok();
+    }
+
+    Status trace(std::span<const Batch> batches, bool anyHit) override {
+        uint64_t total = 0;
+        for (const Batch& b : batches) {
+            if (b.slot >= slots_.size() || b.rays.size() != b.hits.size())
+                return Status::error("trace: bad batch for slot " + std::to_string(b.slot));
+            total += b.rays.size();
+        }
+        if (total > plan_.batchRays)
+            return Status::error("trace: " + std::to_string(total) + " rays exceed the batch of " +
+                                 std::to_string(plan_.batchRays));
+        uint64_t at = 0;
+        for (const Batch& b : batches) {
+            VASTRAY_TRY(rays_.upload(b.rays.data(), b.rays.size_bytes(), at * sizeof(StreamRayGpu)));
+            at += b.rays.size();
+        }
+        VASTRAY_TRY(device_.submit([&](VkCommandBuffer cmd) {
+            uint64_t first = 0;
+            for (const Batch& b : batches) {
+                for (uint64_t done = 0; done < b.rays.size(); done += kMaxRaysPerDispatch) {
+                    const uint64_t count = std::min<uint64_t>(kMaxRaysPerDispatch, b.rays.size() - done);
+                    StreamPushConstants pc{};
+                    pc.slotTable = table_.address();
+                    pc.rays = rays_.address() + (first + done) * sizeof(StreamRayGpu);
+                    pc.hits = hits_.address() + (first + done) * sizeof(StreamHitGpu);
+                    pc.slot = b.slot, pc.rayCount = uint32_t(count), pc.anyHit = anyHit ? 1u : 0u;
+                    pipeline_->record(cmd, &pc, uint32_t((count + kTraceWorkgroupSize - 1) / kTraceWorkgroupSize));
+                }
+                first += b.rays.size();
+            }
+        }));
+        at = 0;
+        for (const Batch& b : batches) {
+            VASTRAY_TRY(hits_.download(b.hits.data(), b.hits.size_bytes(), at * sizeof(StreamHitGpu)));
+            at += b.rays.size();
+        }
+        return Status::ok();
+    }
+
+private:
+    // Out-of-range references would read outside the slot on the device: reject them here.
+    Status validate(const DecodedChunk& c, std::span<const uint8_t> singleSided) const {
+        const KdTree& t = c.kdTree;
+        const uint64_t triangles = c.indices.size() / 3;
+        if (c.indices.size() % 3 != 0) return Status::error("index count is not a multiple of 3");
+        if (attributes_.singleSided && singleSided.size() != triangles)
+            return Status::error("single-sided flags do not match the triangle count");
+        if (attributes_.primitiveIds && c.primitiveIds.size() != triangles)
+            return Status::error("primitive ids do not match the triangle count");
+        if (attributes_.materialIds && !c.materialIds.empty() && c.materialIds.size() != triangles)
+            return Status::error("material ids do not match the triangle count");
+        for (uint32_t i : c.indices)
+            if (i >= c.positions.size()) return Status::error("an index exceeds the vertex count");
+        for (uint32_t r : t.leafRefs)
+            if (r >= triangles) return Status::error("a KD-tree reference exceeds the triangle count");
+        std::vector<uint32_t> depth(t.nodes.size(), 0);
+        for (size_t i = 0; i < t.nodes.size(); ++i) {
+            const KdNode n = t.nodes[i];
+            const bool bad = n.isLeaf() ? uint64_t(n.firstRef()) + n.primitiveCount() > t.leafRefs.size()
+                                        : n.aboveChild() <= i || n.aboveChild() >= t.nodes.size() ||
+                                              i + 1 >= t.nodes.size() || depth[i] >= kMaxKdDepth;
+            if (bad) return Status::error("KD-tree node " + std::to_string(i) + " points outside the tree");
+            if (!n.isLeaf()) depth[i + 1] = depth[n.aboveChild()] = depth[i] + 1;
+        }
+        return Status::ok();
+    }
+
+    VulkanDevice& device_;
+    PoolPlan plan_;
+    ChunkAttributes attributes_;
+    std::unique_ptr<ComputePipeline> pipeline_;
+    std::vector<GpuBuffer> slots_;
+    GpuBuffer table_, rays_, hits_;
+    uint64_t allocated_ = 0, uploaded_ = 0;
+    double uploadSeconds_ = 0;
+};
+
+}  // namespace
+
+Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget) {
+    PoolPlan plan;
+    uint64_t largest = 0;
+    for (const ChunkInfo& c : package.chunks) largest = std::max(largest, chunkLayout(c, attributes).totalBytes);
+    plan.slotBytes = largest;
+    const uint64_t slotAllocation = granules(largest);
+    const uint32_t chunks = uint32_t(std::max<size_t>(package.chunks.size(), 1));
+    auto tableBytes = [](uint64_t slots) { return granules(slots * sizeof(ChunkSlot)); };
+    plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1);
+    if (budget < plan.minimumBytes)
+        return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
+                             formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) + " bytes (one chunk slot of " + formatBytes(slotAllocation) +
+                             " plus a batch of " + std::to_string(kMinBatchRays) + " rays of " +
+                             formatBytes(batchBytes(kMinBatchRays)) + ")");
+    // A quarter of the budget for rays (within [kMinBatchRays, kMaxBatchRays]), the rest for slots;
+    // slots beyond the chunk count are useless, so what they would take goes back to the rays.
+    uint64_t rays = std::clamp<uint64_t>(budget / 4 / kRayBytes, kMinBatchRays, kMaxBatchRays);
+    while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
+    rays = std::max<uint64_t>(rays, kMinBatchRays);
+    const uint64_t available = budget - batchBytes(rays);  // >= one slot and a one-slot table
+    uint64_t slots = available >= tableBytes(chunks) + slotAllocation
+                         ? (available - tableBytes(chunks)) / slotAllocation
+                         : 1;
+    slots = std::min<uint64_t>(slots, chunks);
+    const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
+    while (rays < kMaxBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
+    plan.slots = uint32_t(slots);
+    plan.batchRays = uint32_t(rays);
+    plan.rayBytes = batchBytes(rays);
+    plan.tableBytes = tableBytes(slots);
+    plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes;
+    return plan;
+}
+
+Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
+                                                               const ChunkAttributes& attributes, uint64_t budget) {
+    auto plan = planPool(package, attributes, budget);
+    if (!plan) return plan.status();
+    auto backend = std::make_unique<VulkanChunkBackend>(device, *plan, attributes);
+    VASTRAY_TRY(backend->init());
+    if (backend->peakDeviceBytes() > budget)
+        return Status::error("the device rounded the pool up to " + formatBytes(backend->peakDeviceBytes()) +
+                             ", above the budget of " + formatBytes(budget));
+    return std::unique_ptr<ChunkBackend>(std::move(backend));
+}
+
+}  // namespace vastray::gpu

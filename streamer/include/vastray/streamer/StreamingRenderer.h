@@ -1,0 +1,143 @@
+#pragma once
+// The streaming renderer: a wavefront path tracer over a scene package whose chunks are paged
+// through a fixed number of device slots. Everything but the ray/chunk intersection lives here
+// once (integrator, top-level walk, ray queues, scheduler, host cache, decode workers); a
+// backend only uploads chunks into slots and traces batches of rays against resident chunks
+// (ChunkBackend). docs/RENDERING.md describes the algorithm.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vastray/core/RenderImage.h"
+#include "vastray/core/RenderOptions.h"
+#include "vastray/core/RenderStats.h"
+#include "vastray/core/Result.h"
+#include "vastray/core/Vec3.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+
+// One ray as a backend traces it: the point at t is origin + t * direction; hits count only
+// for t in [tMin, tMax]. Layout shared with the GPU (gpu/shaders/shared/StreamTypes.h).
+struct StreamRay {
+    Vec3f origin;
+    float tMin = 0;
+    Vec3f direction;
+    float tMax = 0;
+};
+
+// StreamHit::flags bits.
+constexpr uint32_t kStreamHitFound = 1;
+constexpr uint32_t kStreamHitFrontFacing = 2;
+
+// What a backend returns per ray. Closest-hit traces fill everything; any-hit traces only
+// flags and the counters. position and normal are barycentricPosition / geometricNormal of
+// core/PathShading.h (normal not normalized), so every backend hands the integrator the same
+// floats for the same hit.
+struct StreamHit {
+    float t = 0;
+    Vec3f position;
+    Vec3f normal;
+    uint32_t primitive = kMissPrimId;  // id in the imported mesh; kMissPrimId when not uploaded
+    uint32_t material = 0;
+    uint32_t flags = 0;
+    uint32_t nodesVisited = 0;
+    uint32_t trianglesTested = 0;
+};
+static_assert(sizeof(StreamRay) == 32 && sizeof(StreamHit) == 48);
+
+// Which per-triangle attributes a render reads; the others are never uploaded.
+struct ChunkAttributes {
+    bool primitiveIds = false;  // the primid AOV
+    bool materialIds = false;   // the scene has more than one material
+    bool singleSided = false;   // some material is single-sided
+};
+
+// Where each array of a chunk lies in a device slot: byte offsets of 16-byte aligned sections
+// (an absent attribute has size 0). Slots are sized from the directory before any chunk is read.
+struct ChunkLayout {
+    uint64_t nodes = 0, leafRefs = 0, positions = 0, indices = 0;
+    uint64_t singleSided = 0;   // one byte per triangle, four to a word
+    uint64_t primitiveIds = 0;  // uint32 per triangle
+    uint64_t materialIds = 0;   // uint32 per triangle
+    uint64_t totalBytes = 0;
+};
+ChunkLayout chunkLayout(uint64_t kdNodes, uint64_t kdRefs, uint64_t vertices, uint64_t triangles,
+                        const ChunkAttributes& attributes);
+inline ChunkLayout chunkLayout(const ChunkInfo& c, const ChunkAttributes& attributes) {
+    return chunkLayout(c.kdNodeCount, c.kdRefCount, c.vertexCount, c.triangleCount, attributes);
+}
+
+// The narrow interface of a streaming backend: a fixed number of slots, each holding one chunk.
+class ChunkBackend {
+public:
+    virtual ~ChunkBackend() = default;
+    virtual std::string name() const = 0;
+    virtual uint32_t slotCount() const = 0;
+    // Most rays one trace() call takes, over all its batches.
+    virtual uint32_t maxBatchRays() const = 0;
+    // Makes `chunk` resident in `slot`, replacing what was there. singleSided: one byte per
+    // triangle (nonzero: invisible from behind) when attributes.singleSided, else empty.
+    virtual Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) = 0;
+
+    struct Batch {
+        uint32_t slot;
+        std::span<const StreamRay> rays;
+        std::span<StreamHit> hits;  // hits[i] belongs to rays[i]
+    };
+    // Closest hit (anyHit false) or any hit of every ray against its batch's resident chunk.
+    virtual Status trace(std::span<const Batch> batches, bool anyHit) = 0;
+
+    virtual uint64_t bytesUploaded() const = 0;
+    virtual uint64_t peakDeviceBytes() const = 0;
+    virtual double uploadSeconds() const = 0;
+};
+
+// Creates the backend once the renderer knows what it needs: the package and the attributes.
+using ChunkBackendFactory =
+    std::function<Result<std::unique_ptr<ChunkBackend>>(const PackageInfo& package, const ChunkAttributes& attributes)>;
+
+struct StreamingOptions {
+    uint64_t hostCacheBytes = 1ull << 30;  // decoded chunks kept on the host; 0: none kept
+    uint32_t maxPathsPerWave = 1u << 21;   // (pixel, sample) paths traced together per wave
+};
+
+// The streaming figures of one render (--stats-json names in comments).
+struct StreamingStats {
+    uint64_t chunksTotal = 0;       // chunks_total
+    uint64_t chunksTouched = 0;     // chunks_touched: distinct chunks loaded at least once
+    uint64_t chunkLoads = 0;        // chunk_loads: uploads into a slot
+    uint64_t bytesRead = 0;         // bytes_read: chunk blobs read from the package
+    uint64_t bytesUploaded = 0;     // bytes_uploaded
+    uint64_t decodes = 0;           // chunks decoded (a host-cache hit decodes nothing)
+    double decodeSeconds = 0;       // decode_seconds: read + decode time summed over workers
+    double uploadSeconds = 0;       // upload_seconds
+    double traceSeconds = 0;        // trace_seconds: in the backend's trace calls
+    double walkSeconds = 0;         // walk_seconds: top-level walks and queueing (host)
+    double shadeSeconds = 0;        // shade_seconds: the integrator's host-side shading
+    uint64_t peakDeviceBytes = 0;   // peak_device_bytes
+    uint64_t memoryBudgetBytes = 0; // memory_budget_bytes (set by the caller that knows it)
+    uint32_t slots = 0;             // chunk slots the budget holds
+    uint64_t streams = 0;           // ray streams traced (closest and shadow, per bounce and wave)
+    uint64_t chunkTraces = 0;       // (ray, cell) pairs traced
+};
+
+// Called from the render thread with (units done, units total).
+using StreamingProgress = std::function<void(uint64_t done, uint64_t total)>;
+
+// Renders a package with the given backend; the image equals, bit for bit, the one any other
+// backend or budget gives for the same hits. RenderImage gets the chunkid and cost AOVs when
+// options.aovs asks for them.
+Result<RenderImage> renderStreaming(const PackageReader& package, const RenderOptions& options,
+                                    const StreamingOptions& streaming, const ChunkBackendFactory& backend,
+                                    RenderStats* stats = nullptr, StreamingStats* streamingStats = nullptr,
+                                    const StreamingProgress& progress = {});
+
+// A CPU backend with the same contract as the GPU one (core's KD-tree traversal per chunk):
+// the streaming logic's reference in tests, and a fallback. `slots` chunk slots.
+Result<std::unique_ptr<ChunkBackend>> createCpuChunkBackend(uint32_t slots, const ChunkAttributes& attributes);
+
+}  // namespace vastray

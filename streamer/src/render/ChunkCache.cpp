@@ -1,0 +1,130 @@
+#include "render/ChunkCache.h"
+
+#include <chrono>
+
+namespace vastray {
+
+ChunkCache::ChunkCache(const PackageReader& reader, uint64_t capacityBytes, uint32_t workers)
+    : reader_(reader), capacity_(capacityBytes) {
+    for (uint32_t i = 0; i < std::max(1u, workers); ++i) threads_.emplace_back([this] { workerLoop(); });
+}
+
+ChunkCache::~ChunkCache() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : threads_) t.join();
+}
+
+void ChunkCache::workerLoop() {
+    for (;;) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+        if (queue_.empty()) return;  // stopping, nothing left
+        auto [id, promise] = std::move(queue_.front());
+        queue_.pop_front();
+        lock.unlock();
+
+        const auto start = std::chrono::steady_clock::now();
+        Result<ChunkHandle> out = Status::error("");
+        uint64_t blobBytes = 0;
+        auto blob = reader_.readChunkBlob(id);
+        if (!blob) {
+            out = blob.status();
+        } else {
+            blobBytes = blob->size();
+            const PackageInfo& info = reader_.info();
+            auto chunk = decodeChunkBlob(*blob, info.chunks[id], info.grid, uint32_t(info.materials.size()),
+                                         info.triangleCount + info.collapsedDropped);
+            if (chunk)
+                out = ChunkHandle(std::make_shared<const DecodedChunk>(std::move(chunk).value()));
+            else
+                out = chunk.status().withContext(reader_.path() + ": chunk " + std::to_string(id) + ": ");
+        }
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+        lock.lock();
+        bytesRead_ += blobBytes;
+        decodeSeconds_ += seconds;
+        ++decodes_;
+        auto it = entries_.find(id);
+        if (it != entries_.end() && out) it->second.bytes = (*out)->residentBytes();
+        lock.unlock();
+        promise->set_value(std::move(out));
+    }
+}
+
+ChunkCache::Decoded ChunkCache::startLocked(uint32_t id) {
+    auto it = entries_.find(id);
+    if (it != entries_.end()) {
+        it->second.lastUse = ++tick_;
+        return it->second.decoded;
+    }
+    auto promise = std::make_shared<std::promise<Result<ChunkHandle>>>();
+    Entry entry;
+    entry.decoded = promise->get_future().share();
+    entry.lastUse = ++tick_;
+    entries_.emplace(id, entry);
+    queue_.emplace_back(id, std::move(promise));
+    wake_.notify_one();
+    return entry.decoded;
+}
+
+void ChunkCache::prefetch(uint32_t id) {
+    if (id >= reader_.info().chunks.size()) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    startLocked(id);
+}
+
+Result<ChunkHandle> ChunkCache::get(uint32_t id) {
+    if (id >= reader_.info().chunks.size())
+        return Status::error(reader_.path() + ": chunk " + std::to_string(id) + " does not exist");
+    Decoded decoded;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        decoded = startLocked(id);
+    }
+    Result<ChunkHandle> out = decoded.get();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!out) {
+        entries_.erase(id);  // a failed read is not cached: the next get reports it again
+        return out;
+    }
+    entries_[id].used = true;
+    trimLocked();
+    return out;
+}
+
+// Drops least recently used decoded chunks until the cache fits; chunks in flight stay.
+void ChunkCache::trimLocked() {
+    uint64_t total = 0;
+    for (const auto& [id, e] : entries_)
+        if (e.used) total += e.bytes;
+    while (total > capacity_) {
+        auto victim = entries_.end();
+        for (auto it = entries_.begin(); it != entries_.end(); ++it)
+            if (it->second.used && it->second.bytes > 0 && (victim == entries_.end() || it->second.lastUse < victim->second.lastUse))
+                victim = it;
+        if (victim == entries_.end()) break;
+        total -= victim->second.bytes;
+        entries_.erase(victim);
+    }
+    cachedBytes_ = total;
+}
+
+uint64_t ChunkCache::bytesRead() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return bytesRead_;
+}
+uint64_t ChunkCache::decodes() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return decodes_;
+}
+double ChunkCache::decodeSeconds() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return decodeSeconds_;
+}
+
+}  // namespace vastray

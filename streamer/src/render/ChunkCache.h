@@ -1,0 +1,67 @@
+#pragma once
+// Decoded chunks on the host: read + decode on worker threads (so decoding overlaps the GPU's
+// tracing), kept in an LRU cache bounded in bytes so that a chunk evicted from the device and
+// needed again in the same job is not decoded twice while it fits.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "vastray/core/Result.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray {
+
+using ChunkHandle = std::shared_ptr<const DecodedChunk>;
+
+class ChunkCache {
+public:
+    // workers >= 1 decode threads; capacityBytes bounds the decoded chunks kept after use.
+    ChunkCache(const PackageReader& reader, uint64_t capacityBytes, uint32_t workers);
+    ~ChunkCache();
+    ChunkCache(const ChunkCache&) = delete;
+    ChunkCache& operator=(const ChunkCache&) = delete;
+
+    // Starts decoding the chunk on a worker unless it is cached or in flight.
+    void prefetch(uint32_t id);
+    // The decoded chunk (waits for its decode; decodes it now when nobody asked before).
+    // A corrupt chunk is an error naming the package and the chunk.
+    Result<ChunkHandle> get(uint32_t id);
+
+    uint64_t bytesRead() const;
+    uint64_t decodes() const;
+    double decodeSeconds() const;
+
+private:
+    using Decoded = std::shared_future<Result<ChunkHandle>>;
+    struct Entry {
+        Decoded decoded;
+        uint64_t bytes = 0;  // once decoded
+        uint64_t lastUse = 0;
+        bool used = false;  // prefetched chunks are kept until their first get()
+    };
+    Decoded startLocked(uint32_t id);
+    void workerLoop();
+    void trimLocked();
+
+    const PackageReader& reader_;
+    const uint64_t capacity_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<std::pair<uint32_t, std::shared_ptr<std::promise<Result<ChunkHandle>>>>> queue_;
+    std::unordered_map<uint32_t, Entry> entries_;
+    std::vector<std::thread> threads_;
+    bool stopping_ = false;
+    uint64_t tick_ = 0;
+    uint64_t cachedBytes_ = 0;
+    uint64_t bytesRead_ = 0;
+    uint64_t decodes_ = 0;
+    double decodeSeconds_ = 0;
+};
+
+}  // namespace vastray

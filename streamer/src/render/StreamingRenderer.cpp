@@ -1,0 +1,345 @@
+// The wavefront integrator of the streaming renderer. Per wave of (pixel, sample) paths and
+// per bounce: one closest-hit stream, host shading, one shadow stream. The shading steps are
+// core/PathShading.h's, in the order cpu/src/Integrators.cpp applies them, so a path's floats
+// equal the reference's whenever the hits agree.
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <optional>
+#include <thread>
+
+#include "render/ChunkCache.h"
+#include "render/RayStreamer.h"
+#include "vastray/core/Camera.h"
+#include "vastray/core/PathShading.h"
+#include "vastray/core/RayOffset.h"
+#include "vastray/core/VecMath.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace vastray {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+template <typename F>
+void parallelFor(size_t n, F&& f) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) f(i);
+    });
+}
+
+struct PathState {
+    Vec3f throughput{1, 1, 1};
+    Vec3f radiance;
+    Vec3f pendingSun;  // the sun's contribution, added if the shadow ray reaches the sun
+    Ray ray;   // the ray traced this bounce, then the shadow ray
+    Ray next;  // the scattered ray, when the path goes on
+    uint32_t pixel = 0, sample = 0;
+    bool alive = true;
+    bool cameraRayHit = false;
+    bool shadowPending = false;
+    bool continues = false;  // a next bounce was sampled
+};
+
+class Integrator {
+public:
+    Integrator(const PackageInfo& info, const RenderOptions& options, const CameraRays& camera, RayStreamer& streamer,
+               StreamingStats& stats, RenderImage& image)
+        : info_(info), options_(options), camera_(camera), streamer_(streamer), stats_(stats), image_(image) {
+        materials_ = info.materials;
+        if (materials_.empty()) materials_.push_back(Material{"default"});
+        sunDirection_ = normalize(options.environment.sunDirection);
+        if (image.aovs & kAovCost) cells_.assign(image.pixelCount(), 0), triangles_.assign(image.pixelCount(), 0);
+    }
+
+    uint64_t rays() const { return rays_; }
+
+    // The AOVs come from one unjittered ray through each pixel centre, as in the reference.
+    Status renderAovs(uint64_t first, uint64_t count) {
+        rays_buffer_.resize(count);
+        for (uint64_t i = 0; i < count; ++i) {
+            const uint64_t pixel = first + i;
+            const Ray ray = camera_.primary(uint32_t(pixel % image_.width), uint32_t(pixel / image_.width), 0.5f, 0.5f);
+            rays_buffer_[i] = StreamRay{ray.origin, 0.0f, ray.direction, kInfinity};
+        }
+        VASTRAY_TRY(trace(false));
+        const Clock::time_point start = Clock::now();
+        parallelFor(count, [&](size_t i) {
+            const uint64_t pixel = first + i;
+            const StreamResult& r = results_[i];
+            if (!(r.hit.flags & kStreamHitFound)) return;
+            const Material& material = materialAt(materials_, r.hit.material);
+            const SurfacePoint point = makeSurfacePoint(r.hit.position, r.hit.normal, rays_buffer_[i].direction, material);
+            if (image_.aovs & kAovDepth) image_.depth[pixel] = r.hit.t;
+            if (image_.aovs & kAovNormal)
+                for (int c = 0; c < 3; ++c) image_.normal[3 * pixel + c] = point.normal[c];
+            if (image_.aovs & kAovAlbedo)
+                for (int c = 0; c < 3; ++c) image_.albedo[3 * pixel + c] = material.baseColor[c];
+            if (image_.aovs & kAovPrimId) image_.primId[pixel] = r.hit.primitive;
+            if (image_.aovs & kAovChunkId) image_.chunkId[pixel] = r.chunk;
+        });
+        countCost([&](size_t i) { return first + i; });
+        stats_.shadeSeconds += secondsSince(start);
+        return Status::ok();
+    }
+
+    // Paths [first, first + count) in path order (index = sample * pixels + pixel); each path's
+    // radiance is added to its pixel in that order, as the reference sums samples.
+    template <typename Progress>
+    Status renderPaths(uint64_t first, uint64_t count, Progress&& bounceDone) {
+        const uint64_t pixels = image_.pixelCount();
+        paths_.assign(count, PathState{});
+        parallelFor(count, [&](size_t i) {
+            PathState& p = paths_[i];
+            p.pixel = uint32_t((first + i) % pixels), p.sample = uint32_t((first + i) / pixels);
+            const RandomKey key{p.pixel, p.sample, 0};
+            p.ray = camera_.primary(p.pixel % image_.width, p.pixel / image_.width,
+                                    randomFloat(key, kDimPixelX, options_.seed),
+                                    randomFloat(key, kDimPixelY, options_.seed));
+        });
+        const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
+        for (uint32_t bounce = 0;; ++bounce) {
+            active_.clear();
+            for (uint32_t i = 0; i < count; ++i)
+                if (paths_[i].alive) active_.push_back(i);
+            if (active_.empty()) break;
+            rays_buffer_.resize(active_.size());
+            for (size_t k = 0; k < active_.size(); ++k) {
+                const Ray& r = paths_[active_[k]].ray;
+                rays_buffer_[k] = StreamRay{r.origin, 0.0f, r.direction, kInfinity};
+            }
+            VASTRAY_TRY(trace(false));
+            countCost([&](size_t k) { return paths_[active_[k]].pixel; });
+            const Clock::time_point start = Clock::now();
+            parallelFor(active_.size(), [&](size_t k) {
+                ao ? shadeAmbientOcclusion(paths_[active_[k]], results_[k])
+                   : shadePath(paths_[active_[k]], results_[k], bounce);
+            });
+            stats_.shadeSeconds += secondsSince(start);
+            VASTRAY_TRY(traceShadows(ao));
+            bounceDone();
+        }
+        for (const PathState& p : paths_) {
+            for (int c = 0; c < 3; ++c) sum_[3 * p.pixel + c] += p.radiance[c];
+            hits_[p.pixel] += p.cameraRayHit;
+        }
+        return Status::ok();
+    }
+
+    void begin() {
+        sum_.assign(3 * image_.pixelCount(), 0.0);
+        hits_.assign(image_.pixelCount(), 0);
+    }
+
+    void finish() {
+        const double spp = options_.samplesPerPixel;
+        for (uint64_t p = 0; p < image_.pixelCount(); ++p) {
+            for (int c = 0; c < 3; ++c) image_.rgb[3 * p + c] = float(sum_[3 * p + c] / spp);
+            image_.alpha[p] = float(double(hits_[p]) / spp);
+        }
+        if (image_.aovs & kAovCost)
+            for (uint64_t p = 0; p < image_.pixelCount(); ++p)
+                image_.cost[2 * p] = float(cells_[p]), image_.cost[2 * p + 1] = float(triangles_[p]);
+    }
+
+private:
+    Status trace(bool anyHit) {
+        rays_ += rays_buffer_.size();
+        return streamer_.trace(rays_buffer_, anyHit, results_);
+    }
+
+    template <typename PixelOf>
+    void countCost(PixelOf&& pixelOf) {
+        if (!(image_.aovs & kAovCost)) return;
+        for (size_t k = 0; k < results_.size(); ++k) {
+            cells_[pixelOf(k)] += results_[k].cellsTraced;
+            triangles_[pixelOf(k)] += results_[k].trianglesTested;
+        }
+    }
+
+    // One step of tracePath (cpu/src/Integrators.cpp) after its closest hit.
+    void shadePath(PathState& p, const StreamResult& r, uint32_t bounce) {
+        p.alive = false, p.shadowPending = false, p.continues = false;
+        if (!(r.hit.flags & kStreamHitFound)) {
+            p.radiance = p.radiance + mul(p.throughput, skyRadiance(options_.environment, p.ray.direction));
+            return;
+        }
+        if (bounce == 0) p.cameraRayHit = true;
+        const RandomKey key{p.pixel, p.sample, bounce};
+        const SurfacePoint point =
+            makeSurfacePoint(r.hit.position, r.hit.normal, p.ray.direction, materialAt(materials_, r.hit.material));
+        p.radiance = p.radiance + mul(p.throughput, emission(*point.material));
+        if (bounce == options_.maxDepth) return;
+        const Vec3f origin = offsetRayOrigin(point.position, point.normal);
+        Vec3f light;
+        if (unshadowedSunLight(options_.environment, sunDirection_, point, &light)) {
+            p.shadowPending = true;
+            p.pendingSun = mul(p.throughput, light);
+            p.ray = {origin, sunDirection_};  // the shadow ray; replaced below when the path goes on
+        }
+        Vec3f throughput = mul(p.throughput, baseColor(*point.material));
+        if (!surviveRoulette(throughput, bounce, key, options_.seed)) return;
+        p.throughput = throughput;
+        p.continues = true;
+        p.next = {origin, cosineDirection(point.normal, key, options_.seed)};
+    }
+
+    void shadeAmbientOcclusion(PathState& p, const StreamResult& r) {
+        p.alive = false, p.continues = false, p.shadowPending = false;
+        if (!(r.hit.flags & kStreamHitFound)) {
+            p.radiance = {1, 1, 1};
+            return;
+        }
+        p.cameraRayHit = true;
+        const RandomKey key{p.pixel, p.sample, 0};
+        const SurfacePoint point =
+            makeSurfacePoint(r.hit.position, r.hit.normal, p.ray.direction, materialAt(materials_, r.hit.material));
+        p.shadowPending = true;
+        p.ray = {offsetRayOrigin(point.position, point.normal), cosineDirection(point.normal, key, options_.seed)};
+    }
+
+    // Shadow rays of the paths shaded last; then the survivors take their next rays.
+    Status traceShadows(bool ao) {
+        shadowOwners_.clear();
+        for (uint32_t i : active_)
+            if (paths_[i].shadowPending) shadowOwners_.push_back(i);
+        if (!shadowOwners_.empty()) {
+            const float range = ao && options_.aoDistance > 0.0f ? options_.aoDistance : kInfinity;
+            rays_buffer_.resize(shadowOwners_.size());
+            for (size_t k = 0; k < shadowOwners_.size(); ++k) {
+                const Ray& r = paths_[shadowOwners_[k]].ray;
+                rays_buffer_[k] = StreamRay{r.origin, 0.0f, r.direction, range};
+            }
+            VASTRAY_TRY(trace(true));
+            countCost([&](size_t k) { return paths_[shadowOwners_[k]].pixel; });
+            for (size_t k = 0; k < shadowOwners_.size(); ++k) {
+                PathState& p = paths_[shadowOwners_[k]];
+                const bool blocked = results_[k].hit.flags & kStreamHitFound;
+                if (ao)
+                    p.radiance = blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+                else if (!blocked)  // the reference adds a zero vector when blocked: no change
+                    p.radiance = p.radiance + p.pendingSun;
+                p.shadowPending = false;
+            }
+        }
+        for (uint32_t i : active_) {
+            PathState& p = paths_[i];
+            if (p.continues) p.ray = p.next, p.alive = true;
+        }
+        return Status::ok();
+    }
+
+    const PackageInfo& info_;
+    const RenderOptions& options_;
+    const CameraRays& camera_;
+    RayStreamer& streamer_;
+    StreamingStats& stats_;
+    RenderImage& image_;
+    std::vector<Material> materials_;
+    Vec3f sunDirection_;
+    uint64_t rays_ = 0;
+    std::vector<PathState> paths_;
+    std::vector<uint32_t> active_, shadowOwners_;
+    std::vector<StreamRay> rays_buffer_;
+    std::vector<StreamResult> results_;
+    std::vector<double> sum_;
+    std::vector<uint32_t> hits_;
+    std::vector<uint64_t> cells_, triangles_;
+};
+
+}  // namespace
+
+Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOptions& options,
+                                    const StreamingOptions& streaming, const ChunkBackendFactory& factory,
+                                    RenderStats* stats, StreamingStats* streamingStats,
+                                    const StreamingProgress& progress) {
+    VASTRAY_TRY(validateRenderOptions(options));
+    if (streaming.maxPathsPerWave == 0) return Status::error("maxPathsPerWave must be at least 1");
+    const PackageInfo& info = reader.info();
+    std::optional<tbb::global_control> threadLimit;
+    if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
+
+    const Camera camera = options.frameScene ? frameBounds(info.bounds, options.camera.fovYDegrees,
+                                                           float(options.width) / float(options.height))
+                                             : options.camera;
+    VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
+
+    ChunkAttributes attributes;
+    attributes.primitiveIds = (options.aovs & kAovPrimId) != 0;
+    attributes.materialIds = info.materials.size() > 1;
+    for (const Material& m : info.materials) attributes.singleSided |= !m.doubleSided;
+    auto backend = factory(info, attributes);
+    if (!backend) return backend.status();
+
+    StreamingStats local;
+    StreamingStats& s = streamingStats ? *streamingStats : local;
+    const uint64_t budget = s.memoryBudgetBytes;
+    s = StreamingStats{};
+    s.memoryBudgetBytes = budget;
+    s.chunksTotal = info.chunks.size();
+    s.slots = (*backend)->slotCount();
+
+    const uint32_t cores = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    ChunkCache cache(reader, streaming.hostCacheBytes, std::max(1u, cores > 1 ? cores - 1 : 1u));
+    RayStreamer streamer(info, attributes, **backend, cache, s);
+
+    RenderImage image;
+    image.allocate(options.width, options.height, options.aovs);
+    const CameraRays cameraRays(camera, options.width, options.height);
+    Integrator integrator(info, options, cameraRays, streamer, s, image);
+    integrator.begin();
+
+    const Clock::time_point start = Clock::now();
+    const uint64_t pixels = image.pixelCount();
+    const uint64_t wave = std::min<uint64_t>(streaming.maxPathsPerWave, pixels * options.samplesPerPixel);
+    const bool wantsAovs = (options.aovs & ~kAovCost) != 0;
+    const uint64_t aovWaves = wantsAovs ? (pixels + wave - 1) / wave : 0;
+    const uint64_t pathWaves = (pixels * options.samplesPerPixel + wave - 1) / wave;
+    const uint64_t steps = options.integrator == IntegratorKind::Path ? options.maxDepth + 1ull : 1ull;
+    const uint64_t total = aovWaves + pathWaves * steps;
+    uint64_t done = 0;
+    auto report = [&](uint64_t d) {
+        done = std::min(d, total);
+        if (progress) progress(done, total);
+    };
+    for (uint64_t w = 0; w < aovWaves; ++w) {
+        VASTRAY_TRY(integrator.renderAovs(w * wave, std::min(wave, pixels - w * wave)));
+        report(done + 1);
+    }
+    const uint64_t totalPaths = pixels * options.samplesPerPixel;
+    for (uint64_t w = 0; w < pathWaves; ++w) {
+        const uint64_t waveStart = done;
+        VASTRAY_TRY(integrator.renderPaths(w * wave, std::min(wave, totalPaths - w * wave), [&] {
+            if (done + 1 < waveStart + steps) report(done + 1);
+        }));
+        report(waveStart + steps);
+    }
+    integrator.finish();
+
+    s.bytesRead = cache.bytesRead();
+    s.decodes = cache.decodes();
+    s.decodeSeconds = cache.decodeSeconds();
+    s.bytesUploaded = (*backend)->bytesUploaded();
+    s.uploadSeconds = (*backend)->uploadSeconds();
+    s.peakDeviceBytes = (*backend)->peakDeviceBytes();
+    if (stats) {
+        stats->backend = (*backend)->name();
+        stats->renderSeconds = secondsSince(start);
+        stats->buildSeconds = 0;
+        stats->rays = integrator.rays();
+        stats->triangles = info.triangleCount;
+        stats->peakHostBytes = peakHostBytes();
+    }
+    return image;
+}
+
+}  // namespace vastray
