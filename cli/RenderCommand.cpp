@@ -204,6 +204,8 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["chunks_touched"] = st->chunksTouched;
         j["chunk_loads"] = st->chunkLoads;
         j["chunk_decodes"] = st->decodes;
+        j["stream_chunks_touched"] = st->streamChunksTouched;
+        j["stream_reloads"] = st->streamReloads;
         j["chunk_slots"] = st->slots;
         j["bytes_read"] = st->bytesRead;
         j["bytes_uploaded"] = st->bytesUploaded;

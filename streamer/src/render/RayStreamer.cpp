@@ -12,20 +12,22 @@
 namespace vastray {
 namespace {
 
-constexpr uint32_t kBlockRays = 4096;
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Closest-hit merge across cells: nearer wins; at the same t a front face beats a back face
-// (docs/GEOMETRY.md); otherwise the hit found first (the earlier cell) stays, so the result
-// depends only on the ray's own cell order, never on scheduling or budget.
-bool replaces(const StreamHit& h, const StreamResult& best) {
+// The one order hits are compared in, whatever order cells are traced in: nearer first; at the
+// same t a front face before a back face (docs/GEOMETRY.md); then the earlier cell of the ray.
+// Within a cell the backend has already applied its own rule (front face, lower triangle).
+bool replaces(const StreamHit& h, uint32_t cell, const StreamResult& best) {
     if (!(h.flags & kStreamHitFound)) return false;
     if (!(best.hit.flags & kStreamHitFound) || h.t < best.hit.t) return true;
-    return h.t == best.hit.t && (h.flags & kStreamHitFrontFacing) && !(best.hit.flags & kStreamHitFrontFacing);
+    if (h.t != best.hit.t) return false;
+    const bool front = h.flags & kStreamHitFrontFacing, bestFront = best.hit.flags & kStreamHitFrontFacing;
+    if (front != bestFront) return front;
+    return cell < best.cell;
 }
 
 }  // namespace
@@ -35,13 +37,15 @@ RayStreamer::RayStreamer(const PackageInfo& package, const ChunkAttributes& attr
     : package_(package), attributes_(attributes), backend_(backend), cache_(cache), stats_(stats) {
     slotChunk_.assign(backend.slotCount(), kEmptyCell);
     slotLastUse_.assign(backend.slotCount(), 0);
-    chunkSlot_.assign(package.chunks.size(), kEmptyCell);
-    touched_.assign(package.chunks.size(), 0);
-    waiting_.resize(package.chunks.size());
-}
-
-const RayStreamer::CellVisit& RayStreamer::cellOf(uint32_t ray, uint32_t index) const {
-    return arenas_[ray / kBlockRays][index];
+    const size_t chunks = package.chunks.size();
+    chunkSlot_.assign(chunks, kEmptyCell);
+    touched_.assign(chunks, 0);
+    waiting_.resize(chunks);
+    demand_.assign(chunks, 0);
+    ready_.assign(chunks, 0);
+    usedThisStream_.assign(chunks, 0);
+    seenThisStream_.assign(chunks, 0);
+    inOrder_ = backend.slotCount() >= chunks;
 }
 
 // Each ray's non-empty cells, front to back, with intervals widened by the traversal margin.
@@ -59,31 +63,43 @@ void RayStreamer::walkCells(std::span<const StreamRay> rays) {
                 const StreamRay& r = rays[i];
                 kdLeavesAlongRay(package_.topTree, package_.bounds, Ray{r.origin, r.direction}, r.tMin, r.tMax,
                                  &leaves);
-                states_[i].begin = uint32_t(arena.size());
+                states_[i].begin = states_[i].cursor = uint32_t(arena.size());
                 for (const KdLeafVisit& leaf : leaves) {
                     const uint32_t chunk = package_.topTree[leaf.node].firstRef();
-                    if (chunk != kEmptyCell) arena.push_back({chunk, leaf.t0, leaf.t1});
+                    if (chunk != kEmptyCell && chunk < waiting_.size()) arena.push_back({chunk, leaf.t0, leaf.t1, 0});
                 }
                 states_[i].end = uint32_t(arena.size());
-                states_[i].cursor = states_[i].begin;
             }
         }
     });
 }
 
-// Queues the ray at its next cell that could still hold a better hit; a ray with none left is done.
-void RayStreamer::advance(uint32_t ray, bool anyHit, const std::vector<StreamResult>& results) {
+bool RayStreamer::prunable(const CellVisit& cell, const StreamResult& best, bool anyHit) const {
+    // Done, or the cell lies wholly beyond the hit.
+    return (best.hit.flags & kStreamHitFound) && (anyHit || best.hit.t < cell.t0);
+}
+
+void RayStreamer::finishCell(uint32_t ray, uint32_t index) {
+    CellVisit& cell = cellAt(ray, index);
+    if (cell.done) return;
+    cell.done = 1;
+    --demand_[cell.chunk];
+}
+
+// Moves the ray's cursor past finished (and now prunable) cells, keeps ready_ in step and, in
+// order, queues the ray at its next cell. A ray whose cells are all done is finished.
+void RayStreamer::moveCursor(uint32_t ray, bool anyHit, const std::vector<StreamResult>& results) {
     RayState& s = states_[ray];
-    const StreamResult& best = results[ray];
-    const bool found = best.hit.flags & kStreamHitFound;
-    if (found && anyHit) return;
+    if (s.readyChunk != kEmptyCell) --ready_[s.readyChunk], s.readyChunk = kEmptyCell;
     for (; s.cursor < s.end; ++s.cursor) {
-        const CellVisit& cell = cellOf(ray, s.cursor);
-        if (found && best.hit.t < cell.t0) continue;  // the cell lies wholly beyond the hit
-        waiting_[cell.chunk].push_back(ray);
-        ++waitingTotal_;
-        return;
+        CellVisit& cell = cellAt(ray, s.cursor);
+        if (!cell.done && prunable(cell, results[ray], anyHit)) finishCell(ray, s.cursor);
+        if (!cell.done) break;
     }
+    if (s.cursor == s.end) return;
+    const uint32_t chunk = cellAt(ray, s.cursor).chunk;
+    s.readyChunk = chunk, ++ready_[chunk];
+    if (inOrder_) waiting_[chunk].push_back({ray, s.cursor}), ++waitingTotal_;
 }
 
 std::vector<uint8_t> RayStreamer::singleSidedOf(const DecodedChunk& chunk) const {
@@ -97,23 +113,35 @@ std::vector<uint8_t> RayStreamer::singleSidedOf(const DecodedChunk& chunk) const
     return out;
 }
 
-// Nothing resident has waiting rays: load the chunks with the most rays waiting (ties: lower
-// id) into free slots, then into the least recently used ones (nobody waits for any of them).
+// Which chunk to load first: the one for which the largest share of its outstanding cells are
+// rays' next cells (so loading it now resolves rays front to back, and in order few rays still
+// upstream can arrive later and force a reload), then the one with most cells queued, then the
+// lower id.
+void RayStreamer::sortByUrgency(std::vector<uint32_t>& chunks) const {
+    std::sort(chunks.begin(), chunks.end(), [&](uint32_t a, uint32_t b) {
+        const double ra = double(ready_[a]) / double(std::max<uint64_t>(demand_[a], 1));
+        const double rb = double(ready_[b]) / double(std::max<uint64_t>(demand_[b], 1));
+        if (ra != rb) return ra > rb;
+        return waiting_[a].size() != waiting_[b].size() ? waiting_[a].size() > waiting_[b].size() : a < b;
+    });
+}
+
+// Nothing resident has cells queued: load the most urgent chunks into free slots, then into the
+// slots whose chunks have the fewest outstanding cells (least recently used among ties).
 Status RayStreamer::loadChunks() {
     std::vector<uint32_t> wanted;
     for (uint32_t c = 0; c < waiting_.size(); ++c)
         if (!waiting_[c].empty() && chunkSlot_[c] == kEmptyCell) wanted.push_back(c);
-    std::sort(wanted.begin(), wanted.end(), [&](uint32_t a, uint32_t b) {
-        return waiting_[a].size() != waiting_[b].size() ? waiting_[a].size() > waiting_[b].size() : a < b;
-    });
+    sortByUrgency(wanted);
     if (wanted.size() > slotChunk_.size()) wanted.resize(slotChunk_.size());
     for (uint32_t c : wanted) cache_.prefetch(c);  // decode them in parallel
 
     std::vector<uint32_t> slots(slotChunk_.size());
     std::iota(slots.begin(), slots.end(), 0u);
     std::stable_sort(slots.begin(), slots.end(), [&](uint32_t a, uint32_t b) {
-        const bool freeA = slotChunk_[a] == kEmptyCell, freeB = slotChunk_[b] == kEmptyCell;
-        if (freeA != freeB) return freeA;
+        const uint32_t ca = slotChunk_[a], cb = slotChunk_[b];
+        if ((ca == kEmptyCell) != (cb == kEmptyCell)) return ca == kEmptyCell;
+        if (ca != kEmptyCell && demand_[ca] != demand_[cb]) return demand_[ca] < demand_[cb];
         return slotLastUse_[a] < slotLastUse_[b];
     });
     for (size_t i = 0; i < wanted.size(); ++i) {
@@ -126,13 +154,15 @@ Status RayStreamer::loadChunks() {
         slotChunk_[slot] = chunk, chunkSlot_[chunk] = slot;
         slotLastUse_[slot] = ++tick_;
         ++stats_.chunkLoads;
+        if (seenThisStream_[chunk]) ++stats_.streamReloads;
+        seenThisStream_[chunk] = 1;
         if (!touched_[chunk]) touched_[chunk] = 1, ++stats_.chunksTouched;
     }
     return Status::ok();
 }
 
-// One backend call over the queues of resident chunks (up to maxBatchRays rays), then every
-// traced ray merges its hit and moves on to its next cell.
+// One backend call over the queues of resident chunks (up to maxBatchRays cells), then every
+// traced cell merges its hit into its ray's result and the ray moves on.
 Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results) {
     const uint32_t capacity = backend_.maxBatchRays();
     batchRays_.resize(capacity), batchHits_.resize(capacity), batchOwners_.resize(capacity);
@@ -142,26 +172,33 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
     for (uint32_t slot = 0; slot < slotChunk_.size() && used < capacity; ++slot) {
         const uint32_t chunk = slotChunk_[slot];
         if (chunk == kEmptyCell || waiting_[chunk].empty()) continue;
-        std::vector<uint32_t>& queue = waiting_[chunk];
-        const uint32_t take = uint32_t(std::min<size_t>(queue.size(), capacity - used));
+        std::vector<Pending>& queue = waiting_[chunk];
         const uint32_t first = used;
-        for (uint32_t k = 0; k < take; ++k) {
-            const uint32_t ray = queue[queue.size() - take + k];
-            const CellVisit& cell = cellOf(ray, states_[ray].cursor);
-            const StreamRay& r = rays[ray];
-            const StreamResult& best = results[ray];
+        while (!queue.empty() && used < capacity) {
+            const Pending p = queue.back();
+            queue.pop_back();
+            --waitingTotal_;
+            CellVisit& cell = cellAt(p.ray, p.cell);
+            if (cell.done) continue;
+            if (prunable(cell, results[p.ray], anyHit)) {
+                finishCell(p.ray, p.cell);
+                if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, anyHit, results);
+                continue;
+            }
+            const StreamRay& r = rays[p.ray];
+            const StreamResult& best = results[p.ray];
             StreamRay clipped = r;
             clipped.tMin = std::max(r.tMin, cell.t0);
             clipped.tMax = std::min((best.hit.flags & kStreamHitFound) ? best.hit.t : r.tMax, cell.t1);
             batchRays_[used] = clipped;
-            batchOwners_[used] = ray;
+            batchOwners_[used] = p;
             ++used;
         }
-        queue.resize(queue.size() - take);
-        waitingTotal_ -= take;
         slotLastUse_[slot] = ++tick_;
-        batches.push_back({slot, std::span<const StreamRay>(batchRays_.data() + first, take),
-                           std::span<StreamHit>(batchHits_.data() + first, take)});
+        if (used == first) continue;
+        if (!usedThisStream_[chunk]) usedThisStream_[chunk] = 1, ++stats_.streamChunksTouched;
+        batches.push_back({slot, std::span<const StreamRay>(batchRays_.data() + first, used - first),
+                           std::span<StreamHit>(batchHits_.data() + first, used - first)});
         batchChunks.push_back(chunk);
     }
     if (batches.empty()) return Status::ok();
@@ -170,9 +207,7 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
     std::vector<uint32_t> next;
     for (uint32_t c = 0; c < waiting_.size(); ++c)
         if (!waiting_[c].empty() && chunkSlot_[c] == kEmptyCell) next.push_back(c);
-    std::sort(next.begin(), next.end(), [&](uint32_t a, uint32_t b) {
-        return waiting_[a].size() != waiting_[b].size() ? waiting_[a].size() > waiting_[b].size() : a < b;
-    });
+    sortByUrgency(next);
     for (size_t i = 0; i < next.size() && i < slotChunk_.size(); ++i) cache_.prefetch(next[i]);
 
     const Clock::time_point start = Clock::now();
@@ -184,19 +219,18 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
     uint32_t at = 0;
     for (size_t b = 0; b < batches.size(); ++b) {
         for (size_t k = 0; k < batches[b].rays.size(); ++k, ++at) {
-            const uint32_t ray = batchOwners_[at];
+            const Pending p = batchOwners_[at];
             const StreamHit& h = batchHits_[at];
-            StreamResult& best = results[ray];
+            StreamResult& best = results[p.ray];
             ++best.cellsTraced;
             best.trianglesTested += h.trianglesTested;
-            if (anyHit ? (h.flags & kStreamHitFound) != 0 : replaces(h, best)) {
-                const uint32_t cells = best.cellsTraced, triangles = best.trianglesTested;
+            if (replaces(h, p.cell, best)) {
                 best.hit = h;
                 best.chunk = batchChunks[b];
-                best.cellsTraced = cells, best.trianglesTested = triangles;
+                best.cell = p.cell;
             }
-            ++states_[ray].cursor;
-            advance(ray, anyHit, results);
+            finishCell(p.ray, p.cell);
+            if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, anyHit, results);
         }
     }
     stats_.walkSeconds += secondsSince(merge);
@@ -210,7 +244,20 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, bool anyHit, std::vec
     walkCells(rays);
     waitingTotal_ = 0;
     for (auto& q : waiting_) q.clear();
-    for (uint32_t i = 0; i < rays.size(); ++i) advance(i, anyHit, results);
+    std::fill(demand_.begin(), demand_.end(), 0);
+    std::fill(ready_.begin(), ready_.end(), 0);
+    std::fill(usedThisStream_.begin(), usedThisStream_.end(), 0);
+    std::fill(seenThisStream_.begin(), seenThisStream_.end(), 0);
+    for (uint32_t chunk : slotChunk_)
+        if (chunk != kEmptyCell) seenThisStream_[chunk] = 1;
+    for (const auto& arena : arenas_)
+        for (const CellVisit& cell : arena) ++demand_[cell.chunk];
+    for (uint32_t i = 0; i < rays.size(); ++i) {
+        if (!inOrder_)
+            for (uint32_t c = states_[i].begin; c < states_[i].end; ++c)
+                waiting_[cellAt(i, c).chunk].push_back({i, c}), ++waitingTotal_;
+        moveCursor(i, anyHit, results);
+    }
     stats_.walkSeconds += secondsSince(start);
 
     while (waitingTotal_ > 0) {

@@ -17,6 +17,7 @@ struct StreamResult {
     uint32_t chunk = kMissPrimId;   // chunk whose cell produced the hit
     uint32_t cellsTraced = 0;       // chunk traces this ray took
     uint32_t trianglesTested = 0;
+    uint32_t cell = 0;              // index of the hit's cell in the ray's cell list (tie-break)
 };
 
 class RayStreamer {
@@ -31,24 +32,41 @@ private:
     struct CellVisit {
         uint32_t chunk;
         float t0, t1;
+        uint32_t done;  // traced, or pruned by a nearer hit
     };
     struct RayState {
         uint32_t begin = 0, end = 0;  // cells of this ray in its block's arena
-        uint32_t cursor = 0;          // next cell to trace
+        uint32_t cursor = 0;          // first cell not done
+        uint32_t readyChunk = kEmptyCell;  // the chunk counted in ready_ for this ray
+    };
+    struct Pending {
+        uint32_t ray;
+        uint32_t cell;  // index into the ray's block arena
     };
 
     void walkCells(std::span<const StreamRay> rays);
-    void advance(uint32_t ray, bool anyHit, const std::vector<StreamResult>& results);
-    const CellVisit& cellOf(uint32_t ray, uint32_t index) const;
+    CellVisit& cellAt(uint32_t ray, uint32_t index) { return arenas_[ray / kBlockRays][index]; }
+    bool prunable(const CellVisit& cell, const StreamResult& best, bool anyHit) const;
+    void finishCell(uint32_t ray, uint32_t cell);
+    void moveCursor(uint32_t ray, bool anyHit, const std::vector<StreamResult>& results);
     Status loadChunks();
+    void sortByUrgency(std::vector<uint32_t>& chunks) const;
     Status traceResident(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results);
     std::vector<uint8_t> singleSidedOf(const DecodedChunk& chunk) const;
+
+    static constexpr uint32_t kBlockRays = 4096;
 
     const PackageInfo& package_;
     ChunkAttributes attributes_;
     ChunkBackend& backend_;
     ChunkCache& cache_;
     StreamingStats& stats_;
+    // In order (the scene fits: every chunk has a slot): a ray waits only at its next cell, so
+    // a nearer hit prunes the cells behind it. Out of order (it does not fit): every cell of
+    // every ray is queued at once, so each chunk is paged in at most once per stream, at the
+    // price of tracing some cells a front-to-back order would have pruned. Both give the same
+    // hits: the closest under one total order (t, front before back, earlier cell).
+    bool inOrder_ = true;
 
     // Residency (kEmptyCell: none).
     std::vector<uint32_t> slotChunk_, chunkSlot_;
@@ -59,11 +77,15 @@ private:
     // Per stream.
     std::vector<std::vector<CellVisit>> arenas_;  // one per block of kBlockRays rays
     std::vector<RayState> states_;
-    std::vector<std::vector<uint32_t>> waiting_;  // per chunk: rays whose next cell it is
+    std::vector<std::vector<Pending>> waiting_;  // per chunk: cells queued for it
     uint64_t waitingTotal_ = 0;
+    std::vector<uint64_t> demand_;  // per chunk: cells not done yet
+    std::vector<uint64_t> ready_;   // per chunk: rays whose first cell not done is in it
+    std::vector<uint8_t> usedThisStream_;  // traced in this stream
+    std::vector<uint8_t> seenThisStream_;  // resident at some point of this stream
     std::vector<StreamRay> batchRays_;
     std::vector<StreamHit> batchHits_;
-    std::vector<uint32_t> batchOwners_;
+    std::vector<Pending> batchOwners_;
 };
 
 }  // namespace vastray

@@ -110,6 +110,12 @@ struct StreamingStats {
     uint64_t chunksTotal = 0;       // chunks_total
     uint64_t chunksTouched = 0;     // chunks_touched: distinct chunks loaded at least once
     uint64_t chunkLoads = 0;        // chunk_loads: uploads into a slot
+    // Per ray stream (one bounce's closest or shadow rays), summed over streams: distinct chunks
+    // the stream traced (stream_chunks_touched), and loads of a chunk the same stream had
+    // already had resident (stream_reloads). (touched + reloads) / touched is the loads per
+    // bounce against chunks touched: 1.0 when no chunk is paged in twice within a stream.
+    uint64_t streamChunksTouched = 0;
+    uint64_t streamReloads = 0;
     uint64_t bytesRead = 0;         // bytes_read: chunk blobs read from the package
     uint64_t bytesUploaded = 0;     // bytes_uploaded
     uint64_t decodes = 0;           // chunks decoded (a host-cache hit decodes nothing)

@@ -1,0 +1,215 @@
+// Figures of the streaming renderer (issue "Streaming tracer"): a generated scene is imported
+// into a package, then rendered through the Vulkan backend in core (a budget that holds every
+// chunk) and out of core (the scene's resident size 4x and 16x the budget), primary-only and
+// with diffuse bounces. Prints one Markdown table; every figure comes from StreamingStats and
+// RenderStats of the renders it ran.
+//
+//   stream_render_bench [--kind city] [--triangles N] [--chunk-size 16MiB] [--resolution WxH]
+//                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
+//                       [--keep] [--out FILE.md]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "vastray/core/ByteSize.h"
+#include "vastray/gpu/VulkanChunkBackend.h"
+#include "vastray/gpu/VulkanDevice.h"
+#include "vastray/streamer/Generate.h"
+#include "vastray/streamer/PackageBuilder.h"
+#include "vastray/streamer/ScenePackage.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace {
+
+using namespace vastray;
+
+struct Args {
+    std::string kind = "city", package, out;
+    uint64_t triangles = 10000000, chunkSize = 16ull << 20;
+    uint32_t width = 1920, height = 1080, spp = 1, depth = 2;
+    std::vector<double> ratios{4, 16};
+    int device = -1;
+    bool keep = false;
+};
+
+[[noreturn]] void fail(const std::string& message) {
+    std::fprintf(stderr, "stream_render_bench: %s\n", message.c_str());
+    std::exit(1);
+}
+
+Args parseArgs(int argc, char** argv) {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+        const std::string flag = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) fail(flag + " needs a value");
+            return argv[++i];
+        };
+        if (flag == "--kind") a.kind = value();
+        else if (flag == "--triangles") a.triangles = std::stoull(value());
+        else if (flag == "--chunk-size") {
+            auto size = parseByteSize(value());
+            if (!size) fail(size.message());
+            a.chunkSize = *size;
+        } else if (flag == "--resolution") {
+            const std::string v = value();
+            if (std::sscanf(v.c_str(), "%ux%u", &a.width, &a.height) != 2) fail("--resolution WxH");
+        } else if (flag == "--spp") a.spp = uint32_t(std::stoul(value()));
+        else if (flag == "--depth") a.depth = uint32_t(std::stoul(value()));
+        else if (flag == "--ratios") {
+            a.ratios.clear();
+            std::stringstream list(value());
+            for (std::string item; std::getline(list, item, ',');) a.ratios.push_back(std::stod(item));
+        } else if (flag == "--device") a.device = std::stoi(value());
+        else if (flag == "--package") a.package = value();
+        else if (flag == "--out") a.out = value();
+        else if (flag == "--keep") a.keep = true;
+        else fail("unknown flag " + flag);
+    }
+    return a;
+}
+
+struct MeshCollector final : MeshSink {
+    TriangleMesh mesh;
+    Status begin(uint64_t v, uint64_t f) override {
+        mesh.positions.reserve(v);
+        mesh.indices.reserve(3 * f);
+        return Status::ok();
+    }
+    Status vertex(Vec3f p) override {
+        mesh.positions.push_back(p);
+        return Status::ok();
+    }
+    Status face(uint32_t a, uint32_t b, uint32_t c) override {
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+        return Status::ok();
+    }
+    Status end() override { return Status::ok(); }
+};
+
+std::string makePackage(const Args& a, double* importSeconds) {
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + ".vast"))
+                                 .string();
+    GenerateOptions g;
+    auto kind = parseGeneratorKind(a.kind);
+    if (!kind) fail(kind.message());
+    g.kind = *kind;
+    g.triangles = a.triangles;
+    MeshCollector sink;
+    if (Status s = generate(g, sink); !s) fail(s.message());
+    sink.mesh.materials.push_back(Material{"default"});
+    PackageBuildOptions options;
+    options.chunkSizeBytes = a.chunkSize;
+    options.progress = Progress::Mode::None;
+    const auto start = std::chrono::steady_clock::now();
+    auto report = buildPackage(std::move(sink.mesh), path, options);
+    if (!report) fail(report.message());
+    *importSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return path;
+}
+
+struct Row {
+    std::string label;
+    uint64_t budget = 0;
+    RenderStats render;
+    StreamingStats streaming;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Args args = parseArgs(argc, argv);
+    double importSeconds = 0;
+    const std::string path = args.package.empty() ? makePackage(args, &importSeconds) : args.package;
+    auto reader = PackageReader::open(path);
+    if (!reader) fail(reader.message());
+    const PackageInfo& info = (*reader)->info();
+
+    gpu::VulkanDeviceOptions deviceOptions;
+    deviceOptions.deviceIndex = args.device;
+    auto device = gpu::VulkanDevice::create(deviceOptions);
+    if (!device) fail(device.message());
+
+    const ChunkAttributes attributes{false, info.materials.size() > 1, false};
+    uint64_t residentBytes = 0;
+    for (const ChunkInfo& c : info.chunks) residentBytes += chunkLayout(c, attributes).totalBytes;
+    auto fitPlan = gpu::planPool(info, attributes, 1ull << 40);
+    if (!fitPlan) fail(fitPlan.message());
+    // In core: every chunk gets a slot and the largest ray batch.
+    const uint64_t fitBudget = fitPlan->totalBytes;
+
+    std::vector<Row> rows;
+    auto render = [&](const std::string& label, uint64_t budget, IntegratorKind integrator, uint32_t depth) {
+        RenderOptions o;
+        o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp;
+        o.integrator = integrator, o.maxDepth = depth;
+        Row row;
+        row.label = label, row.budget = budget;
+        row.streaming.memoryBudgetBytes = budget;
+        auto image = renderStreaming(
+            **reader, o, StreamingOptions{},
+            [&](const PackageInfo& p, const ChunkAttributes& a) {
+                return gpu::createVulkanChunkBackend(**device, p, a, budget);
+            },
+            &row.render, &row.streaming);
+        if (!image) fail(label + ": " + image.message());
+        std::fprintf(stderr, "%s: %.3f s\n", label.c_str(), row.render.renderSeconds);
+        rows.push_back(row);
+    };
+    render("warm-up (in core, primary)", fitBudget, IntegratorKind::Path, 0);
+    rows.clear();
+    render("in core, primary", fitBudget, IntegratorKind::Path, 0);
+    render("in core, path depth " + std::to_string(args.depth), fitBudget, IntegratorKind::Path, args.depth);
+    for (double ratio : args.ratios) {
+        const uint64_t budget = uint64_t(double(residentBytes) / ratio);
+        char label[64];
+        std::snprintf(label, sizeof label, "%gx over budget, primary", ratio);
+        render(label, budget, IntegratorKind::Path, 0);
+        std::snprintf(label, sizeof label, "%gx over budget, path depth %u", ratio, args.depth);
+        render(label, budget, IntegratorKind::Path, args.depth);
+    }
+
+    std::ostringstream md;
+    md << "Scene: " << args.kind << ", " << info.triangleCount << " triangles, " << info.chunks.size()
+       << " chunks (chunk size " << formatBytes(info.chunkSizeBytes) << "), resident "
+       << formatBytes(residentBytes) << " = " << double(residentBytes) / double(info.triangleCount)
+       << " bytes/triangle; package " << formatBytes(info.fileBytes);
+    if (importSeconds > 0) md << ", imported in " << importSeconds << " s";
+    md << ". Device: " << (*device)->info().name << ". Image " << args.width << "x" << args.height << ", "
+       << args.spp << " spp.\n\n";
+    md << "| render | budget | slots | render s | rays | rays/s (render) | chunk traces/s (trace) | trace s | "
+          "decode s | upload s | walk s | shade s | touched | loads | loads/touched | per-bounce loads/touched | time vs in core |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Row& r : rows) {
+        const StreamingStats& s = r.streaming;
+        double reference = 0;
+        for (const Row& q : rows)
+            if (q.label.rfind("in core", 0) == 0 &&
+                q.label.substr(q.label.find(',')) == r.label.substr(r.label.find(',')))
+                reference = q.render.renderSeconds;
+        char line[1024];
+        std::snprintf(line, sizeof line,
+                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.1f M | %.3f | %.3f | %.3f | %.3f | %.3f | %llu | %llu "
+                      "| %.2f | %.3f | %.2fx |\n",
+                      r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, r.render.renderSeconds,
+                      (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6,
+                      s.traceSeconds > 0 ? double(s.chunkTraces) / s.traceSeconds / 1e6 : 0.0, s.traceSeconds,
+                      s.decodeSeconds, s.uploadSeconds, s.walkSeconds, s.shadeSeconds,
+                      (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,
+                      s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
+                      s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,
+                      reference > 0 ? r.render.renderSeconds / reference : 0.0);
+        md << line;
+    }
+    std::fputs(md.str().c_str(), stdout);
+    if (!args.out.empty()) std::ofstream(args.out) << md.str();
+    if (args.package.empty() && !args.keep) std::filesystem::remove(path);
+    return 0;
+}
