@@ -276,6 +276,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& op
     if (!device) return device.status();
     StreamingOptions streamingOptions;
     streamingOptions.hostCacheBytes = *hostCache;
+    streamingOptions.decodeThreads = options.threads;  // 0: all cores
     streaming.memoryBudgetBytes = *budget;
     const ChunkBackendFactory factory = [&](const PackageInfo& info, const ChunkAttributes& attributes) {
         return gpu::createVulkanChunkBackend(**device, info, attributes, *budget);

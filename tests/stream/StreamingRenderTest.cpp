@@ -314,3 +314,44 @@ TEST(StreamingRender, CoincidentOppositeFacesPickTheOneFacingTheRay) {
 
 }  // namespace
 }  // namespace vastray
+
+namespace vastray {
+namespace {
+
+// A scene kept open (the render service keeps one per package): a second render of a scene
+// that fits loads and decodes nothing, and gives the same image.
+TEST(StreamingRender, SecondRenderOfAnOpenSceneLoadsNothing) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const RenderOptions o = smallRender(kAovDepth | kAovPrimId);
+    auto scene = StreamingScene::open(**reader, requiredAttributes((*reader)->info(), o), StreamingOptions{},
+                                      [&](const PackageInfo& info, const ChunkAttributes& a) {
+                                          return gpu::createVulkanChunkBackend(device(), info, a, 64ull << 20);
+                                      });
+    ASSERT_TRUE(scene) << scene.message();
+    StreamingStats first, second;
+    auto a = (*scene)->render(o, nullptr, &first);
+    ASSERT_TRUE(a) << a.message();
+    auto b = (*scene)->render(o, nullptr, &second);
+    ASSERT_TRUE(b) << b.message();
+    expectIdentical(*a, *b);
+    EXPECT_GT(first.chunkLoads, 0u);
+    EXPECT_EQ(second.chunkLoads, 0u);
+    EXPECT_EQ(second.decodes, 0u);
+    EXPECT_EQ(second.bytesRead, 0u);
+    EXPECT_EQ(second.chunksTouched, first.chunksTouched);
+    // A render needing an attribute the scene was opened without is refused, not wrong.
+    RenderOptions more = o;
+    more.aovs = kAovDepth;
+    EXPECT_TRUE((*scene)->render(more));
+    auto scene2 = StreamingScene::open(**reader, ChunkAttributes{}, StreamingOptions{},
+                                       [&](const PackageInfo& info, const ChunkAttributes& a) {
+                                           return gpu::createVulkanChunkBackend(device(), info, a, 64ull << 20);
+                                       });
+    ASSERT_TRUE(scene2);
+    EXPECT_FALSE((*scene2)->render(o)) << "primid needs primitive ids the scene was opened without";
+}
+
+}  // namespace
+}  // namespace vastray

@@ -156,7 +156,6 @@ Status RayStreamer::loadChunks() {
         ++stats_.chunkLoads;
         if (seenThisStream_[chunk]) ++stats_.streamReloads;
         seenThisStream_[chunk] = 1;
-        if (!touched_[chunk]) touched_[chunk] = 1, ++stats_.chunksTouched;
     }
     return Status::ok();
 }
@@ -197,6 +196,7 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
         slotLastUse_[slot] = ++tick_;
         if (used == first) continue;
         if (!usedThisStream_[chunk]) usedThisStream_[chunk] = 1, ++stats_.streamChunksTouched;
+        if (!touched_[chunk]) touched_[chunk] = 1, ++touchedThisRender_;
         batches.push_back({slot, std::span<const StreamRay>(batchRays_.data() + first, used - first),
                            std::span<StreamHit>(batchHits_.data() + first, used - first)});
         batchChunks.push_back(chunk);
@@ -235,6 +235,11 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
     }
     stats_.walkSeconds += secondsSince(merge);
     return Status::ok();
+}
+
+void RayStreamer::beginRender() {
+    std::fill(touched_.begin(), touched_.end(), 0);
+    touchedThisRender_ = 0;
 }
 
 Status RayStreamer::trace(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results) {

@@ -25,6 +25,10 @@ public:
     RayStreamer(const PackageInfo& package, const ChunkAttributes& attributes, ChunkBackend& backend,
                 ChunkCache& cache, StreamingStats& stats);
 
+    // Starts a render: chunksTouchedThisRender counts from zero again.
+    void beginRender();
+    uint64_t chunksTouchedThisRender() const { return touchedThisRender_; }
+
     // Every ray's [tMin, tMax] is its whole range; results[i] belongs to rays[i].
     Status trace(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results);
 
@@ -71,7 +75,8 @@ private:
     // Residency (kEmptyCell: none).
     std::vector<uint32_t> slotChunk_, chunkSlot_;
     std::vector<uint64_t> slotLastUse_;
-    std::vector<uint8_t> touched_;
+    std::vector<uint8_t> touched_;  // traced in this render
+    uint64_t touchedThisRender_ = 0;
     uint64_t tick_ = 0;
 
     // Per stream.

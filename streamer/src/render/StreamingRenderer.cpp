@@ -258,13 +258,63 @@ private:
 
 }  // namespace
 
-Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOptions& options,
-                                    const StreamingOptions& streaming, const ChunkBackendFactory& factory,
-                                    RenderStats* stats, StreamingStats* streamingStats,
-                                    const StreamingProgress& progress) {
+struct StreamingScene::State {
+    const PackageReader& reader;
+    ChunkAttributes attributes;
+    StreamingOptions options;
+    std::unique_ptr<ChunkBackend> backend;
+    std::unique_ptr<ChunkCache> cache;
+    std::unique_ptr<RayStreamer> streamer;
+    StreamingStats totals;  // what the streamer counts into; each render reports its difference
+    explicit State(const PackageReader& r) : reader(r) {}
+};
+
+ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions& options) {
+    ChunkAttributes a;
+    a.primitiveIds = (options.aovs & kAovPrimId) != 0;
+    a.materialIds = info.materials.size() > 1;
+    for (const Material& m : info.materials) a.singleSided |= !m.doubleSided;
+    return a;
+}
+
+StreamingScene::StreamingScene() = default;
+StreamingScene::~StreamingScene() = default;
+
+Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader& reader,
+                                                             const ChunkAttributes& attributes,
+                                                             const StreamingOptions& options,
+                                                             const ChunkBackendFactory& factory) {
+    if (options.maxPathsPerWave == 0) return Status::error("maxPathsPerWave must be at least 1");
+    std::unique_ptr<StreamingScene> scene(new StreamingScene());
+    scene->state_ = std::make_unique<State>(reader);
+    State& s = *scene->state_;
+    s.attributes = attributes;
+    s.options = options;
+    auto backend = factory(reader.info(), attributes);
+    if (!backend) return backend.status();
+    s.backend = std::move(backend).value();
+    const uint32_t workers = options.decodeThreads > 0
+                                 ? options.decodeThreads
+                                 : std::max(1u, std::thread::hardware_concurrency() > 1
+                                                    ? std::thread::hardware_concurrency() - 1
+                                                    : 1u);
+    s.cache = std::make_unique<ChunkCache>(reader, options.hostCacheBytes, workers);
+    s.streamer = std::make_unique<RayStreamer>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
+    return scene;
+}
+
+const ChunkAttributes& StreamingScene::attributes() const { return state_->attributes; }
+ChunkBackend& StreamingScene::backend() { return *state_->backend; }
+
+Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderStats* stats,
+                                           StreamingStats* streamingStats, const StreamingProgress& progress) {
     VASTRAY_TRY(validateRenderOptions(options));
-    if (streaming.maxPathsPerWave == 0) return Status::error("maxPathsPerWave must be at least 1");
-    const PackageInfo& info = reader.info();
+    State& st = *state_;
+    const PackageInfo& info = st.reader.info();
+    const ChunkAttributes needed = requiredAttributes(info, options);
+    if ((needed.primitiveIds && !st.attributes.primitiveIds) || (needed.materialIds && !st.attributes.materialIds) ||
+        (needed.singleSided && !st.attributes.singleSided))
+        return Status::error("this render needs chunk attributes the scene was not opened with (primid AOV?)");
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
 
@@ -273,34 +323,22 @@ Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOpt
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
 
-    ChunkAttributes attributes;
-    attributes.primitiveIds = (options.aovs & kAovPrimId) != 0;
-    attributes.materialIds = info.materials.size() > 1;
-    for (const Material& m : info.materials) attributes.singleSided |= !m.doubleSided;
-    auto backend = factory(info, attributes);
-    if (!backend) return backend.status();
-
-    StreamingStats local;
-    StreamingStats& s = streamingStats ? *streamingStats : local;
-    const uint64_t budget = s.memoryBudgetBytes;
-    s = StreamingStats{};
-    s.memoryBudgetBytes = budget;
-    s.chunksTotal = info.chunks.size();
-    s.slots = (*backend)->slotCount();
-
-    const uint32_t cores = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    ChunkCache cache(reader, streaming.hostCacheBytes, std::max(1u, cores > 1 ? cores - 1 : 1u));
-    RayStreamer streamer(info, attributes, **backend, cache, s);
+    // The streamer counts into st.totals across renders; this render reports the difference.
+    const StreamingStats before = st.totals;
+    const uint64_t bytesReadBefore = st.cache->bytesRead(), decodesBefore = st.cache->decodes();
+    const double decodeBefore = st.cache->decodeSeconds(), uploadBefore = st.backend->uploadSeconds();
+    const uint64_t uploadedBefore = st.backend->bytesUploaded();
+    st.streamer->beginRender();
 
     RenderImage image;
     image.allocate(options.width, options.height, options.aovs);
     const CameraRays cameraRays(camera, options.width, options.height);
-    Integrator integrator(info, options, cameraRays, streamer, s, image);
+    Integrator integrator(info, options, cameraRays, *st.streamer, st.totals, image);
     integrator.begin();
 
     const Clock::time_point start = Clock::now();
     const uint64_t pixels = image.pixelCount();
-    const uint64_t wave = std::min<uint64_t>(streaming.maxPathsPerWave, pixels * options.samplesPerPixel);
+    const uint64_t wave = std::min<uint64_t>(st.options.maxPathsPerWave, pixels * options.samplesPerPixel);
     const bool wantsAovs = (options.aovs & ~kAovCost) != 0;
     const uint64_t aovWaves = wantsAovs ? (pixels + wave - 1) / wave : 0;
     const uint64_t pathWaves = (pixels * options.samplesPerPixel + wave - 1) / wave;
@@ -325,14 +363,32 @@ Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOpt
     }
     integrator.finish();
 
-    s.bytesRead = cache.bytesRead();
-    s.decodes = cache.decodes();
-    s.decodeSeconds = cache.decodeSeconds();
-    s.bytesUploaded = (*backend)->bytesUploaded();
-    s.uploadSeconds = (*backend)->uploadSeconds();
-    s.peakDeviceBytes = (*backend)->peakDeviceBytes();
+    if (streamingStats) {
+        StreamingStats& s = *streamingStats;
+        const StreamingStats& t = st.totals;
+        const uint64_t budget = s.memoryBudgetBytes;
+        s = StreamingStats{};
+        s.memoryBudgetBytes = budget;
+        s.chunksTotal = info.chunks.size();
+        s.slots = st.backend->slotCount();
+        s.chunksTouched = st.streamer->chunksTouchedThisRender();
+        s.chunkLoads = t.chunkLoads - before.chunkLoads;
+        s.streamChunksTouched = t.streamChunksTouched - before.streamChunksTouched;
+        s.streamReloads = t.streamReloads - before.streamReloads;
+        s.traceSeconds = t.traceSeconds - before.traceSeconds;
+        s.walkSeconds = t.walkSeconds - before.walkSeconds;
+        s.shadeSeconds = t.shadeSeconds - before.shadeSeconds;
+        s.streams = t.streams - before.streams;
+        s.chunkTraces = t.chunkTraces - before.chunkTraces;
+        s.bytesRead = st.cache->bytesRead() - bytesReadBefore;
+        s.decodes = st.cache->decodes() - decodesBefore;
+        s.decodeSeconds = st.cache->decodeSeconds() - decodeBefore;
+        s.bytesUploaded = st.backend->bytesUploaded() - uploadedBefore;
+        s.uploadSeconds = st.backend->uploadSeconds() - uploadBefore;
+        s.peakDeviceBytes = st.backend->peakDeviceBytes();
+    }
     if (stats) {
-        stats->backend = (*backend)->name();
+        stats->backend = st.backend->name();
         stats->renderSeconds = secondsSince(start);
         stats->buildSeconds = 0;
         stats->rays = integrator.rays();
@@ -340,6 +396,16 @@ Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOpt
         stats->peakHostBytes = peakHostBytes();
     }
     return image;
+}
+
+Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOptions& options,
+                                    const StreamingOptions& streaming, const ChunkBackendFactory& factory,
+                                    RenderStats* stats, StreamingStats* streamingStats,
+                                    const StreamingProgress& progress) {
+    VASTRAY_TRY(validateRenderOptions(options));
+    auto scene = StreamingScene::open(reader, requiredAttributes(reader.info(), options), streaming, factory);
+    if (!scene) return scene.status();
+    return (*scene)->render(options, stats, streamingStats, progress);
 }
 
 }  // namespace vastray

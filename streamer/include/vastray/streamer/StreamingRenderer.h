@@ -103,12 +103,13 @@ using ChunkBackendFactory =
 struct StreamingOptions {
     uint64_t hostCacheBytes = 1ull << 30;  // decoded chunks kept on the host; 0: none kept
     uint32_t maxPathsPerWave = 1u << 21;   // (pixel, sample) paths traced together per wave
+    uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one
 };
 
 // The streaming figures of one render (--stats-json names in comments).
 struct StreamingStats {
     uint64_t chunksTotal = 0;       // chunks_total
-    uint64_t chunksTouched = 0;     // chunks_touched: distinct chunks loaded at least once
+    uint64_t chunksTouched = 0;     // chunks_touched: distinct chunks this render traced rays against
     uint64_t chunkLoads = 0;        // chunk_loads: uploads into a slot
     // Per ray stream (one bounce's closest or shadow rays), summed over streams: distinct chunks
     // the stream traced (stream_chunks_touched), and loads of a chunk the same stream had
@@ -134,7 +135,37 @@ struct StreamingStats {
 // Called from the render thread with (units done, units total).
 using StreamingProgress = std::function<void(uint64_t done, uint64_t total)>;
 
-// Renders a package with the given backend; the image equals, bit for bit, the one any other
+// The attributes a render with these options reads.
+ChunkAttributes requiredAttributes(const PackageInfo& package, const RenderOptions& options);
+
+// A package opened for rendering: its backend (device slots), host chunk cache, decode workers
+// and residency live as long as this object, so that renders after the first reuse the chunks
+// already resident or decoded (a second render of a scene that fits loads nothing).
+// reader must outlive it; renders run one at a time.
+class StreamingScene {
+public:
+    static Result<std::unique_ptr<StreamingScene>> open(const PackageReader& reader, const ChunkAttributes& attributes,
+                                                        const StreamingOptions& options,
+                                                        const ChunkBackendFactory& backend);
+    ~StreamingScene();
+    StreamingScene(const StreamingScene&) = delete;
+    StreamingScene& operator=(const StreamingScene&) = delete;
+
+    // An error when the options need attributes the scene was not opened with. The streaming
+    // figures are this render's alone (loads, bytes, seconds); memoryBudgetBytes is kept.
+    Result<RenderImage> render(const RenderOptions& options, RenderStats* stats = nullptr,
+                               StreamingStats* streamingStats = nullptr, const StreamingProgress& progress = {});
+
+    const ChunkAttributes& attributes() const;
+    ChunkBackend& backend();
+
+private:
+    StreamingScene();
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// Opens the package and renders once; the image equals, bit for bit, the one any other
 // backend or budget gives for the same hits. RenderImage gets the chunkid and cost AOVs when
 // options.aovs asks for them.
 Result<RenderImage> renderStreaming(const PackageReader& package, const RenderOptions& options,
