@@ -1,6 +1,9 @@
 #include "vastray/gpu/VulkanChunkBackend.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <vector>
@@ -27,6 +30,21 @@ constexpr uint64_t kAllocationGranule = 64 * 1024;
 constexpr uint64_t kRayBytes = sizeof(StreamRayGpu) + sizeof(StreamHitGpu);
 // Largest x group count every device supports (maxComputeWorkGroupCount[0] >= 65535).
 constexpr uint64_t kMaxRaysPerDispatch = 65535ull * kTraceWorkgroupSize;
+
+// Copies to or from a mapped buffer in 1 MiB pieces on all cores: one core writing through a
+// write-combined mapping manages a few GB/s, well below what PCIe takes.
+template <typename Copy>
+Status copyInPieces(uint64_t size, Copy&& copy) {
+    constexpr uint64_t kPiece = 1 << 20;
+    const uint64_t pieces = (size + kPiece - 1) / kPiece;
+    if (pieces <= 1) return size == 0 ? Status::ok() : copy(0, size);
+    std::atomic<bool> failed{false};
+    tbb::parallel_for(uint64_t(0), pieces, [&](uint64_t i) {
+        const uint64_t at = i * kPiece;
+        if (!copy(at, std::min(kPiece, size - at))) failed = true;
+    });
+    return failed ? Status::error("copy to or from the device failed") : Status::ok();
+}
 
 uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
 uint64_t batchBytes(uint64_t rays) { return granules(rays * sizeof(StreamRayGpu)) + granules(rays * sizeof(StreamHitGpu)); }
@@ -84,7 +102,9 @@ public:
         uint64_t bytes = 0;
         auto put = [&](uint64_t offset, const void* data, uint64_t size) -> Status {
             bytes += size;
-            return size == 0 ? Status::ok() : b.upload(data, size, offset);
+            return copyInPieces(size, [&](uint64_t at, uint64_t n) {
+                return b.upload(static_cast<const uint8_t*>(data) + at, n, offset + at);
+            });
         };
         VASTRAY_TRY(put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(KdNode)));
         VASTRAY_TRY(put(layout.leafRefs, tree.leafRefs.data(), tree.leafRefs.size() * 4));
@@ -118,7 +138,7 @@ public:
         return Status::ok();
     }
 
-    Status trace(std::span<const Batch> batches, bool anyHit) override {
+    Status trace(std::span<const Batch> batches) override {
         uint64_t total = 0;
         for (const Batch& b : batches) {
             if (b.slot >= slots_.size() || b.rays.size() != b.hits.size())
@@ -130,7 +150,10 @@ public:
                                  std::to_string(plan_.batchRays));
         uint64_t at = 0;
         for (const Batch& b : batches) {
-            VASTRAY_TRY(rays_.upload(b.rays.data(), b.rays.size_bytes(), at * sizeof(StreamRayGpu)));
+            const auto* src = reinterpret_cast<const uint8_t*>(b.rays.data());
+            const uint64_t base = at * sizeof(StreamRayGpu);
+            VASTRAY_TRY(copyInPieces(b.rays.size_bytes(),
+                                     [&](uint64_t o, uint64_t n) { return rays_.upload(src + o, n, base + o); }));
             at += b.rays.size();
         }
         VASTRAY_TRY(device_.submit([&](VkCommandBuffer cmd) {
@@ -142,7 +165,7 @@ public:
                     pc.slotTable = table_.address();
                     pc.rays = rays_.address() + (first + done) * sizeof(StreamRayGpu);
                     pc.hits = hits_.address() + (first + done) * sizeof(StreamHitGpu);
-                    pc.slot = b.slot, pc.rayCount = uint32_t(count), pc.anyHit = anyHit ? 1u : 0u;
+                    pc.slot = b.slot, pc.rayCount = uint32_t(count), pc.anyHit = b.anyHit ? 1u : 0u;
                     pipeline_->record(cmd, &pc, uint32_t((count + kTraceWorkgroupSize - 1) / kTraceWorkgroupSize));
                 }
                 first += b.rays.size();
@@ -150,7 +173,10 @@ public:
         }));
         at = 0;
         for (const Batch& b : batches) {
-            VASTRAY_TRY(hits_.download(b.hits.data(), b.hits.size_bytes(), at * sizeof(StreamHitGpu)));
+            auto* dst = reinterpret_cast<uint8_t*>(b.hits.data());
+            const uint64_t base = at * sizeof(StreamHitGpu);
+            VASTRAY_TRY(copyInPieces(b.hits.size_bytes(),
+                                     [&](uint64_t o, uint64_t n) { return hits_.download(dst + o, n, base + o); }));
             at += b.rays.size();
         }
         return Status::ok();

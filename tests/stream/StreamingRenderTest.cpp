@@ -133,7 +133,9 @@ void expectIdentical(const RenderImage& a, const RenderImage& b, bool compareCos
     EXPECT_TRUE(sameBits(a.albedo, b.albedo)) << "albedo differs";
     EXPECT_TRUE(sameBits(a.primId, b.primId)) << "primid differs";
     EXPECT_TRUE(sameBits(a.chunkId, b.chunkId)) << "chunkid differs";
-    if (compareCost) EXPECT_TRUE(sameBits(a.cost, b.cost)) << "cost differs";
+    if (compareCost) {
+        EXPECT_TRUE(sameBits(a.cost, b.cost)) << "cost differs";
+    }
 }
 
 double primIdAgreement(const RenderImage& a, const RenderImage& b) {

@@ -40,13 +40,13 @@ public:
         return Status::ok();
     }
 
-    Status trace(std::span<const Batch> batches, bool anyHit) override {
+    Status trace(std::span<const Batch> batches) override {
         for (const Batch& b : batches) {
             if (b.slot >= slots_.size() || b.rays.size() != b.hits.size())
                 return Status::error("trace: bad batch for slot " + std::to_string(b.slot));
             const Slot& s = slots_[b.slot];
             tbb::parallel_for(tbb::blocked_range<size_t>(0, b.rays.size(), 256), [&](const auto& range) {
-                for (size_t i = range.begin(); i != range.end(); ++i) b.hits[i] = traceOne(s, b.rays[i], anyHit);
+                for (size_t i = range.begin(); i != range.end(); ++i) b.hits[i] = traceOne(s, b.rays[i], b.anyHit);
             });
         }
         return Status::ok();

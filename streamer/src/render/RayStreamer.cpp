@@ -74,9 +74,10 @@ void RayStreamer::walkCells(std::span<const StreamRay> rays) {
     });
 }
 
-bool RayStreamer::prunable(const CellVisit& cell, const StreamResult& best, bool anyHit) const {
+bool RayStreamer::prunable(const CellVisit& cell, uint32_t ray, const std::vector<StreamResult>& results) const {
     // Done, or the cell lies wholly beyond the hit.
-    return (best.hit.flags & kStreamHitFound) && (anyHit || best.hit.t < cell.t0);
+    const StreamResult& best = results[ray];
+    return (best.hit.flags & kStreamHitFound) && (isAnyHit(ray) || best.hit.t < cell.t0);
 }
 
 void RayStreamer::finishCell(uint32_t ray, uint32_t index) {
@@ -88,12 +89,12 @@ void RayStreamer::finishCell(uint32_t ray, uint32_t index) {
 
 // Moves the ray's cursor past finished (and now prunable) cells, keeps ready_ in step and, in
 // order, queues the ray at its next cell. A ray whose cells are all done is finished.
-void RayStreamer::moveCursor(uint32_t ray, bool anyHit, const std::vector<StreamResult>& results) {
+void RayStreamer::moveCursor(uint32_t ray, const std::vector<StreamResult>& results) {
     RayState& s = states_[ray];
     if (s.readyChunk != kEmptyCell) --ready_[s.readyChunk], s.readyChunk = kEmptyCell;
     for (; s.cursor < s.end; ++s.cursor) {
         CellVisit& cell = cellAt(ray, s.cursor);
-        if (!cell.done && prunable(cell, results[ray], anyHit)) finishCell(ray, s.cursor);
+        if (!cell.done && prunable(cell, ray, results)) finishCell(ray, s.cursor);
         if (!cell.done) break;
     }
     if (s.cursor == s.end) return;
@@ -162,7 +163,7 @@ Status RayStreamer::loadChunks() {
 
 // One backend call over the queues of resident chunks (up to maxBatchRays cells), then every
 // traced cell merges its hit into its ray's result and the ray moves on.
-Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results) {
+Status RayStreamer::traceResident(std::span<const StreamRay> rays, std::vector<StreamResult>& results) {
     const uint32_t capacity = backend_.maxBatchRays();
     batchRays_.resize(capacity), batchHits_.resize(capacity), batchOwners_.resize(capacity);
     std::vector<ChunkBackend::Batch> batches;
@@ -172,34 +173,44 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
         const uint32_t chunk = slotChunk_[slot];
         if (chunk == kEmptyCell || waiting_[chunk].empty()) continue;
         std::vector<Pending>& queue = waiting_[chunk];
-        const uint32_t first = used;
-        while (!queue.empty() && used < capacity) {
+        taken_.clear();
+        while (!queue.empty() && used + taken_.size() < capacity) {
             const Pending p = queue.back();
             queue.pop_back();
             --waitingTotal_;
             CellVisit& cell = cellAt(p.ray, p.cell);
             if (cell.done) continue;
-            if (prunable(cell, results[p.ray], anyHit)) {
+            if (prunable(cell, p.ray, results)) {
                 finishCell(p.ray, p.cell);
-                if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, anyHit, results);
+                if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, results);
                 continue;
             }
-            const StreamRay& r = rays[p.ray];
-            const StreamResult& best = results[p.ray];
-            StreamRay clipped = r;
-            clipped.tMin = std::max(r.tMin, cell.t0);
-            clipped.tMax = std::min((best.hit.flags & kStreamHitFound) ? best.hit.t : r.tMax, cell.t1);
-            batchRays_[used] = clipped;
-            batchOwners_[used] = p;
-            ++used;
+            taken_.push_back(p);
         }
         slotLastUse_[slot] = ++tick_;
-        if (used == first) continue;
+        if (taken_.empty()) continue;
         if (!usedThisStream_[chunk]) usedThisStream_[chunk] = 1, ++stats_.streamChunksTouched;
         if (!touched_[chunk]) touched_[chunk] = 1, ++touchedThisRender_;
-        batches.push_back({slot, std::span<const StreamRay>(batchRays_.data() + first, used - first),
-                           std::span<StreamHit>(batchHits_.data() + first, used - first)});
-        batchChunks.push_back(chunk);
+        // One batch of closest-hit rays and one of shadow rays per chunk.
+        for (const bool anyHit : {false, true}) {
+            const uint32_t first = used;
+            for (const Pending& p : taken_) {
+                if (isAnyHit(p.ray) != anyHit) continue;
+                const CellVisit& cell = cellAt(p.ray, p.cell);
+                const StreamRay& r = rays[p.ray];
+                const StreamResult& best = results[p.ray];
+                StreamRay clipped = r;
+                clipped.tMin = std::max(r.tMin, cell.t0);
+                clipped.tMax = std::min((best.hit.flags & kStreamHitFound) ? best.hit.t : r.tMax, cell.t1);
+                batchRays_[used] = clipped;
+                batchOwners_[used] = p;
+                ++used;
+            }
+            if (used == first) continue;
+            batches.push_back({slot, std::span<const StreamRay>(batchRays_.data() + first, used - first),
+                               std::span<StreamHit>(batchHits_.data() + first, used - first), anyHit});
+            batchChunks.push_back(chunk);
+        }
     }
     if (batches.empty()) return Status::ok();
 
@@ -211,7 +222,7 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
     for (size_t i = 0; i < next.size() && i < slotChunk_.size(); ++i) cache_.prefetch(next[i]);
 
     const Clock::time_point start = Clock::now();
-    VASTRAY_TRY(backend_.trace(batches, anyHit));
+    VASTRAY_TRY(backend_.trace(batches));
     stats_.traceSeconds += secondsSince(start);
     stats_.chunkTraces += used;
 
@@ -224,13 +235,14 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, bool anyHit, 
             StreamResult& best = results[p.ray];
             ++best.cellsTraced;
             best.trianglesTested += h.trianglesTested;
-            if (replaces(h, p.cell, best)) {
+            if (batches[b].anyHit ? (h.flags & kStreamHitFound) && !(best.hit.flags & kStreamHitFound)
+                                  : replaces(h, p.cell, best)) {
                 best.hit = h;
                 best.chunk = batchChunks[b];
                 best.cell = p.cell;
             }
             finishCell(p.ray, p.cell);
-            if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, anyHit, results);
+            if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, results);
         }
     }
     stats_.walkSeconds += secondsSince(merge);
@@ -242,7 +254,10 @@ void RayStreamer::beginRender() {
     touchedThisRender_ = 0;
 }
 
-Status RayStreamer::trace(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results) {
+Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
+                          std::vector<StreamResult>& results) {
+    if (!anyHit.empty() && anyHit.size() != rays.size()) return Status::error("trace: one any-hit flag per ray");
+    anyHit_ = anyHit;
     ++stats_.streams;
     results.assign(rays.size(), StreamResult{});
     const Clock::time_point start = Clock::now();
@@ -261,7 +276,7 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, bool anyHit, std::vec
         if (!inOrder_)
             for (uint32_t c = states_[i].begin; c < states_[i].end; ++c)
                 waiting_[cellAt(i, c).chunk].push_back({i, c}), ++waitingTotal_;
-        moveCursor(i, anyHit, results);
+        moveCursor(i, results);
     }
     stats_.walkSeconds += secondsSince(start);
 
@@ -270,7 +285,7 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, bool anyHit, std::vec
         for (uint32_t chunk : slotChunk_)
             if (chunk != kEmptyCell && !waiting_[chunk].empty()) residentWaiting = true;
         if (!residentWaiting) VASTRAY_TRY(loadChunks());
-        VASTRAY_TRY(traceResident(rays, anyHit, results));
+        VASTRAY_TRY(traceResident(rays, results));
     }
     return Status::ok();
 }

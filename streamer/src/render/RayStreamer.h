@@ -29,8 +29,9 @@ public:
     void beginRender();
     uint64_t chunksTouchedThisRender() const { return touchedThisRender_; }
 
-    // Every ray's [tMin, tMax] is its whole range; results[i] belongs to rays[i].
-    Status trace(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results);
+    // Every ray's [tMin, tMax] is its whole range; results[i] belongs to rays[i]. anyHit: one
+    // flag per ray (nonzero: a shadow ray, any hit ends it), or empty for all closest-hit.
+    Status trace(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit, std::vector<StreamResult>& results);
 
 private:
     struct CellVisit {
@@ -50,12 +51,12 @@ private:
 
     void walkCells(std::span<const StreamRay> rays);
     CellVisit& cellAt(uint32_t ray, uint32_t index) { return arenas_[ray / kBlockRays][index]; }
-    bool prunable(const CellVisit& cell, const StreamResult& best, bool anyHit) const;
+    bool prunable(const CellVisit& cell, uint32_t ray, const std::vector<StreamResult>& results) const;
     void finishCell(uint32_t ray, uint32_t cell);
-    void moveCursor(uint32_t ray, bool anyHit, const std::vector<StreamResult>& results);
+    void moveCursor(uint32_t ray, const std::vector<StreamResult>& results);
     Status loadChunks();
     void sortByUrgency(std::vector<uint32_t>& chunks) const;
-    Status traceResident(std::span<const StreamRay> rays, bool anyHit, std::vector<StreamResult>& results);
+    Status traceResident(std::span<const StreamRay> rays, std::vector<StreamResult>& results);
     std::vector<uint8_t> singleSidedOf(const DecodedChunk& chunk) const;
 
     static constexpr uint32_t kBlockRays = 4096;
@@ -91,6 +92,9 @@ private:
     std::vector<StreamRay> batchRays_;
     std::vector<StreamHit> batchHits_;
     std::vector<Pending> batchOwners_;
+    std::vector<Pending> taken_;
+    std::span<const uint8_t> anyHit_;  // of the stream being traced
+    bool isAnyHit(uint32_t ray) const { return !anyHit_.empty() && anyHit_[ray] != 0; }
 };
 
 }  // namespace vastray

@@ -41,13 +41,13 @@ struct PathState {
     Vec3f throughput{1, 1, 1};
     Vec3f radiance;
     Vec3f pendingSun;  // the sun's contribution, added if the shadow ray reaches the sun
-    Ray ray;   // the ray traced this bounce, then the shadow ray
-    Ray next;  // the scattered ray, when the path goes on
+    Ray ray;     // the ray to trace at the next bounce
+    Ray shadow;  // towards the sun (path) or the sampled direction (ao), when shadowPending
+    float shadowRange = 0;
     uint32_t pixel = 0, sample = 0;
     bool alive = true;
     bool cameraRayHit = false;
     bool shadowPending = false;
-    bool continues = false;  // a next bounce was sampled
 };
 
 class Integrator {
@@ -71,7 +71,8 @@ public:
             const Ray ray = camera_.primary(uint32_t(pixel % image_.width), uint32_t(pixel / image_.width), 0.5f, 0.5f);
             rays_buffer_[i] = StreamRay{ray.origin, 0.0f, ray.direction, kInfinity};
         }
-        VASTRAY_TRY(trace(false));
+        anyHit_.clear();
+        VASTRAY_TRY(trace());
         const Clock::time_point start = Clock::now();
         parallelFor(count, [&](size_t i) {
             const uint64_t pixel = first + i;
@@ -107,25 +108,50 @@ public:
                                     randomFloat(key, kDimPixelY, options_.seed));
         });
         const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
+        // One ray stream per bounce: the closest-hit rays of bounce k together with the shadow
+        // rays of bounce k - 1 (a path's next direction does not depend on its shadow ray), so
+        // out of core each bounce pages the scene through once, not twice. Shadow results are
+        // applied before bounce k is shaded: the reference's order of additions.
+        shadowOwners_.clear();
         for (uint32_t bounce = 0;; ++bounce) {
             active_.clear();
             for (uint32_t i = 0; i < count; ++i)
                 if (paths_[i].alive) active_.push_back(i);
-            if (active_.empty()) break;
-            rays_buffer_.resize(active_.size());
-            for (size_t k = 0; k < active_.size(); ++k) {
+            if (active_.empty() && shadowOwners_.empty()) break;
+            const size_t closest = active_.size();
+            rays_buffer_.resize(closest + shadowOwners_.size());
+            anyHit_.assign(rays_buffer_.size(), 0);
+            for (size_t k = 0; k < closest; ++k) {
                 const Ray& r = paths_[active_[k]].ray;
                 rays_buffer_[k] = StreamRay{r.origin, 0.0f, r.direction, kInfinity};
             }
-            VASTRAY_TRY(trace(false));
-            countCost([&](size_t k) { return paths_[active_[k]].pixel; });
+            for (size_t k = 0; k < shadowOwners_.size(); ++k) {
+                const PathState& p = paths_[shadowOwners_[k]];
+                rays_buffer_[closest + k] = StreamRay{p.shadow.origin, 0.0f, p.shadow.direction, p.shadowRange};
+                anyHit_[closest + k] = 1;
+            }
+            VASTRAY_TRY(trace());
+            countCost([&](size_t k) {
+                return k < closest ? paths_[active_[k]].pixel : paths_[shadowOwners_[k - closest]].pixel;
+            });
             const Clock::time_point start = Clock::now();
-            parallelFor(active_.size(), [&](size_t k) {
+            for (size_t k = 0; k < shadowOwners_.size(); ++k) {
+                PathState& p = paths_[shadowOwners_[k]];
+                const bool blocked = results_[closest + k].hit.flags & kStreamHitFound;
+                if (ao)
+                    p.radiance = blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+                else if (!blocked)  // the reference adds a zero vector when blocked: no change
+                    p.radiance = p.radiance + p.pendingSun;
+                p.shadowPending = false;
+            }
+            parallelFor(closest, [&](size_t k) {
                 ao ? shadeAmbientOcclusion(paths_[active_[k]], results_[k])
                    : shadePath(paths_[active_[k]], results_[k], bounce);
             });
+            shadowOwners_.clear();
+            for (uint32_t i : active_)
+                if (paths_[i].shadowPending) shadowOwners_.push_back(i);
             stats_.shadeSeconds += secondsSince(start);
-            VASTRAY_TRY(traceShadows(ao));
             bounceDone();
         }
         for (const PathState& p : paths_) {
@@ -152,9 +178,10 @@ public:
     }
 
 private:
-    Status trace(bool anyHit) {
+    // Traces rays_buffer_ (anyHit_: per ray, or empty for all closest) into results_.
+    Status trace() {
         rays_ += rays_buffer_.size();
-        return streamer_.trace(rays_buffer_, anyHit, results_);
+        return streamer_.trace(rays_buffer_, anyHit_, results_);
     }
 
     template <typename PixelOf>
@@ -168,7 +195,7 @@ private:
 
     // One step of tracePath (cpu/src/Integrators.cpp) after its closest hit.
     void shadePath(PathState& p, const StreamResult& r, uint32_t bounce) {
-        p.alive = false, p.shadowPending = false, p.continues = false;
+        p.alive = false, p.shadowPending = false;
         if (!(r.hit.flags & kStreamHitFound)) {
             p.radiance = p.radiance + mul(p.throughput, skyRadiance(options_.environment, p.ray.direction));
             return;
@@ -184,17 +211,18 @@ private:
         if (unshadowedSunLight(options_.environment, sunDirection_, point, &light)) {
             p.shadowPending = true;
             p.pendingSun = mul(p.throughput, light);
-            p.ray = {origin, sunDirection_};  // the shadow ray; replaced below when the path goes on
+            p.shadow = {origin, sunDirection_};
+            p.shadowRange = kInfinity;
         }
         Vec3f throughput = mul(p.throughput, baseColor(*point.material));
         if (!surviveRoulette(throughput, bounce, key, options_.seed)) return;
         p.throughput = throughput;
-        p.continues = true;
-        p.next = {origin, cosineDirection(point.normal, key, options_.seed)};
+        p.alive = true;
+        p.ray = {origin, cosineDirection(point.normal, key, options_.seed)};
     }
 
     void shadeAmbientOcclusion(PathState& p, const StreamResult& r) {
-        p.alive = false, p.continues = false, p.shadowPending = false;
+        p.alive = false, p.shadowPending = false;
         if (!(r.hit.flags & kStreamHitFound)) {
             p.radiance = {1, 1, 1};
             return;
@@ -204,38 +232,8 @@ private:
         const SurfacePoint point =
             makeSurfacePoint(r.hit.position, r.hit.normal, p.ray.direction, materialAt(materials_, r.hit.material));
         p.shadowPending = true;
-        p.ray = {offsetRayOrigin(point.position, point.normal), cosineDirection(point.normal, key, options_.seed)};
-    }
-
-    // Shadow rays of the paths shaded last; then the survivors take their next rays.
-    Status traceShadows(bool ao) {
-        shadowOwners_.clear();
-        for (uint32_t i : active_)
-            if (paths_[i].shadowPending) shadowOwners_.push_back(i);
-        if (!shadowOwners_.empty()) {
-            const float range = ao && options_.aoDistance > 0.0f ? options_.aoDistance : kInfinity;
-            rays_buffer_.resize(shadowOwners_.size());
-            for (size_t k = 0; k < shadowOwners_.size(); ++k) {
-                const Ray& r = paths_[shadowOwners_[k]].ray;
-                rays_buffer_[k] = StreamRay{r.origin, 0.0f, r.direction, range};
-            }
-            VASTRAY_TRY(trace(true));
-            countCost([&](size_t k) { return paths_[shadowOwners_[k]].pixel; });
-            for (size_t k = 0; k < shadowOwners_.size(); ++k) {
-                PathState& p = paths_[shadowOwners_[k]];
-                const bool blocked = results_[k].hit.flags & kStreamHitFound;
-                if (ao)
-                    p.radiance = blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
-                else if (!blocked)  // the reference adds a zero vector when blocked: no change
-                    p.radiance = p.radiance + p.pendingSun;
-                p.shadowPending = false;
-            }
-        }
-        for (uint32_t i : active_) {
-            PathState& p = paths_[i];
-            if (p.continues) p.ray = p.next, p.alive = true;
-        }
-        return Status::ok();
+        p.shadow = {offsetRayOrigin(point.position, point.normal), cosineDirection(point.normal, key, options_.seed)};
+        p.shadowRange = options_.aoDistance > 0.0f ? options_.aoDistance : kInfinity;
     }
 
     const PackageInfo& info_;
@@ -250,6 +248,7 @@ private:
     std::vector<PathState> paths_;
     std::vector<uint32_t> active_, shadowOwners_;
     std::vector<StreamRay> rays_buffer_;
+    std::vector<uint8_t> anyHit_;
     std::vector<StreamResult> results_;
     std::vector<double> sum_;
     std::vector<uint32_t> hits_;

@@ -87,9 +87,10 @@ public:
         uint32_t slot;
         std::span<const StreamRay> rays;
         std::span<StreamHit> hits;  // hits[i] belongs to rays[i]
+        bool anyHit = false;        // shadow rays: any hit, stop at the first
     };
-    // Closest hit (anyHit false) or any hit of every ray against its batch's resident chunk.
-    virtual Status trace(std::span<const Batch> batches, bool anyHit) = 0;
+    // Closest hit (or any hit) of every ray against its batch's resident chunk.
+    virtual Status trace(std::span<const Batch> batches) = 0;
 
     virtual uint64_t bytesUploaded() const = 0;
     virtual uint64_t peakDeviceBytes() const = 0;
