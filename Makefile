@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build test demo bench-import clean format
+.PHONY: all deps configure build test demo bench-import bench-accuracy clean format
 
 all: build
 
@@ -26,6 +26,10 @@ demo: build
 
 bench-import: build
 	bash bench/import_throughput.sh $(BUILD_DIR)
+
+# Time against error of the streaming renderer (docs/ACCURACY.md); knobs in bench/accuracy/run.sh.
+bench-accuracy: build
+	bash bench/accuracy/run.sh $(BUILD_DIR)
 
 format:
 	find core streamer cli tests bench -name '*.cpp' -o -name '*.h' | xargs clang-format -i

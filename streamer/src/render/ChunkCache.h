@@ -33,6 +33,7 @@ public:
     // A corrupt chunk is an error naming the package and the chunk.
     Result<ChunkHandle> get(uint32_t id);
 
+    uint64_t capacity() const { return capacity_; }
     uint64_t bytesRead() const;
     uint64_t decodes() const;
     double decodeSeconds() const;

@@ -214,12 +214,18 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, std::vector<S
     }
     if (batches.empty()) return Status::ok();
 
-    // While the device traces, decode what the next loads will want.
+    // While the device traces, decode what the next loads will want, most urgent first, as far
+    // as the host cache holds (at least the next slots' worth).
     std::vector<uint32_t> next;
     for (uint32_t c = 0; c < waiting_.size(); ++c)
         if (!waiting_[c].empty() && chunkSlot_[c] == kEmptyCell) next.push_back(c);
     sortByUrgency(next);
-    for (size_t i = 0; i < next.size() && i < slotChunk_.size(); ++i) cache_.prefetch(next[i]);
+    uint64_t prefetched = 0;
+    for (size_t i = 0; i < next.size(); ++i) {
+        prefetched += package_.chunks[next[i]].residentBytes;
+        if (i >= slotChunk_.size() && prefetched > cache_.capacity()) break;
+        cache_.prefetch(next[i]);
+    }
 
     const Clock::time_point start = Clock::now();
     VASTRAY_TRY(backend_.trace(batches));
