@@ -1,0 +1,116 @@
+// `vastray render --backend vulkan` as a user drives it: flags, stats, AOV channels, errors.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "CommandRunner.h"
+#include "TestTmp.h"
+
+namespace vastray {
+namespace {
+
+using test::CommandResult;
+
+std::string tmp(const std::string& name) {
+    const std::filesystem::path dir = test::testTmpDir("stream-cli");
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+CommandResult run(const std::string& args) { return test::runVastray(args); }
+
+// A small terrain package with many chunks, made once per binary through the CLI itself.
+const std::string& terrainPackage() {
+    static const std::string path = [] {
+        const std::string ply = tmp("terrain.ply"), vast = tmp("terrain.vast");
+        EXPECT_EQ(run("generate terrain --triangles 20000 -o " + ply).exitCode, 0);
+        EXPECT_EQ(run("import " + ply + " -o " + vast + " --chunk-size 64KiB --progress none").exitCode, 0);
+        return vast;
+    }();
+    return path;
+}
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+double jsonNumber(const std::string& json, const std::string& key) {
+    const size_t at = json.find("\"" + key + "\":");
+    if (at == std::string::npos) return -1;
+    return std::stod(json.substr(at + key.size() + 3));
+}
+
+TEST(StreamingCli, DefaultBackendIsVulkanAndReportsTheStreamingFigures) {
+    const std::string out = tmp("v.png"), stats = tmp("v.json");
+    CommandResult r = run("render " + terrainPackage() + " -o " + out +
+                          " --resolution 32x24 --spp 1 --memory-budget 512KiB --stats --stats-json " + stats +
+                          " --progress none");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("vulkan backend"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("chunk slots"), std::string::npos) << r.output;
+    const std::string json = readFile(stats);
+    EXPECT_NE(json.find("\"backend\": \"vulkan\""), std::string::npos) << json;
+    for (const char* key : {"chunks_total", "chunks_touched", "chunk_loads", "bytes_read", "bytes_uploaded",
+                            "decode_seconds", "upload_seconds", "trace_seconds", "peak_device_bytes",
+                            "memory_budget_bytes"})
+        EXPECT_GT(jsonNumber(json, key), 0.0) << key << "\n" << json;
+    EXPECT_EQ(jsonNumber(json, "memory_budget_bytes"), 512.0 * 1024);
+    EXPECT_LE(jsonNumber(json, "peak_device_bytes"), jsonNumber(json, "memory_budget_bytes"));
+    EXPECT_LE(jsonNumber(json, "chunks_touched"), jsonNumber(json, "chunks_total"));
+}
+
+TEST(StreamingCli, ChunkIdAndCostBecomeExrChannels) {
+    const std::string a = tmp("aov.exr"), b = tmp("plain.exr");
+    const std::string view = " --resolution 32x24 --spp 1 --progress none";
+    ASSERT_EQ(run("render " + terrainPackage() + " -o " + a + view + " --aovs primid,chunkid,cost").exitCode, 0);
+    ASSERT_EQ(run("render " + terrainPackage() + " -o " + b + view + " --aovs primid").exitCode, 0);
+    CommandResult d = run("diff " + a + " " + b);
+    EXPECT_EQ(d.exitCode, 1) << d.output;
+    for (const char* channel : {"chunkid", "cost.cells", "cost.triangles"})
+        EXPECT_NE(d.output.find(channel), std::string::npos) << channel << "\n" << d.output;
+}
+
+TEST(StreamingCli, StreamedPrimIdsMatchTheReference) {
+    const std::string a = tmp("streamed.exr"), b = tmp("reference.exr");
+    const std::string view = " --resolution 48x40 --spp 1 --max-depth 1 --aovs primid,depth --progress none";
+    ASSERT_EQ(run("render " + terrainPackage() + " -o " + a + view + " --memory-budget 512KiB").exitCode, 0);
+    ASSERT_EQ(run("render " + terrainPackage() + " -o " + b + view + " --backend embree").exitCode, 0);
+    CommandResult d = run("diff " + a + " " + b + " --json");
+    ASSERT_EQ(d.exitCode, 0) << d.output;
+    EXPECT_GE(jsonNumber(d.output, "primid_agreement"), 0.9999) << d.output;
+}
+
+TEST(StreamingCli, MeshFileIsImportedToATemporaryPackage) {
+    const std::string ply = tmp("sphere.ply"), out = tmp("sphere.png");
+    ASSERT_EQ(run("generate sphere --triangles 5000 -o " + ply).exitCode, 0);
+    CommandResult r = run("render " + ply + " -o " + out + " --resolution 24x24 --spp 1 --progress none");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(std::filesystem::exists(out));
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
+        EXPECT_EQ(entry.path().filename().string().rfind("vastray-render-", 0), std::string::npos)
+            << "temporary package left behind: " << entry.path();
+}
+
+TEST(StreamingCli, ErrorsNameTheProblem) {
+    const std::string out = tmp("never.png");
+    std::filesystem::remove(out);
+    CommandResult small = run("render " + terrainPackage() + " -o " + out + " --memory-budget 64KiB");
+    EXPECT_EQ(small.exitCode, 1) << small.output;
+    EXPECT_NE(small.output.find("below this scene's minimum of"), std::string::npos) << small.output;
+    CommandResult device = run("render " + terrainPackage() + " -o " + out + " --gpu-device 99");
+    EXPECT_EQ(device.exitCode, 1) << device.output;
+    EXPECT_NE(device.output.find("device 99"), std::string::npos) << device.output;
+    CommandResult budget = run("render " + terrainPackage() + " -o " + out + " --memory-budget lots");
+    EXPECT_EQ(budget.exitCode, 2) << budget.output;
+    EXPECT_NE(budget.output.find("--memory-budget"), std::string::npos) << budget.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace vastray
