@@ -130,11 +130,28 @@ void RayStreamer::sortByUrgency(std::vector<uint32_t>& chunks) const {
 // Nothing resident has cells queued: load the most urgent chunks into free slots, then into the
 // slots whose chunks have the fewest outstanding cells (least recently used among ties).
 Status RayStreamer::loadChunks() {
-    std::vector<uint32_t> wanted;
+    std::vector<uint32_t> candidates, wanted;
     for (uint32_t c = 0; c < waiting_.size(); ++c)
-        if (!waiting_[c].empty() && chunkSlot_[c] == kEmptyCell) wanted.push_back(c);
-    sortByUrgency(wanted);
-    if (wanted.size() > slotChunk_.size()) wanted.resize(slotChunk_.size());
+        if (!waiting_[c].empty() && chunkSlot_[c] == kEmptyCell) candidates.push_back(c);
+    sortByUrgency(candidates);
+    // A chunk whose queued cells have all been pruned since (nearer hits found elsewhere) is
+    // not worth a load: drop those cells first.
+    for (uint32_t c : candidates) {
+        if (wanted.size() == slotChunk_.size()) break;
+        std::vector<Pending>& queue = waiting_[c];
+        const size_t before = queue.size();
+        std::erase_if(queue, [&](const Pending& p) {
+            CellVisit& cell = cellAt(p.ray, p.cell);
+            if (cell.done) return true;
+            if (!prunable(cell, p.ray, *results_)) return false;
+            finishCell(p.ray, p.cell);
+            if (p.cell == states_[p.ray].cursor) moveCursor(p.ray, *results_);
+            return true;
+        });
+        waitingTotal_ -= before - queue.size();
+        if (!queue.empty()) wanted.push_back(c);
+    }
+    if (wanted.empty()) return Status::ok();
     for (uint32_t c : wanted) cache_.prefetch(c);  // decode them in parallel
 
     std::vector<uint32_t> slots(slotChunk_.size());
@@ -264,6 +281,7 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8
                           std::vector<StreamResult>& results) {
     if (!anyHit.empty() && anyHit.size() != rays.size()) return Status::error("trace: one any-hit flag per ray");
     anyHit_ = anyHit;
+    results_ = &results;
     ++stats_.streams;
     results.assign(rays.size(), StreamResult{});
     const Clock::time_point start = Clock::now();

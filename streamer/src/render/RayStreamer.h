@@ -94,6 +94,7 @@ private:
     std::vector<Pending> batchOwners_;
     std::vector<Pending> taken_;
     std::span<const uint8_t> anyHit_;  // of the stream being traced
+    std::vector<StreamResult>* results_ = nullptr;  // of the stream being traced
     bool isAnyHit(uint32_t ray) const { return !anyHit_.empty() && anyHit_[ray] != 0; }
 };
 
