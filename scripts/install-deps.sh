@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcpp-httplib-dev libcli11-dev
   libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev
   assimp-testmodels python3 python3-matplotlib time
+  curl openssl
 )
 
 missing=()

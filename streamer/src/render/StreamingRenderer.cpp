@@ -53,8 +53,9 @@ struct PathState {
 class Integrator {
 public:
     Integrator(const PackageInfo& info, const RenderOptions& options, const CameraRays& camera, RayStreamer& streamer,
-               StreamingStats& stats, RenderImage& image)
-        : info_(info), options_(options), camera_(camera), streamer_(streamer), stats_(stats), image_(image) {
+               StreamingStats& stats, RenderImage& image, const std::atomic<bool>* cancel)
+        : info_(info), options_(options), camera_(camera), streamer_(streamer), stats_(stats), image_(image),
+          cancel_(cancel) {
         materials_ = info.materials;
         if (materials_.empty()) materials_.push_back(Material{"default"});
         sunDirection_ = normalize(options.environment.sunDirection);
@@ -180,6 +181,7 @@ public:
 private:
     // Traces rays_buffer_ (anyHit_: per ray, or empty for all closest) into results_.
     Status trace() {
+        if (cancel_ && cancel_->load()) return Status::error("render cancelled");
         rays_ += rays_buffer_.size();
         return streamer_.trace(rays_buffer_, anyHit_, results_);
     }
@@ -242,6 +244,7 @@ private:
     RayStreamer& streamer_;
     StreamingStats& stats_;
     RenderImage& image_;
+    const std::atomic<bool>* cancel_;
     std::vector<Material> materials_;
     Vec3f sunDirection_;
     uint64_t rays_ = 0;
@@ -306,7 +309,8 @@ const ChunkAttributes& StreamingScene::attributes() const { return state_->attri
 ChunkBackend& StreamingScene::backend() { return *state_->backend; }
 
 Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderStats* stats,
-                                           StreamingStats* streamingStats, const StreamingProgress& progress) {
+                                           StreamingStats* streamingStats, const StreamingProgress& progress,
+                                           const std::atomic<bool>* cancel) {
     VASTRAY_TRY(validateRenderOptions(options));
     State& st = *state_;
     const PackageInfo& info = st.reader.info();
@@ -332,7 +336,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     RenderImage image;
     image.allocate(options.width, options.height, options.aovs);
     const CameraRays cameraRays(camera, options.width, options.height);
-    Integrator integrator(info, options, cameraRays, *st.streamer, st.totals, image);
+    Integrator integrator(info, options, cameraRays, *st.streamer, st.totals, image, cancel);
     integrator.begin();
 
     const Clock::time_point start = Clock::now();

@@ -4,6 +4,7 @@
 // once (integrator, top-level walk, ray queues, scheduler, host cache, decode workers); a
 // backend only uploads chunks into slots and traces batches of rays against resident chunks
 // (ChunkBackend). docs/RENDERING.md describes the algorithm.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -154,8 +155,11 @@ public:
 
     // An error when the options need attributes the scene was not opened with. The streaming
     // figures are this render's alone (loads, bytes, seconds); memoryBudgetBytes is kept.
+    // cancel, when given and set, stops the render between ray streams with an error
+    // "render cancelled" (the scene stays usable).
     Result<RenderImage> render(const RenderOptions& options, RenderStats* stats = nullptr,
-                               StreamingStats* streamingStats = nullptr, const StreamingProgress& progress = {});
+                               StreamingStats* streamingStats = nullptr, const StreamingProgress& progress = {},
+                               const std::atomic<bool>* cancel = nullptr);
 
     const ChunkAttributes& attributes() const;
     ChunkBackend& backend();

@@ -1,0 +1,172 @@
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "Commands.h"
+#include "vastray/core/ByteSize.h"
+#include "vastray/server/FrontEnds.h"
+#include "vastray/server/Service.h"
+
+namespace vastray::cli {
+namespace {
+
+struct ServeArgs {
+    std::string grpc = "127.0.0.1:50051", http = "127.0.0.1:8080", dataDir;
+    std::string memoryBudget = "4GiB", hostCache = "2GiB", maxUpload = "16GiB";
+    std::string authTokenFile, tlsCert, tlsKey, backend = "vulkan";
+    int64_t gpuDevice = -1;
+    uint32_t maxQueue = 1000;
+    double shutdownGrace = 30;
+    bool paused = false;
+};
+
+Result<uint64_t> sizeFlag(const char* flag, const std::string& text) {
+    auto bytes = parseByteSize(text);
+    if (!bytes) return Status::error(std::string(flag) + ": " + bytes.message());
+    return *bytes;
+}
+
+Result<std::string> readToken(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return Status::error("--auth-token-file " + path + ": cannot read");
+    std::string token((std::istreambuf_iterator<char>(in)), {});
+    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    if (token.empty()) return Status::error("--auth-token-file " + path + ": the file is empty");
+    if (token.find_first_of(" \t\r\n") != std::string::npos)
+        return Status::error("--auth-token-file " + path + ": the token must be one line without spaces");
+    return token;
+}
+
+Result<server::ServiceOptions> serviceOptions(const ServeArgs& args) {
+    server::ServiceOptions options;
+    options.dataDir = args.dataDir;
+    auto budget = sizeFlag("--memory-budget", args.memoryBudget);
+    if (!budget) return budget.status();
+    auto cache = sizeFlag("--host-cache", args.hostCache);
+    if (!cache) return cache.status();
+    auto upload = sizeFlag("--max-upload", args.maxUpload);
+    if (!upload) return upload.status();
+    if (*budget == 0) return Status::error("--memory-budget must be more than 0");
+    if (args.maxQueue == 0) return Status::error("--max-queue must be at least 1");
+    if (!(args.shutdownGrace >= 0)) return Status::error("--shutdown-grace must be >= 0 seconds");
+    options.memoryBudgetBytes = *budget;
+    options.hostCacheBytes = *cache;
+    options.maxUploadBytes = *upload;
+    options.maxQueue = args.maxQueue;
+    options.paused = args.paused;
+    return options;
+}
+
+Result<server::FrontEndOptions> frontEndOptions(const ServeArgs& args) {
+    server::FrontEndOptions options;
+    if (args.tlsCert.empty() != args.tlsKey.empty())
+        return Status::error("--tls-cert and --tls-key go together");
+    options.tlsCertFile = args.tlsCert;
+    options.tlsKeyFile = args.tlsKey;
+    if (!args.authTokenFile.empty()) {
+        auto token = readToken(args.authTokenFile);
+        if (!token) return token.status();
+        options.authToken = *token;
+    }
+    return options;
+}
+
+int fail(const std::string& message, int code) {
+    std::fprintf(stderr, "vastray serve: %s\n", message.c_str());
+    return code;
+}
+
+int runServe(const ServeArgs& args) {
+    // SIGTERM/SIGINT are taken by sigwait below: block them before any thread starts, so that
+    // every thread inherits the mask. A peer closing a socket must not kill the server.
+    sigset_t stopSignals;
+    sigemptyset(&stopSignals);
+    sigaddset(&stopSignals, SIGTERM);
+    sigaddset(&stopSignals, SIGINT);
+    pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
+    signal(SIGPIPE, SIG_IGN);
+
+    auto options = serviceOptions(args);
+    if (!options) return fail(options.message(), 2);
+    auto front = frontEndOptions(args);
+    if (!front) return fail(front.message(), 2);
+    if (args.backend != "vulkan" && args.backend != "embree")
+        return fail("--backend '" + args.backend + "': expected vulkan or embree", 2);
+    auto renderer = args.backend == "vulkan"
+                        ? server::makeStreamingJobRenderer(options->hostCacheBytes, int(args.gpuDevice))
+                        : server::makeEmbreeJobRenderer(options->hostCacheBytes);
+    auto service = server::Service::open(*options, std::move(renderer));
+    if (!service) return fail(service.message(), 1);
+    auto grpc = server::GrpcFrontEnd::start(**service, args.grpc, *front);
+    if (!grpc) return fail(grpc.message(), 1);
+    auto http = server::HttpFrontEnd::start(**service, args.http, *front);
+    if (!http) return fail(http.message(), 1);
+    auto host = [](const std::string& address) { return server::splitHostPort(address)->first; };
+    std::printf("vastray serve: gRPC on %s:%d\n", host(args.grpc).c_str(), (*grpc)->port());
+    std::printf("vastray serve: HTTP on %s:%d\n", host(args.http).c_str(), (*http)->port());
+    std::printf("vastray serve: ready (data in %s%s)\n", args.dataDir.c_str(), args.paused ? ", paused" : "");
+    std::fflush(stdout);
+
+    int signal = 0;
+    sigwait(&stopSignals, &signal);
+    std::printf("vastray serve: %s: shutting down\n", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    std::fflush(stdout);
+    (*service)->stopAccepting();
+    (*http)->stop();
+    (*grpc)->shutdown(std::chrono::seconds(5));
+    const auto grace = std::chrono::milliseconds(int64_t(args.shutdownGrace * 1000));
+    const bool stopped = (*service)->shutdown(grace);
+    if (const std::string left = (*service)->jobLeftRunning(); !left.empty()) {
+        // The job's record says RUNNING: the next start runs it again.
+        std::printf(
+            "vastray serve: job %s did not finish within --shutdown-grace; it runs again at the next start\n",
+            left.c_str());
+        std::fflush(stdout);
+    }
+    // A render that cannot be interrupted must not hold the exit up: its job is safe in the store.
+    if (!stopped) std::_Exit(0);
+    std::printf("vastray serve: stopped\n");
+    return 0;
+}
+
+}  // namespace
+
+CommandRun addServeCommand(CLI::App& app) {
+    auto args = std::make_shared<ServeArgs>();
+    CLI::App* cmd = app.add_subcommand("serve", "Run the render service (gRPC and HTTP; docs/SERVICE.md).");
+    cmd->add_option("--grpc", args->grpc, "gRPC address HOST:PORT (port 0: any free port)")
+        ->capture_default_str();
+    cmd->add_option("--http", args->http, "HTTP address HOST:PORT (port 0: any free port)")
+        ->capture_default_str();
+    cmd->add_option("--data-dir", args->dataDir, "folder for the job database, scenes and results")
+        ->required();
+    cmd->add_option("--memory-budget", args->memoryBudget, "device memory one job may use")
+        ->capture_default_str();
+    cmd->add_option("--host-cache", args->hostCache, "decoded scenes kept in host memory, shared by jobs")
+        ->capture_default_str();
+    cmd->add_option("--max-queue", args->maxQueue,
+                    "queued jobs; one more is refused (429 / RESOURCE_EXHAUSTED)")
+        ->capture_default_str();
+    cmd->add_option("--max-upload", args->maxUpload, "largest scene upload")->capture_default_str();
+    cmd->add_option("--auth-token-file", args->authTokenFile,
+                    "file holding a bearer token every request must carry (health checks excepted)");
+    cmd->add_option("--tls-cert", args->tlsCert, "PEM certificate: serve gRPC and HTTP over TLS");
+    cmd->add_option("--tls-key", args->tlsKey, "PEM private key of --tls-cert");
+    cmd->add_option("--shutdown-grace", args->shutdownGrace,
+                    "seconds SIGTERM waits for the running job before leaving it to the next start")
+        ->capture_default_str();
+    cmd->add_flag("--paused", args->paused, "accept and store jobs but start none");
+    cmd->add_option("--backend", args->backend,
+                    "vulkan (streaming; the last job's scene stays resident for the next) | embree (CPU reference)")
+        ->capture_default_str();
+    cmd->add_option("--gpu-device", args->gpuDevice, "vulkan: Vulkan device index (-1: first discrete GPU, else first)")
+        ->capture_default_str();
+    return [args]() { return runServe(*args); };
+}
+
+}  // namespace vastray::cli

@@ -1,0 +1,69 @@
+#pragma once
+// The one seam between the render service and a render backend. The service owns jobs,
+// queues, storage and front ends; a JobRenderer only turns (scene package, options) into an
+// image. To add a backend (the streaming Vulkan renderer), implement this class and pass it
+// to Service::open; nothing else in server/ knows which backend renders.
+//
+// Contract:
+//  - render() runs on the service's single worker thread, one job at a time; the renderer
+//    may use as many threads of its own as it likes.
+//  - `progress` may be called from any thread, as often as the backend likes; the service
+//    throttles what it stores and publishes.
+//  - `cancel` becomes true when the job is cancelled or the server shuts down. A backend
+//    should return soon after (any error: the service records the job as CANCELLED); one
+//    that cannot stop mid-render may finish, and the service discards the image.
+//  - The renderer may keep state between jobs (a host chunk cache, a device buffer pool),
+//    shared by every job: that is how a second job on a resident scene loads nothing again.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "vastray/core/RenderImage.h"
+#include "vastray/core/RenderOptions.h"
+#include "vastray/core/RenderStats.h"
+#include "vastray/core/Result.h"
+
+namespace vastray::server {
+
+struct JobRenderRequest {
+    std::string scenePath;           // a validated scene package (.vast) on local disk
+    RenderOptions options;           // validated with validateRenderOptions()
+    uint64_t memoryBudgetBytes = 0;  // device memory this job may use
+};
+
+struct JobRenderProgress {
+    uint64_t passesDone = 0;   // units of work finished (tiles, passes: the backend's choice)
+    uint64_t passesTotal = 0;  // 0 while unknown
+    uint64_t chunkLoads = 0;   // chunks loaded from storage for this job so far
+};
+
+struct JobRenderStats {
+    RenderStats render;
+    uint64_t chunkLoads = 0;  // chunks loaded from storage for this job (0: all were resident)
+};
+
+using JobProgressCallback = std::function<void(const JobRenderProgress&)>;
+
+class JobRenderer {
+public:
+    virtual ~JobRenderer() = default;
+    virtual std::string name() const = 0;
+    virtual Result<RenderImage> render(const JobRenderRequest& request, const JobProgressCallback& progress,
+                                       const std::atomic<bool>& cancel, JobRenderStats* stats) = 0;
+};
+
+// The Embree reference renderer (in core, whole scene). Decoded scenes stay in a host cache
+// of at most `hostCacheBytes` (least recently used evicted first), shared by every job.
+// It cannot stop inside a render: `cancel` is checked before loading and before rendering.
+std::unique_ptr<JobRenderer> makeEmbreeJobRenderer(uint64_t hostCacheBytes);
+
+// The streaming Vulkan renderer (the default): the device opens at the first job; the last
+// job's scene stays open (device slots within the job's budget, host chunk cache of
+// `hostCacheBytes`, residency), so a second job on that scene and budget loads no chunk. A job
+// on another scene closes it first. Stops between ray streams when `cancel` is set.
+// deviceIndex: as `render --gpu-device` (-1: the first discrete GPU, else the first device).
+std::unique_ptr<JobRenderer> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex = -1);
+
+}  // namespace vastray::server

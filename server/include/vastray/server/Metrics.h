@@ -1,0 +1,32 @@
+#pragma once
+// Counters of the render service, exposed as Prometheus text by Service::metricsText()
+// (names in docs/SERVICE.md). Updated from any thread.
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace vastray::server {
+
+struct Metrics {
+    std::atomic<uint64_t> jobsSubmitted{0};     // new jobs accepted
+    std::atomic<uint64_t> jobsRejectedFull{0};  // refused with RESOURCE_EXHAUSTED (queue full)
+    std::atomic<uint64_t> jobsSucceeded{0}, jobsFailed{0}, jobsCancelled{0};
+    std::atomic<uint64_t> jobsRequeued{0};    // found QUEUED or RUNNING at start
+    std::atomic<uint64_t> scenesUploaded{0};  // new scenes stored
+    std::atomic<uint64_t> uploadBytes{0};     // bytes received in uploads
+    std::atomic<uint64_t> rays{0};
+    std::atomic<uint64_t> chunkLoads{0};
+    std::atomic<uint64_t> renderMicroseconds{0};
+
+    // Requests answered by a front end ("grpc", "http"), by status code name.
+    void countRequest(const std::string& frontEnd, const std::string& code);
+    std::string requestsText();
+
+private:
+    std::mutex mutex_;
+    std::map<std::pair<std::string, std::string>, uint64_t> requests_;
+};
+
+}  // namespace vastray::server

@@ -1,0 +1,170 @@
+#pragma once
+// The render service's domain functions. The gRPC and HTTP front ends are thin adapters over
+// exactly these calls: they translate requests, call one function, and map the
+// ServiceStatus at their boundary. Every function is thread-safe.
+//
+// Jobs run one at a time on a worker thread owned by the service, highest priority first
+// (equal priorities in submission order), through the JobRenderer given to open().
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "vastray/server/JobRenderer.h"
+#include "vastray/server/Metrics.h"
+#include "vastray/server/ServiceStatus.h"
+#include "vastray/server/Sha256.h"
+#include "vastray/server/Storage.h"
+
+namespace vastray::server {
+
+// Defaults are those of `vastray serve`; flags map one-to-one onto these fields.
+struct ServiceOptions {
+    std::filesystem::path dataDir;             // required: jobs.db, scenes/, results/, tmp/
+    uint64_t memoryBudgetBytes = 4ull << 30;   // device memory one job may use (--memory-budget)
+    uint64_t hostCacheBytes = 2ull << 30;      // decoded scenes kept in host memory (--host-cache)
+    uint32_t maxQueue = 1000;                  // QUEUED jobs; one more is RESOURCE_EXHAUSTED (--max-queue)
+    uint64_t maxUploadBytes = 16ull << 30;     // one scene upload (--max-upload)
+    uint64_t diskReserveBytes = 256ull << 20;  // an upload that would leave less free disk is refused
+    bool paused = false;                       // accept and store jobs but start none (--paused)
+};
+
+class Service;
+
+// One scene upload in progress: append() the bytes as they arrive, then finish(). Destroying
+// an unfinished upload deletes what was written.
+class SceneUpload {
+public:
+    ~SceneUpload();
+    ServiceStatus append(const void* data, size_t size);
+    // Hashes, then imports (mesh) or validates (.vast) the file and stores the scene; content
+    // already stored returns the stored scene.
+    ServiceResult<v1::Scene> finish();
+
+private:
+    friend class Service;
+    SceneUpload(Service& service, std::string name, std::filesystem::path file);
+    Service& service_;
+    std::string name_;
+    std::filesystem::path file_;
+    std::ofstream out_;
+    Sha256 hash_;
+    uint64_t bytes_ = 0, nextDiskCheck_ = 0;
+    bool finished_ = false;
+};
+
+struct SubmitOutcome {
+    v1::Job job;
+    bool created = false;  // false: an earlier request with the same request_id made it
+};
+
+struct ResultFile {
+    std::filesystem::path path;
+    uint64_t bytes = 0;
+    std::string contentType;
+};
+
+class Service {
+public:
+    // Opens (or creates) the stores in options.dataDir and requeues every job that was QUEUED
+    // or RUNNING when the last server stopped.
+    static Result<std::unique_ptr<Service>> open(const ServiceOptions& options,
+                                                 std::unique_ptr<JobRenderer> renderer);
+    ~Service();
+    Service(const Service&) = delete;
+    Service& operator=(const Service&) = delete;
+
+    // `expectedBytes` (0: unknown) lets an upload that cannot fit be refused before any byte.
+    ServiceResult<std::unique_ptr<SceneUpload>> beginUpload(const std::string& name, uint64_t expectedBytes);
+    ServiceResult<v1::FindMissingResponse> findMissing(const v1::FindMissingRequest& request);
+    ServiceResult<v1::Scene> getScene(const v1::GetSceneRequest& request);
+    ServiceResult<v1::ListScenesResponse> listScenes(const v1::ListScenesRequest& request);
+    ServiceResult<v1::DeleteSceneResponse> deleteScene(const v1::DeleteSceneRequest& request);
+
+    ServiceResult<SubmitOutcome> submitJob(const v1::SubmitJobRequest& request);
+    ServiceResult<v1::Job> getJob(const v1::GetJobRequest& request);
+    ServiceResult<v1::ListJobsResponse> listJobs(const v1::ListJobsRequest& request);
+    ServiceResult<v1::Job> cancelJob(const v1::CancelJobRequest& request);
+    // Blocks, calling `emit` (on the caller's thread) with a snapshot and then every change,
+    // until the job reaches a final state (OK), `emit` returns false or `clientGone` returns
+    // true (CANCELLED), or the server shuts down (UNAVAILABLE).
+    ServiceStatus watchJob(const v1::WatchJobRequest& request,
+                           const std::function<bool(const v1::JobEvent&)>& emit,
+                           const std::function<bool()>& clientGone);
+    ServiceResult<ResultFile> resultFile(const std::string& jobId);
+
+    // Ready: stores open, worker running, not shutting down.
+    bool ready() const;
+    Metrics& metrics() { return metrics_; }
+    const ServiceOptions& options() const { return options_; }
+    // Prometheus text exposition of every figure (vastray_ prefix, base units).
+    std::string metricsText();
+
+    // Refuses new uploads and jobs, starts no further job and ends every watch (UNAVAILABLE).
+    void stopAccepting();
+    // stopAccepting(), then waits up to `grace` for the
+    // running one. Past the grace the running job is asked to stop; it stays RUNNING in the
+    // store and is re-run at the next start. True when the worker has stopped.
+    bool shutdown(std::chrono::milliseconds grace);
+    // After shutdown(): the job left RUNNING for the next start ("" when none).
+    std::string jobLeftRunning() const;
+
+private:
+    friend class SceneUpload;
+    struct QueueEntry {
+        uint32_t priority = 0;
+        uint64_t order = 0;
+        std::string id;
+        bool operator<(const QueueEntry& o) const {
+            return priority != o.priority ? priority > o.priority : order < o.order;
+        }
+    };
+
+    Service(const ServiceOptions& options, std::unique_ptr<JobRenderer> renderer);
+    Status recoverJobs();
+    ServiceResult<v1::Scene> storeUpload(const std::string& name, const std::filesystem::path& file,
+                                         const std::string& digest, uint64_t bytes);
+    ServiceResult<v1::Scene> importUpload(const std::string& name, const std::filesystem::path& file,
+                                          const std::string& digest, uint64_t bytes);
+
+    void workerLoop();
+    void runJob(const std::string& id);
+    ServiceStatus renderAndStore(v1::Job& job);
+    void finishJob(v1::Job job, const ServiceStatus& outcome);
+    void onProgress(const JobRenderProgress& progress);
+    void notifyChangeLocked() {
+        ++changeCounter_;
+        changed_.notify_all();
+    }
+    v1::JobEvent eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) const;
+    void overlayLiveLocked(v1::Job& job) const;
+
+    ServiceOptions options_;
+    std::unique_ptr<JobRenderer> renderer_;
+    std::unique_ptr<ObjectStore> objects_;
+    MetadataStores stores_;
+    Metrics metrics_;
+
+    mutable std::mutex mutex_;  // queue, running job, state transitions in the store
+    std::mutex importMutex_;    // one import at a time (imports use every core)
+    std::condition_variable workAvailable_, changed_, workerIdle_;
+    std::set<QueueEntry> queue_;
+    uint64_t nextOrder_ = 0;
+    uint64_t changeCounter_ = 0;
+    std::string runningId_, leftRunning_;
+    JobRenderProgress live_;
+    int livePercent_ = 0;
+    std::atomic<bool> cancelRunning_{false};
+    bool stopping_ = false, accepting_ = true, workerStopped_ = false, shutdownCancel_ = false;
+    std::thread worker_;
+};
+
+}  // namespace vastray::server

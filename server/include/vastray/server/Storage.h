@@ -1,0 +1,91 @@
+#pragma once
+// The service's persistent state behind three narrow interfaces, so that a deployment of
+// several replicas can put them on a shared database and an object store:
+//  - ObjectStore: scene packages and result images, as immutable objects by key;
+//  - SceneCatalog: one record per stored scene;
+//  - JobStore: one record per job, the source of truth for its state.
+// The single-machine defaults are files under --data-dir and one SQLite database (WAL).
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Result.h"
+#include "vastray/v1/render_service.pb.h"
+#include "vastray/v1/scene_service.pb.h"
+
+namespace vastray::server {
+
+class ObjectStore {
+public:
+    virtual ~ObjectStore() = default;
+    // A folder for files that become objects (uploads, renders in progress); same file
+    // system as the store, so that put() can rename.
+    virtual std::filesystem::path scratchDir() const = 0;
+    // Moves a finished local file in under `key`, atomically: readers see the whole object or
+    // none. Replaces an object of the same key.
+    virtual Status put(const std::string& key, const std::filesystem::path& file) = 0;
+    // A local path to read the object from; an error when absent.
+    virtual Result<std::filesystem::path> localPath(const std::string& key) const = 0;
+    virtual Status remove(const std::string& key) = 0;
+    // Bytes free for new objects.
+    virtual uint64_t availableBytes() const = 0;
+};
+
+// Objects as files dataDir/KEY; scratch in dataDir/tmp (emptied on open: a crash leaves
+// only partial uploads and renders there, never a partial object).
+Result<std::unique_ptr<ObjectStore>> openFileObjectStore(const std::filesystem::path& dataDir);
+
+class SceneCatalog {
+public:
+    virtual ~SceneCatalog() = default;
+    // Inserts unless a scene of that id exists; returns the stored record either way.
+    virtual Result<v1::Scene> insertScene(const v1::Scene& scene) = 0;
+    virtual Result<std::optional<v1::Scene>> getScene(const std::string& id) = 0;
+    // Oldest first, after the scene at position `after` (0: from the start).
+    struct ScenePage {
+        std::vector<v1::Scene> scenes;
+        uint64_t last = 0;  // position of the last scene returned
+        bool more = false;
+    };
+    virtual Result<ScenePage> listScenes(uint64_t after, uint32_t limit) = 0;
+    virtual Status deleteScene(const std::string& id) = 0;
+};
+
+class JobStore {
+public:
+    virtual ~JobStore() = default;
+    // Stores a new job; when job.request().request_id() is set and already used, stores
+    // nothing and returns the job that id created (`created` false).
+    struct Insert {
+        v1::Job job;
+        bool created = false;
+    };
+    virtual Result<Insert> insertJob(const v1::Job& job) = 0;
+    virtual Result<std::optional<v1::Job>> getJob(const std::string& id) = 0;
+    virtual Result<std::optional<v1::Job>> findJobByRequestId(const std::string& requestId) = 0;
+    // Replaces the stored record of job.id() (durable when it returns).
+    virtual Status updateJob(const v1::Job& job) = 0;
+    // Newest first, before position `before` (0: from the newest); `state` unspecified: all.
+    struct JobPage {
+        std::vector<v1::Job> jobs;
+        uint64_t last = 0;
+        bool more = false;
+    };
+    virtual Result<JobPage> listJobs(v1::JobState state, uint64_t before, uint32_t limit) = 0;
+    // QUEUED and RUNNING jobs, oldest first: what a restart must run.
+    virtual Result<std::vector<v1::Job>> unfinishedJobs() = 0;
+    // Whether a QUEUED or RUNNING job renders this scene.
+    virtual Result<bool> sceneInUse(const std::string& sceneId) = 0;
+};
+
+// One SQLite database (WAL, synchronous=FULL) implementing both catalogs.
+struct MetadataStores {
+    std::shared_ptr<SceneCatalog> scenes;
+    std::shared_ptr<JobStore> jobs;
+};
+Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePath);
+
+}  // namespace vastray::server

@@ -1,0 +1,228 @@
+// gRPC adapters: each handler checks the token, calls one Service function and converts
+// the ServiceStatus to a grpc::Status.
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+
+#include <fstream>
+
+#include "vastray/server/FrontEnds.h"
+#include "vastray/v1/render_service.grpc.pb.h"
+#include "vastray/v1/scene_service.grpc.pb.h"
+
+namespace vastray::server {
+namespace {
+
+// A request message carries at most one upload chunk plus its name.
+constexpr int kMaxReceiveBytes = int(kMaxStreamChunkBytes) + (64 << 10);
+constexpr int kMaxSendBytes = int(kMaxStreamChunkBytes) + (64 << 10);
+
+class Adapter {
+public:
+    Adapter(Service& service, const FrontEndOptions& options) : service_(service), options_(options) {}
+
+    // Runs `call` (returning ServiceStatus) once the caller is authenticated.
+    template <typename Call>
+    grpc::Status handle(grpc::ServerContext* context, Call&& call) {
+        ServiceStatus status = authorize(context);
+        if (status) status = call();
+        service_.metrics().countRequest("grpc", statusCodeName(status.code()));
+        return grpc::Status(grpc::StatusCode(int(status.code())), status.message());
+    }
+
+    template <typename T, typename Out>
+    static ServiceStatus assign(ServiceResult<T> result, Out* out) {
+        if (!result) return result.status();
+        *out = std::move(*result);
+        return {};
+    }
+
+    Service& service_;
+
+private:
+    ServiceStatus authorize(grpc::ServerContext* context) const {
+        if (options_.authToken.empty()) return {};
+        const auto& metadata = context->client_metadata();
+        auto it = metadata.find("authorization");
+        if (it != metadata.end() &&
+            bearerMatches(std::string(it->second.data(), it->second.size()), options_.authToken))
+            return {};
+        return {StatusCode::Unauthenticated,
+                "missing or wrong bearer token (metadata 'authorization: Bearer TOKEN')"};
+    }
+
+    FrontEndOptions options_;
+};
+
+class SceneServiceImpl final : public v1::SceneService::Service {
+public:
+    explicit SceneServiceImpl(Adapter& adapter) : a_(adapter) {}
+
+    grpc::Status UploadScene(grpc::ServerContext* context, grpc::ServerReader<v1::UploadSceneRequest>* reader,
+                             v1::Scene* response) override {
+        return a_.handle(context, [&]() -> ServiceStatus {
+            v1::UploadSceneRequest message;
+            if (!reader->Read(&message)) return invalidArgument("name", "the upload stream is empty");
+            auto upload = a_.service_.beginUpload(message.name(), 0);
+            if (!upload) return upload.status();
+            do {
+                if (message.data().size() > kMaxStreamChunkBytes)
+                    return invalidArgument("data", "more than 1 MiB in one message");
+                if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
+            } while (reader->Read(&message));
+            if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
+            return Adapter::assign((*upload)->finish(), response);
+        });
+    }
+    grpc::Status FindMissing(grpc::ServerContext* context, const v1::FindMissingRequest* request,
+                             v1::FindMissingResponse* response) override {
+        return a_.handle(context,
+                         [&] { return Adapter::assign(a_.service_.findMissing(*request), response); });
+    }
+    grpc::Status GetScene(grpc::ServerContext* context, const v1::GetSceneRequest* request,
+                          v1::Scene* response) override {
+        return a_.handle(context, [&] { return Adapter::assign(a_.service_.getScene(*request), response); });
+    }
+    grpc::Status ListScenes(grpc::ServerContext* context, const v1::ListScenesRequest* request,
+                            v1::ListScenesResponse* response) override {
+        return a_.handle(context,
+                         [&] { return Adapter::assign(a_.service_.listScenes(*request), response); });
+    }
+    grpc::Status DeleteScene(grpc::ServerContext* context, const v1::DeleteSceneRequest* request,
+                             v1::DeleteSceneResponse* response) override {
+        return a_.handle(context,
+                         [&] { return Adapter::assign(a_.service_.deleteScene(*request), response); });
+    }
+
+private:
+    Adapter& a_;
+};
+
+class RenderServiceImpl final : public v1::RenderService::Service {
+public:
+    explicit RenderServiceImpl(Adapter& adapter) : a_(adapter) {}
+
+    grpc::Status SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
+                           v1::Job* response) override {
+        return a_.handle(context, [&]() -> ServiceStatus {
+            auto outcome = a_.service_.submitJob(*request);
+            if (!outcome) return outcome.status();
+            *response = outcome->job;
+            return {};
+        });
+    }
+    grpc::Status GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
+                        v1::Job* response) override {
+        return a_.handle(context, [&] { return Adapter::assign(a_.service_.getJob(*request), response); });
+    }
+    grpc::Status ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
+                          v1::ListJobsResponse* response) override {
+        return a_.handle(context, [&] { return Adapter::assign(a_.service_.listJobs(*request), response); });
+    }
+    grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
+                           v1::Job* response) override {
+        return a_.handle(context, [&] { return Adapter::assign(a_.service_.cancelJob(*request), response); });
+    }
+    grpc::Status WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
+                          grpc::ServerWriter<v1::JobEvent>* writer) override {
+        return a_.handle(context, [&] {
+            return a_.service_.watchJob(
+                *request, [&](const v1::JobEvent& event) { return writer->Write(event); },
+                [&] { return context->IsCancelled(); });
+        });
+    }
+    grpc::Status GetResult(grpc::ServerContext* context, const v1::GetResultRequest* request,
+                           grpc::ServerWriter<v1::ResultChunk>* writer) override {
+        return a_.handle(context, [&]() -> ServiceStatus {
+            auto file = a_.service_.resultFile(request->job_id());
+            if (!file) return file.status();
+            if (request->offset() > file->bytes)
+                return invalidArgument("offset", std::to_string(request->offset()) +
+                                                     " is beyond the end of the " +
+                                                     std::to_string(file->bytes) + "-byte result");
+            const uint64_t rest = file->bytes - request->offset();
+            uint64_t left = request->limit() == 0 ? rest : std::min<uint64_t>(request->limit(), rest);
+            std::ifstream in(file->path, std::ios::binary);
+            in.seekg(std::streamoff(request->offset()));
+            v1::ResultChunk chunk;
+            chunk.set_total_bytes(file->bytes);
+            chunk.set_content_type(file->contentType);
+            uint64_t offset = request->offset();
+            std::string buffer;
+            do {
+                buffer.resize(std::min<uint64_t>(left, kMaxStreamChunkBytes));
+                if (!in.read(buffer.data(), std::streamsize(buffer.size())))
+                    return internalError(file->path.string() + ": read failed");
+                chunk.set_offset(offset);
+                chunk.set_data(buffer);
+                if (!writer->Write(chunk)) return {StatusCode::Cancelled, "the client went away"};
+                offset += buffer.size();
+                left -= buffer.size();
+            } while (left > 0);
+            return {};
+        });
+    }
+
+private:
+    Adapter& a_;
+};
+
+Result<std::string> readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Status::error(path + ": cannot read");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+Result<std::shared_ptr<grpc::ServerCredentials>> credentials(const FrontEndOptions& options) {
+    if (options.tlsCertFile.empty()) return grpc::InsecureServerCredentials();
+    auto cert = readFile(options.tlsCertFile);
+    if (!cert) return cert.status();
+    auto key = readFile(options.tlsKeyFile);
+    if (!key) return key.status();
+    grpc::SslServerCredentialsOptions ssl;
+    ssl.pem_key_cert_pairs.push_back({*key, *cert});
+    return grpc::SslServerCredentials(ssl);
+}
+
+}  // namespace
+
+struct GrpcFrontEnd::Impl {
+    Impl(Service& service, const FrontEndOptions& options)
+        : adapter(service, options), scenes(adapter), renders(adapter) {}
+    Adapter adapter;
+    SceneServiceImpl scenes;
+    RenderServiceImpl renders;
+    std::unique_ptr<grpc::Server> server;
+};
+
+Result<std::unique_ptr<GrpcFrontEnd>> GrpcFrontEnd::start(Service& service, const std::string& address,
+                                                          const FrontEndOptions& options) {
+    VASTRAY_TRY(splitHostPort(address));
+    auto creds = credentials(options);
+    if (!creds) return creds.status();
+    std::unique_ptr<GrpcFrontEnd> front(new GrpcFrontEnd());
+    front->impl_ = std::make_unique<Impl>(service, options);
+    grpc::EnableDefaultHealthCheckService(true);
+    grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+    grpc::ServerBuilder builder;
+    builder.AddListeningPort(address, *creds, &front->port_);
+    builder.SetMaxReceiveMessageSize(kMaxReceiveBytes);
+    builder.SetMaxSendMessageSize(kMaxSendBytes);
+    builder.RegisterService(&front->impl_->scenes);
+    builder.RegisterService(&front->impl_->renders);
+    front->impl_->server = builder.BuildAndStart();
+    if (!front->impl_->server || front->port_ == 0) return Status::error("gRPC: cannot listen on " + address);
+    return front;
+}
+
+GrpcFrontEnd::~GrpcFrontEnd() { shutdown(std::chrono::milliseconds(0)); }
+
+void GrpcFrontEnd::shutdown(std::chrono::milliseconds deadline) {
+    if (!impl_ || !impl_->server) return;
+    if (auto* health = impl_->server->GetHealthCheckService()) health->Shutdown();
+    impl_->server->Shutdown(std::chrono::system_clock::now() + deadline);
+    impl_->server->Wait();
+    impl_->server.reset();
+}
+
+}  // namespace vastray::server

@@ -1,0 +1,312 @@
+// The job half of the service: open and recovery, submit (admission, idempotency), get,
+// list, cancel, watch, results, shutdown.
+#include <google/protobuf/util/message_differencer.h>
+
+#include "JobRequest.h"
+#include "vastray/server/Service.h"
+
+namespace vastray::server {
+namespace {
+
+constexpr auto kWatchPoll = std::chrono::milliseconds(250);
+
+ServiceStatus checkJobId(const std::string& id) {
+    if (id.empty()) return invalidArgument("id", "required");
+    return {};
+}
+
+}  // namespace
+
+Service::Service(const ServiceOptions& options, std::unique_ptr<JobRenderer> renderer)
+    : options_(options), renderer_(std::move(renderer)) {}
+
+Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
+                                               std::unique_ptr<JobRenderer> renderer) {
+    if (options.dataDir.empty()) return Status::error("a data folder is required");
+    std::unique_ptr<Service> service(new Service(options, std::move(renderer)));
+    auto objects = openFileObjectStore(options.dataDir);
+    if (!objects) return objects.status();
+    service->objects_ = std::move(*objects);
+    auto stores = openSqliteStores(options.dataDir / "jobs.db");
+    if (!stores) return stores.status();
+    service->stores_ = *stores;
+    VASTRAY_TRY(service->recoverJobs());
+    service->worker_ = std::thread([s = service.get()] { s->workerLoop(); });
+    return service;
+}
+
+Service::~Service() {
+    shutdown(std::chrono::hours(24));
+    if (worker_.joinable()) worker_.join();
+}
+
+// Jobs a previous server accepted but did not finish go back into the queue; a RUNNING one
+// was interrupted mid-render and runs again from the start (its result was never stored).
+Status Service::recoverJobs() {
+    auto jobs = stores_.jobs->unfinishedJobs();
+    if (!jobs) return jobs.status();
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (v1::Job& job : *jobs) {
+        if (job.state() == v1::RUNNING) {
+            job.set_state(v1::QUEUED);
+            job.set_progress(0);
+            VASTRAY_TRY(stores_.jobs->updateJob(job));
+        }
+        queue_.insert({job.request().priority(), nextOrder_++, job.id()});
+        ++metrics_.jobsRequeued;
+    }
+    return Status::ok();
+}
+
+ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& request) {
+    auto normalized = normalizeSubmitRequest(request, options_.memoryBudgetBytes);
+    if (!normalized) return normalized.status();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!accepting_) return ServiceStatus{StatusCode::Unavailable, "the server is shutting down"};
+    if (!normalized->request_id().empty()) {
+        auto earlier = stores_.jobs->findJobByRequestId(normalized->request_id());
+        if (!earlier) return internalError(earlier.message());
+        if (*earlier) {
+            if (!google::protobuf::util::MessageDifferencer::Equals((*earlier)->request(), *normalized))
+                return ServiceStatus{StatusCode::FailedPrecondition,
+                                     "request_id '" + normalized->request_id() +
+                                         "' was used for a different request (job " + (*earlier)->id() + ")"};
+            v1::Job job = **earlier;
+            overlayLiveLocked(job);
+            return SubmitOutcome{job, false};
+        }
+    }
+    auto scene = stores_.scenes->getScene(normalized->scene_id());
+    if (!scene) return internalError(scene.message());
+    if (!*scene) return notFound("scene_id: no scene " + normalized->scene_id());
+    if (queue_.size() >= options_.maxQueue) {
+        ++metrics_.jobsRejectedFull;
+        return ServiceStatus{StatusCode::ResourceExhausted,
+                             "the queue is full (" + std::to_string(queue_.size()) +
+                                 " jobs queued, --max-queue " + std::to_string(options_.maxQueue) + ")"};
+    }
+    v1::Job job;
+    job.set_id(newJobId());
+    job.set_state(v1::QUEUED);
+    *job.mutable_request() = std::move(*normalized);
+    *job.mutable_create_time() = nowTimestamp();
+    job.set_result_content_type(resultContentType(job.request()));
+    auto inserted = stores_.jobs->insertJob(job);
+    if (!inserted) return internalError(inserted.message());
+    queue_.insert({job.request().priority(), nextOrder_++, job.id()});
+    ++metrics_.jobsSubmitted;
+    workAvailable_.notify_one();
+    notifyChangeLocked();
+    return SubmitOutcome{inserted->job, true};
+}
+
+ServiceResult<v1::Job> Service::getJob(const v1::GetJobRequest& request) {
+    if (auto s = checkJobId(request.id()); !s) return s;
+    auto job = stores_.jobs->getJob(request.id());
+    if (!job) return internalError(job.message());
+    if (!*job) return notFound("no job " + request.id());
+    std::lock_guard<std::mutex> lock(mutex_);
+    overlayLiveLocked(**job);
+    return **job;
+}
+
+ServiceResult<v1::ListJobsResponse> Service::listJobs(const v1::ListJobsRequest& request) {
+    auto size = pageSize(request.page_size());
+    if (!size) return size.status();
+    auto before = parsePageToken(request.page_token());
+    if (!before) return before.status();
+    if (!v1::JobState_IsValid(request.state())) return invalidArgument("state", "not a job state");
+    auto page = stores_.jobs->listJobs(request.state(), *before, *size);
+    if (!page) return internalError(page.message());
+    v1::ListJobsResponse response;
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& job : page->jobs) {
+        overlayLiveLocked(job);
+        *response.add_jobs() = std::move(job);
+    }
+    if (page->more) response.set_next_page_token(std::to_string(page->last));
+    return response;
+}
+
+ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
+    if (auto s = checkJobId(request.id()); !s) return s;
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto stored = stores_.jobs->getJob(request.id());
+    if (!stored) return internalError(stored.message());
+    if (!*stored) return notFound("no job " + request.id());
+    v1::Job job = **stored;
+    if (isFinal(job.state()))
+        return ServiceStatus{StatusCode::FailedPrecondition,
+                             "job " + job.id() + " is " + jobStateName(job.state()) +
+                                 "; only QUEUED or RUNNING jobs can be cancelled"};
+    job.set_state(v1::CANCELLED);
+    job.set_error(request.reason().empty() ? "cancelled" : "cancelled: " + request.reason());
+    *job.mutable_end_time() = nowTimestamp();
+    if (Status updated = stores_.jobs->updateJob(job); !updated) return internalError(updated.message());
+    for (auto it = queue_.begin(); it != queue_.end(); ++it)
+        if (it->id == job.id()) {
+            queue_.erase(it);
+            break;
+        }
+    if (runningId_ == job.id()) cancelRunning_ = true;
+    ++metrics_.jobsCancelled;
+    notifyChangeLocked();
+    return job;
+}
+
+v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) const {
+    v1::JobEvent event;
+    event.set_kind(kind);
+    event.set_job_id(job.id());
+    event.set_state(job.state());
+    event.set_percent(job.progress());
+    event.set_error(job.error());
+    event.set_chunk_loads(job.stats().chunk_loads());
+    if (job.id() == runningId_ && job.state() == v1::RUNNING) {
+        event.set_passes_done(live_.passesDone);
+        event.set_passes_total(live_.passesTotal);
+        event.set_chunk_loads(live_.chunkLoads);
+    }
+    *event.mutable_time() = nowTimestamp();
+    return event;
+}
+
+void Service::overlayLiveLocked(v1::Job& job) const {
+    if (job.id() == runningId_ && job.state() == v1::RUNNING) job.set_progress(livePercent_);
+}
+
+ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
+                                const std::function<bool(const v1::JobEvent&)>& emit,
+                                const std::function<bool()>& clientGone) {
+    v1::GetJobRequest get;
+    get.set_id(request.id());
+    auto job = getJob(get);
+    if (!job) return job.status();
+    uint64_t seen = 0;
+    v1::JobEvent last;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        seen = changeCounter_;
+        last = eventLocked(*job, v1::JobEvent::SNAPSHOT);
+    }
+    if (!emit(last)) return {StatusCode::Cancelled, "the client went away"};
+    while (!isFinal(last.state())) {
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            changed_.wait_for(lock, kWatchPoll, [&] { return changeCounter_ != seen || stopping_; });
+            if (stopping_) return {StatusCode::Unavailable, "the server is shutting down"};
+            if (changeCounter_ == seen) {
+                lock.unlock();
+                if (clientGone && clientGone()) return {StatusCode::Cancelled, "the client went away"};
+                continue;
+            }
+            seen = changeCounter_;
+        }
+        auto current = getJob(get);
+        if (!current) return current.status();
+        v1::JobEvent event;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            event = eventLocked(*current, v1::JobEvent::PROGRESS);
+        }
+        if (event.state() != last.state())
+            event.set_kind(v1::JobEvent::STATE_CHANGED);
+        else if (event.percent() == last.percent() && event.passes_done() == last.passes_done() &&
+                 event.chunk_loads() == last.chunk_loads())
+            continue;
+        if (!emit(event)) return {StatusCode::Cancelled, "the client went away"};
+        last = event;
+    }
+    return {};
+}
+
+ServiceResult<ResultFile> Service::resultFile(const std::string& jobId) {
+    v1::GetJobRequest get;
+    get.set_id(jobId);
+    auto job = getJob(get);
+    if (!job) return job.status();
+    if (job->state() != v1::SUCCEEDED)
+        return ServiceStatus{
+            StatusCode::FailedPrecondition,
+            "job " + jobId + " is " + jobStateName(job->state()) + "; a result exists once it SUCCEEDED"};
+    auto path = objects_->localPath(resultKey(*job));
+    if (!path) return internalError(path.message());
+    std::error_code error;
+    const uint64_t bytes = std::filesystem::file_size(*path, error);
+    if (error) return internalError(path->string() + ": " + error.message());
+    return ResultFile{*path, bytes, job->result_content_type()};
+}
+
+bool Service::ready() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return accepting_ && !workerStopped_;
+}
+
+void Service::stopAccepting() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    accepting_ = false;
+    stopping_ = true;
+    workAvailable_.notify_all();
+    notifyChangeLocked();
+}
+
+bool Service::shutdown(std::chrono::milliseconds grace) {
+    stopAccepting();
+    if (!worker_.joinable()) return true;  // open() failed before the worker started
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (workerIdle_.wait_for(lock, grace, [&] { return workerStopped_; })) return true;
+    // Past the grace: ask the running job to stop; it stays RUNNING in the store and runs
+    // again at the next start.
+    shutdownCancel_ = true;
+    cancelRunning_ = true;
+    return workerIdle_.wait_for(lock, std::chrono::seconds(2), [&] { return workerStopped_; });
+}
+
+std::string Service::jobLeftRunning() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!leftRunning_.empty()) return leftRunning_;
+    return workerStopped_ ? "" : runningId_;
+}
+
+std::string Service::metricsText() {
+    size_t queued = 0, running = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        queued = queue_.size();
+        running = runningId_.empty() ? 0 : 1;
+    }
+    std::string text;
+    auto add = [&text](const char* name, const char* type, const char* help, const std::string& value) {
+        text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n" + name +
+                " " + value + "\n";
+    };
+    add("vastray_jobs_queued", "gauge", "Jobs waiting to run.", std::to_string(queued));
+    add("vastray_jobs_running", "gauge", "Jobs rendering now.", std::to_string(running));
+    add("vastray_jobs_submitted_total", "counter", "New jobs accepted.",
+        std::to_string(metrics_.jobsSubmitted));
+    add("vastray_jobs_rejected_total", "counter", "Jobs refused because the queue was full.",
+        std::to_string(metrics_.jobsRejectedFull));
+    add("vastray_jobs_requeued_total", "counter", "Unfinished jobs requeued at start.",
+        std::to_string(metrics_.jobsRequeued));
+    text +=
+        "# HELP vastray_jobs_finished_total Jobs that reached a final state, by state.\n"
+        "# TYPE vastray_jobs_finished_total counter\n";
+    text +=
+        "vastray_jobs_finished_total{state=\"SUCCEEDED\"} " + std::to_string(metrics_.jobsSucceeded) + "\n";
+    text += "vastray_jobs_finished_total{state=\"FAILED\"} " + std::to_string(metrics_.jobsFailed) + "\n";
+    text +=
+        "vastray_jobs_finished_total{state=\"CANCELLED\"} " + std::to_string(metrics_.jobsCancelled) + "\n";
+    add("vastray_scenes_uploaded_total", "counter", "New scenes stored.",
+        std::to_string(metrics_.scenesUploaded));
+    add("vastray_upload_bytes_total", "counter", "Bytes received in scene uploads.",
+        std::to_string(metrics_.uploadBytes));
+    add("vastray_rays_total", "counter", "Rays traced by finished jobs.", std::to_string(metrics_.rays));
+    add("vastray_chunk_loads_total", "counter", "Scene chunks loaded from storage.",
+        std::to_string(metrics_.chunkLoads));
+    add("vastray_render_seconds_total", "counter", "Time spent tracing and shading.",
+        std::to_string(double(metrics_.renderMicroseconds) * 1e-6));
+    add("vastray_ready", "gauge", "1 when the server accepts work.", ready() ? "1" : "0");
+    return text + metrics_.requestsText();
+}
+
+}  // namespace vastray::server

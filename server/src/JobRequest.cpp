@@ -1,0 +1,197 @@
+#include "JobRequest.h"
+
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "vastray/server/Sha256.h"
+
+namespace vastray::server {
+namespace {
+
+constexpr uint32_t kDefaultPriority = 50, kMaxPriority = 100;
+constexpr uint32_t kDefaultMaxDepth = 5;
+constexpr size_t kMaxRequestIdLength = 128, kMaxLabels = 32, kMaxLabelKey = 63, kMaxLabelValue = 255;
+
+ServiceStatus checkRange(const char* field, uint64_t value, uint64_t lo, uint64_t hi) {
+    if (value >= lo && value <= hi) return {};
+    return invalidArgument(field, std::to_string(value) + " is outside [" + std::to_string(lo) + ", " +
+                                      std::to_string(hi) + "]");
+}
+
+ServiceStatus checkVector(const std::string& field, const google::protobuf::RepeatedField<float>& v) {
+    if (v.size() != 3)
+        return invalidArgument(field, "expected 3 numbers x, y, z, got " + std::to_string(v.size()));
+    for (float x : v)
+        if (!std::isfinite(x)) return invalidArgument(field, "expected finite numbers");
+    return {};
+}
+
+ServiceStatus normalizeCamera(v1::Camera& camera) {
+    if (auto s = checkVector("camera.eye", camera.eye()); !s) return s;
+    if (auto s = checkVector("camera.target", camera.target()); !s) return s;
+    if (camera.up().empty()) {
+        camera.add_up(0);
+        camera.add_up(1);
+        camera.add_up(0);
+    }
+    if (auto s = checkVector("camera.up", camera.up()); !s) return s;
+    if (camera.fov_y_degrees() == 0) camera.set_fov_y_degrees(45);
+    if (!(camera.fov_y_degrees() > 0 && camera.fov_y_degrees() < 180))
+        return invalidArgument("camera.fov_y_degrees",
+                               std::to_string(camera.fov_y_degrees()) + " is outside (0, 180)");
+    return {};
+}
+
+ServiceStatus normalizeOutput(v1::SubmitJobRequest& r) {
+    std::set<std::string> seen;
+    for (const std::string& aov : r.aovs()) {
+        if (!parseAovList(aov))
+            return invalidArgument("aovs", "'" + aov + "': expected depth, normal, albedo or primid");
+        if (!seen.insert(aov).second) return invalidArgument("aovs", "'" + aov + "' given twice");
+    }
+    if (r.output_format().empty()) r.set_output_format(r.aovs().empty() ? "png" : "exr");
+    if (r.output_format() != "png" && r.output_format() != "exr")
+        return invalidArgument("output_format", "'" + r.output_format() + "': expected png or exr");
+    if (r.output_format() == "png" && !r.aovs().empty())
+        return invalidArgument("output_format", "aovs need exr");
+    return {};
+}
+
+ServiceStatus normalizeLabels(const v1::SubmitJobRequest& r) {
+    if (r.labels_size() > int(kMaxLabels))
+        return invalidArgument("labels", "more than " + std::to_string(kMaxLabels));
+    for (const auto& [key, value] : r.labels()) {
+        if (key.empty() || key.size() > kMaxLabelKey)
+            return invalidArgument(
+                "labels", "key '" + key + "' must have 1.." + std::to_string(kMaxLabelKey) + " characters");
+        if (value.size() > kMaxLabelValue)
+            return invalidArgument("labels",
+                                   "value of '" + key + "' is longer than " + std::to_string(kMaxLabelValue));
+    }
+    return {};
+}
+
+ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
+    if (r.scene_id().empty()) return invalidArgument("scene_id", "required");
+    if (!isSha256Hex(r.scene_id())) return invalidArgument("scene_id", "expected 64 lowercase hex digits");
+    if (auto s = checkRange("width", r.width(), 1, kMaxImageSide); !s) return s;
+    if (auto s = checkRange("height", r.height(), 1, kMaxImageSide); !s) return s;
+    if (auto s = checkRange("spp", r.spp(), 1, kMaxSamplesPerPixel); !s) return s;
+    if (r.integrator().empty()) r.set_integrator("path");
+    if (!parseIntegrator(r.integrator()))
+        return invalidArgument("integrator", "'" + r.integrator() + "': expected path or ao");
+    if (!r.has_max_depth()) r.set_max_depth(kDefaultMaxDepth);
+    if (auto s = checkRange("max_depth", r.max_depth(), 0, kMaxDepthLimit); !s) return s;
+    if (r.has_camera()) return normalizeCamera(*r.mutable_camera());
+    return {};
+}
+
+}  // namespace
+
+ServiceResult<v1::SubmitJobRequest> normalizeSubmitRequest(const v1::SubmitJobRequest& request,
+                                                           uint64_t serverMemoryBudget) {
+    v1::SubmitJobRequest r = request;
+    if (auto s = normalizeRender(r); !s) return s;
+    if (auto s = normalizeOutput(r); !s) return s;
+    if (auto s = normalizeLabels(r); !s) return s;
+    if (r.memory_budget_bytes() == 0) r.set_memory_budget_bytes(serverMemoryBudget);
+    if (r.memory_budget_bytes() > serverMemoryBudget)
+        return invalidArgument("memory_budget_bytes", std::to_string(r.memory_budget_bytes()) +
+                                                          " exceeds the server's --memory-budget of " +
+                                                          std::to_string(serverMemoryBudget));
+    if (!r.has_priority()) r.set_priority(kDefaultPriority);
+    if (auto s = checkRange("priority", r.priority(), 0, kMaxPriority); !s) return s;
+    if (r.request_id().size() > kMaxRequestIdLength)
+        return invalidArgument("request_id",
+                               "longer than " + std::to_string(kMaxRequestIdLength) + " characters");
+    auto options = renderOptionsOf(r);
+    if (!options) return invalidArgument("request", options.message());
+    return r;
+}
+
+Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& r) {
+    RenderOptions options;
+    options.width = r.width();
+    options.height = r.height();
+    options.samplesPerPixel = r.spp();
+    auto integrator = parseIntegrator(r.integrator());
+    if (!integrator) return integrator.status();
+    options.integrator = *integrator;
+    options.maxDepth = r.max_depth();
+    options.seed = r.seed();
+    std::string aovs;
+    for (const std::string& aov : r.aovs()) aovs += (aovs.empty() ? "" : ",") + aov;
+    auto flags = parseAovList(aovs);
+    if (!flags) return flags.status();
+    options.aovs = *flags;
+    if (r.has_camera()) {
+        const v1::Camera& c = r.camera();
+        options.frameScene = false;
+        options.camera.eye = {c.eye(0), c.eye(1), c.eye(2)};
+        options.camera.target = {c.target(0), c.target(1), c.target(2)};
+        options.camera.up = {c.up(0), c.up(1), c.up(2)};
+        options.camera.fovYDegrees = c.fov_y_degrees();
+    }
+    VASTRAY_TRY(validateRenderOptions(options));
+    return options;
+}
+
+std::string sceneKey(const std::string& sceneId) { return "scenes/" + sceneId + ".vast"; }
+
+std::string resultKey(const v1::Job& job) {
+    return "results/" + job.id() + "." + job.request().output_format();
+}
+
+const char* resultContentType(const v1::SubmitJobRequest& request) {
+    return request.output_format() == "exr" ? "image/x-exr" : "image/png";
+}
+
+const char* jobStateName(v1::JobState state) { return v1::JobState_Name(state).c_str(); }
+
+std::string randomHex(size_t digits) {
+    static thread_local std::mt19937_64 random{std::random_device{}()};
+    static const char* kHex = "0123456789abcdef";
+    std::string text;
+    for (size_t i = 0; i < digits; ++i) text += kHex[random() & 15];
+    return text;
+}
+
+google::protobuf::Timestamp nowTimestamp() {
+    const auto micros = std::chrono::duration_cast<std::chrono::microseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    google::protobuf::Timestamp t;
+    t.set_seconds(micros / 1000000);
+    t.set_nanos(int32_t(micros % 1000000) * 1000);
+    return t;
+}
+
+std::string newJobId() { return "job-" + randomHex(32); }
+
+ServiceResult<uint32_t> pageSize(int32_t requested) {
+    constexpr uint32_t kDefaultPageSize = 100, kMaxPageSize = 1000;
+    if (requested == 0) return kDefaultPageSize;
+    if (requested < 0 || uint32_t(requested) > kMaxPageSize)
+        return invalidArgument(
+            "page_size", std::to_string(requested) + " is outside [1, " + std::to_string(kMaxPageSize) + "]");
+    return uint32_t(requested);
+}
+
+ServiceResult<uint64_t> parsePageToken(const std::string& token) {
+    if (token.empty()) return uint64_t(0);
+    uint64_t value = 0;
+    for (char c : token) {
+        if (c < '0' || c > '9' || value > (UINT64_MAX - 9) / 10)
+            return invalidArgument("page_token", "not a token this server issued");
+        value = value * 10 + uint64_t(c - '0');
+    }
+    return value;
+}
+
+bool isFinal(v1::JobState state) {
+    return state == v1::SUCCEEDED || state == v1::FAILED || state == v1::CANCELLED;
+}
+
+}  // namespace vastray::server

@@ -1,0 +1,39 @@
+#pragma once
+// Submit requests: defaults, validation (each error names the field) and the mapping onto
+// the RenderOptions every backend takes.
+#include <google/protobuf/timestamp.pb.h>
+
+#include <cstdint>
+#include <string>
+
+#include "vastray/core/RenderOptions.h"
+#include "vastray/server/ServiceStatus.h"
+#include "vastray/v1/render_service.pb.h"
+
+namespace vastray::server {
+
+// The request with every default filled in, or INVALID_ARGUMENT naming the field.
+ServiceResult<v1::SubmitJobRequest> normalizeSubmitRequest(const v1::SubmitJobRequest& request,
+                                                           uint64_t serverMemoryBudget);
+// From a normalized request.
+Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& request);
+
+// "scenes/ID.vast" and "results/JOB.png|exr": object keys.
+std::string sceneKey(const std::string& sceneId);
+std::string resultKey(const v1::Job& job);
+const char* resultContentType(const v1::SubmitJobRequest& request);
+
+const char* jobStateName(v1::JobState state);
+// The wall clock now, to the microsecond.
+google::protobuf::Timestamp nowTimestamp();
+
+// Random lowercase hex digits (not for secrets).
+std::string randomHex(size_t digits);
+// "job-" and 32 hex digits.
+std::string newJobId();
+// List paging: page_size 0 means 100, at most 1000; a page token is a decimal position.
+ServiceResult<uint32_t> pageSize(int32_t requested);
+ServiceResult<uint64_t> parsePageToken(const std::string& token);
+bool isFinal(v1::JobState state);
+
+}  // namespace vastray::server

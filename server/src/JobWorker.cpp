@@ -1,0 +1,125 @@
+// The worker thread: takes the next job from the queue, renders it through the JobRenderer
+// and stores the image atomically (scratch file, then ObjectStore::put) before the job's
+// record says SUCCEEDED. A crash at any point leaves either no result and an unfinished
+// job (run again at the next start) or a whole result.
+
+#include <cstdio>
+
+#include "JobRequest.h"
+#include "vastray/core/ImageFile.h"
+#include "vastray/server/Service.h"
+
+namespace vastray::server {
+
+void Service::workerLoop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (true) {
+        workAvailable_.wait(lock, [&] { return stopping_ || (!options_.paused && !queue_.empty()); });
+        if (stopping_) break;
+        const QueueEntry next = *queue_.begin();
+        queue_.erase(queue_.begin());
+        runningId_ = next.id;
+        live_ = {};
+        livePercent_ = 0;
+        cancelRunning_ = false;
+        lock.unlock();
+        runJob(next.id);
+        lock.lock();
+        runningId_.clear();
+        notifyChangeLocked();
+    }
+    workerStopped_ = true;
+    workerIdle_.notify_all();
+}
+
+void Service::runJob(const std::string& id) {
+    v1::Job job;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto stored = stores_.jobs->getJob(id);
+        // A job cancelled while queued leaves the queue at once; this covers a lost race.
+        if (!stored || !*stored || (*stored)->state() != v1::QUEUED) return;
+        job = **stored;
+        job.set_state(v1::RUNNING);
+        job.set_attempts(job.attempts() + 1);
+        job.set_progress(0);
+        job.clear_error();
+        *job.mutable_start_time() = nowTimestamp();
+        if (Status updated = stores_.jobs->updateJob(job); !updated) {
+            job.set_state(v1::FAILED);
+            job.set_error(updated.message());
+        }
+        notifyChangeLocked();
+    }
+    if (job.state() == v1::FAILED) return finishJob(job, internalError(job.error()));
+    finishJob(job, renderAndStore(job));
+}
+
+ServiceStatus Service::renderAndStore(v1::Job& job) {
+    auto options = renderOptionsOf(job.request());
+    if (!options) return invalidArgument("request", options.message());
+    auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
+    if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
+    JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes()};
+    JobRenderStats stats;
+    auto image = renderer_->render(
+        request, [this](const JobRenderProgress& p) { onProgress(p); }, cancelRunning_, &stats);
+    v1::JobStats* out = job.mutable_stats();
+    out->set_backend(renderer_->name());
+    out->set_render_seconds(stats.render.renderSeconds);
+    out->set_rays(stats.render.rays);
+    out->set_triangles(stats.render.triangles);
+    out->set_chunk_loads(stats.chunkLoads);
+    metrics_.chunkLoads += stats.chunkLoads;
+    if (cancelRunning_) return {StatusCode::Cancelled, "cancelled"};
+    if (!image) return {StatusCode::Internal, image.message()};
+    metrics_.rays += stats.render.rays;
+    metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
+    // The scratch name keeps the extension: the image writer picks the format by it.
+    const std::filesystem::path scratch =
+        objects_->scratchDir() / (job.id() + "." + job.request().output_format());
+    if (Status written = writeImageFile(scratch.string(), *image); !written)
+        return internalError(written.message());
+    std::error_code error;
+    job.set_result_bytes(std::filesystem::file_size(scratch, error));
+    if (Status stored = objects_->put(resultKey(job), scratch); !stored)
+        return internalError(stored.message());
+    return {};
+}
+
+void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto stored = stores_.jobs->getJob(job.id());
+    const bool cancelled = stored && *stored && (*stored)->state() == v1::CANCELLED;
+    if (cancelled || (shutdownCancel_ && outcome.code() == StatusCode::Cancelled)) {
+        // Cancelled by a client (already recorded) or stopped by shutdown (stays RUNNING and
+        // runs again at the next start): no result may remain.
+        objects_->remove(resultKey(job));
+        if (!cancelled) leftRunning_ = job.id();
+        return;
+    }
+    job.set_state(outcome.isOk() ? v1::SUCCEEDED : v1::FAILED);
+    job.set_error(outcome.message());
+    if (outcome.isOk()) job.set_progress(100);
+    *job.mutable_end_time() = nowTimestamp();
+    if (Status updated = stores_.jobs->updateJob(job); !updated) {
+        // The record still says RUNNING: the job runs again at the next start.
+        std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(), updated.message().c_str());
+        return;
+    }
+    ++(outcome.isOk() ? metrics_.jobsSucceeded : metrics_.jobsFailed);
+    notifyChangeLocked();
+}
+
+// From the renderer's threads: publishes at most one change per percent.
+void Service::onProgress(const JobRenderProgress& progress) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (progress.passesDone < live_.passesDone && progress.passesTotal == live_.passesTotal) return;
+    live_ = progress;
+    const int percent = progress.passesTotal ? int(100 * progress.passesDone / progress.passesTotal) : 0;
+    if (percent == livePercent_ && progress.passesDone != progress.passesTotal) return;
+    livePercent_ = percent;
+    notifyChangeLocked();
+}
+
+}  // namespace vastray::server

@@ -1,0 +1,230 @@
+// The scene half of the service: uploads (content-addressed by SHA-256), import of meshes
+// into scene packages with the same streamer functions `vastray import` calls, listing and
+// deletion.
+
+#include <algorithm>
+#include <cstring>
+
+#include "JobRequest.h"
+#include "vastray/server/Service.h"
+#include "vastray/streamer/Import.h"
+#include "vastray/streamer/PackageBuilder.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uint64_t kDiskCheckInterval = 16ull << 20;
+constexpr size_t kMaxNameLength = 255;
+
+std::string lowerExtension(const std::string& name) {
+    std::string ext = fs::path(name).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext.empty() ? ext : ext.substr(1);
+}
+
+// The upload's format: a package by its magic bytes, a mesh by its name's extension, else
+// by the magic of binary glTF or PLY. Empty when unknown.
+std::string detectFormat(const std::string& name, const fs::path& file) {
+    char head[8] = {};
+    std::ifstream in(file, std::ios::binary);
+    in.read(head, sizeof head);
+    if (std::memcmp(head, "VASTRAY\0", 8) == 0) return "vast";
+    const std::string ext = lowerExtension(name);
+    if (ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb") return ext;
+    if (std::memcmp(head, "glTF", 4) == 0) return "glb";
+    if (std::memcmp(head, "ply", 3) == 0) return "ply";
+    return "";
+}
+
+// Importer messages name the scratch file; the client knows its own file name.
+std::string renamePath(std::string message, const std::string& from, const std::string& to) {
+    for (size_t at; (at = message.find(from)) != std::string::npos;) message.replace(at, from.size(), to);
+    return message;
+}
+
+}  // namespace
+
+SceneUpload::SceneUpload(Service& service, std::string name, fs::path file)
+    : service_(service), name_(std::move(name)), file_(std::move(file)), out_(file_, std::ios::binary) {}
+
+SceneUpload::~SceneUpload() {
+    if (finished_) return;
+    out_.close();
+    std::error_code error;
+    fs::remove(file_, error);
+}
+
+ServiceStatus SceneUpload::append(const void* data, size_t size) {
+    if (finished_) return {StatusCode::FailedPrecondition, "upload already finished"};
+    bytes_ += size;
+    service_.metrics_.uploadBytes += size;
+    if (bytes_ > service_.options_.maxUploadBytes)
+        return {StatusCode::ResourceExhausted, "upload exceeds the server's limit of " +
+                                                   std::to_string(service_.options_.maxUploadBytes) +
+                                                   " bytes"};
+    if (bytes_ >= nextDiskCheck_) {
+        if (service_.objects_->availableBytes() < size + service_.options_.diskReserveBytes)
+            return {StatusCode::ResourceExhausted, "not enough free disk space for this upload"};
+        nextDiskCheck_ = bytes_ + kDiskCheckInterval;
+    }
+    hash_.update(data, size);
+    out_.write(static_cast<const char*>(data), std::streamsize(size));
+    if (!out_) return internalError(file_.string() + ": write failed");
+    return {};
+}
+
+ServiceResult<v1::Scene> SceneUpload::finish() {
+    if (finished_) return ServiceStatus{StatusCode::FailedPrecondition, "upload already finished"};
+    out_.close();
+    if (!out_) return internalError(file_.string() + ": write failed");
+    if (bytes_ == 0) return invalidArgument("data", "the upload is empty");
+    auto scene = service_.storeUpload(name_, file_, hash_.finishHex(), bytes_);
+    std::error_code error;
+    fs::remove(file_, error);
+    finished_ = true;
+    return scene;
+}
+
+ServiceResult<std::unique_ptr<SceneUpload>> Service::beginUpload(const std::string& name,
+                                                                 uint64_t expectedBytes) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!accepting_) return ServiceStatus{StatusCode::Unavailable, "the server is shutting down"};
+    }
+    if (name.empty()) return invalidArgument("name", "required (the file name, e.g. bunny.ply)");
+    if (name.size() > kMaxNameLength || name.find('/') != std::string::npos ||
+        name.find('\0') != std::string::npos)
+        return invalidArgument(
+            "name", "a file name without '/', at most " + std::to_string(kMaxNameLength) + " characters");
+    if (expectedBytes > options_.maxUploadBytes)
+        return ServiceStatus{StatusCode::ResourceExhausted, "upload of " + std::to_string(expectedBytes) +
+                                                                " bytes exceeds the server's limit of " +
+                                                                std::to_string(options_.maxUploadBytes)};
+    if (expectedBytes + options_.diskReserveBytes > objects_->availableBytes())
+        return ServiceStatus{StatusCode::ResourceExhausted, "not enough free disk space for this upload"};
+    const fs::path file = objects_->scratchDir() / ("upload-" + randomHex(16) + ".part");
+    auto upload = std::unique_ptr<SceneUpload>(new SceneUpload(*this, name, file));
+    if (!upload->out_) return internalError(file.string() + ": cannot create");
+    return upload;
+}
+
+ServiceResult<v1::Scene> Service::storeUpload(const std::string& name, const fs::path& file,
+                                              const std::string& digest, uint64_t bytes) {
+    std::lock_guard<std::mutex> importLock(importMutex_);
+    auto known = stores_.scenes->getScene(digest);
+    if (!known) return internalError(known.message());
+    if (*known) return **known;
+    return importUpload(name, file, digest, bytes);
+}
+
+ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs::path& file,
+                                               const std::string& digest, uint64_t bytes) {
+    v1::Scene scene;
+    scene.set_id(digest);
+    scene.set_name(name);
+    scene.set_format(detectFormat(name, file));
+    scene.set_upload_bytes(bytes);
+    if (scene.format().empty())
+        return invalidArgument("name",
+                               "'" + name + "': unknown format; expected .obj, .ply, .gltf, .glb or .vast");
+    const fs::path package = objects_->scratchDir() / (digest + "-" + randomHex(8) + ".vast");
+    std::error_code error;
+    if (scene.format() == "vast") {
+        fs::rename(file, package, error);
+        if (error) return internalError(package.string() + ": " + error.message());
+    } else {
+        // Importers pick the format by extension: give the scratch file the right one.
+        const fs::path mesh = fs::path(file).replace_extension("." + scene.format());
+        fs::rename(file, mesh, error);
+        if (error) return internalError(mesh.string() + ": " + error.message());
+        auto imported = importMesh(mesh.string());
+        if (imported) {
+            PackageBuildOptions build;
+            build.progress = Progress::Mode::None;
+            build.degenerateDropped = imported->report.degenerateDropped;
+            auto report = buildPackage(std::move(imported->mesh), package.string(), build);
+            if (!report) imported = report.status();
+        }
+        fs::remove(mesh, error);
+        if (!imported)
+            return invalidArgument("data", renamePath(renamePath(imported.message(), mesh.string(), name),
+                                                      mesh.filename().string(), name));
+    }
+    auto reader = PackageReader::open(package.string());
+    std::vector<std::string> damage = reader ? (*reader)->verify() : std::vector<std::string>{};
+    if (!reader || !damage.empty()) {
+        fs::remove(package, error);
+        const std::string why = !reader ? reader.message() : damage.front();
+        return invalidArgument("data",
+                               "not a valid scene package: " + renamePath(why, package.string(), name));
+    }
+    scene.set_triangles((*reader)->info().triangleCount);
+    scene.set_package_bytes((*reader)->info().fileBytes);
+    reader->reset();
+    *scene.mutable_create_time() = nowTimestamp();
+    if (Status stored = objects_->put(sceneKey(digest), package); !stored)
+        return internalError(stored.message());
+    auto inserted = stores_.scenes->insertScene(scene);
+    if (!inserted) return internalError(inserted.message());
+    ++metrics_.scenesUploaded;
+    return *inserted;
+}
+
+ServiceResult<v1::FindMissingResponse> Service::findMissing(const v1::FindMissingRequest& request) {
+    v1::FindMissingResponse response;
+    for (int i = 0; i < request.digests_size(); ++i) {
+        const std::string& digest = request.digests(i);
+        if (!isSha256Hex(digest))
+            return invalidArgument("digests[" + std::to_string(i) + "]", "expected 64 lowercase hex digits");
+        auto scene = stores_.scenes->getScene(digest);
+        if (!scene) return internalError(scene.message());
+        if (!*scene) response.add_missing(digest);
+    }
+    return response;
+}
+
+ServiceResult<v1::Scene> Service::getScene(const v1::GetSceneRequest& request) {
+    if (!isSha256Hex(request.id())) return invalidArgument("id", "expected 64 lowercase hex digits");
+    auto scene = stores_.scenes->getScene(request.id());
+    if (!scene) return internalError(scene.message());
+    if (!*scene) return notFound("no scene " + request.id());
+    return **scene;
+}
+
+ServiceResult<v1::ListScenesResponse> Service::listScenes(const v1::ListScenesRequest& request) {
+    auto size = pageSize(request.page_size());
+    if (!size) return size.status();
+    auto after = parsePageToken(request.page_token());
+    if (!after) return after.status();
+    auto page = stores_.scenes->listScenes(*after, *size);
+    if (!page) return internalError(page.message());
+    v1::ListScenesResponse response;
+    for (auto& scene : page->scenes) *response.add_scenes() = std::move(scene);
+    if (page->more) response.set_next_page_token(std::to_string(page->last));
+    return response;
+}
+
+ServiceResult<v1::DeleteSceneResponse> Service::deleteScene(const v1::DeleteSceneRequest& request) {
+    if (!isSha256Hex(request.id())) return invalidArgument("id", "expected 64 lowercase hex digits");
+    std::lock_guard<std::mutex> importLock(importMutex_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto scene = stores_.scenes->getScene(request.id());
+    if (!scene) return internalError(scene.message());
+    if (!*scene) return notFound("no scene " + request.id());
+    auto inUse = stores_.jobs->sceneInUse(request.id());
+    if (!inUse) return internalError(inUse.message());
+    if (*inUse)
+        return ServiceStatus{StatusCode::FailedPrecondition,
+                             "scene " + request.id() + " is used by a QUEUED or RUNNING job"};
+    if (Status removed = stores_.scenes->deleteScene(request.id()); !removed)
+        return internalError(removed.message());
+    if (Status removed = objects_->remove(sceneKey(request.id())); !removed)
+        return internalError(removed.message());
+    return v1::DeleteSceneResponse();
+}
+
+}  // namespace vastray::server

@@ -1,0 +1,135 @@
+// Jobs survive `kill -9`: queued jobs run after a restart, an interrupted render runs again,
+// each job finishes exactly once with the image `vastray render` makes of the same job.
+#include <google/protobuf/util/time_util.h>
+
+#include "ServerTestSupport.h"
+
+namespace vastray::test {
+namespace {
+
+using google::protobuf::util::TimeUtil;
+
+google::protobuf::Timestamp timeOf(const json& job, const char* field) {
+    google::protobuf::Timestamp t;
+    EXPECT_TRUE(TimeUtil::FromString(job.value(field, ""), &t)) << job.dump();
+    return t;
+}
+
+TEST_F(ServerTest, QueuedJobsRunAfterKillAndRestartInPriorityOrder) {
+    startServer({"--paused"});
+    const std::string sceneId = uploadSphere()["id"];
+    std::vector<std::string> ids;
+    for (int seed : {1, 2, 3}) {
+        json body = smallJob(sceneId);
+        body["seed"] = seed;
+        if (seed == 3) body["priority"] = 90;
+        auto res = submit(body);
+        ASSERT_EQ(res->status, 202) << res->body;
+        ids.push_back(json::parse(res->body)["id"]);
+    }
+    server_.kill(SIGKILL);
+
+    startServer();
+    std::vector<json> done;
+    for (const std::string& id : ids) done.push_back(waitForState(id, "SUCCEEDED"));
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(done[i]["attempts"], 1) << done[i].dump();
+        EXPECT_EQ(result(ids[i]),
+                  cliRender(sceneId, "--resolution 32x32 --spp 2 --seed " + std::to_string(i + 1)))
+            << "job " << i;
+    }
+    EXPECT_LE(timeOf(done[2], "start_time"), timeOf(done[0], "start_time")) << "priority 90 runs before 50";
+    EXPECT_LE(timeOf(done[0], "start_time"), timeOf(done[1], "start_time"))
+        << "equal priorities run in order";
+    auto list = http().Get("/v1/jobs");
+    EXPECT_EQ(json::parse(list->body)["jobs"].size(), 3u) << "no job lost or duplicated";
+}
+
+TEST_F(ServerTest, RunningJobIsRenderedAgainAfterKill) {
+    startServer();
+    const std::string sceneId = uploadSphere()["id"];
+    // Large enough to be caught RUNNING (about a second on two cores).
+    const json body = {{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}};
+    auto res = submit(body);
+    ASSERT_EQ(res->status, 202);
+    const std::string id = json::parse(res->body)["id"];
+    waitForState(id, "RUNNING");
+    server_.kill(SIGKILL);
+    EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "results")) << "no result of an interrupted render";
+
+    startServer();
+    const json job = waitForState(id, "SUCCEEDED");
+    EXPECT_EQ(job["attempts"], 2) << "the interrupted render ran again";
+    EXPECT_EQ(result(id), cliRender(sceneId, "--resolution 160x160 --spp 48"));
+    EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "tmp"));
+}
+
+TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
+    startServer();
+    const std::string sceneId = uploadSphere()["id"];
+    auto first = submit(smallJob(sceneId));
+    const json a = waitForState(json::parse(first->body)["id"], "SUCCEEDED");
+    auto second = submit(smallJob(sceneId));
+    const json b = waitForState(json::parse(second->body)["id"], "SUCCEEDED");
+    EXPECT_GT(std::stoull(a["stats"]["chunk_loads"].get<std::string>()), 0u) << a.dump();
+    EXPECT_EQ(b["stats"]["chunk_loads"], "0") << "the host cache kept the decoded scene: " << b.dump();
+}
+
+// SIGTERM: a running job either finishes within the grace or stays RUNNING and runs again at
+// the next start; either way it finishes exactly once.
+TEST_F(ServerTest, SigtermFinishesOrHandsOverTheRunningJob) {
+    const json slow = {{"width", 160}, {"height", 160}, {"spp", 48}};
+    for (const char* grace : {"30", "0"}) {
+        SCOPED_TRACE(std::string("--shutdown-grace ") + grace);
+        startServer({"--shutdown-grace", grace});
+        json body = slow;
+        body["scene_id"] = uploadSphere()["id"];
+        auto res = submit(body);
+        ASSERT_EQ(res->status, 202);
+        const std::string id = json::parse(res->body)["id"];
+        waitForState(id, "RUNNING");
+        const int status = server_.kill(SIGTERM);
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << server_.log();
+        const bool handedOver = std::string(grace) == "0";
+        EXPECT_EQ(server_.log().find("runs again at the next start") != std::string::npos, handedOver)
+            << server_.log();
+        startServer();
+        const json job = waitForState(id, "SUCCEEDED");
+        EXPECT_EQ(job["attempts"], handedOver ? 2 : 1) << job.dump();
+        server_.kill(SIGTERM);
+    }
+}
+
+TEST_F(ServerTest, CancellingARunningJobDiscardsItsImage) {
+    startServer();
+    const std::string sceneId = uploadSphere()["id"];
+    auto res = submit({{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}});
+    ASSERT_EQ(res->status, 202);
+    const std::string id = json::parse(res->body)["id"];
+    waitForState(id, "RUNNING");
+    res = http().Post(("/v1/jobs/" + id + ":cancel").c_str(), R"({"reason": "changed my mind"})",
+                      "application/json");
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(json::parse(res->body)["state"], "CANCELLED") << "cancelled at once";
+    // The next job runs once the cancelled render is out of the way; the cancelled job stays
+    // CANCELLED and has no result.
+    auto next = submit(smallJob(sceneId));
+    waitForState(json::parse(next->body)["id"], "SUCCEEDED");
+    EXPECT_EQ(getJob(id)["state"], "CANCELLED");
+    EXPECT_EQ(getJob(id)["error"], "cancelled: changed my mind");
+    EXPECT_EQ(http().Get(("/v1/jobs/" + id + "/result").c_str())->status, 409);
+    EXPECT_FALSE(std::filesystem::exists(dataDir() / "results" / (id + ".png")));
+}
+
+TEST_F(ServerTest, UploadsOverTheLimitAreRefused) {
+    startServer({"--max-upload", "16KiB"});
+    auto res = http().Put("/v1/scenes?name=sphere.ply", readBytes(spherePath_), "application/octet-stream");
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 413) << res->body;
+    EXPECT_NE(res->body.find("RESOURCE_EXHAUSTED"), std::string::npos) << res->body;
+    EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "tmp")) << "the partial upload is removed";
+    EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "scenes"));
+}
+
+}  // namespace
+}  // namespace vastray::test

@@ -1,0 +1,239 @@
+// The gRPC front end of a real `vastray serve`, driven with the generated C++ stubs, plus
+// the health and reflection services through generic calls (no .proto needed, as grpcurl).
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+
+#include <future>
+
+#include "ServerTestSupport.h"
+#include "vastray/v1/render_service.grpc.pb.h"
+#include "vastray/v1/scene_service.grpc.pb.h"
+
+namespace vastray::test {
+namespace {
+
+class GrpcTest : public ServerTest {
+protected:
+    void connect() {
+        channel_ = grpc::CreateChannel(server_.grpcAddress(), grpc::InsecureChannelCredentials());
+        scenes_ = v1::SceneService::NewStub(channel_);
+        renders_ = v1::RenderService::NewStub(channel_);
+    }
+
+    std::unique_ptr<grpc::ClientContext> context() const {
+        auto c = std::make_unique<grpc::ClientContext>();
+        c->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
+        if (!token_.empty()) c->AddMetadata("authorization", "Bearer " + token_);
+        return c;
+    }
+
+    // Streams the sphere in 64 KiB messages.
+    grpc::Status upload(v1::Scene* scene) {
+        auto c = context();
+        auto writer = scenes_->UploadScene(c.get(), scene);
+        const std::string bytes = readBytes(spherePath_);
+        for (size_t at = 0; at < bytes.size(); at += 65536) {
+            v1::UploadSceneRequest message;
+            if (at == 0) message.set_name("sphere.ply");
+            message.set_data(bytes.substr(at, 65536));
+            if (!writer->Write(message)) break;
+        }
+        writer->WritesDone();
+        return writer->Finish();
+    }
+
+    v1::SubmitJobRequest smallRequest(const std::string& sceneId) const {
+        v1::SubmitJobRequest request;
+        request.set_scene_id(sceneId);
+        request.set_width(32);
+        request.set_height(32);
+        request.set_spp(2);
+        return request;
+    }
+
+    // A unary call by method name with raw bytes, as a client without the .proto makes it.
+    grpc::Status genericCall(const std::string& method, const std::string& request, std::string* response) {
+        grpc::GenericStub stub(channel_);
+        grpc::Slice slice(request);
+        grpc::ByteBuffer in(&slice, 1), out;
+        auto c = context();
+        std::promise<grpc::Status> done;
+        stub.UnaryCall(c.get(), method, grpc::StubOptions(), &in, &out,
+                       [&](grpc::Status s) { done.set_value(s); });
+        grpc::Status status = done.get_future().get();
+        std::vector<grpc::Slice> slices;
+        (void)out.Dump(&slices);
+        for (auto& s : slices) response->append(reinterpret_cast<const char*>(s.begin()), s.size());
+        return status;
+    }
+
+    std::shared_ptr<grpc::Channel> channel_;
+    std::unique_ptr<v1::SceneService::Stub> scenes_;
+    std::unique_ptr<v1::RenderService::Stub> renders_;
+};
+
+TEST_F(GrpcTest, UploadSubmitWatchAndGetResult) {
+    startServer();
+    connect();
+    v1::Scene scene;
+    ASSERT_TRUE(upload(&scene).ok());
+    EXPECT_EQ(scene.id(), uploadSphere()["id"]) << "gRPC and HTTP uploads of one file are one scene";
+
+    v1::FindMissingRequest find;
+    find.add_digests(scene.id());
+    find.add_digests(std::string(64, 'b'));
+    v1::FindMissingResponse missing;
+    ASSERT_TRUE(scenes_->FindMissing(context().get(), find, &missing).ok());
+    ASSERT_EQ(missing.missing_size(), 1);
+    EXPECT_EQ(missing.missing(0), std::string(64, 'b'));
+
+    v1::Job job;
+    ASSERT_TRUE(renders_->SubmitJob(context().get(), smallRequest(scene.id()), &job).ok());
+    EXPECT_EQ(job.state(), v1::QUEUED);
+
+    v1::WatchJobRequest watch;
+    watch.set_id(job.id());
+    auto c = context();
+    auto events = renders_->WatchJob(c.get(), watch);
+    std::vector<v1::JobEvent> seen;
+    for (v1::JobEvent event; events->Read(&event);) seen.push_back(event);
+    ASSERT_TRUE(events->Finish().ok());
+    ASSERT_FALSE(seen.empty());
+    EXPECT_EQ(seen.front().kind(), v1::JobEvent::SNAPSHOT);
+    EXPECT_EQ(seen.back().state(), v1::SUCCEEDED);
+
+    v1::GetResultRequest get;
+    get.set_job_id(job.id());
+    std::string image;
+    auto c2 = context();
+    auto chunks = renders_->GetResult(c2.get(), get);
+    for (v1::ResultChunk chunk; chunks->Read(&chunk);) {
+        EXPECT_EQ(chunk.offset(), image.size());
+        image += chunk.data();
+    }
+    ASSERT_TRUE(chunks->Finish().ok());
+    EXPECT_EQ(image, result(job.id())) << "same bytes over gRPC and HTTP";
+
+    get.set_offset(4);
+    get.set_limit(10);
+    std::string part;
+    auto c3 = context();
+    auto partial = renders_->GetResult(c3.get(), get);
+    for (v1::ResultChunk chunk; partial->Read(&chunk);) part += chunk.data();
+    ASSERT_TRUE(partial->Finish().ok());
+    EXPECT_EQ(part, image.substr(4, 10));
+
+    v1::SubmitJobRequest again = smallRequest(scene.id());
+    again.set_request_id("grpc-1");
+    v1::Job first, second;
+    ASSERT_TRUE(renders_->SubmitJob(context().get(), again, &first).ok());
+    ASSERT_TRUE(renders_->SubmitJob(context().get(), again, &second).ok());
+    EXPECT_EQ(first.id(), second.id()) << "request_id makes SubmitJob idempotent";
+}
+
+TEST_F(GrpcTest, ErrorCodes) {
+    startServer({"--paused", "--max-queue", "1"});
+    connect();
+    v1::Scene scene;
+    ASSERT_TRUE(upload(&scene).ok());
+    v1::Job job;
+    v1::SubmitJobRequest bad = smallRequest(scene.id());
+    bad.set_spp(0);
+    grpc::Status status = renders_->SubmitJob(context().get(), bad, &job);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_EQ(status.error_message().rfind("spp:", 0), 0u) << status.error_message();
+
+    status = renders_->SubmitJob(context().get(), smallRequest(std::string(64, 'c')), &job);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+
+    ASSERT_TRUE(renders_->SubmitJob(context().get(), smallRequest(scene.id()), &job).ok());
+    v1::Job refused;
+    status = renders_->SubmitJob(context().get(), smallRequest(scene.id()), &refused);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+
+    v1::GetResultRequest get;
+    get.set_job_id(job.id());
+    auto c = context();
+    auto reader = renders_->GetResult(c.get(), get);
+    v1::ResultChunk chunk;
+    EXPECT_FALSE(reader->Read(&chunk));
+    EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+
+    v1::CancelJobRequest cancel;
+    cancel.set_id(job.id());
+    v1::Job cancelled;
+    ASSERT_TRUE(renders_->CancelJob(context().get(), cancel, &cancelled).ok());
+    EXPECT_EQ(cancelled.state(), v1::CANCELLED);
+    EXPECT_EQ(renders_->CancelJob(context().get(), cancel, &cancelled).error_code(),
+              grpc::StatusCode::FAILED_PRECONDITION);
+
+    v1::GetJobRequest unknown;
+    unknown.set_id("job-ffffffffffffffffffffffffffffffff");
+    EXPECT_EQ(renders_->GetJob(context().get(), unknown, &job).error_code(), grpc::StatusCode::NOT_FOUND);
+
+    // Over the 1 MiB message limit the server sets.
+    v1::Scene big;
+    auto c2 = context();
+    auto writer = scenes_->UploadScene(c2.get(), &big);
+    v1::UploadSceneRequest message;
+    message.set_name("big.ply");
+    message.set_data(std::string((2u << 20), 'x'));
+    writer->Write(message);
+    writer->WritesDone();
+    EXPECT_EQ(writer->Finish().error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+}
+
+TEST_F(GrpcTest, AuthTokenIsRequiredWhenConfigured) {
+    const auto tokenFile = dir_ / "token";
+    std::ofstream(tokenFile) << "grpc-token";
+    startServer({"--auth-token-file", tokenFile.string()});
+    connect();
+    v1::ListJobsResponse jobs;
+    EXPECT_EQ(renders_->ListJobs(context().get(), {}, &jobs).error_code(), grpc::StatusCode::UNAUTHENTICATED);
+    token_ = "grpc-token";
+    EXPECT_TRUE(renders_->ListJobs(context().get(), {}, &jobs).ok());
+    v1::Scene scene;
+    EXPECT_TRUE(upload(&scene).ok());
+}
+
+TEST_F(GrpcTest, HealthAndReflectionWorkWithoutTheProto) {
+    startServer();
+    connect();
+    // grpc.health.v1.HealthCheckRequest{} is empty; the reply {status: SERVING} is 08 01.
+    std::string health;
+    ASSERT_TRUE(genericCall("/grpc.health.v1.Health/Check", "", &health).ok());
+    EXPECT_EQ(health, std::string("\x08\x01", 2));
+
+    // ServerReflectionRequest{list_services: ""} (field 7) on the bidi reflection stream.
+    grpc::GenericStub stub(channel_);
+    grpc::CompletionQueue queue;
+    auto c = context();
+    auto call =
+        stub.PrepareCall(c.get(), "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo", &queue);
+    void* tag = nullptr;
+    bool ok = false;
+    call->StartCall(reinterpret_cast<void*>(1));
+    ASSERT_TRUE(queue.Next(&tag, &ok) && ok);
+    grpc::Slice slice(std::string("\x3a\x00", 2));
+    grpc::ByteBuffer request(&slice, 1), response;
+    call->WriteLast(request, grpc::WriteOptions(), reinterpret_cast<void*>(2));
+    ASSERT_TRUE(queue.Next(&tag, &ok) && ok);
+    call->Read(&response, reinterpret_cast<void*>(3));
+    ASSERT_TRUE(queue.Next(&tag, &ok) && ok);
+    std::vector<grpc::Slice> slices;
+    (void)response.Dump(&slices);
+    std::string bytes;
+    for (auto& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+    EXPECT_NE(bytes.find("vastray.v1.RenderService"), std::string::npos);
+    EXPECT_NE(bytes.find("vastray.v1.SceneService"), std::string::npos);
+    EXPECT_NE(bytes.find("grpc.health.v1.Health"), std::string::npos);
+    grpc::Status status;
+    call->Finish(&status, reinterpret_cast<void*>(4));
+    queue.Next(&tag, &ok);
+    queue.Shutdown();
+    while (queue.Next(&tag, &ok)) {
+    }
+}
+
+}  // namespace
+}  // namespace vastray::test

@@ -1,0 +1,97 @@
+#pragma once
+// Runs the real `vastray serve` on loopback ports chosen by the kernel (port 0), as a child
+// process whose output goes to a log file, and parses the ports it prints.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "TestTmp.h"
+
+namespace vastray::test {
+
+class ServerProcess {
+public:
+    ServerProcess() = default;
+    ServerProcess(const ServerProcess&) = delete;
+    ServerProcess& operator=(const ServerProcess&) = delete;
+    ~ServerProcess() { kill(SIGKILL); }
+
+    // Starts `vastray serve --data-dir DIR --grpc 127.0.0.1:0 --http 127.0.0.1:0 EXTRA...`
+    // and waits for its "ready" line; false (with the log in `log()`) when it does not come.
+    bool start(const std::filesystem::path& dataDir, const std::vector<std::string>& extra = {}) {
+        logPath_ = dataDir.parent_path() /
+                   (dataDir.filename().string() + "-serve-" + std::to_string(++starts_) + ".log");
+        std::vector<std::string> args = {VASTRAY_BINARY, "serve",       "--data-dir", dataDir.string(),
+                                         "--grpc",       "127.0.0.1:0", "--http",     "127.0.0.1:0"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        pid_ = ::fork();
+        if (pid_ == 0) {
+            FILE* log = std::fopen(logPath_.c_str(), "w");
+            ::dup2(::fileno(log), 1);
+            ::dup2(::fileno(log), 2);
+            std::vector<char*> argv;
+            for (auto& a : args) argv.push_back(a.data());
+            argv.push_back(nullptr);
+            ::execv(argv[0], argv.data());
+            std::_Exit(127);
+        }
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        const std::regex grpcLine(R"(gRPC on 127\.0\.0\.1:(\d+))"), httpLine(R"(HTTP on 127\.0\.0\.1:(\d+))");
+        while (std::chrono::steady_clock::now() < deadline) {
+            const std::string text = log();
+            std::smatch m;
+            if (text.find("ready") != std::string::npos) {
+                if (std::regex_search(text, m, grpcLine)) grpcPort_ = std::stoi(m[1]);
+                if (std::regex_search(text, m, httpLine)) httpPort_ = std::stoi(m[1]);
+                return grpcPort_ > 0 && httpPort_ > 0;
+            }
+            int status = 0;
+            if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+                pid_ = -1;
+                exitStatus_ = status;
+                return false;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return false;
+    }
+
+    // Sends `signal` and waits for the process; its wait status (-1 when none ran).
+    int kill(int signal) {
+        if (pid_ <= 0) return -1;
+        ::kill(pid_, signal);
+        int status = 0;
+        ::waitpid(pid_, &status, 0);
+        pid_ = -1;
+        exitStatus_ = status;
+        return status;
+    }
+
+    std::string log() const {
+        std::ifstream in(logPath_);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    }
+    int httpPort() const { return httpPort_; }
+    std::string grpcAddress() const { return "127.0.0.1:" + std::to_string(grpcPort_); }
+
+private:
+    pid_t pid_ = -1;
+    int exitStatus_ = 0, starts_ = 0, grpcPort_ = 0, httpPort_ = 0;
+    std::filesystem::path logPath_;
+};
+
+inline std::string readBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace vastray::test
