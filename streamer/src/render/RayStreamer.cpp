@@ -127,6 +127,17 @@ void RayStreamer::sortByUrgency(std::vector<uint32_t>& chunks) const {
     });
 }
 
+// Starts decoding these chunks (most urgent first) on the workers, as far as the host cache
+// holds them and at least the next slots' worth.
+void RayStreamer::prefetchAhead(const std::vector<uint32_t>& chunks) {
+    uint64_t bytes = 0;
+    for (size_t i = 0; i < chunks.size(); ++i) {
+        bytes += package_.chunks[chunks[i]].residentBytes;
+        if (i >= slotChunk_.size() && bytes > cache_.capacity()) break;
+        cache_.prefetch(chunks[i]);
+    }
+}
+
 // Nothing resident has cells queued: load the most urgent chunks into free slots, then into the
 // slots whose chunks have the fewest outstanding cells (least recently used among ties).
 Status RayStreamer::loadChunks() {
@@ -153,6 +164,7 @@ Status RayStreamer::loadChunks() {
     }
     if (wanted.empty()) return Status::ok();
     for (uint32_t c : wanted) cache_.prefetch(c);  // decode them in parallel
+    prefetchAhead(candidates);                     // and what comes after, as far as the cache holds
 
     std::vector<uint32_t> slots(slotChunk_.size());
     std::iota(slots.begin(), slots.end(), 0u);
@@ -231,18 +243,12 @@ Status RayStreamer::traceResident(std::span<const StreamRay> rays, std::vector<S
     }
     if (batches.empty()) return Status::ok();
 
-    // While the device traces, decode what the next loads will want, most urgent first, as far
-    // as the host cache holds (at least the next slots' worth).
+    // While the device traces, decode what the next loads will want.
     std::vector<uint32_t> next;
     for (uint32_t c = 0; c < waiting_.size(); ++c)
         if (!waiting_[c].empty() && chunkSlot_[c] == kEmptyCell) next.push_back(c);
     sortByUrgency(next);
-    uint64_t prefetched = 0;
-    for (size_t i = 0; i < next.size(); ++i) {
-        prefetched += package_.chunks[next[i]].residentBytes;
-        if (i >= slotChunk_.size() && prefetched > cache_.capacity()) break;
-        cache_.prefetch(next[i]);
-    }
+    prefetchAhead(next);
 
     const Clock::time_point start = Clock::now();
     VASTRAY_TRY(backend_.trace(batches));

@@ -56,6 +56,7 @@ private:
     void moveCursor(uint32_t ray, const std::vector<StreamResult>& results);
     Status loadChunks();
     void sortByUrgency(std::vector<uint32_t>& chunks) const;
+    void prefetchAhead(const std::vector<uint32_t>& chunks);
     Status traceResident(std::span<const StreamRay> rays, std::vector<StreamResult>& results);
     std::vector<uint8_t> singleSidedOf(const DecodedChunk& chunk) const;
 
