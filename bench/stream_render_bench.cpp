@@ -75,24 +75,6 @@ Args parseArgs(int argc, char** argv) {
     return a;
 }
 
-struct MeshCollector final : MeshSink {
-    TriangleMesh mesh;
-    Status begin(uint64_t v, uint64_t f) override {
-        mesh.positions.reserve(v);
-        mesh.indices.reserve(3 * f);
-        return Status::ok();
-    }
-    Status vertex(Vec3f p) override {
-        mesh.positions.push_back(p);
-        return Status::ok();
-    }
-    Status face(uint32_t a, uint32_t b, uint32_t c) override {
-        mesh.indices.insert(mesh.indices.end(), {a, b, c});
-        return Status::ok();
-    }
-    Status end() override { return Status::ok(); }
-};
-
 std::string makePackage(const Args& a, double* importSeconds) {
     const std::string path = (std::filesystem::temp_directory_path() /
                               ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + ".vast"))
@@ -102,14 +84,13 @@ std::string makePackage(const Args& a, double* importSeconds) {
     if (!kind) fail(kind.message());
     g.kind = *kind;
     g.triangles = a.triangles;
-    MeshCollector sink;
-    if (Status s = generate(g, sink); !s) fail(s.message());
-    sink.mesh.materials.push_back(Material{"default"});
+    auto mesh = generateMesh(g);
+    if (!mesh) fail(mesh.message());
     PackageBuildOptions options;
     options.chunkSizeBytes = a.chunkSize;
     options.progress = Progress::Mode::None;
     const auto start = std::chrono::steady_clock::now();
-    auto report = buildPackage(std::move(sink.mesh), path, options);
+    auto report = buildPackage(std::move(mesh).value(), path, options);
     if (!report) fail(report.message());
     *importSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return path;

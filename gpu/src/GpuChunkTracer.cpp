@@ -1,5 +1,7 @@
 #include "vastray/gpu/GpuChunkTracer.h"
 
+#include "ChunkValidation.h"
+
 #include <algorithm>
 #include <string>
 
@@ -23,38 +25,13 @@ Result<GpuBuffer> uploadArray(VulkanDevice& device, const void* data, uint64_t b
     return std::move(buffer).value();
 }
 
-// Children lie after their parent (depth-first order), so one forward pass finds every node's
-// depth; the traversal stack holds at most kMaxKdDepth entries.
-Status validateNodes(const KdTree& t) {
-    std::vector<uint32_t> depth(t.nodes.size(), 0);
-    for (size_t i = 0; i < t.nodes.size(); ++i) {
-        const KdNode n = t.nodes[i];
-        const bool bad = n.isLeaf() ? uint64_t(n.firstRef()) + n.primitiveCount() > t.leafRefs.size()
-                                    : n.aboveChild() <= i || n.aboveChild() >= t.nodes.size() ||
-                                          i + 1 >= t.nodes.size() || depth[i] >= kMaxKdDepth;
-        if (bad) return Status::error("KD-tree node " + std::to_string(i) + " points outside the tree or is too deep");
-        if (!n.isLeaf()) depth[i + 1] = depth[n.aboveChild()] = depth[i] + 1;
-    }
-    return Status::ok();
-}
-
 // Out-of-range references would read outside the buffers on the device: reject them here.
 Status validate(const ChunkArrays& c) {
     if (!c.kdTree) return Status::error("chunk has no KD-tree");
-    if (c.indices.size() % 3 != 0) return Status::error("index count is not a multiple of 3");
-    const uint64_t triangles = c.indices.size() / 3;
-    if (!c.singleSided.empty() && c.singleSided.size() != triangles)
+    if (!c.singleSided.empty() && c.singleSided.size() != c.indices.size() / 3)
         return Status::error("singleSided has " + std::to_string(c.singleSided.size()) + " entries for " +
-                             std::to_string(triangles) + " triangles");
-    for (size_t i = 0; i < c.indices.size(); ++i)
-        if (c.indices[i] >= c.positions.size())
-            return Status::error("index " + std::to_string(i) + " = " + std::to_string(c.indices[i]) +
-                                 " exceeds the vertex count " + std::to_string(c.positions.size()));
-    const KdTree& t = *c.kdTree;
-    for (size_t i = 0; i < t.leafRefs.size(); ++i)
-        if (t.leafRefs[i] >= triangles)
-            return Status::error("KD-tree reference " + std::to_string(i) + " exceeds the triangle count");
-    return validateNodes(t);
+                             std::to_string(c.indices.size() / 3) + " triangles");
+    return validateChunkGeometry(*c.kdTree, c.positions.size(), c.indices);
 }
 
 // Four per-triangle bytes to a word, as trace.comp reads them.

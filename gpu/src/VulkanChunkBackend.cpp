@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "ChunkValidation.h"
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
 #include "shared/TraceTypes.h"
@@ -187,27 +188,13 @@ private:
     Status validate(const DecodedChunk& c, std::span<const uint8_t> singleSided) const {
         const KdTree& t = c.kdTree;
         const uint64_t triangles = c.indices.size() / 3;
-        if (c.indices.size() % 3 != 0) return Status::error("index count is not a multiple of 3");
         if (attributes_.singleSided && singleSided.size() != triangles)
             return Status::error("single-sided flags do not match the triangle count");
         if (attributes_.primitiveIds && c.primitiveIds.size() != triangles)
             return Status::error("primitive ids do not match the triangle count");
         if (attributes_.materialIds && !c.materialIds.empty() && c.materialIds.size() != triangles)
             return Status::error("material ids do not match the triangle count");
-        for (uint32_t i : c.indices)
-            if (i >= c.positions.size()) return Status::error("an index exceeds the vertex count");
-        for (uint32_t r : t.leafRefs)
-            if (r >= triangles) return Status::error("a KD-tree reference exceeds the triangle count");
-        std::vector<uint32_t> depth(t.nodes.size(), 0);
-        for (size_t i = 0; i < t.nodes.size(); ++i) {
-            const KdNode n = t.nodes[i];
-            const bool bad = n.isLeaf() ? uint64_t(n.firstRef()) + n.primitiveCount() > t.leafRefs.size()
-                                        : n.aboveChild() <= i || n.aboveChild() >= t.nodes.size() ||
-                                              i + 1 >= t.nodes.size() || depth[i] >= kMaxKdDepth;
-            if (bad) return Status::error("KD-tree node " + std::to_string(i) + " points outside the tree");
-            if (!n.isLeaf()) depth[i + 1] = depth[n.aboveChild()] = depth[i] + 1;
-        }
-        return Status::ok();
+        return validateChunkGeometry(t, c.positions.size(), c.indices);
     }
 
     VulkanDevice& device_;

@@ -77,4 +77,36 @@ Status generate(const GenerateOptions& options, MeshSink& sink) {
     return infoOf(options.kind).generate(options, sink);
 }
 
+namespace {
+
+class MeshCollector final : public MeshSink {
+public:
+    TriangleMesh mesh;
+    Status begin(uint64_t vertices, uint64_t faces) override {
+        mesh.positions.reserve(vertices);
+        mesh.indices.reserve(3 * faces);
+        return Status::ok();
+    }
+    Status vertex(Vec3f p) override {
+        mesh.positions.push_back(p);
+        return Status::ok();
+    }
+    Status face(uint32_t a, uint32_t b, uint32_t c) override {
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+        return Status::ok();
+    }
+    Status end() override {
+        mesh.materials.push_back(Material{"default"});
+        return Status::ok();
+    }
+};
+
+}  // namespace
+
+Result<TriangleMesh> generateMesh(const GenerateOptions& options) {
+    MeshCollector collector;
+    VASTRAY_TRY(generate(options, collector));
+    return std::move(collector.mesh);
+}
+
 }  // namespace vastray

@@ -15,29 +15,13 @@
 
 namespace vastray::test {
 
-// Collects a generated scene into an in-core mesh (small scenes only).
-struct MeshCollector : MeshSink {
-    TriangleMesh mesh;
-    Status begin(uint64_t, uint64_t) override { return Status::ok(); }
-    Status vertex(Vec3f p) override {
-        mesh.positions.push_back(p);
-        return Status::ok();
-    }
-    Status face(uint32_t a, uint32_t b, uint32_t c) override {
-        mesh.indices.insert(mesh.indices.end(), {a, b, c});
-        return Status::ok();
-    }
-    Status end() override {
-        mesh.materials.push_back({});
-        return Status::ok();
-    }
-};
-
 inline TriangleMesh generatedMesh(GeneratorKind kind, uint64_t triangles, uint64_t seed = 1) {
-    MeshCollector collector;
-    const Status s = generate({kind, triangles, seed}, collector);
-    EXPECT_TRUE(s.isOk()) << s.message();
-    return std::move(collector.mesh);
+    auto mesh = generateMesh({kind, triangles, seed});
+    EXPECT_TRUE(mesh) << mesh.message();
+    if (!mesh) return {};
+    TriangleMesh out = std::move(mesh).value();
+    out.materials = {Material{}};  // the tests' packages use the default material as before
+    return out;
 }
 
 inline std::string tempPath(const std::string& name) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
 #include "vastray/core/Vec3.h"
 
@@ -40,6 +41,10 @@ struct GeneratedCounts {
 Result<GeneratedCounts> generatedCounts(const GenerateOptions& options);
 
 Status generate(const GenerateOptions& options, MeshSink& sink);
+
+// The generated scene as an in-core mesh with one default material (tests, benchmarks: it
+// holds every triangle in memory, unlike generateToPly).
+Result<TriangleMesh> generateMesh(const GenerateOptions& options);
 
 // Writes a binary little-endian PLY (vertex x,y,z float; face vertex_indices uchar/uint),
 // streaming, to a temporary name renamed on success.
