@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build test demo bench-import bench-accuracy clean format
+.PHONY: all deps configure build test demo bench-import bench-accuracy bench-load clean format
 
 all: build
 
@@ -26,6 +26,11 @@ demo: build
 
 bench-import: build
 	bash bench/import_throughput.sh $(BUILD_DIR)
+
+# Load test of `vastray serve` with ghz and wrk (docs/generated/load_test.md); tools:
+# bash scripts/install-bench-tools.sh; knobs in bench/load/run.sh.
+bench-load: build
+	bash bench/load/run.sh $(BUILD_DIR)
 
 # Time against error of the streaming renderer (docs/ACCURACY.md); knobs in bench/accuracy/run.sh.
 bench-accuracy: build

@@ -302,6 +302,9 @@ Result<std::unique_ptr<HttpFrontEnd>> HttpFrontEnd::start(Service& service, cons
         if (!server->is_valid()) return Status::error("HTTP: cannot load --tls-cert/--tls-key");
     }
     server->new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
+    // Small responses on a kept-alive connection otherwise wait ~40 ms for Nagle's algorithm
+    // to meet the client's delayed ACK (measured by bench/load: HTTP p50 43 ms against gRPC 2 ms).
+    server->set_tcp_nodelay(true);
     // The largest body is an upload; JSON bodies are bounded again (1 MiB) when parsed.
     server->set_payload_max_length(service.options().maxUploadBytes);
     front->impl_->routes = std::make_unique<Routes>(service, options, *server);
