@@ -180,10 +180,19 @@ private:
             request.set_id(req.matches[1]);
             reply(res, service_.getJob(request));
         });
+        // The body is optional. A POST without Content-Length (plain `curl -X POST`) has none:
+        // reading it anyway would wait for the connection's read timeout (5 s), then fail.
         server.Post(R"(/v1/jobs/([^/:]+):cancel)",
-                    [this](const httplib::Request& req, httplib::Response& res) {
+                    [this](const httplib::Request& req, httplib::Response& res,
+                           const httplib::ContentReader& reader) {
+                        std::string body;
+                        if (req.has_header("Content-Length") || req.has_header("Transfer-Encoding"))
+                            reader([&body](const char* data, size_t n) {
+                                body.append(data, n);
+                                return true;
+                            });
                         v1::CancelJobRequest request;
-                        if (auto s = fromJson(req.body, &request); !s) return writeError(res, s);
+                        if (auto s = fromJson(body, &request); !s) return writeError(res, s);
                         request.set_id(req.matches[1]);
                         reply(res, service_.cancelJob(request));
                     });

@@ -46,6 +46,13 @@ TEST_F(ServerTest, CurlDrivesTheHttpApi) {
     const std::string missing =
         run("curl -sS -o /dev/null -w '%{http_code}' " + base + "/v1/jobs/job-0/result");
     EXPECT_EQ(missing, "404");
+
+    // A cancel with no body: plain `curl -X POST` sends no Content-Length. It is answered at
+    // once (here 409: the job has finished), not after the server's 5 s read timeout.
+    const std::string cancel =
+        run("curl -sS -o /dev/null -w '%{http_code} %{time_total}' -X POST " + base + "/v1/jobs/" + id + ":cancel");
+    EXPECT_EQ(cancel.substr(0, 3), "409") << cancel;
+    EXPECT_LT(std::stod(cancel.substr(4)), 2.0) << cancel;
 }
 
 }  // namespace
