@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     auto device = gpu::VulkanDevice::create(deviceOptions);
     if (!device) fail(device.message());
 
-    const ChunkAttributes attributes{false, info.materials.size() > 1, false};
+    const ChunkAttributes attributes = requiredAttributes(info, RenderOptions{});
     uint64_t residentBytes = 0;
     for (const ChunkInfo& c : info.chunks) residentBytes += chunkLayout(c, attributes).totalBytes;
     auto fitPlan = gpu::planPool(info, attributes, 1ull << 40);

@@ -101,8 +101,13 @@ Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
     return Status::ok();
 }
 
-// Every flag checked and mapped onto RenderOptions before any file is read.
-Result<RenderOptions> optionsFrom(const RenderArgs& args) {
+// The sizes of --memory-budget and --host-cache (read by the vulkan backend only).
+struct StreamingSizes {
+    uint64_t memoryBudget = 0, hostCache = 0;
+};
+
+// Every flag checked and mapped onto RenderOptions (and *sizes) before any file is read.
+Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes) {
     if (args.backend != "embree" && args.backend != "vulkan")
         return Status::error("--backend '" + args.backend + "': expected vulkan or embree");
     RenderOptions options;
@@ -127,6 +132,7 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args) {
     if (!budget) return budget.status().withContext("--memory-budget: ");
     auto hostCache = parseByteSize(args.hostCache);
     if (!hostCache) return hostCache.status().withContext("--host-cache: ");
+    sizes->memoryBudget = *budget, sizes->hostCache = *hostCache;
     VASTRAY_TRY(parseCamera(args, options));
     VASTRAY_TRY(checkOutput(args, options));
     VASTRAY_TRY(validateRenderOptions(options));
@@ -225,12 +231,6 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
     return Status::ok();
 }
 
-bool isPackagePath(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == ".vast";
-}
-
 // A mesh file given to the streaming backend is imported into a temporary package first
 // (chunks of a quarter of the budget, at most 16 MiB); the package is removed afterwards.
 class TemporaryPackage {
@@ -256,15 +256,13 @@ private:
     std::string path_;
 };
 
-Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& options, RenderStats& stats,
-                                 StreamingStats& streaming, const RenderProgress& progress) {
-    auto budget = parseByteSize(args.memoryBudget);  // checked by optionsFrom
-    auto hostCache = parseByteSize(args.hostCache);
-    if (!budget || !hostCache) return Status::error("bad --memory-budget or --host-cache");
+Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& options, const StreamingSizes& sizes,
+                                 RenderStats& stats, StreamingStats& streaming, const RenderProgress& progress) {
+    const uint64_t budget = sizes.memoryBudget;
     TemporaryPackage temporary;
     std::string path = args.input;
     if (!isPackagePath(path)) {
-        auto imported = temporary.import(path, *budget);
+        auto imported = temporary.import(path, budget);
         if (!imported) return imported.status();
         path = *imported;
     }
@@ -275,17 +273,18 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& op
     auto device = gpu::VulkanDevice::create(deviceOptions);
     if (!device) return device.status();
     StreamingOptions streamingOptions;
-    streamingOptions.hostCacheBytes = *hostCache;
+    streamingOptions.hostCacheBytes = sizes.hostCache;
     streamingOptions.decodeThreads = options.threads;  // 0: all cores
-    streaming.memoryBudgetBytes = *budget;
+    streaming.memoryBudgetBytes = budget;
     const ChunkBackendFactory factory = [&](const PackageInfo& info, const ChunkAttributes& attributes) {
-        return gpu::createVulkanChunkBackend(**device, info, attributes, *budget);
+        return gpu::createVulkanChunkBackend(**device, info, attributes, budget);
     };
     return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
 
 int runRender(const RenderArgs& args) {
-    auto options = optionsFrom(args);
+    StreamingSizes sizes;
+    auto options = optionsFrom(args, &sizes);
     if (!options) {
         std::fprintf(stderr, "vastray render: %s\n", options.message().c_str());
         return 2;
@@ -296,7 +295,7 @@ int runRender(const RenderArgs& args) {
     RenderProgressView progress(args.progress);
     Result<RenderImage> image = Status::error("no image");
     if (vulkan) {
-        image = renderVulkan(args, *options, stats, streaming, progress.callback());
+        image = renderVulkan(args, *options, sizes, stats, streaming, progress.callback());
     } else {
         auto scene = loadRenderScene(args.input);
         if (!scene) {

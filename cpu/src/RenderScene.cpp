@@ -9,13 +9,6 @@
 namespace vastray {
 namespace {
 
-bool isPackagePath(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == ".vast";
-}
-
 // Appends the chunk's triangles whose primitive id has not been seen yet. The chunk's
 // vertices are appended whole: a few unused ones are cheaper than a remap.
 Status appendChunk(const DecodedChunk& chunk, const std::string& path, std::vector<uint8_t>& seen,

@@ -48,13 +48,13 @@ public:
 
 private:
     Status openScene(const JobRenderRequest& request) {
+        if (scene_ && path_ == request.scenePath && budget_ == request.memoryBudgetBytes) return Status::ok();
         auto reader = PackageReader::open(request.scenePath);
         if (!reader) return reader.status();
         ChunkAttributes needed = requiredAttributes((*reader)->info(), request.options);
         // Open with primitive ids whenever a scene is opened, so that a later job asking for
         // the primid AOV does not force a reload.
         needed.primitiveIds = true;
-        if (scene_ && path_ == request.scenePath && budget_ == request.memoryBudgetBytes) return Status::ok();
         scene_.reset();
         reader_.reset();
         reader_ = std::move(reader).value();

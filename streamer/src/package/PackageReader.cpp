@@ -2,8 +2,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 #include "package/PackageFormat.h"
@@ -82,6 +84,12 @@ Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOff
 }  // namespace
 
 PackageReader::~PackageReader() = default;
+
+bool isPackagePath(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".vast";
+}
 
 Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& path) {
     std::unique_ptr<PackageReader> reader(new PackageReader());

@@ -111,7 +111,6 @@ void ChunkCache::trimLocked() {
         total -= victim->second.bytes;
         entries_.erase(victim);
     }
-    cachedBytes_ = total;
 }
 
 uint64_t ChunkCache::bytesRead() const {

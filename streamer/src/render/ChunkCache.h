@@ -59,7 +59,6 @@ private:
     std::vector<std::thread> threads_;
     bool stopping_ = false;
     uint64_t tick_ = 0;
-    uint64_t cachedBytes_ = 0;
     uint64_t bytesRead_ = 0;
     uint64_t decodes_ = 0;
     double decodeSeconds_ = 0;

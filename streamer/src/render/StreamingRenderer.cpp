@@ -54,7 +54,7 @@ class Integrator {
 public:
     Integrator(const PackageInfo& info, const RenderOptions& options, const CameraRays& camera, RayStreamer& streamer,
                StreamingStats& stats, RenderImage& image, const std::atomic<bool>* cancel)
-        : info_(info), options_(options), camera_(camera), streamer_(streamer), stats_(stats), image_(image),
+        : options_(options), camera_(camera), streamer_(streamer), stats_(stats), image_(image),
           cancel_(cancel) {
         materials_ = info.materials;
         if (materials_.empty()) materials_.push_back(Material{"default"});
@@ -238,7 +238,6 @@ private:
         p.shadowRange = options_.aoDistance > 0.0f ? options_.aoDistance : kInfinity;
     }
 
-    const PackageInfo& info_;
     const RenderOptions& options_;
     const CameraRays& camera_;
     RayStreamer& streamer_;

@@ -85,6 +85,9 @@ struct DecodedChunk {
     uint64_t residentBytes() const;
 };
 
+// Whether a path names a scene package by its extension (.vast, any case).
+bool isPackagePath(const std::string& path);
+
 class PackageReader {
 public:
     // Reads and validates header, materials, top-level tree and directory (not the chunks).
