@@ -114,3 +114,17 @@ TEST(StreamingCli, ErrorsNameTheProblem) {
 
 }  // namespace
 }  // namespace vastray
+
+namespace vastray {
+namespace {
+
+TEST(StreamingCli, ServeRejectsAnUnknownBackendBeforeStarting) {
+    const std::string dir = tmp("serve-data");
+    test::CommandResult r = test::runVastray("serve --data-dir " + dir +
+                                             " --grpc 127.0.0.1:0 --http 127.0.0.1:0 --backend optix");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--backend 'optix': expected vulkan or embree"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace vastray

@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 
+#include "StreamTestSupport.h"
 #include "TestTmp.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -31,18 +32,10 @@ std::string tmpPath(const std::string& name) {
     return (dir / name).string();
 }
 
-// One device for the whole binary (creating a Vulkan instance per test costs ~0.1 s on lavapipe).
-gpu::VulkanDevice& device() {
-    static std::unique_ptr<gpu::VulkanDevice> d = [] {
-        auto created = gpu::VulkanDevice::create();
-        if (!created) {
-            ADD_FAILURE() << "no usable Vulkan device: " << created.message();
-            std::abort();
-        }
-        return std::move(created).value();
-    }();
-    return *d;
-}
+using test::budgetForSlots;
+using test::renderEmbree;
+using test::renderVulkan;
+gpu::VulkanDevice& device() { return test::sharedVulkanDevice(); }
 
 std::string packageFromMesh(const std::string& name, TriangleMesh mesh, uint64_t chunkBytes) {
     const std::string path = tmpPath(name + ".vast");
@@ -84,23 +77,6 @@ RenderOptions smallRender(uint32_t aovs = kAovDepth | kAovNormal | kAovPrimId) {
     return o;
 }
 
-Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options, uint64_t budget,
-                                 StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21) {
-    auto reader = PackageReader::open(path);
-    if (!reader) return reader.status();
-    StreamingOptions streaming;
-    streaming.maxPathsPerWave = maxPathsPerWave;
-    StreamingStats local;
-    StreamingStats& s = stats ? *stats : local;
-    s.memoryBudgetBytes = budget;
-    return renderStreaming(
-        **reader, options, streaming,
-        [&](const PackageInfo& info, const ChunkAttributes& a) {
-            return gpu::createVulkanChunkBackend(device(), info, a, budget);
-        },
-        nullptr, &s);
-}
-
 Result<RenderImage> renderCpuChunks(const std::string& path, const RenderOptions& options, uint32_t slots,
                                     StreamingStats* stats = nullptr) {
     auto reader = PackageReader::open(path);
@@ -109,13 +85,6 @@ Result<RenderImage> renderCpuChunks(const std::string& path, const RenderOptions
         **reader, options, StreamingOptions{},
         [&](const PackageInfo&, const ChunkAttributes& a) { return createCpuChunkBackend(slots, a); }, nullptr,
         stats);
-}
-
-Result<RenderImage> renderEmbree(const std::string& path, RenderOptions options) {
-    auto scene = loadRenderScene(path);
-    if (!scene) return scene.status();
-    options.aovs &= ~kAovStreamingOnly;
-    return renderWithEmbree(*scene, options);
 }
 
 template <typename T>
@@ -142,21 +111,6 @@ double primIdAgreement(const RenderImage& a, const RenderImage& b) {
     uint64_t same = 0;
     for (size_t i = 0; i < a.primId.size(); ++i) same += a.primId[i] == b.primId[i];
     return double(same) / double(a.primId.size());
-}
-
-// Budget that gives exactly `slots` chunk slots (the smallest such budget).
-uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs) {
-    auto reader = PackageReader::open(path);
-    if (!reader) return 0;
-    ChunkAttributes a;
-    a.primitiveIds = aovs & kAovPrimId;
-    a.materialIds = (*reader)->info().materials.size() > 1;
-    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40);
-    if (!minimum) return 0;
-    for (uint64_t budget = minimum->minimumBytes;; budget += 16 * 1024) {
-        auto plan = gpu::planPool((*reader)->info(), a, budget);
-        if (plan && plan->slots >= slots) return plan->slots == slots ? budget : 0;
-    }
 }
 
 constexpr uint32_t kAllAovs = kAovDepth | kAovNormal | kAovAlbedo | kAovPrimId | kAovChunkId | kAovCost;

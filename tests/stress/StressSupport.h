@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "TestMeshes.h"
+#include "StreamTestSupport.h"
 #include "TestTmp.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/core/Mesh.h"
@@ -48,18 +49,10 @@ inline void figure(const std::string& caseName, const std::string& backend, cons
     std::fflush(stdout);
 }
 
-// One device for the whole binary. The stress suite runs on lavapipe in CI: no device fails.
-inline gpu::VulkanDevice& device() {
-    static std::unique_ptr<gpu::VulkanDevice> d = [] {
-        auto created = gpu::VulkanDevice::create();
-        if (!created) {
-            ADD_FAILURE() << "no usable Vulkan device: " << created.message();
-            std::abort();
-        }
-        return std::move(created).value();
-    }();
-    return *d;
-}
+using test::budgetForSlots;
+using test::renderEmbree;
+using test::renderVulkan;
+inline gpu::VulkanDevice& device() { return test::sharedVulkanDevice(); }
 
 inline TriangleMesh toTriangleMesh(const Mesh& m) {
     TriangleMesh mesh;
@@ -295,43 +288,6 @@ inline std::string packageFromMesh(const std::string& name, const Mesh& mesh,
     auto report = buildPackage(toTriangleMesh(mesh), path, options);
     EXPECT_TRUE(report) << report.message();
     return path;
-}
-
-inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options,
-                                        uint64_t budget, StreamingStats* stats = nullptr) {
-    auto reader = PackageReader::open(path);
-    if (!reader) return reader.status();
-    StreamingStats local;
-    StreamingStats& s = stats ? *stats : local;
-    s.memoryBudgetBytes = budget;
-    return renderStreaming(
-        **reader, options, StreamingOptions{},
-        [&](const PackageInfo& info, const ChunkAttributes& a) {
-            return gpu::createVulkanChunkBackend(device(), info, a, budget);
-        },
-        nullptr, &s);
-}
-
-inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions options) {
-    auto scene = loadRenderScene(path);
-    if (!scene) return scene.status();
-    options.aovs &= ~kAovStreamingOnly;
-    return renderWithEmbree(*scene, options);
-}
-
-// The smallest budget that gives exactly `slots` chunk slots, or 0.
-inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs) {
-    auto reader = PackageReader::open(path);
-    if (!reader) return 0;
-    ChunkAttributes a;
-    a.primitiveIds = aovs & kAovPrimId;
-    a.materialIds = (*reader)->info().materials.size() > 1;
-    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40);
-    if (!minimum) return 0;
-    for (uint64_t budget = minimum->minimumBytes;; budget += 4 * 1024) {
-        auto plan = gpu::planPool((*reader)->info(), a, budget);
-        if (plan && plan->slots >= slots) return plan->slots == slots ? budget : 0;
-    }
 }
 
 // A render of the streaming renderer at an ample and at a two-slot budget, and the Embree

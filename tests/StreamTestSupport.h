@@ -1,0 +1,77 @@
+#pragma once
+// Renders through the streaming renderer and the Embree reference for tests (stream_tests and
+// stress_tests): one Vulkan device per binary, budgets that give an exact slot count.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "vastray/core/RenderImage.h"
+#include "vastray/core/RenderOptions.h"
+#include "vastray/cpu/EmbreeRenderer.h"
+#include "vastray/cpu/RenderScene.h"
+#include "vastray/gpu/VulkanChunkBackend.h"
+#include "vastray/gpu/VulkanDevice.h"
+#include "vastray/streamer/ScenePackage.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace vastray::test {
+
+// One device for the whole binary (a Vulkan instance per test costs ~0.1 s on lavapipe). These
+// tests run on lavapipe in CI: no usable device is a failure, never a skip.
+inline gpu::VulkanDevice& sharedVulkanDevice() {
+    static std::unique_ptr<gpu::VulkanDevice> d = [] {
+        auto created = gpu::VulkanDevice::create();
+        if (!created) {
+            ADD_FAILURE() << "no usable Vulkan device: " << created.message();
+            std::abort();
+        }
+        return std::move(created).value();
+    }();
+    return *d;
+}
+
+// One streaming render of a package through the Vulkan backend with this budget.
+inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options, uint64_t budget,
+                                        StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21) {
+    auto reader = PackageReader::open(path);
+    if (!reader) return reader.status();
+    StreamingOptions streaming;
+    streaming.maxPathsPerWave = maxPathsPerWave;
+    StreamingStats local;
+    StreamingStats& s = stats ? *stats : local;
+    s.memoryBudgetBytes = budget;
+    return renderStreaming(
+        **reader, options, streaming,
+        [&](const PackageInfo& info, const ChunkAttributes& a) {
+            return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget);
+        },
+        nullptr, &s);
+}
+
+// The Embree reference of the same package (without the streaming-only AOVs).
+inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions options) {
+    auto scene = loadRenderScene(path);
+    if (!scene) return scene.status();
+    options.aovs &= ~kAovStreamingOnly;
+    return renderWithEmbree(*scene, options);
+}
+
+// The smallest budget (in 4 KiB steps) that gives exactly `slots` chunk slots to a render with
+// these AOVs, or 0.
+inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs) {
+    auto reader = PackageReader::open(path);
+    if (!reader) return 0;
+    RenderOptions options;
+    options.aovs = aovs;
+    const ChunkAttributes a = requiredAttributes((*reader)->info(), options);
+    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40);
+    if (!minimum) return 0;
+    for (uint64_t budget = minimum->minimumBytes;; budget += 4 * 1024) {
+        auto plan = gpu::planPool((*reader)->info(), a, budget);
+        if (plan && plan->slots >= slots) return plan->slots == slots ? budget : 0;
+    }
+}
+
+}  // namespace vastray::test
