@@ -1,6 +1,6 @@
-// Chunk geometry codecs compared on one core: Draco edgebreaker through the package's own
-// chunk codec (streamer/src/package/ChunkCodec.*) at several encoder speeds, against
-// meshoptimizer's index and vertex codecs, at several quantization bits.
+// Chunk geometry codecs compared on one core, both through the package's own chunk codec
+// (streamer/src/package/ChunkCodec.*): Draco edgebreaker at several encoder speeds against
+// meshoptimizer's index and vertex codecs (`import --codec meshopt`), at several quantization bits.
 //
 // Each mesh is snapped to the package's scene-wide grid (QuantizationGrid::forBounds), the
 // triangles that snapping collapses are dropped (the package's rule), and the rest is cut
@@ -13,7 +13,7 @@
 //
 //   codec_bench OUT.md [--bunny PATH] [--triangles N] [--chunk-triangles N]
 //                      [--encode-runs N] [--decode-runs N]
-#include <meshoptimizer.h>
+#include <meshoptimizer.h>  // MESHOPTIMIZER_VERSION for the report
 
 #include <algorithm>
 #include <array>
@@ -205,82 +205,18 @@ std::vector<ChunkGeometry> makeChunks(const BenchMesh& mesh, uint32_t bits, uint
     return chunks;
 }
 
-// ---- meshoptimizer codec ------------------------------------------------------------------
-
-// Stream: chunk minimum (3 x int32), vertex count, index count, vertex stride, index stream
-// bytes (4 x uint32), then meshopt's index stream and vertex stream. Vertices are chunk-relative
-// grid coordinates: 4 x uint16 (w = 0; the vertex codec wants a stride that is a multiple of 4)
-// when they fit 16 bits, else 3 x uint32.
-Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
-    const size_t vertexCount = geometry.vertexWords.size() / 3, indexCount = geometry.indices.size();
-    int32_t minimum[3] = {INT32_MAX, INT32_MAX, INT32_MAX};
-    for (size_t i = 0; i < geometry.vertexWords.size(); ++i) minimum[i % 3] = std::min(minimum[i % 3], geometry.vertexWords[i]);
-    uint32_t largest = 0;
-    for (size_t i = 0; i < geometry.vertexWords.size(); ++i) largest = std::max(largest, uint32_t(geometry.vertexWords[i] - minimum[i % 3]));
-    const uint32_t stride = std::bit_width(largest) <= 16 ? 8 : 12, lane = stride == 8 ? 2 : 4;
-    std::vector<uint8_t> vertices(vertexCount * stride, 0);
-    for (size_t v = 0; v < vertexCount; ++v)
-        for (int a = 0; a < 3; ++a) {
-            const uint32_t r = uint32_t(geometry.vertexWords[3 * v + a] - minimum[a]);
-            const uint16_t r16 = uint16_t(r);
-            std::memcpy(&vertices[v * stride + a * lane], lane == 2 ? static_cast<const void*>(&r16) : &r, lane);
-        }
-    std::vector<uint32_t> indices(indexCount);
-    meshopt_optimizeVertexCache(indices.data(), geometry.indices.data(), indexCount, vertexCount);
-    std::vector<uint8_t> fetched(vertices.size());
-    const size_t used = meshopt_optimizeVertexFetch(fetched.data(), indices.data(), indexCount, vertices.data(), vertexCount, stride);
-    std::vector<uint8_t> indexStream(meshopt_encodeIndexBufferBound(indexCount, used));
-    indexStream.resize(meshopt_encodeIndexBuffer(indexStream.data(), indexStream.size(), indices.data(), indexCount));
-    std::vector<uint8_t> vertexStream(meshopt_encodeVertexBufferBound(used, stride));
-    vertexStream.resize(meshopt_encodeVertexBuffer(vertexStream.data(), vertexStream.size(), fetched.data(), used, stride));
-    if (indexStream.empty() || vertexStream.empty()) return Status::error("meshopt encode returned no bytes");
-    ByteWriter out;
-    for (int32_t m : minimum) out.put(m);
-    for (uint32_t field : {uint32_t(used), uint32_t(indexCount), stride, uint32_t(indexStream.size())}) out.put(field);
-    out.putBytes(indexStream.data(), indexStream.size());
-    out.putBytes(vertexStream.data(), vertexStream.size());
-    return std::move(out.bytes());
-}
-
-Result<ChunkGeometry> decodeMeshopt(const std::vector<uint8_t>& data) {
-    ByteReader in(data.data(), data.size());
-    int32_t minimum[3];
-    uint32_t vertexCount = 0, indexCount = 0, stride = 0, indexBytes = 0;
-    for (int32_t& m : minimum) in.get(m);
-    for (uint32_t* field : {&vertexCount, &indexCount, &stride, &indexBytes}) in.get(*field);
-    if (!in.ok() || (stride != 8 && stride != 12) || indexBytes > in.remaining()) return Status::error("bad meshopt prefix");
-    ChunkGeometry geometry;
-    geometry.indices.resize(indexCount);
-    if (meshopt_decodeIndexBuffer(geometry.indices.data(), indexCount, 4, in.current(), indexBytes) != 0)
-        return Status::error("meshopt index stream is corrupt");
-    in.skip(indexBytes);
-    std::vector<uint8_t> vertices(size_t(vertexCount) * stride);
-    if (meshopt_decodeVertexBuffer(vertices.data(), vertexCount, stride, in.current(), in.remaining()) != 0)
-        return Status::error("meshopt vertex stream is corrupt");
-    geometry.vertexWords.resize(size_t(vertexCount) * 3);
-    for (size_t v = 0; v < vertexCount; ++v)
-        for (int a = 0; a < 3; ++a) {
-            uint32_t r = 0;
-            if (stride == 8) {
-                uint16_t r16;
-                std::memcpy(&r16, &vertices[v * 8 + a * 2], 2);
-                r = r16;
-            } else {
-                std::memcpy(&r, &vertices[v * 12 + a * 4], 4);
-            }
-            geometry.vertexWords[3 * v + a] = int32_t(r) + minimum[a];
-        }
-    return geometry;
-}
-
 // ---- measurement --------------------------------------------------------------------------
 
+GeometryCodec codecOf(const CodecSetting& setting) {
+    return setting.speed == kMeshopt ? GeometryCodec::Meshopt : GeometryCodec::Draco;
+}
+
 Result<std::vector<uint8_t>> encodeWith(const CodecSetting& setting, const ChunkGeometry& geometry) {
-    return setting.speed == kMeshopt ? encodeMeshopt(geometry) : encodeChunkGeometry(geometry, false, setting.speed);
+    return encodeChunkGeometry(geometry, false, codecOf(setting), setting.speed);
 }
 
 Result<ChunkGeometry> decodeWith(const CodecSetting& setting, const std::vector<uint8_t>& data) {
-    return setting.speed == kMeshopt ? decodeMeshopt(data) : decodeChunkGeometry(data.data(), data.size(), false);
+    return decodeChunkGeometry(data.data(), data.size(), false, codecOf(setting));
 }
 
 // Triangles as corner words, each rotated so its smallest corner comes first, sorted.
@@ -514,7 +450,6 @@ int main(int argc, char** argv) {
         std::cerr << "codec_bench: " << options.message() << "\n";
         return 2;
     }
-    meshopt_encodeIndexVersion(1);
     std::vector<Row> rows;
     std::vector<std::string> notes;
     for (GeneratorKind kind : {GeneratorKind::Sphere, GeneratorKind::Terrain, GeneratorKind::City})

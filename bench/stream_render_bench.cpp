@@ -6,7 +6,7 @@
 //
 //   stream_render_bench [--kind city] [--triangles N] [--chunk-size 16MiB] [--resolution WxH]
 //                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
-//                       [--keep] [--out FILE.md]
+//                       [--codec draco|meshopt] [--keep] [--out FILE.md]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +31,7 @@ using namespace vastray;
 
 struct Args {
     std::string kind = "city", package, out;
+    GeometryCodec codec = GeometryCodec::Draco;
     uint64_t triangles = 10000000, chunkSize = 16ull << 20;
     uint32_t width = 1920, height = 1080, spp = 1, depth = 2;
     std::vector<double> ratios{4, 16};
@@ -69,7 +70,11 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--device") a.device = std::stoi(value());
         else if (flag == "--package") a.package = value();
         else if (flag == "--out") a.out = value();
-        else if (flag == "--keep") a.keep = true;
+        else if (flag == "--codec") {
+            auto codec = parseGeometryCodec(value());
+            if (!codec) fail(codec.message());
+            a.codec = *codec;
+        } else if (flag == "--keep") a.keep = true;
         else fail("unknown flag " + flag);
     }
     return a;
@@ -77,7 +82,8 @@ Args parseArgs(int argc, char** argv) {
 
 std::string makePackage(const Args& a, double* importSeconds) {
     const std::string path = (std::filesystem::temp_directory_path() /
-                              ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + ".vast"))
+                              ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + "-" +
+                               geometryCodecName(a.codec) + ".vast"))
                                  .string();
     GenerateOptions g;
     auto kind = parseGeneratorKind(a.kind);
@@ -88,6 +94,7 @@ std::string makePackage(const Args& a, double* importSeconds) {
     if (!mesh) fail(mesh.message());
     PackageBuildOptions options;
     options.chunkSizeBytes = a.chunkSize;
+    options.codec = a.codec;
     options.progress = Progress::Mode::None;
     const auto start = std::chrono::steady_clock::now();
     auto report = buildPackage(std::move(mesh).value(), path, options);
@@ -184,7 +191,8 @@ int main(int argc, char** argv) {
     md << "Scene: " << args.kind << ", " << info.triangleCount << " triangles, " << info.chunks.size()
        << " chunks (chunk size " << formatBytes(info.chunkSizeBytes) << "), resident "
        << formatBytes(residentBytes) << " = " << double(residentBytes) / double(info.triangleCount)
-       << " bytes/triangle; package " << formatBytes(info.fileBytes);
+       << " bytes/triangle; package " << formatBytes(info.fileBytes) << " (" << geometryCodecName(info.codec)
+       << " chunks)";
     if (importSeconds > 0) md << ", imported in " << importSeconds << " s";
     md << ". Device: " << (*device)->info().name << ". Image " << args.width << "x" << args.height << ", "
        << args.spp << " spp.\n\n";

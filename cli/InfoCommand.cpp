@@ -50,6 +50,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"file_bytes", info.fileBytes},
             {"quantize_bits", info.grid.bits},
             {"quantize_step", info.grid.step()},
+            {"codec", geometryCodecName(info.codec)},
             {"degenerate_dropped", info.degenerateDropped},
             {"collapsed_dropped", info.collapsedDropped},
             {"materials", materials},
@@ -69,6 +70,7 @@ void printHuman(const std::string& path, const PackageInfo& info) {
         std::printf("  quantization         %u bits, step %.3g\n", info.grid.bits, info.grid.step());
     else
         std::printf("  quantization         lossless\n");
+    std::printf("  chunk codec          %s\n", geometryCodecName(info.codec));
     std::printf("  materials            %zu\n", info.materials.size());
     std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",
                 (unsigned long long)info.degenerateDropped, (unsigned long long)info.collapsedDropped);

@@ -52,8 +52,20 @@ TEST_F(Cli, InfoJsonHasTheDocumentedFields) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* key : {"\"triangles\"", "\"chunks\"", "\"chunk_size_bytes\": 65536", "\"max_chunk_resident_bytes\"",
                             "\"bounds\"", "\"min\"", "\"max\"", "\"file_bytes\"", "\"duplicated_references\"",
-                            "\"quantize_bits\": 20", "\"chunk\"", "\"offset\"", "\"size\"", "\"resident_bytes\""})
+                            "\"quantize_bits\": 20", "\"chunk\"", "\"offset\"", "\"size\"", "\"resident_bytes\"",
+                            "\"codec\": \"draco\""})
         EXPECT_NE(r.output.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, MeshoptCodecImportsVerifiesAndSaysSo) {
+    CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("meshopt.vast") +
+                          " --chunk-size 64KiB --codec meshopt --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("meshopt encode"), std::string::npos) << i.output;
+    CommandResult info = run("info " + tmp("meshopt.vast") + " --verify");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("chunk codec          meshopt"), std::string::npos) << info.output;
+    EXPECT_NE(run("info " + tmp("meshopt.vast") + " --json").output.find("\"codec\": \"meshopt\""), std::string::npos);
 }
 
 TEST_F(Cli, VerifyNamesTheDamagedChunkAndFails) {
@@ -104,6 +116,7 @@ TEST_F(Cli, BadArgumentsAreClearErrors) {
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.ply"), "must end in .vast"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --draco-speed 11", "--draco-speed must be 0..10"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --progress loud", "--progress"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --codec zstd", "--codec"},
         {"import " + tmp("missing.ply") + " -o " + tmp("x.vast"), "missing.ply"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --double-sided --single-sided", "excludes"},
         {"generate cube --triangles 100 -o " + tmp("x.ply"), "sphere"},

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "vastray/core/Random.h"
 #include "vastray/core/RayOffset.h"
@@ -45,6 +46,22 @@ TEST(Random, FloatsAreUniformInTheUnitInterval) {
         sum += u;
     }
     EXPECT_NEAR(sum / kCount, 0.5, 5 * 9.2e-4);
+}
+
+// A wall's normal has z = +0 or -0 depending on how its corners are ordered; the frame (and so
+// every bounce direction) must be the same for both.
+TEST(Sampling, FrameIgnoresTheSignOfZero) {
+    for (const Vec3f n : {Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, -1, 0}, normalize(Vec3f{0.6f, -0.8f, 0})}) {
+        const Frame plus = frameAround({n.x, n.y, 0.0f}), minus = frameAround({n.x, n.y, -0.0f});
+        for (const auto& [a, b] : {std::pair{plus.tangent, minus.tangent}, std::pair{plus.bitangent, minus.bitangent}}) {
+            EXPECT_EQ(a.x, b.x);
+            EXPECT_EQ(a.y, b.y);
+            EXPECT_EQ(a.z, b.z);
+        }
+        EXPECT_NEAR(dot(plus.tangent, n), 0.0f, 1e-6f);
+        EXPECT_NEAR(dot(plus.bitangent, n), 0.0f, 1e-6f);
+        EXPECT_NEAR(dot(plus.tangent, plus.bitangent), 0.0f, 1e-6f);
+    }
 }
 
 TEST(Sampling, CosineDirectionsAreUnitAndAboveTheSurface) {

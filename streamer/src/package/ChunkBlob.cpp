@@ -13,7 +13,7 @@ namespace vastray {
 namespace {
 
 struct ChunkBlobHeader {
-    uint32_t triangleCount = 0, vertexCount = 0, kdNodeCount = 0, kdRefCount = 0, dracoBytes = 0, flags = 0;
+    uint32_t triangleCount = 0, vertexCount = 0, kdNodeCount = 0, kdRefCount = 0, geometryBytes = 0, flags = 0;
     Aabb kdBounds;
     uint32_t kdMaxDepth = 0;
 };
@@ -28,13 +28,14 @@ Result<ChunkBlobHeader> readBlobHeader(ByteReader& in) {
     in.get(h.vertexCount);
     in.get(h.kdNodeCount);
     in.get(h.kdRefCount);
-    in.get(h.dracoBytes);
+    in.get(h.geometryBytes);
     in.get(h.flags);
     in.get(h.kdBounds.lo);
     in.get(h.kdBounds.hi);
     in.get(h.kdMaxDepth);
     if (!in.ok() || std::memcmp(magic, format::kChunkMagic, 4) != 0) return Status::error("bad chunk header");
     if (version != format::kChunkVersion) return Status::error("unsupported chunk version " + std::to_string(version));
+    if (h.flags & ~format::kChunkKnownFlags) return Status::error("chunk has unknown flags " + std::to_string(h.flags));
     in.skip(format::kChunkHeaderBytes - in.position());
     return h;
 }
@@ -69,7 +70,7 @@ Status validateKdTree(const KdTree& tree, uint32_t triangleCount) {
 
 }  // namespace
 
-std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& draco, uint32_t vertexCount,
+std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, GeometryCodec codec, uint32_t vertexCount,
                                         const std::vector<uint32_t>& primitiveIds,
                                         const std::vector<uint32_t>& materialIds, const KdTree& kdTree) {
     ByteWriter out;
@@ -79,13 +80,14 @@ std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& draco, uint3
     out.put(vertexCount);
     out.put(uint32_t(kdTree.nodes.size()));
     out.put(uint32_t(kdTree.leafRefs.size()));
-    out.put(uint32_t(draco.size()));
-    out.put(materialIds.empty() ? 0u : format::kChunkHasMaterialIds);
+    out.put(uint32_t(geometry.size()));
+    out.put((materialIds.empty() ? 0u : format::kChunkHasMaterialIds) |
+            (codec == GeometryCodec::Meshopt ? format::kChunkMeshoptGeometry : 0u));
     out.put(kdTree.bounds.lo);
     out.put(kdTree.bounds.hi);
     out.put(uint32_t(kdTree.maxDepth));
     out.padTo(format::kChunkHeaderBytes);
-    out.putArray(draco);
+    out.putArray(geometry);
     out.putArray(primitiveIds);
     out.putArray(materialIds);
     out.putArray(kdTree.nodes);
@@ -109,16 +111,18 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
         h.kdNodeCount != info.kdNodeCount || h.kdRefCount != info.kdRefCount)
         return Status::error("chunk header disagrees with the directory");
     const bool hasMaterials = (h.flags & format::kChunkHasMaterialIds) != 0;
-    const uint64_t expected = uint64_t(format::kChunkHeaderBytes) + h.dracoBytes +
+    const uint64_t expected = uint64_t(format::kChunkHeaderBytes) + h.geometryBytes +
                               uint64_t(h.triangleCount) * (hasMaterials ? 8 : 4) + uint64_t(h.kdNodeCount) * 8 +
                               uint64_t(h.kdRefCount) * 4;
     if (expected != blob.size()) return Status::error("chunk size disagrees with its counts");
 
-    auto geometry = decodeChunkGeometry(in.current(), h.dracoBytes, grid.bits == 0);
+    const GeometryCodec codec =
+        (h.flags & format::kChunkMeshoptGeometry) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
+    auto geometry = decodeChunkGeometry(in.current(), h.geometryBytes, grid.bits == 0, codec);
     if (!geometry) return geometry.status();
-    in.skip(h.dracoBytes);
+    in.skip(h.geometryBytes);
     if (geometry->indices.size() != size_t(h.triangleCount) * 3 || geometry->vertexWords.size() != size_t(h.vertexCount) * 3)
-        return Status::error("Draco stream disagrees with the chunk's counts");
+        return Status::error(std::string(geometryCodecName(codec)) + " stream disagrees with the chunk's counts");
 
     DecodedChunk chunk;
     chunk.id = info.id;

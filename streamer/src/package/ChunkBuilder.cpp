@@ -83,7 +83,7 @@ Result<std::vector<uint32_t>> recoverPrimitiveIds(const ChunkGeometry& input, co
                                                   const ChunkGeometry& decoded) {
     const size_t n = refs.size();
     if (decoded.indices.size() != n * 3)
-        return Status::error("Draco returned " + std::to_string(decoded.indices.size() / 3) + " faces for " +
+        return Status::error("the codec returned " + std::to_string(decoded.indices.size() / 3) + " faces for " +
                              std::to_string(n) + " triangles");
     std::vector<TriangleWords> before(n), after(n);
     for (size_t t = 0; t < n; ++t) {
@@ -119,12 +119,12 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     const ChunkGeometry input = gatherGeometry(source, refs);
 
     auto start = std::chrono::steady_clock::now();
-    auto draco = encodeChunkGeometry(input, lossless, source.dracoSpeed);
-    if (!draco) return draco.status();
+    auto encoded = encodeChunkGeometry(input, lossless, source.codec, source.dracoSpeed);
+    if (!encoded) return encoded.status();
     chunk.encodeSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    auto decoded = decodeChunkGeometry(draco->data(), draco->size(), lossless);
+    auto decoded = decodeChunkGeometry(encoded->data(), encoded->size(), lossless, source.codec);
     if (!decoded) return decoded.status();
     auto primitiveIds = recoverPrimitiveIds(input, refs, *decoded);
     if (!primitiveIds) return primitiveIds.status();
@@ -149,7 +149,7 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     chunk.info.kdRefCount = uint32_t(kdTree.leafRefs.size());
     chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(),
                                                   kdTree.nodes.size(), kdTree.leafRefs.size());
-    chunk.blob = serializeChunkBlob(*draco, chunk.info.vertexCount, *primitiveIds, materialIds, kdTree);
+    chunk.blob = serializeChunkBlob(*encoded, source.codec, chunk.info.vertexCount, *primitiveIds, materialIds, kdTree);
     chunk.info.size = chunk.blob.size();
     return chunk;
 }

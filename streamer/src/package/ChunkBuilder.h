@@ -1,5 +1,5 @@
 #pragma once
-// Builds one chunk from the triangles of one cell: Draco round trip, original-id recovery,
+// Builds one chunk from the triangles of one cell: codec round trip, original-id recovery,
 // KD-tree on the decoder's output, serialized blob.
 #include <cstdint>
 #include <vector>
@@ -18,6 +18,7 @@ struct ChunkSource {
     const uint32_t* materialIds;     // nullptr when the scene has one material
     const QuantizationGrid* grid;
     int dracoSpeed = 5;
+    GeometryCodec codec = GeometryCodec::Draco;
 };
 
 struct BuiltChunk {

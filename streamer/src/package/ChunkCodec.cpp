@@ -3,10 +3,13 @@
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
+#include <meshoptimizer.h>
 
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <mutex>
+#include <string>
 
 #include "package/ByteIo.h"
 
@@ -40,9 +43,7 @@ bool readAttribute(const draco::Mesh& mesh, const draco::PointAttribute* attribu
     return true;
 }
 
-}  // namespace
-
-Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, bool lossless, int speed) {
+Result<std::vector<uint8_t>> encodeDraco(const ChunkGeometry& geometry, bool lossless, int speed) {
     const size_t vertexCount = geometry.vertexWords.size() / 3;
     int32_t minimum[3] = {0, 0, 0};
     uint32_t lowBits = 0;
@@ -87,7 +88,7 @@ Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, 
     return std::move(out.bytes());
 }
 
-Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless) {
+Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossless) {
     ByteReader in(data, size);
     int32_t minimum[3];
     uint32_t lowBits = 0;
@@ -119,6 +120,111 @@ Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool
         for (int c = 0; c < 3; ++c) geometry.indices[3 * size_t(f) + c] = face[c].value();
     }
     return geometry;
+}
+
+// Meshopt stream: chunk minimum (3 x int32), vertex count, index count, vertex stride, index
+// stream bytes (4 x uint32), then meshoptimizer's index stream and vertex stream. Words are
+// stored relative to the chunk minimum in modular 32-bit arithmetic (so float bit patterns
+// work too): 4 x uint16 (w = 0; the vertex codec wants a stride that is a multiple of 4) when
+// every offset fits 16 bits, else 3 x uint32.
+Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
+    // Index codec version 1 (smaller); set once, before any thread encodes (a global in meshopt).
+    static std::once_flag version;
+    std::call_once(version, [] { meshopt_encodeIndexVersion(1); });
+    const size_t vertexCount = geometry.vertexWords.size() / 3, indexCount = geometry.indices.size();
+    int32_t minimum[3] = {0, 0, 0};
+    if (vertexCount > 0)
+        for (int axis = 0; axis < 3; ++axis) {
+            minimum[axis] = geometry.vertexWords[axis];
+            for (size_t v = 0; v < vertexCount; ++v) minimum[axis] = std::min(minimum[axis], geometry.vertexWords[3 * v + axis]);
+        }
+    auto offset = [&](size_t i) { return uint32_t(geometry.vertexWords[i]) - uint32_t(minimum[i % 3]); };
+    uint32_t largest = 0;
+    for (size_t i = 0; i < geometry.vertexWords.size(); ++i) largest = std::max(largest, offset(i));
+    const uint32_t stride = std::bit_width(largest) <= 16 ? 8 : 12;
+    std::vector<uint8_t> vertices(vertexCount * stride, 0);
+    for (size_t v = 0; v < vertexCount; ++v)
+        for (size_t a = 0; a < 3; ++a) {
+            const uint32_t r = offset(3 * v + a);
+            if (stride == 8) {
+                const uint16_t r16 = uint16_t(r);
+                std::memcpy(&vertices[v * 8 + a * 2], &r16, 2);
+            } else {
+                std::memcpy(&vertices[v * 12 + a * 4], &r, 4);
+            }
+        }
+    std::vector<uint32_t> indices(indexCount);
+    meshopt_optimizeVertexCache(indices.data(), geometry.indices.data(), indexCount, vertexCount);
+    std::vector<uint8_t> fetched(vertices.size());
+    const size_t used =
+        meshopt_optimizeVertexFetch(fetched.data(), indices.data(), indexCount, vertices.data(), vertexCount, stride);
+    std::vector<uint8_t> indexStream(meshopt_encodeIndexBufferBound(indexCount, used));
+    indexStream.resize(meshopt_encodeIndexBuffer(indexStream.data(), indexStream.size(), indices.data(), indexCount));
+    std::vector<uint8_t> vertexStream(meshopt_encodeVertexBufferBound(used, stride));
+    vertexStream.resize(meshopt_encodeVertexBuffer(vertexStream.data(), vertexStream.size(), fetched.data(), used, stride));
+    if (indexStream.empty() || vertexStream.empty()) return Status::error("meshopt encode returned no bytes");
+    ByteWriter out;
+    for (int32_t m : minimum) out.put(m);
+    for (uint32_t field : {uint32_t(used), uint32_t(indexCount), stride, uint32_t(indexStream.size())}) out.put(field);
+    out.putBytes(indexStream.data(), indexStream.size());
+    out.putBytes(vertexStream.data(), vertexStream.size());
+    return std::move(out.bytes());
+}
+
+Result<ChunkGeometry> decodeMeshopt(const uint8_t* data, size_t size) {
+    ByteReader in(data, size);
+    int32_t minimum[3];
+    uint32_t vertexCount = 0, indexCount = 0, stride = 0, indexBytes = 0;
+    for (int32_t& m : minimum) in.get(m);
+    for (uint32_t* field : {&vertexCount, &indexCount, &stride, &indexBytes}) in.get(*field);
+    // The index codec spends at least one byte per triangle plus 17 (meshoptimizer's
+    // decoder checks the same), and every vertex is used: this bounds both counts by the
+    // stream's size before anything is allocated.
+    if (!in.ok() || (stride != 8 && stride != 12) || indexCount % 3 != 0 || indexBytes > in.remaining() ||
+        uint64_t(indexCount) / 3 + 17 > indexBytes || vertexCount > indexCount)
+        return Status::error("bad meshopt prefix");
+    ChunkGeometry geometry;
+    geometry.indices.resize(indexCount);
+    if (meshopt_decodeIndexBuffer(geometry.indices.data(), indexCount, 4, in.current(), indexBytes) != 0)
+        return Status::error("meshopt index stream is corrupt");
+    in.skip(indexBytes);
+    std::vector<uint8_t> vertices(size_t(vertexCount) * stride);
+    if (meshopt_decodeVertexBuffer(vertices.data(), vertexCount, stride, in.current(), in.remaining()) != 0)
+        return Status::error("meshopt vertex stream is corrupt");
+    geometry.vertexWords.resize(size_t(vertexCount) * 3);
+    for (size_t v = 0; v < vertexCount; ++v)
+        for (size_t a = 0; a < 3; ++a) {
+            uint32_t r = 0;
+            if (stride == 8) {
+                uint16_t r16;
+                std::memcpy(&r16, &vertices[v * 8 + a * 2], 2);
+                r = r16;
+            } else {
+                std::memcpy(&r, &vertices[v * 12 + a * 4], 4);
+            }
+            geometry.vertexWords[3 * v + a] = int32_t(r + uint32_t(minimum[a]));
+        }
+    return geometry;
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, bool lossless, GeometryCodec codec,
+                                                 int dracoSpeed) {
+    return codec == GeometryCodec::Meshopt ? encodeMeshopt(geometry) : encodeDraco(geometry, lossless, dracoSpeed);
+}
+
+Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless, GeometryCodec codec) {
+    if (codec == GeometryCodec::Meshopt) return decodeMeshopt(data, size);
+    return decodeDraco(data, size, lossless);
+}
+
+const char* geometryCodecName(GeometryCodec codec) { return codec == GeometryCodec::Meshopt ? "meshopt" : "draco"; }
+
+Result<GeometryCodec> parseGeometryCodec(const std::string& name) {
+    if (name == "draco") return GeometryCodec::Draco;
+    if (name == "meshopt") return GeometryCodec::Meshopt;
+    return Status::error("unknown codec '" + name + "' (expected draco or meshopt)");
 }
 
 }  // namespace vastray

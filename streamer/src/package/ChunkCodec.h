@@ -1,5 +1,5 @@
 #pragma once
-// Chunk geometry compression; the only file that includes Draco.
+// Chunk geometry compression; the only file that includes Draco's encoder or meshoptimizer.
 //
 // Positions travel as exact 32-bit words per axis: grid coordinates when quantized (our own
 // scene-wide grid, so the decoder returns the integers we gave it and a triangle shared by
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vastray/core/Result.h"
+#include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
 
@@ -16,12 +17,15 @@ struct ChunkGeometry {
     std::vector<uint32_t> indices;     // 3 per triangle
 };
 
-// Draco edgebreaker. `lossless` stores float bit patterns, otherwise grid integers.
-// speed: Draco's 0 (smallest) … 10 (fastest).
-Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, bool lossless, int speed);
+// `lossless` stores float bit patterns, otherwise grid integers; both codecs return exactly
+// the words they were given. Draco: edgebreaker, dracoSpeed 0 (smallest) … 10 (fastest).
+// Meshopt: vertex-cache and vertex-fetch optimisation, then meshoptimizer's index codec and
+// its vertex codec on chunk-relative words (16 bits per axis when they fit, else 32).
+Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, bool lossless, GeometryCodec codec,
+                                                 int dracoSpeed);
 
-// Faces come back in edgebreaker order (not the encoder's), possibly with rotated corners
-// and split vertices; the cyclic order (winding) of every face is kept.
-Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless);
+// Faces come back in the codec's order (not the encoder's input order), possibly with rotated
+// corners (and split vertices with Draco); the cyclic order (winding) of every face is kept.
+Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless, GeometryCodec codec);
 
 }  // namespace vastray

@@ -258,7 +258,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
 
     ChunkSource source{mesh.positions.data(), scene.words.data(), mesh.indices.data(),
                        mesh.materials.size() > 1 && !mesh.materialIds.empty() ? mesh.materialIds.data() : nullptr,
-                       &grid, options.dracoSpeed};
+                       &grid, options.dracoSpeed, options.codec};
     PackageBuildJob job(source, options, double(mesh.positions.size()) / double(mesh.triangleCount()),
                         scene.triangles.size());
     std::unique_ptr<BuildNode> root = job.run(scene.triangles, scene.bounds);
@@ -273,6 +273,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     info.degenerateDropped = options.degenerateDropped;
     info.collapsedDropped = scene.collapsed;
     info.defaultDoubleSided = options.defaultDoubleSided;
+    info.codec = options.codec;
     info.bounds = scene.bounds;
     info.grid = grid;
     info.materials = mesh.materials;

@@ -25,7 +25,10 @@ constexpr char kChunkMagic[4] = {'V', 'C', 'H', 'K'};
 constexpr uint32_t kChunkVersion = 1;
 constexpr uint32_t kChunkHeaderBytes = 64;
 constexpr uint32_t kChunkHasMaterialIds = 1u;
+constexpr uint32_t kChunkMeshoptGeometry = 2u;  // geometry stream is meshoptimizer's, not Draco's
+constexpr uint32_t kChunkKnownFlags = kChunkHasMaterialIds | kChunkMeshoptGeometry;
 
-enum HeaderFlags : uint32_t { kDefaultDoubleSided = 1u };
+enum HeaderFlags : uint32_t { kDefaultDoubleSided = 1u, kMeshoptChunks = 2u };
+constexpr uint32_t kKnownHeaderFlags = kDefaultDoubleSided | kMeshoptChunks;
 
 }  // namespace vastray::format

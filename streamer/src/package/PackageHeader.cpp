@@ -17,7 +17,8 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
     for (uint64_t v : {info.fileBytes, info.triangleCount, info.referenceCount, info.chunkSizeBytes,
                        info.maxChunkResidentBytes, info.degenerateDropped, info.collapsedDropped})
         out.put(v);
-    out.put(info.defaultDoubleSided ? uint32_t(format::kDefaultDoubleSided) : uint32_t(0));
+    out.put((info.defaultDoubleSided ? uint32_t(format::kDefaultDoubleSided) : 0u) |
+            (info.codec == GeometryCodec::Meshopt ? uint32_t(format::kMeshoptChunks) : 0u));
     out.put(info.grid.bits);
     out.put(layout.materialCount);
     out.put(layout.topNodeCount);
@@ -67,7 +68,9 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
                         &layout.materialsChecksum, &layout.treeChecksum, &layout.directoryChecksum})
         in.get(*v);
     info.defaultDoubleSided = (flags & format::kDefaultDoubleSided) != 0;
+    info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
     if (!in.ok()) return Status::error("truncated header");
+    if (flags & ~format::kKnownHeaderFlags) return Status::error("header has unknown flags " + std::to_string(flags));
     if (info.grid.bits > 30 || !(info.grid.range > 0) || !std::isfinite(info.grid.range))
         return Status::error("header has an invalid quantization grid");
     if (layout.materialCount == 0 || layout.materialCount > format::kMaxMaterials || layout.chunkCount > format::kMaxChunks)

@@ -55,14 +55,23 @@ void expectWithinHalfStep(const TriangleMesh& original, const DecodedTriangles& 
     }
 }
 
-TEST(PackageRoundTrip, QuantizedPositionsWithinHalfStepAndNoCracks) {
+// Every round-trip case runs with both chunk codecs (import --codec draco|meshopt): 16- and
+// 30-bit grids take meshopt's 16- and 32-bit vertex layouts, lossless its float-bit words.
+class PackageRoundTrip : public ::testing::TestWithParam<GeometryCodec> {
+protected:
+    static std::string codecName() { return geometryCodecName(GetParam()); }
+};
+
+TEST_P(PackageRoundTrip, QuantizedPositionsWithinHalfStepAndNoCracks) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Sphere, 20000);
-    const std::string path = tempPath("roundtrip16.vast");
+    const std::string path = tempPath(codecName() + "-roundtrip16.vast");
     PackageBuildOptions options;
+    options.codec = GetParam();
     options.chunkSizeBytes = 64 << 10;
     options.quantizeBits = 16;
     auto reader = buildAndOpen(mesh, path, options);
     ASSERT_TRUE(reader);
+    EXPECT_EQ(reader->info().codec, GetParam());
     const DecodedTriangles decoded = decodeAll(*reader);
     EXPECT_EQ(decoded.corners.size() + reader->info().collapsedDropped, mesh.triangleCount());
     EXPECT_EQ(decoded.references, reader->info().referenceCount);
@@ -71,10 +80,11 @@ TEST(PackageRoundTrip, QuantizedPositionsWithinHalfStepAndNoCracks) {
     expectWithinHalfStep(mesh, decoded, reader->info().grid.step());
 }
 
-TEST(PackageRoundTrip, LosslessIsExact) {
+TEST_P(PackageRoundTrip, LosslessIsExact) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 5000);
-    const std::string path = tempPath("lossless.vast");
+    const std::string path = tempPath(codecName() + "-lossless.vast");
     PackageBuildOptions options;
+    options.codec = GetParam();
     options.chunkSizeBytes = 64 << 10;
     options.quantizeBits = 0;
     auto reader = buildAndOpen(mesh, path, options);
@@ -87,24 +97,26 @@ TEST(PackageRoundTrip, LosslessIsExact) {
     }
 }
 
-TEST(PackageRoundTrip, ThirtyBitGridRoundTrips) {
+TEST_P(PackageRoundTrip, ThirtyBitGridRoundTrips) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Terrain, 4000);
     PackageBuildOptions options;
+    options.codec = GetParam();
     options.chunkSizeBytes = 64 << 10;
     options.quantizeBits = 30;
-    auto reader = buildAndOpen(mesh, tempPath("bits30.vast"), options);
+    auto reader = buildAndOpen(mesh, tempPath(codecName() + "-bits30.vast"), options);
     ASSERT_TRUE(reader);
     const DecodedTriangles decoded = decodeAll(*reader);
     EXPECT_EQ(decoded.mismatchedDuplicates, 0u);
     expectWithinHalfStep(mesh, decoded, reader->info().grid.step());
 }
 
-TEST(PackageRoundTrip, CoarseGridDropsAndCountsCollapsedTriangles) {
+TEST_P(PackageRoundTrip, CoarseGridDropsAndCountsCollapsedTriangles) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Sphere, 20000);
     PackageBuildOptions options;
+    options.codec = GetParam();
     options.chunkSizeBytes = 64 << 10;
     options.quantizeBits = 6;  // 63 steps across the sphere: small triangles collapse
-    auto reader = buildAndOpen(mesh, tempPath("bits6.vast"), options);
+    auto reader = buildAndOpen(mesh, tempPath(codecName() + "-bits6.vast"), options);
     ASSERT_TRUE(reader);
     const PackageInfo& info = reader->info();
     EXPECT_GT(info.collapsedDropped, 0u);
@@ -112,14 +124,15 @@ TEST(PackageRoundTrip, CoarseGridDropsAndCountsCollapsedTriangles) {
     EXPECT_EQ(decodeAll(*reader).corners.size(), info.triangleCount);
 }
 
-TEST(PackageRoundTrip, MaterialIdsFollowTheirTriangles) {
+TEST_P(PackageRoundTrip, MaterialIdsFollowTheirTriangles) {
     TriangleMesh mesh = generatedMesh(GeneratorKind::City, 3000);
     mesh.materials.resize(3);
     mesh.materialIds.resize(mesh.triangleCount());
     for (size_t t = 0; t < mesh.materialIds.size(); ++t) mesh.materialIds[t] = uint32_t(t * 7 % 3);
     PackageBuildOptions options;
+    options.codec = GetParam();
     options.chunkSizeBytes = 32 << 10;
-    auto reader = buildAndOpen(mesh, tempPath("materials.vast"), options);
+    auto reader = buildAndOpen(mesh, tempPath(codecName() + "-materials.vast"), options);
     ASSERT_TRUE(reader);
     ASSERT_EQ(reader->info().materials.size(), 3u);
     for (const ChunkInfo& info : reader->info().chunks) {
@@ -131,19 +144,24 @@ TEST(PackageRoundTrip, MaterialIdsFollowTheirTriangles) {
     }
 }
 
-TEST(PackageRoundTrip, SameInputGivesByteIdenticalPackageWhateverTheThreads) {
+TEST_P(PackageRoundTrip, SameInputGivesByteIdenticalPackageWhateverTheThreads) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 6000, 3);
     PackageBuildOptions options;
+    options.codec = GetParam();
     options.chunkSizeBytes = 48 << 10;
     options.threads = 1;
-    ASSERT_TRUE(buildAndOpen(mesh, tempPath("det1.vast"), options));
+    const std::string one = tempPath(codecName() + "-det1.vast"), two = tempPath(codecName() + "-det2.vast");
+    ASSERT_TRUE(buildAndOpen(mesh, one, options));
     options.threads = 2;
-    ASSERT_TRUE(buildAndOpen(mesh, tempPath("det2.vast"), options));
-    const auto a = readFile(tempPath("det1.vast")), b = readFile(tempPath("det2.vast"));
+    ASSERT_TRUE(buildAndOpen(mesh, two, options));
+    const auto a = readFile(one), b = readFile(two);
     ASSERT_FALSE(a.empty());
     EXPECT_TRUE(a == b);
-    EXPECT_FALSE(std::filesystem::exists(tempPath("det2.vast") + ".tmp"));
+    EXPECT_FALSE(std::filesystem::exists(two + ".tmp"));
 }
+
+INSTANTIATE_TEST_SUITE_P(Codecs, PackageRoundTrip, ::testing::Values(GeometryCodec::Draco, GeometryCodec::Meshopt),
+                         [](const auto& info) { return std::string(geometryCodecName(info.param)); });
 
 TEST(PackageBuild, RejectsBadOptions) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Sphere, 2000);

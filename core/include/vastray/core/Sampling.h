@@ -15,8 +15,11 @@ struct Frame {
     Vec3f toWorld(Vec3f local) const { return tangent * local.x + bitangent * local.y + normal * local.z; }
 };
 
+// Duff et al.'s branchless basis. The sign test is n.z >= 0, not copysign: a face parallel to
+// the z axis has n.z = +0 or -0 depending on the order of its corners (codecs rotate them), and
+// the frame, hence the bounce directions, must not depend on that.
 inline Frame frameAround(Vec3f n) {
-    const float sign = std::copysign(1.0f, n.z);
+    const float sign = n.z >= 0.0f ? 1.0f : -1.0f;
     const float a = -1.0f / (sign + n.z);
     const float b = n.x * n.y * a;
     return {{1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x}, {b, sign + n.y * n.y * a, -n.y}, n};

@@ -1,6 +1,6 @@
 #pragma once
 // Turns an imported mesh into a scene package: quantize on one grid, partition with a
-// top-level KD-tree until every chunk fits the chunk size, Draco-encode each chunk, decode
+// top-level KD-tree until every chunk fits the chunk size, encode each chunk (Draco or meshopt), decode
 // it again and build its KD-tree on the decoder's output, write the .vast atomically.
 #include <cstdint>
 #include <string>
@@ -8,6 +8,7 @@
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Progress.h"
 #include "vastray/core/Result.h"
+#include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
 
@@ -15,6 +16,7 @@ struct PackageBuildOptions {
     uint64_t chunkSizeBytes = 16ull << 20;  // resident footprint limit of one chunk
     uint32_t quantizeBits = 20;             // grid precision over the scene extent; 0 = lossless
     uint32_t threads = 0;                   // 0 = all cores
+    GeometryCodec codec = GeometryCodec::Draco;  // chunk geometry codec
     int dracoSpeed = 5;                     // Draco's 0 (smallest, slowest) … 10 (fastest, largest)
     bool defaultDoubleSided = true;         // recorded in the header for tools
     Progress::Mode progress = Progress::Mode::Auto;

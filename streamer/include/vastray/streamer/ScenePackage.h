@@ -30,6 +30,13 @@ struct QuantizationGrid {
     Vec3f position(const int32_t* words) const;
 };
 
+// How chunk geometry is compressed (one codec per package). Draco edgebreaker is the default
+// (smallest files); meshoptimizer's index and vertex codecs decode 10-30x faster for about
+// 2-6x the bytes (docs/PERFORMANCE.md, "Chunk codec").
+enum class GeometryCodec : uint32_t { Draco = 0, Meshopt = 1 };
+const char* geometryCodecName(GeometryCodec codec);              // "draco", "meshopt"
+Result<GeometryCodec> parseGeometryCodec(const std::string& name);
+
 // The top-level tree uses the chunk tree's node format; a leaf's firstRef() is the chunk id
 // of its cell, or kEmptyCell when no triangle touches the cell.
 constexpr uint32_t kEmptyCell = 0xFFFFFFFFu;
@@ -57,6 +64,7 @@ struct PackageInfo {
     uint64_t degenerateDropped = 0;    // by the importer
     uint64_t collapsedDropped = 0;     // by quantization
     bool defaultDoubleSided = true;
+    GeometryCodec codec = GeometryCodec::Draco;
     Aabb bounds;
     QuantizationGrid grid;
     std::vector<Material> materials;

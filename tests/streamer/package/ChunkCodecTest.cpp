@@ -1,0 +1,127 @@
+// The chunk geometry codecs on their own: exact round trip of the words; damaged or forged
+// meshopt streams give an error (or some geometry that the blob reader then bounds), never a
+// crash or an allocation sized by a forged count.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "package/ChunkCodec.h"
+
+namespace vastray::test {
+namespace {
+
+// A small grid of quads with chunk-relative words spanning `bits` bits.
+ChunkGeometry gridGeometry(uint32_t side, uint32_t bits) {
+    ChunkGeometry g;
+    const int32_t step = int32_t(((1u << bits) - 1) / side);
+    for (uint32_t y = 0; y <= side; ++y)
+        for (uint32_t x = 0; x <= side; ++x)
+            g.vertexWords.insert(g.vertexWords.end(), {1000 + int32_t(x) * step, 5 + int32_t((x * y) % 7), int32_t(y) * step});
+    for (uint32_t y = 0; y < side; ++y)
+        for (uint32_t x = 0; x < side; ++x) {
+            const uint32_t a = y * (side + 1) + x, b = a + 1, c = a + side + 1, d = c + 1;
+            g.indices.insert(g.indices.end(), {a, b, d, a, d, c});
+        }
+    return g;
+}
+
+// Triangles as corner words, smallest corner first (rotation-invariant, winding kept), sorted.
+std::vector<std::array<int32_t, 9>> canonical(const ChunkGeometry& g) {
+    std::vector<std::array<int32_t, 9>> out(g.indices.size() / 3);
+    for (size_t t = 0; t < out.size(); ++t) {
+        std::array<std::array<int32_t, 3>, 3> c;
+        for (int k = 0; k < 3; ++k) std::memcpy(c[k].data(), &g.vertexWords[3 * size_t(g.indices[3 * t + k])], 12);
+        const int first = int(std::min_element(c.begin(), c.end()) - c.begin());
+        for (int k = 0; k < 3; ++k) std::memcpy(&out[t][3 * k], c[(first + k) % 3].data(), 12);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+struct Case {
+    GeometryCodec codec;
+    uint32_t bits;  // 0: lossless (float bit patterns)
+};
+
+class ChunkCodecTest : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ChunkCodecTest, RoundTripKeepsEveryTriangleAndItsWinding) {
+    const Case c = GetParam();
+    ChunkGeometry input = gridGeometry(40, c.bits ? c.bits : 20);
+    if (c.bits == 0)
+        for (int32_t& w : input.vertexWords) {
+            const float f = -3.5f + float(w) * 1e-4f;  // negative and positive floats
+            std::memcpy(&w, &f, 4);
+        }
+    auto encoded = encodeChunkGeometry(input, c.bits == 0, c.codec, 5);
+    ASSERT_TRUE(encoded.isOk()) << encoded.message();
+    auto decoded = decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec);
+    ASSERT_TRUE(decoded.isOk()) << decoded.message();
+    for (uint32_t i : decoded->indices) ASSERT_LT(size_t(i) * 3, decoded->vertexWords.size());
+    EXPECT_EQ(canonical(*decoded), canonical(input));
+}
+
+INSTANTIATE_TEST_SUITE_P(Codecs, ChunkCodecTest,
+                         ::testing::Values(Case{GeometryCodec::Draco, 16}, Case{GeometryCodec::Draco, 0},
+                                           Case{GeometryCodec::Meshopt, 12}, Case{GeometryCodec::Meshopt, 24},
+                                           Case{GeometryCodec::Meshopt, 0}),
+                         [](const auto& info) {
+                             return std::string(geometryCodecName(info.param.codec)) +
+                                    (info.param.bits ? std::to_string(info.param.bits) + "bits" : "lossless");
+                         });
+
+// meshoptimizer's decoders validate their input: every single-byte flip or truncation of a
+// meshopt stream decodes to an error or to some geometry, never a crash. (Draco streams are
+// only decoded after the package's XXH64 has matched.)
+TEST(ChunkCodecMeshopt, DamagedStreamsAreErrorsNotCrashes) {
+    for (uint32_t bits : {12u, 24u, 0u}) {
+        ChunkGeometry input = gridGeometry(12, bits ? bits : 20);
+        auto encoded = encodeChunkGeometry(input, bits == 0, GeometryCodec::Meshopt, 5);
+        ASSERT_TRUE(encoded.isOk()) << encoded.message();
+        const std::vector<uint8_t> pristine = *encoded;
+        size_t errors = 0;
+        for (size_t at = 0; at < pristine.size(); ++at) {
+            std::vector<uint8_t> damaged = pristine;
+            damaged[at] ^= 0xA5;
+            auto decoded = decodeChunkGeometry(damaged.data(), damaged.size(), bits == 0, GeometryCodec::Meshopt);
+            if (!decoded) ++errors;
+        }
+        // No checksum inside the codec (the package's XXH64 catches damage first): not every
+        // flip is detectable here, but the prefix and stream headers are.
+        EXPECT_GT(errors, 0u) << bits << " bits";
+        for (size_t size : {size_t(0), size_t(16), size_t(27), pristine.size() / 2, pristine.size() - 1}) {
+            auto decoded = decodeChunkGeometry(pristine.data(), size, bits == 0, GeometryCodec::Meshopt);
+            EXPECT_FALSE(decoded.isOk()) << "truncated to " << size << " of " << pristine.size();
+        }
+    }
+}
+
+// A meshopt prefix claiming billions of indices or vertices is refused before allocating.
+TEST(ChunkCodecMeshopt, ForgedCountsAreRefusedBeforeAllocating) {
+    auto encoded = encodeChunkGeometry(gridGeometry(8, 12), false, GeometryCodec::Meshopt, 5);
+    ASSERT_TRUE(encoded.isOk());
+    for (size_t field : {size_t(12), size_t(16)}) {  // vertex count, index count (after the 3 x int32 minimum)
+        std::vector<uint8_t> forged = *encoded;
+        const uint32_t huge = 0xFFFFFFF0u;
+        std::memcpy(&forged[field], &huge, 4);
+        auto decoded = decodeChunkGeometry(forged.data(), forged.size(), false, GeometryCodec::Meshopt);
+        ASSERT_FALSE(decoded.isOk());
+        EXPECT_NE(decoded.message().find("bad meshopt prefix"), std::string::npos) << decoded.message();
+    }
+}
+
+TEST(ChunkCodecNames, ParseAndPrint) {
+    EXPECT_EQ(*parseGeometryCodec("draco"), GeometryCodec::Draco);
+    EXPECT_EQ(*parseGeometryCodec("meshopt"), GeometryCodec::Meshopt);
+    EXPECT_STREQ(geometryCodecName(GeometryCodec::Meshopt), "meshopt");
+    auto bad = parseGeometryCodec("zstd");
+    ASSERT_FALSE(bad.isOk());
+    EXPECT_NE(bad.message().find("draco or meshopt"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vastray::test
