@@ -6,7 +6,10 @@
 //
 //   stream_render_bench [--kind city] [--triangles N] [--chunk-size 16MiB] [--resolution WxH]
 //                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
-//                       [--codec draco|meshopt] [--keep] [--out FILE.md]
+//                       [--codec draco|meshopt] [--repeat N] [--keep] [--out FILE.md]
+// --repeat N renders every row N times and keeps the run of median render time (the device
+// machine's host-side timings vary by tens of percent between single runs).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -36,6 +39,7 @@ struct Args {
     uint32_t width = 1920, height = 1080, spp = 1, depth = 2;
     std::vector<double> ratios{4, 16};
     int device = -1;
+    int repeat = 1;
     bool keep = false;
 };
 
@@ -74,6 +78,9 @@ Args parseArgs(int argc, char** argv) {
             auto codec = parseGeometryCodec(value());
             if (!codec) fail(codec.message());
             a.codec = *codec;
+        } else if (flag == "--repeat") {
+            a.repeat = std::stoi(value());
+            if (a.repeat < 1) fail("--repeat must be >= 1");
         } else if (flag == "--keep") a.keep = true;
         else fail("unknown flag " + flag);
     }
@@ -134,22 +141,32 @@ int main(int argc, char** argv) {
     const uint64_t fitBudget = fitPlan->totalBytes;
 
     std::vector<Row> rows;
+    // The run of median render time among `runs`.
+    auto median = [](std::vector<Row> runs) {
+        std::sort(runs.begin(), runs.end(),
+                  [](const Row& a, const Row& b) { return a.render.renderSeconds < b.render.renderSeconds; });
+        return runs[runs.size() / 2];
+    };
     auto render = [&](const std::string& label, uint64_t budget, IntegratorKind integrator, uint32_t depth) {
         RenderOptions o;
         o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp;
         o.integrator = integrator, o.maxDepth = depth;
-        Row row;
-        row.label = label, row.budget = budget;
-        row.streaming.memoryBudgetBytes = budget;
-        auto image = renderStreaming(
-            **reader, o, StreamingOptions{},
-            [&](const PackageInfo& p, const ChunkAttributes& a) {
-                return gpu::createVulkanChunkBackend(**device, p, a, budget);
-            },
-            &row.render, &row.streaming);
-        if (!image) fail(label + ": " + image.message());
-        std::fprintf(stderr, "%s: %.3f s\n", label.c_str(), row.render.renderSeconds);
-        rows.push_back(row);
+        std::vector<Row> runs;
+        for (int run = 0; run < args.repeat; ++run) {
+            Row row;
+            row.label = label, row.budget = budget;
+            row.streaming.memoryBudgetBytes = budget;
+            auto image = renderStreaming(
+                **reader, o, StreamingOptions{},
+                [&](const PackageInfo& p, const ChunkAttributes& a) {
+                    return gpu::createVulkanChunkBackend(**device, p, a, budget);
+                },
+                &row.render, &row.streaming);
+            if (!image) fail(label + ": " + image.message());
+            std::fprintf(stderr, "%s: %.3f s\n", label.c_str(), row.render.renderSeconds);
+            runs.push_back(row);
+        }
+        rows.push_back(median(runs));
     };
     render("warm-up (in core, primary)", fitBudget, IntegratorKind::Path, 0);
     rows.clear();
@@ -164,7 +181,8 @@ int main(int argc, char** argv) {
         for (uint32_t depth : {0u, args.depth}) {
             RenderOptions o;
             o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp, o.maxDepth = depth;
-            for (int pass = 0; pass < 2; ++pass) {
+            std::vector<Row> runs;
+            for (int pass = 0; pass <= args.repeat; ++pass) {
                 Row row;
                 row.label = std::string(depth == 0 ? "resident, primary" : "resident, path depth ") +
                             (depth == 0 ? "" : std::to_string(depth));
@@ -172,8 +190,9 @@ int main(int argc, char** argv) {
                 row.streaming.memoryBudgetBytes = fitBudget;
                 auto image = (*scene)->render(o, &row.render, &row.streaming);
                 if (!image) fail(row.label + ": " + image.message());
-                if (pass == 1) rows.push_back(row);
+                if (pass > 0) runs.push_back(row);  // pass 0 made it resident
             }
+            rows.push_back(median(runs));
         }
     }
     render("in core, primary", fitBudget, IntegratorKind::Path, 0);
@@ -195,7 +214,7 @@ int main(int argc, char** argv) {
        << " chunks)";
     if (importSeconds > 0) md << ", imported in " << importSeconds << " s";
     md << ". Device: " << (*device)->info().name << ". Image " << args.width << "x" << args.height << ", "
-       << args.spp << " spp.\n\n";
+       << args.spp << " spp. Each row: the run of median render time of " << args.repeat << ".\n\n";
     md << "| render | budget | slots | render s | rays | rays/s (render) | chunk traces/s (trace) | trace s | "
           "decode s | upload s | walk s | shade s | touched | loads | loads/touched | per-bounce loads/touched | time vs in core |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
