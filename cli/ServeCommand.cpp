@@ -1,6 +1,7 @@
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -97,9 +98,23 @@ int runServe(const ServeArgs& args) {
     if (!front) return fail(front.message(), 2);
     if (args.backend != "vulkan" && args.backend != "embree")
         return fail("--backend '" + args.backend + "': expected vulkan or embree", 2);
-    auto renderer = args.backend == "vulkan"
-                        ? server::makeStreamingJobRenderer(options->hostCacheBytes, int(args.gpuDevice))
-                        : server::makeEmbreeJobRenderer(options->hostCacheBytes);
+    // The Vulkan device opens now (never for embree): a --gpu-device that does not exist or
+    // cannot run the tracer stops the start, naming the devices Vulkan reports.
+    std::unique_ptr<server::JobRenderer> renderer;
+    if (args.backend == "vulkan") {
+        if (args.gpuDevice < -1 || args.gpuDevice > INT32_MAX)
+            return fail("--gpu-device " + std::to_string(args.gpuDevice) + ": expected -1 or a device index", 2);
+        auto streaming = server::makeStreamingJobRenderer(options->hostCacheBytes, int(args.gpuDevice));
+        if (!streaming) {
+            const std::string flag =
+                args.gpuDevice >= 0 ? "--gpu-device " + std::to_string(args.gpuDevice) : "--backend vulkan";
+            return fail(flag + ": " + streaming.message(), 1);
+        }
+        renderer = std::move(streaming).value();
+    } else {
+        renderer = server::makeEmbreeJobRenderer(options->hostCacheBytes);
+    }
+    const std::string device = renderer->deviceDescription();
     auto service = server::Service::open(*options, std::move(renderer));
     if (!service) return fail(service.message(), 1);
     auto grpc = server::GrpcFrontEnd::start(**service, args.grpc, *front);
@@ -109,6 +124,8 @@ int runServe(const ServeArgs& args) {
     auto host = [](const std::string& address) { return server::splitHostPort(address)->first; };
     std::printf("vastray serve: gRPC on %s:%d\n", host(args.grpc).c_str(), (*grpc)->port());
     std::printf("vastray serve: HTTP on %s:%d\n", host(args.http).c_str(), (*http)->port());
+    std::printf("vastray serve: backend %s%s%s\n", args.backend.c_str(), device.empty() ? "" : " on ",
+                device.c_str());
     std::printf("vastray serve: ready (data in %s%s)\n", args.dataDir.c_str(), args.paused ? ", paused" : "");
     std::fflush(stdout);
 

@@ -2,7 +2,8 @@
 # Load-test clients for bench/load/run.sh (`make bench-load`); not needed by `make test`.
 #   wrk            Debian package (HTTP load)
 #   ghz v0.93.0    Go module proxy (gRPC load)
-#   grpcurl v1.9.4 Go module proxy (one-off gRPC calls; set SKIP_GRPCURL=1 to skip)
+# grpcurl (one-off gRPC calls) is not installed here: scripts/install-deps.sh builds it (the
+# version the end-to-end tests use) with Debian's Go; this script only reports it.
 # Idempotent: a tool already on PATH at the wanted version is left alone.
 # Needs Go (GO=/usr/local/go/bin/go by default) and root for apt-get / GOBIN=/usr/local/bin.
 set -euo pipefail
@@ -31,8 +32,8 @@ go_tool() {  # name module version
 }
 
 go_tool ghz github.com/bojand/ghz/cmd/ghz v0.93.0
-if [ "${SKIP_GRPCURL:-0}" != 1 ]; then
-  go_tool grpcurl github.com/fullstorydev/grpcurl/cmd/grpcurl v1.9.4
+if [ ! -x "$GOBIN_DIR/grpcurl" ]; then
+  echo "install-bench-tools: no $GOBIN_DIR/grpcurl: run scripts/install-deps.sh (it installs grpcurl)" >&2
 fi
 wrk -v 2>&1 | head -1 || true
 # go-installed binaries report "dev" themselves; the module version is in their build info.

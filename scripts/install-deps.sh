@@ -1,8 +1,18 @@
 #!/usr/bin/env bash
-# Installs everything vastray needs to build, test and run on Debian 12, with apt-get only.
-# Idempotent: when every package is already installed it does nothing (and needs no network).
-# Uses sudo only when not root.
+# Installs everything vastray needs to build, test and run on Debian 12: Debian packages with
+# apt-get, and grpcurl (a Go tool the render service's end-to-end tests drive) built from the
+# Go module proxy with Debian's own Go (golang-go, Go 1.19) into /usr/local/bin.
+# Idempotent: when every package is installed and /usr/local/bin/grpcurl is the wanted version
+# it does nothing (and needs no network). Uses sudo only when not root.
 set -euo pipefail
+
+# grpcurl v1.9.1 is the newest release whose go.mod (and whose dependencies' go.mod: grpc
+# v1.61.0, protobuf v1.33) ask for at most Go 1.19, the Go of Debian 12; v1.9.2 and later need
+# Go 1.21. Override with GRPCURL_VERSION=... only together with a newer GO=/path/to/go.
+GRPCURL_MODULE=github.com/fullstorydev/grpcurl
+GRPCURL_VERSION=${GRPCURL_VERSION:-v1.9.1}
+GO=${GO:-/usr/lib/go/bin/go}  # Debian's golang-go; not whichever `go` comes first on PATH
+GRPCURL_BIN=/usr/local/bin/grpcurl
 
 packages=(
   build-essential cmake ninja-build pkg-config git
@@ -14,7 +24,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcpp-httplib-dev libcli11-dev
   libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev
   assimp-testmodels python3 python3-matplotlib time
-  curl openssl
+  curl openssl golang-go
 )
 
 missing=()
@@ -22,13 +32,33 @@ for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
   [ "$status" = "install ok installed" ] || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
-fi
-
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
-$sudo apt-get update -q
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+else
+  echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# The module version grpcurl was built from (go-installed binaries call themselves "dev build").
+installed_grpcurl=""
+if [ -x "$GRPCURL_BIN" ]; then
+  installed_grpcurl=$("$GO" version -m "$GRPCURL_BIN" 2> /dev/null |
+    awk -v m="$GRPCURL_MODULE" '$1 == "mod" && $2 == m {print $3; exit}' || true)
+fi
+if [ "$installed_grpcurl" = "$GRPCURL_VERSION" ]; then
+  echo "install-deps: grpcurl $GRPCURL_VERSION present"
+  exit 0
+fi
+echo "install-deps: building grpcurl $GRPCURL_VERSION${installed_grpcurl:+ (replacing $installed_grpcurl)}" \
+  "from the Go module proxy with $("$GO" version)"
+# A throw-away GOPATH, module and build cache: nothing outside it but the binary is kept.
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+env GOPATH="$work/gopath" GOMODCACHE="$work/gopath/pkg/mod" GOCACHE="$work/cache" GOBIN="$work/bin" \
+  GOFLAGS=-modcacherw GOTOOLCHAIN=local \
+  "$GO" install "$GRPCURL_MODULE/cmd/grpcurl@$GRPCURL_VERSION"
+$sudo install -m 0755 "$work/bin/grpcurl" "$GRPCURL_BIN"
+echo "install-deps: installed $GRPCURL_BIN ($GRPCURL_VERSION)"

@@ -112,6 +112,14 @@ def mib(kib):
     return "–" if kib is None else f"{kib / 1024:.1f}"
 
 
+def mib_bytes(b):
+    """Bytes (a number or a string of one, as /metrics and proto3 JSON give them) in MiB."""
+    try:
+        return f"{float(b) / 2**20:.1f}"
+    except (TypeError, ValueError):
+        return "–"
+
+
 phases = {"A": "A: paused server (front ends, queue, store)", "B": "B: full queue, renderer busy"}
 scene = load_json("A.scene.json") or {}
 scene_id = scene.get("id", "")
@@ -292,8 +300,8 @@ if g and g["errors"]:
 # --------------------------------------------------------------------------------------- server
 print("## Server")
 print()
-print("| phase | peak RSS (VmHWM) MiB | RSS at the end MiB | jobs submitted | jobs refused (queue full) | requests by front end and code | SIGTERM → exit |")
-print("|---|---|---|---|---|---|---|")
+print("| phase | peak RSS (VmHWM) MiB | RSS at the end MiB | device memory peak MiB | jobs submitted | jobs refused (queue full) | requests by front end and code | SIGTERM → exit |")
+print("|---|---|---|---|---|---|---|---|")
 for phase in ("A", "B"):
     m = metrics(f"{phase}.metrics.end.txt")
     req = {}
@@ -304,7 +312,7 @@ for phase in ("A", "B"):
     ex = read(f"{phase}.exit").split()
     exit_text = f"{ex[1]} s, exit {ex[0]}" if len(ex) == 2 else "–"
     print(f"| {phases[phase]} | {mib(kib_line(f'{phase}.rss', 'VmHWM'))} | {mib(kib_line(f'{phase}.rss', 'VmRSS'))} |"
-          f" {m.get('vastray_jobs_submitted_total', '–')} | {m.get('vastray_jobs_rejected_total', '–')} |"
+          f" {mib_bytes(m.get('vastray_device_memory_peak_bytes'))} | {m.get('vastray_jobs_submitted_total', '–')} | {m.get('vastray_jobs_rejected_total', '–')} |"
           f" {codes_text(req)} | {exit_text} |")
 print()
 print(f"Phase A, after the upload and import, before any load: VmHWM {mib(kib_line('A.rss.after_upload', 'VmHWM'))} MiB,"
@@ -313,8 +321,10 @@ print(f"Phase A, after the upload and import, before any load: VmHWM {mib(kib_li
          if kib_line('A.rss.after_upload', 'VmHWM') is not None
          and kib_line('A.rss.after_upload', 'VmHWM') == kib_line('A.rss', 'VmHWM') else "."))
 print(f"Phase B, after the small job finished (before the overload): VmHWM {mib(kib_line('B.rss.after_small', 'VmHWM'))} MiB,"
-      f" VmRSS {mib(kib_line('B.rss.after_small', 'VmRSS'))} MiB. Counts are `/metrics` at the end of each phase;"
-      " RSS is `/proc/PID/status` just before SIGTERM.")
+      f" VmRSS {mib(kib_line('B.rss.after_small', 'VmRSS'))} MiB. Counts and the device memory peak"
+      " (`vastray_device_memory_peak_bytes`: the largest a job's render held since the server started; 0 in"
+      " phase A, where nothing renders) are `/metrics` at the end of each phase; RSS is `/proc/PID/status`"
+      " just before SIGTERM.")
 print()
 
 # ------------------------------------------------------------------------------------ the job
@@ -332,34 +342,58 @@ if small:
           f" ended {small.get('end_time', '–')}.")
     print()
 rs = load_json("render.stats.json")
-print("The service reports no device memory figure (neither `JobStats` nor `/metrics` has one), so the")
-print("peak is measured by `vastray render --stats-json` of the same job (same resolution, spp, 4 GiB")
+
+
+def find(d, key):
+    if isinstance(d, dict):
+        if key in d:
+            return d[key]
+        for v in d.values():
+            x = find(v, key)
+            if x is not None:
+                return x
+    return None
+
+
 devices = [d for d in read("vulkan.devices").splitlines() if d]
-print("budget, the package the server stored) on the same device"
-      + (f" (Vulkan devices: {', '.join('`' + d + '`' for d in devices)}" if devices else "")
-      + ("; on llvmpipe (lavapipe) device memory is host memory)" if any("llvmpipe" in d for d in devices)
-         else (")" if devices else "")) + ":")
+print("Device memory as the service reports it: the small job's `stats` (`peak_device_bytes`,"
+      " `memory_budget_bytes`) and `/metrics` (`vastray_device_memory_peak_bytes`: the largest a job held"
+      " since the server started; `vastray_device_memory_budget_bytes`: `--memory-budget`), after the small"
+      " job and at the end of phase B (after the busy job was cancelled). The last column renders the small"
+      " job again with `vastray render --stats-json` (same resolution and spp, the budget the server reported,"
+      " the package the server stored) as a cross-check"
+      + (f". Vulkan devices: {', '.join('`' + d + '`' for d in devices)}" if devices else "")
+      + ("; on llvmpipe (lavapipe) device memory is host memory." if any("llvmpipe" in d for d in devices)
+         else "."))
 print()
-if rs:
-    def find(d, key):
-        if isinstance(d, dict):
-            if key in d:
-                return d[key]
-            for v in d.values():
-                x = find(v, key)
-                if x is not None:
-                    return x
-        return None
-    peak_dev = find(rs, "peak_device_bytes")
-    peak_host = find(rs, "peak_host_bytes")
-    budget = find(rs, "memory_budget_bytes")
-    print("| peak device memory MiB | memory budget MiB | peak host memory MiB |")
-    print("|---|---|---|")
-    f = lambda b: "–" if b is None else f"{int(b) / 2**20:.1f}"
-    print(f"| {f(peak_dev)} | {f(budget)} | {f(peak_host)} |")
-else:
+after_small = metrics("B.metrics.after_small.txt")
+end_b = metrics("B.metrics.end.txt")
+print("| figure | job stats MiB | /metrics after the small job MiB | /metrics at the end of B MiB | `vastray render` MiB |")
+print("|---|---|---|---|---|")
+print(f"| device memory peak | {mib_bytes(st.get('peak_device_bytes'))} |"
+      f" {mib_bytes(after_small.get('vastray_device_memory_peak_bytes'))} |"
+      f" {mib_bytes(end_b.get('vastray_device_memory_peak_bytes'))} |"
+      f" {mib_bytes(find(rs, 'peak_device_bytes'))} |")
+print(f"| memory budget | {mib_bytes(st.get('memory_budget_bytes'))} |"
+      f" {mib_bytes(after_small.get('vastray_device_memory_budget_bytes'))} |"
+      f" {mib_bytes(end_b.get('vastray_device_memory_budget_bytes'))} |"
+      f" {mib_bytes(find(rs, 'memory_budget_bytes'))} |")
+print()
+service_peak = st.get("peak_device_bytes")
+cli_peak = find(rs, "peak_device_bytes")
+if service_peak is not None and cli_peak is not None:
+    same = int(service_peak) == int(cli_peak)
+    print(f"The service's figure {'equals' if same else 'differs from'} `vastray render`'s"
+          f" ({int(service_peak):,} and {int(cli_peak):,} bytes)"
+          + ("" if same else ": the service opens every scene with primitive ids in its chunk slots, so that a"
+             " later job asking for the `primid` AOV does not reopen the pool, and `vastray render` of a PNG"
+             " uploads none")
+          + (f"; `vastray render` also reports a host memory peak of {mib_bytes(find(rs, 'peak_host_bytes'))} MiB."
+             if find(rs, "peak_host_bytes") is not None else "."))
+    print()
+elif rs is None:
     print("(`vastray render` wrote no stats: see its output in the run's log.)")
-print()
+    print()
 
 # ------------------------------------------------------------------------------------ commands
 print("## Commands")

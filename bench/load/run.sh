@@ -13,8 +13,10 @@
 #   core while the queue is filled; ghz SubmitJob and wrk POST /v1/jobs then meet a full queue and
 #   must get RESOURCE_EXHAUSTED / 429 at once (timeouts are counted; the client limit is
 #   $CLIENT_TIMEOUT).
-# Then the device memory of the small job is measured with `vastray render --stats-json` on the
-# package the server stored (the service reports no device memory figure itself).
+# Device memory is the service's own figure: the jobs' stats.peak_device_bytes and /metrics
+# (vastray_device_memory_peak_bytes, vastray_device_memory_budget_bytes), read after the small job
+# and at the end of phase B. As a cross-check, `vastray render --stats-json` renders the small job
+# again from the package the server stored, at the server's budget.
 #
 # Knobs (defaults below): TRIANGLES GHZ_N GHZ_C WRK_DURATION WRK_C WRK_T OVERLOAD_QUEUE
 # CLIENT_TIMEOUT JOB_SIZE BUSY_SIZE BUSY_SPP OUT_FILE KEEP_WORK=1 (keep the temporary folder).
@@ -248,10 +250,13 @@ package="$work/B/scenes/$scene.vast"
 log "stopping the server (SIGTERM)"
 stop_server
 
-# ---------------------------------------------------------------- device memory of the small job
-log "device memory: vastray render of the stored package"
+# ---------------------------------------------------------------- cross-check of the device memory
+# The service's figures are in B.small.json (stats) and B.metrics.*.txt; the same job through
+# `vastray render` at the budget the server reported must give the same peak.
+budget_bytes=$(awk '$1 == "vastray_device_memory_budget_bytes" {print $2}' "$res/B.metrics.end.txt")
+log "device memory cross-check: vastray render of the stored package (budget ${budget_bytes:-?} bytes)"
 run "$vastray" render "$package" -o "$work/small.png" --resolution "${job_size}x${job_size}" --spp 1 \
-  --memory-budget 4GiB --host-cache 2GiB --progress none --stats-json "$res/render.stats.json" \
+  --memory-budget "${budget_bytes:-4GiB}" --host-cache 2GiB --progress none --stats-json "$res/render.stats.json" \
   > "$res/render.txt" 2>&1 || true
 
 mkdir -p "$(dirname "$out")"

@@ -6,6 +6,7 @@
 
 #include <fstream>
 
+#include "grpc/health/v1/health.pb.h"
 #include "vastray/server/FrontEnds.h"
 #include "vastray/v1/render_service.grpc.pb.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
@@ -203,6 +204,11 @@ Result<std::unique_ptr<GrpcFrontEnd>> GrpcFrontEnd::start(Service& service, cons
     std::unique_ptr<GrpcFrontEnd> front(new GrpcFrontEnd());
     front->impl_ = std::make_unique<Impl>(service, options);
     grpc::EnableDefaultHealthCheckService(true);
+    // gRPC's health service has no descriptor in protobuf's pool; ours (proto/grpc/health/v1)
+    // lets reflection describe it (grpcurl needs that to call Health/Check). Naming it here
+    // also keeps its object file in the link.
+    if (!grpc::health::v1::HealthCheckRequest::descriptor())
+        return Status::error("gRPC: grpc.health.v1 descriptor missing");
     grpc::reflection::InitProtoReflectionServerBuilderPlugin();
     grpc::ServerBuilder builder;
     builder.AddListeningPort(address, *creds, &front->port_);

@@ -305,6 +305,12 @@ std::string Service::metricsText() {
         std::to_string(metrics_.chunkLoads));
     add("vastray_render_seconds_total", "counter", "Time spent tracing and shading.",
         std::to_string(double(metrics_.renderMicroseconds) * 1e-6));
+    add("vastray_device_memory_peak_bytes", "gauge",
+        "Largest device memory a job's render held since the server started (0 before the first job "
+        "and with the embree backend).",
+        std::to_string(metrics_.peakDeviceBytes));
+    add("vastray_device_memory_budget_bytes", "gauge", "Device memory one job may use (--memory-budget).",
+        std::to_string(options_.memoryBudgetBytes));
     add("vastray_ready", "gauge", "1 when the server accepts work.", ready() ? "1" : "0");
     return text + metrics_.requestsText();
 }

@@ -70,7 +70,10 @@ ServiceStatus Service::renderAndStore(v1::Job& job) {
     out->set_rays(stats.render.rays);
     out->set_triangles(stats.render.triangles);
     out->set_chunk_loads(stats.chunkLoads);
+    out->set_peak_device_bytes(stats.peakDeviceBytes);
+    out->set_memory_budget_bytes(request.memoryBudgetBytes);
     metrics_.chunkLoads += stats.chunkLoads;
+    metrics_.notePeakDeviceBytes(stats.peakDeviceBytes);
     if (cancelRunning_) return {StatusCode::Cancelled, "cancelled"};
     if (!image) return {StatusCode::Internal, image.message()};
     metrics_.rays += stats.render.rays;

@@ -1,4 +1,5 @@
-// The streaming Vulkan renderer behind the JobRenderer seam. The device is opened once; the
+// The streaming Vulkan renderer behind the JobRenderer seam. The device is opened once, when
+// the renderer is made (at server start); the
 // scene of the last job stays open (device slots, host chunk cache, residency), so the next
 // job on the same scene and budget loads nothing again. A job on another scene (or needing
 // another budget or attributes) closes it first: at any time one pool of at most the job's
@@ -17,22 +18,19 @@ namespace {
 
 class StreamingJobRenderer final : public JobRenderer {
 public:
-    StreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex)
-        : hostCacheBytes_(hostCacheBytes), deviceIndex_(deviceIndex) {}
+    StreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex, std::unique_ptr<gpu::VulkanDevice> device)
+        : hostCacheBytes_(hostCacheBytes), deviceIndex_(deviceIndex), device_(std::move(device)) {}
 
     std::string name() const override { return "vulkan"; }
+    std::string deviceDescription() const override {
+        return "Vulkan device " + (deviceIndex_ >= 0 ? "[" + std::to_string(deviceIndex_) + "] " : std::string()) +
+               device_->info().name;
+    }
 
     Result<RenderImage> render(const JobRenderRequest& request, const JobProgressCallback& progress,
                                const std::atomic<bool>& cancel, JobRenderStats* stats) override {
         std::lock_guard<std::mutex> lock(mutex_);
         if (cancel) return Status::error("cancelled before loading the scene");
-        if (!device_) {
-            gpu::VulkanDeviceOptions options;
-            options.deviceIndex = deviceIndex_;
-            auto device = gpu::VulkanDevice::create(options);
-            if (!device) return device.status();
-            device_ = std::move(device).value();
-        }
         VASTRAY_TRY(openScene(request));
         StreamingStats streaming;
         streaming.memoryBudgetBytes = request.memoryBudgetBytes;
@@ -40,7 +38,10 @@ public:
         if (progress) onProgress = [&](uint64_t done, uint64_t total) { progress({done, total, 0}); };
         auto image = scene_->render(request.options, stats ? &stats->render : nullptr, &streaming, onProgress,
                                     &cancel);
-        if (stats) stats->chunkLoads = streaming.chunkLoads;
+        if (stats) {
+            stats->chunkLoads = streaming.chunkLoads;
+            stats->peakDeviceBytes = streaming.peakDeviceBytes;
+        }
         if (progress) progress({1, 1, streaming.chunkLoads});
         if (!image && cancel) return Status::error("cancelled");
         return image;
@@ -76,7 +77,7 @@ private:
     std::mutex mutex_;
     const uint64_t hostCacheBytes_;
     const int deviceIndex_;
-    std::unique_ptr<gpu::VulkanDevice> device_;
+    const std::unique_ptr<gpu::VulkanDevice> device_;
     std::unique_ptr<PackageReader> reader_;
     std::unique_ptr<StreamingScene> scene_;
     std::string path_;
@@ -85,8 +86,27 @@ private:
 
 }  // namespace
 
-std::unique_ptr<JobRenderer> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex) {
-    return std::make_unique<StreamingJobRenderer>(hostCacheBytes, deviceIndex);
+Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex) {
+    if (deviceIndex >= 0) {
+        // An index past the end is named as such (VulkanDevice::create calls it "not usable").
+        auto devices = gpu::listVulkanDevices();
+        if (!devices) return devices.status().withContext("Vulkan: ");
+        if (size_t(deviceIndex) >= devices->size()) {
+            std::string list;
+            for (size_t i = 0; i < devices->size(); ++i)
+                list += (i ? ", [" : "[") + std::to_string(i) + "] " + (*devices)[i].name +
+                        ((*devices)[i].usable ? "" : " (unusable: lacks " + (*devices)[i].missing + ")");
+            return Status::error("Vulkan: there is no device " + std::to_string(deviceIndex) + "; " +
+                                 (devices->empty() ? std::string("Vulkan reports no device")
+                                                   : "the devices are " + list));
+        }
+    }
+    gpu::VulkanDeviceOptions options;
+    options.deviceIndex = deviceIndex;
+    auto device = gpu::VulkanDevice::create(options);
+    if (!device) return device.status();
+    return std::unique_ptr<JobRenderer>(
+        std::make_unique<StreamingJobRenderer>(hostCacheBytes, deviceIndex, std::move(device).value()));
 }
 
 }  // namespace vastray::server

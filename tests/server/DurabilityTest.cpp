@@ -64,8 +64,23 @@ TEST_F(ServerTest, RunningJobIsRenderedAgainAfterKill) {
     EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "tmp"));
 }
 
+// The value of an unlabelled sample NAME in Prometheus text, after checking its HELP and
+// TYPE lines; -1 when absent.
+double metricValue(const std::string& text, const std::string& name, const std::string& type) {
+    EXPECT_NE(text.find("# HELP " + name + " "), std::string::npos) << name;
+    EXPECT_NE(text.find("# TYPE " + name + " " + type + "\n"), std::string::npos) << name;
+    const size_t at = text.find("\n" + name + " ");
+    return at == std::string::npos ? -1 : std::stod(text.substr(at + name.size() + 2));
+}
+
+// Also the device memory figures (vulkan backend, lavapipe here): every job reports its peak
+// and its budget (peak within budget), and /metrics the service's peak and budget.
 TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
-    startServer();
+    const uint64_t budget = 64ull << 20;
+    startServer({"--backend", "vulkan", "--memory-budget", "64MiB"});
+    auto before = http().Get("/metrics");
+    ASSERT_TRUE(before);
+    EXPECT_EQ(metricValue(before->body, "vastray_device_memory_peak_bytes", "gauge"), 0) << "no job ran yet";
     const std::string sceneId = uploadSphere()["id"];
     auto first = submit(smallJob(sceneId));
     const json a = waitForState(json::parse(first->body)["id"], "SUCCEEDED");
@@ -73,6 +88,32 @@ TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
     const json b = waitForState(json::parse(second->body)["id"], "SUCCEEDED");
     EXPECT_GT(std::stoull(a["stats"]["chunk_loads"].get<std::string>()), 0u) << a.dump();
     EXPECT_EQ(b["stats"]["chunk_loads"], "0") << "the host cache kept the decoded scene: " << b.dump();
+
+    uint64_t peak = 0;
+    for (const json& job : {a, b}) {
+        const json& stats = job["stats"];
+        ASSERT_TRUE(stats.contains("peak_device_bytes") && stats.contains("memory_budget_bytes")) << job.dump();
+        const uint64_t jobPeak = std::stoull(stats["peak_device_bytes"].get<std::string>());
+        EXPECT_EQ(std::stoull(stats["memory_budget_bytes"].get<std::string>()), budget) << job.dump();
+        EXPECT_GT(jobPeak, 0u) << job.dump();
+        EXPECT_LE(jobPeak, budget) << job.dump();
+        peak = std::max(peak, jobPeak);
+    }
+    // The second job renders in the pool the first one opened: the same device memory.
+    EXPECT_EQ(a["stats"]["peak_device_bytes"], b["stats"]["peak_device_bytes"]);
+
+    auto metrics = http().Get("/metrics");
+    ASSERT_TRUE(metrics);
+    EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_peak_bytes", "gauge"), double(peak))
+        << metrics->body;
+    EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_budget_bytes", "gauge"), double(budget))
+        << metrics->body;
+
+    // The stats are stored with the job: a restart reports the same figures.
+    server_.kill(SIGTERM);
+    startServer({"--backend", "vulkan", "--memory-budget", "64MiB"});
+    const json stored = getJob(a["id"]);
+    EXPECT_EQ(stored["stats"], a["stats"]) << stored.dump();
 }
 
 // SIGTERM: a running job either finishes within the grace or stays RUNNING and runs again at

@@ -229,8 +229,8 @@ TEST_F(ServerTest, HttpOpenApiDescribesEveryProtoField) {
     ASSERT_TRUE(res && res->status == 200);
     const json doc = json::parse(res->body);
     for (const auto* descriptor :
-         {v1::SubmitJobRequest::descriptor(), v1::Job::descriptor(), v1::Scene::descriptor(),
-          v1::JobEvent::descriptor(), v1::ListJobsResponse::descriptor()}) {
+         {v1::SubmitJobRequest::descriptor(), v1::Job::descriptor(), v1::JobStats::descriptor(),
+          v1::Scene::descriptor(), v1::JobEvent::descriptor(), v1::ListJobsResponse::descriptor()}) {
         const json& properties = doc["components"]["schemas"][descriptor->name()]["properties"];
         ASSERT_TRUE(properties.is_object()) << descriptor->name();
         EXPECT_EQ(properties.size(), size_t(descriptor->field_count())) << descriptor->name();

@@ -42,6 +42,9 @@ struct JobRenderProgress {
 struct JobRenderStats {
     RenderStats render;
     uint64_t chunkLoads = 0;  // chunks loaded from storage for this job (0: all were resident)
+    // Device memory the job's render held at its peak (the streaming pool: chunk slots, slot
+    // table, ray batch), in bytes; 0 for a backend without device memory (Embree).
+    uint64_t peakDeviceBytes = 0;
 };
 
 using JobProgressCallback = std::function<void(const JobRenderProgress&)>;
@@ -50,6 +53,8 @@ class JobRenderer {
 public:
     virtual ~JobRenderer() = default;
     virtual std::string name() const = 0;
+    // What it renders on, for the start-up message ("Vulkan device [0] NAME"); may be empty.
+    virtual std::string deviceDescription() const { return ""; }
     virtual Result<RenderImage> render(const JobRenderRequest& request, const JobProgressCallback& progress,
                                        const std::atomic<bool>& cancel, JobRenderStats* stats) = 0;
 };
@@ -59,11 +64,13 @@ public:
 // It cannot stop inside a render: `cancel` is checked before loading and before rendering.
 std::unique_ptr<JobRenderer> makeEmbreeJobRenderer(uint64_t hostCacheBytes);
 
-// The streaming Vulkan renderer (the default): the device opens at the first job; the last
-// job's scene stays open (device slots within the job's budget, host chunk cache of
-// `hostCacheBytes`, residency), so a second job on that scene and budget loads no chunk. A job
-// on another scene closes it first. Stops between ray streams when `cancel` is set.
+// The streaming Vulkan renderer (the default): the device opens here, so that a device index
+// that does not exist (or cannot run the tracer) is an error at start-up naming the devices
+// Vulkan reports, not at the first job. The last job's scene stays open (device slots within
+// the job's budget, host chunk cache of `hostCacheBytes`, residency), so a second job on that
+// scene and budget loads no chunk. A job on another scene closes it first. Stops between ray
+// streams when `cancel` is set.
 // deviceIndex: as `render --gpu-device` (-1: the first discrete GPU, else the first device).
-std::unique_ptr<JobRenderer> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex = -1);
+Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex = -1);
 
 }  // namespace vastray::server

@@ -19,6 +19,13 @@ struct Metrics {
     std::atomic<uint64_t> rays{0};
     std::atomic<uint64_t> chunkLoads{0};
     std::atomic<uint64_t> renderMicroseconds{0};
+    std::atomic<uint64_t> peakDeviceBytes{0};  // the largest JobStats.peak_device_bytes so far
+
+    void notePeakDeviceBytes(uint64_t bytes) {
+        uint64_t seen = peakDeviceBytes.load();
+        while (bytes > seen && !peakDeviceBytes.compare_exchange_weak(seen, bytes)) {
+        }
+    }
 
     // Requests answered by a front end ("grpc", "http"), by status code name.
     void countRequest(const std::string& frontEnd, const std::string& code);
