@@ -104,7 +104,8 @@ int runServe(const ServeArgs& args) {
     if (args.backend == "vulkan") {
         if (args.gpuDevice < -1 || args.gpuDevice > INT32_MAX)
             return fail("--gpu-device " + std::to_string(args.gpuDevice) + ": expected -1 or a device index", 2);
-        auto streaming = server::makeStreamingJobRenderer(options->hostCacheBytes, int(args.gpuDevice));
+        auto streaming = server::makeStreamingJobRenderer(options->hostCacheBytes, options->memoryBudgetBytes,
+                                                          int(args.gpuDevice));
         if (!streaming) {
             const std::string flag =
                 args.gpuDevice >= 0 ? "--gpu-device " + std::to_string(args.gpuDevice) : "--backend vulkan";
@@ -162,9 +163,9 @@ CommandRun addServeCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--data-dir", args->dataDir, "folder for the job database, scenes and results")
         ->required();
-    cmd->add_option("--memory-budget", args->memoryBudget, "device memory one job may use")
+    cmd->add_option("--memory-budget", args->memoryBudget, "device memory pool of the vulkan backend: the most one job may use, and the sum the open scenes may hold together")
         ->capture_default_str();
-    cmd->add_option("--host-cache", args->hostCache, "decoded scenes kept in host memory, shared by jobs")
+    cmd->add_option("--host-cache", args->hostCache, "decoded chunks (vulkan) or scenes (embree) kept in host memory, shared by all jobs and open scenes")
         ->capture_default_str();
     cmd->add_option("--max-queue", args->maxQueue,
                     "queued jobs; one more is refused (429 / RESOURCE_EXHAUSTED)")

@@ -1,11 +1,15 @@
 // The streaming Vulkan renderer behind the JobRenderer seam. The device is opened once, when
-// the renderer is made (at server start); the
-// scene of the last job stays open (device slots, host chunk cache, residency), so the next
-// job on the same scene and budget loads nothing again. A job on another scene (or needing
-// another budget or attributes) closes it first: at any time one pool of at most the job's
-// budget holds device memory, shared by every job that renders that scene.
+// the renderer is made (at server start). Scenes stay open after their jobs (device slots, host
+// chunk cache, residency), so a later job on an open scene and budget loads nothing again, also
+// when jobs alternate between scenes. Every open scene draws on two service-wide budgets: the
+// device pool (`serve --memory-budget`: the sum of the open scenes' device allocations stays
+// within it) and the host chunk cache (`--host-cache`: the sum of their host caches stays
+// within it; a scene's cache is sized to its decoded chunks when those are smaller). A scene
+// that does not fit beside the others closes the least recently used ones first.
+#include <algorithm>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include "vastray/gpu/VulkanChunkBackend.h"
 #include "vastray/gpu/VulkanDevice.h"
@@ -18,8 +22,10 @@ namespace {
 
 class StreamingJobRenderer final : public JobRenderer {
 public:
-    StreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex, std::unique_ptr<gpu::VulkanDevice> device)
-        : hostCacheBytes_(hostCacheBytes), deviceIndex_(deviceIndex), device_(std::move(device)) {}
+    StreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes, int deviceIndex,
+                         std::unique_ptr<gpu::VulkanDevice> device)
+        : hostCacheBytes_(hostCacheBytes), devicePoolBytes_(devicePoolBytes), deviceIndex_(deviceIndex),
+          device_(std::move(device)) {}
 
     std::string name() const override { return "vulkan"; }
     std::string deviceDescription() const override {
@@ -31,12 +37,14 @@ public:
                                const std::atomic<bool>& cancel, JobRenderStats* stats) override {
         std::lock_guard<std::mutex> lock(mutex_);
         if (cancel) return Status::error("cancelled before loading the scene");
-        VASTRAY_TRY(openScene(request));
+        auto open = openScene(request);
+        if (!open) return open.status();
+        StreamingScene* scene = *open;
         StreamingStats streaming;
         streaming.memoryBudgetBytes = request.memoryBudgetBytes;
         StreamingProgress onProgress;
         if (progress) onProgress = [&](uint64_t done, uint64_t total) { progress({done, total, 0}); };
-        auto image = scene_->render(request.options, stats ? &stats->render : nullptr, &streaming, onProgress,
+        auto image = scene->render(request.options, stats ? &stats->render : nullptr, &streaming, onProgress,
                                     &cancel);
         if (stats) {
             stats->chunkLoads = streaming.chunkLoads;
@@ -48,45 +56,90 @@ public:
     }
 
 private:
-    Status openScene(const JobRenderRequest& request) {
-        if (scene_ && path_ == request.scenePath && budget_ == request.memoryBudgetBytes) return Status::ok();
+    struct OpenScene {
+        std::string path;
+        uint64_t budget = 0;       // the job budget it was opened with
+        uint64_t deviceBytes = 0;  // what its backend allocated (<= budget)
+        uint64_t hostBytes = 0;    // its host cache's capacity
+        uint64_t lastUse = 0;
+        std::unique_ptr<PackageReader> reader;
+        std::unique_ptr<StreamingScene> scene;
+    };
+
+    uint64_t deviceInUse() const {
+        uint64_t sum = 0;
+        for (const OpenScene& o : open_) sum += o.deviceBytes;
+        return sum;
+    }
+    uint64_t hostInUse() const {
+        uint64_t sum = 0;
+        for (const OpenScene& o : open_) sum += o.hostBytes;
+        return sum;
+    }
+    // Closes the least recently used open scene; false when none is open.
+    bool closeLeastRecentlyUsed() {
+        if (open_.empty()) return false;
+        auto oldest = std::min_element(open_.begin(), open_.end(),
+                                       [](const OpenScene& a, const OpenScene& b) { return a.lastUse < b.lastUse; });
+        open_.erase(oldest);
+        return true;
+    }
+
+    Result<StreamingScene*> openScene(const JobRenderRequest& request) {
+        const uint64_t budget = request.memoryBudgetBytes;
+        for (OpenScene& o : open_)
+            if (o.path == request.scenePath && o.budget == budget) {
+                o.lastUse = ++tick_;
+                return o.scene.get();
+            }
+        // The same scene under another budget is closed, not kept twice.
+        std::erase_if(open_, [&](const OpenScene& o) { return o.path == request.scenePath; });
+        OpenScene entry;
         auto reader = PackageReader::open(request.scenePath);
         if (!reader) return reader.status();
-        ChunkAttributes needed = requiredAttributes((*reader)->info(), request.options);
+        entry.reader = std::move(reader).value();
+        const PackageInfo& info = entry.reader->info();
+        ChunkAttributes needed = requiredAttributes(info, request.options);
         // Open with primitive ids whenever a scene is opened, so that a later job asking for
         // the primid AOV does not force a reload.
         needed.primitiveIds = true;
-        scene_.reset();
-        reader_.reset();
-        reader_ = std::move(reader).value();
+        auto plan = gpu::planPool(info, needed, budget);
+        if (!plan) return plan.status();
+        uint64_t decodedBytes = 0;
+        for (const ChunkInfo& c : info.chunks) decodedBytes += c.residentBytes;
+        entry.hostBytes = std::min(hostCacheBytes_, decodedBytes);
+        while ((deviceInUse() + plan->totalBytes > devicePoolBytes_ || hostInUse() + entry.hostBytes > hostCacheBytes_) &&
+               closeLeastRecentlyUsed()) {
+        }
         StreamingOptions options;
-        options.hostCacheBytes = hostCacheBytes_;
-        const uint64_t budget = request.memoryBudgetBytes;
-        auto scene = StreamingScene::open(*reader_, needed, options,
-                                          [&](const PackageInfo& info, const ChunkAttributes& attributes) {
-                                              return gpu::createVulkanChunkBackend(*device_, info, attributes,
-                                                                                   budget);
+        options.hostCacheBytes = entry.hostBytes;
+        auto scene = StreamingScene::open(*entry.reader, needed, options,
+                                          [&](const PackageInfo& p, const ChunkAttributes& attributes) {
+                                              return gpu::createVulkanChunkBackend(*device_, p, attributes, budget);
                                           });
         if (!scene) return scene.status();
-        scene_ = std::move(scene).value();
-        path_ = request.scenePath;
-        budget_ = budget;
-        return Status::ok();
+        entry.scene = std::move(scene).value();
+        entry.path = request.scenePath;
+        entry.budget = budget;
+        entry.deviceBytes = entry.scene->backend().peakDeviceBytes();  // allocated up front
+        entry.lastUse = ++tick_;
+        open_.push_back(std::move(entry));
+        return open_.back().scene.get();
     }
 
     std::mutex mutex_;
     const uint64_t hostCacheBytes_;
+    const uint64_t devicePoolBytes_;
     const int deviceIndex_;
     const std::unique_ptr<gpu::VulkanDevice> device_;
-    std::unique_ptr<PackageReader> reader_;
-    std::unique_ptr<StreamingScene> scene_;
-    std::string path_;
-    uint64_t budget_ = 0;
+    std::vector<OpenScene> open_;  // destroyed before device_ (declared after it)
+    uint64_t tick_ = 0;
 };
 
 }  // namespace
 
-Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex) {
+Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes,
+                                                              int deviceIndex) {
     if (deviceIndex >= 0) {
         // An index past the end is named as such (VulkanDevice::create calls it "not usable").
         auto devices = gpu::listVulkanDevices();
@@ -106,7 +159,8 @@ Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCache
     auto device = gpu::VulkanDevice::create(options);
     if (!device) return device.status();
     return std::unique_ptr<JobRenderer>(
-        std::make_unique<StreamingJobRenderer>(hostCacheBytes, deviceIndex, std::move(device).value()));
+        std::make_unique<StreamingJobRenderer>(hostCacheBytes, devicePoolBytes, deviceIndex,
+                                               std::move(device).value()));
 }
 
 }  // namespace vastray::server

@@ -116,6 +116,40 @@ TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
     EXPECT_EQ(stored["stats"], a["stats"]) << stored.dump();
 }
 
+// Jobs alternating between two scenes: with a pool that holds both, each stays open and its
+// second job loads nothing; with a pool that holds one, the least recently used scene is
+// closed and its next job loads again.
+TEST_F(ServerTest, ScenesShareThePoolAndStayOpenWhileTheyFit) {
+    const std::filesystem::path terrain = dataDir().parent_path() / "terrain.ply";
+    ASSERT_TRUE(generateToPly({GeneratorKind::Terrain, 3000, 2}, terrain.string()).isOk());
+    auto loads = [&](const std::string& sceneId) {
+        auto res = submit(smallJob(sceneId));
+        EXPECT_EQ(res->status, 202) << res->body;
+        const json job = waitForState(json::parse(res->body)["id"], "SUCCEEDED");
+        return std::stoull(job["stats"]["chunk_loads"].get<std::string>());
+    };
+    for (const char* pool : {"512MiB", "64MiB"}) {
+        SCOPED_TRACE(std::string("--memory-budget ") + pool);
+        std::filesystem::remove_all(dataDir());
+        startServer({"--backend", "vulkan", "--memory-budget", pool});
+        const std::string a = uploadSphere()["id"];
+        auto put = http().Put("/v1/scenes?name=terrain.ply", readBytes(terrain), "application/octet-stream");
+        ASSERT_TRUE(put && put->status == 200);
+        const std::string b = json::parse(put->body)["id"];
+        EXPECT_GT(loads(a), 0u);
+        EXPECT_GT(loads(b), 0u);
+        // Each scene's pool takes about 42 MiB at a 64 MiB budget (the ray batch grows into
+        // what the slots leave), so only one fits there; at 512 MiB both (about 84 MiB each).
+        if (std::string(pool) == "512MiB") {
+            EXPECT_EQ(loads(a), 0u) << "scene a should still be open";
+            EXPECT_EQ(loads(b), 0u) << "scene b should still be open";
+        } else {
+            EXPECT_GT(loads(a), 0u) << "scene a should have been closed to make room for b";
+        }
+        server_.kill(SIGTERM);
+    }
+}
+
 // SIGTERM: a running job either finishes within the grace or stays RUNNING and runs again at
 // the next start; either way it finishes exactly once.
 TEST_F(ServerTest, SigtermFinishesOrHandsOverTheRunningJob) {

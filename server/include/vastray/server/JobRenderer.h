@@ -66,11 +66,13 @@ std::unique_ptr<JobRenderer> makeEmbreeJobRenderer(uint64_t hostCacheBytes);
 
 // The streaming Vulkan renderer (the default): the device opens here, so that a device index
 // that does not exist (or cannot run the tracer) is an error at start-up naming the devices
-// Vulkan reports, not at the first job. The last job's scene stays open (device slots within
-// the job's budget, host chunk cache of `hostCacheBytes`, residency), so a second job on that
-// scene and budget loads no chunk. A job on another scene closes it first. Stops between ray
-// streams when `cancel` is set.
-// deviceIndex: as `render --gpu-device` (-1: the first discrete GPU, else the first device).
-Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, int deviceIndex = -1);
+// Vulkan reports, not at the first job. Scenes stay open after their jobs (device slots within
+// the job's budget, a host chunk cache, residency), several at a time: the sum of the open
+// scenes' device allocations stays within `devicePoolBytes` and the sum of their host caches
+// within `hostCacheBytes`; a scene that does not fit closes the least recently used ones. So a
+// job on a scene still open loads no chunk, also when jobs alternate between scenes. Stops
+// between ray streams when `cancel` is set.
+Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes,
+                                                              int deviceIndex = -1);
 
 }  // namespace vastray::server
