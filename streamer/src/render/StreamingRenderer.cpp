@@ -50,12 +50,27 @@ struct PathState {
     bool shadowPending = false;
 };
 
+// The integrator's per-path and per-ray arrays (hundreds of MB at 2 M paths). They live as long
+// as the StreamingScene, so a render after the first reuses memory the process has already
+// touched instead of faulting in fresh pages.
+struct IntegratorBuffers {
+    std::vector<PathState> paths;
+    std::vector<uint32_t> active, shadowOwners;
+    std::vector<StreamRay> rays;
+    std::vector<uint8_t> anyHit;
+    std::vector<StreamResult> results;
+    std::vector<double> sum;
+    std::vector<uint32_t> hits;
+};
+
 class Integrator {
 public:
     Integrator(const PackageInfo& info, const RenderOptions& options, const CameraRays& camera, RayStreamer& streamer,
-               StreamingStats& stats, RenderImage& image, const std::atomic<bool>* cancel)
+               StreamingStats& stats, RenderImage& image, const std::atomic<bool>* cancel, IntegratorBuffers& buffers)
         : options_(options), camera_(camera), streamer_(streamer), stats_(stats), image_(image),
-          cancel_(cancel) {
+          cancel_(cancel), paths_(buffers.paths), active_(buffers.active), shadowOwners_(buffers.shadowOwners),
+          rays_buffer_(buffers.rays), anyHit_(buffers.anyHit), results_(buffers.results), sum_(buffers.sum),
+          hits_(buffers.hits) {
         materials_ = info.materials;
         if (materials_.empty()) materials_.push_back(Material{"default"});
         sunDirection_ = normalize(options.environment.sunDirection);
@@ -247,13 +262,14 @@ private:
     std::vector<Material> materials_;
     Vec3f sunDirection_;
     uint64_t rays_ = 0;
-    std::vector<PathState> paths_;
-    std::vector<uint32_t> active_, shadowOwners_;
-    std::vector<StreamRay> rays_buffer_;
-    std::vector<uint8_t> anyHit_;
-    std::vector<StreamResult> results_;
-    std::vector<double> sum_;
-    std::vector<uint32_t> hits_;
+    std::vector<PathState>& paths_;
+    std::vector<uint32_t>& active_;
+    std::vector<uint32_t>& shadowOwners_;
+    std::vector<StreamRay>& rays_buffer_;
+    std::vector<uint8_t>& anyHit_;
+    std::vector<StreamResult>& results_;
+    std::vector<double>& sum_;
+    std::vector<uint32_t>& hits_;
     std::vector<uint64_t> cells_, triangles_;
 };
 
@@ -267,6 +283,7 @@ struct StreamingScene::State {
     std::unique_ptr<ChunkCache> cache;
     std::unique_ptr<RayStreamer> streamer;
     StreamingStats totals;  // what the streamer counts into; each render reports its difference
+    IntegratorBuffers buffers;
     explicit State(const PackageReader& r) : reader(r) {}
 };
 
@@ -335,7 +352,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     RenderImage image;
     image.allocate(options.width, options.height, options.aovs);
     const CameraRays cameraRays(camera, options.width, options.height);
-    Integrator integrator(info, options, cameraRays, *st.streamer, st.totals, image, cancel);
+    Integrator integrator(info, options, cameraRays, *st.streamer, st.totals, image, cancel, st.buffers);
     integrator.begin();
 
     const Clock::time_point start = Clock::now();
