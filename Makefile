@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build test demo bench-import bench-accuracy bench-load clean format
+.PHONY: all deps configure build test demo bench-import bench-accuracy bench-scaling bench-load clean format
 
 all: build
 
@@ -35,6 +35,11 @@ bench-load: build
 # Time against error of the streaming renderer (docs/ACCURACY.md); knobs in bench/accuracy/run.sh.
 bench-accuracy: build
 	bash bench/accuracy/run.sh $(BUILD_DIR)
+
+# Import and render scaling on this machine, Embree in the same run (docs/generated/scaling_dev.md,
+# docs/scaling/*.png); knobs in bench/scaling_dev.sh.
+bench-scaling: build
+	bash bench/scaling_dev.sh $(BUILD_DIR)
 
 format:
 	find core streamer cli tests bench -name '*.cpp' -o -name '*.h' | xargs clang-format -i

@@ -6,7 +6,7 @@
 //
 //   stream_render_bench [--kind city] [--triangles N] [--chunk-size 16MiB] [--resolution WxH]
 //                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
-//                       [--codec draco|meshopt] [--repeat N] [--keep] [--out FILE.md]
+//                       [--codec draco|meshopt] [--repeat N] [--resident-only] [--keep] [--out FILE.md]
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -41,6 +41,7 @@ struct Args {
     int device = -1;
     int repeat = 1;
     bool keep = false;
+    bool residentOnly = false;  // only the resident rows (for profiling the host side)
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -82,6 +83,7 @@ Args parseArgs(int argc, char** argv) {
             a.repeat = std::stoi(value());
             if (a.repeat < 1) fail("--repeat must be >= 1");
         } else if (flag == "--keep") a.keep = true;
+        else if (flag == "--resident-only") a.residentOnly = true;
         else fail("unknown flag " + flag);
     }
     return a;
@@ -195,9 +197,11 @@ int main(int argc, char** argv) {
             rows.push_back(median(runs));
         }
     }
-    render("in core, primary", fitBudget, IntegratorKind::Path, 0);
-    render("in core, path depth " + std::to_string(args.depth), fitBudget, IntegratorKind::Path, args.depth);
-    for (double ratio : args.ratios) {
+    if (!args.residentOnly) {
+        render("in core, primary", fitBudget, IntegratorKind::Path, 0);
+        render("in core, path depth " + std::to_string(args.depth), fitBudget, IntegratorKind::Path, args.depth);
+    }
+    for (double ratio : args.residentOnly ? std::vector<double>{} : args.ratios) {
         const uint64_t budget = uint64_t(double(residentBytes) / ratio);
         char label[64];
         std::snprintf(label, sizeof label, "%gx over budget, primary", ratio);
