@@ -1,5 +1,5 @@
 #pragma once
-// Runs the built `vastray` binary as a user would and captures what it prints.
+// Runs the built `vastray` binary (or any command line) as a user would and captures what it prints.
 #include <sys/wait.h>
 
 #include <array>
@@ -13,9 +13,10 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-inline CommandResult runVastray(const std::string& arguments) {
+// Runs a shell command line; stdout and stderr are captured together.
+inline CommandResult runShell(const std::string& commandLine) {
     CommandResult result;
-    const std::string command = std::string(VASTRAY_BINARY) + " " + arguments + " 2>&1";
+    const std::string command = commandLine + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return result;
     std::array<char, 4096> buffer;
@@ -24,6 +25,10 @@ inline CommandResult runVastray(const std::string& arguments) {
     const int status = pclose(pipe);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
+}
+
+inline CommandResult runVastray(const std::string& arguments) {
+    return runShell(std::string(VASTRAY_BINARY) + " " + arguments);
 }
 
 }  // namespace vastray::test

@@ -3,7 +3,6 @@
 // scripts/install-deps.sh builds into /usr/local/bin; without it these tests FAIL (never skip).
 // The binary is $GRPCURL when set, else `grpcurl` on PATH, else /usr/local/bin/grpcurl.
 #include <grpcpp/support/status_code_enum.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -89,10 +88,7 @@ std::vector<json> messages(const std::string& output) {
     return out;
 }
 
-struct GrpcurlRun {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr together
-};
+using GrpcurlRun = CommandResult;
 
 class GrpcurlTest : public ServerTest {
 protected:
@@ -115,16 +111,7 @@ protected:
         command += " " + server_.grpcAddress();
         for (const auto& a : args) command += " " + shellQuote(a);
         command += stdinFile.empty() ? " < /dev/null" : " < " + shellQuote(stdinFile);
-        command += " 2>&1";
-        GrpcurlRun run;
-        FILE* pipe = popen(command.c_str(), "r");
-        if (!pipe) return run;
-        char buffer[4096];
-        size_t n;
-        while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
-        const int status = pclose(pipe);
-        run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return run;
+        return runShell(command);
     }
 
     // A unary call with a JSON request; its one reply (checked OK).

@@ -9,18 +9,6 @@
 namespace vastray::test {
 namespace {
 
-CommandResult runCommand(const std::string& command) {
-    CommandResult result;
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return result;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, n);
-    const int status = pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
-}
-
 // More devices than any machine has.
 constexpr int kMissingDevice = 1000;
 
@@ -36,7 +24,7 @@ TEST_F(ServerTest, MissingGpuDeviceFailsAtStartNamingTheDevices) {
 
     const auto start = std::chrono::steady_clock::now();
     // Under `timeout`: a server that started anyway is killed and the test fails, not hangs.
-    const CommandResult run = runCommand("timeout 60 " + std::string(VASTRAY_BINARY) + " serve --data-dir " +
+    const CommandResult run = runShell("timeout 60 " + std::string(VASTRAY_BINARY) + " serve --data-dir " +
                                          (dir_ / "bad").string() +
                                          " --grpc 127.0.0.1:0 --http 127.0.0.1:0 --backend vulkan --gpu-device " +
                                          std::to_string(kMissingDevice));
