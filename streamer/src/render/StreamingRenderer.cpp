@@ -311,11 +311,10 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     auto backend = factory(reader.info(), attributes);
     if (!backend) return backend.status();
     s.backend = std::move(backend).value();
-    const uint32_t workers = options.decodeThreads > 0
-                                 ? options.decodeThreads
-                                 : std::max(1u, std::thread::hardware_concurrency() > 1
-                                                    ? std::thread::hardware_concurrency() - 1
-                                                    : 1u);
+    // One worker per core but one (the render thread's), except on two cores, where a cold
+    // render mostly waits for decoding: two workers there (1M-4M city on the 2-core machine).
+    const uint32_t cores = std::max(1u, std::thread::hardware_concurrency());
+    const uint32_t workers = options.decodeThreads > 0 ? options.decodeThreads : cores <= 2 ? cores : cores - 1;
     s.cache = std::make_unique<ChunkCache>(reader, options.hostCacheBytes, workers);
     s.streamer = std::make_unique<RayStreamer>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
     return scene;

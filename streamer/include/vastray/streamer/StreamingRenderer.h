@@ -105,7 +105,7 @@ using ChunkBackendFactory =
 struct StreamingOptions {
     uint64_t hostCacheBytes = 1ull << 30;  // decoded chunks kept on the host; 0: none kept
     uint32_t maxPathsPerWave = 1u << 21;   // (pixel, sample) paths traced together per wave
-    uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one
+    uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one (two on two cores)
 };
 
 // The streaming figures of one render (--stats-json names in comments).
