@@ -33,6 +33,7 @@
 #include "../streamer/src/package/ChunkCodec.h"
 #include "vastray/streamer/Generate.h"
 #include "vastray/streamer/Import.h"
+#include "vastray/streamer/PackageBuilder.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
@@ -50,7 +51,7 @@ struct BenchOptions {
 const std::vector<uint32_t> kBits = {14, 16, 20};
 const std::vector<int> kDracoSpeeds = {0, 5, 7, 10};
 constexpr int kMeshopt = -1;       // CodecSetting::speed of meshoptimizer's codec
-constexpr int kDefaultSpeed = 5;   // the package's Draco speed, the reference of the ratios
+const int kDefaultSpeed = PackageBuildOptions{}.dracoSpeed;  // the package's, the reference of the ratios
 
 struct CodecSetting {
     int speed;  // Draco encoder speed 0..10, or kMeshopt

@@ -20,7 +20,7 @@ mkdir -p "$(dirname "$out")"
 
 {
   echo "Measured $(date -u +%Y-%m-%d) on $(nproc) cores of $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'),"
-  echo "$(free -g | awk '/Mem:/ {print $2}') GiB RAM; chunk size $chunk, default quantization (20 bits), Draco speed 5."
+  echo "$(free -g | awk '/Mem:/ {print $2}') GiB RAM; chunk size $chunk, default quantization (20 bits), default Draco speed ($("$vastray" import --help | sed -n 's/.*--draco-speed INT=\([0-9]*\).*/\1/p'))."
   echo "Command: \`SIZES=\"$sizes\" KINDS=\"$kinds\" CHUNK=$chunk THREADS_LIST=\"$threads_list\" bash bench/import_throughput.sh\`"
   echo
   echo "Columns: *parse s* reads the PLY; *package s* is partition + Draco round trip + chunk KD-trees + write"

@@ -17,7 +17,7 @@ struct ChunkSource {
     const uint32_t* indices;
     const uint32_t* materialIds;     // nullptr when the scene has one material
     const QuantizationGrid* grid;
-    int dracoSpeed = 5;
+    int dracoSpeed = 7;
     GeometryCodec codec = GeometryCodec::Draco;
 };
 

@@ -17,7 +17,8 @@ struct PackageBuildOptions {
     uint32_t quantizeBits = 20;             // grid precision over the scene extent; 0 = lossless
     uint32_t threads = 0;                   // 0 = all cores
     GeometryCodec codec = GeometryCodec::Draco;  // chunk geometry codec
-    int dracoSpeed = 5;                     // Draco's 0 (smallest, slowest) … 10 (fastest, largest)
+    int dracoSpeed = 7;                     // Draco's 0 (smallest, slowest) … 10 (fastest, largest); 7: the
+                                            // bytes of 5, faster (docs/PERF_NOTES.md, import item 8)
     bool defaultDoubleSided = true;         // recorded in the header for tools
     Progress::Mode progress = Progress::Mode::Auto;
     uint64_t degenerateDropped = 0;         // from the importer's report, recorded in the header
