@@ -73,33 +73,13 @@ struct Row {
 
 // ---- input meshes -------------------------------------------------------------------------
 
-class CollectingSink final : public MeshSink {
-public:
-    explicit CollectingSink(BenchMesh& mesh) : mesh_(mesh) {}
-    Status begin(uint64_t vertices, uint64_t faces) override {
-        mesh_.positions.reserve(vertices);
-        mesh_.indices.reserve(faces * 3);
-        return Status::ok();
-    }
-    Status vertex(Vec3f p) override {
-        mesh_.positions.push_back(p);
-        return Status::ok();
-    }
-    Status face(uint32_t a, uint32_t b, uint32_t c) override {
-        mesh_.indices.insert(mesh_.indices.end(), {a, b, c});
-        return Status::ok();
-    }
-    Status end() override { return Status::ok(); }
-
-private:
-    BenchMesh& mesh_;
-};
-
 Result<BenchMesh> generatedMesh(GeneratorKind kind, uint64_t triangles) {
+    auto generated = generateMesh(GenerateOptions{kind, triangles, 1});
+    if (!generated) return generated.status();
     BenchMesh mesh;
     mesh.name = generatorKindName(kind);
-    CollectingSink sink(mesh);
-    VASTRAY_TRY(generate(GenerateOptions{kind, triangles, 1}, sink));
+    mesh.positions = std::move(generated->positions);
+    mesh.indices = std::move(generated->indices);
     return mesh;
 }
 
