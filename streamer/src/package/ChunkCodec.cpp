@@ -6,6 +6,7 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstring>
 #include <mutex>
@@ -43,16 +44,25 @@ bool readAttribute(const draco::Mesh& mesh, const draco::PointAttribute* attribu
     return true;
 }
 
+// Per-axis minimum of the chunk's words (zeros for an empty chunk): the origin both codecs
+// store the words relative to.
+std::array<int32_t, 3> chunkMinimum(const std::vector<int32_t>& words) {
+    std::array<int32_t, 3> minimum{0, 0, 0};
+    if (words.empty()) return minimum;
+    for (int axis = 0; axis < 3; ++axis) {
+        minimum[axis] = words[axis];
+        for (size_t i = axis; i < words.size(); i += 3) minimum[axis] = std::min(minimum[axis], words[i]);
+    }
+    return minimum;
+}
+
 Result<std::vector<uint8_t>> encodeDraco(const ChunkGeometry& geometry, bool lossless, int speed) {
     const size_t vertexCount = geometry.vertexWords.size() / 3;
-    int32_t minimum[3] = {0, 0, 0};
+    std::array<int32_t, 3> minimum{0, 0, 0};
     uint32_t lowBits = 0;
     std::vector<int32_t> high = geometry.vertexWords, low;
     if (!lossless && vertexCount > 0) {
-        for (int axis = 0; axis < 3; ++axis) {
-            minimum[axis] = geometry.vertexWords[axis];
-            for (size_t v = 0; v < vertexCount; ++v) minimum[axis] = std::min(minimum[axis], geometry.vertexWords[3 * v + axis]);
-        }
+        minimum = chunkMinimum(geometry.vertexWords);
         uint32_t largest = 0;
         for (size_t i = 0; i < high.size(); ++i) largest = std::max(largest, uint32_t(high[i] -= minimum[i % 3]));
         const uint32_t width = uint32_t(std::bit_width(largest));
@@ -132,12 +142,7 @@ Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
     static std::once_flag version;
     std::call_once(version, [] { meshopt_encodeIndexVersion(1); });
     const size_t vertexCount = geometry.vertexWords.size() / 3, indexCount = geometry.indices.size();
-    int32_t minimum[3] = {0, 0, 0};
-    if (vertexCount > 0)
-        for (int axis = 0; axis < 3; ++axis) {
-            minimum[axis] = geometry.vertexWords[axis];
-            for (size_t v = 0; v < vertexCount; ++v) minimum[axis] = std::min(minimum[axis], geometry.vertexWords[3 * v + axis]);
-        }
+    const std::array<int32_t, 3> minimum = chunkMinimum(geometry.vertexWords);
     auto offset = [&](size_t i) { return uint32_t(geometry.vertexWords[i]) - uint32_t(minimum[i % 3]); };
     uint32_t largest = 0;
     for (size_t i = 0; i < geometry.vertexWords.size(); ++i) largest = std::max(largest, offset(i));
