@@ -6,8 +6,6 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
-#include <set>
-#include <tuple>
 #include <vector>
 
 #include "ChunkValidation.h"
@@ -95,13 +93,13 @@ public:
         const auto start = std::chrono::steady_clock::now();
         const KdTree& tree = chunk.kdTree;
         const uint64_t triangles = chunk.indices.size() / 3;
-        // A chunk is validated the first time it is loaded; reloads of the same chunk (same id
-        // and counts: one backend serves one immutable package) skip the pass over its arrays,
-        // which cost about as much as copying them.
-        const ValidatedKey key{chunk.id, tree.nodes.size(), tree.leafRefs.size(), chunk.positions.size(), triangles};
-        if (!validated_.count(key)) {
+        // A chunk is validated the first time it is loaded; reloads of the same chunk (one
+        // backend serves one immutable package) skip the pass over its arrays, which cost about
+        // as much as copying them.
+        if (chunk.id >= validated_.size()) validated_.resize(size_t(chunk.id) + 1, 0);
+        if (!validated_[chunk.id]) {
             VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
-            validated_.insert(key);
+            validated_[chunk.id] = 1;
         }
         const ChunkLayout layout =
             chunkLayout(tree.nodes.size(), tree.leafRefs.size(), chunk.positions.size(), triangles, attributes_);
@@ -212,8 +210,7 @@ private:
     ChunkAttributes attributes_;
     std::unique_ptr<ComputePipeline> pipeline_;
     std::vector<GpuBuffer> slots_;
-    using ValidatedKey = std::tuple<uint32_t, uint64_t, uint64_t, uint64_t, uint64_t>;
-    std::set<ValidatedKey> validated_;
+    std::vector<uint8_t> validated_;  // by chunk id: passed validate() once
     GpuBuffer table_, rays_, hits_;
     uint64_t allocated_ = 0, uploaded_ = 0;
     double uploadSeconds_ = 0;
