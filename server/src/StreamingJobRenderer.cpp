@@ -59,7 +59,6 @@ private:
     struct OpenScene {
         std::string path;
         uint64_t budget = 0;       // the job budget it was opened with
-        uint64_t deviceBytes = 0;  // what its backend allocated (<= budget)
         uint64_t hostBytes = 0;    // its host cache's capacity
         uint64_t lastUse = 0;
         std::unique_ptr<PackageReader> reader;
@@ -68,7 +67,7 @@ private:
 
     uint64_t deviceInUse() const {
         uint64_t sum = 0;
-        for (const OpenScene& o : open_) sum += o.deviceBytes;
+        for (const OpenScene& o : open_) sum += o.scene->backend().peakDeviceBytes();  // allocated up front
         return sum;
     }
     uint64_t hostInUse() const {
@@ -121,7 +120,6 @@ private:
         entry.scene = std::move(scene).value();
         entry.path = request.scenePath;
         entry.budget = budget;
-        entry.deviceBytes = entry.scene->backend().peakDeviceBytes();  // allocated up front
         entry.lastUse = ++tick_;
         open_.push_back(std::move(entry));
         return open_.back().scene.get();
