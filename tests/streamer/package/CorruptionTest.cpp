@@ -117,6 +117,33 @@ TEST_F(Corruption, ForgedCountsWithAValidChecksumAreRejectedBeforeAllocating) {
     }
 }
 
+// Flag bits this reader does not know (a newer writer's feature) are refused by name, in the
+// header and in a chunk, even when every checksum matches.
+TEST_F(Corruption, UnknownFlagBitsAreRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    const size_t flagsAt = 8 + 4 + 4 + 7 * 8;  // see serializeHeader
+    bytes[flagsAt] |= 0x80;
+    const uint64_t sum = checksum64(bytes.data(), 248);
+    std::memcpy(&bytes[248], &sum, 8);
+    const std::string path = tempPath("unknown-flags.vast");
+    writeFile(path, bytes);
+    auto forged = PackageReader::open(path);
+    ASSERT_FALSE(forged.isOk());
+    EXPECT_NE(forged.message().find("unknown flags"), std::string::npos) << forged.message();
+
+    auto reader = PackageReader::open(pristinePath());
+    ASSERT_TRUE(reader.isOk()) << reader.message();
+    const ChunkInfo& chunk = info_->chunks[0];
+    auto blob = (*reader)->readChunkBlob(chunk.id);
+    ASSERT_TRUE(blob.isOk()) << blob.message();
+    const size_t chunkFlagsAt = 4 + 4 + 5 * 4;  // magic, version, four counts, geometry bytes
+    (*blob)[chunkFlagsAt] |= 0x40;
+    auto decoded = decodeChunkBlob(*blob, chunk, info_->grid, uint32_t(info_->materials.size()),
+                                   info_->triangleCount + info_->collapsedDropped);
+    ASSERT_FALSE(decoded.isOk());
+    EXPECT_NE(decoded.message().find("unknown flags"), std::string::npos) << decoded.message();
+}
+
 TEST(PackageReaderErrors, NonPackagesAreRejected) {
     const std::string path = tempPath("garbage.vast");
     writeFile(path, std::vector<uint8_t>(4096, 0xAB));
