@@ -163,9 +163,13 @@ CommandRun addServeCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--data-dir", args->dataDir, "folder for the job database, scenes and results")
         ->required();
-    cmd->add_option("--memory-budget", args->memoryBudget, "device memory pool of the vulkan backend: the most one job may use, and the sum the open scenes may hold together")
+    cmd->add_option("--memory-budget", args->memoryBudget,
+                    "device memory pool of the vulkan backend: the most one job may use, and the sum the "
+                    "open scenes may hold together")
         ->capture_default_str();
-    cmd->add_option("--host-cache", args->hostCache, "decoded chunks (vulkan) or scenes (embree) kept in host memory, shared by all jobs and open scenes")
+    cmd->add_option("--host-cache", args->hostCache,
+                    "decoded chunks (vulkan) or scenes (embree) kept in host memory, shared by all jobs and "
+                    "open scenes")
         ->capture_default_str();
     cmd->add_option("--max-queue", args->maxQueue,
                     "queued jobs; one more is refused (429 / RESOURCE_EXHAUSTED)")

@@ -309,7 +309,9 @@ std::string Service::metricsText() {
         "Largest device memory a job's render held since the server started (0 before the first job "
         "and with the embree backend).",
         std::to_string(metrics_.peakDeviceBytes));
-    add("vastray_device_memory_budget_bytes", "gauge", "Device memory one job may use (--memory-budget).",
+    add("vastray_device_memory_budget_bytes", "gauge",
+        "Device memory pool (--memory-budget): the most one job may use, and the most the open scenes "
+        "hold together.",
         std::to_string(options_.memoryBudgetBytes));
     add("vastray_ready", "gauge", "1 when the server accepts work.", ready() ? "1" : "0");
     return text + metrics_.requestsText();
