@@ -9,7 +9,6 @@
 
 #include "package/ChunkBlob.h"
 #include "package/ChunkCodec.h"
-#include "vastray/core/Checksum.h"
 
 namespace vastray {
 namespace {
@@ -33,42 +32,45 @@ TriangleWords triangleWords(const int32_t* vertexWords, const uint32_t* corners)
     return words;
 }
 
-// Triangles in a canonical order: by a 64-bit hash of their words (small elements to sort),
-// equal hashes by the words, equal words by position. Two sides holding the same triangles
-// come out in corresponding order.
-std::vector<uint32_t> canonicalOrder(const std::vector<TriangleWords>& words) {
-    struct Entry {
-        uint64_t hash;
-        uint32_t index;
-    };
-    std::vector<Entry> entries(words.size());
-    for (size_t t = 0; t < words.size(); ++t) entries[t] = {checksum64(words[t].data(), sizeof(TriangleWords)), uint32_t(t)};
-    std::sort(entries.begin(), entries.end(), [&](const Entry& a, const Entry& b) {
-        if (a.hash != b.hash) return a.hash < b.hash;
-        return words[a.index] != words[b.index] ? words[a.index] < words[b.index] : a.index < b.index;
-    });
-    std::vector<uint32_t> order(entries.size());
-    for (size_t k = 0; k < entries.size(); ++k) order[k] = entries[k].index;
-    return order;
+// A cheap 64-bit mix of a triangle's words; equal hashes are confirmed by comparing the words.
+uint64_t hashWords(const TriangleWords& words) {
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (int32_t w : words) h = std::rotl((h ^ uint32_t(w)) * 0xFF51AFD7ED558CCDull, 29);
+    return h ^ (h >> 32);
 }
 
 // Local vertex table of a cell, in first-use order, through an open-addressing map from
-// global to local vertex id (no sort: this runs for every reference of the scene).
+// global to local vertex id (no sort: this runs for every reference of the scene). Eight
+// consecutive global ids share a cache line of the table (meshes number their vertices
+// roughly in surface order); the table starts small and doubles at half load.
 ChunkGeometry gatherGeometry(const ChunkSource& source, const std::vector<TriangleRef>& refs) {
     const size_t corners = refs.size() * 3;
-    size_t capacity = 16;
-    while (capacity < corners * 2) capacity *= 2;
     constexpr uint32_t kFree = 0xFFFFFFFFu;
-    std::vector<std::pair<uint32_t, uint32_t>> table(capacity, {kFree, 0});
+    using Entry = std::pair<uint32_t, uint32_t>;  // global id, local id
+    size_t capacity = 64;
+    while (capacity < corners / 2) capacity *= 2;
+    std::vector<Entry> table(capacity, {kFree, 0});
+    auto slotOf = [&](uint32_t global) {
+        size_t slot = ((size_t((global >> 3) * 0x9E3779B1u) << 3) | (global & 7)) & (capacity - 1);
+        while (table[slot].first != kFree && table[slot].first != global) slot = (slot + 1) & (capacity - 1);
+        return slot;
+    };
     ChunkGeometry geometry;
     geometry.indices.resize(corners);
     geometry.vertexWords.reserve(corners);
     uint32_t localCount = 0;
     for (size_t c = 0; c < corners; ++c) {
         const uint32_t global = source.indices[3 * size_t(refs[c / 3].triangle) + c % 3];
-        size_t slot = (global * 0x9E3779B1u) & (capacity - 1);
-        while (table[slot].first != kFree && table[slot].first != global) slot = (slot + 1) & (capacity - 1);
+        size_t slot = slotOf(global);
         if (table[slot].first == kFree) {
+            if (2 * (size_t(localCount) + 1) > capacity) {
+                std::vector<Entry> old(capacity * 2, {kFree, 0});
+                old.swap(table);
+                capacity *= 2;
+                for (const Entry& e : old)
+                    if (e.first != kFree) table[slotOf(e.first)] = e;
+                slot = slotOf(global);
+            }
             table[slot] = {global, localCount++};
             geometry.vertexWords.insert(geometry.vertexWords.end(), &source.vertexWords[3 * size_t(global)],
                                         &source.vertexWords[3 * size_t(global)] + 3);
@@ -78,24 +80,48 @@ ChunkGeometry gatherGeometry(const ChunkSource& source, const std::vector<Triang
     return geometry;
 }
 
-// For every decoded face, the original triangle id: both sides put in canonical order and zipped.
+// For every decoded face, the original triangle id. The input triangles go into a hash table
+// keyed by their words; identical triangles share one slot and queue in input order, so the
+// k-th identical decoded face (in decoded order) takes the k-th identical input triangle.
 Result<std::vector<uint32_t>> recoverPrimitiveIds(const ChunkGeometry& input, const std::vector<TriangleRef>& refs,
                                                   const ChunkGeometry& decoded) {
     const size_t n = refs.size();
     if (decoded.indices.size() != n * 3)
         return Status::error("the codec returned " + std::to_string(decoded.indices.size() / 3) + " faces for " +
                              std::to_string(n) + " triangles");
-    std::vector<TriangleWords> before(n), after(n);
-    for (size_t t = 0; t < n; ++t) {
-        before[t] = triangleWords(input.vertexWords.data(), &input.indices[3 * t]);
-        after[t] = triangleWords(decoded.vertexWords.data(), &decoded.indices[3 * t]);
+    struct Slot {
+        uint64_t hash;
+        uint32_t head, tail;  // queue of identical input triangles through `next`; head kNone once taken
+    };
+    constexpr uint32_t kNone = 0xFFFFFFFFu;
+    size_t capacity = 16;
+    while (capacity < n * 2) capacity *= 2;
+    std::vector<Slot> table(capacity, Slot{0, kNone, kNone});
+    std::vector<uint32_t> next(n, kNone);
+    auto inputWords = [&](uint32_t t) { return triangleWords(input.vertexWords.data(), &input.indices[3 * size_t(t)]); };
+    // The slot of the triangles equal to `words` (compared with the slot's last one), or the
+    // free slot where they go; a slot whose queue was emptied stays occupied.
+    auto find = [&](const TriangleWords& words, uint64_t hash) -> Slot& {
+        size_t i = hash & (capacity - 1);
+        while (table[i].tail != kNone && (table[i].hash != hash || inputWords(table[i].tail) != words))
+            i = (i + 1) & (capacity - 1);
+        return table[i];
+    };
+    for (uint32_t t = 0; t < n; ++t) {
+        const TriangleWords words = inputWords(t);
+        const uint64_t hash = hashWords(words);
+        Slot& slot = find(words, hash);
+        if (slot.tail == kNone) slot = Slot{hash, t, t};
+        else slot.tail = next[slot.tail] = t;
     }
-    const std::vector<uint32_t> beforeOrder = canonicalOrder(before), afterOrder = canonicalOrder(after);
     std::vector<uint32_t> ids(n);
-    for (size_t k = 0; k < n; ++k) {
-        if (before[beforeOrder[k]] != after[afterOrder[k]])
-            return Status::error("decoded face " + std::to_string(afterOrder[k]) + " matches no input triangle");
-        ids[afterOrder[k]] = refs[beforeOrder[k]].triangle;
+    for (uint32_t f = 0; f < n; ++f) {
+        const TriangleWords words = triangleWords(decoded.vertexWords.data(), &decoded.indices[3 * size_t(f)]);
+        Slot& slot = find(words, hashWords(words));
+        if (slot.tail == kNone || slot.head == kNone)
+            return Status::error("decoded face " + std::to_string(f) + " matches no input triangle");
+        ids[f] = refs[slot.head].triangle;
+        slot.head = slot.head == slot.tail ? kNone : next[slot.head];
     }
     return ids;
 }

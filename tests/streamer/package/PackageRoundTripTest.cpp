@@ -144,6 +144,59 @@ TEST_P(PackageRoundTrip, MaterialIdsFollowTheirTriangles) {
     }
 }
 
+// Identical triangles (the same corners listed several times, some through copied vertices)
+// are told apart by their ids alone: each id is stored once per cell it overlaps, with its own
+// material, and nothing is lost or doubled when the codec's output is matched back.
+TEST_P(PackageRoundTrip, IdenticalTrianglesEachKeepTheirOwnId) {
+    const TriangleMesh base = generatedMesh(GeneratorKind::Sphere, 2000);
+    TriangleMesh mesh = base;
+    const uint32_t n = uint32_t(base.triangleCount());
+    for (int copy = 1; copy < 3; ++copy)
+        for (uint32_t t = 0; t < n; ++t)
+            for (int k = 0; k < 3; ++k) {
+                uint32_t v = base.indices[3 * size_t(t) + k];
+                if (copy == 2) {  // the third copy through vertices of its own
+                    v = uint32_t(mesh.positions.size());
+                    mesh.positions.push_back(base.positions[base.indices[3 * size_t(t) + k]]);
+                }
+                mesh.indices.push_back(v);
+            }
+    mesh.materials.resize(3);
+    mesh.materialIds.resize(mesh.triangleCount());
+    for (size_t t = 0; t < mesh.materialIds.size(); ++t) mesh.materialIds[t] = uint32_t(t / n);
+    PackageBuildOptions options;
+    options.codec = GetParam();
+    options.chunkSizeBytes = 32 << 10;
+    auto reader = buildAndOpen(mesh, tempPath(codecName() + "-identical.vast"), options);
+    ASSERT_TRUE(reader);
+    ASSERT_GT(reader->info().chunks.size(), 1u);
+    std::map<std::pair<uint32_t, uint32_t>, int> storedPerChunk;  // (chunk, id) -> count
+    std::vector<int> chunksPerId(mesh.triangleCount(), 0);
+    for (const ChunkInfo& info : reader->info().chunks) {
+        auto chunk = reader->readChunk(info.id);
+        ASSERT_TRUE(chunk.isOk()) << chunk.message();
+        for (size_t t = 0; t < chunk->primitiveIds.size(); ++t) {
+            const uint32_t id = chunk->primitiveIds[t];
+            ASSERT_LT(id, mesh.triangleCount());
+            EXPECT_EQ(++storedPerChunk[std::make_pair(info.id, id)], 1) << "id " << id << " twice in chunk " << info.id;
+            chunksPerId[id]++;
+            EXPECT_EQ(chunk->materialIds[t], id / n);
+        }
+    }
+    const DecodedTriangles decoded = decodeAll(*reader);
+    ASSERT_EQ(decoded.corners.size(), mesh.triangleCount());
+    EXPECT_EQ(decoded.mismatchedDuplicates, 0u);
+    expectWithinHalfStep(mesh, decoded, reader->info().grid.step());
+    // The copies of a triangle overlap the same cells.
+    for (uint32_t t = 0; t < n; ++t) {
+        EXPECT_GE(chunksPerId[t], 1) << t;
+        EXPECT_EQ(chunksPerId[t + n], chunksPerId[t]) << t;
+        EXPECT_EQ(chunksPerId[t + 2 * n], chunksPerId[t]) << t;
+        EXPECT_EQ(decoded.corners.at(t + n), decoded.corners.at(t)) << t;
+        EXPECT_EQ(decoded.corners.at(t + 2 * n), decoded.corners.at(t)) << t;
+    }
+}
+
 TEST_P(PackageRoundTrip, SameInputGivesByteIdenticalPackageWhateverTheThreads) {
     const TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 6000, 3);
     PackageBuildOptions options;
