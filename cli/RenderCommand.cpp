@@ -98,7 +98,8 @@ Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
     if (args.progress != "auto" && args.progress != "bar" && args.progress != "openjd" &&
         args.progress != "none")
         return Status::error("--progress '" + args.progress + "': expected auto, bar, openjd or none");
-    return Status::ok();
+    // The image writer is a module loaded on demand: a broken install fails now, not after the render.
+    return loadImageModule().withContext(args.output + ": cannot write: ");
 }
 
 // The sizes of --memory-budget and --host-cache (read by the vulkan backend only).

@@ -10,6 +10,7 @@
 
 #include "Commands.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/ImageFile.h"
 #include "vastray/server/FrontEnds.h"
 #include "vastray/server/Service.h"
 
@@ -98,6 +99,8 @@ int runServe(const ServeArgs& args) {
     if (!front) return fail(front.message(), 2);
     if (args.backend != "vulkan" && args.backend != "embree")
         return fail("--backend '" + args.backend + "': expected vulkan or embree", 2);
+    // Results are written through the image module: a broken install stops the start.
+    if (Status images = loadImageModule(); !images) return fail(images.message(), 1);
     // The Vulkan device opens now (never for embree): a --gpu-device that does not exist or
     // cannot run the tracer stops the start, naming the devices Vulkan reports.
     std::unique_ptr<server::JobRenderer> renderer;

@@ -70,6 +70,37 @@ TEST_F(RenderCli, BadInputIsAClearErrorBeforeAnyWork) {
     EXPECT_EQ(png.exitCode, 2) << png.output;
 }
 
+// OpenImageIO lives in a module loaded on the first image read or write
+// (core/src/image/ImageModule.h): a command that touches no image does not load it, and a render
+// whose module cannot be loaded stops before rendering, saying where it looked.
+TEST_F(RenderCli, OpenImageIoIsLoadedOnlyToReadOrWriteImages) {
+    const std::string binary = VASTRAY_BINARY, package = test::tmpPath("terrain.vast");
+    CommandResult info = vastray::test::runShell("LD_DEBUG=libs " + binary + " info " + package);
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("libembree3"), std::string::npos) << "LD_DEBUG=libs printed no library names";
+    EXPECT_EQ(info.output.find("libOpenImageIO"), std::string::npos) << info.output;
+    const std::string png = test::tmpPath("module.png");
+    CommandResult render = vastray::test::runShell("LD_DEBUG=libs " + binary + " render --backend embree " +
+                                                   terrain() + " -o " + png + " --resolution 16x16 --progress none");
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_NE(render.output.find("libOpenImageIO"), std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(png));
+
+    const std::string missing = "VASTRAY_IMAGE_MODULE=" + test::tmpPath("no-such-module.so") + " " + binary;
+    const std::string never = test::tmpPath("never-written.png");
+    CommandResult broken = vastray::test::runShell(missing + " render --backend embree " + terrain() + " -o " +
+                                                   never + " --resolution 16x16 --stats --progress none");
+    EXPECT_NE(broken.exitCode, 0);
+    for (const char* text : {"never-written.png: cannot write", "libvastray_oiio.so", "no-such-module.so",
+                             "VASTRAY_IMAGE_MODULE"})
+        EXPECT_NE(broken.output.find(text), std::string::npos) << text << "\n" << broken.output;
+    EXPECT_EQ(broken.output.find("rays/s"), std::string::npos) << "it rendered first:\n" << broken.output;
+    EXPECT_FALSE(std::filesystem::exists(never));
+    CommandResult diff = vastray::test::runShell(missing + " diff " + png + " " + png);
+    EXPECT_NE(diff.exitCode, 0);
+    EXPECT_NE(diff.output.find("libvastray_oiio.so"), std::string::npos) << diff.output;
+}
+
 TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {
     CommandResult r = run("render --help");
     EXPECT_EQ(r.exitCode, 0);

@@ -1,4 +1,4 @@
-#include "vastray/core/ImageFile.h"
+#include "OiioImage.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -7,9 +7,10 @@
 #include <cstring>
 #include <filesystem>
 
+#include "vastray/core/ImageFile.h"
 #include "vastray/core/RenderOptions.h"
 
-namespace vastray {
+namespace vastray::oiio {
 namespace {
 
 std::string lowerExtension(const std::string& path) {
@@ -102,13 +103,6 @@ Status writeExr(const std::string& path, const RenderImage& image) {
 
 }  // namespace
 
-float toneMapToDisplay(float linear) {
-    constexpr float kWhiteSquared = 16.0f;
-    const float x = std::fmax(linear, 0.0f);
-    const float mapped = std::fmin(x * (1.0f + x / kWhiteSquared) / (1.0f + x), 1.0f);
-    return mapped <= 0.0031308f ? 12.92f * mapped : 1.055f * std::pow(mapped, 1.0f / 2.4f) - 0.055f;
-}
-
 Status writeImageFile(const std::string& path, const RenderImage& image) {
     const std::string ext = lowerExtension(path);
     if (ext == ".png") return writePng(path, image);
@@ -116,4 +110,4 @@ Status writeImageFile(const std::string& path, const RenderImage& image) {
     return Status::error(path + ": unsupported image format '" + ext + "' (expected .png or .exr)");
 }
 
-}  // namespace vastray
+}  // namespace vastray::oiio

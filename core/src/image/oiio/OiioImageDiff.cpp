@@ -1,4 +1,4 @@
-#include "vastray/core/ImageDiff.h"
+#include "OiioImage.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-namespace vastray {
+namespace vastray::oiio {
 namespace {
 
 struct OpenedImage {
@@ -121,4 +121,4 @@ Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::stri
     return report;
 }
 
-}  // namespace vastray
+}  // namespace vastray::oiio

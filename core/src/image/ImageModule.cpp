@@ -1,0 +1,76 @@
+// writeImageFile and diffImageFiles forward to the OpenImageIO module, loaded once on first use.
+#include "ImageModule.h"
+
+#include <dlfcn.h>
+
+#include <filesystem>
+#include <vector>
+
+#include "vastray/core/ImageDiff.h"
+#include "vastray/core/ImageFile.h"
+
+namespace vastray {
+namespace {
+
+// Where the module is looked for: $VASTRAY_IMAGE_MODULE alone when set; else beside the
+// running program, then where this build wrote it (tests and benchmarks live in sub-folders).
+std::vector<std::string> moduleCandidates() {
+    if (const char* path = std::getenv("VASTRAY_IMAGE_MODULE"); path && *path) return {path};
+    std::vector<std::string> candidates;
+    std::error_code error;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+    if (!error) candidates.push_back((self.parent_path() / VASTRAY_IMAGE_MODULE_FILE).string());
+    if (candidates.empty() || candidates.front() != VASTRAY_IMAGE_MODULE_BUILD_PATH)
+        candidates.push_back(VASTRAY_IMAGE_MODULE_BUILD_PATH);
+    return candidates;
+}
+
+struct LoadedModule {
+    const ImageModuleApi* api = nullptr;
+    Status status;
+};
+
+LoadedModule load() {
+    std::string tried;
+    for (const std::string& path : moduleCandidates()) {
+        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (!handle) {
+            const char* why = dlerror();  // names the path
+            tried += "\n  " + (why ? std::string(why) : path + ": cannot be loaded");
+            continue;
+        }
+        using Entry = const ImageModuleApi* (*)();
+        const auto entry = reinterpret_cast<Entry>(dlsym(handle, VASTRAY_IMAGE_MODULE_SYMBOL));
+        const ImageModuleApi* api = entry ? entry() : nullptr;
+        if (api && api->version == kImageModuleVersion) return {api, Status::ok()};
+        tried += "\n  " + path + ": " +
+                 (api ? "built for another version of vastray" : "not a vastray image module");
+        dlclose(handle);
+    }
+    return {nullptr, Status::error(std::string("the image module " VASTRAY_IMAGE_MODULE_FILE
+                                               " (OpenImageIO) could not be loaded; tried:") +
+                                   tried + "\n(set VASTRAY_IMAGE_MODULE to its path, or rebuild vastray)")};
+}
+
+const LoadedModule& module() {
+    static const LoadedModule loaded = load();
+    return loaded;
+}
+
+}  // namespace
+
+Status loadImageModule() { return module().status; }
+
+Status writeImageFile(const std::string& path, const RenderImage& image) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(path + ": cannot write: ");
+    return m.api->writeImageFile(path, image);
+}
+
+Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::string& pathB) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext("cannot read images: ");
+    return m.api->diffImageFiles(pathA, pathB);
+}
+
+}  // namespace vastray

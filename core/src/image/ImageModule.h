@@ -1,0 +1,29 @@
+#pragma once
+// The OpenImageIO image module's entry point. OpenImageIO brings ~260 shared libraries whose
+// relocation took ~0.35 s at every start of the program, so it lives in a module
+// (libvastray_oiio.so) that the first image read or write loads; commands that touch no image
+// (import, info, generate, --help) never load it.
+#include <cstdint>
+#include <string>
+
+#include "vastray/core/ImageDiff.h"
+#include "vastray/core/RenderImage.h"
+#include "vastray/core/Result.h"
+
+namespace vastray {
+
+// Bumped whenever the table or the types it passes change: a module from another build is refused.
+constexpr uint32_t kImageModuleVersion = 1;
+
+struct ImageModuleApi {
+    uint32_t version;
+    Status (*writeImageFile)(const std::string& path, const RenderImage& image);
+    Result<ImageDiffReport> (*diffImageFiles)(const std::string& pathA, const std::string& pathB);
+};
+
+}  // namespace vastray
+
+// The one symbol the module exports.
+extern "C" const vastray::ImageModuleApi* vastray_image_module();
+#define VASTRAY_IMAGE_MODULE_SYMBOL "vastray_image_module"
+#define VASTRAY_IMAGE_MODULE_FILE "libvastray_oiio.so"
