@@ -17,26 +17,12 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A triangle identified by its corner words, rotated so the smallest corner comes first:
-// invariant under edgebreaker's corner rotation, and it keeps the winding.
-using TriangleWords = std::array<int32_t, 9>;
+// A triangle as three vertex ids, rotated to its lexicographically smallest rotation: the
+// same under edgebreaker's corner rotation, and it keeps the winding.
+using Triple = std::array<uint32_t, 3>;
 
-TriangleWords triangleWords(const int32_t* vertexWords, const uint32_t* corners) {
-    std::array<std::array<int32_t, 3>, 3> c;
-    for (int k = 0; k < 3; ++k) std::memcpy(c[k].data(), &vertexWords[3 * size_t(corners[k])], 12);
-    int first = 0;
-    for (int k = 1; k < 3; ++k)
-        if (c[k] < c[first]) first = k;
-    TriangleWords words;
-    for (int k = 0; k < 3; ++k) std::memcpy(&words[3 * k], c[(first + k) % 3].data(), 12);
-    return words;
-}
-
-// A cheap 64-bit mix of a triangle's words; equal hashes are confirmed by comparing the words.
-uint64_t hashWords(const TriangleWords& words) {
-    uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (int32_t w : words) h = std::rotl((h ^ uint32_t(w)) * 0xFF51AFD7ED558CCDull, 29);
-    return h ^ (h >> 32);
+Triple smallestRotation(uint32_t a, uint32_t b, uint32_t c) {
+    return std::min({Triple{a, b, c}, Triple{b, c, a}, Triple{c, a, b}});
 }
 
 // Local vertex table of a cell, in first-use order, through an open-addressing map from
@@ -80,48 +66,74 @@ ChunkGeometry gatherGeometry(const ChunkSource& source, const std::vector<Triang
     return geometry;
 }
 
-// For every decoded face, the original triangle id. The input triangles go into a hash table
-// keyed by their words; identical triangles share one slot and queue in input order, so the
-// k-th identical decoded face (in decoded order) takes the k-th identical input triangle.
+// For every decoded face, the original triangle id, without a table keyed by triangles
+// (random probes into it cost as much as Draco's decoder). Every vertex, input or decoded,
+// is named by the first input vertex with the same words; a triangle is then the smallest
+// rotation of its three names. Input triangles are listed by their first name, each list
+// sorted by the other two names and the input order, so a decoded face is found by a binary
+// search in one short list; the k-th identical decoded face (in decoded order) takes the k-th
+// identical input triangle.
 Result<std::vector<uint32_t>> recoverPrimitiveIds(const ChunkGeometry& input, const std::vector<TriangleRef>& refs,
                                                   const ChunkGeometry& decoded) {
     const size_t n = refs.size();
     if (decoded.indices.size() != n * 3)
         return Status::error("the codec returned " + std::to_string(decoded.indices.size() / 3) + " faces for " +
                              std::to_string(n) + " triangles");
-    struct Slot {
-        uint64_t hash;
-        uint32_t head, tail;  // queue of identical input triangles through `next`; head kNone once taken
-    };
     constexpr uint32_t kNone = 0xFFFFFFFFu;
+    const uint32_t inputVertices = uint32_t(input.vertexWords.size() / 3);
     size_t capacity = 16;
-    while (capacity < n * 2) capacity *= 2;
-    std::vector<Slot> table(capacity, Slot{0, kNone, kNone});
-    std::vector<uint32_t> next(n, kNone);
-    auto inputWords = [&](uint32_t t) { return triangleWords(input.vertexWords.data(), &input.indices[3 * size_t(t)]); };
-    // The slot of the triangles equal to `words` (compared with the slot's last one), or the
-    // free slot where they go; a slot whose queue was emptied stays occupied.
-    auto find = [&](const TriangleWords& words, uint64_t hash) -> Slot& {
-        size_t i = hash & (capacity - 1);
-        while (table[i].tail != kNone && (table[i].hash != hash || inputWords(table[i].tail) != words))
-            i = (i + 1) & (capacity - 1);
-        return table[i];
+    while (capacity < size_t(inputVertices) * 2) capacity *= 2;
+    std::vector<uint32_t> table(capacity, kNone);  // input vertex per distinct words
+    // The input vertex with the words at `words`, or kNone; `insert` adds `v` when there is none.
+    auto name = [&](const int32_t* words, uint32_t insert) {
+        uint64_t h = 0x9E3779B97F4A7C15ull;
+        for (int k = 0; k < 3; ++k) h = std::rotl((h ^ uint32_t(words[k])) * 0xFF51AFD7ED558CCDull, 29);
+        for (size_t i = (h ^ (h >> 32)) & (capacity - 1);; i = (i + 1) & (capacity - 1)) {
+            if (table[i] == kNone) return insert == kNone ? kNone : (table[i] = insert);
+            if (std::memcmp(&input.vertexWords[3 * size_t(table[i])], words, 12) == 0) return table[i];
+        }
     };
-    for (uint32_t t = 0; t < n; ++t) {
-        const TriangleWords words = inputWords(t);
-        const uint64_t hash = hashWords(words);
-        Slot& slot = find(words, hash);
-        if (slot.tail == kNone) slot = Slot{hash, t, t};
-        else slot.tail = next[slot.tail] = t;
+    std::vector<uint32_t> inputName(inputVertices);
+    for (uint32_t v = 0; v < inputVertices; ++v) inputName[v] = name(&input.vertexWords[3 * size_t(v)], v);
+    const size_t decodedVertices = decoded.vertexWords.size() / 3;
+    std::vector<uint32_t> decodedName(decodedVertices);
+    for (size_t v = 0; v < decodedVertices; ++v)
+        if ((decodedName[v] = name(&decoded.vertexWords[3 * v], kNone)) == kNone)
+            return Status::error("decoded vertex " + std::to_string(v) + " matches no input vertex");
+    auto triple = [](const std::vector<uint32_t>& names, const uint32_t* corners) {
+        return smallestRotation(names[corners[0]], names[corners[1]], names[corners[2]]);
+    };
+
+    std::vector<Triple> inputTriples(n);
+    std::vector<uint32_t> listStart(size_t(inputVertices) + 1, 0), list(n);
+    for (size_t t = 0; t < n; ++t) {
+        inputTriples[t] = triple(inputName, &input.indices[3 * t]);
+        ++listStart[inputTriples[t][0] + 1];
     }
+    for (uint32_t v = 0; v < inputVertices; ++v) listStart[v + 1] += listStart[v];
+    {
+        std::vector<uint32_t> fill(listStart.begin(), listStart.end() - 1);
+        for (uint32_t t = 0; t < n; ++t) list[fill[inputTriples[t][0]]++] = t;
+    }
+    auto byNames = [&](uint32_t a, uint32_t b) {
+        return std::tie(inputTriples[a][1], inputTriples[a][2], a) < std::tie(inputTriples[b][1], inputTriples[b][2], b);
+    };
+    for (uint32_t v = 0; v < inputVertices; ++v)
+        if (listStart[v + 1] - listStart[v] > 1) std::sort(&list[listStart[v]], &list[listStart[v + 1]], byNames);
+
+    std::vector<uint32_t> taken(n, 0);  // at a group's first list position: how many of the group are taken
     std::vector<uint32_t> ids(n);
-    for (uint32_t f = 0; f < n; ++f) {
-        const TriangleWords words = triangleWords(decoded.vertexWords.data(), &decoded.indices[3 * size_t(f)]);
-        Slot& slot = find(words, hashWords(words));
-        if (slot.tail == kNone || slot.head == kNone)
+    for (size_t f = 0; f < n; ++f) {
+        const Triple key = triple(decodedName, &decoded.indices[3 * f]);
+        const uint32_t* first = &list[listStart[key[0]]];
+        const uint32_t* last = &list[listStart[key[0] + 1]];
+        const uint32_t* group = std::lower_bound(first, last, key, [&](uint32_t t, const Triple& k) {
+            return std::tie(inputTriples[t][1], inputTriples[t][2]) < std::tie(k[1], k[2]);
+        });
+        const size_t at = size_t(group - list.data()) + taken[group - list.data()]++;
+        if (at >= size_t(last - list.data()) || inputTriples[list[at]] != key)
             return Status::error("decoded face " + std::to_string(f) + " matches no input triangle");
-        ids[f] = refs[slot.head].triangle;
-        slot.head = slot.head == slot.tail ? kNone : next[slot.head];
+        ids[f] = refs[list[at]].triangle;
     }
     return ids;
 }
