@@ -219,9 +219,10 @@ int main(int argc, char** argv) {
     if (importSeconds > 0) md << ", imported in " << importSeconds << " s";
     md << ". Device: " << (*device)->info().name << ". Image " << args.width << "x" << args.height << ", "
        << args.spp << " spp. Each row: the run of median render time of " << args.repeat << ".\n\n";
-    md << "| render | budget | slots | render s | rays | rays/s (render) | chunk traces/s (trace) | trace s | "
-          "decode s | upload s | walk s | shade s | touched | loads | loads/touched | per-bounce loads/touched | time vs in core |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    md << "| render | budget | slots | render s | rays | rays/s (render) | walked rays | chunk traces/s (trace) | trace s | "
+          "device s | decode s | upload s | walk s | shade s | touched | loads | loads/touched | per-bounce loads/touched | "
+          "time vs in core |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
         double reference = 0;
@@ -236,12 +237,13 @@ int main(int argc, char** argv) {
         };
         char line[1024];
         std::snprintf(line, sizeof line,
-                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.1f M | %.3f | %.3f | %.3f | %.3f | %.3f | %llu | %llu "
-                      "| %.2f | %.3f | %s |\n",
+                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.0f %% | %.1f M | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f "
+                      "| %llu | %llu | %.2f | %.3f | %s |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, r.render.renderSeconds,
                       (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6,
+                      r.render.rays ? 100.0 * double(s.walkedRays) / double(r.render.rays) : 0.0,
                       s.traceSeconds > 0 ? double(s.chunkTraces) / s.traceSeconds / 1e6 : 0.0, s.traceSeconds,
-                      s.decodeSeconds, s.uploadSeconds, s.walkSeconds, s.shadeSeconds,
+                      s.deviceSeconds, s.decodeSeconds, s.uploadSeconds, s.walkSeconds, s.shadeSeconds,
                       (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,
                       s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
                       s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,

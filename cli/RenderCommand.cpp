@@ -219,10 +219,12 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["decode_seconds"] = st->decodeSeconds;
         j["upload_seconds"] = st->uploadSeconds;
         j["trace_seconds"] = st->traceSeconds;
+        j["device_seconds"] = st->deviceSeconds;
         j["walk_seconds"] = st->walkSeconds;
         j["shade_seconds"] = st->shadeSeconds;
         j["ray_streams"] = st->streams;
         j["chunk_traces"] = st->chunkTraces;
+        j["walked_rays"] = st->walkedRays;
         j["peak_device_bytes"] = st->peakDeviceBytes;
         j["memory_budget_bytes"] = st->memoryBudgetBytes;
     }

@@ -24,5 +24,5 @@ void main() {
     const ChunkView c = ChunkView(pc.nodes, pc.leafRefs, pc.positions, pc.indices, pc.singleSided, pc.nodeCount,
                                   pc.hasSingleSided != 0u, vec3(pc.boundsLoX, pc.boundsLoY, pc.boundsLoZ),
                                   vec3(pc.boundsHiX, pc.boundsHiY, pc.boundsHiZ));
-    HitArray(pc.hits).v[i] = traverse(c, origin, direction, ray.tMin, ray.tMax, false);
+    HitArray(pc.hits).v[i] = traverse(c, origin, direction, ray.tMin, ray.tMax, false, 0u);
 }

@@ -20,10 +20,17 @@ namespace {
 const uint32_t kStreamTraceSpirv[] =
 #include "stream_trace.spv.inc"
     ;
+const uint32_t kStreamWalkSpirv[] =
+#include "stream_walk.spv.inc"
+    ;
 
 static_assert(sizeof(StreamRayGpu) == sizeof(StreamRay) && sizeof(StreamHitGpu) == sizeof(StreamHit));
 static_assert(kHitFound == kStreamHitFound && kHitFrontFacing == kStreamHitFrontFacing);
 static_assert(kTraceStackSize == kMaxKdDepth, "the kernel's stack must hold the deepest tree");
+static_assert(sizeof(StreamWalkGpu) == sizeof(StreamResult) && offsetof(StreamWalkGpu, chunk) == offsetof(StreamResult, chunk) &&
+              offsetof(StreamWalkGpu, cell) == offsetof(StreamResult, cell));
+static_assert(kWalkIncomplete == ChunkBackend::kWalkIncomplete && kWalkNoHit == kMissPrimId &&
+              kWalkNoHit == kEmptyCell);
 
 // Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
 // granularity keeps the allocated total under the budget.
@@ -50,24 +57,47 @@ Status copyInPieces(uint64_t size, Copy&& copy) {
 
 uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
 uint64_t batchBytes(uint64_t rays) { return granules(rays * sizeof(StreamRayGpu)) + granules(rays * sizeof(StreamHitGpu)); }
+// One buffer holds the tables: the slot table, then stream_walk.comp's top-level tree, chunk ->
+// slot map and touched flags (byte offsets, 16-byte aligned). For most scenes they fit the one
+// allocation granule the slot table alone would take.
+struct TableLayout {
+    uint64_t topNodes, chunkSlots, touched, totalBytes;
+};
+TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
+    auto align = [](uint64_t bytes) { return (bytes + 15) / 16 * 16; };
+    TableLayout t{};
+    t.topNodes = align(slots * sizeof(ChunkSlot));
+    t.chunkSlots = t.topNodes + align(package.topTree.size() * sizeof(KdNode));
+    t.touched = t.chunkSlots + align(package.chunks.size() * 4);
+    t.totalBytes = t.touched + align(package.chunks.size() * 4);
+    return t;
+}
 
 class VulkanChunkBackend final : public ChunkBackend {
 public:
-    VulkanChunkBackend(VulkanDevice& device, const PoolPlan& plan, const ChunkAttributes& attributes)
-        : device_(device), plan_(plan), attributes_(attributes) {}
+    VulkanChunkBackend(VulkanDevice& device, const PackageInfo& package, const PoolPlan& plan,
+                       const ChunkAttributes& attributes)
+        : device_(device), plan_(plan), attributes_(attributes), tables_(tableLayout(plan.slots, package)),
+          bounds_(package.bounds),
+          topNodeCount_(uint32_t(package.topTree.size())), chunkCount_(uint32_t(package.chunks.size())) {}
 
-    Status init() {
+    Status init(const PackageInfo& package) {
         auto pipeline = ComputePipeline::create(device_, kStreamTraceSpirv, sizeof(StreamPushConstants));
         if (!pipeline) return pipeline.status();
         pipeline_ = std::move(pipeline).value();
+        auto walkPipeline = ComputePipeline::create(device_, kStreamWalkSpirv, sizeof(StreamWalkPushConstants));
+        if (!walkPipeline) return walkPipeline.status();
+        walkPipeline_ = std::move(walkPipeline).value();
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes);
             if (!slot) return slot.status().withContext("chunk slot " + std::to_string(s) + ": ");
             slots_.push_back(std::move(slot).value());
         }
-        auto table = device_.createBuffer(plan_.slots * sizeof(ChunkSlot));
+        auto table = device_.createBuffer(tables_.totalBytes);
         if (!table) return table.status();
         table_ = std::move(table).value();
+        if (topNodeCount_ > 0)
+            VASTRAY_TRY(table_.upload(package.topTree.data(), topNodeCount_ * sizeof(KdNode), tables_.topNodes));
         auto rays = device_.createBuffer(uint64_t(plan_.batchRays) * sizeof(StreamRayGpu));
         if (!rays) return rays.status();
         rays_ = std::move(rays).value();
@@ -87,6 +117,7 @@ public:
     uint64_t bytesUploaded() const override { return uploaded_; }
     uint64_t peakDeviceBytes() const override { return allocated_; }  // everything is allocated up front
     double uploadSeconds() const override { return uploadSeconds_; }
+    double deviceSeconds() const override { return deviceSeconds_; }
 
     Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) override {
         if (slot >= slots_.size()) return Status::error("slot " + std::to_string(slot) + " does not exist");
@@ -165,7 +196,7 @@ public:
                                      [&](uint64_t o, uint64_t n) { return rays_.upload(src + o, n, base + o); }));
             at += b.rays.size();
         }
-        VASTRAY_TRY(device_.submit([&](VkCommandBuffer cmd) {
+        VASTRAY_TRY(timedSubmit([&](VkCommandBuffer cmd) {
             uint64_t first = 0;
             for (const Batch& b : batches) {
                 for (uint64_t done = 0; done < b.rays.size(); done += kMaxRaysPerDispatch) {
@@ -191,7 +222,62 @@ public:
         return Status::ok();
     }
 
+    // The walk writes a 64-byte record per ray into the hit buffer (48 bytes per batch ray).
+    uint32_t maxWalkRays() const override {
+        return plan_.slots >= chunkCount_ ? uint32_t(uint64_t(plan_.batchRays) * sizeof(StreamHitGpu) /
+                                                                sizeof(StreamWalkGpu))
+                                                     : 0;
+    }
+
+    Status walk(std::span<const StreamRay> rays, bool anyHit, std::span<const uint32_t> chunkSlot,
+                std::span<StreamResult> results, std::span<uint8_t> touched) override {
+        const size_t chunks = chunkCount_;
+        if (rays.size() > maxWalkRays() || results.size() != rays.size() || chunkSlot.size() != chunks ||
+            touched.size() != chunks)
+            return Status::error("walk: " + std::to_string(rays.size()) + " rays do not fit the walk of " +
+                                 std::to_string(maxWalkRays()) + ", or the chunk tables do not match the package");
+        for (uint32_t slot : chunkSlot)
+            if (slot != kEmptyCell && slot >= slots_.size()) return Status::error("walk: bad slot " + std::to_string(slot));
+        if (rays.empty()) return Status::ok();
+        VASTRAY_TRY(table_.upload(chunkSlot.data(), chunks * 4, tables_.chunkSlots));
+        const std::vector<uint32_t> zeros(chunks, 0);
+        VASTRAY_TRY(table_.upload(zeros.data(), chunks * 4, tables_.touched));
+        const auto* src = reinterpret_cast<const uint8_t*>(rays.data());
+        VASTRAY_TRY(copyInPieces(rays.size_bytes(), [&](uint64_t o, uint64_t n) { return rays_.upload(src + o, n, o); }));
+        VASTRAY_TRY(timedSubmit([&](VkCommandBuffer cmd) {
+            for (uint64_t done = 0; done < rays.size(); done += kMaxRaysPerDispatch) {
+                const uint64_t count = std::min<uint64_t>(kMaxRaysPerDispatch, rays.size() - done);
+                StreamWalkPushConstants pc{};
+                pc.slotTable = table_.address();
+                pc.rays = rays_.address() + done * sizeof(StreamRayGpu);
+                pc.results = hits_.address() + done * sizeof(StreamWalkGpu);
+                pc.topNodes = table_.address() + tables_.topNodes;
+                pc.chunkSlots = table_.address() + tables_.chunkSlots, pc.touched = table_.address() + tables_.touched;
+                pc.rayCount = uint32_t(count), pc.anyHit = anyHit ? 1u : 0u;
+                pc.topNodeCount = topNodeCount_, pc.chunkCount = chunkCount_;
+                pc.boundsLoX = bounds_.lo.x, pc.boundsLoY = bounds_.lo.y, pc.boundsLoZ = bounds_.lo.z;
+                pc.boundsHiX = bounds_.hi.x, pc.boundsHiY = bounds_.hi.y, pc.boundsHiZ = bounds_.hi.z;
+                walkPipeline_->record(cmd, &pc, uint32_t((count + kTraceWorkgroupSize - 1) / kTraceWorkgroupSize));
+            }
+        }));
+        auto* dst = reinterpret_cast<uint8_t*>(results.data());
+        VASTRAY_TRY(copyInPieces(results.size_bytes(), [&](uint64_t o, uint64_t n) { return hits_.download(dst + o, n, o); }));
+        std::vector<uint32_t> flags(chunks);
+        VASTRAY_TRY(table_.download(flags.data(), chunks * 4, tables_.touched));
+        for (size_t c = 0; c < chunks; ++c)
+            if (flags[c]) touched[c] = 1;
+        return Status::ok();
+    }
+
 private:
+    template <typename Record>
+    Status timedSubmit(Record&& record) {
+        const auto start = std::chrono::steady_clock::now();
+        Status status = device_.submit(record);
+        deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return status;
+    }
+
     // Out-of-range references would read outside the slot on the device: reject them here.
     Status validate(const DecodedChunk& c, std::span<const uint8_t> singleSided) const {
         const KdTree& t = c.kdTree;
@@ -208,12 +294,15 @@ private:
     VulkanDevice& device_;
     PoolPlan plan_;
     ChunkAttributes attributes_;
-    std::unique_ptr<ComputePipeline> pipeline_;
+    TableLayout tables_;  // in table_
+    Aabb bounds_;         // the package's: the top-level tree's bounds
+    uint32_t topNodeCount_, chunkCount_;
+    std::unique_ptr<ComputePipeline> pipeline_, walkPipeline_;
     std::vector<GpuBuffer> slots_;
     std::vector<uint8_t> validated_;  // by chunk id: passed validate() once
     GpuBuffer table_, rays_, hits_;
     uint64_t allocated_ = 0, uploaded_ = 0;
-    double uploadSeconds_ = 0;
+    double uploadSeconds_ = 0, deviceSeconds_ = 0;
 };
 
 }  // namespace
@@ -225,13 +314,14 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.slotBytes = largest;
     const uint64_t slotAllocation = granules(largest);
     const uint32_t chunks = uint32_t(std::max<size_t>(package.chunks.size(), 1));
-    auto tableBytes = [](uint64_t slots) { return granules(slots * sizeof(ChunkSlot)); };
+    auto tableBytes = [&](uint64_t slots) { return granules(tableLayout(slots, package).totalBytes); };
     plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1);
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
-                             formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) + " bytes (one chunk slot of " + formatBytes(slotAllocation) +
-                             " plus a batch of " + std::to_string(kMinBatchRays) + " rays of " +
-                             formatBytes(batchBytes(kMinBatchRays)) + ")");
+                             formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) +
+                             " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a batch of " +
+                             std::to_string(kMinBatchRays) + " rays of " + formatBytes(batchBytes(kMinBatchRays)) +
+                             " plus tables of " + formatBytes(tableBytes(1)) + ")");
     // A quarter of the budget for rays (within [kMinBatchRays, kMaxBatchRays]), the rest for slots;
     // slots beyond the chunk count are useless, so what they would take goes back to the rays.
     uint64_t rays = std::clamp<uint64_t>(budget / 4 / kRayBytes, kMinBatchRays, kMaxBatchRays);
@@ -256,8 +346,8 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
                                                                const ChunkAttributes& attributes, uint64_t budget) {
     auto plan = planPool(package, attributes, budget);
     if (!plan) return plan.status();
-    auto backend = std::make_unique<VulkanChunkBackend>(device, *plan, attributes);
-    VASTRAY_TRY(backend->init());
+    auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes);
+    VASTRAY_TRY(backend->init(package));
     if (backend->peakDeviceBytes() > budget)
         return Status::error("the device rounded the pool up to " + formatBytes(backend->peakDeviceBytes()) +
                              ", above the budget of " + formatBytes(budget));

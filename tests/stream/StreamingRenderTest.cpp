@@ -342,5 +342,47 @@ TEST(StreamingRender, SecondRenderOfAnOpenSceneLoadsNothing) {
     EXPECT_FALSE((*scene2)->render(o)) << "primid needs primitive ids the scene was opened without";
 }
 
+// An open scene that fits is traced by the backend's whole-ray walk (stream_walk.comp) once
+// its chunks are resident: the second render walks every ray, and gives what the host's
+// in-order queues give (the CPU backend has no walk) bit for bit, cost included, with the
+// same cells traced and the same chunks touched.
+TEST(StreamingRender, WalkedRaysEqualTheQueuedPath) {
+    for (GeneratorKind kind : {GeneratorKind::City, GeneratorKind::Terrain}) {
+        const std::string path = generatedPackage(kind, 20000, 64 << 10);
+        auto reader = PackageReader::open(path);
+        ASSERT_TRUE(reader) << reader.message();
+        for (IntegratorKind integrator : {IntegratorKind::Path, IntegratorKind::AmbientOcclusion}) {
+            RenderOptions o = smallRender(kAllAovs);
+            o.integrator = integrator;
+            auto scene = StreamingScene::open(**reader, requiredAttributes((*reader)->info(), o), StreamingOptions{},
+                                              [&](const PackageInfo& info, const ChunkAttributes& a) {
+                                                  return gpu::createVulkanChunkBackend(device(), info, a, 64ull << 20);
+                                              });
+            ASSERT_TRUE(scene) << scene.message();
+            StreamingStats cold, warm, queued;
+            RenderStats warmRender;
+            auto first = (*scene)->render(o, nullptr, &cold);
+            ASSERT_TRUE(first) << first.message();
+            auto second = (*scene)->render(o, &warmRender, &warm);
+            ASSERT_TRUE(second) << second.message();
+            auto cpu = renderCpuChunks(path, o, 1000, &queued);
+            ASSERT_TRUE(cpu) << cpu.message();
+            SCOPED_TRACE(integrator == IntegratorKind::Path ? "path" : "ao");
+            expectIdentical(*first, *cpu);
+            expectIdentical(*second, *cpu);
+            EXPECT_GT(cold.chunksTotal, 4u);
+            EXPECT_GT(cold.walkedRays, 0u) << "the cold render's later bounces find their chunks resident";
+            EXPECT_EQ(warm.chunkLoads, 0u);
+            EXPECT_EQ(queued.walkedRays, 0u) << "the CPU backend has no walk";
+            EXPECT_GT(warm.walkedRays, 0u);
+            EXPECT_EQ(warm.walkedRays, warmRender.rays) << "every ray of the warm render is walked";
+            EXPECT_EQ(warm.chunkTraces, queued.chunkTraces);
+            EXPECT_EQ(warm.streamChunksTouched, queued.streamChunksTouched);
+            EXPECT_EQ(warm.chunksTouched, queued.chunksTouched);
+            EXPECT_EQ(warm.walkSeconds, 0.0) << "no host-side walk";
+        }
+    }
+}
+
 }  // namespace
 }  // namespace vastray

@@ -1,7 +1,8 @@
 // Non-recursive KD-tree traversal of one chunk with a fixed stack of kTraceStackSize entries.
 // This mirrors core/src/KdTreeTraversal.cpp decision for decision (same t-margins, same early
 // out, same tie rule, same node/triangle counters), so the result equals intersectKdTree (and,
-// with anyHit, occludedKdTree) bit for bit. Included by trace.comp and stream_trace.comp.
+// with anyHit, occludedKdTree) bit for bit. Included by trace.comp, stream_trace.comp and
+// stream_walk.comp.
 // Needs GL_EXT_buffer_reference and GL_EXT_shader_explicit_arithmetic_types_int64, and
 // shared/TraceTypes.h (TraceHit, kTraceStackSize, flag bits) before it.
 #ifndef VASTRAY_KD_TRAVERSAL_GLSL
@@ -82,9 +83,15 @@ bool clipToBounds(ChunkView c, TraversalRay r, inout float tMin, inout float tMa
     return tMin <= tMax;
 }
 
-uint stackNode[kTraceStackSize];
-float stackT0[kTraceStackSize];
-float stackT1[kTraceStackSize];
+// The traversal stack. A shader that nests traversals (stream_walk.comp: the top-level tree,
+// and a chunk's tree inside one of its leaves) defines VASTRAY_STACK_ENTRIES as the sum of
+// their depths before including this file; traverse() then works above a stack base.
+#ifndef VASTRAY_STACK_ENTRIES
+#define VASTRAY_STACK_ENTRIES kTraceStackSize
+#endif
+uint stackNode[VASTRAY_STACK_ENTRIES];
+float stackT0[VASTRAY_STACK_ENTRIES];
+float stackT1[VASTRAY_STACK_ENTRIES];
 
 // Mirrors descend(): the child to visit now; the other one is pushed when the interval reaches it.
 uint descend(TraversalRay r, uint word0, uint word1, uint index, inout float t0, inout float t1,
@@ -151,15 +158,16 @@ void intersectLeaf(ChunkView c, TraversalRay r, uint firstRef, uint count, float
     }
 }
 
-// Mirrors traverse(): the closest hit, or with anyHit the first one found.
-TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit) {
+// Mirrors traverse(): the closest hit, or with anyHit the first one found. The stack entries
+// below stackBase belong to the caller and are left alone.
+TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit, uint stackBase) {
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
     TraversalRay r;
     float t0 = tMin, t1 = tMax;
     if (c.nodeCount == 0u || !prepareTraversalRay(c, origin, direction, r) || !clipToBounds(c, r, t0, t1))
         return best;
     UintArray nodes = UintArray(c.nodes);
-    uint stackSize = 0u, index = 0u;
+    uint stackSize = stackBase, index = 0u;
     bool found = false;
     for (;;) {
         // Early out: a hit before this node's entry (with margin) cannot be beaten in it.
@@ -174,7 +182,7 @@ TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tM
             intersectLeaf(c, r, word0, word1 >> 2, tMin, tMax, anyHit, best, found);
             if (anyHit && found) break;
         }
-        if (stackSize == 0u) break;
+        if (stackSize == stackBase) break;
         --stackSize;
         index = stackNode[stackSize], t0 = stackT0[stackSize], t1 = stackT1[stackSize];
     }

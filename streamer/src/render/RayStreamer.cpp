@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <chrono>
@@ -283,12 +284,104 @@ void RayStreamer::beginRender() {
     touchedThisRender_ = 0;
 }
 
+// A scene whose chunks all have slots, on a backend that walks whole rays: one backend call per
+// batch instead of a host round trip per cell. Once some chunk is resident, every ray goes to
+// the walk first; those that reach a chunk without a slot (cold renders) take the queued path.
 Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
                           std::vector<StreamResult>& results) {
     if (!anyHit.empty() && anyHit.size() != rays.size()) return Status::error("trace: one any-hit flag per ray");
+    ++stats_.streams;
+    std::fill(usedThisStream_.begin(), usedThisStream_.end(), 0);
+    std::fill(seenThisStream_.begin(), seenThisStream_.end(), 0);
+    for (uint32_t chunk : slotChunk_)
+        if (chunk != kEmptyCell) seenThisStream_[chunk] = 1;
+    const bool someResident =
+        std::any_of(slotChunk_.begin(), slotChunk_.end(), [](uint32_t chunk) { return chunk != kEmptyCell; });
+    if (!inOrder_ || backend_.maxWalkRays() == 0 || !someResident) return traceQueued(rays, anyHit, results);
+
+    anyHit_ = anyHit;
+    results.resize(rays.size());  // every element is written below
+    VASTRAY_TRY(traceWalking(rays, results));
+    if (incomplete_.empty()) return Status::ok();
+    std::vector<StreamRay> subset(incomplete_.size());
+    subsetAnyHit_.clear();
+    for (size_t k = 0; k < incomplete_.size(); ++k) {
+        subset[k] = rays[incomplete_[k]];
+        if (!anyHit.empty()) subsetAnyHit_.push_back(anyHit[incomplete_[k]]);
+    }
+    VASTRAY_TRY(traceQueued(subset, subsetAnyHit_, subsetResults_));
+    for (size_t k = 0; k < incomplete_.size(); ++k) results[incomplete_[k]] = subsetResults_[k];
+    return Status::ok();
+}
+
+// The backend walks the closest-hit rays, then the shadow rays, in batches it can take. Rays
+// of one kind that lie together in the stream (the integrator puts a bounce's closest-hit rays
+// first and the previous bounce's shadow rays after them) go as they are, their records straight
+// into results; others are gathered and scattered.
+Status RayStreamer::traceWalking(std::span<const StreamRay> rays, std::vector<StreamResult>& results) {
+    incomplete_.clear();
+    walkTouched_.assign(package_.chunks.size(), 0);
+    const uint32_t capacity = backend_.maxWalkRays();
+    const Clock::time_point start = Clock::now();
+    for (const bool shadow : {false, true}) {
+        auto ofKind = [&](uint8_t flag) { return (flag != 0) == shadow; };
+        size_t first = 0, count = shadow ? 0 : rays.size();
+        bool together = true;
+        if (!anyHit_.empty()) {
+            first = size_t(std::find_if(anyHit_.begin(), anyHit_.end(), ofKind) - anyHit_.begin());
+            count = size_t(std::count_if(anyHit_.begin(), anyHit_.end(), ofKind));
+            together = count == 0 || std::all_of(anyHit_.begin() + first, anyHit_.begin() + first + count, ofKind);
+        }
+        if (together) {
+            for (size_t done = 0; done < count; done += capacity) {
+                const size_t n = std::min<size_t>(capacity, count - done);
+                VASTRAY_TRY(backend_.walk(rays.subspan(first + done, n), shadow, chunkSlot_,
+                                          std::span<StreamResult>(results).subspan(first + done, n), walkTouched_));
+            }
+            continue;
+        }
+        walkGroup_.clear();
+        for (uint32_t i = 0; i < rays.size(); ++i)
+            if (ofKind(anyHit_[i])) walkGroup_.push_back(i);
+        for (size_t done = 0; done < walkGroup_.size(); done += capacity) {
+            const size_t n = std::min<size_t>(capacity, walkGroup_.size() - done);
+            const uint32_t* group = walkGroup_.data() + done;
+            walkRays_.resize(n), walkResults_.resize(n);
+            for (size_t k = 0; k < n; ++k) walkRays_[k] = rays[group[k]];
+            VASTRAY_TRY(backend_.walk(walkRays_, shadow, chunkSlot_, walkResults_, walkTouched_));
+            for (size_t k = 0; k < n; ++k) results[group[k]] = walkResults_[k];
+        }
+    }
+    stats_.traceSeconds += secondsSince(start);
+    struct Sums {
+        uint64_t traces = 0, walked = 0;
+    };
+    const Sums sums = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, rays.size(), 1 << 16), Sums{},
+        [&](const tbb::blocked_range<size_t>& range, Sums s) {
+            for (size_t i = range.begin(); i != range.end(); ++i)
+                if (results[i].chunk != ChunkBackend::kWalkIncomplete) s.traces += results[i].cellsTraced, ++s.walked;
+            return s;
+        },
+        [](Sums a, const Sums& b) { return Sums{a.traces + b.traces, a.walked + b.walked}; });
+    stats_.chunkTraces += sums.traces;
+    stats_.walkedRays += sums.walked;
+    if (sums.walked < rays.size())
+        for (uint32_t i = 0; i < rays.size(); ++i)
+            if (results[i].chunk == ChunkBackend::kWalkIncomplete) incomplete_.push_back(i);
+    for (uint32_t c = 0; c < walkTouched_.size(); ++c) {
+        if (!walkTouched_[c]) continue;
+        if (!usedThisStream_[c]) usedThisStream_[c] = 1, ++stats_.streamChunksTouched;
+        if (!touched_[c]) touched_[c] = 1, ++touchedThisRender_;
+    }
+    return Status::ok();
+}
+
+// Each ray waits at its cells in the chunks' queues; chunks are paged in by demand.
+Status RayStreamer::traceQueued(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
+                                std::vector<StreamResult>& results) {
     anyHit_ = anyHit;
     results_ = &results;
-    ++stats_.streams;
     results.assign(rays.size(), StreamResult{});
     const Clock::time_point start = Clock::now();
     walkCells(rays);
@@ -296,10 +389,6 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8
     for (auto& q : waiting_) q.clear();
     std::fill(demand_.begin(), demand_.end(), 0);
     std::fill(ready_.begin(), ready_.end(), 0);
-    std::fill(usedThisStream_.begin(), usedThisStream_.end(), 0);
-    std::fill(seenThisStream_.begin(), seenThisStream_.end(), 0);
-    for (uint32_t chunk : slotChunk_)
-        if (chunk != kEmptyCell) seenThisStream_[chunk] = 1;
     for (const auto& arena : arenas_)
         for (const CellVisit& cell : arena) ++demand_[cell.chunk];
     for (uint32_t i = 0; i < rays.size(); ++i) {

@@ -12,14 +12,6 @@
 
 namespace vastray {
 
-struct StreamResult {
-    StreamHit hit;                  // closest (or, for shadow rays, any) hit; flags 0 on a miss
-    uint32_t chunk = kMissPrimId;   // chunk whose cell produced the hit
-    uint32_t cellsTraced = 0;       // chunk traces this ray took
-    uint32_t trianglesTested = 0;
-    uint32_t cell = 0;              // index of the hit's cell in the ray's cell list (tie-break)
-};
-
 class RayStreamer {
 public:
     RayStreamer(const PackageInfo& package, const ChunkAttributes& attributes, ChunkBackend& backend,
@@ -49,6 +41,9 @@ private:
         uint32_t cell;  // index into the ray's block arena
     };
 
+    Status traceQueued(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
+                       std::vector<StreamResult>& results);
+    Status traceWalking(std::span<const StreamRay> rays, std::vector<StreamResult>& results);
     void walkCells(std::span<const StreamRay> rays);
     CellVisit& cellAt(uint32_t ray, uint32_t index) { return arenas_[ray / kBlockRays][index]; }
     bool prunable(const CellVisit& cell, uint32_t ray, const std::vector<StreamResult>& results) const;
@@ -94,6 +89,14 @@ private:
     std::vector<StreamHit> batchHits_;
     std::vector<Pending> batchOwners_;
     std::vector<Pending> taken_;
+    // The backend's whole-ray walk (scene fits and the backend has one): rays it could not
+    // finish, and its scratch.
+    std::vector<uint32_t> incomplete_, walkGroup_;
+    std::vector<StreamRay> walkRays_;
+    std::vector<StreamResult> walkResults_;
+    std::vector<uint8_t> walkTouched_;
+    std::vector<uint8_t> subsetAnyHit_;
+    std::vector<StreamResult> subsetResults_;
     std::span<const uint8_t> anyHit_;  // of the stream being traced
     std::vector<StreamResult>* results_ = nullptr;  // of the stream being traced
     bool isAnyHit(uint32_t ray) const { return !anyHit_.empty() && anyHit_[ray] != 0; }

@@ -1,6 +1,7 @@
 #pragma once
 // The Vulkan backend of the streaming renderer: a pool of chunk slots and one ray batch, all
-// allocated once from the memory budget, and stream_trace.comp dispatched per slot batch.
+// allocated once from the memory budget; stream_trace.comp dispatched per slot batch, and
+// stream_walk.comp for whole rays when every chunk has a slot.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -17,9 +18,9 @@ struct PoolPlan {
     uint32_t slots = 0;          // chunk slots (never more than the package's chunks)
     uint32_t batchRays = 0;      // rays per trace call
     uint64_t rayBytes = 0;       // ray + hit buffers of one batch
-    uint64_t tableBytes = 0;     // the slot table
+    uint64_t tableBytes = 0;     // the slot table and stream_walk.comp's (top-level tree, chunk -> slot, touched)
     uint64_t totalBytes = 0;     // all of the above, <= the budget
-    uint64_t minimumBytes = 0;   // one slot + the minimal batch + the table
+    uint64_t minimumBytes = 0;   // one slot + the minimal batch + the tables
 };
 
 // The smallest batch a budget must hold besides one chunk slot.

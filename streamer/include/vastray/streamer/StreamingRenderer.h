@@ -50,6 +50,17 @@ struct StreamHit {
 };
 static_assert(sizeof(StreamRay) == 32 && sizeof(StreamHit) == 48);
 
+// What one ray stream gives for one ray: its hit after every cell it needed, and the work.
+// Also the record ChunkBackend::walk writes (layout shared with gpu/shaders/shared/StreamTypes.h).
+struct StreamResult {
+    StreamHit hit;                  // closest (or, for shadow rays, any) hit; flags 0 on a miss
+    uint32_t chunk = kMissPrimId;   // chunk whose cell produced the hit
+    uint32_t cellsTraced = 0;       // chunk traces this ray took
+    uint32_t trianglesTested = 0;
+    uint32_t cell = 0;              // the hit's cell among the ray's cells (tie-break)
+};
+static_assert(sizeof(StreamResult) == 64);
+
 // Which per-triangle attributes a render reads; the others are never uploaded.
 struct ChunkAttributes {
     bool primitiveIds = false;  // the primid AOV
@@ -93,9 +104,30 @@ public:
     // Closest hit (or any hit) of every ray against its batch's resident chunk.
     virtual Status trace(std::span<const Batch> batches) = 0;
 
+    // Optional, for a scene whose chunks all have slots: whole rays in one call. Each ray walks
+    // its cells in the package's top-level tree front to back and traces the cells of resident
+    // chunks as RayStreamer's in-order queues would (the same intervals, the same pruning by a
+    // nearer hit, the same merge order), so its result equals theirs bit for bit, without a
+    // round trip through the host per cell. A ray that reaches a cell whose chunk has no slot
+    // comes back with chunk == kWalkIncomplete, for the queued path to trace.
+    static constexpr uint32_t kWalkIncomplete = 0xFFFFFFFEu;
+    // Most rays one walk() call takes; 0: the backend cannot walk.
+    virtual uint32_t maxWalkRays() const { return 0; }
+    // results: as the queued path leaves them (the hit is the winning cell's trace; cell counts
+    // the ray's non-empty cells), or chunk == kWalkIncomplete. chunkSlot: per chunk, its slot or
+    // kEmptyCell. touched: per chunk, set to 1 when a ray traced one of its cells.
+    virtual Status walk(std::span<const StreamRay> rays, bool anyHit, std::span<const uint32_t> chunkSlot,
+                        std::span<StreamResult> results, std::span<uint8_t> touched) {
+        (void)rays, (void)anyHit, (void)chunkSlot, (void)results, (void)touched;
+        return Status::error(name() + " backend cannot walk rays through the top-level tree");
+    }
+
     virtual uint64_t bytesUploaded() const = 0;
     virtual uint64_t peakDeviceBytes() const = 0;
     virtual double uploadSeconds() const = 0;
+    // Of the trace and walk calls' time, what was spent waiting for the device (submit to
+    // fence); the rest is copying rays in and hits out. 0 for a backend without a device.
+    virtual double deviceSeconds() const { return 0; }
 };
 
 // Creates the backend once the renderer knows what it needs: the package and the attributes.
@@ -124,7 +156,8 @@ struct StreamingStats {
     uint64_t decodes = 0;           // chunks decoded (a host-cache hit decodes nothing)
     double decodeSeconds = 0;       // decode_seconds: read + decode time summed over workers
     double uploadSeconds = 0;       // upload_seconds
-    double traceSeconds = 0;        // trace_seconds: in the backend's trace calls
+    double traceSeconds = 0;        // trace_seconds: in the backend's trace and walk calls
+    double deviceSeconds = 0;       // device_seconds: of those, waiting for the device (kernels)
     double walkSeconds = 0;         // walk_seconds: top-level walks and queueing (host)
     double shadeSeconds = 0;        // shade_seconds: the integrator's host-side shading
     uint64_t peakDeviceBytes = 0;   // peak_device_bytes
@@ -132,6 +165,7 @@ struct StreamingStats {
     uint32_t slots = 0;             // chunk slots the budget holds
     uint64_t streams = 0;           // ray streams traced (closest and shadow, per bounce and wave)
     uint64_t chunkTraces = 0;       // (ray, cell) pairs traced
+    uint64_t walkedRays = 0;        // walked_rays: rays the backend walked whole (ChunkBackend::walk)
 };
 
 // Called from the render thread with (units done, units total).
