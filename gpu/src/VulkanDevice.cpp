@@ -1,5 +1,7 @@
 #include "vastray/gpu/VulkanDevice.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <utility>
 
@@ -103,6 +105,7 @@ Result<std::unique_ptr<VulkanDevice>> VulkanDevice::create(const VulkanDeviceOpt
 }
 
 Status VulkanDevice::init(const VulkanDeviceOptions& options) {
+    submitTimeoutSeconds_ = options.submitTimeoutSeconds;
     auto instance = createInstance();
     if (!instance) return instance.status();
     instance_ = *instance;
@@ -174,6 +177,7 @@ Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits, MemoryUse use) 
 }
 
 Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) {
+    if (!failure_.empty()) return Status::error(failure_);
     auto allocInfo = vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
     allocInfo.commandPool = commandPool_;
     allocInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -202,8 +206,20 @@ Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) 
     submitInfo.commandBufferCount = 1;
     submitInfo.pCommandBuffers = &cmd;
     VASTRAY_VK_TRY(vkResetFences(device_, 1, &fence_));
-    VASTRAY_VK_TRY(vkQueueSubmit(queue_, 1, &submitInfo, fence_));
-    return vkStatus(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    const VkResult submitted = vkQueueSubmit(queue_, 1, &submitInfo, fence_);
+    if (submitted == VK_ERROR_DEVICE_LOST) failure_ = info_.name + ": the device was lost (VK_ERROR_DEVICE_LOST)";
+    VASTRAY_TRY(failure_.empty() ? vkStatus(submitted, "vkQueueSubmit") : Status::error(failure_));
+    const double limit = std::clamp(submitTimeoutSeconds_, 0.0, 1e9);
+    const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, uint64_t(limit * 1e9));
+    if (waited == VK_TIMEOUT) {
+        char seconds[32];
+        std::snprintf(seconds, sizeof seconds, "%g", limit);
+        failure_ = info_.name + ": the device did not finish a submission within " + seconds +
+                   " s (hung device?); it takes no more work";
+    } else if (waited == VK_ERROR_DEVICE_LOST) {
+        failure_ = info_.name + ": the device was lost (VK_ERROR_DEVICE_LOST)";
+    }
+    return failure_.empty() ? vkStatus(waited, "vkWaitForFences") : Status::error(failure_);
 }
 
 }  // namespace vastray::gpu

@@ -267,5 +267,30 @@ TEST(GpuChunkTracer, RejectsOutOfRangeChunkData) {
     EXPECT_FALSE((*tracer)->trace(std::vector<TraceRay>(1)).isOk()) << "nothing is resident after a failed upload";
 }
 
+// A device that does not finish a submission in time fails the trace with a message instead of
+// hanging the render, and takes no more work. Stood in for by a limit of one nanosecond on a
+// trace that takes far longer (lavapipe: ~0.1 s); its own device, so the shared one stays usable.
+TEST(GpuChunkTracer, ASubmissionPastTheTimeoutFailsAndTheDeviceTakesNoMoreWork) {
+    VulkanDeviceOptions options;
+    options.submitTimeoutSeconds = 1e-9;
+    auto device = VulkanDevice::create(options);
+    ASSERT_TRUE(device.isOk()) << device.message();
+    const Mesh mesh = makeIcosphere(5, {0, 0, 0}, 1.0f);
+    const KdTree tree = mesh.build();
+    auto tracer = GpuChunkTracer::create(**device);
+    ASSERT_TRUE(tracer.isOk()) << tracer.message();
+    const Status uploaded = (*tracer)->upload({&tree, mesh.positions, mesh.indices, {}});
+    ASSERT_TRUE(uploaded.isOk()) << uploaded.message();  // copies through mapped memory: no submission
+    std::vector<TraceRay> rays;
+    addRandomRays(tree, 200000, 7, &rays);
+    auto hits = (*tracer)->trace(rays);
+    ASSERT_FALSE(hits.isOk()) << "a 1 ns limit cannot hold a 200k-ray trace";
+    EXPECT_NE(hits.message().find("did not finish a submission within 1e-09 s (hung device?)"), std::string::npos)
+        << hits.message();
+    auto again = (*tracer)->trace(std::vector<TraceRay>(1));
+    ASSERT_FALSE(again.isOk());
+    EXPECT_NE(again.message().find("takes no more work"), std::string::npos) << again.message();
+}
+
 }  // namespace
 }  // namespace vastray::gpu::test

@@ -18,6 +18,9 @@ struct VulkanDeviceOptions {
     // Index into the physical devices Vulkan reports (listVulkanDevices order); -1 picks the
     // first discrete GPU, else the first device of any kind (lavapipe on a machine without GPU).
     int deviceIndex = -1;
+    // A submission the device has not finished after this long fails, naming a hung device,
+    // and the device takes no more work (its queue may still hold the submission).
+    double submitTimeoutSeconds = 600;
 };
 
 struct VulkanDeviceInfo {
@@ -87,7 +90,9 @@ public:
     uint64_t peakBytes() const { return peakBytes_; }
     uint32_t allocationCount() const { return allocationCount_; }
 
-    // Records commands into a fresh command buffer, submits it to the compute queue and waits.
+    // Records commands into a fresh command buffer, submits it to the compute queue and waits
+    // (at most options.submitTimeoutSeconds). After a lost device or a timeout every later
+    // submit fails at once with the same message: the render stops instead of hanging.
     Status submit(const std::function<void(VkCommandBuffer)>& record);
 
 private:
@@ -106,6 +111,8 @@ private:
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkPhysicalDeviceMemoryProperties memoryProperties_{};
+    double submitTimeoutSeconds_ = 600;
+    std::string failure_;  // set once the device is lost or hung
     uint64_t liveBytes_ = 0;
     uint64_t peakBytes_ = 0;
     uint32_t allocationCount_ = 0;
