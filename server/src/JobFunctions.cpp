@@ -309,6 +309,10 @@ std::string Service::metricsText() {
         "Largest device memory a job's render held since the server started (0 before the first job "
         "and with the embree backend).",
         std::to_string(metrics_.peakDeviceBytes));
+    add("vastray_device_memory_held_bytes", "gauge",
+        "Device memory the open scenes hold now (each pool is allocated when its scene opens); at most "
+        "the budget.",
+        std::to_string(renderer_->deviceBytesHeld()));
     add("vastray_device_memory_budget_bytes", "gauge",
         "Device memory pool (--memory-budget): the most one job may use, and the most the open scenes "
         "hold together.",

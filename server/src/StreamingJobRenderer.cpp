@@ -8,6 +8,7 @@
 // that does not fit beside the others closes the least recently used ones first.
 #include <algorithm>
 #include <memory>
+#include <atomic>
 #include <mutex>
 #include <vector>
 
@@ -28,6 +29,7 @@ public:
           device_(std::move(device)) {}
 
     std::string name() const override { return "vulkan"; }
+    uint64_t deviceBytesHeld() const override { return held_; }
     std::string deviceDescription() const override {
         return "Vulkan device " + (deviceIndex_ >= 0 ? "[" + std::to_string(deviceIndex_) + "] " : std::string()) +
                device_->info().name;
@@ -38,6 +40,7 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         if (cancel) return Status::error("cancelled before loading the scene");
         auto open = openScene(request);
+        held_ = deviceInUse();
         if (!open) return open.status();
         StreamingScene* scene = *open;
         StreamingStats streaming;
@@ -126,6 +129,7 @@ private:
     }
 
     std::mutex mutex_;
+    std::atomic<uint64_t> held_{0};  // deviceInUse() after the last openScene, for /metrics
     const uint64_t hostCacheBytes_;
     const uint64_t devicePoolBytes_;
     const int deviceIndex_;

@@ -81,6 +81,7 @@ TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
     auto before = http().Get("/metrics");
     ASSERT_TRUE(before);
     EXPECT_EQ(metricValue(before->body, "vastray_device_memory_peak_bytes", "gauge"), 0) << "no job ran yet";
+    EXPECT_EQ(metricValue(before->body, "vastray_device_memory_held_bytes", "gauge"), 0) << "no scene open yet";
     const std::string sceneId = uploadSphere()["id"];
     auto first = submit(smallJob(sceneId));
     const json a = waitForState(json::parse(first->body)["id"], "SUCCEEDED");
@@ -107,6 +108,9 @@ TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
     EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_peak_bytes", "gauge"), double(peak))
         << metrics->body;
     EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_budget_bytes", "gauge"), double(budget))
+        << metrics->body;
+    // The scene stays open after its jobs: its pool is still held (one scene: the jobs' peak).
+    EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_held_bytes", "gauge"), double(peak))
         << metrics->body;
 
     // The stats are stored with the job: a restart reports the same figures.

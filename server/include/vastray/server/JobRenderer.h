@@ -55,6 +55,9 @@ public:
     virtual std::string name() const = 0;
     // What it renders on, for the start-up message ("Vulkan device [0] NAME"); may be empty.
     virtual std::string deviceDescription() const { return ""; }
+    // Device memory held now by what stays open between jobs (the open scenes' pools); safe to
+    // call while a job renders.
+    virtual uint64_t deviceBytesHeld() const { return 0; }
     virtual Result<RenderImage> render(const JobRenderRequest& request, const JobProgressCallback& progress,
                                        const std::atomic<bool>& cancel, JobRenderStats* stats) = 0;
 };
