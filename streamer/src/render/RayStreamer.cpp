@@ -287,6 +287,9 @@ void RayStreamer::beginRender() {
 // A scene whose chunks all have slots, on a backend that walks whole rays: one backend call per
 // batch instead of a host round trip per cell. Once some chunk is resident, every ray goes to
 // the walk first; those that reach a chunk without a slot (cold renders) take the queued path.
+// The walk takes the closest-hit rays first and the shadow rays after them, as the integrator
+// lays a stream out (a bounce's rays, then the previous bounce's shadow rays); a stream laid out
+// otherwise takes the queued path.
 Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
                           std::vector<StreamResult>& results) {
     if (!anyHit.empty() && anyHit.size() != rays.size()) return Status::error("trace: one any-hit flag per ray");
@@ -297,11 +300,14 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8
         if (chunk != kEmptyCell) seenThisStream_[chunk] = 1;
     const bool someResident =
         std::any_of(slotChunk_.begin(), slotChunk_.end(), [](uint32_t chunk) { return chunk != kEmptyCell; });
-    if (!inOrder_ || backend_.maxWalkRays() == 0 || !someResident) return traceQueued(rays, anyHit, results);
+    const auto closest = [](uint8_t flag) { return flag == 0; };
+    if (!inOrder_ || backend_.maxWalkRays() == 0 || !someResident ||
+        !std::is_partitioned(anyHit.begin(), anyHit.end(), closest))
+        return traceQueued(rays, anyHit, results);
 
-    anyHit_ = anyHit;
+    const size_t closestRays = size_t(std::partition_point(anyHit.begin(), anyHit.end(), closest) - anyHit.begin());
     results.resize(rays.size());  // every element is written below
-    VASTRAY_TRY(traceWalking(rays, results));
+    VASTRAY_TRY(traceWalking(rays, anyHit.empty() ? rays.size() : closestRays, results));
     if (incomplete_.empty()) return Status::ok();
     std::vector<StreamRay> subset(incomplete_.size());
     subsetAnyHit_.clear();
@@ -314,42 +320,20 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8
     return Status::ok();
 }
 
-// The backend walks the closest-hit rays, then the shadow rays, in batches it can take. Rays
-// of one kind that lie together in the stream (the integrator puts a bounce's closest-hit rays
-// first and the previous bounce's shadow rays after them) go as they are, their records straight
-// into results; others are gathered and scattered.
-Status RayStreamer::traceWalking(std::span<const StreamRay> rays, std::vector<StreamResult>& results) {
+// The backend walks rays [0, closestRays) as closest-hit rays and the rest as shadow rays, in
+// batches it can take, writing their records straight into results.
+Status RayStreamer::traceWalking(std::span<const StreamRay> rays, size_t closestRays,
+                                 std::vector<StreamResult>& results) {
     incomplete_.clear();
     walkTouched_.assign(package_.chunks.size(), 0);
     const uint32_t capacity = backend_.maxWalkRays();
     const Clock::time_point start = Clock::now();
     for (const bool shadow : {false, true}) {
-        auto ofKind = [&](uint8_t flag) { return (flag != 0) == shadow; };
-        size_t first = 0, count = shadow ? 0 : rays.size();
-        bool together = true;
-        if (!anyHit_.empty()) {
-            first = size_t(std::find_if(anyHit_.begin(), anyHit_.end(), ofKind) - anyHit_.begin());
-            count = size_t(std::count_if(anyHit_.begin(), anyHit_.end(), ofKind));
-            together = count == 0 || std::all_of(anyHit_.begin() + first, anyHit_.begin() + first + count, ofKind);
-        }
-        if (together) {
-            for (size_t done = 0; done < count; done += capacity) {
-                const size_t n = std::min<size_t>(capacity, count - done);
-                VASTRAY_TRY(backend_.walk(rays.subspan(first + done, n), shadow, chunkSlot_,
-                                          std::span<StreamResult>(results).subspan(first + done, n), walkTouched_));
-            }
-            continue;
-        }
-        walkGroup_.clear();
-        for (uint32_t i = 0; i < rays.size(); ++i)
-            if (ofKind(anyHit_[i])) walkGroup_.push_back(i);
-        for (size_t done = 0; done < walkGroup_.size(); done += capacity) {
-            const size_t n = std::min<size_t>(capacity, walkGroup_.size() - done);
-            const uint32_t* group = walkGroup_.data() + done;
-            walkRays_.resize(n), walkResults_.resize(n);
-            for (size_t k = 0; k < n; ++k) walkRays_[k] = rays[group[k]];
-            VASTRAY_TRY(backend_.walk(walkRays_, shadow, chunkSlot_, walkResults_, walkTouched_));
-            for (size_t k = 0; k < n; ++k) results[group[k]] = walkResults_[k];
+        const size_t first = shadow ? closestRays : 0, count = shadow ? rays.size() - closestRays : closestRays;
+        for (size_t done = 0; done < count; done += capacity) {
+            const size_t n = std::min<size_t>(capacity, count - done);
+            VASTRAY_TRY(backend_.walk(rays.subspan(first + done, n), shadow, chunkSlot_,
+                                      std::span<StreamResult>(results).subspan(first + done, n), walkTouched_));
         }
     }
     stats_.traceSeconds += secondsSince(start);

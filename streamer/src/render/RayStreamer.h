@@ -43,7 +43,7 @@ private:
 
     Status traceQueued(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
                        std::vector<StreamResult>& results);
-    Status traceWalking(std::span<const StreamRay> rays, std::vector<StreamResult>& results);
+    Status traceWalking(std::span<const StreamRay> rays, size_t closestRays, std::vector<StreamResult>& results);
     void walkCells(std::span<const StreamRay> rays);
     CellVisit& cellAt(uint32_t ray, uint32_t index) { return arenas_[ray / kBlockRays][index]; }
     bool prunable(const CellVisit& cell, uint32_t ray, const std::vector<StreamResult>& results) const;
@@ -90,10 +90,8 @@ private:
     std::vector<Pending> batchOwners_;
     std::vector<Pending> taken_;
     // The backend's whole-ray walk (scene fits and the backend has one): rays it could not
-    // finish, and its scratch.
-    std::vector<uint32_t> incomplete_, walkGroup_;
-    std::vector<StreamRay> walkRays_;
-    std::vector<StreamResult> walkResults_;
+    // finish, and the chunks it traced.
+    std::vector<uint32_t> incomplete_;
     std::vector<uint8_t> walkTouched_;
     std::vector<uint8_t> subsetAnyHit_;
     std::vector<StreamResult> subsetResults_;
