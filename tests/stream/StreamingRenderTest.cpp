@@ -342,6 +342,28 @@ TEST(StreamingRender, SecondRenderOfAnOpenSceneLoadsNothing) {
     EXPECT_FALSE((*scene2)->render(o)) << "primid needs primitive ids the scene was opened without";
 }
 
+// The Vulkan backend checks a chunk the package reader did not (a hand-made one) before any
+// of it reaches the device; the reader's chunks come checked and load as they are.
+TEST(StreamingRender, BackendRefusesAnUncheckedChunkWithBadIndices) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const ChunkAttributes attributes{};
+    auto backend = gpu::createVulkanChunkBackend(device(), (*reader)->info(), attributes, 64ull << 20);
+    ASSERT_TRUE(backend) << backend.message();
+    auto chunk = (*reader)->readChunk(2);
+    ASSERT_TRUE(chunk) << chunk.message();
+    EXPECT_TRUE(chunk->validated) << "the reader checks every index, reference and node";
+    EXPECT_TRUE((*backend)->load(0, *chunk, {}).isOk());
+    DecodedChunk made = std::move(chunk).value();
+    made.id = 5;
+    made.validated = false;
+    made.indices[7] = uint32_t(made.positions.size());
+    const Status refused = (*backend)->load(1, made, {});
+    ASSERT_FALSE(refused.isOk());
+    EXPECT_NE(refused.message().find("chunk 5: index 7"), std::string::npos) << refused.message();
+}
+
 // An open scene that fits is traced by the backend's whole-ray walk (stream_walk.comp) once
 // its chunks are resident: the second render walks every ray, and gives what the host's
 // in-order queues give (the CPU backend has no walk) bit for bit, cost included, with the

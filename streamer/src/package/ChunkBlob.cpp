@@ -142,6 +142,7 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     for (uint32_t m : chunk.materialIds)
         if (m >= materialCount) return Status::error("material id " + std::to_string(m) + " out of range");
     VASTRAY_TRY(validateKdTree(chunk.kdTree, h.triangleCount));
+    chunk.validated = true;
     return chunk;
 }
 

@@ -90,6 +90,9 @@ struct DecodedChunk {
     std::vector<uint32_t> primitiveIds; // per triangle: its index in the imported mesh
     std::vector<uint32_t> materialIds;  // per triangle, or empty: material 0
     KdTree kdTree;                      // over this chunk's triangles
+    // Set by the package reader once every index, KD reference and node is checked to lie in
+    // range (backends then skip their own pass over the arrays); false for a hand-made chunk.
+    bool validated = false;
     uint64_t residentBytes() const;
 };
 
