@@ -50,6 +50,27 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
         nullptr, &s);
 }
 
+// Two renders of one open scene at this budget: the first loads the chunks (its later bounces
+// are walked whole on the device once chunks are resident), the second finds every chunk
+// resident and walks all its rays (stream_walk.comp). Returns both images.
+inline Result<std::pair<RenderImage, RenderImage>> renderVulkanColdAndWarm(const std::string& path,
+                                                                           const RenderOptions& options, uint64_t budget,
+                                                                           StreamingStats* cold, StreamingStats* warm) {
+    auto reader = PackageReader::open(path);
+    if (!reader) return reader.status();
+    auto scene = StreamingScene::open(**reader, requiredAttributes((*reader)->info(), options), StreamingOptions{},
+                                      [&](const PackageInfo& info, const ChunkAttributes& a) {
+                                          return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget);
+                                      });
+    if (!scene) return scene.status();
+    cold->memoryBudgetBytes = warm->memoryBudgetBytes = budget;
+    auto first = (*scene)->render(options, nullptr, cold);
+    if (!first) return first.status();
+    auto second = (*scene)->render(options, nullptr, warm);
+    if (!second) return second.status();
+    return std::make_pair(std::move(first).value(), std::move(second).value());
+}
+
 // The Embree reference of the same package (without the streaming-only AOVs).
 inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions options) {
     auto scene = loadRenderScene(path);

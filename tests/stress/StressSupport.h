@@ -8,6 +8,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -52,6 +53,7 @@ inline void figure(const std::string& caseName, const std::string& backend, cons
 using test::budgetForSlots;
 using test::renderEmbree;
 using test::renderVulkan;
+using test::renderVulkanColdAndWarm;
 inline gpu::VulkanDevice& device() { return test::sharedVulkanDevice(); }
 
 inline TriangleMesh toTriangleMesh(const Mesh& m) {
@@ -291,18 +293,34 @@ inline std::string packageFromMesh(const std::string& name, const Mesh& mesh,
 }
 
 // A render of the streaming renderer at an ample and at a two-slot budget, and the Embree
-// reference of the same package.
+// reference of the same package. The ample budget renders twice in one open scene: the second
+// render walks every ray whole on the device (stream_walk.comp) and must equal the first bit
+// for bit, so every streaming stress case also checks the walk.
 struct StreamingTrio {
     RenderImage reference, ample, tight;
-    StreamingStats ampleStats, tightStats;
+    StreamingStats ampleStats, warmStats, tightStats;
 };
 
 inline std::optional<StreamingTrio> renderTrio(const std::string& path, const RenderOptions& o) {
     StreamingTrio trio;
     auto reference = renderEmbree(path, o);
     EXPECT_TRUE(reference) << reference.message();
-    auto ample = renderVulkan(path, o, 256ull << 20, &trio.ampleStats);
-    EXPECT_TRUE(ample) << ample.message();
+    auto renders = renderVulkanColdAndWarm(path, o, 256ull << 20, &trio.ampleStats, &trio.warmStats);
+    EXPECT_TRUE(renders) << renders.message();
+    std::optional<RenderImage> ample;
+    if (renders) {
+        const RenderImage &cold = renders->first, &warm = renders->second;
+        auto same = [](const auto& a, const auto& b) {
+            return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+        };
+        EXPECT_TRUE(same(cold.rgb, warm.rgb) && same(cold.alpha, warm.alpha) && same(cold.depth, warm.depth) &&
+                    same(cold.normal, warm.normal) && same(cold.primId, warm.primId) &&
+                    same(cold.chunkId, warm.chunkId) && same(cold.cost, warm.cost))
+            << path << ": the walked render differs from the first";
+        EXPECT_GT(trio.warmStats.walkedRays, 0u) << path;
+        EXPECT_EQ(trio.warmStats.walkSeconds, 0.0) << path << ": the warm render walked on the host";
+        ample = std::move(renders->first);
+    }
     const uint64_t tight = budgetForSlots(path, 2, o.aovs);
     EXPECT_GT(tight, 0u) << path;
     auto small = renderVulkan(path, o, tight, &trio.tightStats);
