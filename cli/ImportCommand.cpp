@@ -19,6 +19,7 @@ struct ImportArgs {
     uint32_t quantizeBits = 20;
     uint32_t threads = 0;
     int dracoSpeed = 7;
+    double residentBytesPerTriangle = 0;
     std::string codec = "draco";
     bool doubleSided = false, singleSided = false;
     std::string progress = "auto";
@@ -38,6 +39,9 @@ Result<PackageBuildOptions> buildOptions(const ImportArgs& args) {
     options.threads = args.threads;
     if (args.dracoSpeed < 0 || args.dracoSpeed > 10) return Status::error("--draco-speed must be 0..10");
     options.dracoSpeed = args.dracoSpeed;
+    if (!(args.residentBytesPerTriangle >= 0))
+        return Status::error("--resident-bytes-per-triangle must be 0 (no cap) or positive");
+    options.residentBytesPerTriangle = args.residentBytesPerTriangle;
     auto codec = parseGeometryCodec(args.codec);
     if (!codec) return Status::error("--codec: " + codec.message());
     options.codec = *codec;
@@ -100,6 +104,11 @@ CommandRun addImportCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--draco-speed", args->dracoSpeed,
                     "Draco trade-off: 0 = smallest package, slowest import; 10 = fastest import, largest")
+        ->capture_default_str();
+    cmd->add_option("--resident-bytes-per-triangle", args->residentBytesPerTriangle,
+                    "cap each chunk's device bytes per triangle (KD-tree, positions, indices) by cutting its "
+                    "KD-tree shallower (no deeper cut than log2(triangles) - 3): less memory, more triangle tests "
+                    "per ray, same hits; 0 = no cap")
         ->capture_default_str();
     cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")

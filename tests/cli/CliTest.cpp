@@ -117,6 +117,8 @@ TEST_F(Cli, BadArgumentsAreClearErrors) {
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --draco-speed 11", "--draco-speed must be 0..10"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --progress loud", "--progress"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --codec zstd", "--codec"},
+        {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --resident-bytes-per-triangle -3",
+         "--resident-bytes-per-triangle must be 0 (no cap) or positive"},
         {"import " + tmp("missing.ply") + " -o " + tmp("x.vast"), "missing.ply"},
         {"import " + tmp("terrain.ply") + " -o " + tmp("x.vast") + " --double-sided --single-sided", "excludes"},
         {"generate cube --triangles 100 -o " + tmp("x.ply"), "sphere"},

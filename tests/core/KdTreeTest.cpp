@@ -316,5 +316,37 @@ TEST(KdTree, DepthNeverExceedsCap) {
     EXPECT_EQ(stats.references, normal.leafRefs.size());
 }
 
+// A tree cut at any depth still finds every hit brute force finds (same triangle, same t), holds
+// fewer nodes and no more references, and each cut leaf holds its subtree's triangles once,
+// ascending; cutting below the tree's depth changes nothing.
+TEST(KdTree, TruncatedTreesFindTheSameHits) {
+    for (const Mesh& m : {makeIcosphere(3, {0.25f, -0.5f, 0.125f}, 2.0f), makeSoup(2000, 5)}) {
+        const KdTree full = m.build();
+        const KdTree same = truncateKdTree(full, full.maxDepth);
+        ASSERT_EQ(same.nodes.size(), full.nodes.size());
+        EXPECT_EQ(std::memcmp(same.nodes.data(), full.nodes.data(), full.nodes.size() * sizeof(KdNode)), 0);
+        EXPECT_EQ(same.leafRefs, full.leafRefs);
+        std::mt19937 rng(7);
+        const std::vector<Ray> rays = randomRays(rng, 3000, 6.0f), planes = splitPlaneRays(rng, full, 2000, 6.0f);
+        for (uint32_t depth : {0u, 2u, full.maxDepth / 2, full.maxDepth - 1}) {
+            const KdTree cut = truncateKdTree(full, depth);
+            EXPECT_EQ(checkStructure(cut, m.count()), std::min(depth, full.maxDepth));
+            EXPECT_LT(cut.nodes.size(), full.nodes.size()) << depth;
+            EXPECT_LE(cut.leafRefs.size(), full.leafRefs.size()) << depth;
+            for (const KdNode& n : cut.nodes) {
+                if (!n.isLeaf()) continue;
+                const uint32_t* refs = cut.leafRefs.data() + n.firstRef();
+                for (uint32_t i = 1; i < n.primitiveCount(); ++i) EXPECT_NE(refs[i - 1], refs[i]);
+            }
+            EXPECT_EQ(countMismatches(m, cut, rays), 0) << depth;
+            EXPECT_EQ(countMismatches(m, cut, planes), 0) << depth;
+        }
+        const KdTree root = truncateKdTree(full, 0);
+        ASSERT_EQ(root.nodes.size(), 1u);
+        EXPECT_EQ(root.leafRefs.size(), m.count()) << "the root leaf holds every triangle once";
+        EXPECT_TRUE(std::is_sorted(root.leafRefs.begin(), root.leafRefs.end()));
+    }
+}
+
 }  // namespace
 }  // namespace vastray

@@ -342,6 +342,46 @@ TEST(StreamingRender, SecondRenderOfAnOpenSceneLoadsNothing) {
     EXPECT_FALSE((*scene2)->render(o)) << "primid needs primitive ids the scene was opened without";
 }
 
+// import --resident-bytes-per-triangle: the chunk trees are cut shallower until each chunk's
+// device footprint fits (or the depth floor is reached); the image is the same, only the work
+// per ray and the partition (more triangles fit a chunk) change.
+TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
+    GenerateOptions generate;
+    generate.kind = GeneratorKind::City;
+    generate.triangles = 30000;
+    const std::string ply = tmpPath("city-cap.ply");
+    ASSERT_TRUE(generateToPly(generate, ply));
+    auto imported = importMesh(ply);
+    ASSERT_TRUE(imported) << imported.message();
+    const std::string uncapped = packageFromMesh("city-cap-none", imported->mesh, 64 << 10);
+    const std::string path = tmpPath("city-cap-32.vast");
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.residentBytesPerTriangle = 32;
+    options.progress = Progress::Mode::None;
+    ASSERT_TRUE(buildPackage(imported->mesh, path, options));
+    auto bytesPerTriangle = [](const std::string& package) {
+        auto reader = PackageReader::open(package);
+        EXPECT_TRUE(reader) << reader.message();
+        double worst = 0;
+        for (const ChunkInfo& c : (*reader)->info().chunks)
+            worst = std::max(worst, double(c.kdNodeCount * 8 + c.kdRefCount * 4 + c.vertexCount * 12 + c.triangleCount * 12) /
+                                        c.triangleCount);
+        return worst;
+    };
+    EXPECT_GT(bytesPerTriangle(uncapped), 32.0) << "the city's trees must need cutting for this test to mean anything";
+    EXPECT_LE(bytesPerTriangle(path), 32.0);
+    const RenderOptions o = smallRender(kAllAovs);
+    auto a = renderVulkan(uncapped, o, 64ull << 20);
+    ASSERT_TRUE(a) << a.message();
+    auto b = renderVulkan(path, o, 64ull << 20);
+    ASSERT_TRUE(b) << b.message();
+    EXPECT_TRUE(sameBits(a->rgb, b->rgb)) << "beauty differs";
+    EXPECT_TRUE(sameBits(a->depth, b->depth)) << "depth differs";
+    EXPECT_TRUE(sameBits(a->normal, b->normal)) << "normal differs";
+    EXPECT_TRUE(sameBits(a->primId, b->primId)) << "primid differs";
+}
+
 // The Vulkan backend checks a chunk the package reader did not (a hand-made one) before any
 // of it reaches the device; the reader's chunks come checked and load as they are.
 TEST(StreamingRender, BackendRefusesAnUncheckedChunkWithBadIndices) {

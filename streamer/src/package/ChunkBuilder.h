@@ -19,6 +19,7 @@ struct ChunkSource {
     const QuantizationGrid* grid;
     int dracoSpeed = 7;
     GeometryCodec codec = GeometryCodec::Draco;
+    double residentBytesPerTriangle = 0;  // PackageBuildOptions::residentBytesPerTriangle
 };
 
 struct BuiltChunk {

@@ -229,6 +229,8 @@ Status validateOptions(const PackageBuildOptions& options, const TriangleMesh& m
     if (options.quantizeBits > kMaxQuantizeBits)
         return Status::error("--quantize-bits " + std::to_string(options.quantizeBits) + " is above the maximum of " +
                              std::to_string(kMaxQuantizeBits) + " (0 = lossless)");
+    if (!(options.residentBytesPerTriangle >= 0) || options.residentBytesPerTriangle > 1e6)
+        return Status::error("resident bytes per triangle must be 0 (no cap) or a positive number");
     if (options.dracoSpeed < 0 || options.dracoSpeed > 10)
         return Status::error("Draco speed " + std::to_string(options.dracoSpeed) + " is outside 0..10");
     if (mesh.triangleCount() == 0) return Status::error("the mesh has no triangles");
@@ -258,7 +260,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
 
     ChunkSource source{mesh.positions.data(), scene.words.data(), mesh.indices.data(),
                        mesh.materials.size() > 1 && !mesh.materialIds.empty() ? mesh.materialIds.data() : nullptr,
-                       &grid, options.dracoSpeed, options.codec};
+                       &grid, options.dracoSpeed, options.codec, options.residentBytesPerTriangle};
     PackageBuildJob job(source, options, double(mesh.positions.size()) / double(mesh.triangleCount()),
                         scene.triangles.size());
     std::unique_ptr<BuildNode> root = job.run(scene.triangles, scene.bounds);

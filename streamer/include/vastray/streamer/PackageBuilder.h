@@ -19,6 +19,10 @@ struct PackageBuildOptions {
     GeometryCodec codec = GeometryCodec::Draco;  // chunk geometry codec
     int dracoSpeed = 7;                     // Draco's 0 (smallest, slowest) … 10 (fastest, largest); 7: the
                                             // bytes of 5, faster (docs/PERF_NOTES.md, import item 8)
+    // Cap on a chunk's device footprint per triangle (KD nodes and references, positions,
+    // indices): a chunk tree over it is cut shallower (truncateKdTree), down to depth
+    // log2(triangles) - 3 at most. Hits are unchanged; rays test more triangles. 0: no cap.
+    double residentBytesPerTriangle = 0;
     bool defaultDoubleSided = true;         // recorded in the header for tools
     Progress::Mode progress = Progress::Mode::Auto;
     uint64_t degenerateDropped = 0;         // from the importer's report, recorded in the header
