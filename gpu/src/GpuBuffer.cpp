@@ -51,6 +51,12 @@ Result<GpuBuffer> VulkanDevice::createBuffer(uint64_t bytes, MemoryUse use) {
 }
 
 void VulkanDevice::freeBuffer(GpuBuffer& buffer) {
+    // After a timed-out submission the device may still write this memory: it is released only
+    // once the device is idle, when the VulkanDevice is destroyed.
+    if (!failure_.empty()) {
+        if (buffer.memory_) abandoned_.push_back({buffer.buffer_, buffer.memory_});
+        return;
+    }
     if (buffer.mapped_) vkUnmapMemory(device_, buffer.memory_);
     if (buffer.buffer_) vkDestroyBuffer(device_, buffer.buffer_, nullptr);
     if (buffer.memory_) {

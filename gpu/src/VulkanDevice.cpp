@@ -156,6 +156,10 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, uint32_t que
 VulkanDevice::~VulkanDevice() {
     if (device_) {
         vkDeviceWaitIdle(device_);
+        for (const auto& [buffer, memory] : abandoned_) {
+            vkDestroyBuffer(device_, buffer, nullptr);
+            vkFreeMemory(device_, memory, nullptr);  // unmapped implicitly
+        }
         if (fence_) vkDestroyFence(device_, fence_, nullptr);
         if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
         vkDestroyDevice(device_, nullptr);
@@ -188,7 +192,10 @@ Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) 
         VkDevice device;
         VkCommandPool pool;
         VkCommandBuffer cmd;
-        ~FreeOnExit() { vkFreeCommandBuffers(device, pool, 1, &cmd); }
+        bool pending = false;  // still executing (timed out): freed with the pool, once idle
+        ~FreeOnExit() {
+            if (!pending) vkFreeCommandBuffers(device, pool, 1, &cmd);
+        }
     } freeOnExit{device_, commandPool_, cmd};
     auto begin = vkStruct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -212,6 +219,7 @@ Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) 
     const double limit = std::clamp(submitTimeoutSeconds_, 0.0, 1e9);
     const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, uint64_t(limit * 1e9));
     if (waited == VK_TIMEOUT) {
+        freeOnExit.pending = true;
         char seconds[32];
         std::snprintf(seconds, sizeof seconds, "%g", limit);
         failure_ = info_.name + ": the device did not finish a submission within " + seconds +

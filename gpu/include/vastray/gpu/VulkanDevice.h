@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vastray/core/Result.h"
@@ -113,6 +114,7 @@ private:
     VkPhysicalDeviceMemoryProperties memoryProperties_{};
     double submitTimeoutSeconds_ = 600;
     std::string failure_;  // set once the device is lost or hung
+    std::vector<std::pair<VkBuffer, VkDeviceMemory>> abandoned_;  // freed after failure_: released when idle
     uint64_t liveBytes_ = 0;
     uint64_t peakBytes_ = 0;
     uint32_t allocationCount_ = 0;
