@@ -7,6 +7,7 @@
 //   stream_render_bench [--kind city] [--triangles N] [--chunk-size 16MiB] [--resolution WxH]
 //                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
 //                       [--codec draco|meshopt] [--repeat N] [--resident-only] [--keep] [--out FILE.md]
+//                       [--resident-bytes-per-triangle B]  (import option: cap the chunks' device bytes)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -42,6 +43,7 @@ struct Args {
     int repeat = 1;
     bool keep = false;
     bool residentOnly = false;  // only the resident rows (for profiling the host side)
+    double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -84,6 +86,7 @@ Args parseArgs(int argc, char** argv) {
             if (a.repeat < 1) fail("--repeat must be >= 1");
         } else if (flag == "--keep") a.keep = true;
         else if (flag == "--resident-only") a.residentOnly = true;
+        else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else fail("unknown flag " + flag);
     }
     return a;
@@ -92,7 +95,9 @@ Args parseArgs(int argc, char** argv) {
 std::string makePackage(const Args& a, double* importSeconds) {
     const std::string path = (std::filesystem::temp_directory_path() /
                               ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + "-" +
-                               geometryCodecName(a.codec) + ".vast"))
+                               geometryCodecName(a.codec) +
+                               "-cap" + std::to_string(int(a.residentBytesPerTriangle)) +
+                               ".vast"))
                                  .string();
     GenerateOptions g;
     auto kind = parseGeneratorKind(a.kind);
@@ -104,6 +109,7 @@ std::string makePackage(const Args& a, double* importSeconds) {
     PackageBuildOptions options;
     options.chunkSizeBytes = a.chunkSize;
     options.codec = a.codec;
+    options.residentBytesPerTriangle = a.residentBytesPerTriangle;
     options.progress = Progress::Mode::None;
     const auto start = std::chrono::steady_clock::now();
     auto report = buildPackage(std::move(mesh).value(), path, options);

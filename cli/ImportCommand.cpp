@@ -19,7 +19,7 @@ struct ImportArgs {
     uint32_t quantizeBits = 20;
     uint32_t threads = 0;
     int dracoSpeed = 7;
-    double residentBytesPerTriangle = 0;
+    double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;
     std::string codec = "draco";
     bool doubleSided = false, singleSided = false;
     std::string progress = "auto";
@@ -107,8 +107,9 @@ CommandRun addImportCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--resident-bytes-per-triangle", args->residentBytesPerTriangle,
                     "cap each chunk's device bytes per triangle (KD-tree, positions, indices) by cutting its "
-                    "KD-tree shallower (no deeper cut than log2(triangles) - 3): less memory, more triangle tests "
-                    "per ray, same hits; 0 = no cap")
+                    "KD-tree shallower (no deeper cut than log2(triangles) - 3; chunks whose positions and "
+                    "indices alone exceed it keep their tree): less memory, more triangle tests per ray, same "
+                    "hits; 0 = no cap")
         ->capture_default_str();
     cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")

@@ -80,13 +80,14 @@ inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions o
 }
 
 // The smallest budget (in 4 KiB steps) that gives exactly `slots` chunk slots to a render with
-// these AOVs, or 0.
+// these AOVs, or 0 (also when the package has fewer chunks than that).
 inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs) {
     auto reader = PackageReader::open(path);
     if (!reader) return 0;
     RenderOptions options;
     options.aovs = aovs;
     const ChunkAttributes a = requiredAttributes((*reader)->info(), options);
+    if ((*reader)->info().chunks.size() < slots) return 0;  // never that many slots
     auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40);
     if (!minimum) return 0;
     for (uint64_t budget = minimum->minimumBytes;; budget += 4 * 1024) {

@@ -342,9 +342,9 @@ TEST(StreamingRender, SecondRenderOfAnOpenSceneLoadsNothing) {
     EXPECT_FALSE((*scene2)->render(o)) << "primid needs primitive ids the scene was opened without";
 }
 
-// import --resident-bytes-per-triangle: the chunk trees are cut shallower until each chunk's
-// device footprint fits (or the depth floor is reached); the image is the same, only the work
-// per ray and the partition (more triangles fit a chunk) change.
+// import --resident-bytes-per-triangle (default 32): the chunk trees are cut shallower until
+// each chunk's device footprint fits (or the depth floor is reached); the image is the same as
+// with no cap (0), only the work per ray and the partition (more triangles fit a chunk) change.
 TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
     GenerateOptions generate;
     generate.kind = GeneratorKind::City;
@@ -353,12 +353,13 @@ TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
     ASSERT_TRUE(generateToPly(generate, ply));
     auto imported = importMesh(ply);
     ASSERT_TRUE(imported) << imported.message();
-    const std::string uncapped = packageFromMesh("city-cap-none", imported->mesh, 64 << 10);
-    const std::string path = tmpPath("city-cap-32.vast");
+    const std::string uncapped = tmpPath("city-cap-none.vast"), path = tmpPath("city-cap-32.vast");
     PackageBuildOptions options;
     options.chunkSizeBytes = 64 << 10;
-    options.residentBytesPerTriangle = 32;
     options.progress = Progress::Mode::None;
+    options.residentBytesPerTriangle = 0;
+    ASSERT_TRUE(buildPackage(imported->mesh, uncapped, options));
+    options.residentBytesPerTriangle = 32;
     ASSERT_TRUE(buildPackage(imported->mesh, path, options));
     auto bytesPerTriangle = [](const std::string& package) {
         auto reader = PackageReader::open(package);

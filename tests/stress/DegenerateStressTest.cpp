@@ -186,7 +186,8 @@ TEST(Degenerate, StreamingSheets) {
         camera.fovYDegrees = 2.0f * std::atan(0.95f * half) * 180.0f / kPi;
         // Four copies side by side (the one in view, three beside it) so that the package has
         // several chunks and the two-slot render streams; the fan's 1000 needles meet in one
-        // point, so a chunk must hold a whole fan.
+        // point, so a chunk must hold a whole fan (~32 KB at the default 32 resident bytes per
+        // triangle: 64 KiB chunks).
         Mesh scene = sheet.mesh;
         for (int copy = 1; copy < 4; ++copy) {
             const Vec3f shift{2.5f * float(copy % 2), 2.5f * float(copy / 2), 0};
@@ -194,7 +195,7 @@ TEST(Degenerate, StreamingSheets) {
             for (const Vec3f& p : sheet.mesh.positions) scene.positions.push_back(p + shift);
             for (uint32_t i : sheet.mesh.indices) scene.indices.push_back(base + i);
         }
-        const std::string path = packageFromMesh("stream-" + name, scene, 512 << 10);
+        const std::string path = packageFromMesh("stream-" + name, scene, 64 << 10);
         const std::optional<StreamingTrio> trio = renderTrio(path, aimedRender(63, 63, camera));
         ASSERT_TRUE(trio);
         figure("stream-" + name, "embree", "rays=%u leaks=%llu", 63 * 63,

@@ -178,11 +178,12 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     start = std::chrono::steady_clock::now();
     const uint32_t triangles = uint32_t(refs.size());
     KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles, compactKdBuildOptions(triangles));
-    if (source.residentBytesPerTriangle > 0) {
+    const uint64_t fixedBytes = positions.size() * 12 + uint64_t(triangles) * 12;
+    const double limit = source.residentBytesPerTriangle * triangles;
+    if (source.residentBytesPerTriangle > 0 && double(fixedBytes) < limit) {
         // Cut the tree a level at a time until the device footprint fits, but never shallower
         // than log2(N) - 3 (leaves of ~10+ triangles): past that rays pay more than memory saves.
-        const uint64_t fixedBytes = positions.size() * 12 + uint64_t(triangles) * 12;
-        const double limit = source.residentBytesPerTriangle * triangles;
+        // A chunk whose positions and indices alone exceed the cap (a soup) keeps its tree.
         const uint32_t floor = uint32_t(std::max(1, int(std::bit_width(triangles)) - 4));
         while (double(fixedBytes + kdTree.nodes.size() * sizeof(KdNode) + kdTree.leafRefs.size() * 4) > limit &&
                kdTree.maxDepth > floor)
