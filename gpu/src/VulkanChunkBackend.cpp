@@ -124,14 +124,9 @@ public:
         const auto start = std::chrono::steady_clock::now();
         const KdTree& tree = chunk.kdTree;
         const uint64_t triangles = chunk.indices.size() / 3;
-        // A chunk is validated the first time it is loaded; reloads of the same chunk (one
-        // backend serves one immutable package) skip the pass over its arrays, which cost about
-        // as much as copying them.
-        if (chunk.id >= validated_.size()) validated_.resize(size_t(chunk.id) + 1, 0);
-        if (!validated_[chunk.id]) {
-            VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
-            validated_[chunk.id] = 1;
-        }
+        // Constant time for the package reader's chunks (DecodedChunk::validated); a pass over
+        // the arrays only for hand-made ones.
+        VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
         const ChunkLayout layout =
             chunkLayout(tree.nodes.size(), tree.leafRefs.size(), chunk.positions.size(), triangles, attributes_);
         if (layout.totalBytes > plan_.slotBytes)
@@ -301,7 +296,6 @@ private:
     uint32_t topNodeCount_, chunkCount_;
     std::unique_ptr<ComputePipeline> pipeline_, walkPipeline_;
     std::vector<GpuBuffer> slots_;
-    std::vector<uint8_t> validated_;  // by chunk id: passed validate() once
     GpuBuffer table_, rays_, hits_;
     uint64_t allocated_ = 0, uploaded_ = 0;
     double uploadSeconds_ = 0, deviceSeconds_ = 0;
