@@ -144,11 +144,17 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
     return positions;
 }
 
+// What every render uploads of a chunk: KD nodes and references, positions, indices (the cap
+// of --resident-bytes-per-triangle counts these).
+uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t kdNodes, uint64_t kdRefs) {
+    return vertices * 12 + triangles * 12 + kdNodes * sizeof(KdNode) + kdRefs * 4;
+}
+
 }  // namespace
 
 uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t kdNodes,
                             uint64_t kdRefs) {
-    return vertices * 12 + triangles * (12 + 4 + (materialIds ? 4 : 0)) + kdNodes * 8 + kdRefs * 4;
+    return chunkGeometryBytes(vertices, triangles, kdNodes, kdRefs) + triangles * (4 + (materialIds ? 4 : 0));
 }
 
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell) {
@@ -178,14 +184,14 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     start = std::chrono::steady_clock::now();
     const uint32_t triangles = uint32_t(refs.size());
     KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles, compactKdBuildOptions(triangles));
-    const uint64_t fixedBytes = positions.size() * 12 + uint64_t(triangles) * 12;
     const double limit = source.residentBytesPerTriangle * triangles;
-    if (source.residentBytesPerTriangle > 0 && double(fixedBytes) < limit) {
+    if (source.residentBytesPerTriangle > 0 && double(chunkGeometryBytes(positions.size(), triangles, 0, 0)) < limit) {
         // Cut the tree a level at a time until the device footprint fits, but never shallower
         // than log2(N) - 3 (leaves of ~10+ triangles): past that rays pay more than memory saves.
         // A chunk whose positions and indices alone exceed the cap (a soup) keeps its tree.
         const uint32_t floor = uint32_t(std::max(1, int(std::bit_width(triangles)) - 4));
-        while (double(fixedBytes + kdTree.nodes.size() * sizeof(KdNode) + kdTree.leafRefs.size() * 4) > limit &&
+        while (double(chunkGeometryBytes(positions.size(), triangles, kdTree.nodes.size(), kdTree.leafRefs.size())) >
+                   limit &&
                kdTree.maxDepth > floor)
             kdTree = truncateKdTree(kdTree, kdTree.maxDepth - 1);
     }
