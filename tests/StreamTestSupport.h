@@ -55,7 +55,8 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
 // resident and walks all its rays (stream_walk.comp). Returns both images.
 inline Result<std::pair<RenderImage, RenderImage>> renderVulkanColdAndWarm(const std::string& path,
                                                                            const RenderOptions& options, uint64_t budget,
-                                                                           StreamingStats* cold, StreamingStats* warm) {
+                                                                           StreamingStats* cold, StreamingStats* warm,
+                                                                           RenderStats* warmRender = nullptr) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     auto scene = StreamingScene::open(**reader, requiredAttributes((*reader)->info(), options), StreamingOptions{},
@@ -66,7 +67,7 @@ inline Result<std::pair<RenderImage, RenderImage>> renderVulkanColdAndWarm(const
     cold->memoryBudgetBytes = warm->memoryBudgetBytes = budget;
     auto first = (*scene)->render(options, nullptr, cold);
     if (!first) return first.status();
-    auto second = (*scene)->render(options, nullptr, warm);
+    auto second = (*scene)->render(options, warmRender, warm);
     if (!second) return second.status();
     return std::make_pair(std::move(first).value(), std::move(second).value());
 }

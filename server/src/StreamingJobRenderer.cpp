@@ -7,8 +7,8 @@
 // within it; a scene's cache is sized to its decoded chunks when those are smaller). A scene
 // that does not fit beside the others closes the least recently used ones first.
 #include <algorithm>
-#include <memory>
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <vector>
 

@@ -412,22 +412,14 @@ TEST(StreamingRender, BackendRefusesAnUncheckedChunkWithBadIndices) {
 TEST(StreamingRender, WalkedRaysEqualTheQueuedPath) {
     for (GeneratorKind kind : {GeneratorKind::City, GeneratorKind::Terrain}) {
         const std::string path = generatedPackage(kind, 20000, 64 << 10);
-        auto reader = PackageReader::open(path);
-        ASSERT_TRUE(reader) << reader.message();
         for (IntegratorKind integrator : {IntegratorKind::Path, IntegratorKind::AmbientOcclusion}) {
             RenderOptions o = smallRender(kAllAovs);
             o.integrator = integrator;
-            auto scene = StreamingScene::open(**reader, requiredAttributes((*reader)->info(), o), StreamingOptions{},
-                                              [&](const PackageInfo& info, const ChunkAttributes& a) {
-                                                  return gpu::createVulkanChunkBackend(device(), info, a, 64ull << 20);
-                                              });
-            ASSERT_TRUE(scene) << scene.message();
             StreamingStats cold, warm, queued;
             RenderStats warmRender;
-            auto first = (*scene)->render(o, nullptr, &cold);
-            ASSERT_TRUE(first) << first.message();
-            auto second = (*scene)->render(o, &warmRender, &warm);
-            ASSERT_TRUE(second) << second.message();
+            auto renders = test::renderVulkanColdAndWarm(path, o, 64ull << 20, &cold, &warm, &warmRender);
+            ASSERT_TRUE(renders) << renders.message();
+            const RenderImage *first = &renders->first, *second = &renders->second;
             auto cpu = renderCpuChunks(path, o, 1000, &queued);
             ASSERT_TRUE(cpu) << cpu.message();
             SCOPED_TRACE(integrator == IntegratorKind::Path ? "path" : "ao");
