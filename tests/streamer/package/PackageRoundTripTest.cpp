@@ -229,6 +229,13 @@ TEST(PackageBuild, RejectsBadOptions) {
     r = buildPackage(mesh, tempPath("bad.vast"), options);
     ASSERT_FALSE(r.isOk());
     EXPECT_NE(r.message().find("31"), std::string::npos) << r.message();
+    options.quantizeBits = 20;
+    for (double cap : {-1.0, std::nan(""), 1e9}) {
+        options.residentBytesPerTriangle = cap;
+        r = buildPackage(mesh, tempPath("bad.vast"), options);
+        ASSERT_FALSE(r.isOk()) << cap;
+        EXPECT_NE(r.message().find("resident bytes per triangle"), std::string::npos) << r.message();
+    }
     EXPECT_FALSE(std::filesystem::exists(tempPath("bad.vast")));
 }
 
