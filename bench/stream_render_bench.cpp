@@ -8,9 +8,13 @@
 //                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
 //                       [--codec draco|meshopt] [--repeat N] [--resident-only] [--keep] [--out FILE.md]
 //                       [--resident-bytes-per-triangle B]  (import option: cap the chunks' device bytes)
+//                       [--eye X,Y,Z --target X,Y,Z]  (default: frame the scene; give both to match a
+//                       peer renderer's camera, e.g. ../shared/tools/mitsuba_bench.py)
+//                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +26,8 @@
 #include <vector>
 
 #include "vastray/core/ByteSize.h"
+#include "vastray/cpu/EmbreeRenderer.h"
+#include "vastray/cpu/RenderScene.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
 #include "vastray/gpu/VulkanDevice.h"
 #include "vastray/streamer/Generate.h"
@@ -43,6 +49,9 @@ struct Args {
     int repeat = 1;
     bool keep = false;
     bool residentOnly = false;  // only the resident rows (for profiling the host side)
+    bool camera = false;        // --eye and --target given
+    bool embree = true;         // also render the frame with the Embree reference on the host's cores
+    Vec3f eye, target;
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
 };
 
@@ -87,7 +96,13 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--keep") a.keep = true;
         else if (flag == "--resident-only") a.residentOnly = true;
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
-        else fail("unknown flag " + flag);
+        else if (flag == "--no-embree") a.embree = false;
+        else if (flag == "--eye" || flag == "--target") {
+            Vec3f v;
+            if (std::sscanf(value().c_str(), "%f,%f,%f", &v.x, &v.y, &v.z) != 3) fail(flag + " X,Y,Z");
+            (flag == "--eye" ? a.eye : a.target) = v;
+            a.camera = true;
+        } else fail("unknown flag " + flag);
     }
     return a;
 }
@@ -149,14 +164,21 @@ int main(int argc, char** argv) {
     const uint64_t fitBudget = fitPlan->totalBytes;
 
     std::vector<Row> rows;
+    RenderImage residentImage;  // the resident path render, against which Embree's is compared
     // The run of median render time among `runs`.
     auto median = [](std::vector<Row> runs) {
         std::sort(runs.begin(), runs.end(),
                   [](const Row& a, const Row& b) { return a.render.renderSeconds < b.render.renderSeconds; });
         return runs[runs.size() / 2];
     };
+    auto setCamera = [&](RenderOptions& o) {
+        if (!args.camera) return;
+        o.frameScene = false;
+        o.camera.eye = args.eye, o.camera.target = args.target;
+    };
     auto render = [&](const std::string& label, uint64_t budget, IntegratorKind integrator, uint32_t depth) {
         RenderOptions o;
+        setCamera(o);
         o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp;
         o.integrator = integrator, o.maxDepth = depth;
         std::vector<Row> runs;
@@ -188,6 +210,7 @@ int main(int argc, char** argv) {
         if (!scene) fail(scene.message());
         for (uint32_t depth : {0u, args.depth}) {
             RenderOptions o;
+            setCamera(o);
             o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp, o.maxDepth = depth;
             std::vector<Row> runs;
             for (int pass = 0; pass <= args.repeat; ++pass) {
@@ -199,9 +222,34 @@ int main(int argc, char** argv) {
                 auto image = (*scene)->render(o, &row.render, &row.streaming);
                 if (!image) fail(row.label + ": " + image.message());
                 if (pass > 0) runs.push_back(row);  // pass 0 made it resident
+                if (depth == args.depth) residentImage = std::move(image).value();
             }
             rows.push_back(median(runs));
         }
+    }
+    std::string embreeNote;
+    if (args.embree) {
+        auto scene = loadRenderScene(path);
+        if (!scene) fail(scene.message());
+        RenderOptions o;
+        setCamera(o);
+        o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp, o.maxDepth = args.depth;
+        Row row;
+        row.label = "embree on the host's cores, path depth " + std::to_string(args.depth);
+        auto image = renderWithEmbree(*scene, o, &row.render);
+        if (!image) fail(row.label + ": " + image.message());
+        rows.push_back(row);
+        double se = 0, energy = 0;
+        for (size_t i = 0; i < image->rgb.size() && i < residentImage.rgb.size(); ++i) {
+            const double d = double(image->rgb[i]) - double(residentImage.rgb[i]);
+            se += d * d, energy += double(image->rgb[i]) * image->rgb[i];
+        }
+        char note[256];
+        std::snprintf(note, sizeof note,
+                      " Embree (BVH build %.3f s, not in its render time) against the resident path render: "
+                      "relative RMSE %.2e.",
+                      row.render.buildSeconds, std::sqrt(se / std::max(energy, 1e-30)));
+        embreeNote = note;
     }
     if (!args.residentOnly) {
         render("in core, primary", fitBudget, IntegratorKind::Path, 0);
@@ -224,11 +272,15 @@ int main(int argc, char** argv) {
        << " chunks)";
     if (importSeconds > 0) md << ", imported in " << importSeconds << " s";
     md << ". Device: " << (*device)->info().name << ". Image " << args.width << "x" << args.height << ", "
-       << args.spp << " spp. Each row: the run of median render time of " << args.repeat << ".\n\n";
-    md << "| render | budget | slots | render s | rays | rays/s (render) | walked rays | chunk traces/s (trace) | trace s | "
-          "device s | decode s | upload s | walk s | shade s | touched | loads | loads/touched | per-bounce loads/touched | "
-          "time vs in core |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       << args.spp << " spp";
+    if (args.camera)
+        md << ", eye " << args.eye.x << "," << args.eye.y << "," << args.eye.z << " target " << args.target.x << ","
+           << args.target.y << "," << args.target.z;
+    md << ". Each row: the run of median render time of " << args.repeat << "." << embreeNote << "\n\n";
+    md << "| render | budget | slots | render s | rays | rays/s (render) | device s | submits | walk passes | "
+          "host→device B | device→host B | decode s | upload s | touched | loads | loads/touched | "
+          "per-bounce loads/touched | time vs in core |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
         double reference = 0;
@@ -243,13 +295,13 @@ int main(int argc, char** argv) {
         };
         char line[1024];
         std::snprintf(line, sizeof line,
-                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.0f %% | %.1f M | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f "
+                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.3f | %llu | %llu | %llu | %llu | %.3f | %.3f "
                       "| %llu | %llu | %.2f | %.3f | %s |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, r.render.renderSeconds,
-                      (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6,
-                      r.render.rays ? 100.0 * double(s.walkedRays) / double(r.render.rays) : 0.0,
-                      s.traceSeconds > 0 ? double(s.chunkTraces) / s.traceSeconds / 1e6 : 0.0, s.traceSeconds,
-                      s.deviceSeconds, s.decodeSeconds, s.uploadSeconds, s.walkSeconds, s.shadeSeconds,
+                      (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6, s.deviceSeconds,
+                      (unsigned long long)s.submits, (unsigned long long)s.walkPasses,
+                      (unsigned long long)s.hostToDeviceBytes, (unsigned long long)s.deviceToHostBytes,
+                      s.decodeSeconds, s.uploadSeconds,
                       (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,
                       s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
                       s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,

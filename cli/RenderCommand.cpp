@@ -225,6 +225,10 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["ray_streams"] = st->streams;
         j["chunk_traces"] = st->chunkTraces;
         j["walked_rays"] = st->walkedRays;
+        j["submits"] = st->submits;
+        j["walk_passes"] = st->walkPasses;
+        j["host_to_device_bytes"] = st->hostToDeviceBytes;
+        j["device_to_host_bytes"] = st->deviceToHostBytes;
         j["peak_device_bytes"] = st->peakDeviceBytes;
         j["memory_budget_bytes"] = st->memoryBudgetBytes;
     }

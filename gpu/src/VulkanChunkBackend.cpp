@@ -12,32 +12,21 @@
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
 #include "shared/TraceTypes.h"
-#include "vastray/gpu/ComputePipeline.h"
+#include "PoolLayout.h"
+#include "Wavefront.h"
 
 namespace vastray::gpu {
 namespace {
 
-const uint32_t kStreamTraceSpirv[] =
-#include "stream_trace.spv.inc"
-    ;
-const uint32_t kStreamWalkSpirv[] =
-#include "stream_walk.spv.inc"
-    ;
-
-static_assert(sizeof(StreamRayGpu) == sizeof(StreamRay) && sizeof(StreamHitGpu) == sizeof(StreamHit));
 static_assert(kHitFound == kStreamHitFound && kHitFrontFacing == kStreamHitFrontFacing);
 static_assert(kTraceStackSize == kMaxKdDepth, "the kernel's stack must hold the deepest tree");
-static_assert(sizeof(StreamWalkGpu) == sizeof(StreamResult) && offsetof(StreamWalkGpu, chunk) == offsetof(StreamResult, chunk) &&
-              offsetof(StreamWalkGpu, cell) == offsetof(StreamResult, cell));
-static_assert(kWalkIncomplete == ChunkBackend::kWalkIncomplete && kWalkNoHit == kMissPrimId &&
-              kWalkNoHit == kEmptyCell);
+static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 
 // Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
 // granularity keeps the allocated total under the budget.
 constexpr uint64_t kAllocationGranule = 64 * 1024;
-constexpr uint64_t kRayBytes = sizeof(StreamRayGpu) + sizeof(StreamHitGpu);
-// Largest x group count every device supports (maxComputeWorkGroupCount[0] >= 65535).
-constexpr uint64_t kMaxRaysPerDispatch = 65535ull * kTraceWorkgroupSize;
+// Device bytes of one path of a wave: its state, and at most one tile pixel's sum and outputs.
+constexpr uint64_t kRayBytes = kBytesPerPath + kBytesPerTilePixel;
 
 // Copies to or from a mapped buffer in 256 KiB pieces on all cores: one core writing through a
 // write-combined mapping manages a few GB/s, well below what PCIe takes (most arrays of a
@@ -56,21 +45,9 @@ Status copyInPieces(uint64_t size, Copy&& copy) {
 }
 
 uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
-uint64_t batchBytes(uint64_t rays) { return granules(rays * sizeof(StreamRayGpu)) + granules(rays * sizeof(StreamHitGpu)); }
-// One buffer holds the tables: the slot table, then stream_walk.comp's top-level tree, chunk ->
-// slot map and touched flags (byte offsets, 16-byte aligned). For most scenes they fit the one
-// allocation granule the slot table alone would take.
-struct TableLayout {
-    uint64_t topNodes, chunkSlots, touched, totalBytes;
-};
-TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
-    auto align = [](uint64_t bytes) { return (bytes + 15) / 16 * 16; };
-    TableLayout t{};
-    t.topNodes = align(slots * sizeof(ChunkSlot));
-    t.chunkSlots = t.topNodes + align(package.topTree.size() * sizeof(KdNode));
-    t.touched = t.chunkSlots + align(package.chunks.size() * 4);
-    t.totalBytes = t.touched + align(package.chunks.size() * 4);
-    return t;
+// The wavefront's buffers for `paths` paths: device-local state, and the tile outputs the host reads.
+uint64_t batchBytes(uint64_t paths) {
+    return granules(stateLayout(paths).totalBytes) + granules(outputLayout(paths).totalBytes);
 }
 
 class VulkanChunkBackend final : public ChunkBackend {
@@ -82,12 +59,9 @@ public:
           topNodeCount_(uint32_t(package.topTree.size())), chunkCount_(uint32_t(package.chunks.size())) {}
 
     Status init(const PackageInfo& package) {
-        auto pipeline = ComputePipeline::create(device_, kStreamTraceSpirv, sizeof(StreamPushConstants));
-        if (!pipeline) return pipeline.status();
-        pipeline_ = std::move(pipeline).value();
-        auto walkPipeline = ComputePipeline::create(device_, kStreamWalkSpirv, sizeof(StreamWalkPushConstants));
-        if (!walkPipeline) return walkPipeline.status();
-        walkPipeline_ = std::move(walkPipeline).value();
+        auto wavefront = Wavefront::create(device_);
+        if (!wavefront) return wavefront.status();
+        wavefront_ = std::move(wavefront).value();
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes);
             if (!slot) return slot.status().withContext("chunk slot " + std::to_string(s) + ": ");
@@ -98,17 +72,18 @@ public:
         table_ = std::move(table).value();
         if (topNodeCount_ > 0)
             VASTRAY_TRY(table_.upload(package.topTree.data(), topNodeCount_ * sizeof(KdNode), tables_.topNodes));
-        auto rays = device_.createBuffer(uint64_t(plan_.batchRays) * sizeof(StreamRayGpu));
-        if (!rays) return rays.status();
-        rays_ = std::move(rays).value();
-        auto hits = device_.createBuffer(uint64_t(plan_.batchRays) * sizeof(StreamHitGpu),
-                                         VulkanDevice::MemoryUse::Readback);
-        if (!hits) return hits.status();
-        hits_ = std::move(hits).value();
-        allocated_ = table_.allocatedBytes() + rays_.allocatedBytes() + hits_.allocatedBytes();
+        auto state = device_.createBuffer(stateLayout(plan_.batchRays).totalBytes);
+        if (!state) return state.status();
+        state_ = std::move(state).value();
+        auto output = device_.createBuffer(outputLayout(plan_.batchRays).totalBytes, VulkanDevice::MemoryUse::Readback);
+        if (!output) return output.status();
+        output_ = std::move(output).value();
+        allocated_ = table_.allocatedBytes() + state_.allocatedBytes() + output_.allocatedBytes();
         for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
         const std::vector<ChunkSlot> empty(plan_.slots, ChunkSlot{});
-        return table_.upload(empty.data(), empty.size() * sizeof(ChunkSlot));
+        VASTRAY_TRY(table_.upload(empty.data(), empty.size() * sizeof(ChunkSlot)));
+        const std::vector<uint32_t> none(chunkCount_, kEmptyCell);
+        return table_.upload(none.data(), none.size() * 4, tables_.chunkSlots);
     }
 
     std::string name() const override { return "vulkan"; }
@@ -173,106 +148,23 @@ public:
         return Status::ok();
     }
 
-    Status trace(std::span<const Batch> batches) override {
-        uint64_t total = 0;
-        for (const Batch& b : batches) {
-            if (b.slot >= slots_.size() || b.rays.size() != b.hits.size())
-                return Status::error("trace: bad batch for slot " + std::to_string(b.slot));
-            total += b.rays.size();
-        }
-        if (total > plan_.batchRays)
-            return Status::error("trace: " + std::to_string(total) + " rays exceed the batch of " +
-                                 std::to_string(plan_.batchRays));
-        uint64_t at = 0;
-        for (const Batch& b : batches) {
-            const auto* src = reinterpret_cast<const uint8_t*>(b.rays.data());
-            const uint64_t base = at * sizeof(StreamRayGpu);
-            VASTRAY_TRY(copyInPieces(b.rays.size_bytes(),
-                                     [&](uint64_t o, uint64_t n) { return rays_.upload(src + o, n, base + o); }));
-            at += b.rays.size();
-        }
-        VASTRAY_TRY(timedSubmit([&](VkCommandBuffer cmd) {
-            uint64_t first = 0;
-            for (const Batch& b : batches) {
-                for (uint64_t done = 0; done < b.rays.size(); done += kMaxRaysPerDispatch) {
-                    const uint64_t count = std::min<uint64_t>(kMaxRaysPerDispatch, b.rays.size() - done);
-                    StreamPushConstants pc{};
-                    pc.slotTable = table_.address();
-                    pc.rays = rays_.address() + (first + done) * sizeof(StreamRayGpu);
-                    pc.hits = hits_.address() + (first + done) * sizeof(StreamHitGpu);
-                    pc.slot = b.slot, pc.rayCount = uint32_t(count), pc.anyHit = b.anyHit ? 1u : 0u;
-                    pipeline_->record(cmd, &pc, uint32_t((count + kTraceWorkgroupSize - 1) / kTraceWorkgroupSize));
-                }
-                first += b.rays.size();
-            }
-        }));
-        at = 0;
-        for (const Batch& b : batches) {
-            auto* dst = reinterpret_cast<uint8_t*>(b.hits.data());
-            const uint64_t base = at * sizeof(StreamHitGpu);
-            VASTRAY_TRY(copyInPieces(b.hits.size_bytes(),
-                                     [&](uint64_t o, uint64_t n) { return hits_.download(dst + o, n, base + o); }));
-            at += b.rays.size();
-        }
-        return Status::ok();
+    // Rays are traced by the device wavefront only (renderOnDevice): no ray crosses the bus.
+    Status trace(std::span<const Batch>) override {
+        return Status::error("the vulkan backend traces rays on the device only (renderOnDevice)");
     }
 
-    // The walk writes a 64-byte record per ray into the hit buffer (48 bytes per batch ray).
-    uint32_t maxWalkRays() const override {
-        return plan_.slots >= chunkCount_ ? uint32_t(uint64_t(plan_.batchRays) * sizeof(StreamHitGpu) /
-                                                                sizeof(StreamWalkGpu))
-                                                     : 0;
-    }
-
-    Status walk(std::span<const StreamRay> rays, bool anyHit, std::span<const uint32_t> chunkSlot,
-                std::span<StreamResult> results, std::span<uint8_t> touched) override {
-        const size_t chunks = chunkCount_;
-        if (rays.size() > maxWalkRays() || results.size() != rays.size() || chunkSlot.size() != chunks ||
-            touched.size() != chunks)
-            return Status::error("walk: " + std::to_string(rays.size()) + " rays do not fit the walk of " +
-                                 std::to_string(maxWalkRays()) + ", or the chunk tables do not match the package");
-        for (uint32_t slot : chunkSlot)
-            if (slot != kEmptyCell && slot >= slots_.size()) return Status::error("walk: bad slot " + std::to_string(slot));
-        if (rays.empty()) return Status::ok();
-        VASTRAY_TRY(table_.upload(chunkSlot.data(), chunks * 4, tables_.chunkSlots));
-        const std::vector<uint32_t> zeros(chunks, 0);
-        VASTRAY_TRY(table_.upload(zeros.data(), chunks * 4, tables_.touched));
-        const auto* src = reinterpret_cast<const uint8_t*>(rays.data());
-        VASTRAY_TRY(copyInPieces(rays.size_bytes(), [&](uint64_t o, uint64_t n) { return rays_.upload(src + o, n, o); }));
-        VASTRAY_TRY(timedSubmit([&](VkCommandBuffer cmd) {
-            for (uint64_t done = 0; done < rays.size(); done += kMaxRaysPerDispatch) {
-                const uint64_t count = std::min<uint64_t>(kMaxRaysPerDispatch, rays.size() - done);
-                StreamWalkPushConstants pc{};
-                pc.slotTable = table_.address();
-                pc.rays = rays_.address() + done * sizeof(StreamRayGpu);
-                pc.results = hits_.address() + done * sizeof(StreamWalkGpu);
-                pc.topNodes = table_.address() + tables_.topNodes;
-                pc.chunkSlots = table_.address() + tables_.chunkSlots, pc.touched = table_.address() + tables_.touched;
-                pc.rayCount = uint32_t(count), pc.anyHit = anyHit ? 1u : 0u;
-                pc.topNodeCount = topNodeCount_, pc.chunkCount = chunkCount_;
-                pc.boundsLoX = bounds_.lo.x, pc.boundsLoY = bounds_.lo.y, pc.boundsLoZ = bounds_.lo.z;
-                pc.boundsHiX = bounds_.hi.x, pc.boundsHiY = bounds_.hi.y, pc.boundsHiZ = bounds_.hi.z;
-                walkPipeline_->record(cmd, &pc, uint32_t((count + kTraceWorkgroupSize - 1) / kTraceWorkgroupSize));
-            }
-        }));
-        auto* dst = reinterpret_cast<uint8_t*>(results.data());
-        VASTRAY_TRY(copyInPieces(results.size_bytes(), [&](uint64_t o, uint64_t n) { return hits_.download(dst + o, n, o); }));
-        std::vector<uint32_t> flags(chunks);
-        VASTRAY_TRY(table_.download(flags.data(), chunks * 4, tables_.touched));
-        for (size_t c = 0; c < chunks; ++c)
-            if (flags[c]) touched[c] = 1;
-        return Status::ok();
+    bool rendersOnDevice() const override { return true; }
+    Status renderOnDevice(const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
+                          StreamingStats& stats) override {
+        WavefrontBuffers b;
+        b.table = &table_, b.tables = tables_, b.state = &state_, b.output = &output_;
+        b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
+        b.bounds = bounds_;
+        b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
+        return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 
 private:
-    template <typename Record>
-    Status timedSubmit(Record&& record) {
-        const auto start = std::chrono::steady_clock::now();
-        Status status = device_.submit(record);
-        deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        return status;
-    }
-
     // Out-of-range references would read outside the slot on the device: reject them here.
     Status validate(const DecodedChunk& c, std::span<const uint8_t> singleSided) const {
         const KdTree& t = c.kdTree;
@@ -294,9 +186,9 @@ private:
     TableLayout tables_;  // in table_
     Aabb bounds_;         // the package's: the top-level tree's bounds
     uint32_t topNodeCount_, chunkCount_;
-    std::unique_ptr<ComputePipeline> pipeline_, walkPipeline_;
+    std::unique_ptr<Wavefront> wavefront_;
     std::vector<GpuBuffer> slots_;
-    GpuBuffer table_, rays_, hits_;
+    GpuBuffer table_, state_, output_;
     uint64_t allocated_ = 0, uploaded_ = 0;
     double uploadSeconds_ = 0, deviceSeconds_ = 0;
 };
@@ -315,11 +207,11 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
                              formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) +
-                             " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a batch of " +
-                             std::to_string(kMinBatchRays) + " rays of " + formatBytes(batchBytes(kMinBatchRays)) +
+                             " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a wave of " +
+                             std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
                              " plus tables of " + formatBytes(tableBytes(1)) + ")");
-    // A quarter of the budget for rays (within [kMinBatchRays, kMaxBatchRays]), the rest for slots;
-    // slots beyond the chunk count are useless, so what they would take goes back to the rays.
+    // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for slots;
+    // slots beyond the chunk count are useless, so what they would take goes back to the wave.
     uint64_t rays = std::clamp<uint64_t>(budget / 4 / kRayBytes, kMinBatchRays, kMaxBatchRays);
     while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
     rays = std::max<uint64_t>(rays, kMinBatchRays);
@@ -329,7 +221,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                          : 1;
     slots = std::min<uint64_t>(slots, chunks);
     const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
-    while (rays < kMaxBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
+    while (rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);
     plan.batchRays = uint32_t(rays);
     plan.rayBytes = batchBytes(rays);

@@ -1,6 +1,8 @@
-// The streaming renderer end to end: the Vulkan backend (lavapipe in CI) against the CPU chunk
-// backend (bit for bit), against itself at ample and tight budgets (bit for bit, and it really
-// streamed), and against the independent Embree reference (primid agreement, beauty error).
+// The streaming renderer end to end: the Vulkan backend's device wavefront (lavapipe in CI)
+// against the CPU chunk backend's host wavefront (the same hits; shading floats within rounding:
+// the device's sqrt, division and cosine round differently), against itself at ample and tight
+// budgets and wave sizes (bit for bit, and it really streamed), and against the independent
+// Embree reference (primid agreement, beauty error).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -115,9 +117,44 @@ double primIdAgreement(const RenderImage& a, const RenderImage& b) {
     return double(same) / double(a.primId.size());
 }
 
+// The device wavefront against the host one (CPU chunk backend) on the same package: the same
+// triangles hit, the same chunks, and floats that differ by rounding only. Camera directions and
+// normals are normalized on the device (its inverse square root is not correctly rounded), so
+// depth and normals differ in the last bits; a path whose Russian-roulette draw falls within
+// that rounding of its survival probability may take another turn, hence a beauty tolerance
+// well below the noise of these renders (relative RMSE 1e-3; measured 4e-8 on lavapipe).
+void expectAgrees(const RenderImage& device, const RenderImage& host) {
+    ASSERT_EQ(device.rgb.size(), host.rgb.size());
+    double se = 0, energy = 0;
+    for (size_t i = 0; i < host.rgb.size(); ++i) {
+        const double d = double(device.rgb[i]) - double(host.rgb[i]);
+        se += d * d, energy += double(host.rgb[i]) * host.rgb[i];
+    }
+    const double beauty = std::sqrt(se / std::max(energy, 1e-30));
+    EXPECT_LE(beauty, 1e-3) << "beauty relative RMSE";
+    EXPECT_TRUE(sameBits(device.alpha, host.alpha)) << "alpha differs";
+    if (!host.primId.empty()) EXPECT_GE(primIdAgreement(device, host), 0.9999);
+    if (!host.chunkId.empty()) {
+        uint64_t same = 0;
+        for (size_t i = 0; i < host.chunkId.size(); ++i) same += device.chunkId[i] == host.chunkId[i];
+        EXPECT_GE(double(same) / double(host.chunkId.size()), 0.999) << "chunkid agreement";
+    }
+    double depthError = 0, normalError = 0;
+    for (size_t i = 0; i < host.depth.size(); ++i)
+        if (std::isfinite(host.depth[i]) || std::isfinite(device.depth[i]))
+            depthError = std::max(depthError, std::fabs(double(device.depth[i]) - host.depth[i]) / host.depth[i]);
+    for (size_t i = 0; i < host.normal.size(); ++i)
+        normalError = std::max(normalError, std::fabs(double(device.normal[i]) - host.normal[i]));
+    EXPECT_LE(depthError, 1e-5) << "depth, largest relative error";
+    EXPECT_LE(normalError, 1e-5) << "normal, largest error";
+    EXPECT_TRUE(sameBits(device.albedo, host.albedo)) << "albedo differs";
+    std::printf("device vs host wavefront: beauty relative RMSE %.2e, depth %.2e, normal %.2e\n", beauty, depthError,
+                normalError);
+}
+
 constexpr uint32_t kAllAovs = kAovDepth | kAovNormal | kAovAlbedo | kAovPrimId | kAovChunkId | kAovCost;
 
-TEST(StreamingRender, VulkanEqualsCpuChunkBackendBitForBit) {
+TEST(StreamingRender, VulkanAgreesWithCpuChunkBackend) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     for (IntegratorKind integrator : {IntegratorKind::Path, IntegratorKind::AmbientOcclusion}) {
         RenderOptions o = smallRender(kAllAovs);
@@ -127,7 +164,7 @@ TEST(StreamingRender, VulkanEqualsCpuChunkBackendBitForBit) {
         ASSERT_TRUE(gpuImage) << gpuImage.message();
         auto cpuImage = renderCpuChunks(path, o, 1000, &cs);
         ASSERT_TRUE(cpuImage) << cpuImage.message();
-        expectIdentical(*gpuImage, *cpuImage);
+        expectAgrees(*gpuImage, *cpuImage);
         EXPECT_GT(gs.chunksTotal, 4u) << "the scene should span several chunks";
         EXPECT_LE(gs.peakDeviceBytes, gs.memoryBudgetBytes);
     }
@@ -144,10 +181,10 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
     auto b = renderVulkan(path, o, tight, &small);
     ASSERT_TRUE(b) << b.message();
     expectIdentical(*a, *b, false);
-    // The same two-slot schedule on the CPU backend: the same image, cost included.
+    // The CPU backend's host wavefront with two slots: the same hits.
     auto c = renderCpuChunks(path, o, 2);
     ASSERT_TRUE(c) << c.message();
-    expectIdentical(*b, *c);
+    expectAgrees(*b, *c);
     EXPECT_EQ(small.slots, 2u);
     EXPECT_GT(small.chunkLoads, small.chunksTouched) << "two slots should have forced reloads";
     EXPECT_EQ(ample.chunkLoads, ample.chunksTouched) << "a scene that fits loads each chunk once";
@@ -197,7 +234,9 @@ TEST(StreamingRender, SmallWavesEqualOneWave) {
     ASSERT_TRUE(one) << one.message();
     auto many = renderVulkan(path, o, 64ull << 20, nullptr, 333);
     ASSERT_TRUE(many) << many.message();
-    expectIdentical(*one, *many);
+    // Cost counts the cells each render really traced: a cold render pages chunks in during
+    // its first streams, and which cells a nearer hit prunes depends on what was resident when.
+    expectIdentical(*one, *many, false);
 }
 
 TEST(StreamingRender, HostCacheAvoidsSecondDecodes) {
@@ -405,36 +444,37 @@ TEST(StreamingRender, BackendRefusesAnUncheckedChunkWithBadIndices) {
     EXPECT_NE(refused.message().find("chunk 5: index 7"), std::string::npos) << refused.message();
 }
 
-// An open scene that fits is traced by the backend's whole-ray walk (stream_walk.comp) once
-// its chunks are resident: the second render walks every ray, and gives what the host's
-// in-order queues give (the CPU backend has no walk) bit for bit, cost included, with the
-// same cells traced and the same chunks touched.
-TEST(StreamingRender, WalkedRaysEqualTheQueuedPath) {
+// An open scene that fits: the second render finds every chunk resident, records each tile's
+// kernels into one submission, loads nothing, and gives the cold render's image bit for bit;
+// what comes back from the device is the image and its AOVs plus a few counters per stream.
+TEST(StreamingRender, ResidentRenderEqualsColdRenderAndReadsBackOnlyTheImage) {
     for (GeneratorKind kind : {GeneratorKind::City, GeneratorKind::Terrain}) {
         const std::string path = generatedPackage(kind, 20000, 64 << 10);
         for (IntegratorKind integrator : {IntegratorKind::Path, IntegratorKind::AmbientOcclusion}) {
             RenderOptions o = smallRender(kAllAovs);
             o.integrator = integrator;
-            StreamingStats cold, warm, queued;
+            StreamingStats cold, warm;
             RenderStats warmRender;
             auto renders = test::renderVulkanColdAndWarm(path, o, 64ull << 20, &cold, &warm, &warmRender);
             ASSERT_TRUE(renders) << renders.message();
-            const RenderImage *first = &renders->first, *second = &renders->second;
-            auto cpu = renderCpuChunks(path, o, 1000, &queued);
-            ASSERT_TRUE(cpu) << cpu.message();
             SCOPED_TRACE(integrator == IntegratorKind::Path ? "path" : "ao");
-            expectIdentical(*first, *cpu);
-            expectIdentical(*second, *cpu);
+            expectIdentical(renders->first, renders->second, false);
             EXPECT_GT(cold.chunksTotal, 4u);
-            EXPECT_GT(cold.walkedRays, 0u) << "the cold render's later bounces find their chunks resident";
             EXPECT_EQ(warm.chunkLoads, 0u);
-            EXPECT_EQ(queued.walkedRays, 0u) << "the CPU backend has no walk";
-            EXPECT_GT(warm.walkedRays, 0u);
-            EXPECT_EQ(warm.walkedRays, warmRender.rays) << "every ray of the warm render is walked";
-            EXPECT_EQ(warm.chunkTraces, queued.chunkTraces);
-            EXPECT_EQ(warm.streamChunksTouched, queued.streamChunksTouched);
-            EXPECT_EQ(warm.chunksTouched, queued.chunksTouched);
-            EXPECT_EQ(warm.walkSeconds, 0.0) << "no host-side walk";
+            EXPECT_EQ(warm.chunksTouched, cold.chunksTouched);
+            EXPECT_GT(warmRender.rays, uint64_t(o.width) * o.height * o.samplesPerPixel);
+            EXPECT_EQ(warm.submits, 1u) << "one tile, one submission";
+            // One pass per stream in core: the AOV rays' stream, then one per bounce (ao: the
+            // camera rays and the occlusion rays); out of core more, one per paging step.
+            const uint64_t streams = 1 + (integrator == IntegratorKind::Path ? o.maxDepth + 1 : 2);
+            EXPECT_EQ(warm.walkPasses, streams);
+            EXPECT_GT(cold.walkPasses, streams) << "the cold render paged chunks in between passes";
+            // rgb + alpha, depth, normal, albedo, primid, chunkid, cost: 4 + 4 + 4 + 12 + 12 + 4 + 4 + 8
+            // bytes per pixel (colour comes back as RGBA), plus touched flags and the ray counter.
+            const uint64_t image = uint64_t(o.width) * o.height * (16 + 4 + 12 + 12 + 4 + 4 + 8);
+            EXPECT_GE(warm.deviceToHostBytes, image);
+            EXPECT_LE(warm.deviceToHostBytes, image + 4 * warm.chunksTotal + 64) << "per-ray data came back";
+            EXPECT_LT(warm.hostToDeviceBytes, 4096u + 8 * warm.chunksTotal);
         }
     }
 }

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "render/ChunkCache.h"
+#include "render/DemandPager.h"
 #include "render/RayStreamer.h"
 #include "vastray/core/Camera.h"
 #include "vastray/core/PathShading.h"
@@ -288,7 +289,8 @@ struct StreamingScene::State {
     StreamingOptions options;
     std::unique_ptr<ChunkBackend> backend;
     std::unique_ptr<ChunkCache> cache;
-    std::unique_ptr<RayStreamer> streamer;
+    std::unique_ptr<RayStreamer> streamer;  // host wavefront (backends that do not render on a device)
+    std::unique_ptr<DemandPager> pager;     // device wavefront (ChunkBackend::rendersOnDevice)
     StreamingStats totals;  // what the streamer counts into; each render reports its difference
     IntegratorBuffers buffers;
     explicit State(const PackageReader& r) : reader(r) {}
@@ -323,7 +325,10 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     const uint32_t cores = std::max(1u, std::thread::hardware_concurrency());
     const uint32_t workers = options.decodeThreads > 0 ? options.decodeThreads : cores <= 2 ? cores : cores - 1;
     s.cache = std::make_unique<ChunkCache>(reader, options.hostCacheBytes, workers);
-    s.streamer = std::make_unique<RayStreamer>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
+    if (s.backend->rendersOnDevice())
+        s.pager = std::make_unique<DemandPager>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
+    else
+        s.streamer = std::make_unique<RayStreamer>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
     return scene;
 }
 
@@ -349,20 +354,43 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
 
     // The streamer counts into st.totals across renders; this render reports the difference.
-    const StreamingStats before = st.totals;
-    const uint64_t bytesReadBefore = st.cache->bytesRead(), decodesBefore = st.cache->decodes();
-    const double decodeBefore = st.cache->decodeSeconds(), uploadBefore = st.backend->uploadSeconds();
-    const double deviceBefore = st.backend->deviceSeconds();
-    const uint64_t uploadedBefore = st.backend->bytesUploaded();
-    st.streamer->beginRender();
-
+    StreamingStats before = st.totals;
+    before.bytesRead = st.cache->bytesRead(), before.decodes = st.cache->decodes();
+    before.decodeSeconds = st.cache->decodeSeconds(), before.uploadSeconds = st.backend->uploadSeconds();
+    before.deviceSeconds = st.backend->deviceSeconds(), before.bytesUploaded = st.backend->bytesUploaded();
     RenderImage image;
     image.allocate(options.width, options.height, options.aovs);
+    const Clock::time_point start = Clock::now();
+    uint64_t rays = 0;
+    if (st.pager) {
+        st.pager->beginRender();
+        DeviceRenderJob job;
+        job.options = &options;
+        job.camera = camera;
+        job.materials = info.materials;
+        const Material fallback{"default"};
+        if (job.materials.empty()) job.materials = std::span<const Material>(&fallback, 1);
+        job.maxPathsPerWave = st.options.maxPathsPerWave;
+        job.progress = progress;
+        job.cancel = cancel;
+        VASTRAY_TRY(st.backend->renderOnDevice(job, *st.pager, image, st.totals));
+        rays = st.totals.walkedRays - before.walkedRays;
+    } else {
+        VASTRAY_TRY(renderOnHost(st, options, camera, image, progress, cancel, rays));
+    }
+    reportStats(st, before, stats, streamingStats, start, rays);
+    return image;
+}
+
+Status StreamingScene::renderOnHost(State& st, const RenderOptions& options, const Camera& camera, RenderImage& image,
+                                    const StreamingProgress& progress, const std::atomic<bool>* cancel,
+                                    uint64_t& rays) {
+    const PackageInfo& info = st.reader.info();
+    st.streamer->beginRender();
     const CameraRays cameraRays(camera, options.width, options.height);
     Integrator integrator(info, options, cameraRays, *st.streamer, st.totals, image, cancel, st.buffers);
     integrator.begin();
 
-    const Clock::time_point start = Clock::now();
     const uint64_t pixels = image.pixelCount();
     const uint64_t wave = std::min<uint64_t>(st.options.maxPathsPerWave, pixels * options.samplesPerPixel);
     const bool wantsAovs = (options.aovs & ~kAovCost) != 0;
@@ -388,7 +416,14 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
         report(waveStart + steps);
     }
     integrator.finish();
+    rays = integrator.rays();
+    return Status::ok();
+}
 
+void StreamingScene::reportStats(State& st, const StreamingStats& before, RenderStats* stats,
+                                 StreamingStats* streamingStats, std::chrono::steady_clock::time_point start,
+                                 uint64_t rays) {
+    const PackageInfo& info = st.reader.info();
     if (streamingStats) {
         StreamingStats& s = *streamingStats;
         const StreamingStats& t = st.totals;
@@ -397,7 +432,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
         s.memoryBudgetBytes = budget;
         s.chunksTotal = info.chunks.size();
         s.slots = st.backend->slotCount();
-        s.chunksTouched = st.streamer->chunksTouchedThisRender();
+        s.chunksTouched = st.pager ? st.pager->chunksTouchedThisRender() : st.streamer->chunksTouchedThisRender();
         s.chunkLoads = t.chunkLoads - before.chunkLoads;
         s.streamChunksTouched = t.streamChunksTouched - before.streamChunksTouched;
         s.streamReloads = t.streamReloads - before.streamReloads;
@@ -407,23 +442,26 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
         s.streams = t.streams - before.streams;
         s.chunkTraces = t.chunkTraces - before.chunkTraces;
         s.walkedRays = t.walkedRays - before.walkedRays;
-        s.bytesRead = st.cache->bytesRead() - bytesReadBefore;
-        s.decodes = st.cache->decodes() - decodesBefore;
-        s.decodeSeconds = st.cache->decodeSeconds() - decodeBefore;
-        s.bytesUploaded = st.backend->bytesUploaded() - uploadedBefore;
-        s.uploadSeconds = st.backend->uploadSeconds() - uploadBefore;
-        s.deviceSeconds = st.backend->deviceSeconds() - deviceBefore;
+        s.submits = t.submits - before.submits;
+        s.walkPasses = t.walkPasses - before.walkPasses;
+        s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;
+        s.deviceToHostBytes = t.deviceToHostBytes - before.deviceToHostBytes;
+        s.bytesRead = st.cache->bytesRead() - before.bytesRead;
+        s.decodes = st.cache->decodes() - before.decodes;
+        s.decodeSeconds = st.cache->decodeSeconds() - before.decodeSeconds;
+        s.bytesUploaded = st.backend->bytesUploaded() - before.bytesUploaded;
+        s.uploadSeconds = st.backend->uploadSeconds() - before.uploadSeconds;
+        s.deviceSeconds = st.backend->deviceSeconds() - before.deviceSeconds;
         s.peakDeviceBytes = st.backend->peakDeviceBytes();
     }
     if (stats) {
         stats->backend = st.backend->name();
         stats->renderSeconds = secondsSince(start);
         stats->buildSeconds = 0;
-        stats->rays = integrator.rays();
+        stats->rays = rays;
         stats->triangles = info.triangleCount;
         stats->peakHostBytes = peakHostBytes();
     }
-    return image;
 }
 
 Result<RenderImage> renderStreaming(const PackageReader& reader, const RenderOptions& options,

@@ -1,7 +1,7 @@
 #pragma once
-// The Vulkan backend of the streaming renderer: a pool of chunk slots and one ray batch, all
-// allocated once from the memory budget; stream_trace.comp dispatched per slot batch, and
-// stream_walk.comp for whole rays when every chunk has a slot.
+// The Vulkan backend of the streaming renderer: a pool of chunk slots and the device
+// wavefront's path state, all allocated once from the memory budget. Whole renders run on the
+// device (gpu/src/Wavefront.h); the host only pages chunks in between walk passes.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -16,17 +16,22 @@ namespace vastray::gpu {
 struct PoolPlan {
     uint64_t slotBytes = 0;      // one chunk slot: the largest chunk's upload (ChunkLayout)
     uint32_t slots = 0;          // chunk slots (never more than the package's chunks)
-    uint32_t batchRays = 0;      // rays per trace call
-    uint64_t rayBytes = 0;       // ray + hit buffers of one batch
-    uint64_t tableBytes = 0;     // the slot table and stream_walk.comp's (top-level tree, chunk -> slot, touched)
+    uint32_t batchRays = 0;      // paths per wave of the device wavefront
+    uint64_t rayBytes = 0;       // their state (rays, walk records, path vectors) and tile outputs
+    uint64_t tableBytes = 0;     // slot table, top-level tree, per-chunk tables, parameters, materials
     uint64_t totalBytes = 0;     // all of the above, <= the budget
     uint64_t minimumBytes = 0;   // one slot + the minimal batch + the tables
 };
 
-// The smallest batch a budget must hold besides one chunk slot.
-constexpr uint32_t kMinBatchRays = 4096;
-// The largest batch worth allocating: beyond it, bigger batches do not trace faster.
-constexpr uint32_t kMaxBatchRays = 1u << 20;
+// The smallest wave a budget must hold besides one chunk slot (~300 KiB of path state).
+constexpr uint32_t kMinBatchRays = 1024;
+// The largest wave: its walk dispatches two rays per path in workgroups of 64, and 65535
+// workgroups along x is what every device supports.
+constexpr uint32_t kMaxBatchRays = 65535u * 32u;
+// A quarter of the budget goes to the wave (at most kMaxBatchRays paths); beyond that the wave
+// grows into what the slots leave only up to this many paths (~77 MiB), so that scenes sharing
+// a service's pool do not each take all of it.
+constexpr uint32_t kGrowBatchRays = 1u << 18;
 
 // Splits `budget` between slots and the ray batch; an error (naming the minimum) when the
 // budget cannot hold one slot plus a minimal batch.

@@ -51,6 +51,7 @@ public:
     uint64_t allocatedBytes() const { return allocated_; } // bytes counted against the device
     VkDeviceAddress address() const { return address_; }
     bool isValid() const { return buffer_ != VK_NULL_HANDLE; }
+    VkBuffer handle() const { return buffer_; }  // for transfer commands (fills, copies)
 
     // Copies between host memory and [offset, offset + bytes) of the buffer. Call only while
     // no dispatch that uses the buffer is running (VulkanDevice::submit waits for completion).

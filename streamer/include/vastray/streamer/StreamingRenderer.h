@@ -5,6 +5,7 @@
 // backend only uploads chunks into slots and traces batches of rays against resident chunks
 // (ChunkBackend). docs/RENDERING.md describes the algorithm.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -12,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "vastray/core/Camera.h"
+#include "vastray/core/Mesh.h"
 #include "vastray/core/RenderImage.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/core/RenderStats.h"
@@ -83,6 +86,37 @@ inline ChunkLayout chunkLayout(const ChunkInfo& c, const ChunkAttributes& attrib
     return chunkLayout(c.kdNodeCount, c.kdRefCount, c.vertexCount, c.triangleCount, attributes);
 }
 
+struct StreamingStats;
+
+// Residency of chunks in a backend's slots, driven by demand (the pager). A device wavefront
+// asks it, between walk passes, to page in the chunks its waiting rays counted; it decides
+// what to load and evict, and loads through ChunkBackend::load. Backends never decide what to load.
+class ChunkPager {
+public:
+    virtual ~ChunkPager() = default;
+    // A new ray stream starts: every chunk resident now counts as traced by its first pass.
+    virtual void beginStream() = 0;
+    // demand[c] rays wait for chunk c (chunks that are resident have none). Loads the most
+    // wanted chunks (as many as there are slots), evicting chunks nobody waits for, least
+    // recently used first. Returns the chunks it loaded.
+    virtual Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand) = 0;
+    // Per chunk, set by the device: nonzero when a ray of this stream traced one of its cells.
+    virtual void streamTouched(std::span<const uint32_t> touched) = 0;
+    virtual std::span<const uint32_t> chunkSlots() const = 0;  // per chunk: its slot or kEmptyCell
+    virtual bool allResident() const = 0;                      // every chunk has a slot
+};
+
+// What a device-side render needs besides the package: the options, the camera it resolved
+// (framing applied), the materials, and the caller's progress and cancel hooks.
+struct DeviceRenderJob {
+    const RenderOptions* options = nullptr;
+    Camera camera;
+    std::span<const Material> materials;  // at least one
+    uint32_t maxPathsPerWave = 0;         // StreamingOptions::maxPathsPerWave (the budget may allow fewer)
+    std::function<void(uint64_t done, uint64_t total)> progress;  // optional
+    const std::atomic<bool>* cancel = nullptr;                   // optional: set stops the render
+};
+
 // The narrow interface of a streaming backend: a fixed number of slots, each holding one chunk.
 class ChunkBackend {
 public:
@@ -120,6 +154,17 @@ public:
                         std::span<StreamResult> results, std::span<uint8_t> touched) {
         (void)rays, (void)anyHit, (void)chunkSlot, (void)results, (void)touched;
         return Status::error(name() + " backend cannot walk rays through the top-level tree");
+    }
+
+    // The device wavefront: a backend that runs the whole render on its device (camera rays,
+    // the walk, traversal, shading, accumulation) returns true, and renderOnDevice fills image
+    // (allocated by the caller) and the device figures of stats (submits, bytes each way, walk
+    // passes). Chunks come in through pager only.
+    virtual bool rendersOnDevice() const { return false; }
+    virtual Status renderOnDevice(const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
+                                  StreamingStats& stats) {
+        (void)job, (void)pager, (void)image, (void)stats;
+        return Status::error(name() + " backend cannot render on a device");
     }
 
     virtual uint64_t bytesUploaded() const = 0;
@@ -165,7 +210,15 @@ struct StreamingStats {
     uint32_t slots = 0;             // chunk slots the budget holds
     uint64_t streams = 0;           // ray streams traced (closest and shadow, per bounce and wave)
     uint64_t chunkTraces = 0;       // (ray, cell) pairs traced
-    uint64_t walkedRays = 0;        // walked_rays: rays the backend walked whole (ChunkBackend::walk)
+    uint64_t walkedRays = 0;        // walked_rays: rays walked on the device (the device wavefront: all of them)
+    // The device wavefront's (ChunkBackend::renderOnDevice): command-buffer submissions, walk
+    // passes (one per stream in core; one per paging step out of core), and the bytes that
+    // crossed the bus besides chunk data (bytes_uploaded): parameters, chunk tables and epochs
+    // up; demand counters, touched flags and the image with its AOVs down.
+    uint64_t submits = 0;           // submits
+    uint64_t walkPasses = 0;        // walk_passes
+    uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
+    uint64_t deviceToHostBytes = 0; // device_to_host_bytes
 };
 
 // Called from the render thread with (units done, units total).
@@ -201,6 +254,13 @@ public:
 private:
     StreamingScene();
     struct State;
+    // The host wavefront (RayStreamer and the integrator here), for backends that do not render
+    // on a device; rays: the rays it traced.
+    static Status renderOnHost(State& st, const RenderOptions& options, const Camera& camera, RenderImage& image,
+                               const StreamingProgress& progress, const std::atomic<bool>* cancel, uint64_t& rays);
+    static void reportStats(State& st, const StreamingStats& before, RenderStats* stats,
+                            StreamingStats* streamingStats, std::chrono::steady_clock::time_point start,
+                            uint64_t rays);
     std::unique_ptr<State> state_;
 };
 

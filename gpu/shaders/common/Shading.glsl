@@ -1,0 +1,61 @@
+// The shading steps of the `path` and `ao` integrators (core/PathShading.h, core/Sampling.h,
+// core/RayOffset.h) in GLSL, step for step. docs/RENDERING.md specifies them; the device's
+// float functions (sqrt, cos, sin, division) may round differently from the host's, so images
+// agree with the Embree reference within noise-level tolerance, not bit for bit.
+#ifndef VASTRAY_SHADING_GLSL
+#define VASTRAY_SHADING_GLSL
+
+const float kPi = 3.14159265358979323846;
+const uint kRouletteStartBounce = 3u;
+const float kMaxSurvival = 0.95;
+
+vec3 skyRadiance(WavefrontParams p, vec3 direction) {
+    if (direction.y < 0.0) return vec3(p.groundR, p.groundG, p.groundB);
+    const vec3 horizon = vec3(p.horizonR, p.horizonG, p.horizonB);
+    return horizon + (vec3(p.zenithR, p.zenithG, p.zenithB) - horizon) * direction.y;
+}
+
+// Unit geometric normal on the side the ray came from.
+vec3 facingNormal(vec3 geometric, vec3 rayDirection) {
+    const vec3 n = normalize(geometric);
+    return dot(n, rayDirection) > 0.0 ? -n : n;
+}
+
+// Wächter and Binder 2019 (core/RayOffset.h): the point moved along n by a number of float
+// ULPs proportional to n, or by a tiny absolute step near the origin.
+vec3 offsetRayOrigin(vec3 p, vec3 n) {
+    const float kOrigin = 1.0 / 32.0, kFloatScale = 1.0 / 65536.0, kIntScale = 256.0;
+    vec3 result;
+    for (int a = 0; a < 3; ++a) {
+        const int ulps = int(kIntScale * n[a]);
+        const int bits = floatBitsToInt(p[a]) + (p[a] < 0.0 ? -ulps : ulps);
+        result[a] = abs(p[a]) < kOrigin ? p[a] + kFloatScale * n[a] : intBitsToFloat(bits);
+    }
+    return result;
+}
+
+// Duff et al. 2017's branchless basis, sign from n.z >= 0 (see core/Sampling.h).
+vec3 toWorld(vec3 n, vec3 local) {
+    const float sign = n.z >= 0.0 ? 1.0 : -1.0;
+    const float a = -1.0 / (sign + n.z);
+    const float b = n.x * n.y * a;
+    const vec3 tangent = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    const vec3 bitangent = vec3(b, sign + n.y * n.y * a, -n.y);
+    return tangent * local.x + bitangent * local.y + n * local.z;
+}
+
+vec3 cosineDirection(vec3 n, uint pixel, uint sampleIndex, uint bounce, uint seed) {
+    const float u1 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionU, seed);
+    const float u2 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionV, seed);
+    const float r = sqrt(u1);
+    const float phi = 2.0 * kPi * u2;
+    return normalize(toWorld(n, vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u1)))));
+}
+
+float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
+
+WavefrontMaterial materialAt(WavefrontParams p, uint id) {
+    return MaterialArray(p.materials).v[id < p.materialCount ? id : 0u];
+}
+
+#endif  // VASTRAY_SHADING_GLSL

@@ -1,0 +1,128 @@
+// Structs that cross the host/device line for the device wavefront (wf_*.comp): the render's
+// parameters, kept in device memory and read by every kernel through one address, and the one
+// push-constant block all wavefront kernels share. Compiled both as C++ (layout checked by
+// static_assert) and as GLSL (scalar members only, 64-bit members first, so std430 and C++ agree).
+// GLSL needs GL_EXT_shader_explicit_arithmetic_types_int64 enabled before including this.
+#ifndef VASTRAY_GPU_SHARED_WAVEFRONT_TYPES_H
+#define VASTRAY_GPU_SHARED_WAVEFRONT_TYPES_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+namespace vastray::gpu {
+using uint = uint32_t;
+#endif
+
+const uint kWavefrontWorkgroupSize = 64u;
+
+// Path flags (WavefrontParams::pathInfo .z).
+const uint kPathAlive = 1u;          // has a closest-hit ray to trace at the next stream
+const uint kPathShadowPending = 2u;  // has a shadow ray in the current stream
+const uint kPathCameraHit = 4u;      // its camera ray hit geometry (alpha)
+
+// Walk record flags (hitNormal .w as bits), besides kHitFound and kHitFrontFacing.
+const uint kRayPending = 4u;  // still to be walked: a cell it needs was not resident yet
+
+// WavefrontParams::chunkEpoch of a chunk that has not been resident in this stream.
+const uint kNotResidentThisStream = 0xFFFFFFFFu;
+
+// WavefrontParams::integrator.
+const uint kIntegratorPath = 0u;
+const uint kIntegratorAo = 1u;
+
+// WavefrontPush::mode of wf_generate.comp.
+const uint kGeneratePaths = 0u;  // jittered camera rays of (pixel, sample) paths
+const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
+
+// Device bytes per path of the state arrays (two rays with their walk records, four path
+// vectors) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
+// waves from the budget with these.
+const uint kBytesPerPath = 2u * (16u + 16u + 16u + 16u + 16u) + 4u * 16u;
+const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
+
+// A material as the shading kernel reads it (vastray::Material).
+struct WavefrontMaterial {
+    float baseR, baseG, baseB;
+    float emitR, emitG, emitB;
+    uint doubleSided;
+    uint padding;
+};
+
+// Everything a render's kernels read, written by the host once per render. Addresses are
+// buffer device addresses. Rays and their walk records are arrays of 2 * pathCapacity entries:
+// path j's closest-hit ray at j, its shadow ray at pathCapacity + j.
+struct WavefrontParams {
+    uint64_t slotTable;    // ChunkSlot per slot
+    uint64_t topNodes;     // the package's top-level tree (KdNode; a leaf's first word is its chunk)
+    uint64_t chunkSlots;   // per chunk: its slot, or kWalkNoHit when not resident
+    uint64_t chunkEpoch;   // per chunk: the walk pass of this stream it was paged in for (resident at
+                           // the stream's start: 0), or kNotResidentThisStream
+    uint64_t touched;      // per chunk: set to 1 when a ray traces one of its cells
+    uint64_t demand;       // per chunk: rays that wait for it (this pass); [chunkCount]: all waiting
+                           // rays; [chunkCount + 1]: rays walked (counted at each stream's first pass)
+    uint64_t materials;    // WavefrontMaterial per material
+    uint64_t rayOrigin;    // vec4: origin, tMax
+    uint64_t rayDirection; // vec4: direction, where the walk resumes (t)
+    uint64_t hitPosition;  // vec4: position, t (closest-hit rays)
+    uint64_t hitNormal;    // vec4: geometric normal (not normalized), flags as bits
+    uint64_t hitIds;       // uvec4: primitive, material, chunk, 0
+    uint64_t throughput;   // vec4 per path
+    uint64_t radiance;     // vec4 per path
+    uint64_t pendingSun;   // vec4 per path: the sun's light, added if the shadow ray is unblocked
+    uint64_t pathInfo;     // uvec4 per path: pixel, sample, flags, 0
+    uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
+    uint64_t outColor;     // vec4 per tile pixel: mean radiance, alpha
+    uint64_t outDepth;     // float per tile pixel
+    uint64_t outNormal;    // float[3] per tile pixel
+    uint64_t outAlbedo;    // float[3] per tile pixel
+    uint64_t outPrimId;    // uint per tile pixel
+    uint64_t outChunkId;   // uint per tile pixel
+    uint64_t outCost;      // uint[2] per tile pixel: cells traced, triangles tested
+    float eyeX, eyeY, eyeZ;
+    float forwardX, forwardY, forwardZ;
+    float rightX, rightY, rightZ;  // scaled by the half width of the image plane
+    float upX, upY, upZ;           // scaled by its half height
+    float width, height;
+    float zenithR, zenithG, zenithB;
+    float horizonR, horizonG, horizonB;
+    float groundR, groundG, groundB;
+    float sunX, sunY, sunZ;  // unit
+    float sunR, sunG, sunB;  // irradiance; zero: no sun
+    float aoDistance;        // 0: unbounded
+    float boundsLoX, boundsLoY, boundsLoZ;  // the package bounds (the top-level tree's)
+    float boundsHiX, boundsHiY, boundsHiZ;
+    uint imageWidth;
+    uint materialCount;
+    uint seed;
+    uint samplesPerPixel;
+    uint maxDepth;
+    uint integrator;
+    uint aovs;         // vastray::AovFlags
+    uint pathCapacity; // paths the state arrays hold
+    uint chunkCount;
+    uint topNodeCount;
+};
+
+// One block for every wavefront kernel. A wave is the tile's pixels [firstPixel, firstPixel +
+// pixelCount) times samples [firstSample, firstSample + sampleCount); path j of the wave is
+// pixel j / sampleCount, sample firstSample + j % sampleCount.
+struct WavefrontPush {
+    uint64_t params;
+    uint firstPixel;
+    uint pixelCount;
+    uint firstSample;
+    uint sampleCount;
+    uint bounce;   // wf_shade.comp: the scattering event being shaded
+    uint pass;     // wf_walk.comp: the walk pass within this stream
+    uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
+    uint padding;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(WavefrontMaterial) == 32);
+static_assert(offsetof(WavefrontParams, eyeX) == 24 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(WavefrontPush) == 40 && offsetof(WavefrontPush, mode) == 32);
+}  // namespace vastray::gpu
+#endif
+
+#endif  // VASTRAY_GPU_SHARED_WAVEFRONT_TYPES_H

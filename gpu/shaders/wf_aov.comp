@@ -1,0 +1,39 @@
+// The AOVs of the tile's pixel-centre rays (one per pixel, walked like a closest-hit stream):
+// depth, facing unit normal, base colour, primitive and chunk; miss values where nothing was hit.
+#version 460
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+#include "common/WavefrontPrelude.glsl"
+#include "common/Random.glsl"
+#include "common/Shading.glsl"
+
+layout(local_size_x = kWavefrontWorkgroupSize) in;
+
+// Same values as vastray::AovFlags.
+const uint kAovDepth = 1u, kAovNormal = 2u, kAovAlbedo = 4u, kAovPrimId = 8u, kAovChunkId = 16u;
+
+void main() {
+    const uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.pixelCount) return;
+    ParamsRef params = ParamsRef(pc.params);
+    const uint aovs = params.p.aovs;
+    const vec4 n = Vec4Array(params.p.hitNormal).v[i];
+    const bool found = (floatBitsToUint(n.w) & kHitFound) != 0u;
+    const vec4 position = Vec4Array(params.p.hitPosition).v[i];
+    const uvec4 ids = UVec4Array(params.p.hitIds).v[i];
+    vec3 normal = vec3(0.0), albedo = vec3(0.0);
+    if (found) {
+        normal = facingNormal(n.xyz, Vec4Array(params.p.rayDirection).v[i].xyz);
+        const WavefrontMaterial m = materialAt(params.p, ids.y);
+        albedo = vec3(m.baseR, m.baseG, m.baseB);
+    }
+    if ((aovs & kAovDepth) != 0u) RwFloatArray(params.p.outDepth).v[i] = found ? position.w : kInfinity;
+    if ((aovs & kAovNormal) != 0u)
+        for (uint c = 0u; c < 3u; ++c) RwFloatArray(params.p.outNormal).v[3u * i + c] = normal[c];
+    if ((aovs & kAovAlbedo) != 0u)
+        for (uint c = 0u; c < 3u; ++c) RwFloatArray(params.p.outAlbedo).v[3u * i + c] = albedo[c];
+    if ((aovs & kAovPrimId) != 0u) RwUintArray(params.p.outPrimId).v[i] = found ? ids.x : 0xFFFFFFFFu;
+    if ((aovs & kAovChunkId) != 0u) RwUintArray(params.p.outChunkId).v[i] = found ? ids.z : 0xFFFFFFFFu;
+}

@@ -1,0 +1,40 @@
+// Camera rays of a wave's paths (core/Camera.h's CameraRays::primary): jittered by the pixel
+// dimensions of the path's random numbers, or through the pixel centre for the AOVs. Resets
+// each path's state and marks its closest-hit ray for walking and its shadow ray as absent.
+#version 460
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+#include "common/WavefrontPrelude.glsl"
+#include "common/Random.glsl"
+
+layout(local_size_x = kWavefrontWorkgroupSize) in;
+
+void main() {
+    const uint j = gl_GlobalInvocationID.x;
+    if (j >= wavePaths()) return;
+    ParamsRef params = ParamsRef(pc.params);
+    const uint pixel = pc.firstPixel + j / pc.sampleCount;
+    const uint sampleIndex = pc.firstSample + j % pc.sampleCount;
+    const uint seed = params.p.seed, width = params.p.imageWidth;
+    float jx = 0.5, jy = 0.5;
+    if (pc.mode == kGeneratePaths) {
+        jx = randomFloat(pixel, sampleIndex, 0u, kDimPixelX, seed);
+        jy = randomFloat(pixel, sampleIndex, 0u, kDimPixelY, seed);
+    }
+    const float sx = 2.0 * (float(pixel % width) + jx) / params.p.width - 1.0;
+    const float sy = 1.0 - 2.0 * (float(pixel / width) + jy) / params.p.height;
+    const vec3 forward = vec3(params.p.forwardX, params.p.forwardY, params.p.forwardZ);
+    const vec3 right = vec3(params.p.rightX, params.p.rightY, params.p.rightZ);
+    const vec3 up = vec3(params.p.upX, params.p.upY, params.p.upZ);
+    const vec3 direction = normalize(forward + right * sx + up * sy);
+    const uint shadow = shadowRayIndex(params.p, j);
+    Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, kInfinity);
+    Vec4Array(params.p.rayDirection).v[j] = vec4(direction, 0.0);
+    Vec4Array(params.p.hitNormal).v[j] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending));
+    Vec4Array(params.p.hitNormal).v[shadow] = vec4(0.0);
+    Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
+    Vec4Array(params.p.radiance).v[j] = vec4(0.0);
+    UVec4Array(params.p.pathInfo).v[j] = uvec4(pixel, sampleIndex, kPathAlive, 0u);
+}

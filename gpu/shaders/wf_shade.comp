@@ -1,0 +1,89 @@
+// One scattering event of every path of the wave (cpu/src/Integrators.cpp's tracePath and
+// ambientOcclusion, step for step): first the shadow ray of the previous event (the sun's
+// light, or the occlusion test), then the closest hit of this one: sky on a miss; emission,
+// next-event estimation to the sun (a shadow ray for the next stream), the Lambertian bounce
+// and Russian roulette on a hit. New rays are marked for walking.
+#version 460
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+#include "common/WavefrontPrelude.glsl"
+#include "common/Random.glsl"
+#include "common/Shading.glsl"
+
+layout(local_size_x = kWavefrontWorkgroupSize) in;
+
+void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
+    Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
+    Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
+    Vec4Array(p.hitNormal).v[ray] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending));
+}
+
+void main() {
+    const uint j = gl_GlobalInvocationID.x;
+    if (j >= wavePaths()) return;
+    const WavefrontParams p = ParamsRef(pc.params).p;
+    uvec4 info = UVec4Array(p.pathInfo).v[j];
+    uint flags = info.z;
+    if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return;
+    const bool ao = p.integrator == kIntegratorAo;
+    const uint shadow = shadowRayIndex(p, j);
+    vec3 radiance = Vec4Array(p.radiance).v[j].xyz;
+    if ((flags & kPathShadowPending) != 0u) {
+        const bool blocked = (floatBitsToUint(Vec4Array(p.hitNormal).v[shadow].w) & kHitFound) != 0u;
+        if (ao)
+            radiance = blocked ? vec3(0.0) : vec3(1.0);
+        else if (!blocked)
+            radiance += Vec4Array(p.pendingSun).v[j].xyz;
+        flags &= ~kPathShadowPending;
+        Vec4Array(p.hitNormal).v[shadow] = vec4(0.0);
+    }
+    if ((flags & kPathAlive) != 0u) {
+        flags &= ~kPathAlive;
+        const vec4 hitNormal = Vec4Array(p.hitNormal).v[j];
+        const vec3 direction = Vec4Array(p.rayDirection).v[j].xyz;
+        vec3 throughput = Vec4Array(p.throughput).v[j].xyz;
+        const uint bounce = pc.bounce, pixel = info.x, sampleIndex = info.y;
+        if ((floatBitsToUint(hitNormal.w) & kHitFound) == 0u) {
+            radiance = ao ? vec3(1.0) : radiance + throughput * skyRadiance(p, direction);
+        } else {
+            const vec3 n = facingNormal(hitNormal.xyz, direction);
+            const vec3 origin = offsetRayOrigin(Vec4Array(p.hitPosition).v[j].xyz, n);
+            if (bounce == 0u) flags |= kPathCameraHit;
+            if (ao) {
+                const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
+                startRay(p, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range);
+                flags |= kPathShadowPending;
+            } else {
+                const WavefrontMaterial m = materialAt(p, UVec4Array(p.hitIds).v[j].y);
+                const vec3 base = vec3(m.baseR, m.baseG, m.baseB);
+                radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
+                if (bounce < p.maxDepth) {
+                    const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
+                    const float cosine = dot(n, sun);
+                    if (maxComponent(irradiance) > 0.0 && cosine > 0.0) {
+                        Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
+                        startRay(p, shadow, origin, sun, kInfinity);
+                        flags |= kPathShadowPending;
+                    }
+                    throughput *= base;
+                    bool survives = true;
+                    if (bounce + 1u >= kRouletteStartBounce) {
+                        const float survival = min(kMaxSurvival, maxComponent(throughput));
+                        survives = randomFloat(pixel, sampleIndex, bounce, kDimRoulette, p.seed) < survival;
+                        if (survives) throughput *= 1.0 / survival;
+                    }
+                    if (survives) {
+                        Vec4Array(p.throughput).v[j] = vec4(throughput, 0.0);
+                        startRay(p, j, origin, cosineDirection(n, pixel, sampleIndex, bounce, p.seed), kInfinity);
+                        flags |= kPathAlive;
+                    }
+                }
+            }
+        }
+    }
+    Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);
+    info.z = flags;
+    UVec4Array(p.pathInfo).v[j] = info;
+}

@@ -1,0 +1,60 @@
+#pragma once
+// Where the Vulkan backend's small tables lie in its one table buffer: the slot table, the
+// package's top-level tree, per chunk its slot, touched flag, epoch and demand counter, the
+// wavefront's parameters and the material table (byte offsets, 16-byte aligned).
+#include <cstdint>
+
+#include "shared/StreamTypes.h"
+#include "shared/WavefrontTypes.h"
+#include "vastray/core/KdTree.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray::gpu {
+
+struct TableLayout {
+    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, epoch = 0, demand = 0, params = 0, materials = 0;
+    uint64_t totalBytes = 0;
+};
+
+inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
+    auto align = [](uint64_t bytes) { return (bytes + 15) / 16 * 16; };
+    const uint64_t chunks = package.chunks.size();
+    TableLayout t;
+    t.topNodes = align(slots * sizeof(ChunkSlot));
+    t.chunkSlots = t.topNodes + align(package.topTree.size() * sizeof(KdNode));
+    t.touched = t.chunkSlots + align(chunks * 4);
+    t.epoch = t.touched + align(chunks * 4);
+    t.demand = t.epoch + align(chunks * 4);
+    t.params = t.demand + align((chunks + 2) * 4);
+    t.materials = t.params + align(sizeof(WavefrontParams));
+    t.totalBytes = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
+    return t;
+}
+
+// The wavefront's state buffer (device-local) and output buffer (host-readable), per path and
+// per tile pixel: sections in the order of WavefrontParams' addresses.
+struct StateLayout {
+    uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
+        accum, totalBytes;
+};
+inline StateLayout stateLayout(uint64_t paths) {
+    StateLayout s{};
+    const uint64_t rays = 2 * paths * 16, perPath = paths * 16;
+    s.rayOrigin = 0, s.rayDirection = rays, s.hitPosition = 2 * rays, s.hitNormal = 3 * rays, s.hitIds = 4 * rays;
+    s.throughput = 5 * rays, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
+    s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.totalBytes = s.accum + perPath;
+    return s;
+}
+struct OutputLayout {
+    uint64_t color, depth, normal, albedo, primId, chunkId, cost, totalBytes;
+};
+inline OutputLayout outputLayout(uint64_t pixels) {
+    OutputLayout o{};
+    o.color = 0, o.depth = 16 * pixels, o.normal = o.depth + 4 * pixels, o.albedo = o.normal + 12 * pixels;
+    o.primId = o.albedo + 12 * pixels, o.chunkId = o.primId + 4 * pixels, o.cost = o.chunkId + 4 * pixels;
+    o.totalBytes = o.cost + 8 * pixels;
+    return o;
+}
+static_assert(kBytesPerPath == 16 * 10 + 4 * 16 && kBytesPerTilePixel == 76);
+
+}  // namespace vastray::gpu

@@ -1,0 +1,330 @@
+#include "Wavefront.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "vastray/core/VecMath.h"
+
+namespace vastray::gpu {
+namespace {
+
+const uint32_t kGenerateSpirv[] =
+#include "wf_generate.spv.inc"
+    ;
+const uint32_t kWalkSpirv[] =
+#include "wf_walk.spv.inc"
+    ;
+const uint32_t kShadeSpirv[] =
+#include "wf_shade.spv.inc"
+    ;
+const uint32_t kAccumulateSpirv[] =
+#include "wf_accumulate.spv.inc"
+    ;
+const uint32_t kAovSpirv[] =
+#include "wf_aov.spv.inc"
+    ;
+
+static_assert(kWalkNoHit == kEmptyCell && kWavefrontWorkgroupSize == 64);
+
+// Every kernel's writes are visible to the next kernel's reads and to transfers, and fills
+// to kernels.
+void barrier(VkCommandBuffer cmd) {
+    VkMemoryBarrier b{};
+    b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                      VK_ACCESS_TRANSFER_WRITE_BIT;
+    const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    vkCmdPipelineBarrier(cmd, stages, stages, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+uint32_t groups(uint64_t threads) {
+    return uint32_t((threads + kWavefrontWorkgroupSize - 1) / kWavefrontWorkgroupSize);
+}
+
+// CameraRays' vectors (core/src/Camera.cpp): the image plane at distance 1, scaled.
+void setCamera(WavefrontParams& p, const Camera& camera, uint32_t width, uint32_t height) {
+    const Vec3f forward = normalize(camera.target - camera.eye);
+    const Vec3f right = normalize(cross(forward, camera.up));
+    const Vec3f up = cross(right, forward);
+    const float halfHeight = std::tan(0.5f * camera.fovYDegrees * (3.14159265358979323846f / 180.0f));
+    const Vec3f u = up * halfHeight, r = right * (halfHeight * float(width) / float(height));
+    p.eyeX = camera.eye.x, p.eyeY = camera.eye.y, p.eyeZ = camera.eye.z;
+    p.forwardX = forward.x, p.forwardY = forward.y, p.forwardZ = forward.z;
+    p.rightX = r.x, p.rightY = r.y, p.rightZ = r.z;
+    p.upX = u.x, p.upY = u.y, p.upZ = u.z;
+    p.width = float(width), p.height = float(height);
+}
+
+void setEnvironment(WavefrontParams& p, const Environment& e) {
+    p.zenithR = e.zenith[0], p.zenithG = e.zenith[1], p.zenithB = e.zenith[2];
+    p.horizonR = e.horizon[0], p.horizonG = e.horizon[1], p.horizonB = e.horizon[2];
+    p.groundR = e.ground[0], p.groundG = e.ground[1], p.groundB = e.ground[2];
+    const Vec3f sun = normalize(e.sunDirection);
+    p.sunX = sun.x, p.sunY = sun.y, p.sunZ = sun.z;
+    p.sunR = e.sunIrradiance[0], p.sunG = e.sunIrradiance[1], p.sunB = e.sunIrradiance[2];
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Wavefront>> Wavefront::create(VulkanDevice& device) {
+    std::unique_ptr<Wavefront> w(new Wavefront(device));
+    const std::pair<std::span<const uint32_t>, std::unique_ptr<ComputePipeline>*> kernels[] = {
+        {kGenerateSpirv, &w->pipelines_.generate}, {kWalkSpirv, &w->pipelines_.walk},
+        {kShadeSpirv, &w->pipelines_.shade},       {kAccumulateSpirv, &w->pipelines_.accumulate},
+        {kAovSpirv, &w->pipelines_.aov}};
+    for (const auto& [spirv, pipeline] : kernels) {
+        auto created = ComputePipeline::create(device, spirv, sizeof(WavefrontPush));
+        if (!created) return created.status();
+        *pipeline = std::move(created).value();
+    }
+    return w;
+}
+
+// One render: records kernels, submits at the points where the host must look (a walk pass
+// out of core, a finished tile), and copies finished tiles into the image.
+class Wavefront::Run {
+public:
+    Run(Wavefront& w, const WavefrontBuffers& b, const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
+        StreamingStats& stats, double& deviceSeconds)
+        : w_(w), b_(b), job_(job), options_(*job.options), pager_(pager), image_(image), stats_(stats),
+          deviceSeconds_(deviceSeconds), epochs_(b.chunkCount, 0) {}
+
+    Status execute() {
+        VASTRAY_TRY(uploadParams());
+        VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
+        VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount + 2, 0), b_.tables.demand));
+        VASTRAY_TRY(uploadResidency());
+        const uint64_t pixels = image_.pixelCount();
+        const uint32_t spp = options_.samplesPerPixel;
+        const uint32_t samplesPerWave = std::min(spp, b_.pathCapacity);
+        const uint64_t tilePixels = std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave);
+        const uint64_t tiles = (pixels + tilePixels - 1) / tilePixels;
+        for (uint64_t tile = 0; tile < tiles; ++tile) {
+            const uint64_t first = tile * tilePixels, count = std::min(tilePixels, pixels - first);
+            VASTRAY_TRY(renderTile(uint32_t(first), uint32_t(count), samplesPerWave));
+            if (job_.progress) job_.progress(tile + 1, tiles);
+        }
+        std::vector<uint32_t> touched(b_.chunkCount);
+        VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
+        pager_.streamTouched(touched);
+        return Status::ok();
+    }
+
+private:
+    const Pipelines& kernels() const { return w_.pipelines_; }
+    bool streamsNeedPaging() const { return !pager_.allResident(); }
+
+    Status renderTile(uint32_t first, uint32_t count, uint32_t samplesPerWave) {
+        const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
+        const uint32_t streams = ao ? 2u : options_.maxDepth + 1u;
+        const OutputLayout out = outputLayout(b_.pathCapacity);
+        const StateLayout state = stateLayout(b_.pathCapacity);
+        record([=, this](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, b_.state->handle(), state.accum, uint64_t(count) * 16, 0);
+            if (image_.aovs & kAovCost) vkCmdFillBuffer(cmd, b_.output->handle(), out.cost, uint64_t(count) * 8, 0);
+            barrier(cmd);
+        });
+        if (image_.aovs & ~kAovCost) {
+            const WavefrontPush push = makePush(first, count, 0, 1, kGenerateAov);
+            dispatch(*kernels().generate, push, count);
+            VASTRAY_TRY(stream(push));
+            dispatch(*kernels().aov, push, count);
+        }
+        for (uint32_t s0 = 0; s0 < options_.samplesPerPixel; s0 += samplesPerWave) {
+            if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
+            const uint32_t samples = std::min(samplesPerWave, options_.samplesPerPixel - s0);
+            WavefrontPush push = makePush(first, count, s0, samples, kGeneratePaths);
+            dispatch(*kernels().generate, push, uint64_t(count) * samples);
+            for (uint32_t bounce = 0; bounce < streams; ++bounce) {
+                VASTRAY_TRY(stream(push));
+                push.bounce = bounce;
+                dispatch(*kernels().shade, push, uint64_t(count) * samples);
+            }
+            push.mode = s0 + samples == options_.samplesPerPixel ? 1u : 0u;
+            dispatch(*kernels().accumulate, push, count);
+        }
+        VASTRAY_TRY(flush());
+        return readTile(first, count);
+    }
+
+    WavefrontPush makePush(uint32_t first, uint32_t count, uint32_t firstSample, uint32_t samples, uint32_t mode) {
+        WavefrontPush p{};
+        p.params = b_.table->address() + b_.tables.params;
+        p.firstPixel = first, p.pixelCount = count, p.firstSample = firstSample, p.sampleCount = samples;
+        p.mode = mode;
+        return p;
+    }
+
+    // Walks the stream's pending rays until none waits. In core one pass, recorded behind the
+    // previous kernels; out of core a submitted pass per paging step.
+    Status stream(WavefrontPush push) {
+        const uint64_t rays = 2ull * push.pixelCount * push.sampleCount;
+        if (!streamsNeedPaging()) {
+            if (epochsDirty_) {
+                VASTRAY_TRY(flush());
+                std::fill(epochs_.begin(), epochs_.end(), 0);
+                VASTRAY_TRY(uploadResidency());
+            }
+            push.pass = 0;
+            dispatch(*kernels().walk, push, rays);
+            ++stats_.walkPasses;
+            return Status::ok();
+        }
+        VASTRAY_TRY(flush());
+        pager_.beginStream();
+        const std::span<const uint32_t> slots = pager_.chunkSlots();
+        for (size_t c = 0; c < epochs_.size(); ++c) epochs_[c] = slots[c] == kEmptyCell ? kNotResidentThisStream : 0;
+        VASTRAY_TRY(uploadResidency());
+        VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
+        std::vector<uint32_t> demand(b_.chunkCount + 1);
+        for (uint32_t pass = 0;; ++pass) {
+            if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
+            push.pass = pass;
+            record([this](VkCommandBuffer cmd) {
+                vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand, (uint64_t(b_.chunkCount) + 1) * 4, 0);
+                barrier(cmd);
+            });
+            dispatch(*kernels().walk, push, rays);
+            ++stats_.walkPasses;
+            VASTRAY_TRY(flush());
+            VASTRAY_TRY(download(demand.data(), demand.size() * 4, *b_.table, b_.tables.demand));
+            if (demand[b_.chunkCount] == 0) break;
+            auto loaded = pager_.page(std::span<const uint32_t>(demand).first(b_.chunkCount));
+            if (!loaded) return loaded.status();
+            if (loaded->empty())
+                return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");
+            for (uint32_t c : *loaded) epochs_[c] = pass + 1;
+            epochsDirty_ = true;
+            VASTRAY_TRY(uploadResidency());
+        }
+        std::vector<uint32_t> touched(b_.chunkCount);
+        VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
+        pager_.streamTouched(touched);
+        return Status::ok();
+    }
+
+    Status readTile(uint32_t first, uint32_t count) {
+        const OutputLayout o = outputLayout(b_.pathCapacity);
+        std::vector<float> color(4ull * count);
+        VASTRAY_TRY(download(color.data(), color.size() * 4, *b_.output, o.color));
+        for (uint32_t i = 0; i < count; ++i) {
+            const uint64_t p = uint64_t(first) + i;
+            for (int c = 0; c < 3; ++c) image_.rgb[3 * p + c] = color[4ull * i + c];
+            image_.alpha[p] = color[4ull * i + 3];
+        }
+        const uint32_t aovs = image_.aovs;
+        if (aovs & kAovDepth) VASTRAY_TRY(download(&image_.depth[first], 4ull * count, *b_.output, o.depth));
+        if (aovs & kAovNormal) VASTRAY_TRY(download(&image_.normal[3ull * first], 12ull * count, *b_.output, o.normal));
+        if (aovs & kAovAlbedo) VASTRAY_TRY(download(&image_.albedo[3ull * first], 12ull * count, *b_.output, o.albedo));
+        if (aovs & kAovPrimId) VASTRAY_TRY(download(&image_.primId[first], 4ull * count, *b_.output, o.primId));
+        if (aovs & kAovChunkId) VASTRAY_TRY(download(&image_.chunkId[first], 4ull * count, *b_.output, o.chunkId));
+        if (aovs & kAovCost) {
+            std::vector<uint32_t> cost(2ull * count);
+            VASTRAY_TRY(download(cost.data(), cost.size() * 4, *b_.output, o.cost));
+            for (uint64_t i = 0; i < cost.size(); ++i) image_.cost[2ull * first + i] = float(cost[i]);
+        }
+        uint32_t rays = 0;  // rays walked in this tile's streams; the counter restarts per tile
+        VASTRAY_TRY(download(&rays, 4, *b_.table, b_.tables.demand + 4ull * (b_.chunkCount + 1)));
+        stats_.walkedRays += rays;
+        return upload(std::vector<uint32_t>(1, 0), b_.tables.demand + 4ull * (b_.chunkCount + 1));
+    }
+
+    Status uploadParams() {
+        WavefrontParams p{};
+        const uint64_t table = b_.table->address(), state = b_.state->address(), out = b_.output->address();
+        const TableLayout& t = b_.tables;
+        p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
+        p.chunkEpoch = table + t.epoch, p.touched = table + t.touched, p.demand = table + t.demand;
+        p.materials = table + t.materials;
+        const StateLayout s = stateLayout(b_.pathCapacity);
+        p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
+        p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
+        p.throughput = state + s.throughput, p.radiance = state + s.radiance, p.pendingSun = state + s.pendingSun;
+        p.pathInfo = state + s.pathInfo, p.accum = state + s.accum;
+        const OutputLayout o = outputLayout(b_.pathCapacity);
+        p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
+        p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
+        p.outCost = out + o.cost;
+        setCamera(p, job_.camera, options_.width, options_.height);
+        setEnvironment(p, options_.environment);
+        p.aoDistance = options_.aoDistance;
+        p.boundsLoX = b_.bounds.lo.x, p.boundsLoY = b_.bounds.lo.y, p.boundsLoZ = b_.bounds.lo.z;
+        p.boundsHiX = b_.bounds.hi.x, p.boundsHiY = b_.bounds.hi.y, p.boundsHiZ = b_.bounds.hi.z;
+        p.imageWidth = options_.width;
+        p.materialCount = uint32_t(job_.materials.size());
+        p.seed = options_.seed, p.samplesPerPixel = options_.samplesPerPixel, p.maxDepth = options_.maxDepth;
+        p.integrator = options_.integrator == IntegratorKind::AmbientOcclusion ? kIntegratorAo : kIntegratorPath;
+        p.aovs = image_.aovs, p.pathCapacity = b_.pathCapacity;
+        p.chunkCount = b_.chunkCount, p.topNodeCount = b_.topNodeCount;
+        std::vector<WavefrontMaterial> materials;
+        for (const Material& m : job_.materials)
+            materials.push_back({m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1],
+                                 m.emissive[2], m.doubleSided ? 1u : 0u, 0u});
+        VASTRAY_TRY(upload(materials, b_.tables.materials));
+        return uploadBytes(&p, sizeof(p), b_.tables.params);
+    }
+
+    Status uploadResidency() {
+        const std::span<const uint32_t> slots = pager_.chunkSlots();
+        VASTRAY_TRY(uploadBytes(slots.data(), slots.size_bytes(), b_.tables.chunkSlots));
+        return upload(epochs_, b_.tables.epoch);
+    }
+
+    template <typename T>
+    Status upload(const std::vector<T>& data, uint64_t offset) {
+        return uploadBytes(data.data(), data.size() * sizeof(T), offset);
+    }
+    Status uploadBytes(const void* data, uint64_t bytes, uint64_t offset) {
+        stats_.hostToDeviceBytes += bytes;
+        return b_.table->upload(data, bytes, offset);
+    }
+    Status download(void* data, uint64_t bytes, const GpuBuffer& from, uint64_t offset) {
+        stats_.deviceToHostBytes += bytes;
+        return from.download(data, bytes, offset);
+    }
+
+    void record(std::function<void(VkCommandBuffer)> op) { ops_.push_back(std::move(op)); }
+    void dispatch(const ComputePipeline& pipeline, const WavefrontPush& push, uint64_t threads) {
+        if (threads == 0) return;
+        record([&pipeline, push, threads](VkCommandBuffer cmd) {
+            pipeline.record(cmd, &push, groups(threads));
+            barrier(cmd);
+        });
+    }
+    Status flush() {
+        if (ops_.empty()) return Status::ok();
+        const auto start = std::chrono::steady_clock::now();
+        const Status s = w_.device_.submit([&](VkCommandBuffer cmd) {
+            for (const auto& op : ops_) op(cmd);
+        });
+        deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        ops_.clear();
+        ++stats_.submits;
+        return s;
+    }
+
+    Wavefront& w_;
+    const WavefrontBuffers& b_;
+    const DeviceRenderJob& job_;
+    const RenderOptions& options_;
+    ChunkPager& pager_;
+    RenderImage& image_;
+    StreamingStats& stats_;
+    double& deviceSeconds_;
+    std::vector<uint32_t> epochs_;  // per chunk: WavefrontParams::chunkEpoch
+    bool epochsDirty_ = false;
+    std::vector<std::function<void(VkCommandBuffer)>> ops_;
+};
+
+Status Wavefront::render(const WavefrontBuffers& buffers, const DeviceRenderJob& job, ChunkPager& pager,
+                         RenderImage& image, StreamingStats& stats, double& deviceSeconds) {
+    if (!job.options || job.materials.empty()) return Status::error("device render: no options or no material");
+    Run run(*this, buffers, job, pager, image, stats, deviceSeconds);
+    return run.execute();
+}
+
+}  // namespace vastray::gpu

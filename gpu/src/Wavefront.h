@@ -1,0 +1,46 @@
+#pragma once
+// The device wavefront: a whole render as compute kernels over path state in device memory
+// (wf_generate, wf_walk, wf_shade, wf_accumulate, wf_aov). The host records one command buffer
+// per tile when every chunk is resident; otherwise it submits each walk pass, reads the
+// per-chunk demand counters, and lets the pager page chunks in before the next pass. Only the
+// counters and the finished tile's pixels come back.
+#include <memory>
+
+#include "PoolLayout.h"
+#include "vastray/gpu/ComputePipeline.h"
+#include "vastray/gpu/VulkanDevice.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace vastray::gpu {
+
+// The backend's buffers the wavefront works in.
+struct WavefrontBuffers {
+    GpuBuffer* table = nullptr;  // TableLayout
+    TableLayout tables;
+    GpuBuffer* state = nullptr;  // StateLayout for pathCapacity paths
+    GpuBuffer* output = nullptr; // OutputLayout for pathCapacity pixels
+    uint32_t pathCapacity = 0;
+    Aabb bounds;  // the package's
+    uint32_t topNodeCount = 0, chunkCount = 0;
+};
+
+class Wavefront {
+public:
+    static Result<std::unique_ptr<Wavefront>> create(VulkanDevice& device);
+
+    // deviceSeconds: time spent waiting for submissions.
+    Status render(const WavefrontBuffers& buffers, const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
+                  StreamingStats& stats, double& deviceSeconds);
+
+private:
+    explicit Wavefront(VulkanDevice& device) : device_(device) {}
+    struct Pipelines {
+        std::unique_ptr<ComputePipeline> generate, walk, shade, accumulate, aov;
+    };
+    class Run;
+
+    VulkanDevice& device_;
+    Pipelines pipelines_;
+};
+
+}  // namespace vastray::gpu

@@ -1,0 +1,45 @@
+#pragma once
+// The pager of the device wavefront: turns per-chunk demand counters (rays waiting per chunk,
+// read from the device after a walk pass) into loads and evictions of the backend's slots,
+// with chunks decoded by the host cache's workers. Residency persists from render to render.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "render/ChunkCache.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace vastray {
+
+class DemandPager final : public ChunkPager {
+public:
+    DemandPager(const PackageInfo& package, const ChunkAttributes& attributes, ChunkBackend& backend,
+                ChunkCache& cache, StreamingStats& stats);
+
+    void beginRender();  // chunksTouchedThisRender counts from zero again
+    uint64_t chunksTouchedThisRender() const { return touchedThisRender_; }
+
+    void beginStream() override;
+    Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand) override;
+    void streamTouched(std::span<const uint32_t> touched) override;
+    std::span<const uint32_t> chunkSlots() const override { return chunkSlot_; }
+    bool allResident() const override { return resident_ == chunkSlot_.size(); }
+
+private:
+    std::vector<uint8_t> singleSidedOf(const DecodedChunk& chunk) const;
+
+    const PackageInfo& package_;
+    ChunkAttributes attributes_;
+    ChunkBackend& backend_;
+    ChunkCache& cache_;
+    StreamingStats& stats_;
+    std::vector<uint32_t> slotChunk_, chunkSlot_;  // kEmptyCell: none
+    std::vector<uint64_t> slotLastUse_;
+    std::vector<uint8_t> touched_;          // traced in this render
+    std::vector<uint8_t> seenThisStream_;   // loaded or resident during this stream
+    uint64_t touchedThisRender_ = 0;
+    uint64_t resident_ = 0;
+    uint64_t tick_ = 0;
+};
+
+}  // namespace vastray
