@@ -7,10 +7,12 @@
 #
 #   usage (on the device machine, with vastray and stream_render_bench on PATH and Mitsuba on
 #   PYTHONPATH):  bench/device_vs_mitsuba.sh OUT_DIR MITSUBA_BENCH.py [TRIANGLES] [CONFIGS]
-#   CONFIGS: space-separated SPP:DEPTH pairs (default "1:2 16:5"); RATIOS env: out-of-core ratios.
+#   CONFIGS: space-separated SPP:DEPTH pairs (default "1:2 16:5"). Environment: RATIOS (out-of-core
+#   ratios, default 4,16), REPEAT (renders per row, default 3), RESIDENT_ONLY=1 (resident rows and
+#   Embree only), WORK (scratch folder).
 set -uo pipefail
 out=$1 mitsuba=$2 triangles=${3:-10000000} configs=${4:-"1:2 16:5"}
-ratios=${RATIOS:-4,16} repeat=${REPEAT:-3}
+ratios=${RATIOS:-4,16} repeat=${REPEAT:-3} only=${RESIDENT_ONLY:+--resident-only}
 eye=1.6,1.1,1.9 target=0,0,0 width=1920 height=1080
 work=${WORK:-/tmp/vastray-bench}
 mkdir -p "$out" "$work"
@@ -23,14 +25,14 @@ vastray info "$work/city.vast" --json > "$out/info.json"
 for config in $configs; do
   spp=${config%%:*} depth=${config##*:}
   timeout 400 stream_render_bench --package "$work/city.vast" --resolution "${width}x${height}" --spp "$spp" \
-    --depth "$depth" --ratios "$ratios" --repeat "$repeat" --eye "$eye" --target "$target" \
+    --depth "$depth" --ratios "$ratios" --repeat "$repeat" $only --eye "$eye" --target "$target" \
     --out "$out/vastray-${triangles}-s${spp}-d${depth}.md" 2>> "$out/bench.log" || echo "bench $config failed: $?" >> "$out/bench.log"
   timeout 300 python3 "$mitsuba" "$work/city.ply" "$width" "$height" "$spp" "$depth" "$eye" "$target" cuda_ad_rgb \
     >> "$out/mitsuba.jsonl" 2>> "$out/mitsuba.log" || echo "mitsuba $config failed: $?" >> "$out/mitsuba.log"
 done
 # Cold: package on disk to image in a fresh process (the image write needs the OpenImageIO module,
 # which does not travel: its failure after the render is expected; the stats JSON is written first).
-{ /usr/bin/time -f "cold render wall %e s" vastray render "$work/city.vast" -o "$work/cold.pfm" --resolution \
+{ /usr/bin/time -f "cold render wall %e s" vastray render "$work/city.vast" -o "$work/cold.png" --resolution \
     "${width}x${height}" --eye "$eye" --target "$target" --spp 1 --max-depth 2 --progress none \
     --stats-json "$out/cold-stats.json"; } >> "$out/cold.txt" 2>&1
 exit 0

@@ -17,7 +17,7 @@ layout(local_size_x = kWavefrontWorkgroupSize) in;
 void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
     Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
-    Vec4Array(p.hitNormal).v[ray] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending));
+    Vec4Array(p.hitNormal).v[ray] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending | kRayFromSurface));
 }
 
 void main() {

@@ -76,6 +76,7 @@ void main() {
     }
     if ((flags & kRayPending) == 0u) return;
 
+    gRayFromSurface = (flags & kRayFromSurface) != 0u;
     const vec4 o = Vec4Array(params.p.rayOrigin).v[ray], d = Vec4Array(params.p.rayDirection).v[ray];
     const vec3 origin = o.xyz, direction = d.xyz;
     const float tMax = o.w;
@@ -142,7 +143,8 @@ void main() {
     }
     if (anyHit && found) missing = false;  // blocked: nothing behind the hit matters
     if (missing) atomicAdd(demand.v[chunkCount], 1u);
-    flags = (found ? kHitFound : 0u) | (bestFront && !anyHit ? kHitFrontFacing : 0u) | (missing ? kRayPending : 0u);
+    flags = (found ? kHitFound : 0u) | (bestFront && !anyHit ? kHitFrontFacing : 0u) | (missing ? kRayPending : 0u) |
+            (gRayFromSurface ? kRayFromSurface : 0u);
     if (newBest && !anyHit) {
         writeHit(params, ray, slots.v[bestSlot], best, bestChunk, flags);
     } else {

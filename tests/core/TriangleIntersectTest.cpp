@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "vastray/core/RayOffset.h"
 #include "vastray/core/TriangleIntersect.h"
 
 namespace vastray {
@@ -111,6 +112,39 @@ TEST(TriangleIntersect, FanIsWatertightAtSharedEdgesAndVertex) {
         misses += !any;
     }
     EXPECT_EQ(misses, 0);
+}
+
+}  // namespace
+}  // namespace vastray
+
+namespace vastray {
+namespace {
+
+// Rays leaving a large triangle from a point a few ULPs above it (core/RayOffset.h) towards the
+// upper hemisphere can only hit it behind their origin. Without the bound on t's rounding error
+// some re-hit it at a tiny positive t (the error of t scales with the vertices' distance from
+// the origin, ~700 here); with fromSurface none does.
+TEST(TriangleIntersect, RayLeavingALargeTriangleNeverReHitsIt) {
+    const Vec3f v0{-700, 0, -700}, v1{700, 0, -700}, v2{700, 0, 700};
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    int reHits[2] = {0, 0};
+    for (int i = 0; i < 20000; ++i) {
+        const float a = unit(rng), b = unit(rng) * (1.0f - a);
+        const Vec3f p = v0 + (v1 - v0) * a + (v2 - v0) * b;
+        const Vec3f n{0, 1, 0};
+        Vec3f d{unit(rng) * 2 - 1, unit(rng) * 0.2f + 1e-4f, unit(rng) * 2 - 1};
+        const Ray ray{offsetRayOrigin(p, n), d};
+        for (int fromSurface = 0; fromSurface < 2; ++fromSurface) {
+            WatertightRay r;
+            ASSERT_TRUE(prepareWatertightRay(ray, &r));
+            r.fromSurface = fromSurface != 0;
+            TriangleHit hit;
+            reHits[fromSurface] += intersectTriangle(r, v0, v1, v2, false, 0.0f, INFINITY, &hit);
+        }
+    }
+    EXPECT_GT(reHits[0], 0) << "the case should be hard: plain float t re-hits the triangle";
+    EXPECT_EQ(reHits[1], 0);
 }
 
 }  // namespace

@@ -444,6 +444,31 @@ TEST(StreamingRender, BackendRefusesAnUncheckedChunkWithBadIndices) {
     EXPECT_NE(refused.message().find("chunk 5: index 7"), std::string::npos) << refused.message();
 }
 
+// A lone two-triangle square of half-size 700 seen from above: nothing can occlude a point of
+// it, so ambient occlusion is exactly 1 in every pixel (misses see the sky: 1 too). Before
+// bounce rays refused hits within t's rounding error, 13.5 % of them re-hit their own square
+// (the error of t grows with the vertices' distance from the ray origin, not with the offset).
+TEST(StreamingRender, LoneLargeSquareNeverOccludesItself) {
+    for (float half : {100.0f, 700.0f, 5000.0f}) {
+        TriangleMesh square;
+        square.positions = {{-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}};
+        square.indices = {0, 1, 2, 0, 2, 3};
+        square.materials.push_back(Material{"ground"});
+        const std::string path = packageFromMesh("square-" + std::to_string(int(half)), square, 64 << 10);
+        RenderOptions o = smallRender(kAovNone);
+        o.integrator = IntegratorKind::AmbientOcclusion;
+        o.width = 64, o.height = 48, o.samplesPerPixel = 16;
+        o.frameScene = false;
+        o.camera.eye = {0.3f * half, 0.2f * half, 0.4f * half};
+        o.camera.target = {0, 0, 0};
+        auto image = renderVulkan(path, o, 64ull << 20);
+        ASSERT_TRUE(image) << image.message();
+        uint64_t dark = 0;
+        for (float v : image->rgb) dark += v != 1.0f;
+        EXPECT_EQ(dark, 0u) << "half-size " << half << ": pixel channels below 1 (self-occlusion)";
+    }
+}
+
 // An open scene that fits: the second render finds every chunk resident, records each tile's
 // kernels into one submission, loads nothing, and gives the cold render's image bit for bit;
 // what comes back from the device is the image and its AOVs plus a few counters per stream.

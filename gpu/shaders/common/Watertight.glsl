@@ -25,6 +25,13 @@ struct WatertightRay {
     float sx, sy, sz;
 };
 
+// WatertightRay::fromSurface for the ray being traced: set by wf_walk.comp for bounce and shadow
+// rays (a per-invocation global, so that the traversal's signatures stay those trace.comp uses).
+bool gRayFromSurface = false;
+
+// std::fmax for the non-NaN operands it is used with here.
+float cppFmax(float a, float b) { return a < b ? b : a; }
+
 bool isFiniteVec(vec3 v) { return !any(isinf(v)) && !any(isnan(v)); }
 
 // Mirrors prepareWatertightRay: false for a zero or non-finite direction.
@@ -58,6 +65,22 @@ void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float
     u = float(du), v = float(dv), w = float(dw);
 }
 
+// Mirrors detail::conservativeTMin (pbrt-v4's bound on the rounding error of t).
+float conservativeTMin(float ax, float ay, float bx, float by, float cx, float cy, float az, float bz, float cz,
+                       float u, float v, float w, float rcpDet) {
+    const float kGamma2 = 1.19209304e-07, kGamma3 = 1.78813956e-07, kGamma5 = 2.98023259e-07;
+    const float maxZt = cppFmax(cppFmax(abs(az), abs(bz)), abs(cz));
+    const float maxXt = cppFmax(cppFmax(abs(ax), abs(bx)), abs(cx));
+    const float maxYt = cppFmax(cppFmax(abs(ay), abs(by)), abs(cy));
+    precise float deltaZ = kGamma3 * maxZt;
+    precise float deltaX = kGamma5 * (maxXt + maxZt);
+    precise float deltaY = kGamma5 * (maxYt + maxZt);
+    precise float deltaE = 2.0 * (kGamma2 * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
+    const float maxE = cppFmax(cppFmax(abs(u), abs(v)), abs(w));
+    precise float bound = 3.0 * (kGamma3 * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * abs(rcpDet);
+    return bound;
+}
+
 struct TriangleHit {
     float t, u, v;
     bool frontFacing;
@@ -84,6 +107,7 @@ bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, bool cullBack
     precise float rcpDet = exactDivide(1.0, det);
     precise float t = scaledT * rcpDet;
     if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
+    if (gRayFromSurface && t <= conservativeTMin(ax, ay, bx, by, cx, cy, az, bz, cz, u, v, w, rcpDet)) return false;
     precise float hu = v * rcpDet, hv = w * rcpDet;
     hit = TriangleHit(t, hu, hv, det > 0.0);
     return true;

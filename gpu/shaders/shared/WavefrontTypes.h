@@ -21,7 +21,8 @@ const uint kPathShadowPending = 2u;  // has a shadow ray in the current stream
 const uint kPathCameraHit = 4u;      // its camera ray hit geometry (alpha)
 
 // Walk record flags (hitNormal .w as bits), besides kHitFound and kHitFrontFacing.
-const uint kRayPending = 4u;  // still to be walked: a cell it needs was not resident yet
+const uint kRayPending = 4u;      // still to be walked: a cell it needs was not resident yet
+const uint kRayFromSurface = 8u;  // leaves a surface: hits within t's rounding error are refused
 
 // WavefrontParams::chunkEpoch of a chunk that has not been resident in this stream.
 const uint kNotResidentThisStream = 0xFFFFFFFFu;

@@ -17,6 +17,10 @@ struct WatertightRay {
     Vec3f origin;
     int kx = 0, ky = 1, kz = 2;
     float sx = 0, sy = 0, sz = 1;
+    // The ray leaves a surface (a bounce or shadow ray): hits within t's rounding error of the
+    // origin are refused (detail::conservativeTMin). Not for rays from a camera: the bound
+    // refuses every hit on a near-degenerate triangle, whose t is all rounding error.
+    bool fromSurface = false;
 };
 
 struct TriangleHit {
@@ -31,6 +35,30 @@ struct TriangleHit {
 bool prepareWatertightRay(const Ray& ray, WatertightRay* out);
 
 namespace detail {
+// gamma(n) of pbrt-v4: n * eps / (1 - n * eps), eps = 2^-24, the relative error bound of n
+// float operations (rounded up, so that bounds built from them stay conservative).
+inline constexpr float kGamma2 = 1.19209304e-07f;
+inline constexpr float kGamma3 = 1.78813956e-07f;
+inline constexpr float kGamma5 = 2.98023259e-07f;
+
+// pbrt-v4's bound on the rounding error of a hit's t (Pharr, Jakob, Humphreys, "Physically Based
+// Rendering" 4th ed., section 6.8.4): from the sheared vertex coordinates and the edge functions.
+// A hit at t <= this bound may lie behind the origin: a ray leaving a large triangle from a
+// point a few ULPs above it re-hits it at a tiny positive t unless such hits are refused (the
+// error of t grows with the vertices' distance from the origin, not with the hit point's size).
+inline float conservativeTMin(float ax, float ay, float bx, float by, float cx, float cy, float az, float bz,
+                              float cz, float u, float v, float w, float rcpDet) {
+    const float maxZt = std::fmax(std::fmax(std::fabs(az), std::fabs(bz)), std::fabs(cz));
+    const float maxXt = std::fmax(std::fmax(std::fabs(ax), std::fabs(bx)), std::fabs(cx));
+    const float maxYt = std::fmax(std::fmax(std::fabs(ay), std::fabs(by)), std::fabs(cy));
+    const float deltaZ = kGamma3 * maxZt;
+    const float deltaX = kGamma5 * (maxXt + maxZt);
+    const float deltaY = kGamma5 * (maxYt + maxZt);
+    const float deltaE = 2.0f * (kGamma2 * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
+    const float maxE = std::fmax(std::fmax(std::fabs(u), std::fabs(v)), std::fabs(w));
+    return 3.0f * (kGamma3 * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::fabs(rcpDet);
+}
+
 // Recomputes the three 2D edge functions in double precision; called only when one of the
 // float results is exactly 0, where float rounding could decide the sign wrongly.
 void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, float* u, float* v,
@@ -38,7 +66,8 @@ void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float
 }  // namespace detail
 
 // Hit when the ray passes through the triangle (edges and vertices included) at a t with
-// tMin <= t <= tMax (the check is on the returned t, so callers can rely on it exactly).
+// tMin <= t <= tMax (the check is on the returned t, so callers can rely on it exactly), and for
+// a ray that leaves a surface, t beyond its own rounding error: never at the ray's origin.
 // cullBackFace: a single-sided triangle is invisible from behind. Degenerate triangles and
 // rays lying in the triangle's plane never hit. Inline because it is the inner loop of traversal.
 inline bool intersectTriangle(const WatertightRay& r, Vec3f v0, Vec3f v1, Vec3f v2, bool cullBackFace,
@@ -61,6 +90,8 @@ inline bool intersectTriangle(const WatertightRay& r, Vec3f v0, Vec3f v1, Vec3f 
     const float rcpDet = 1.0f / det;
     const float t = scaledT * rcpDet;
     if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
+    if (r.fromSurface && t <= detail::conservativeTMin(ax, ay, bx, by, cx, cy, az, bz, cz, u, v, w, rcpDet))
+        return false;
     hit->t = t;
     hit->u = v * rcpDet;
     hit->v = w * rcpDet;
