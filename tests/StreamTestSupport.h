@@ -50,9 +50,9 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
         nullptr, &s);
 }
 
-// Two renders of one open scene at this budget: the first loads the chunks (its later bounces
-// are walked whole on the device once chunks are resident), the second finds every chunk
-// resident and walks all its rays (stream_walk.comp). Returns both images.
+// Two renders of one open scene at this budget: the first pages the chunks in between walk
+// passes, the second finds every chunk resident (in core) or pages again (out of core).
+// Returns both images.
 inline Result<std::pair<RenderImage, RenderImage>> renderVulkanColdAndWarm(const std::string& path,
                                                                            const RenderOptions& options, uint64_t budget,
                                                                            StreamingStats* cold, StreamingStats* warm,

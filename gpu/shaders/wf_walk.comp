@@ -18,7 +18,7 @@
 // The top-level walk keeps its pending nodes below the chunk traversal's.
 #define VASTRAY_STACK_ENTRIES (2u * kTraceStackSize)
 #include "common/KdTraversal.glsl"
-#include "common/StreamHit.glsl"
+#include "common/SlotTable.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 

@@ -133,7 +133,9 @@ void expectAgrees(const RenderImage& device, const RenderImage& host) {
     const double beauty = std::sqrt(se / std::max(energy, 1e-30));
     EXPECT_LE(beauty, 1e-3) << "beauty relative RMSE";
     EXPECT_TRUE(sameBits(device.alpha, host.alpha)) << "alpha differs";
-    if (!host.primId.empty()) EXPECT_GE(primIdAgreement(device, host), 0.9999);
+    if (!host.primId.empty()) {
+        EXPECT_GE(primIdAgreement(device, host), 0.9999);
+    }
     if (!host.chunkId.empty()) {
         uint64_t same = 0;
         for (size_t i = 0; i < host.chunkId.size(); ++i) same += device.chunkId[i] == host.chunkId[i];

@@ -294,8 +294,8 @@ inline std::string packageFromMesh(const std::string& name, const Mesh& mesh,
 
 // A render of the streaming renderer at an ample and at a two-slot budget, and the Embree
 // reference of the same package. The ample budget renders twice in one open scene: the second
-// render walks every ray whole on the device (stream_walk.comp) and must equal the first bit
-// for bit, so every streaming stress case also checks the walk.
+// finds every chunk resident (one walk pass per stream) and must equal the first, which paged
+// chunks in between passes, bit for bit.
 struct StreamingTrio {
     RenderImage reference, ample, tight;
     StreamingStats ampleStats, warmStats, tightStats;

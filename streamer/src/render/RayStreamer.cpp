@@ -287,9 +287,7 @@ void RayStreamer::beginRender() {
 // A scene whose chunks all have slots, on a backend that walks whole rays: one backend call per
 // batch instead of a host round trip per cell. Once some chunk is resident, every ray goes to
 // the walk first; those that reach a chunk without a slot (cold renders) take the queued path.
-// The walk takes the closest-hit rays first and the shadow rays after them, as the integrator
-// lays a stream out (a bounce's rays, then the previous bounce's shadow rays); a stream laid out
-// otherwise takes the queued path.
+// Every ray's cells are walked on the host and queued per chunk (ChunkBackend::trace).
 Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
                           std::vector<StreamResult>& results) {
     if (!anyHit.empty() && anyHit.size() != rays.size()) return Status::error("trace: one any-hit flag per ray");
@@ -298,67 +296,7 @@ Status RayStreamer::trace(std::span<const StreamRay> rays, std::span<const uint8
     std::fill(seenThisStream_.begin(), seenThisStream_.end(), 0);
     for (uint32_t chunk : slotChunk_)
         if (chunk != kEmptyCell) seenThisStream_[chunk] = 1;
-    const bool someResident =
-        std::any_of(slotChunk_.begin(), slotChunk_.end(), [](uint32_t chunk) { return chunk != kEmptyCell; });
-    const auto closest = [](uint8_t flag) { return flag == 0; };
-    if (!inOrder_ || backend_.maxWalkRays() == 0 || !someResident ||
-        !std::is_partitioned(anyHit.begin(), anyHit.end(), closest))
-        return traceQueued(rays, anyHit, results);
-
-    const size_t closestRays = size_t(std::partition_point(anyHit.begin(), anyHit.end(), closest) - anyHit.begin());
-    results.resize(rays.size());  // every element is written below
-    VASTRAY_TRY(traceWalking(rays, anyHit.empty() ? rays.size() : closestRays, results));
-    if (incomplete_.empty()) return Status::ok();
-    std::vector<StreamRay> subset(incomplete_.size());
-    subsetAnyHit_.clear();
-    for (size_t k = 0; k < incomplete_.size(); ++k) {
-        subset[k] = rays[incomplete_[k]];
-        if (!anyHit.empty()) subsetAnyHit_.push_back(anyHit[incomplete_[k]]);
-    }
-    VASTRAY_TRY(traceQueued(subset, subsetAnyHit_, subsetResults_));
-    for (size_t k = 0; k < incomplete_.size(); ++k) results[incomplete_[k]] = subsetResults_[k];
-    return Status::ok();
-}
-
-// The backend walks rays [0, closestRays) as closest-hit rays and the rest as shadow rays, in
-// batches it can take, writing their records straight into results.
-Status RayStreamer::traceWalking(std::span<const StreamRay> rays, size_t closestRays,
-                                 std::vector<StreamResult>& results) {
-    incomplete_.clear();
-    walkTouched_.assign(package_.chunks.size(), 0);
-    const uint32_t capacity = backend_.maxWalkRays();
-    const Clock::time_point start = Clock::now();
-    for (const bool shadow : {false, true}) {
-        const size_t first = shadow ? closestRays : 0, count = shadow ? rays.size() - closestRays : closestRays;
-        for (size_t done = 0; done < count; done += capacity) {
-            const size_t n = std::min<size_t>(capacity, count - done);
-            VASTRAY_TRY(backend_.walk(rays.subspan(first + done, n), shadow, chunkSlot_,
-                                      std::span<StreamResult>(results).subspan(first + done, n), walkTouched_));
-        }
-    }
-    stats_.traceSeconds += secondsSince(start);
-    struct Sums {
-        uint64_t traces = 0, walked = 0;
-    };
-    const Sums sums = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, rays.size(), 1 << 16), Sums{},
-        [&](const tbb::blocked_range<size_t>& range, Sums s) {
-            for (size_t i = range.begin(); i != range.end(); ++i)
-                if (results[i].chunk != ChunkBackend::kWalkIncomplete) s.traces += results[i].cellsTraced, ++s.walked;
-            return s;
-        },
-        [](Sums a, const Sums& b) { return Sums{a.traces + b.traces, a.walked + b.walked}; });
-    stats_.chunkTraces += sums.traces;
-    stats_.walkedRays += sums.walked;
-    if (sums.walked < rays.size())
-        for (uint32_t i = 0; i < rays.size(); ++i)
-            if (results[i].chunk == ChunkBackend::kWalkIncomplete) incomplete_.push_back(i);
-    for (uint32_t c = 0; c < walkTouched_.size(); ++c) {
-        if (!walkTouched_[c]) continue;
-        if (!usedThisStream_[c]) usedThisStream_[c] = 1, ++stats_.streamChunksTouched;
-        if (!touched_[c]) touched_[c] = 1, ++touchedThisRender_;
-    }
-    return Status::ok();
+    return traceQueued(rays, anyHit, results);
 }
 
 // Each ray waits at its cells in the chunks' queues; chunks are paged in by demand.

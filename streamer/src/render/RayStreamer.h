@@ -43,7 +43,6 @@ private:
 
     Status traceQueued(std::span<const StreamRay> rays, std::span<const uint8_t> anyHit,
                        std::vector<StreamResult>& results);
-    Status traceWalking(std::span<const StreamRay> rays, size_t closestRays, std::vector<StreamResult>& results);
     void walkCells(std::span<const StreamRay> rays);
     CellVisit& cellAt(uint32_t ray, uint32_t index) { return arenas_[ray / kBlockRays][index]; }
     bool prunable(const CellVisit& cell, uint32_t ray, const std::vector<StreamResult>& results) const;
@@ -89,12 +88,6 @@ private:
     std::vector<StreamHit> batchHits_;
     std::vector<Pending> batchOwners_;
     std::vector<Pending> taken_;
-    // The backend's whole-ray walk (scene fits and the backend has one): rays it could not
-    // finish, and the chunks it traced.
-    std::vector<uint32_t> incomplete_;
-    std::vector<uint8_t> walkTouched_;
-    std::vector<uint8_t> subsetAnyHit_;
-    std::vector<StreamResult> subsetResults_;
     std::span<const uint8_t> anyHit_;  // of the stream being traced
     std::vector<StreamResult>* results_ = nullptr;  // of the stream being traced
     bool isAnyHit(uint32_t ray) const { return !anyHit_.empty() && anyHit_[ray] != 0; }

@@ -54,7 +54,7 @@ struct StreamHit {
 static_assert(sizeof(StreamRay) == 32 && sizeof(StreamHit) == 48);
 
 // What one ray stream gives for one ray: its hit after every cell it needed, and the work.
-// Also the record ChunkBackend::walk writes (layout shared with gpu/shaders/shared/StreamTypes.h).
+// RayStreamer merges per-cell hits into it (the host wavefront of the CPU chunk backend).
 struct StreamResult {
     StreamHit hit;                  // closest (or, for shadow rays, any) hit; flags 0 on a miss
     uint32_t chunk = kMissPrimId;   // chunk whose cell produced the hit
@@ -137,24 +137,6 @@ public:
     };
     // Closest hit (or any hit) of every ray against its batch's resident chunk.
     virtual Status trace(std::span<const Batch> batches) = 0;
-
-    // Optional, for a scene whose chunks all have slots: whole rays in one call. Each ray walks
-    // its cells in the package's top-level tree front to back and traces the cells of resident
-    // chunks as RayStreamer's in-order queues would (the same intervals, the same pruning by a
-    // nearer hit, the same merge order), so its result equals theirs bit for bit, without a
-    // round trip through the host per cell. A ray that reaches a cell whose chunk has no slot
-    // comes back with chunk == kWalkIncomplete, for the queued path to trace.
-    static constexpr uint32_t kWalkIncomplete = 0xFFFFFFFEu;
-    // Most rays one walk() call takes; 0: the backend cannot walk.
-    virtual uint32_t maxWalkRays() const { return 0; }
-    // results: as the queued path leaves them (the hit is the winning cell's trace; cell counts
-    // the ray's non-empty cells), or chunk == kWalkIncomplete. chunkSlot: per chunk, its slot or
-    // kEmptyCell. touched: per chunk, set to 1 when a ray traced one of its cells.
-    virtual Status walk(std::span<const StreamRay> rays, bool anyHit, std::span<const uint32_t> chunkSlot,
-                        std::span<StreamResult> results, std::span<uint8_t> touched) {
-        (void)rays, (void)anyHit, (void)chunkSlot, (void)results, (void)touched;
-        return Status::error(name() + " backend cannot walk rays through the top-level tree");
-    }
 
     // The device wavefront: a backend that runs the whole render on its device (camera rays,
     // the walk, traversal, shading, accumulation) returns true, and renderOnDevice fills image
