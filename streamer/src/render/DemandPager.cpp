@@ -31,13 +31,14 @@ void DemandPager::streamTouched(std::span<const uint32_t> touched) {
     }
 }
 
-std::vector<uint8_t> DemandPager::singleSidedOf(const DecodedChunk& chunk) const {
-    if (!attributes_.singleSided) return {};
+std::vector<uint8_t> singleSidedFlags(const PackageInfo& package, const ChunkAttributes& attributes,
+                                      const DecodedChunk& chunk) {
+    if (!attributes.singleSided) return {};
     const size_t triangles = chunk.indices.size() / 3;
     std::vector<uint8_t> out(triangles, 0);
     for (size_t t = 0; t < triangles; ++t) {
         const uint32_t m = chunk.materialIds.empty() ? 0u : chunk.materialIds[t];
-        out[t] = m < package_.materials.size() && !package_.materials[m].doubleSided;
+        out[t] = m < package.materials.size() && !package.materials[m].doubleSided;
     }
     return out;
 }
@@ -70,7 +71,7 @@ Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand
         if (!decoded) return decoded.status();
         if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell, --resident_;
         slotChunk_[slot] = kEmptyCell;
-        VASTRAY_TRY(backend_.load(slot, **decoded, singleSidedOf(**decoded)));
+        VASTRAY_TRY(backend_.load(slot, **decoded, singleSidedFlags(package_, attributes_, **decoded)));
         slotChunk_[slot] = chunk, chunkSlot_[chunk] = slot, ++resident_;
         slotLastUse_[slot] = ++tick_;
         ++stats_.chunkLoads;

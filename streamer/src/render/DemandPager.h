@@ -11,6 +11,11 @@
 
 namespace vastray {
 
+// One byte per triangle of the chunk (nonzero: its material is single-sided), as
+// ChunkBackend::load takes them; empty when the render reads no sidedness.
+std::vector<uint8_t> singleSidedFlags(const PackageInfo& package, const ChunkAttributes& attributes,
+                                      const DecodedChunk& chunk);
+
 class DemandPager final : public ChunkPager {
 public:
     DemandPager(const PackageInfo& package, const ChunkAttributes& attributes, ChunkBackend& backend,
@@ -26,8 +31,6 @@ public:
     bool allResident() const override { return resident_ == chunkSlot_.size(); }
 
 private:
-    std::vector<uint8_t> singleSidedOf(const DecodedChunk& chunk) const;
-
     const PackageInfo& package_;
     ChunkAttributes attributes_;
     ChunkBackend& backend_;

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <numeric>
 
+#include "render/DemandPager.h"
 #include "vastray/core/KdTree.h"
 
 namespace vastray {
@@ -104,17 +105,6 @@ void RayStreamer::moveCursor(uint32_t ray, const std::vector<StreamResult>& resu
     if (inOrder_) waiting_[chunk].push_back({ray, s.cursor}), ++waitingTotal_;
 }
 
-std::vector<uint8_t> RayStreamer::singleSidedOf(const DecodedChunk& chunk) const {
-    if (!attributes_.singleSided) return {};
-    const size_t triangles = chunk.indices.size() / 3;
-    std::vector<uint8_t> out(triangles, 0);
-    for (size_t t = 0; t < triangles; ++t) {
-        const uint32_t m = chunk.materialIds.empty() ? 0u : chunk.materialIds[t];
-        out[t] = m < package_.materials.size() && !package_.materials[m].doubleSided;
-    }
-    return out;
-}
-
 // Which chunk to load first: the one for which the largest share of its outstanding cells are
 // rays' next cells (so loading it now resolves rays front to back, and in order few rays still
 // upstream can arrive later and force a reload), then the one with most cells queued, then the
@@ -181,7 +171,7 @@ Status RayStreamer::loadChunks() {
         if (!decoded) return decoded.status();
         if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell;
         slotChunk_[slot] = kEmptyCell;
-        VASTRAY_TRY(backend_.load(slot, **decoded, singleSidedOf(**decoded)));
+        VASTRAY_TRY(backend_.load(slot, **decoded, singleSidedFlags(package_, attributes_, **decoded)));
         slotChunk_[slot] = chunk, chunkSlot_[chunk] = slot;
         slotLastUse_[slot] = ++tick_;
         ++stats_.chunkLoads;

@@ -52,7 +52,6 @@ private:
     void sortByUrgency(std::vector<uint32_t>& chunks) const;
     void prefetchAhead(const std::vector<uint32_t>& chunks);
     Status traceResident(std::span<const StreamRay> rays, std::vector<StreamResult>& results);
-    std::vector<uint8_t> singleSidedOf(const DecodedChunk& chunk) const;
 
     static constexpr uint32_t kBlockRays = 4096;
 
