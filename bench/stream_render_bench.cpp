@@ -277,10 +277,11 @@ int main(int argc, char** argv) {
         md << ", eye " << args.eye.x << "," << args.eye.y << "," << args.eye.z << " target " << args.target.x << ","
            << args.target.y << "," << args.target.z;
     md << ". Each row: the run of median render time of " << args.repeat << "." << embreeNote << "\n\n";
-    md << "| render | budget | slots | render s | rays | rays/s (render) | device s | submits | walk passes | "
+    md << "| render | budget | slots | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
+          "submits | walk passes | "
           "host→device B | device→host B | decode s | upload s | touched | loads | loads/touched | "
           "per-bounce loads/touched | time vs in core |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
         double reference = 0;
@@ -295,11 +296,12 @@ int main(int argc, char** argv) {
         };
         char line[1024];
         std::snprintf(line, sizeof line,
-                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.3f | %llu | %llu | %llu | %llu | %.3f | %.3f "
+                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f | %.3f "
                       "| %llu | %llu | %.2f | %.3f | %s |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, r.render.renderSeconds,
                       (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6, s.deviceSeconds,
-                      (unsigned long long)s.submits, (unsigned long long)s.walkPasses,
+                      s.kernelSeconds[1], s.kernelSeconds[2],
+                      s.kernelSeconds[0] + s.kernelSeconds[3] + s.kernelSeconds[4], (unsigned long long)s.submits, (unsigned long long)s.walkPasses,
                       (unsigned long long)s.hostToDeviceBytes, (unsigned long long)s.deviceToHostBytes,
                       s.decodeSeconds, s.uploadSeconds,
                       (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,

@@ -229,6 +229,8 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["walk_passes"] = st->walkPasses;
         j["host_to_device_bytes"] = st->hostToDeviceBytes;
         j["device_to_host_bytes"] = st->deviceToHostBytes;
+        for (int k = 0; k < StreamingStats::kKernels; ++k)
+            j["kernel_seconds"][StreamingStats::kKernelNames[k]] = st->kernelSeconds[k];
         j["peak_device_bytes"] = st->peakDeviceBytes;
         j["memory_budget_bytes"] = st->memoryBudgetBytes;
     }

@@ -123,7 +123,16 @@ Status VulkanDevice::init(const VulkanDeviceOptions& options) {
     physical_ = (*devices)[size_t(index)];
     info_ = infos[size_t(index)];
     vkGetPhysicalDeviceMemoryProperties(physical_, &memoryProperties_);
-    return createLogicalDevice(physical_, uint32_t(computeQueueFamily(physical_)));
+    const uint32_t family = uint32_t(computeQueueFamily(physical_));
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(physical_, &props);
+    uint32_t familyCount = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, nullptr);
+    std::vector<VkQueueFamilyProperties> families(familyCount);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, families.data());
+    timestampPeriodNs_ = props.limits.timestampPeriod;
+    timestampValidBits_ = family < familyCount ? families[family].timestampValidBits : 0;
+    return createLogicalDevice(physical_, family);
 }
 
 Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, uint32_t queueFamily) {

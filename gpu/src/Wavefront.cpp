@@ -29,6 +29,34 @@ const uint32_t kAovSpirv[] =
 
 static_assert(kWalkNoHit == kEmptyCell && kWavefrontWorkgroupSize == 64);
 
+// Indices into StreamingStats::kernelSeconds (its kKernelNames).
+enum Kernel : int { kGenerate = 0, kWalk = 1, kShade = 2, kAccumulate = 3, kAov = 4, kNoKernel = -1 };
+// Timestamps one submission takes at most; commands beyond them go untimed.
+constexpr uint32_t kMaxQueries = 16384;
+
+// A timestamp query pool for one render (none when the queue has no timestamps).
+class QueryPool {
+public:
+    explicit QueryPool(VulkanDevice& device) : device_(device) {
+        if (device.timestampValidBits() == 0) return;
+        VkQueryPoolCreateInfo info{};
+        info.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+        info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        info.queryCount = kMaxQueries;
+        if (vkCreateQueryPool(device.handle(), &info, nullptr, &pool_) != VK_SUCCESS) pool_ = VK_NULL_HANDLE;
+    }
+    ~QueryPool() {
+        if (pool_) vkDestroyQueryPool(device_.handle(), pool_, nullptr);
+    }
+    QueryPool(const QueryPool&) = delete;
+    QueryPool& operator=(const QueryPool&) = delete;
+    VkQueryPool handle() const { return pool_; }
+
+private:
+    VulkanDevice& device_;
+    VkQueryPool pool_ = VK_NULL_HANDLE;
+};
+
 // Every kernel's writes are visible to the next kernel's reads and to transfers, and fills
 // to kernels.
 void barrier(VkCommandBuffer cmd) {
@@ -91,7 +119,7 @@ public:
     Run(Wavefront& w, const WavefrontBuffers& b, const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
         StreamingStats& stats, double& deviceSeconds)
         : w_(w), b_(b), job_(job), options_(*job.options), pager_(pager), image_(image), stats_(stats),
-          deviceSeconds_(deviceSeconds), epochs_(b.chunkCount, 0) {}
+          deviceSeconds_(deviceSeconds), epochs_(b.chunkCount, 0), queries_(w.device_) {}
 
     Status execute() {
         VASTRAY_TRY(uploadParams());
@@ -130,22 +158,22 @@ private:
         });
         if (image_.aovs & ~kAovCost) {
             const WavefrontPush push = makePush(first, count, 0, 1, kGenerateAov);
-            dispatch(*kernels().generate, push, count);
+            dispatch(*kernels().generate, kGenerate, push, count);
             VASTRAY_TRY(stream(push));
-            dispatch(*kernels().aov, push, count);
+            dispatch(*kernels().aov, kAov, push, count);
         }
         for (uint32_t s0 = 0; s0 < options_.samplesPerPixel; s0 += samplesPerWave) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             const uint32_t samples = std::min(samplesPerWave, options_.samplesPerPixel - s0);
             WavefrontPush push = makePush(first, count, s0, samples, kGeneratePaths);
-            dispatch(*kernels().generate, push, uint64_t(count) * samples);
+            dispatch(*kernels().generate, kGenerate, push, uint64_t(count) * samples);
             for (uint32_t bounce = 0; bounce < streams; ++bounce) {
                 VASTRAY_TRY(stream(push));
                 push.bounce = bounce;
-                dispatch(*kernels().shade, push, uint64_t(count) * samples);
+                dispatch(*kernels().shade, kShade, push, uint64_t(count) * samples);
             }
             push.mode = s0 + samples == options_.samplesPerPixel ? 1u : 0u;
-            dispatch(*kernels().accumulate, push, count);
+            dispatch(*kernels().accumulate, kAccumulate, push, count);
         }
         VASTRAY_TRY(flush());
         return readTile(first, count);
@@ -170,7 +198,7 @@ private:
                 VASTRAY_TRY(uploadResidency());
             }
             push.pass = 0;
-            dispatch(*kernels().walk, push, rays);
+            dispatch(*kernels().walk, kWalk, push, rays);
             ++stats_.walkPasses;
             return Status::ok();
         }
@@ -188,7 +216,7 @@ private:
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand, (uint64_t(b_.chunkCount) + 1) * 4, 0);
                 barrier(cmd);
             });
-            dispatch(*kernels().walk, push, rays);
+            dispatch(*kernels().walk, kWalk, push, rays);
             ++stats_.walkPasses;
             VASTRAY_TRY(flush());
             VASTRAY_TRY(download(demand.data(), demand.size() * 4, *b_.table, b_.tables.demand));
@@ -287,25 +315,60 @@ private:
         return from.download(data, bytes, offset);
     }
 
-    void record(std::function<void(VkCommandBuffer)> op) { ops_.push_back(std::move(op)); }
-    void dispatch(const ComputePipeline& pipeline, const WavefrontPush& push, uint64_t threads) {
-        if (threads == 0) return;
-        record([&pipeline, push, threads](VkCommandBuffer cmd) {
-            pipeline.record(cmd, &push, groups(threads));
-            barrier(cmd);
-        });
+    void record(std::function<void(VkCommandBuffer)> op, int kernel = kNoKernel) {
+        ops_.push_back({kernel, std::move(op)});
     }
+    void dispatch(const ComputePipeline& pipeline, Kernel kernel, const WavefrontPush& push, uint64_t threads) {
+        if (threads == 0) return;
+        record(
+            [&pipeline, push, threads](VkCommandBuffer cmd) {
+                pipeline.record(cmd, &push, groups(threads));
+                barrier(cmd);
+            },
+            kernel);
+    }
+    // Submits what was recorded and waits. With timestamps, one before the first command and
+    // one after each: the difference is the command's device time (commands are serialized by
+    // barriers), added to its kernel's figure.
     Status flush() {
         if (ops_.empty()) return Status::ok();
+        const VkQueryPool pool = queries_.handle();
+        const uint32_t queries = pool ? uint32_t(std::min<size_t>(ops_.size() + 1, kMaxQueries)) : 0;
         const auto start = std::chrono::steady_clock::now();
         const Status s = w_.device_.submit([&](VkCommandBuffer cmd) {
-            for (const auto& op : ops_) op(cmd);
+            if (queries > 0) {
+                vkCmdResetQueryPool(cmd, pool, 0, queries);
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
+            }
+            for (size_t i = 0; i < ops_.size(); ++i) {
+                ops_[i].record(cmd);
+                if (i + 1 < queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, uint32_t(i + 1));
+            }
         });
         deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        ops_.clear();
         ++stats_.submits;
+        if (s.isOk() && queries > 1) addKernelTimes(pool, queries);
+        ops_.clear();
         return s;
     }
+    void addKernelTimes(VkQueryPool pool, uint32_t queries) {
+        std::vector<uint64_t> ticks(queries);
+        if (vkGetQueryPoolResults(w_.device_.handle(), pool, 0, queries, ticks.size() * 8, ticks.data(), 8,
+                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) != VK_SUCCESS)
+            return;
+        const uint32_t bits = w_.device_.timestampValidBits();
+        const uint64_t mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+        for (uint32_t i = 0; i + 1 < queries; ++i) {
+            if (ops_[i].kernel == kNoKernel) continue;
+            const uint64_t delta = (ticks[i + 1] - ticks[i]) & mask;
+            stats_.kernelSeconds[ops_[i].kernel] += double(delta) * w_.device_.timestampPeriodNs() * 1e-9;
+        }
+    }
+
+    struct Op {
+        int kernel;
+        std::function<void(VkCommandBuffer)> record;
+    };
 
     Wavefront& w_;
     const WavefrontBuffers& b_;
@@ -317,7 +380,8 @@ private:
     double& deviceSeconds_;
     std::vector<uint32_t> epochs_;  // per chunk: WavefrontParams::chunkEpoch
     bool epochsDirty_ = false;
-    std::vector<std::function<void(VkCommandBuffer)>> ops_;
+    std::vector<Op> ops_;
+    QueryPool queries_;
 };
 
 Status Wavefront::render(const WavefrontBuffers& buffers, const DeviceRenderJob& job, ChunkPager& pager,

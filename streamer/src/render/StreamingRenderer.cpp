@@ -446,6 +446,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.walkPasses = t.walkPasses - before.walkPasses;
         s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;
         s.deviceToHostBytes = t.deviceToHostBytes - before.deviceToHostBytes;
+        for (int k = 0; k < StreamingStats::kKernels; ++k) s.kernelSeconds[k] = t.kernelSeconds[k] - before.kernelSeconds[k];
         s.bytesRead = st.cache->bytesRead() - before.bytesRead;
         s.decodes = st.cache->decodes() - before.decodes;
         s.decodeSeconds = st.cache->decodeSeconds() - before.decodeSeconds;

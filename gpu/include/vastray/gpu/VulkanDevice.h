@@ -80,6 +80,10 @@ public:
 
     const VulkanDeviceInfo& info() const { return info_; }
     VkDevice handle() const { return device_; }
+    // Timestamp queries on the compute queue: nanoseconds per tick, and the valid bits of a
+    // timestamp (0: the queue has none).
+    double timestampPeriodNs() const { return timestampPeriodNs_; }
+    uint32_t timestampValidBits() const { return timestampValidBits_; }
 
     // Where a buffer lives. DeviceLocal: GPU memory the host can map (resizable BAR) when there
     // is such a heap, for data the GPU reads often. Readback: host-cached system memory, for
@@ -114,6 +118,8 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
     VkPhysicalDeviceMemoryProperties memoryProperties_{};
     double submitTimeoutSeconds_ = 600;
+    double timestampPeriodNs_ = 0;
+    uint32_t timestampValidBits_ = 0;
     std::string failure_;  // set once the device is lost or hung
     std::vector<std::pair<VkBuffer, VkDeviceMemory>> abandoned_;  // freed after failure_: released when idle
     uint64_t liveBytes_ = 0;

@@ -201,6 +201,11 @@ struct StreamingStats {
     uint64_t walkPasses = 0;        // walk_passes
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
     uint64_t deviceToHostBytes = 0; // device_to_host_bytes
+    // Device time per kernel of the device wavefront, from timestamp queries (kernel_seconds,
+    // named by kKernelNames); zero where the device has no timestamps.
+    static constexpr int kKernels = 5;
+    static constexpr const char* kKernelNames[kKernels] = {"generate", "walk", "shade", "accumulate", "aov"};
+    double kernelSeconds[kKernels] = {};
 };
 
 // Called from the render thread with (units done, units total).
