@@ -124,7 +124,7 @@ void main() {
                         const float tMinCell = cppMax(0.0, cellT0);
                         const float tMaxCell = cppMin(found ? bestT : tMax, cellT1);
                         const TraceHit h =
-                            traverse(chunkView(slots.v[slot]), origin, direction, tMinCell, tMaxCell, anyHit, stackSize);
+                            traverseRay(chunkView(slots.v[slot]), r, tMinCell, tMaxCell, anyHit, stackSize);
                         ++cells;
                         triangles += h.trianglesTested;
                         if (anyHit ? (h.flags & kHitFound) != 0u : replaces(h, chunk, found, bestT, bestFront, bestChunk)) {

@@ -39,14 +39,27 @@ float cppMin(float a, float b) { return b < a ? b : a; }
 
 float maxAbs(vec3 v) { return cppMax(cppMax(abs(v.x), abs(v.y)), abs(v.z)); }
 
-bool prepareTraversalRay(ChunkView c, vec3 origin, vec3 direction, out TraversalRay r) {
+// The part of prepareTraversalRay that does not depend on the chunk (the watertight shear and
+// 1/direction): computed once per ray, however many chunks the ray visits.
+bool prepareRayConstants(vec3 origin, vec3 direction, out TraversalRay r) {
     r.origin = origin, r.direction = direction;
     r.invDirection = vec3(0.0), r.slack = 0.0;
     if (!prepareWatertightRay(origin, direction, r.watertight)) return false;
     for (int a = 0; a < 3; ++a) r.invDirection[a] = exactDivide(1.0, direction[a]);
-    const float scale = cppMax(cppMax(maxAbs(origin), maxAbs(c.lo)), maxAbs(c.hi));
+    return true;
+}
+
+// The part that does: the absolute margin, from the largest coordinate of the origin and the
+// chunk's bounds.
+void setChunkSlack(ChunkView c, inout TraversalRay r) {
+    const float scale = cppMax(cppMax(maxAbs(r.origin), maxAbs(c.lo)), maxAbs(c.hi));
     precise float scaled = kAbsoluteMargin * scale;
-    r.slack = exactDivide(scaled, maxAbs(direction));
+    r.slack = exactDivide(scaled, maxAbs(r.direction));
+}
+
+bool prepareTraversalRay(ChunkView c, vec3 origin, vec3 direction, out TraversalRay r) {
+    if (!prepareRayConstants(origin, direction, r)) return false;
+    setChunkSlack(c, r);
     return true;
 }
 
@@ -158,14 +171,16 @@ void intersectLeaf(ChunkView c, TraversalRay r, uint firstRef, uint count, float
     }
 }
 
-// Mirrors traverse(): the closest hit, or with anyHit the first one found. The stack entries
-// below stackBase belong to the caller and are left alone.
-TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit, uint stackBase) {
+// Mirrors traverse(): the closest hit, or with anyHit the first one found, for a ray whose
+// chunk-independent constants are prepared (prepareRayConstants). The stack entries below
+// stackBase belong to the caller and are left alone.
+TraceHit traverseRay(ChunkView c, TraversalRay ray, float tMin, float tMax, bool anyHit, uint stackBase) {
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
-    TraversalRay r;
+    if (c.nodeCount == 0u) return best;
+    TraversalRay r = ray;
+    setChunkSlack(c, r);
     float t0 = tMin, t1 = tMax;
-    if (c.nodeCount == 0u || !prepareTraversalRay(c, origin, direction, r) || !clipToBounds(c, r, t0, t1))
-        return best;
+    if (!clipToBounds(c, r, t0, t1)) return best;
     UintArray nodes = UintArray(c.nodes);
     uint stackSize = stackBase, index = 0u;
     bool found = false;
@@ -187,6 +202,13 @@ TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tM
         index = stackNode[stackSize], t0 = stackT0[stackSize], t1 = stackT1[stackSize];
     }
     return best;
+}
+
+// Mirrors traverse() for one ray and one chunk (trace.comp).
+TraceHit traverse(ChunkView c, vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit, uint stackBase) {
+    TraversalRay r;
+    if (!prepareRayConstants(origin, direction, r)) return TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
+    return traverseRay(c, r, tMin, tMax, anyHit, stackBase);
 }
 
 #endif  // VASTRAY_KD_TRAVERSAL_GLSL
