@@ -1,6 +1,7 @@
 // Camera rays of a wave's paths (core/Camera.h's CameraRays::primary): jittered by the pixel
 // dimensions of the path's random numbers, or through the pixel centre for the AOVs. Resets
-// each path's state and marks its closest-hit ray for walking and its shadow ray as absent.
+// each path's state, marks its closest-hit ray for walking and its shadow ray as absent, and
+// queues the camera rays (queue pc.queue).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -13,8 +14,9 @@ layout(local_size_x = kWavefrontWorkgroupSize) in;
 
 void main() {
     const uint j = gl_GlobalInvocationID.x;
-    if (j >= wavePaths()) return;
     ParamsRef params = ParamsRef(pc.params);
+    appendRays(params, j < wavePaths() ? 1u : 0u, j, 0u);
+    if (j >= wavePaths()) return;
     const uint pixel = pc.firstPixel + j / pc.sampleCount;
     const uint sampleIndex = pc.firstSample + j % pc.sampleCount;
     const uint seed = params.p.seed, width = params.p.imageWidth;

@@ -20,9 +20,8 @@ void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tM
     Vec4Array(p.hitNormal).v[ray] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending | kRayFromSurface));
 }
 
-void main() {
-    const uint j = gl_GlobalInvocationID.x;
-    if (j >= wavePaths()) return;
+// Shades path j; count, first and second: the rays it started (at most two), to be queued.
+void shade(uint j, inout uint count, inout uint first, inout uint second) {
     const WavefrontParams p = ParamsRef(pc.params).p;
     uvec4 info = UVec4Array(p.pathInfo).v[j];
     uint flags = info.z;
@@ -55,6 +54,7 @@ void main() {
                 const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
                 startRay(p, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range);
                 flags |= kPathShadowPending;
+                first = shadow, count = 1u;
             } else {
                 const WavefrontMaterial m = materialAt(p, UVec4Array(p.hitIds).v[j].y);
                 const vec3 base = vec3(m.baseR, m.baseG, m.baseB);
@@ -66,6 +66,7 @@ void main() {
                         Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
                         startRay(p, shadow, origin, sun, kInfinity);
                         flags |= kPathShadowPending;
+                        first = shadow, count = 1u;
                     }
                     throughput *= base;
                     bool survives = true;
@@ -78,6 +79,8 @@ void main() {
                         Vec4Array(p.throughput).v[j] = vec4(throughput, 0.0);
                         startRay(p, j, origin, cosineDirection(n, pixel, sampleIndex, bounce, p.seed), kInfinity);
                         flags |= kPathAlive;
+                        if (count == 0u) first = j; else second = j;
+                        ++count;
                     }
                 }
             }
@@ -86,4 +89,11 @@ void main() {
     Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);
     info.z = flags;
     UVec4Array(p.pathInfo).v[j] = info;
+}
+
+void main() {
+    const uint j = gl_GlobalInvocationID.x;
+    uint count = 0u, first = 0u, second = 0u;
+    if (j < wavePaths()) shade(j, count, first, second);
+    appendRays(ParamsRef(pc.params), count, first, second);
 }

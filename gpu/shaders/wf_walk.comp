@@ -1,5 +1,6 @@
-// One walk pass over a stream: the wave's pending closest-hit rays (index j) and shadow rays
-// (pathCapacity + j). Each ray walks its cells of the top-level tree front to back from where
+// One walk pass over a stream: the rays of queue pc.queue, the wave's closest-hit rays (index j)
+// and shadow rays (pathCapacity + j) that generate or shade started; in later passes the
+// ones still pending. Each ray walks its cells of the top-level tree front to back from where
 // its last pass stopped, and traces the cells whose chunks became resident for this pass
 // (chunkEpoch == pass). A chunk resident for an earlier pass of the stream was traced then by
 // every ray still pending now, so it is skipped even if it has been evicted since. A cell whose
@@ -58,13 +59,14 @@ shared uint groupRays;
 
 void main() {
     const uint k = gl_GlobalInvocationID.x;
-    const uint paths = wavePaths();
     ParamsRef params = ParamsRef(pc.params);
-    const bool anyHit = k >= paths;
-    const uint j = anyHit ? k - paths : k;
-    const uint ray = anyHit ? shadowRayIndex(params.p, j) : j;
+    const uint queued = RwUintArray(params.p.queueCounts).v[pc.queue];
+    const uint ray = k < queued ? rayQueue(params, pc.queue).v[k] : 0u;
+    const uint capacity = params.p.pathCapacity;
+    const bool anyHit = ray >= capacity;
+    const uint j = anyHit ? ray - capacity : ray;
     Vec4Array normals = Vec4Array(params.p.hitNormal);
-    uint flags = k < 2u * paths ? floatBitsToUint(normals.v[ray].w) : 0u;
+    uint flags = k < queued ? floatBitsToUint(normals.v[ray].w) : 0u;
     RwUintArray demand = RwUintArray(params.p.demand);
     const uint chunkCount = params.p.chunkCount;
     if (pc.pass == 0u) {  // every ray of the stream is pending in its first pass: count them

@@ -12,7 +12,8 @@
 namespace vastray::gpu {
 
 struct TableLayout {
-    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, epoch = 0, demand = 0, params = 0, materials = 0;
+    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, epoch = 0, demand = 0, queueCounts = 0, params = 0,
+             materials = 0;
     uint64_t totalBytes = 0;
 };
 
@@ -25,7 +26,8 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.touched = t.chunkSlots + align(chunks * 4);
     t.epoch = t.touched + align(chunks * 4);
     t.demand = t.epoch + align(chunks * 4);
-    t.params = t.demand + align((chunks + 2) * 4);
+    t.queueCounts = t.demand + align((chunks + 2) * 4);
+    t.params = t.queueCounts + align(2 * 4);
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.totalBytes = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
     return t;
@@ -35,14 +37,15 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
 // per tile pixel: sections in the order of WavefrontParams' addresses.
 struct StateLayout {
     uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
-        accum, totalBytes;
+        accum, queues, totalBytes;
 };
 inline StateLayout stateLayout(uint64_t paths) {
     StateLayout s{};
     const uint64_t rays = 2 * paths * 16, perPath = paths * 16;
     s.rayOrigin = 0, s.rayDirection = rays, s.hitPosition = 2 * rays, s.hitNormal = 3 * rays, s.hitIds = 4 * rays;
     s.throughput = 5 * rays, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
-    s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.totalBytes = s.accum + perPath;
+    s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.queues = s.accum + perPath;
+    s.totalBytes = s.queues + 2 * (2 * paths * 4);
     return s;
 }
 struct OutputLayout {
@@ -55,6 +58,6 @@ inline OutputLayout outputLayout(uint64_t pixels) {
     o.totalBytes = o.cost + 8 * pixels;
     return o;
 }
-static_assert(kBytesPerPath == 16 * 10 + 4 * 16 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 16 * 10 + 4 * 16 + 16 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

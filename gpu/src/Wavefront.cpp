@@ -158,6 +158,7 @@ private:
         });
         if (image_.aovs & ~kAovCost) {
             const WavefrontPush push = makePush(first, count, 0, 1, kGenerateAov);
+            clearQueue(push.queue);
             dispatch(*kernels().generate, kGenerate, push, count);
             VASTRAY_TRY(stream(push));
             dispatch(*kernels().aov, kAov, push, count);
@@ -166,10 +167,13 @@ private:
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             const uint32_t samples = std::min(samplesPerWave, options_.samplesPerPixel - s0);
             WavefrontPush push = makePush(first, count, s0, samples, kGeneratePaths);
+            clearQueue(push.queue);
             dispatch(*kernels().generate, kGenerate, push, uint64_t(count) * samples);
             for (uint32_t bounce = 0; bounce < streams; ++bounce) {
                 VASTRAY_TRY(stream(push));
-                push.bounce = bounce;
+                // The rays shade starts go to the other queue: the next stream's.
+                push.bounce = bounce, push.queue ^= 1u;
+                clearQueue(push.queue);
                 dispatch(*kernels().shade, kShade, push, uint64_t(count) * samples);
             }
             push.mode = s0 + samples == options_.samplesPerPixel ? 1u : 0u;
@@ -177,6 +181,14 @@ private:
         }
         VASTRAY_TRY(flush());
         return readTile(first, count);
+    }
+
+    // Empties ray queue q (its count) before kernels append to it.
+    void clearQueue(uint32_t q) {
+        record([this, q](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * q, 4, 0);
+            barrier(cmd);
+        });
     }
 
     WavefrontPush makePush(uint32_t first, uint32_t count, uint32_t firstSample, uint32_t samples, uint32_t mode) {
@@ -272,7 +284,8 @@ private:
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
         p.throughput = state + s.throughput, p.radiance = state + s.radiance, p.pendingSun = state + s.pendingSun;
-        p.pathInfo = state + s.pathInfo, p.accum = state + s.accum;
+        p.pathInfo = state + s.pathInfo, p.accum = state + s.accum, p.queues = state + s.queues;
+        p.queueCounts = table + t.queueCounts;
         const OutputLayout o = outputLayout(b_.pathCapacity);
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;

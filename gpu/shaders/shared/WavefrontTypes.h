@@ -36,9 +36,9 @@ const uint kGeneratePaths = 0u;  // jittered camera rays of (pixel, sample) path
 const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
 
 // Device bytes per path of the state arrays (two rays with their walk records, four path
-// vectors) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
+// vectors, a slot in each of the two ray queues for each ray) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
 // waves from the budget with these.
-const uint kBytesPerPath = 2u * (16u + 16u + 16u + 16u + 16u) + 4u * 16u;
+const uint kBytesPerPath = 2u * (16u + 16u + 16u + 16u + 16u) + 4u * 16u + 2u * 2u * 4u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
@@ -71,6 +71,9 @@ struct WavefrontParams {
     uint64_t radiance;     // vec4 per path
     uint64_t pendingSun;   // vec4 per path: the sun's light, added if the shadow ray is unblocked
     uint64_t pathInfo;     // uvec4 per path: pixel, sample, flags, 0
+    uint64_t queues;       // two ray queues of 2 * pathCapacity ray indices each (queue q at
+                           // queues + q * 8 * pathCapacity bytes): the rays a stream walks
+    uint64_t queueCounts;  // two uints: the rays in each queue
     uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
     uint64_t outColor;     // vec4 per tile pixel: mean radiance, alpha
     uint64_t outDepth;     // float per tile pixel
@@ -116,12 +119,13 @@ struct WavefrontPush {
     uint bounce;   // wf_shade.comp: the scattering event being shaded
     uint pass;     // wf_walk.comp: the walk pass within this stream
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
-    uint padding;
+    uint queue;    // wf_walk.comp: the queue it walks; wf_generate.comp, wf_shade.comp: the queue
+                   // their new rays are appended to
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 24 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 26 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(WavefrontPush) == 40 && offsetof(WavefrontPush, mode) == 32);
 }  // namespace vastray::gpu
 #endif
