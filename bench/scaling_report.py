@@ -24,8 +24,8 @@ COLUMNS = [
     "budget_bytes", "chunk_slots", "chunks_total", "wall_s", "peak_rss_bytes",
     "render_seconds", "build_seconds", "rays", "rays_per_second", "peak_host_bytes",
     "chunks_touched", "chunk_loads", "chunk_decodes", "stream_chunks_touched", "stream_reloads",
-    "bytes_read", "bytes_uploaded", "decode_seconds", "upload_seconds", "trace_seconds",
-    "walk_seconds", "shade_seconds", "ray_streams", "chunk_traces", "peak_device_bytes",
+    "bytes_read", "bytes_uploaded", "decode_seconds", "upload_seconds", "device_seconds",
+    "submits", "walk_passes", "host_to_device_bytes", "device_to_host_bytes", "peak_device_bytes",
     "memory_budget_bytes", "diff_against", "rmse", "psnr", "max_error", "primid_agreement",
     "generate_s", "generate_peak_rss_bytes", "ply_bytes", "parse_s", "package_s", "chunks",
     "file_bytes", "resident_bytes", "max_chunk_resident_bytes", "chunk_size_bytes",
@@ -293,7 +293,7 @@ def cmd_report(args):
       "vulkan and by the Embree render of the same scene and depth. *image*: `vastray diff` against the "
       "image named (PSNR of the beauty; `inf` = identical).")
     w("")
-    w("| scene | triangles | render | budget MiB | slots | wall s | render s | BVH build s | trace s "
+    w("| scene | triangles | render | budget MiB | slots | wall s | render s | BVH build s | device s "
       "| decode s (workers) | upload s | loads / touched | MiB read | MiB uploaded | peak device MiB "
       "| peak RSS GiB | vs in core | vs Embree | image |")
     w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -322,7 +322,7 @@ def cmd_report(args):
         w(f"| {r['kind']} | {int(num(r, 'triangles')):,} | {r['label']} "
           f"| {fmt(num(r, 'budget_bytes') / MiB, '.1f') if vk else '-'} | {slots} | {fmt(wall, '.2f')} "
           f"| {fmt(num(r, 'render_seconds'), '.2f')} | {fmt(num(r, 'build_seconds'), '.2f') if not vk else '-'} "
-          f"| {fmt(num(r, 'trace_seconds'), '.2f') if vk else '-'} | {fmt(num(r, 'decode_seconds'), '.2f') if vk else '-'} "
+          f"| {fmt(num(r, 'device_seconds'), '.2f') if vk else '-'} | {fmt(num(r, 'decode_seconds'), '.2f') if vk else '-'} "
           f"| {fmt(num(r, 'upload_seconds'), '.3f') if vk else '-'} | {loads} "
           f"| {fmt(num(r, 'bytes_read', 0) / MiB, '.1f') if vk else '-'} "
           f"| {fmt(num(r, 'bytes_uploaded', 0) / MiB, '.1f') if vk else '-'} "

@@ -194,8 +194,11 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
                 (unsigned long long)st->chunkLoads, (unsigned long long)st->decodes);
     std::printf("  bytes                %s read, %s uploaded\n", formatBytes(st->bytesRead).c_str(),
                 formatBytes(st->bytesUploaded).c_str());
-    std::printf("  seconds              trace %.3f, decode %.3f (workers), upload %.3f, walk %.3f, shade %.3f\n",
-                st->traceSeconds, st->decodeSeconds, st->uploadSeconds, st->walkSeconds, st->shadeSeconds);
+    std::printf("  seconds              device %.3f (kernels: walk %.3f, shade %.3f), decode %.3f (workers), upload %.3f\n",
+                st->deviceSeconds, st->kernelSeconds[1], st->kernelSeconds[2], st->decodeSeconds, st->uploadSeconds);
+    std::printf("  device               %llu submits, %llu walk passes, %s up, %s down (besides chunks)\n",
+                (unsigned long long)st->submits, (unsigned long long)st->walkPasses,
+                formatBytes(st->hostToDeviceBytes).c_str(), formatBytes(st->deviceToHostBytes).c_str());
 }
 
 Status writeStatsJson(const std::string& path, const RenderStats& s, const StreamingStats* st) {
@@ -218,12 +221,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["bytes_uploaded"] = st->bytesUploaded;
         j["decode_seconds"] = st->decodeSeconds;
         j["upload_seconds"] = st->uploadSeconds;
-        j["trace_seconds"] = st->traceSeconds;
         j["device_seconds"] = st->deviceSeconds;
-        j["walk_seconds"] = st->walkSeconds;
-        j["shade_seconds"] = st->shadeSeconds;
-        j["ray_streams"] = st->streams;
-        j["chunk_traces"] = st->chunkTraces;
         j["walked_rays"] = st->walkedRays;
         j["submits"] = st->submits;
         j["walk_passes"] = st->walkPasses;

@@ -155,9 +155,9 @@ def chunk_table(points):
     for p in points:
         if p["sweep"] == "chunk":
             rows.append([p["scene"], p["curve"], p["chunks_total"], p["spp"], fmt(p["render_seconds"]),
-                         fmt(p["trace_seconds"]), p["chunk_loads"], fmt(p["rmse"]), fmt(p["relmse"]),
+                         fmt(p["device_seconds"]), p["chunk_loads"], fmt(p["rmse"]), fmt(p["relmse"]),
                          fmt(p["paired_rmse"])])
-    return md_table(["scene", "chunk size", "chunks", "spp", "time s", "trace s", "chunk loads", "RMSE", "relMSE",
+    return md_table(["scene", "chunk size", "chunks", "spp", "time s", "device s", "chunk loads", "RMSE", "relMSE",
                      "RMSE vs Embree, same samples"], rows)
 
 

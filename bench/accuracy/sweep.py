@@ -27,7 +27,7 @@ AMPLE_BUDGET = "1GiB"
 POINT_FIELDS = [
     "sweep", "scene", "curve", "spp", "quantize_bits", "chunk_size", "host_cache",
     "memory_budget_bytes", "chunks_total", "chunk_slots", "oversubscription", "render_seconds",
-    "wall_seconds", "trace_seconds", "decode_seconds", "upload_seconds", "rays", "chunk_loads",
+    "wall_seconds", "device_seconds", "decode_seconds", "upload_seconds", "rays", "chunk_loads",
     "chunks_touched", "bytes_read", "peak_device_bytes", "package_bytes", "rmse", "relmse",
     "primid_agreement", "paired_rmse", "paired_relmse",
 ]
@@ -190,7 +190,7 @@ class Bench:
             "chunks_total": st["chunks_total"], "chunk_slots": st["chunk_slots"],
             "oversubscription": f"{st['chunks_total'] / st['chunk_slots']:.3f}",
             "render_seconds": f"{st['render_seconds']:.3f}", "wall_seconds": f"{wall:.3f}",
-            "trace_seconds": f"{st['trace_seconds']:.3f}", "decode_seconds": f"{st['decode_seconds']:.3f}",
+            "device_seconds": f"{st['device_seconds']:.3f}", "decode_seconds": f"{st['decode_seconds']:.3f}",
             "upload_seconds": f"{st['upload_seconds']:.3f}", "rays": st["rays"], "chunk_loads": st["chunk_loads"],
             "chunks_touched": st["chunks_touched"], "bytes_read": st["bytes_read"],
             "peak_device_bytes": st["peak_device_bytes"], "package_bytes": pkg["bytes"],

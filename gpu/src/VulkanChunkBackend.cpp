@@ -18,7 +18,6 @@
 namespace vastray::gpu {
 namespace {
 
-static_assert(kHitFound == kStreamHitFound && kHitFrontFacing == kStreamHitFrontFacing);
 static_assert(kTraceStackSize == kMaxKdDepth, "the kernel's stack must hold the deepest tree");
 static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 
@@ -88,7 +87,6 @@ public:
 
     std::string name() const override { return "vulkan"; }
     uint32_t slotCount() const override { return plan_.slots; }
-    uint32_t maxBatchRays() const override { return plan_.batchRays; }
     uint64_t bytesUploaded() const override { return uploaded_; }
     uint64_t peakDeviceBytes() const override { return allocated_; }  // everything is allocated up front
     double uploadSeconds() const override { return uploadSeconds_; }
@@ -148,12 +146,6 @@ public:
         return Status::ok();
     }
 
-    // Rays are traced by the device wavefront only (renderOnDevice): no ray crosses the bus.
-    Status trace(std::span<const Batch>) override {
-        return Status::error("the vulkan backend traces rays on the device only (renderOnDevice)");
-    }
-
-    bool rendersOnDevice() const override { return true; }
     Status renderOnDevice(const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
                           StreamingStats& stats) override {
         WavefrontBuffers b;

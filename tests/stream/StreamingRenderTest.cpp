@@ -1,8 +1,7 @@
 // The streaming renderer end to end: the Vulkan backend's device wavefront (lavapipe in CI)
-// against the CPU chunk backend's host wavefront (the same hits; shading floats within rounding:
-// the device's sqrt, division and cosine round differently), against itself at ample and tight
-// budgets and wave sizes (bit for bit, and it really streamed), and against the independent
-// Embree reference (primid agreement, beauty error).
+// against itself at ample and tight budgets and wave sizes (bit for bit, and it really
+// streamed), and against the independent Embree reference (the same hits; floats within
+// rounding: the device's sqrt, division and cosine round differently).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -81,16 +80,6 @@ RenderOptions smallRender(uint32_t aovs = kAovDepth | kAovNormal | kAovPrimId) {
     return o;
 }
 
-Result<RenderImage> renderCpuChunks(const std::string& path, const RenderOptions& options, uint32_t slots,
-                                    StreamingStats* stats = nullptr) {
-    auto reader = PackageReader::open(path);
-    if (!reader) return reader.status();
-    return renderStreaming(
-        **reader, options, StreamingOptions{},
-        [&](const PackageInfo&, const ChunkAttributes& a) { return createCpuChunkBackend(slots, a); }, nullptr,
-        stats);
-}
-
 template <typename T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
@@ -117,56 +106,55 @@ double primIdAgreement(const RenderImage& a, const RenderImage& b) {
     return double(same) / double(a.primId.size());
 }
 
-// The device wavefront against the host one (CPU chunk backend) on the same package: the same
-// triangles hit, the same chunks, and floats that differ by rounding only. Camera directions and
-// normals are normalized on the device (its inverse square root is not correctly rounded), so
-// depth and normals differ in the last bits; a path whose Russian-roulette draw falls within
-// that rounding of its survival probability may take another turn, hence a beauty tolerance
-// well below the noise of these renders (relative RMSE 1e-3; measured 4e-8 on lavapipe).
-void expectAgrees(const RenderImage& device, const RenderImage& host) {
-    ASSERT_EQ(device.rgb.size(), host.rgb.size());
-    double se = 0, energy = 0;
-    for (size_t i = 0; i < host.rgb.size(); ++i) {
-        const double d = double(device.rgb[i]) - double(host.rgb[i]);
-        se += d * d, energy += double(host.rgb[i]) * host.rgb[i];
-    }
-    const double beauty = std::sqrt(se / std::max(energy, 1e-30));
-    EXPECT_LE(beauty, 1e-3) << "beauty relative RMSE";
-    EXPECT_TRUE(sameBits(device.alpha, host.alpha)) << "alpha differs";
-    if (!host.primId.empty()) {
-        EXPECT_GE(primIdAgreement(device, host), 0.9999);
-    }
-    if (!host.chunkId.empty()) {
-        uint64_t same = 0;
-        for (size_t i = 0; i < host.chunkId.size(); ++i) same += device.chunkId[i] == host.chunkId[i];
-        EXPECT_GE(double(same) / double(host.chunkId.size()), 0.999) << "chunkid agreement";
-    }
-    double depthError = 0, normalError = 0;
-    for (size_t i = 0; i < host.depth.size(); ++i)
-        if (std::isfinite(host.depth[i]) || std::isfinite(device.depth[i]))
-            depthError = std::max(depthError, std::fabs(double(device.depth[i]) - host.depth[i]) / host.depth[i]);
-    for (size_t i = 0; i < host.normal.size(); ++i)
-        normalError = std::max(normalError, std::fabs(double(device.normal[i]) - host.normal[i]));
-    EXPECT_LE(depthError, 1e-5) << "depth, largest relative error";
-    EXPECT_LE(normalError, 1e-5) << "normal, largest error";
-    EXPECT_TRUE(sameBits(device.albedo, host.albedo)) << "albedo differs";
-    std::printf("device vs host wavefront: beauty relative RMSE %.2e, depth %.2e, normal %.2e\n", beauty, depthError,
-                normalError);
-}
-
 constexpr uint32_t kAllAovs = kAovDepth | kAovNormal | kAovAlbedo | kAovPrimId | kAovChunkId | kAovCost;
 
-TEST(StreamingRender, VulkanAgreesWithCpuChunkBackend) {
+// The device wavefront against the Embree reference (an independent implementation of the same
+// sampling specification, docs/RENDERING.md) on every AOV both have: the same triangles hit,
+// floats that differ by rounding. Camera directions and normals are normalized on the device
+// (its inverse square root is not correctly rounded) and Embree's t is its own, so depth and
+// normals differ in the last bits; a path whose Russian-roulette draw falls within that rounding
+// of its survival probability takes another turn, hence a beauty tolerance well below the noise
+// of these renders (relative RMSE 1e-3; measured 4e-8 on lavapipe).
+void expectAgrees(const RenderImage& device, const RenderImage& reference) {
+    ASSERT_EQ(device.rgb.size(), reference.rgb.size());
+    double se = 0, energy = 0, alpha = 0;
+    for (size_t i = 0; i < reference.rgb.size(); ++i) {
+        const double d = double(device.rgb[i]) - double(reference.rgb[i]);
+        se += d * d, energy += double(reference.rgb[i]) * reference.rgb[i];
+    }
+    for (size_t i = 0; i < reference.alpha.size(); ++i) alpha += std::fabs(device.alpha[i] - reference.alpha[i]);
+    const double beauty = std::sqrt(se / std::max(energy, 1e-30));
+    EXPECT_LE(beauty, 1e-3) << "beauty relative RMSE";
+    EXPECT_LE(alpha / double(reference.alpha.size()), 1e-3) << "alpha, mean difference";
+    // A pixel-centre ray through an edge shared by two triangles may be given to either by the
+    // two watertight tests (1 pixel of this 40x32 terrain): there the normal differs too.
+    ASSERT_FALSE(reference.primId.empty());
+    EXPECT_GE(primIdAgreement(device, reference), 0.998);
+    double depthError = 0, normalError = 0;
+    for (size_t i = 0; i < reference.depth.size(); ++i)
+        if (std::isfinite(reference.depth[i]) || std::isfinite(device.depth[i]))
+            depthError = std::max(depthError, std::fabs(double(device.depth[i]) - reference.depth[i]) / reference.depth[i]);
+    for (size_t i = 0; i < reference.normal.size(); ++i)
+        if (device.primId[i / 3] == reference.primId[i / 3])
+            normalError = std::max(normalError, std::fabs(double(device.normal[i]) - reference.normal[i]));
+    EXPECT_LE(depthError, 1e-4) << "depth, largest relative error";
+    EXPECT_LE(normalError, 1e-4) << "normal, largest error";
+    EXPECT_TRUE(sameBits(device.albedo, reference.albedo)) << "albedo differs";
+    std::printf("device wavefront vs Embree: beauty relative RMSE %.2e, primid agreement %.6f, depth %.2e, normal "
+                "%.2e\n", beauty, primIdAgreement(device, reference), depthError, normalError);
+}
+
+TEST(StreamingRender, VulkanAgreesWithEmbreeOnEveryAov) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     for (IntegratorKind integrator : {IntegratorKind::Path, IntegratorKind::AmbientOcclusion}) {
         RenderOptions o = smallRender(kAllAovs);
         o.integrator = integrator;
-        StreamingStats gs, cs;
+        StreamingStats gs;
         auto gpuImage = renderVulkan(path, o, 64ull << 20, &gs);
         ASSERT_TRUE(gpuImage) << gpuImage.message();
-        auto cpuImage = renderCpuChunks(path, o, 1000, &cs);
-        ASSERT_TRUE(cpuImage) << cpuImage.message();
-        expectAgrees(*gpuImage, *cpuImage);
+        auto reference = renderEmbree(path, o);
+        ASSERT_TRUE(reference) << reference.message();
+        expectAgrees(*gpuImage, *reference);
         EXPECT_GT(gs.chunksTotal, 4u) << "the scene should span several chunks";
         EXPECT_LE(gs.peakDeviceBytes, gs.memoryBudgetBytes);
     }
@@ -183,10 +171,6 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
     auto b = renderVulkan(path, o, tight, &small);
     ASSERT_TRUE(b) << b.message();
     expectIdentical(*a, *b, false);
-    // The CPU backend's host wavefront with two slots: the same hits.
-    auto c = renderCpuChunks(path, o, 2);
-    ASSERT_TRUE(c) << c.message();
-    expectAgrees(*b, *c);
     EXPECT_EQ(small.slots, 2u);
     EXPECT_GT(small.chunkLoads, small.chunksTouched) << "two slots should have forced reloads";
     EXPECT_EQ(ample.chunkLoads, ample.chunksTouched) << "a scene that fits loads each chunk once";

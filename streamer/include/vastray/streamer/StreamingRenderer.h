@@ -1,9 +1,9 @@
 #pragma once
 // The streaming renderer: a wavefront path tracer over a scene package whose chunks are paged
-// through a fixed number of device slots. Everything but the ray/chunk intersection lives here
-// once (integrator, top-level walk, ray queues, scheduler, host cache, decode workers); a
-// backend only uploads chunks into slots and traces batches of rays against resident chunks
-// (ChunkBackend). docs/RENDERING.md describes the algorithm.
+// through a fixed number of device slots. The backend (the Vulkan one, gpu/) runs the whole
+// wavefront on its device; this module keeps what the host does: the host chunk cache and its
+// decode workers, and the pager that turns the device's per-chunk demand counters into loads
+// and evictions (ChunkPager). docs/RENDERING.md describes the algorithm.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -23,46 +23,6 @@
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
-
-// One ray as a backend traces it: the point at t is origin + t * direction; hits count only
-// for t in [tMin, tMax]. Layout shared with the GPU (gpu/shaders/shared/StreamTypes.h).
-struct StreamRay {
-    Vec3f origin;
-    float tMin = 0;
-    Vec3f direction;
-    float tMax = 0;
-};
-
-// StreamHit::flags bits.
-constexpr uint32_t kStreamHitFound = 1;
-constexpr uint32_t kStreamHitFrontFacing = 2;
-
-// What a backend returns per ray. Closest-hit traces fill everything; any-hit traces only
-// flags and the counters. position and normal are barycentricPosition / geometricNormal of
-// core/PathShading.h (normal not normalized), so every backend hands the integrator the same
-// floats for the same hit.
-struct StreamHit {
-    float t = 0;
-    Vec3f position;
-    Vec3f normal;
-    uint32_t primitive = kMissPrimId;  // id in the imported mesh; kMissPrimId when not uploaded
-    uint32_t material = 0;
-    uint32_t flags = 0;
-    uint32_t nodesVisited = 0;
-    uint32_t trianglesTested = 0;
-};
-static_assert(sizeof(StreamRay) == 32 && sizeof(StreamHit) == 48);
-
-// What one ray stream gives for one ray: its hit after every cell it needed, and the work.
-// RayStreamer merges per-cell hits into it (the host wavefront of the CPU chunk backend).
-struct StreamResult {
-    StreamHit hit;                  // closest (or, for shadow rays, any) hit; flags 0 on a miss
-    uint32_t chunk = kMissPrimId;   // chunk whose cell produced the hit
-    uint32_t cellsTraced = 0;       // chunk traces this ray took
-    uint32_t trianglesTested = 0;
-    uint32_t cell = 0;              // the hit's cell among the ray's cells (tie-break)
-};
-static_assert(sizeof(StreamResult) == 64);
 
 // Which per-triangle attributes a render reads; the others are never uploaded.
 struct ChunkAttributes {
@@ -123,38 +83,21 @@ public:
     virtual ~ChunkBackend() = default;
     virtual std::string name() const = 0;
     virtual uint32_t slotCount() const = 0;
-    // Most rays one trace() call takes, over all its batches.
-    virtual uint32_t maxBatchRays() const = 0;
     // Makes `chunk` resident in `slot`, replacing what was there. singleSided: one byte per
     // triangle (nonzero: invisible from behind) when attributes.singleSided, else empty.
     virtual Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) = 0;
 
-    struct Batch {
-        uint32_t slot;
-        std::span<const StreamRay> rays;
-        std::span<StreamHit> hits;  // hits[i] belongs to rays[i]
-        bool anyHit = false;        // shadow rays: any hit, stop at the first
-    };
-    // Closest hit (or any hit) of every ray against its batch's resident chunk.
-    virtual Status trace(std::span<const Batch> batches) = 0;
-
-    // The device wavefront: a backend that runs the whole render on its device (camera rays,
-    // the walk, traversal, shading, accumulation) returns true, and renderOnDevice fills image
-    // (allocated by the caller) and the device figures of stats (submits, bytes each way, walk
-    // passes). Chunks come in through pager only.
-    virtual bool rendersOnDevice() const { return false; }
+    // The whole render on the device (camera rays, the walk, traversal, shading, accumulation):
+    // fills image (allocated by the caller) and the device figures of stats (submits, bytes each
+    // way, walk passes, kernel times). Chunks come in through pager only.
     virtual Status renderOnDevice(const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
-                                  StreamingStats& stats) {
-        (void)job, (void)pager, (void)image, (void)stats;
-        return Status::error(name() + " backend cannot render on a device");
-    }
+                                  StreamingStats& stats) = 0;
 
     virtual uint64_t bytesUploaded() const = 0;
     virtual uint64_t peakDeviceBytes() const = 0;
     virtual double uploadSeconds() const = 0;
-    // Of the trace and walk calls' time, what was spent waiting for the device (submit to
-    // fence); the rest is copying rays in and hits out. 0 for a backend without a device.
-    virtual double deviceSeconds() const { return 0; }
+    // Time spent waiting for the device's submissions.
+    virtual double deviceSeconds() const = 0;
 };
 
 // Creates the backend once the renderer knows what it needs: the package and the attributes.
@@ -183,16 +126,11 @@ struct StreamingStats {
     uint64_t decodes = 0;           // chunks decoded (a host-cache hit decodes nothing)
     double decodeSeconds = 0;       // decode_seconds: read + decode time summed over workers
     double uploadSeconds = 0;       // upload_seconds
-    double traceSeconds = 0;        // trace_seconds: in the backend's trace and walk calls
-    double deviceSeconds = 0;       // device_seconds: of those, waiting for the device (kernels)
-    double walkSeconds = 0;         // walk_seconds: top-level walks and queueing (host)
-    double shadeSeconds = 0;        // shade_seconds: the integrator's host-side shading
+    double deviceSeconds = 0;       // device_seconds: waiting for the device's submissions
     uint64_t peakDeviceBytes = 0;   // peak_device_bytes
     uint64_t memoryBudgetBytes = 0; // memory_budget_bytes (set by the caller that knows it)
     uint32_t slots = 0;             // chunk slots the budget holds
-    uint64_t streams = 0;           // ray streams traced (closest and shadow, per bounce and wave)
-    uint64_t chunkTraces = 0;       // (ray, cell) pairs traced
-    uint64_t walkedRays = 0;        // walked_rays: rays walked on the device (the device wavefront: all of them)
+    uint64_t walkedRays = 0;        // walked_rays: rays walked on the device (camera, AOV, bounce and shadow)
     // The device wavefront's (ChunkBackend::renderOnDevice): command-buffer submissions, walk
     // passes (one per stream in core; one per paging step out of core), and the bytes that
     // crossed the bus besides chunk data (bytes_uploaded): parameters, chunk tables and epochs
@@ -241,10 +179,6 @@ public:
 private:
     StreamingScene();
     struct State;
-    // The host wavefront (RayStreamer and the integrator here), for backends that do not render
-    // on a device; rays: the rays it traced.
-    static Status renderOnHost(State& st, const RenderOptions& options, const Camera& camera, RenderImage& image,
-                               const StreamingProgress& progress, const std::atomic<bool>* cancel, uint64_t& rays);
     static void reportStats(State& st, const StreamingStats& before, RenderStats* stats,
                             StreamingStats* streamingStats, std::chrono::steady_clock::time_point start,
                             uint64_t rays);
@@ -258,9 +192,5 @@ Result<RenderImage> renderStreaming(const PackageReader& package, const RenderOp
                                     const StreamingOptions& streaming, const ChunkBackendFactory& backend,
                                     RenderStats* stats = nullptr, StreamingStats* streamingStats = nullptr,
                                     const StreamingProgress& progress = {});
-
-// A CPU backend with the same contract as the GPU one (core's KD-tree traversal per chunk):
-// the streaming logic's reference in tests, and a fallback. `slots` chunk slots.
-Result<std::unique_ptr<ChunkBackend>> createCpuChunkBackend(uint32_t slots, const ChunkAttributes& attributes);
 
 }  // namespace vastray

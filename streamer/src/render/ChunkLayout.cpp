@@ -1,0 +1,33 @@
+// Where each array of a chunk lies in a device slot (vastray::ChunkLayout): what planPool sizes
+// slots with and what the Vulkan backend uploads into them.
+#include <algorithm>
+
+#include "vastray/core/KdTree.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace vastray {
+namespace {
+uint64_t align16(uint64_t bytes) { return (bytes + 15) / 16 * 16; }
+}  // namespace
+
+ChunkLayout chunkLayout(uint64_t kdNodes, uint64_t kdRefs, uint64_t vertices, uint64_t triangles,
+                        const ChunkAttributes& attributes) {
+    ChunkLayout l;
+    uint64_t at = 0;
+    auto section = [&](uint64_t bytes) {
+        const uint64_t offset = at;
+        at += align16(bytes);
+        return offset;
+    };
+    l.nodes = section(kdNodes * sizeof(KdNode));
+    l.leafRefs = section(kdRefs * 4);
+    l.positions = section(vertices * 12);
+    l.indices = section(triangles * 12);
+    l.singleSided = section(attributes.singleSided ? (triangles + 3) / 4 * 4 : 0);
+    l.primitiveIds = section(attributes.primitiveIds ? triangles * 4 : 0);
+    l.materialIds = section(attributes.materialIds ? triangles * 4 : 0);
+    l.totalBytes = std::max<uint64_t>(at, 16);
+    return l;
+}
+
+}  // namespace vastray
