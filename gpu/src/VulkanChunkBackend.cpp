@@ -202,16 +202,23 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                              " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a wave of " +
                              std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
                              " plus tables of " + formatBytes(tableBytes(1)) + ")");
-    // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for slots;
-    // slots beyond the chunk count are useless, so what they would take goes back to the wave.
-    uint64_t rays = std::clamp<uint64_t>(budget / 4 / kRayBytes, kMinBatchRays, kMaxBatchRays);
-    while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
-    rays = std::max<uint64_t>(rays, kMinBatchRays);
-    const uint64_t available = budget - batchBytes(rays);  // >= one slot and a one-slot table
-    uint64_t slots = available >= tableBytes(chunks) + slotAllocation
-                         ? (available - tableBytes(chunks)) / slotAllocation
-                         : 1;
-    slots = std::min<uint64_t>(slots, chunks);
+    // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for
+    // slots; slots beyond the chunk count are useless, so what they would take goes back to the
+    // wave. When the slots cannot hold every chunk, the wave gets half: every wave pages the
+    // scene through the slots again, so out of core fewer, larger waves mean fewer loads, and
+    // fewer slots only mean more walk passes per stream (PERF_NOTES 25).
+    auto split = [&](uint64_t share, uint64_t& rays, uint64_t& slots) {
+        rays = std::clamp<uint64_t>(budget / share / kRayBytes, kMinBatchRays, kMaxBatchRays);
+        while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
+        rays = std::max<uint64_t>(rays, kMinBatchRays);
+        const uint64_t available = budget - batchBytes(rays);  // >= one slot and a one-slot table
+        slots = available >= tableBytes(chunks) + slotAllocation ? (available - tableBytes(chunks)) / slotAllocation
+                                                                 : 1;
+        slots = std::min<uint64_t>(slots, chunks);
+    };
+    uint64_t rays = 0, slots = 0;
+    split(4, rays, slots);
+    if (slots < chunks) split(2, rays, slots);
     const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
     while (rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);
