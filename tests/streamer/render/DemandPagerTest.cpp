@@ -1,0 +1,137 @@
+// The pager of the device wavefront against a recording backend: which chunks it loads for a
+// set of demand counters, which slots it takes, and how it counts loads and reloads.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "../package/PackageTestUtil.h"
+#include "render/ChunkCache.h"
+#include "render/DemandPager.h"
+
+namespace vastray::test {
+namespace {
+
+// Slots that remember which chunk was loaded into them, in order.
+class RecordingBackend final : public ChunkBackend {
+public:
+    explicit RecordingBackend(uint32_t slots) : slots_(slots) {}
+    std::string name() const override { return "recording"; }
+    uint32_t slotCount() const override { return slots_; }
+    Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t>) override {
+        if (slot >= slots_) return Status::error("no slot " + std::to_string(slot));
+        loads.push_back({slot, chunk.id});
+        return Status::ok();
+    }
+    Status renderOnDevice(const DeviceRenderJob&, ChunkPager&, RenderImage&, StreamingStats&) override {
+        return Status::error("not a renderer");
+    }
+    uint64_t bytesUploaded() const override { return 0; }
+    uint64_t peakDeviceBytes() const override { return 0; }
+    double uploadSeconds() const override { return 0; }
+    double deviceSeconds() const override { return 0; }
+
+    struct Load {
+        uint32_t slot, chunk;
+    };
+    std::vector<Load> loads;
+
+private:
+    uint32_t slots_;
+};
+
+class DemandPagerTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        PackageBuildOptions options;
+        options.chunkSizeBytes = 64 << 10;
+        reader_ = buildAndOpen(generatedMesh(GeneratorKind::Terrain, 20000), tempPath("pager.vast"), options);
+        ASSERT_TRUE(reader_);
+        ASSERT_GE(reader_->info().chunks.size(), 6u) << "the tests need several chunks";
+        cache_ = std::make_unique<ChunkCache>(*reader_, 1ull << 30, 1);
+    }
+    std::unique_ptr<DemandPager> pager(RecordingBackend& backend) {
+        return std::make_unique<DemandPager>(reader_->info(), ChunkAttributes{}, backend, *cache_, stats_);
+    }
+    std::vector<uint32_t> demand(std::initializer_list<std::pair<uint32_t, uint32_t>> waiting) const {
+        std::vector<uint32_t> d(reader_->info().chunks.size(), 0);
+        for (auto [chunk, rays] : waiting) d[chunk] = rays;
+        return d;
+    }
+
+    std::unique_ptr<PackageReader> reader_;
+    std::unique_ptr<ChunkCache> cache_;
+    StreamingStats stats_;
+};
+
+TEST_F(DemandPagerTest, LoadsTheMostWantedChunksIntoFreeSlots) {
+    RecordingBackend backend(2);
+    auto p = pager(backend);
+    p->beginStream();
+    auto loaded = p->page(demand({{0, 5}, {1, 9}, {2, 1}, {3, 5}}));
+    ASSERT_TRUE(loaded) << loaded.message();
+    EXPECT_EQ(*loaded, (std::vector<uint32_t>{1, 0})) << "most waiting rays first; chunk id breaks ties";
+    EXPECT_EQ(p->chunkSlots()[1], backend.loads[0].slot);
+    EXPECT_EQ(p->chunkSlots()[0], backend.loads[1].slot);
+    EXPECT_EQ(p->chunkSlots()[3], kEmptyCell);
+    EXPECT_EQ(stats_.chunkLoads, 2u);
+    EXPECT_FALSE(p->allResident());
+}
+
+TEST_F(DemandPagerTest, NeverEvictsAChunkRaysWaitFor) {
+    RecordingBackend backend(2);
+    auto p = pager(backend);
+    p->beginStream();
+    ASSERT_TRUE(p->page(demand({{0, 1}, {1, 1}})));
+    // Chunk 0 is resident and (as far as the pager knows) still wanted; chunk 1 is not: the new
+    // chunk takes chunk 1's slot.
+    auto loaded = p->page(demand({{0, 4}, {2, 3}, {3, 2}}));
+    ASSERT_TRUE(loaded) << loaded.message();
+    EXPECT_EQ(*loaded, (std::vector<uint32_t>{2}));
+    EXPECT_NE(p->chunkSlots()[0], kEmptyCell);
+    EXPECT_EQ(p->chunkSlots()[1], kEmptyCell);
+    EXPECT_EQ(p->chunkSlots()[3], kEmptyCell) << "no slot was free for it";
+}
+
+TEST_F(DemandPagerTest, EvictsTheLeastRecentlyUsedIdleChunk) {
+    RecordingBackend backend(2);
+    auto p = pager(backend);
+    p->beginStream();
+    ASSERT_TRUE(p->page(demand({{0, 2}, {1, 1}})));  // chunk 0 loaded first, then chunk 1
+    std::vector<uint32_t> touched(reader_->info().chunks.size(), 0);
+    touched[0] = 1;  // a ray traced chunk 0 after both were loaded
+    p->streamTouched(touched);
+    ASSERT_TRUE(p->page(demand({{4, 1}})));
+    EXPECT_NE(p->chunkSlots()[0], kEmptyCell) << "the recently traced chunk stays";
+    EXPECT_EQ(p->chunkSlots()[1], kEmptyCell);
+    EXPECT_NE(p->chunkSlots()[4], kEmptyCell);
+}
+
+TEST_F(DemandPagerTest, CountsReloadsWithinAStreamOnly) {
+    RecordingBackend backend(1);
+    auto p = pager(backend);
+    p->beginStream();
+    ASSERT_TRUE(p->page(demand({{0, 1}})));
+    ASSERT_TRUE(p->page(demand({{1, 1}})));
+    ASSERT_TRUE(p->page(demand({{0, 1}})));  // chunk 0 again in the same stream
+    EXPECT_EQ(stats_.streamReloads, 1u);
+    p->beginStream();
+    ASSERT_TRUE(p->page(demand({{1, 1}})));  // not seen in this stream: a load, not a reload
+    EXPECT_EQ(stats_.streamReloads, 1u);
+    EXPECT_EQ(stats_.chunkLoads, 4u);
+    EXPECT_EQ(cache_->decodes(), 2u) << "the host cache decodes each chunk once";
+}
+
+TEST_F(DemandPagerTest, AllResidentOnceEveryChunkHasASlot) {
+    const uint32_t chunks = uint32_t(reader_->info().chunks.size());
+    RecordingBackend backend(chunks);
+    auto p = pager(backend);
+    p->beginStream();
+    std::vector<uint32_t> everything(chunks, 1);
+    auto loaded = p->page(everything);
+    ASSERT_TRUE(loaded) << loaded.message();
+    EXPECT_EQ(loaded->size(), chunks);
+    EXPECT_TRUE(p->allResident());
+}
+
+}  // namespace
+}  // namespace vastray::test
