@@ -338,11 +338,11 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", args->output, "image to write (.png or .exr; AOVs need .exr)")->required();
     cmd->add_option("--backend", args->backend,
-                    "vulkan (streaming GPU tracer; a mesh file is imported to a temporary package first) | "
+                    "vulkan (streaming path tracer on the GPU; a mesh file is imported to a temporary package first) | "
                     "embree (CPU reference, whole scene in core)")
         ->capture_default_str();
     cmd->add_option("--memory-budget", args->memoryBudget,
-                    "vulkan: device memory for chunk slots, rays and tables, all of it (KiB/MiB/GiB)")
+                    "vulkan: device memory for chunk slots, the path state of a wave and tables, all of it (KiB/MiB/GiB)")
         ->capture_default_str();
     cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (0 = none)")
         ->capture_default_str();

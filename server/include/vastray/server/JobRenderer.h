@@ -42,8 +42,8 @@ struct JobRenderProgress {
 struct JobRenderStats {
     RenderStats render;
     uint64_t chunkLoads = 0;  // chunks loaded from storage for this job (0: all were resident)
-    // Device memory the job's render held at its peak (the streaming pool: chunk slots, slot
-    // table, ray batch), in bytes; 0 for a backend without device memory (Embree).
+    // Device memory the job's render held at its peak (the streaming pool: chunk slots,
+    // tables, path state), in bytes; 0 for a backend without device memory (Embree).
     uint64_t peakDeviceBytes = 0;
 };
 
