@@ -305,6 +305,13 @@ std::string Service::metricsText() {
         std::to_string(metrics_.chunkLoads));
     add("vastray_render_seconds_total", "counter", "Time spent tracing and shading.",
         std::to_string(double(metrics_.renderMicroseconds) * 1e-6));
+    text +=
+        "# HELP vastray_device_kernel_seconds_total Device time of the wavefront kernels over finished jobs, by "
+        "kernel (timestamp queries).\n"
+        "# TYPE vastray_device_kernel_seconds_total counter\n";
+    for (int k = 0; k < Metrics::kKernels; ++k)
+        text += std::string("vastray_device_kernel_seconds_total{kernel=\"") + StreamingStats::kKernelNames[k] +
+                "\"} " + std::to_string(double(metrics_.kernelMicroseconds[k]) * 1e-6) + "\n";
     add("vastray_device_memory_peak_bytes", "gauge",
         "Largest device memory a job's render held since the server started (0 before the first job "
         "and with the embree backend).",

@@ -78,6 +78,8 @@ ServiceStatus Service::renderAndStore(v1::Job& job) {
     if (!image) return {StatusCode::Internal, image.message()};
     metrics_.rays += stats.render.rays;
     metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
+    static_assert(Metrics::kKernels == StreamingStats::kKernels);
+    for (int k = 0; k < Metrics::kKernels; ++k) metrics_.kernelMicroseconds[k] += uint64_t(stats.kernelSeconds[k] * 1e6);
     // The scratch name keeps the extension: the image writer picks the format by it.
     const std::filesystem::path scratch =
         objects_->scratchDir() / (job.id() + "." + job.request().output_format());

@@ -52,6 +52,7 @@ public:
         if (stats) {
             stats->chunkLoads = streaming.chunkLoads;
             stats->peakDeviceBytes = streaming.peakDeviceBytes;
+            for (int k = 0; k < StreamingStats::kKernels; ++k) stats->kernelSeconds[k] = streaming.kernelSeconds[k];
         }
         if (progress) progress({1, 1, streaming.chunkLoads});
         if (!image && cancel) return Status::error("cancelled");

@@ -109,6 +109,10 @@ TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
         << metrics->body;
     EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_budget_bytes", "gauge"), double(budget))
         << metrics->body;
+    // Device time of the walk kernel, summed over the two jobs (lavapipe has timestamps).
+    const size_t walk = metrics->body.find("\nvastray_device_kernel_seconds_total{kernel=\"walk\"} ");
+    ASSERT_NE(walk, std::string::npos) << metrics->body;
+    EXPECT_GT(std::stod(metrics->body.substr(walk + 52)), 0.0) << metrics->body;
     // The scene stays open after its jobs: its pool is still held (one scene: the jobs' peak).
     EXPECT_EQ(metricValue(metrics->body, "vastray_device_memory_held_bytes", "gauge"), double(peak))
         << metrics->body;

@@ -24,6 +24,7 @@
 #include "vastray/core/RenderOptions.h"
 #include "vastray/core/RenderStats.h"
 #include "vastray/core/Result.h"
+#include "vastray/streamer/StreamingRenderer.h"
 
 namespace vastray::server {
 
@@ -45,6 +46,9 @@ struct JobRenderStats {
     // Device memory the job's render held at its peak (the streaming pool: chunk slots,
     // tables, path state), in bytes; 0 for a backend without device memory (Embree).
     uint64_t peakDeviceBytes = 0;
+    // Device time per kernel of the device wavefront (StreamingStats::kernelSeconds, named by
+    // StreamingStats::kKernelNames); zero for Embree.
+    double kernelSeconds[StreamingStats::kKernels] = {};
 };
 
 using JobProgressCallback = std::function<void(const JobRenderProgress&)>;

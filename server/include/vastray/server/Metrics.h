@@ -20,6 +20,9 @@ struct Metrics {
     std::atomic<uint64_t> chunkLoads{0};
     std::atomic<uint64_t> renderMicroseconds{0};
     std::atomic<uint64_t> peakDeviceBytes{0};  // the largest JobStats.peak_device_bytes so far
+    // Device time per wavefront kernel over finished jobs (StreamingStats::kKernelNames order).
+    static constexpr int kKernels = 5;
+    std::atomic<uint64_t> kernelMicroseconds[kKernels] = {};
 
     void notePeakDeviceBytes(uint64_t bytes) {
         uint64_t seen = peakDeviceBytes.load();
