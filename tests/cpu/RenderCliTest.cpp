@@ -104,7 +104,7 @@ TEST_F(RenderCli, OpenImageIoIsLoadedOnlyToReadOrWriteImages) {
 TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {
     CommandResult r = run("render --help");
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* text : {"vulkan (streaming GPU tracer", "embree (CPU reference", "--memory-budget",
+    for (const char* text : {"vulkan (streaming path tracer on the GPU", "embree (CPU reference", "--memory-budget",
                              "--host-cache", "--gpu-device", "chunkid,cost"})
         EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
 }
