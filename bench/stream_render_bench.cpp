@@ -300,8 +300,9 @@ int main(int argc, char** argv) {
                       "| %llu | %llu | %.2f | %.3f | %s |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, r.render.renderSeconds,
                       (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6, s.deviceSeconds,
-                      s.kernelSeconds[1], s.kernelSeconds[2],
-                      s.kernelSeconds[0] + s.kernelSeconds[3] + s.kernelSeconds[4], (unsigned long long)s.submits, (unsigned long long)s.walkPasses,
+                      s.kernelSeconds[StreamingStats::kKernelWalk], s.kernelSeconds[StreamingStats::kKernelShade],
+                      s.kernelSeconds[StreamingStats::kKernelGenerate] + s.kernelSeconds[StreamingStats::kKernelAccumulate] +
+                          s.kernelSeconds[StreamingStats::kKernelAov], (unsigned long long)s.submits, (unsigned long long)s.walkPasses,
                       (unsigned long long)s.hostToDeviceBytes, (unsigned long long)s.deviceToHostBytes,
                       s.decodeSeconds, s.uploadSeconds,
                       (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,

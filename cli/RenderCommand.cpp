@@ -195,7 +195,8 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
     std::printf("  bytes                %s read, %s uploaded\n", formatBytes(st->bytesRead).c_str(),
                 formatBytes(st->bytesUploaded).c_str());
     std::printf("  seconds              device %.3f (kernels: walk %.3f, shade %.3f), decode %.3f (workers), upload %.3f\n",
-                st->deviceSeconds, st->kernelSeconds[1], st->kernelSeconds[2], st->decodeSeconds, st->uploadSeconds);
+                st->deviceSeconds, st->kernelSeconds[StreamingStats::kKernelWalk],
+                st->kernelSeconds[StreamingStats::kKernelShade], st->decodeSeconds, st->uploadSeconds);
     std::printf("  device               %llu submits, %llu walk passes, %s up, %s down (besides chunks)\n",
                 (unsigned long long)st->submits, (unsigned long long)st->walkPasses,
                 formatBytes(st->hostToDeviceBytes).c_str(), formatBytes(st->deviceToHostBytes).c_str());

@@ -10,6 +10,7 @@
 #include <functional>
 #include <vector>
 
+#include "vastray/core/Camera.h"
 #include "vastray/core/VecMath.h"
 
 namespace vastray::gpu {
@@ -33,8 +34,15 @@ const uint32_t kAovSpirv[] =
 
 static_assert(kWalkNoHit == kEmptyCell && kWavefrontWorkgroupSize == 64);
 
-// Indices into StreamingStats::kernelSeconds (its kKernelNames).
-enum Kernel : int { kGenerate = 0, kWalk = 1, kShade = 2, kAccumulate = 3, kAov = 4, kNoKernel = -1 };
+// Indices into StreamingStats::kernelSeconds; kNoKernel: a command no kernel's time includes.
+enum Kernel : int {
+    kGenerate = StreamingStats::kKernelGenerate,
+    kWalk = StreamingStats::kKernelWalk,
+    kShade = StreamingStats::kKernelShade,
+    kAccumulate = StreamingStats::kKernelAccumulate,
+    kAov = StreamingStats::kKernelAov,
+    kNoKernel = -1
+};
 // Timestamps one submission takes at most; commands beyond them go untimed.
 constexpr uint32_t kMaxQueries = 16384;
 
@@ -77,14 +85,11 @@ uint32_t groups(uint64_t threads) {
     return uint32_t((threads + kWavefrontWorkgroupSize - 1) / kWavefrontWorkgroupSize);
 }
 
-// CameraRays' vectors (core/src/Camera.cpp): the image plane at distance 1, scaled.
+// CameraRays' vectors (core/src/Camera.cpp), so that wf_generate.comp combines the same ones.
 void setCamera(WavefrontParams& p, const Camera& camera, uint32_t width, uint32_t height) {
-    const Vec3f forward = normalize(camera.target - camera.eye);
-    const Vec3f right = normalize(cross(forward, camera.up));
-    const Vec3f up = cross(right, forward);
-    const float halfHeight = std::tan(0.5f * camera.fovYDegrees * (3.14159265358979323846f / 180.0f));
-    const Vec3f u = up * halfHeight, r = right * (halfHeight * float(width) / float(height));
-    p.eyeX = camera.eye.x, p.eyeY = camera.eye.y, p.eyeZ = camera.eye.z;
+    const CameraRays rays(camera, width, height);
+    const Vec3f eye = rays.eye(), forward = rays.forward(), r = rays.right(), u = rays.up();
+    p.eyeX = eye.x, p.eyeY = eye.y, p.eyeZ = eye.z;
     p.forwardX = forward.x, p.forwardY = forward.y, p.forwardZ = forward.z;
     p.rightX = r.x, p.rightY = r.y, p.rightZ = r.z;
     p.upX = u.x, p.upY = u.y, p.upZ = u.z;

@@ -22,6 +22,10 @@ void DemandPager::beginStream() {
     for (uint32_t c = 0; c < chunkSlot_.size(); ++c) seenThisStream_[c] = chunkSlot_[c] != kEmptyCell;
 }
 
+bool DemandPager::allResident() const {
+    return std::none_of(chunkSlot_.begin(), chunkSlot_.end(), [](uint32_t slot) { return slot == kEmptyCell; });
+}
+
 void DemandPager::streamTouched(std::span<const uint32_t> touched) {
     for (size_t c = 0; c < touched.size() && c < touched_.size(); ++c) {
         if (!touched[c]) continue;
@@ -69,10 +73,10 @@ Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand
         if (waitedFor(slot)) break;  // never evict a chunk rays still wait for
         auto decoded = cache_.get(chunk);
         if (!decoded) return decoded.status();
-        if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell, --resident_;
+        if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell;
         slotChunk_[slot] = kEmptyCell;
         VASTRAY_TRY(backend_.load(slot, **decoded, singleSidedFlags(package_, attributes_, **decoded)));
-        slotChunk_[slot] = chunk, chunkSlot_[chunk] = slot, ++resident_;
+        slotChunk_[slot] = chunk, chunkSlot_[chunk] = slot;
         slotLastUse_[slot] = ++tick_;
         ++stats_.chunkLoads;
         if (seenThisStream_[chunk]) ++stats_.streamReloads;

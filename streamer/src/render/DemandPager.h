@@ -28,7 +28,7 @@ public:
     Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand) override;
     void streamTouched(std::span<const uint32_t> touched) override;
     std::span<const uint32_t> chunkSlots() const override { return chunkSlot_; }
-    bool allResident() const override { return resident_ == chunkSlot_.size(); }
+    bool allResident() const override;
 
 private:
     const PackageInfo& package_;
@@ -41,7 +41,6 @@ private:
     std::vector<uint8_t> touched_;          // traced in this render
     std::vector<uint8_t> seenThisStream_;   // loaded or resident during this stream
     uint64_t touchedThisRender_ = 0;
-    uint64_t resident_ = 0;
     uint64_t tick_ = 0;
 };
 

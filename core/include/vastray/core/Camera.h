@@ -31,6 +31,12 @@ public:
     CameraRays(const Camera& camera, uint32_t width, uint32_t height);
     // (jitterX, jitterY) in [0, 1) place the ray inside pixel (x, y); 0.5, 0.5 is its centre.
     Ray primary(uint32_t x, uint32_t y, float jitterX, float jitterY) const;
+    // The vectors primary() combines, for the device wavefront's camera kernel: the eye, the unit
+    // view direction, and right and up scaled by the image plane's half width and half height.
+    Vec3f eye() const { return eye_; }
+    Vec3f forward() const { return forward_; }
+    Vec3f right() const { return right_; }
+    Vec3f up() const { return up_; }
 
 private:
     Vec3f eye_, forward_, right_, up_;

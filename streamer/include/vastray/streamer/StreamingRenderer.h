@@ -142,6 +142,7 @@ struct StreamingStats {
     // Device time per kernel of the device wavefront, from timestamp queries (kernel_seconds,
     // named by kKernelNames); zero where the device has no timestamps.
     static constexpr int kKernels = 5;
+    static constexpr int kKernelGenerate = 0, kKernelWalk = 1, kKernelShade = 2, kKernelAccumulate = 3, kKernelAov = 4;
     static constexpr const char* kKernelNames[kKernels] = {"generate", "walk", "shade", "accumulate", "aov"};
     double kernelSeconds[kKernels] = {};
 };
