@@ -76,10 +76,10 @@ void printBuildReport(const std::string& output, const PackageBuildReport& r, co
     if (r.collapsedDropped)
         std::printf(", %llu triangles collapsed and dropped", (unsigned long long)r.collapsedDropped);
     std::printf("\n  %.2f s total (%.1f M triangles/s): quantize %.2f s; summed over threads: partition %.2f s, "
-                "%s encode %.2f s, decode %.2f s, KD-trees %.2f s; write %.2f s\n",
+                "%s encode %.2f s, decode %.2f s, BVHs %.2f s; write %.2f s\n",
                 r.totalSeconds, double(r.triangles) / r.totalSeconds * 1e-6, r.quantizeSeconds, r.partitionSeconds,
                 options.codec == GeometryCodec::Meshopt ? "meshopt" : "Draco",
-                r.encodeSeconds, r.decodeSeconds, r.kdBuildSeconds, r.writeSeconds);
+                r.encodeSeconds, r.decodeSeconds, r.bvhBuildSeconds, r.writeSeconds);
 }
 
 }  // namespace
@@ -106,10 +106,9 @@ CommandRun addImportCommand(CLI::App& app) {
                     "Draco trade-off: 0 = smallest package, slowest import; 10 = fastest import, largest")
         ->capture_default_str();
     cmd->add_option("--resident-bytes-per-triangle", args->residentBytesPerTriangle,
-                    "cap each chunk's device bytes per triangle (KD-tree, positions, indices) by cutting its "
-                    "KD-tree shallower (no deeper cut than log2(triangles) - 3; chunks whose positions and "
-                    "indices alone exceed it keep their tree): less memory, more triangle tests per ray, same "
-                    "hits; 0 = no cap")
+                    "cap each chunk's device bytes per triangle (BVH nodes, positions, indices) by building "
+                    "its BVH with larger leaves (up to 16 triangles; a chunk that does not fit with those "
+                    "keeps them): less memory, more triangle tests per ray, same hits; 0 = no cap")
         ->capture_default_str();
     cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")

@@ -27,8 +27,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
                           {"size", c.size},
                           {"triangles", c.triangleCount},
                           {"vertices", c.vertexCount},
-                          {"kd_nodes", c.kdNodeCount},
-                          {"kd_refs", c.kdRefCount},
+                          {"bvh_nodes", c.bvhNodeCount},
                           {"resident_bytes", c.residentBytes},
                           {"checksum", c.checksum},
                           {"bounds", boundsJson(c.cell)}});

@@ -16,9 +16,8 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "common/WavefrontPrelude.glsl"
-// The top-level walk keeps its pending nodes below the chunk traversal's.
-#define VASTRAY_STACK_ENTRIES (2u * kTraceStackSize)
 #include "common/KdTraversal.glsl"
+#include "common/Bvh4Traversal.glsl"
 #include "common/SlotTable.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
@@ -125,8 +124,7 @@ void main() {
                         RwUintArray(params.p.touched).v[chunk] = 1u;
                         const float tMinCell = cppMax(0.0, cellT0);
                         const float tMaxCell = cppMin(found ? bestT : tMax, cellT1);
-                        const TraceHit h =
-                            traverseRay(chunkView(slots.v[slot]), r, tMinCell, tMaxCell, anyHit, stackSize);
+                        const TraceHit h = traverseBvh4(chunkView(slots.v[slot]), r, tMinCell, tMaxCell, anyHit);
                         ++cells;
                         triangles += h.trianglesTested;
                         if (anyHit ? (h.flags & kHitFound) != 0u : replaces(h, chunk, found, bestT, bestFront, bestChunk)) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <span>
 
+#include "vastray/core/Bvh4.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/core/Result.h"
 
@@ -13,5 +14,7 @@ namespace vastray::gpu {
 // count, every node inside the tree (children after their parent) and no deeper than the
 // kernels' stack (kMaxKdDepth).
 Status validateChunkGeometry(const KdTree& tree, uint64_t vertexCount, std::span<const uint32_t> indices);
+// The same for a BVH chunk (validateBvh4Nodes: nodes, leaves, depth <= kBvh4MaxDepth).
+Status validateChunkGeometry(const Bvh4& tree, uint64_t vertexCount, std::span<const uint32_t> indices);
 
 }  // namespace vastray::gpu

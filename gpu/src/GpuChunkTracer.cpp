@@ -51,11 +51,6 @@ Result<std::unique_ptr<GpuChunkTracer>> GpuChunkTracer::create(VulkanDevice& dev
     return tracer;
 }
 
-Status GpuChunkTracer::upload(const DecodedChunk& chunk, std::span<const uint8_t> singleSided) {
-    return upload(ChunkArrays{&chunk.kdTree, chunk.positions, chunk.indices, singleSided})
-        .withContext("chunk " + std::to_string(chunk.id) + ": ");
-}
-
 Status GpuChunkTracer::upload(const ChunkArrays& chunk) {
     VASTRAY_TRY(validate(chunk));
     // Free the previous chunk first so that the peak never holds two chunks.

@@ -18,7 +18,8 @@
 namespace vastray::gpu {
 namespace {
 
-static_assert(kTraceStackSize == kMaxKdDepth, "the kernel's stack must hold the deepest tree");
+static_assert(kTraceStackSize == kMaxKdDepth, "the walk's stack must hold the deepest top-level tree");
+static_assert(kBvh4StackSize == 3 * (kBvh4MaxDepth + 1), "the chunk traversal's stack must hold the deepest BVH");
 static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 
 // Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
@@ -95,13 +96,13 @@ public:
     Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) override {
         if (slot >= slots_.size()) return Status::error("slot " + std::to_string(slot) + " does not exist");
         const auto start = std::chrono::steady_clock::now();
-        const KdTree& tree = chunk.kdTree;
+        const Bvh4& tree = chunk.bvh;
         const uint64_t triangles = chunk.indices.size() / 3;
         // Constant time for the package reader's chunks (DecodedChunk::validated); a pass over
         // the arrays only for hand-made ones.
         VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
         const ChunkLayout layout =
-            chunkLayout(tree.nodes.size(), tree.leafRefs.size(), chunk.positions.size(), triangles, attributes_);
+            chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, attributes_);
         if (layout.totalBytes > plan_.slotBytes)
             return Status::error("chunk " + std::to_string(chunk.id) + " needs " + std::to_string(layout.totalBytes) +
                                  " bytes, more than a slot's " + std::to_string(plan_.slotBytes) +
@@ -114,13 +115,12 @@ public:
                 return b.upload(static_cast<const uint8_t*>(data) + at, n, offset + at);
             });
         };
-        VASTRAY_TRY(put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(KdNode)));
-        VASTRAY_TRY(put(layout.leafRefs, tree.leafRefs.data(), tree.leafRefs.size() * 4));
+        VASTRAY_TRY(put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node)));
         VASTRAY_TRY(put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12));
         VASTRAY_TRY(put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4));
         ChunkSlot entry{};
         const uint64_t base = b.address();
-        entry.nodes = base + layout.nodes, entry.leafRefs = base + layout.leafRefs;
+        entry.nodes = base + layout.nodes;
         entry.positions = base + layout.positions, entry.indices = base + layout.indices;
         if (attributes_.singleSided) {
             // One byte per triangle, read four to a word: the bytes in order, zero padded.
@@ -159,7 +159,6 @@ public:
 private:
     // Out-of-range references would read outside the slot on the device: reject them here.
     Status validate(const DecodedChunk& c, std::span<const uint8_t> singleSided) const {
-        const KdTree& t = c.kdTree;
         const uint64_t triangles = c.indices.size() / 3;
         if (attributes_.singleSided && singleSided.size() != triangles)
             return Status::error("single-sided flags do not match the triangle count");
@@ -169,7 +168,7 @@ private:
             return Status::error("material ids do not match the triangle count");
         // A chunk from the package reader has had the same checks on the decode worker
         // (ChunkBlob.cpp), off the load path; only hand-made chunks are checked here.
-        return c.validated ? Status::ok() : validateChunkGeometry(t, c.positions.size(), c.indices);
+        return c.validated ? Status::ok() : validateChunkGeometry(c.bvh, c.positions.size(), c.indices);
     }
 
     VulkanDevice& device_;

@@ -391,11 +391,11 @@ TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
         EXPECT_TRUE(reader) << reader.message();
         double worst = 0;
         for (const ChunkInfo& c : (*reader)->info().chunks)
-            worst = std::max(worst, double(c.kdNodeCount * 8 + c.kdRefCount * 4 + c.vertexCount * 12 + c.triangleCount * 12) /
+            worst = std::max(worst, double(c.bvhNodeCount * sizeof(Bvh4Node) + c.vertexCount * 12 + c.triangleCount * 12) /
                                         c.triangleCount);
         return worst;
     };
-    EXPECT_GT(bytesPerTriangle(uncapped), 32.0) << "the city's trees must need cutting for this test to mean anything";
+    EXPECT_GT(bytesPerTriangle(uncapped), 32.0) << "the city's trees must need larger leaves for this test to mean anything";
     EXPECT_LE(bytesPerTriangle(path), 32.0);
     const RenderOptions o = smallRender(kAllAovs);
     auto a = renderVulkan(uncapped, o, 64ull << 20);

@@ -150,25 +150,46 @@ bool isSingleSided(ChunkView c, uint triangle) {
     return ((word >> (8u * (triangle & 3u))) & 0xffu) != 0u;
 }
 
+// The triangle's vertex indices, smallest first: a key for ties that does not depend on where
+// the triangle sits in the chunk's arrays (only on the decoded vertices).
+uvec3 sortedVertices(uvec3 i) {
+    const uint lo = min(i.x, min(i.y, i.z)), hi = max(i.x, max(i.y, i.z));
+    return uvec3(lo, i.x + i.y + i.z - lo - hi, hi);
+}
+
+bool lessVertices(uvec3 a, uvec3 b) { return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z); }
+
+// Tests one triangle against [tMin, best so far]; true when it becomes the best hit. Ties in t
+// and facing go to the lower triangle index, or with tieByVertices (BVH chunks, whose triangle
+// order depends on how the tree was built) to the lower sorted vertex indices.
+bool testTriangle(ChunkView c, TraversalRay r, uint tri, float tMin, float tMax, bool tieByVertices,
+                  inout TraceHit best, inout bool found) {
+    UintArray indices = UintArray(c.indices);
+    TriangleHit h;
+    ++best.trianglesTested;
+    const uvec3 i = uvec3(indices.v[3u * tri], indices.v[3u * tri + 1u], indices.v[3u * tri + 2u]);
+    const vec3 v0 = vertex(c, i.x), v1 = vertex(c, i.y), v2 = vertex(c, i.z);
+    if (!intersectTriangle(r.watertight, v0, v1, v2, isSingleSided(c, tri), tMin, found ? best.t : tMax, h))
+        return false;
+    if (tieByVertices && found && h.t == best.t && h.frontFacing == ((best.flags & kHitFrontFacing) != 0u)) {
+        const uint b = best.triangle;
+        const uvec3 bestVertices = uvec3(indices.v[3u * b], indices.v[3u * b + 1u], indices.v[3u * b + 2u]);
+        if (!lessVertices(sortedVertices(i), sortedVertices(bestVertices))) return false;
+    } else if (!betterHit(h, tri, found, best)) {
+        return false;
+    }
+    best.t = h.t, best.u = h.u, best.v = h.v, best.triangle = tri;
+    best.flags = kHitFound | (h.frontFacing ? kHitFrontFacing : 0u);
+    found = true;
+    return true;
+}
+
 // Tests the leaf's triangles against [tMin, best so far]; updates best and found.
 void intersectLeaf(ChunkView c, TraversalRay r, uint firstRef, uint count, float tMin, float tMax, bool anyHit,
                    inout TraceHit best, inout bool found) {
     UintArray refs = UintArray(c.leafRefs);
-    UintArray indices = UintArray(c.indices);
-    for (uint i = 0u; i < count; ++i) {
-        const uint tri = refs.v[firstRef + i];
-        TriangleHit h;
-        ++best.trianglesTested;
-        const vec3 v0 = vertex(c, indices.v[3u * tri]), v1 = vertex(c, indices.v[3u * tri + 1u]);
-        const vec3 v2 = vertex(c, indices.v[3u * tri + 2u]);
-        if (!intersectTriangle(r.watertight, v0, v1, v2, isSingleSided(c, tri), tMin, found ? best.t : tMax, h))
-            continue;
-        if (!betterHit(h, tri, found, best)) continue;
-        best.t = h.t, best.u = h.u, best.v = h.v, best.triangle = tri;
-        best.flags = kHitFound | (h.frontFacing ? kHitFrontFacing : 0u);
-        found = true;
-        if (anyHit) return;
-    }
+    for (uint i = 0u; i < count; ++i)
+        if (testTriangle(c, r, refs.v[firstRef + i], tMin, tMax, false, best, found) && anyHit) return;
 }
 
 // Mirrors traverse(): the closest hit, or with anyHit the first one found, for a ray whose

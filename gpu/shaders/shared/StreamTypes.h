@@ -16,11 +16,14 @@ const uint kSlotSingleSided = 1u;
 const uint kSlotPrimitiveIds = 2u;
 const uint kSlotMaterialIds = 4u;
 
+// Entries of the chunk traversal's stack (Bvh4Traversal.glsl): three per level below the root
+// and three for the deepest nodes' children; checked against vastray::kBvh4MaxDepth on the host.
+const uint kBvh4StackSize = 75u;
+
 // One device slot of the chunk pool, as the slot table holds it: buffer device addresses of the
-// resident chunk's arrays (laid out as vastray::ChunkLayout says) and its tree's bounds.
+// resident chunk's arrays (laid out as vastray::ChunkLayout says) and its BVH's bounds.
 struct ChunkSlot {
-    uint64_t nodes;
-    uint64_t leafRefs;
+    uint64_t nodes;  // vastray::Bvh4Node
     uint64_t positions;
     uint64_t indices;
     uint64_t singleSided;   // bytes packed four to a word; valid with kSlotSingleSided
@@ -36,7 +39,7 @@ struct ChunkSlot {
 const uint kWalkNoHit = 0xFFFFFFFFu;
 
 #ifdef __cplusplus
-static_assert(sizeof(ChunkSlot) == 88 && offsetof(ChunkSlot, nodeCount) == 56 && offsetof(ChunkSlot, boundsHiZ) == 84);
+static_assert(sizeof(ChunkSlot) == 80 && offsetof(ChunkSlot, nodeCount) == 48 && offsetof(ChunkSlot, boundsHiZ) == 76);
 }  // namespace vastray::gpu
 #endif
 

@@ -13,9 +13,9 @@ namespace vastray {
 namespace {
 
 struct ChunkBlobHeader {
-    uint32_t triangleCount = 0, vertexCount = 0, kdNodeCount = 0, kdRefCount = 0, geometryBytes = 0, flags = 0;
-    Aabb kdBounds;
-    uint32_t kdMaxDepth = 0;
+    uint32_t triangleCount = 0, vertexCount = 0, bvhNodeCount = 0, reserved = 0, geometryBytes = 0, flags = 0;
+    Aabb bvhBounds;
+    uint32_t bvhMaxDepth = 0;
 };
 
 Result<ChunkBlobHeader> readBlobHeader(ByteReader& in) {
@@ -26,45 +26,39 @@ Result<ChunkBlobHeader> readBlobHeader(ByteReader& in) {
     in.get(version);
     in.get(h.triangleCount);
     in.get(h.vertexCount);
-    in.get(h.kdNodeCount);
-    in.get(h.kdRefCount);
+    in.get(h.bvhNodeCount);
+    in.get(h.reserved);
     in.get(h.geometryBytes);
     in.get(h.flags);
-    in.get(h.kdBounds.lo);
-    in.get(h.kdBounds.hi);
-    in.get(h.kdMaxDepth);
+    in.get(h.bvhBounds.lo);
+    in.get(h.bvhBounds.hi);
+    in.get(h.bvhMaxDepth);
     if (!in.ok() || std::memcmp(magic, format::kChunkMagic, 4) != 0) return Status::error("bad chunk header");
     if (version != format::kChunkVersion) return Status::error("unsupported chunk version " + std::to_string(version));
     if (h.flags & ~format::kChunkKnownFlags) return Status::error("chunk has unknown flags " + std::to_string(h.flags));
+    if (h.reserved != 0) return Status::error("chunk header's reserved field is not 0");
+    for (float v : {h.bvhBounds.lo.x, h.bvhBounds.lo.y, h.bvhBounds.lo.z, h.bvhBounds.hi.x, h.bvhBounds.hi.y, h.bvhBounds.hi.z})
+        if (!std::isfinite(v)) return Status::error("chunk's BVH bounds are not finite");
+    if (h.bvhBounds.isEmpty()) return Status::error("chunk's BVH bounds are inverted");
+    if (h.bvhMaxDepth > kBvh4MaxDepth)
+        return Status::error("chunk's BVH depth " + std::to_string(h.bvhMaxDepth) + " exceeds " +
+                             std::to_string(kBvh4MaxDepth));
     in.skip(format::kChunkHeaderBytes - in.position());
     return h;
 }
 
-// Every node's children lie inside the array and after it (so the tree has no cycles), every
-// leaf's refs lie inside the ref array, and the depth fits the traversal stack.
-Status validateKdTree(const KdTree& tree, uint32_t triangleCount) {
-    const size_t n = tree.nodes.size();
-    if (n == 0) return Status::error("KD-tree has no nodes");
-    std::vector<uint8_t> depth(n, 0), parents(n, 0);
+// Applies the stored leaf order to the decoded faces; the order must be a permutation.
+Status applyLeafOrder(const std::vector<uint32_t>& order, std::vector<uint32_t>& indices) {
+    const size_t n = order.size();
+    std::vector<uint8_t> seen(n, 0);
+    std::vector<uint32_t> sorted(indices.size());
     for (size_t i = 0; i < n; ++i) {
-        const KdNode& node = tree.nodes[i];
-        if (i > 0 && parents[i] != 1) return Status::error("KD node " + std::to_string(i) + " is not in the tree");
-        if (node.isLeaf()) {
-            if (uint64_t(node.firstRef()) + node.primitiveCount() > tree.leafRefs.size())
-                return Status::error("KD leaf " + std::to_string(i) + " refs out of range");
-            continue;
-        }
-        const uint64_t above = node.aboveChild();
-        if (i + 1 >= n || above <= i + 1 || above >= n || !std::isfinite(node.split()))
-            return Status::error("KD node " + std::to_string(i) + " is malformed");
-        if (uint32_t(depth[i]) + 1 > kMaxKdDepth) return Status::error("KD-tree deeper than " + std::to_string(kMaxKdDepth));
-        for (size_t child : {i + 1, size_t(above)}) {
-            depth[child] = uint8_t(depth[i] + 1);
-            parents[child]++;
-        }
+        const uint32_t f = order[i];
+        if (f >= n || seen[f]) return Status::error("leaf order entry " + std::to_string(i) + " is not a permutation");
+        seen[f] = 1;
+        for (int k = 0; k < 3; ++k) sorted[3 * i + k] = indices[3 * size_t(f) + k];
     }
-    for (uint32_t ref : tree.leafRefs)
-        if (ref >= triangleCount) return Status::error("KD ref " + std::to_string(ref) + " out of range");
+    indices = std::move(sorted);
     return Status::ok();
 }
 
@@ -72,32 +66,32 @@ Status validateKdTree(const KdTree& tree, uint32_t triangleCount) {
 
 std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, GeometryCodec codec, uint32_t vertexCount,
                                         const std::vector<uint32_t>& primitiveIds,
-                                        const std::vector<uint32_t>& materialIds, const KdTree& kdTree) {
+                                        const std::vector<uint32_t>& materialIds, const Bvh4& bvh) {
     ByteWriter out;
     out.putBytes(format::kChunkMagic, 4);
     out.put(format::kChunkVersion);
     out.put(uint32_t(primitiveIds.size()));
     out.put(vertexCount);
-    out.put(uint32_t(kdTree.nodes.size()));
-    out.put(uint32_t(kdTree.leafRefs.size()));
+    out.put(uint32_t(bvh.nodes.size()));
+    out.put(uint32_t(0));
     out.put(uint32_t(geometry.size()));
     out.put((materialIds.empty() ? 0u : format::kChunkHasMaterialIds) |
             (codec == GeometryCodec::Meshopt ? format::kChunkMeshoptGeometry : 0u));
-    out.put(kdTree.bounds.lo);
-    out.put(kdTree.bounds.hi);
-    out.put(uint32_t(kdTree.maxDepth));
+    out.put(bvh.bounds.lo);
+    out.put(bvh.bounds.hi);
+    out.put(uint32_t(bvh.maxDepth));
     out.padTo(format::kChunkHeaderBytes);
     out.putArray(geometry);
     out.putArray(primitiveIds);
     out.putArray(materialIds);
-    out.putArray(kdTree.nodes);
-    out.putArray(kdTree.leafRefs);
+    out.putArray(bvh.nodes);
+    out.putArray(bvh.order);
     return std::move(out.bytes());
 }
 
 uint64_t DecodedChunk::residentBytes() const {
     return positions.size() * 12 + indices.size() * 4 + primitiveIds.size() * 4 + materialIds.size() * 4 +
-           kdTree.nodes.size() * 8 + kdTree.leafRefs.size() * 4;
+           bvh.nodes.size() * sizeof(Bvh4Node);
 }
 
 Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const ChunkInfo& info,
@@ -108,12 +102,12 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     if (!header) return header.status();
     const ChunkBlobHeader& h = *header;
     if (h.triangleCount != info.triangleCount || h.vertexCount != info.vertexCount ||
-        h.kdNodeCount != info.kdNodeCount || h.kdRefCount != info.kdRefCount)
+        h.bvhNodeCount != info.bvhNodeCount)
         return Status::error("chunk header disagrees with the directory");
     const bool hasMaterials = (h.flags & format::kChunkHasMaterialIds) != 0;
     const uint64_t expected = uint64_t(format::kChunkHeaderBytes) + h.geometryBytes +
-                              uint64_t(h.triangleCount) * (hasMaterials ? 8 : 4) + uint64_t(h.kdNodeCount) * 8 +
-                              uint64_t(h.kdRefCount) * 4;
+                              uint64_t(h.triangleCount) * (hasMaterials ? 12 : 8) +
+                              uint64_t(h.bvhNodeCount) * sizeof(Bvh4Node);
     if (expected != blob.size()) return Status::error("chunk size disagrees with its counts");
 
     const GeometryCodec codec =
@@ -133,15 +127,18 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     for (size_t v = 0; v < h.vertexCount; ++v) chunk.positions[v] = grid.position(&geometry->vertexWords[3 * v]);
     in.getArray(chunk.primitiveIds, h.triangleCount);
     if (hasMaterials) in.getArray(chunk.materialIds, h.triangleCount);
-    in.getArray(chunk.kdTree.nodes, h.kdNodeCount);
-    in.getArray(chunk.kdTree.leafRefs, h.kdRefCount);
-    chunk.kdTree.bounds = h.kdBounds;
-    chunk.kdTree.maxDepth = h.kdMaxDepth;
+    in.getArray(chunk.bvh.nodes, h.bvhNodeCount);
+    std::vector<uint32_t> order;
+    in.getArray(order, h.triangleCount);
+    chunk.bvh.bounds = h.bvhBounds;
+    chunk.bvh.maxDepth = h.bvhMaxDepth;
+    VASTRAY_TRY(applyLeafOrder(order, chunk.indices));
     for (uint32_t id : chunk.primitiveIds)
         if (id >= importedTriangles) return Status::error("primitive id " + std::to_string(id) + " out of range");
     for (uint32_t m : chunk.materialIds)
         if (m >= materialCount) return Status::error("material id " + std::to_string(m) + " out of range");
-    VASTRAY_TRY(validateKdTree(chunk.kdTree, h.triangleCount));
+    if (const std::string bad = validateBvh4Nodes(chunk.bvh.nodes, h.triangleCount); !bad.empty())
+        return Status::error(bad);
     chunk.validated = true;
     return chunk;
 }

@@ -1,22 +1,23 @@
 #pragma once
 // Chunk blob layout (all little-endian):
 //   header (kChunkHeaderBytes): magic "VCHK", version, triangleCount, vertexCount,
-//     kdNodeCount, kdRefCount, geometryBytes, flags, kd bounds (6 floats), kd max depth, zero pad
+//     bvhNodeCount, reserved (0), geometryBytes, flags, BVH bounds (6 floats), BVH max depth, zero pad
 //   geometry stream (geometryBytes): Draco, or meshopt with kChunkMeshoptGeometry
-//   primitive ids  u32 × triangleCount   (decoded face order)
-//   material ids   u32 × triangleCount   (only with kChunkHasMaterialIds)
-//   KD nodes       8 B × kdNodeCount
-//   KD refs        u32 × kdRefCount
+//   primitive ids  u32 × triangleCount   (leaf order)
+//   material ids   u32 × triangleCount   (leaf order; only with kChunkHasMaterialIds)
+//   BVH nodes      56 B × bvhNodeCount   (Bvh4Node)
+//   leaf order     u32 × triangleCount   (entry i: the decoded face stored at position i)
+// Codecs keep their own face order, so the leaf order is applied after decoding.
 #include <cstdint>
 #include <vector>
 
-#include "vastray/core/KdTree.h"
+#include "vastray/core/Bvh4.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
 
 std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, GeometryCodec codec, uint32_t vertexCount,
                                         const std::vector<uint32_t>& primitiveIds,
-                                        const std::vector<uint32_t>& materialIds, const KdTree& kdTree);
+                                        const std::vector<uint32_t>& materialIds, const Bvh4& bvh);
 
 }  // namespace vastray

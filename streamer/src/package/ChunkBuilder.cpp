@@ -144,17 +144,33 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
     return positions;
 }
 
-// What every render uploads of a chunk: KD nodes and references, positions, indices (the cap
-// of --resident-bytes-per-triangle counts these).
-uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t kdNodes, uint64_t kdRefs) {
-    return vertices * 12 + triangles * 12 + kdNodes * sizeof(KdNode) + kdRefs * 4;
+// What every render uploads of a chunk: BVH nodes, positions, indices (the cap of
+// --resident-bytes-per-triangle counts these).
+uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhNodes) {
+    return vertices * 12 + triangles * 12 + bvhNodes * sizeof(Bvh4Node);
+}
+
+// The BVH of the first of these cost settings whose chunk fits the cap: leaves of about 2, 3, 5
+// and 8 triangles (docs/PERF_NOTES.md); the last is kept whatever it costs.
+constexpr std::array<Bvh4BuildOptions, 4> kBvhLadder{{{1.0f, 1.0f, 4, 16}, {1.0f, 0.5f, 4, 16},
+                                                       {1.0f, 0.3f, 8, 16}, {1.0f, 0.15f, 16, 16}}};
+
+Bvh4 buildChunkBvh(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices, double bytesPerTriangle) {
+    const uint32_t triangles = uint32_t(indices.size() / 3);
+    const double limit = bytesPerTriangle * triangles;
+    Bvh4 bvh;
+    for (const Bvh4BuildOptions& options : kBvhLadder) {
+        bvh = buildBvh4(positions.data(), indices.data(), triangles, options);
+        if (bytesPerTriangle <= 0 || double(chunkGeometryBytes(positions.size(), triangles, bvh.nodes.size())) <= limit)
+            break;
+    }
+    return bvh;
 }
 
 }  // namespace
 
-uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t kdNodes,
-                            uint64_t kdRefs) {
-    return chunkGeometryBytes(vertices, triangles, kdNodes, kdRefs) + triangles * (4 + (materialIds ? 4 : 0));
+uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes) {
+    return chunkGeometryBytes(vertices, triangles, bvhNodes) + triangles * (4 + (materialIds ? 4 : 0));
 }
 
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell) {
@@ -183,28 +199,28 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
 
     start = std::chrono::steady_clock::now();
     const uint32_t triangles = uint32_t(refs.size());
-    KdTree kdTree = buildKdTree(positions.data(), decoded->indices.data(), triangles, compactKdBuildOptions(triangles));
-    const double limit = source.residentBytesPerTriangle * triangles;
-    if (source.residentBytesPerTriangle > 0 && double(chunkGeometryBytes(positions.size(), triangles, 0, 0)) < limit) {
-        // Cut the tree a level at a time until the device footprint fits, but never shallower
-        // than log2(N) - 3 (leaves of ~10+ triangles): past that rays pay more than memory saves.
-        // A chunk whose positions and indices alone exceed the cap (a soup) keeps its tree.
-        const uint32_t floor = uint32_t(std::max(1, int(std::bit_width(triangles)) - 4));
-        while (double(chunkGeometryBytes(positions.size(), triangles, kdTree.nodes.size(), kdTree.leafRefs.size())) >
-                   limit &&
-               kdTree.maxDepth > floor)
-            kdTree = truncateKdTree(kdTree, kdTree.maxDepth - 1);
-    }
-    chunk.kdBuildSeconds = secondsSince(start);
+    if (triangles > kBvh4MaxTriangles)
+        return Status::error("a chunk of " + std::to_string(triangles) + " triangles exceeds the limit of " +
+                             std::to_string(kBvh4MaxTriangles) + ": use a smaller --chunk-size");
+    Bvh4 bvh = buildChunkBvh(positions, decoded->indices, source.residentBytesPerTriangle);
+    // Ids travel in leaf order; the blob keeps the order so that the reader can sort the
+    // decoded faces the same way.
+    auto inLeafOrder = [&](std::vector<uint32_t>& ids) {
+        if (ids.empty()) return;
+        std::vector<uint32_t> sorted(ids.size());
+        for (size_t i = 0; i < sorted.size(); ++i) sorted[i] = ids[bvh.order[i]];
+        ids = std::move(sorted);
+    };
+    inLeafOrder(*primitiveIds);
+    inLeafOrder(materialIds);
+    chunk.bvhBuildSeconds = secondsSince(start);
 
     chunk.info.cell = cell;
     chunk.info.triangleCount = triangles;
     chunk.info.vertexCount = uint32_t(positions.size());
-    chunk.info.kdNodeCount = uint32_t(kdTree.nodes.size());
-    chunk.info.kdRefCount = uint32_t(kdTree.leafRefs.size());
-    chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(),
-                                                  kdTree.nodes.size(), kdTree.leafRefs.size());
-    chunk.blob = serializeChunkBlob(*encoded, source.codec, chunk.info.vertexCount, *primitiveIds, materialIds, kdTree);
+    chunk.info.bvhNodeCount = uint32_t(bvh.nodes.size());
+    chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(), bvh.nodes.size());
+    chunk.blob = serializeChunkBlob(*encoded, source.codec, chunk.info.vertexCount, *primitiveIds, materialIds, bvh);
     chunk.info.size = chunk.blob.size();
     return chunk;
 }

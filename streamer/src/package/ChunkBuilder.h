@@ -1,6 +1,6 @@
 #pragma once
 // Builds one chunk from the triangles of one cell: codec round trip, original-id recovery,
-// KD-tree on the decoder's output, serialized blob.
+// 4-wide BVH on the decoder's output, serialized blob.
 #include <cstdint>
 #include <vector>
 
@@ -25,13 +25,12 @@ struct ChunkSource {
 struct BuiltChunk {
     std::vector<uint8_t> blob;
     ChunkInfo info;                  // id and offset are assigned when the package is written
-    double encodeSeconds = 0, decodeSeconds = 0, kdBuildSeconds = 0;
+    double encodeSeconds = 0, decodeSeconds = 0, bvhBuildSeconds = 0;
 };
 
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell);
 
 // Decoded resident footprint of a chunk with these counts (what the GPU will hold).
-uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t kdNodes,
-                            uint64_t kdRefs);
+uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes);
 
 }  // namespace vastray

@@ -29,9 +29,9 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 constexpr int kMaxTopDepth = 48;
 // A split whose larger side keeps more than this share of the references does not converge.
 constexpr double kMaxChildFraction = 0.95;
-// First guess of the chunk KD-tree's bytes per triangle (nodes + refs); a cell whose real
-// footprint turns out larger than the chunk size is split again, so this only saves work.
-constexpr double kEstimatedKdBytesPerTriangle = 24.0;
+// First guess of the chunk BVH's bytes per triangle (nodes); a cell whose real footprint turns
+// out larger than the chunk size is split again, so this only saves work.
+constexpr double kEstimatedBvhBytesPerTriangle = 12.0;
 
 struct BuildNode {
     Aabb cell;
@@ -65,12 +65,12 @@ public:
         return root;
     }
 
-    AtomicSeconds encode, decode, kdBuild, partition;
+    AtomicSeconds encode, decode, bvhBuild, partition;
 
 private:
     uint64_t estimateBytes(size_t refs) const {
         const double perTriangle = std::min(3.0, verticesPerTriangle_ * 1.1 + 0.05) * 12.0 + 16.0 +
-                                   (source_.materialIds ? 4.0 : 0.0) + kEstimatedKdBytesPerTriangle;
+                                   (source_.materialIds ? 4.0 : 0.0) + kEstimatedBvhBytesPerTriangle;
         return uint64_t(double(refs) * perTriangle);
     }
 
@@ -97,7 +97,7 @@ private:
         }
         encode.add(chunk->encodeSeconds);
         decode.add(chunk->decodeSeconds);
-        kdBuild.add(chunk->kdBuildSeconds);
+        bvhBuild.add(chunk->bvhBuildSeconds);
         if (chunk->info.residentBytes > options_.chunkSizeBytes) return false;
         node.chunk = std::move(*chunk);
         progress_.advance(ownedTriangles(refs, node.cell));
@@ -298,7 +298,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     report.partitionSeconds = job.partition.seconds();
     report.encodeSeconds = job.encode.seconds();
     report.decodeSeconds = job.decode.seconds();
-    report.kdBuildSeconds = job.kdBuild.seconds();
+    report.bvhBuildSeconds = job.bvhBuild.seconds();
     report.totalSeconds = secondsSince(totalStart);
     return report;
 }

@@ -11,7 +11,8 @@
 namespace vastray::format {
 
 constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
-constexpr uint32_t kVersion = 1;
+// 2: chunk trees are 4-wide BVHs (Bvh4Node), triangles in leaf order (was: KD nodes and references).
+constexpr uint32_t kVersion = 2;
 constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
 constexpr uint32_t kMaterialBytes = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
@@ -22,7 +23,7 @@ constexpr uint32_t kMaxMaterials = 1u << 20;
 constexpr uint32_t kMaxChunks = 1u << 24;
 
 constexpr char kChunkMagic[4] = {'V', 'C', 'H', 'K'};
-constexpr uint32_t kChunkVersion = 1;
+constexpr uint32_t kChunkVersion = 2;
 constexpr uint32_t kChunkHeaderBytes = 64;
 constexpr uint32_t kChunkHasMaterialIds = 1u;
 constexpr uint32_t kChunkMeshoptGeometry = 2u;  // geometry stream is meshoptimizer's, not Draco's

@@ -45,7 +45,7 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     in.get(headerBytes);
     if (info.formatVersion != format::kVersion)
         return Status::error("package format version " + std::to_string(info.formatVersion) + " is not supported (expected " +
-                             std::to_string(format::kVersion) + ")");
+                             std::to_string(format::kVersion) + "): re-import the mesh with this vastray");
     uint64_t stored = 0;
     std::memcpy(&stored, bytes + format::kHeaderBytes - 8, 8);
     if (headerBytes != format::kHeaderBytes || stored != checksum64(bytes, format::kHeaderBytes - 8))
@@ -114,7 +114,7 @@ std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks) {
     ByteWriter out;
     for (const ChunkInfo& c : chunks) {
         for (uint64_t v : {c.offset, c.size, c.checksum, c.residentBytes}) out.put(v);
-        for (uint32_t v : {c.triangleCount, c.vertexCount, c.kdNodeCount, c.kdRefCount}) out.put(v);
+        for (uint32_t v : {c.triangleCount, c.vertexCount, c.bvhNodeCount, 0u}) out.put(v);  // last: reserved
         out.put(c.cell.lo);
         out.put(c.cell.hi);
     }
@@ -128,7 +128,9 @@ Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes,
         ChunkInfo& c = chunks[i];
         c.id = i;
         for (uint64_t* v : {&c.offset, &c.size, &c.checksum, &c.residentBytes}) in.get(*v);
-        for (uint32_t* v : {&c.triangleCount, &c.vertexCount, &c.kdNodeCount, &c.kdRefCount}) in.get(*v);
+        uint32_t reserved = 0;
+        for (uint32_t* v : {&c.triangleCount, &c.vertexCount, &c.bvhNodeCount, &reserved}) in.get(*v);
+        if (reserved != 0) return Status::error("chunk " + std::to_string(i) + ": reserved directory field is not 0");
         in.get(c.cell.lo);
         in.get(c.cell.hi);
     }

@@ -70,10 +70,10 @@ Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOff
     for (const ChunkInfo& c : chunks) {
         const std::string name = "chunk " + std::to_string(c.id) + ": ";
         if (c.offset != next || c.size > fileBytes - c.offset) return Status::error(name + "blob outside the file");
-        const uint64_t minimum = format::kChunkHeaderBytes + uint64_t(c.triangleCount) * 4 +
-                                 uint64_t(c.kdNodeCount) * 8 + uint64_t(c.kdRefCount) * 4;
+        const uint64_t minimum = format::kChunkHeaderBytes + uint64_t(c.triangleCount) * 8 +
+                                 uint64_t(c.bvhNodeCount) * sizeof(Bvh4Node);
         if (c.size < minimum) return Status::error(name + "counts larger than its blob could hold");
-        if (c.triangleCount == 0 || c.kdNodeCount == 0 || c.cell.isEmpty())
+        if (c.triangleCount == 0 || c.triangleCount > kBvh4MaxTriangles || c.bvhNodeCount == 0 || c.cell.isEmpty())
             return Status::error(name + "empty or invalid cell");
         next = c.offset + c.size;
     }

@@ -2,7 +2,7 @@
 // slots with and what the Vulkan backend uploads into them.
 #include <algorithm>
 
-#include "vastray/core/KdTree.h"
+#include "vastray/core/Bvh4.h"
 #include "vastray/streamer/StreamingRenderer.h"
 
 namespace vastray {
@@ -10,8 +10,7 @@ namespace {
 uint64_t align16(uint64_t bytes) { return (bytes + 15) / 16 * 16; }
 }  // namespace
 
-ChunkLayout chunkLayout(uint64_t kdNodes, uint64_t kdRefs, uint64_t vertices, uint64_t triangles,
-                        const ChunkAttributes& attributes) {
+ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, const ChunkAttributes& attributes) {
     ChunkLayout l;
     uint64_t at = 0;
     auto section = [&](uint64_t bytes) {
@@ -19,8 +18,7 @@ ChunkLayout chunkLayout(uint64_t kdNodes, uint64_t kdRefs, uint64_t vertices, ui
         at += align16(bytes);
         return offset;
     };
-    l.nodes = section(kdNodes * sizeof(KdNode));
-    l.leafRefs = section(kdRefs * 4);
+    l.nodes = section(bvhNodes * sizeof(Bvh4Node));
     l.positions = section(vertices * 12);
     l.indices = section(triangles * 12);
     l.singleSided = section(attributes.singleSided ? (triangles + 3) / 4 * 4 : 0);

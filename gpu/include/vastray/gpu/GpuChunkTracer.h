@@ -32,7 +32,6 @@ public:
 
     // Replaces the resident chunk. Checks that the tree's references and the indices are in range.
     Status upload(const ChunkArrays& chunk);
-    Status upload(const DecodedChunk& chunk, std::span<const uint8_t> singleSided = {});
 
     // Closest hit of every ray in [ray.tMin, ray.tMax]; hits[i] belongs to rays[i]. Blocks until
     // the device is done. Ray and hit buffers grow to the largest batch seen and are reused.

@@ -19,11 +19,10 @@ struct PackageBuildOptions {
     GeometryCodec codec = GeometryCodec::Draco;  // chunk geometry codec
     int dracoSpeed = 7;                     // Draco's 0 (smallest, slowest) … 10 (fastest, largest); 7: the
                                             // bytes of 5, faster (docs/PERF_NOTES.md, import item 8)
-    // Cap on a chunk's device footprint per triangle (KD nodes and references, positions,
-    // indices): a chunk tree over it is cut shallower (truncateKdTree), down to depth
-    // log2(triangles) - 3 at most; a chunk whose positions and indices alone exceed it keeps its
-    // tree. Hits are unchanged; rays test more triangles. 0: no cap. The default is issue 4's
-    // 32 bytes per triangle (docs/PERFORMANCE.md: city 44.9 -> 31.6 B, resident render +20 %).
+    // Cap on a chunk's device footprint per triangle (BVH nodes, positions, indices): a chunk
+    // over it gets its BVH rebuilt with larger leaves (up to 16 triangles; ChunkBuilder.cpp's
+    // ladder), and keeps the last if none fits. Hits are unchanged; rays test more triangles.
+    // 0: no cap (leaves of about 2 triangles). Default 32 bytes per triangle.
     double residentBytesPerTriangle = 32;
     bool defaultDoubleSided = true;         // recorded in the header for tools
     Progress::Mode progress = Progress::Mode::Auto;
@@ -43,7 +42,7 @@ struct PackageBuildReport {
     uint64_t fileBytes = 0;
     uint64_t maxChunkResidentBytes = 0;
     double quantizeSeconds = 0, partitionSeconds = 0, encodeSeconds = 0, decodeSeconds = 0,
-           kdBuildSeconds = 0, writeSeconds = 0, totalSeconds = 0;
+           bvhBuildSeconds = 0, writeSeconds = 0, totalSeconds = 0;
 };
 
 // `mesh` is consumed (positions are replaced by their quantized values).

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vastray/core/Aabb.h"
+#include "vastray/core/Bvh4.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
@@ -47,11 +48,10 @@ struct ChunkInfo {
     uint64_t offset = 0;        // of the blob in the file
     uint64_t size = 0;          // bytes in the file
     uint64_t checksum = 0;      // XXH64 of the blob
-    uint64_t residentBytes = 0; // decoded footprint: positions, indices, ids, KD-tree
+    uint64_t residentBytes = 0; // decoded footprint: positions, indices, ids, BVH nodes
     uint32_t triangleCount = 0; // references, duplicates included
     uint32_t vertexCount = 0;
-    uint32_t kdNodeCount = 0;
-    uint32_t kdRefCount = 0;
+    uint32_t bvhNodeCount = 0;  // Bvh4Node
 };
 
 struct PackageInfo {
@@ -86,11 +86,11 @@ std::vector<Cell> topLevelCells(const PackageInfo& info);
 struct DecodedChunk {
     uint32_t id = 0;
     std::vector<Vec3f> positions;
-    std::vector<uint32_t> indices;      // 3 per triangle, into positions
+    std::vector<uint32_t> indices;      // 3 per triangle, into positions, in the BVH's leaf order
     std::vector<uint32_t> primitiveIds; // per triangle: its index in the imported mesh
     std::vector<uint32_t> materialIds;  // per triangle, or empty: material 0
-    KdTree kdTree;                      // over this chunk's triangles
-    // Set by the package reader once every index, KD reference and node is checked to lie in
+    Bvh4 bvh;                           // over this chunk's triangles (bvh.order is not kept)
+    // Set by the package reader once every index and BVH node is checked to lie in
     // range (backends then skip their own pass over the arrays); false for a hand-made chunk.
     bool validated = false;
     uint64_t residentBytes() const;

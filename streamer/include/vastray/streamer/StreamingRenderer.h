@@ -34,16 +34,15 @@ struct ChunkAttributes {
 // Where each array of a chunk lies in a device slot: byte offsets of 16-byte aligned sections
 // (an absent attribute has size 0). Slots are sized from the directory before any chunk is read.
 struct ChunkLayout {
-    uint64_t nodes = 0, leafRefs = 0, positions = 0, indices = 0;
+    uint64_t nodes = 0, positions = 0, indices = 0;
     uint64_t singleSided = 0;   // one byte per triangle, four to a word
     uint64_t primitiveIds = 0;  // uint32 per triangle
     uint64_t materialIds = 0;   // uint32 per triangle
     uint64_t totalBytes = 0;
 };
-ChunkLayout chunkLayout(uint64_t kdNodes, uint64_t kdRefs, uint64_t vertices, uint64_t triangles,
-                        const ChunkAttributes& attributes);
+ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, const ChunkAttributes& attributes);
 inline ChunkLayout chunkLayout(const ChunkInfo& c, const ChunkAttributes& attributes) {
-    return chunkLayout(c.kdNodeCount, c.kdRefCount, c.vertexCount, c.triangleCount, attributes);
+    return chunkLayout(c.bvhNodeCount, c.vertexCount, c.triangleCount, attributes);
 }
 
 struct StreamingStats;
