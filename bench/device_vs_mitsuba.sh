@@ -9,7 +9,8 @@
 #   PYTHONPATH):  bench/device_vs_mitsuba.sh OUT_DIR MITSUBA_BENCH.py [TRIANGLES] [CONFIGS]
 #   CONFIGS: space-separated SPP:DEPTH pairs (default "1:2 16:5"). Environment: RATIOS (out-of-core
 #   ratios, default 4,16), REPEAT (renders per row, default 3), RESIDENT_ONLY=1 (resident rows and
-#   Embree only), WORK (scratch folder).
+#   Embree only), WORK (scratch folder), IMPORT_ARGS (extra `vastray import` options, e.g.
+#   "--resident-bytes-per-triangle 0"), NO_MITSUBA=1 (skip the Mitsuba rows).
 set -uo pipefail
 out=$1 mitsuba=$2 triangles=${3:-10000000} configs=${4:-"1:2 16:5"}
 ratios=${RATIOS:-4,16} repeat=${REPEAT:-3} only=${RESIDENT_ONLY:+--resident-only}
@@ -20,14 +21,14 @@ nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader > 
 nproc >> "$out/machine.txt"
 vastray generate city --triangles "$triangles" --seed 1 -o "$work/city.ply" > /dev/null
 { /usr/bin/time -f "import wall %e s, peak RSS %M KiB" \
-    vastray import "$work/city.ply" -o "$work/city.vast" --progress none; } 2>> "$out/import.txt" >> "$out/import.txt"
+    vastray import "$work/city.ply" -o "$work/city.vast" --progress none ${IMPORT_ARGS:-}; } 2>> "$out/import.txt" >> "$out/import.txt"
 vastray info "$work/city.vast" --json > "$out/info.json"
 for config in $configs; do
   spp=${config%%:*} depth=${config##*:}
   timeout 400 stream_render_bench --package "$work/city.vast" --resolution "${width}x${height}" --spp "$spp" \
     --depth "$depth" --ratios "$ratios" --repeat "$repeat" $only --eye "$eye" --target "$target" \
     --out "$out/vastray-${triangles}-s${spp}-d${depth}.md" 2>> "$out/bench.log" || echo "bench $config failed: $?" >> "$out/bench.log"
-  timeout 300 python3 "$mitsuba" "$work/city.ply" "$width" "$height" "$spp" "$depth" "$eye" "$target" cuda_ad_rgb \
+  [ -n "${NO_MITSUBA:-}" ] || timeout 300 python3 "$mitsuba" "$work/city.ply" "$width" "$height" "$spp" "$depth" "$eye" "$target" cuda_ad_rgb \
     >> "$out/mitsuba.jsonl" 2>> "$out/mitsuba.log" || echo "mitsuba $config failed: $?" >> "$out/mitsuba.log"
 done
 # Cold: package on disk to image in a fresh process (the image write needs the OpenImageIO module,

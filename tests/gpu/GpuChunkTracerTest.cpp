@@ -1,7 +1,8 @@
 // GPU trace.comp against the CPU reference intersectKdTree: same hit, same t/u/v bits, same
 // facing and the same node/triangle counters (the shader mirrors the traversal decision for
-// decision). Tolerance: none. lavapipe has shaderFloat64, which the device requires, so the
-// watertight test's double fallback and the divisions are exact on both sides (Watertight.glsl).
+// decision). Tolerance: none: lavapipe divides with correct rounding, as the CPU does, and both
+// take the same double fallback (Watertight.glsl); a GPU whose division is approximate may differ
+// in the last bits.
 #include <gtest/gtest.h>
 
 #include <bit>

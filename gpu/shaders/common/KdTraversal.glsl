@@ -45,7 +45,7 @@ bool prepareRayConstants(vec3 origin, vec3 direction, out TraversalRay r) {
     r.origin = origin, r.direction = direction;
     r.invDirection = vec3(0.0), r.slack = 0.0;
     if (!prepareWatertightRay(origin, direction, r.watertight)) return false;
-    for (int a = 0; a < 3; ++a) r.invDirection[a] = exactDivide(1.0, direction[a]);
+    for (int a = 0; a < 3; ++a) r.invDirection[a] = 1.0 / direction[a];
     return true;
 }
 
@@ -54,7 +54,7 @@ bool prepareRayConstants(vec3 origin, vec3 direction, out TraversalRay r) {
 void setChunkSlack(ChunkView c, inout TraversalRay r) {
     const float scale = cppMax(cppMax(maxAbs(r.origin), maxAbs(c.lo)), maxAbs(c.hi));
     precise float scaled = kAbsoluteMargin * scale;
-    r.slack = exactDivide(scaled, maxAbs(r.direction));
+    r.slack = scaled / maxAbs(r.direction);
 }
 
 bool prepareTraversalRay(ChunkView c, vec3 origin, vec3 direction, out TraversalRay r) {

@@ -1,23 +1,18 @@
 // Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2013), operation for operation the
-// same as core/include/vastray/core/TriangleIntersect.h, so that t, u, v match the CPU bit for
-// bit. Rules that make that hold:
+// same as core/include/vastray/core/TriangleIntersect.h, in fp32 on the hot path (consumer GPUs
+// run fp64 at 1/32-1/64 of fp32):
 // - every float result that feeds a multiply-add is `precise` (no FMA contraction, no
-//   reassociation): the C++ side has none either (GCC in ISO C++20 mode does not contract,
-//   and the x86-64 baseline has no FMA);
-// - divisions go through exactDivide: GLSL's float division may be approximate (2.5 ulp), but
-//   a float quotient computed in double and rounded to float is the correctly rounded float
-//   quotient (53 >= 2*24 + 2, and it stays so if the double division is off by an ulp);
-// - the edge-function fallback is in double, as on the CPU (needs shaderFloat64).
-// lavapipe would match even without the first two (its division is exact and it does not
-// contract); an NVIDIA H100 does not: without them ~80% of random rays differ in some bit.
+//   reassociation), as on the CPU (GCC in ISO C++20 mode does not contract);
+// - an edge function that rounds to exactly 0 (rare) is recomputed in double, as on the CPU, so
+//   that its sign is exact and the test stays watertight. That fallback still needs
+//   shaderFloat64; an fp32 one (Kahan's difference of products) needs an fma that GLSL does not
+//   promise to fuse (lavapipe does not), so it is not used;
+// - divisions are GLSL's, which may be off by 2.5 ulp: t, u, v may then differ from the CPU's
+//   in the last bits (lavapipe divides exactly and matches the CPU bit for bit; the tests that
+//   compare bits run there). Watertightness does not depend on the division.
 // Denormal inputs are out of scope: a device that flushes them to zero may differ there.
 #ifndef VASTRAY_WATERTIGHT_GLSL
 #define VASTRAY_WATERTIGHT_GLSL
-
-float exactDivide(float a, float b) {
-    precise double q = double(a) / double(b);
-    return float(q);
-}
 
 struct WatertightRay {
     vec3 origin;
@@ -50,13 +45,14 @@ bool prepareWatertightRay(vec3 origin, vec3 d, out WatertightRay r) {
         kx = ky, ky = swap;
     }
     r.kx = kx, r.ky = ky, r.kz = kz;
-    r.sx = exactDivide(d[kx], d[kz]);
-    r.sy = exactDivide(d[ky], d[kz]);
-    r.sz = exactDivide(1.0, d[kz]);
+    r.sx = d[kx] / d[kz];
+    r.sy = d[ky] / d[kz];
+    r.sz = 1.0 / d[kz];
     return true;
 }
 
-// Mirrors detail::edgeFunctionsDouble: products of floats are exact in double.
+// Mirrors detail::edgeFunctionsDouble: products of floats are exact in double. Off the hot path:
+// only where a float edge function rounded to exactly 0.
 void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, inout float u,
                          inout float v, inout float w) {
     precise double du = double(cx) * double(by) - double(cy) * double(bx);
@@ -104,7 +100,7 @@ bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, bool cullBack
     if (det == 0.0) return false;
     precise float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
     precise float scaledT = u * az + v * bz + w * cz;
-    precise float rcpDet = exactDivide(1.0, det);
+    precise float rcpDet = 1.0 / det;
     precise float t = scaledT * rcpDet;
     if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
     if (gRayFromSurface && t <= conservativeTMin(ax, ay, bx, by, cx, cy, az, bz, cz, u, v, w, rcpDet)) return false;
