@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build test demo bench-import bench-accuracy bench-scaling bench-load clean format
+.PHONY: all deps configure build test demo bench-import bench-accuracy bench-scaling bench-load fuzz clean format
 
 all: build
 
@@ -20,6 +20,12 @@ build: configure
 # labelled `long` are excluded; the multi-million-triangle runs live in bench/.
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE long
+
+# libFuzzer smoke run (FUZZ_SECONDS per target, default 30) of the importers, the package reader
+# and the chunk decoder, ASan + UBSan, in build-fuzz/ (clang); not part of `make test`
+# (docs/HARDENING.md: the build alone takes longer than the test budget allows).
+fuzz: deps
+	bash scripts/fuzz.sh
 
 demo: build
 	bash scripts/demo.sh $(BUILD_DIR)/vastray $(DEMO_DIR)

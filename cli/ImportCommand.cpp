@@ -7,12 +7,16 @@
 #include <string>
 
 #include "Commands.h"
+#include "OutputPath.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/PackageBuilder.h"
 
 namespace vastray::cli {
 namespace {
+
+// The same bound as render's --threads: more workers than this only cost memory.
+constexpr uint32_t kMaxThreads = 4096;
 
 struct ImportArgs {
     std::string input, output, chunkSize = "16MiB";
@@ -36,6 +40,9 @@ Result<PackageBuildOptions> buildOptions(const ImportArgs& args) {
     if (args.quantizeBits > kMaxQuantizeBits)
         return Status::error("--quantize-bits must be 0 (lossless) or 1.." + std::to_string(kMaxQuantizeBits));
     options.quantizeBits = args.quantizeBits;
+    if (args.threads > kMaxThreads)
+        return Status::error("--threads " + std::to_string(args.threads) + " is outside [0, " +
+                             std::to_string(kMaxThreads) + "] (0 = all cores)");
     options.threads = args.threads;
     if (args.dracoSpeed < 0 || args.dracoSpeed > 10) return Status::error("--draco-speed must be 0..10");
     options.dracoSpeed = args.dracoSpeed;
@@ -54,6 +61,7 @@ Result<PackageBuildOptions> buildOptions(const ImportArgs& args) {
     std::error_code error;
     if (std::filesystem::equivalent(args.input, args.output, error))
         return Status::error("output would overwrite the input");
+    VASTRAY_TRY(checkWritableOutput("--output", args.output));
     return options;
 }
 
@@ -110,7 +118,7 @@ CommandRun addImportCommand(CLI::App& app) {
                     "its BVH with larger leaves (up to 16 triangles; a chunk that does not fit with those "
                     "keeps them): less memory, more triangle tests per ray, same hits; 0 = no cap")
         ->capture_default_str();
-    cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")->capture_default_str();
+    cmd->add_option("--threads", args->threads, "worker threads, 0..4096 (0 = all cores)")->capture_default_str();
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")
         ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
         ->capture_default_str();

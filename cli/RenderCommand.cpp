@@ -7,14 +7,17 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <unistd.h>
 
 #include "Commands.h"
+#include "OutputPath.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/Progress.h"
+#include "vastray/core/RenderMemory.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
@@ -26,6 +29,9 @@
 
 namespace vastray::cli {
 namespace {
+
+// Vulkan device indices beyond this name no real machine's device.
+constexpr int64_t kMaxGpuDevice = 255;
 
 struct RenderArgs {
     std::string input, output, backend = "vulkan", resolution = "640x480";
@@ -98,6 +104,8 @@ Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
     if (args.progress != "auto" && args.progress != "bar" && args.progress != "openjd" &&
         args.progress != "none")
         return Status::error("--progress '" + args.progress + "': expected auto, bar, openjd or none");
+    VASTRAY_TRY(checkWritableOutput("--output", args.output));
+    if (!args.statsJson.empty()) VASTRAY_TRY(checkWritableOutput("--stats-json", args.statsJson));
     // The image writer is a module loaded on demand: a broken install fails now, not after the render.
     return loadImageModule().withContext(args.output + ": cannot write: ");
 }
@@ -117,6 +125,15 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
     VASTRAY_TRY(checkRange("--max-depth", args.maxDepth, 0, kMaxDepthLimit));
     VASTRAY_TRY(checkRange("--seed", args.seed, 0, 0xFFFFFFFFll));
     VASTRAY_TRY(checkRange("--threads", args.threads, 0, 4096));
+    if (args.gpuDevice < -1 || args.gpuDevice > kMaxGpuDevice)
+        return Status::error("--gpu-device " + std::to_string(args.gpuDevice) +
+                             ": expected -1 (first discrete GPU) or a device index in [0, " +
+                             std::to_string(kMaxGpuDevice) + "]");
+    if (!(args.fov >= kMinFovDegrees && args.fov < 180.0)) {
+        char text[96];
+        std::snprintf(text, sizeof text, "--fov %g is outside [%g, 180) degrees", args.fov, double(kMinFovDegrees));
+        return Status::error(text);
+    }
     options.samplesPerPixel = uint32_t(args.spp);
     options.maxDepth = uint32_t(args.maxDepth);
     options.seed = uint32_t(args.seed);
@@ -290,12 +307,18 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& op
     return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
 
-int runRender(const RenderArgs& args) {
+int runRenderChecked(const RenderArgs& args) {
     StreamingSizes sizes;
     auto options = optionsFrom(args, &sizes);
     if (!options) {
         std::fprintf(stderr, "vastray render: %s\n", options.message().c_str());
         return 2;
+    }
+    std::string ext = std::filesystem::path(args.output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (Status memory = checkRenderHostMemory(*options, ext == ".exr"); !memory) {
+        std::fprintf(stderr, "vastray render: %s\n", memory.message().c_str());
+        return 1;
     }
     RenderStats stats;
     StreamingStats streaming;
@@ -327,6 +350,18 @@ int runRender(const RenderArgs& args) {
     return 0;
 }
 
+// The estimate covers the image; an allocation that still fails (another process took the
+// memory meanwhile, a scene larger than the host) ends the command with a message, not abort().
+int runRender(const RenderArgs& args) {
+    try {
+        return runRenderChecked(args);
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "vastray render: out of host memory (resolution %s, %s backend)\n",
+                     args.resolution.c_str(), args.backend.c_str());
+        return 1;
+    }
+}
+
 }  // namespace
 
 CommandRun addRenderCommand(CLI::App& app) {
@@ -348,14 +383,14 @@ CommandRun addRenderCommand(CLI::App& app) {
     cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (0 = none)")
         ->capture_default_str();
     cmd->add_option("--gpu-device", args->gpuDevice,
-                    "vulkan: index of the Vulkan device to use (-1: the first discrete GPU, else the first device)")
+                    "vulkan: index of the Vulkan device to use, -1..255 (-1: the first discrete GPU, else the first device)")
         ->capture_default_str();
     cmd->add_option("--spp", args->spp, "samples per pixel, 1..65536")->capture_default_str();
     cmd->add_option("--resolution", args->resolution, "WxH, each side 1..16384")->capture_default_str();
     cmd->add_option("--eye", args->eye, "camera position x,y,z (with --target; default: frame the scene)");
     cmd->add_option("--target", args->target, "point the camera looks at, x,y,z");
     cmd->add_option("--up", args->up, "camera up vector x,y,z")->capture_default_str();
-    cmd->add_option("--fov", args->fov, "vertical field of view in degrees, (0, 180)")->capture_default_str();
+    cmd->add_option("--fov", args->fov, "vertical field of view in degrees, [0.001, 180)")->capture_default_str();
     cmd->add_option("--integrator", args->integrator, "path | ao (ambient occlusion)")->capture_default_str();
     cmd->add_option("--max-depth", args->maxDepth, "scattering events per path, 0..1024")
         ->capture_default_str();

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything vastray needs to build, test and run on Debian 12: Debian packages with
 # apt-get, and grpcurl (a Go tool the render service's end-to-end tests drive) built from the
-# Go module proxy with Debian's own Go (golang-go, Go 1.19) into /usr/local/bin.
+# Go module proxy with Debian's own Go (golang-go, Go 1.19) into /usr/local/bin. cpp-httplib
+# is vendored (third_party/); clang-14 and libFuzzer serve scripts/fuzz.sh only.
 # Idempotent: when every package is installed and /usr/local/bin/grpcurl is the wanted version
 # it does nothing (and needs no network). Uses sudo only when not root.
 set -euo pipefail
@@ -21,10 +22,11 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-dev glslang-tools
   libshaderc-dev glslc spirv-tools
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
-  libgtest-dev libgmock-dev libbenchmark-dev libcpp-httplib-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libssl-dev
   libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev
   assimp-testmodels python3 python3-matplotlib time
   curl openssl golang-go
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev
 )
 
 missing=()

@@ -1,6 +1,7 @@
 #include "vastray/core/Camera.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "vastray/core/VecMath.h"
 
@@ -15,12 +16,19 @@ std::string describe(Vec3f v) {
 
 }  // namespace
 
+Status checkFov(float fovYDegrees) {
+    if (fovYDegrees >= kMinFovDegrees && fovYDegrees < 180.0f) return Status::ok();
+    char text[96];
+    std::snprintf(text, sizeof text, "camera fov %g is outside [%g, 180) degrees", double(fovYDegrees),
+                  double(kMinFovDegrees));
+    return Status::error(text);
+}
+
 Status validateCamera(const Camera& c) {
     if (!isFinite(c.eye)) return Status::error("camera eye is not finite: " + describe(c.eye));
     if (!isFinite(c.target)) return Status::error("camera target is not finite: " + describe(c.target));
     if (!isFinite(c.up)) return Status::error("camera up is not finite: " + describe(c.up));
-    if (!(c.fovYDegrees > 0.0f && c.fovYDegrees < 180.0f))
-        return Status::error("camera fov " + std::to_string(c.fovYDegrees) + " is outside (0, 180) degrees");
+    VASTRAY_TRY(checkFov(c.fovYDegrees));
     const Vec3f view = c.target - c.eye;
     if (!(length(view) > 0.0f)) return Status::error("camera eye equals target " + describe(c.eye));
     const Vec3f side = cross(normalize(view), normalize(c.up));

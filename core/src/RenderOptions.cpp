@@ -53,8 +53,8 @@ Status validateRenderOptions(const RenderOptions& o) {
     if (!(o.aoDistance >= 0.0f)) return Status::error("ambient occlusion distance must be >= 0");
     if (!o.frameScene)
         VASTRAY_TRY(validateCamera(o.camera).withContext("camera: "));
-    else if (!(o.camera.fovYDegrees > 0.0f && o.camera.fovYDegrees < 180.0f))
-        return Status::error("camera fov is outside (0, 180) degrees");
+    else
+        VASTRAY_TRY(checkFov(o.camera.fovYDegrees));
     return Status::ok();
 }
 

@@ -1,9 +1,23 @@
 // HTTP adapters (cpp-httplib): JSON bodies are the proto messages in their canonical JSON
 // mapping (field names as in the .proto), errors are {"error": {"code", "message"}}.
+//
+// Limits against hostile clients (issue 16). cpp-httplib, vendored in third_party/ at 0.29
+// (Debian's 0.11 buffered a request line without bound and had no header count limit),
+// is built with them (CMakeLists.txt: vastray_httplib): request line and header lines 8 KiB,
+// any line 32 KiB, at most 100 headers, at most 1024 ranges with no more than two
+// overlapping (coalesced; unsatisfiable ones answer 416), listen backlog 4096. Here: bodies are
+// refused from their headers before a byte of them is read, after authentication, above what
+// the route takes (bodyLimit); unsupported content types are 415; each read waits at most
+// kReadTimeoutSeconds; connections get a thread each from a pool that grows to
+// kMaxHttpThreads, so that slow clients holding some threads do not stop the others.
 #include <google/protobuf/util/json_util.h>
 #include <httplib.h>
 
+#include <algorithm>
+#include <condition_variable>
+#include <deque>
 #include <fstream>
+#include <mutex>
 #include <thread>
 
 #include "OpenApi.h"
@@ -12,12 +26,75 @@
 namespace vastray::server {
 namespace {
 
-// Connections served at once; an SSE watch holds one for the life of its job.
+// Connections served at once; an SSE watch holds one for the life of its job. The pool grows
+// from kHttpThreads to kMaxHttpThreads when every thread is busy (40 slowloris connections
+// held all 32 threads of the old fixed pool: /healthz did not answer for 30 s); beyond that,
+// up to kMaxQueuedConnections wait and the rest are closed at once.
 constexpr size_t kHttpThreads = 32;
+constexpr size_t kMaxHttpThreads = 512;
+constexpr size_t kMaxQueuedConnections = 4096;
+// A client that sends nothing for this long, within a request or between kept-alive ones,
+// loses its connection.
+constexpr int kReadTimeoutSeconds = 5;
 // Seconds a client told "queue full" (429) should wait before trying again.
 constexpr int kRetryAfterSeconds = 5;
 constexpr size_t kMaxJsonBodyBytes = 1u << 20;
 const char* kJson = "application/json";
+
+// httplib's TaskQueue: one task per accepted connection.
+class ElasticThreadPool final : public httplib::TaskQueue {
+public:
+    ElasticThreadPool() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (size_t i = 0; i < kHttpThreads; ++i) spawnLocked();
+    }
+    ~ElasticThreadPool() override { shutdown(); }
+
+    bool enqueue(std::function<void()> task) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopping_) return false;
+        if (idle_ <= tasks_.size() && threads_.size() < kMaxHttpThreads) spawnLocked();
+        if (tasks_.size() >= kMaxQueuedConnections) return false;  // httplib closes the socket
+        tasks_.push_back(std::move(task));
+        wake_.notify_one();
+        return true;
+    }
+
+    void shutdown() override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread& t : threads_)
+            if (t.joinable()) t.join();
+    }
+
+private:
+    void spawnLocked() { threads_.emplace_back([this] { run(); }); }
+
+    void run() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        while (true) {
+            ++idle_;
+            wake_.wait(lock, [&] { return stopping_ || !tasks_.empty(); });
+            --idle_;
+            if (tasks_.empty()) return;  // stopping, nothing left to serve
+            std::function<void()> task = std::move(tasks_.front());
+            tasks_.pop_front();
+            lock.unlock();
+            task();
+            lock.lock();
+        }
+    }
+
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<std::function<void()>> tasks_;
+    std::vector<std::thread> threads_;
+    size_t idle_ = 0;
+    bool stopping_ = false;
+};
 
 std::string toJson(const google::protobuf::Message& message) {
     google::protobuf::util::JsonPrintOptions options;
@@ -85,6 +162,25 @@ uint64_t contentLength(const httplib::Request& req) {
                : 0;
 }
 
+// The media type without parameters, lower case ("Application/JSON; charset=utf-8" -> "application/json").
+std::string mediaType(const httplib::Request& req) {
+    std::string type = req.get_header_value("Content-Type");
+    type = type.substr(0, type.find(';'));
+    while (!type.empty() && type.back() == ' ') type.pop_back();
+    std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return type;
+}
+
+bool isCancelPath(const std::string& path) {
+    return path.rfind("/v1/jobs/", 0) == 0 && path.size() > 16 && path.compare(path.size() - 7, 7, ":cancel") == 0;
+}
+
+// What a route takes as its body; the pre-routing handler refuses the rest from the headers.
+struct BodyRule {
+    uint64_t maxBytes = 0;  // 0: the route takes no body
+    bool json = false;      // application/json (or curl -d's default form type, or none)
+};
+
 class Routes {
 public:
     Routes(Service& service, const FrontEndOptions& options, httplib::Server& server)
@@ -106,11 +202,67 @@ public:
 
 private:
     bool authorize(const httplib::Request& req, httplib::Response& res) {
-        if (options_.authToken.empty() || req.path == "/healthz" || req.path == "/readyz") return true;
-        if (bearerMatches(req.get_header_value("Authorization"), options_.authToken)) return true;
+        if (options_.authToken.empty() || req.path == "/healthz" || req.path == "/readyz") return admitBody(req, res);
+        if (bearerMatches(req.get_header_value("Authorization"), options_.authToken)) return admitBody(req, res);
         writeError(res, {StatusCode::Unauthenticated,
                          "missing or wrong bearer token (header 'Authorization: Bearer TOKEN')"});
         return false;
+    }
+
+    BodyRule bodyRule(const httplib::Request& req) const {
+        if (req.method == "PUT" && req.path == "/v1/scenes") return {service_.options().maxUploadBytes, false};
+        if (req.method == "POST" &&
+            (req.path == "/v1/jobs" || req.path == "/v1/scenes:findMissing" || isCancelPath(req.path)))
+            return {kMaxJsonBodyBytes, true};
+        return {};
+    }
+
+    // Runs before httplib reads any of the body: its size and type are judged from the
+    // headers, so an oversized or unwanted body costs the server next to nothing (after an
+    // error response httplib reads what follows as the next request line: at most 32 KiB,
+    // then it closes the connection).
+    bool admitBody(const httplib::Request& req, httplib::Response& res) {
+        const bool chunked = req.has_header("Transfer-Encoding");
+        const bool hasLength = req.has_header("Content-Length");
+        const std::string lengthText = req.get_header_value("Content-Length");
+        if (hasLength && (lengthText.empty() || lengthText.find_first_not_of("0123456789") != std::string::npos ||
+                          lengthText.size() > 19)) {
+            writeError(res, invalidArgument("Content-Length", "'" + lengthText + "' is not a byte count"), 400);
+            return false;
+        }
+        const uint64_t length = hasLength ? std::strtoull(lengthText.c_str(), nullptr, 10) : 0;
+        if (!chunked && length == 0) return true;
+        const BodyRule rule = bodyRule(req);
+        const std::string route = req.method + " " + req.path;
+        if (rule.maxBytes == 0) {
+            writeError(res, {StatusCode::InvalidArgument, route + " takes no request body"}, 413);
+            return false;
+        }
+        if (length > rule.maxBytes) {
+            writeError(res,
+                       {StatusCode::ResourceExhausted, "a body of " + std::to_string(length) + " bytes exceeds the " +
+                                                           std::to_string(rule.maxBytes) + "-byte limit of " + route},
+                       413);
+            return false;
+        }
+        if (chunked && rule.json) {
+            writeError(res, {StatusCode::InvalidArgument, route + " needs a Content-Length (no chunked JSON bodies)"},
+                       411);
+            return false;
+        }
+        const std::string type = mediaType(req);
+        const bool accepted = rule.json ? (type.empty() || type == "application/json" ||
+                                           type == "application/x-www-form-urlencoded")
+                                        : type.rfind("multipart/", 0) != 0;
+        if (!accepted) {
+            writeError(res,
+                       {StatusCode::InvalidArgument,
+                        "Content-Type '" + type + "' is not accepted by " + route +
+                            (rule.json ? " (send application/json)" : " (send the file's bytes as the body)")},
+                       415);
+            return false;
+        }
+        return true;
     }
 
     void addSceneRoutes(httplib::Server& server) {
@@ -130,12 +282,12 @@ private:
             if (auto s = fromJson(req.body, &request); !s) return writeError(res, s);
             reply(res, service_.findMissing(request));
         });
-        server.Get(R"(/v1/scenes/([^/:]+))", [this](const httplib::Request& req, httplib::Response& res) {
+        server.Get(R"(/v1/scenes/([^:/]+))", [this](const httplib::Request& req, httplib::Response& res) {
             v1::GetSceneRequest request;
             request.set_id(req.matches[1]);
             reply(res, service_.getScene(request));
         });
-        server.Delete(R"(/v1/scenes/([^/:]+))", [this](const httplib::Request& req, httplib::Response& res) {
+        server.Delete(R"(/v1/scenes/([^:/]+))", [this](const httplib::Request& req, httplib::Response& res) {
             v1::DeleteSceneRequest request;
             request.set_id(req.matches[1]);
             reply(res, service_.deleteScene(request));
@@ -157,6 +309,8 @@ private:
         reply(res, (*upload)->finish());
     }
 
+    // Route patterns: cpp-httplib takes any pattern containing "/:" for a path-parameter
+    // pattern ("/users/:id"), so character classes list ':' before '/'.
     void addJobRoutes(httplib::Server& server) {
         server.Post("/v1/jobs",
                     [this](const httplib::Request& req, httplib::Response& res) { submit(req, res); });
@@ -175,14 +329,14 @@ private:
             request.set_state(state);
             reply(res, service_.listJobs(request));
         });
-        server.Get(R"(/v1/jobs/([^/:]+))", [this](const httplib::Request& req, httplib::Response& res) {
+        server.Get(R"(/v1/jobs/([^:/]+))", [this](const httplib::Request& req, httplib::Response& res) {
             v1::GetJobRequest request;
             request.set_id(req.matches[1]);
             reply(res, service_.getJob(request));
         });
         // The body is optional. A POST without Content-Length (plain `curl -X POST`) has none:
         // reading it anyway would wait for the connection's read timeout (5 s), then fail.
-        server.Post(R"(/v1/jobs/([^/:]+):cancel)",
+        server.Post(R"(/v1/jobs/([^:/]+):cancel)",
                     [this](const httplib::Request& req, httplib::Response& res,
                            const httplib::ContentReader& reader) {
                         std::string body;
@@ -197,10 +351,10 @@ private:
                         reply(res, service_.cancelJob(request));
                     });
         server.Get(
-            R"(/v1/jobs/([^/:]+)/events)",
+            R"(/v1/jobs/([^:/]+)/events)",
             [this](const httplib::Request& req, httplib::Response& res) { events(req.matches[1], res); });
         server.Get(
-            R"(/v1/jobs/([^/:]+)/result)",
+            R"(/v1/jobs/([^:/]+)/result)",
             [this](const httplib::Request& req, httplib::Response& res) { result(req.matches[1], res); });
     }
 
@@ -310,11 +464,13 @@ Result<std::unique_ptr<HttpFrontEnd>> HttpFrontEnd::start(Service& service, cons
             std::make_unique<httplib::SSLServer>(options.tlsCertFile.c_str(), options.tlsKeyFile.c_str());
         if (!server->is_valid()) return Status::error("HTTP: cannot load --tls-cert/--tls-key");
     }
-    server->new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
+    server->new_task_queue = [] { return new ElasticThreadPool(); };
+    server->set_read_timeout(kReadTimeoutSeconds, 0);
+    server->set_keep_alive_timeout(kReadTimeoutSeconds);
     // Small responses on a kept-alive connection otherwise wait ~40 ms for Nagle's algorithm
     // to meet the client's delayed ACK (measured by bench/load: HTTP p50 43 ms against gRPC 2 ms).
     server->set_tcp_nodelay(true);
-    // The largest body is an upload; JSON bodies are bounded again (1 MiB) when parsed.
+    // The largest body is an upload; every route's own limit is applied before reading (admitBody).
     server->set_payload_max_length(service.options().maxUploadBytes);
     front->impl_->routes = std::make_unique<Routes>(service, options, *server);
     const auto& [host, port] = *hostPort;

@@ -10,6 +10,11 @@ namespace {
 
 constexpr auto kWatchPoll = std::chrono::milliseconds(250);
 
+// A job found RUNNING at start-up was interrupted. One that was started this many times and
+// never finished is failed instead of run again: a job that crashes the server (before the
+// memory estimate, a 16384x16384 render did) would otherwise crash it at every restart.
+constexpr uint32_t kMaxJobStarts = 3;
+
 ServiceStatus checkJobId(const std::string& id) {
     if (id.empty()) return invalidArgument("id", "required");
     return {};
@@ -47,6 +52,16 @@ Status Service::recoverJobs() {
     if (!jobs) return jobs.status();
     std::lock_guard<std::mutex> lock(mutex_);
     for (v1::Job& job : *jobs) {
+        if (job.state() == v1::RUNNING && job.attempts() >= kMaxJobStarts) {
+            job.set_state(v1::FAILED);
+            job.set_error("started " + std::to_string(job.attempts()) +
+                          " times and interrupted each time (the server stopped or crashed while rendering it); "
+                          "not run again");
+            *job.mutable_end_time() = nowTimestamp();
+            VASTRAY_TRY(stores_.jobs->updateJob(job));
+            ++metrics_.jobsFailed;
+            continue;
+        }
         if (job.state() == v1::RUNNING) {
             job.set_state(v1::QUEUED);
             job.set_progress(0);

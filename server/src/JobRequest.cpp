@@ -5,6 +5,7 @@
 #include <random>
 #include <set>
 
+#include "vastray/core/Camera.h"
 #include "vastray/server/Sha256.h"
 
 namespace vastray::server {
@@ -38,9 +39,7 @@ ServiceStatus normalizeCamera(v1::Camera& camera) {
     }
     if (auto s = checkVector("camera.up", camera.up()); !s) return s;
     if (camera.fov_y_degrees() == 0) camera.set_fov_y_degrees(45);
-    if (!(camera.fov_y_degrees() > 0 && camera.fov_y_degrees() < 180))
-        return invalidArgument("camera.fov_y_degrees",
-                               std::to_string(camera.fov_y_degrees()) + " is outside (0, 180)");
+    if (Status fov = checkFov(camera.fov_y_degrees()); !fov) return invalidArgument("camera.fov_y_degrees", fov.message());
     return {};
 }
 

@@ -4,9 +4,12 @@
 // job (run again at the next start) or a whole result.
 
 #include <cstdio>
+#include <exception>
+#include <new>
 
 #include "JobRequest.h"
 #include "vastray/core/ImageFile.h"
+#include "vastray/core/RenderMemory.h"
 #include "vastray/server/Service.h"
 
 namespace vastray::server {
@@ -52,12 +55,25 @@ void Service::runJob(const std::string& id) {
         notifyChangeLocked();
     }
     if (job.state() == v1::FAILED) return finishJob(job, internalError(job.error()));
-    finishJob(job, renderAndStore(job));
+    finishJob(job, renderAndStoreGuarded(job));
+}
+
+// An allocation failure anywhere in a job fails that job; the server and its other jobs go on.
+ServiceStatus Service::renderAndStoreGuarded(v1::Job& job) {
+    try {
+        return renderAndStore(job);
+    } catch (const std::bad_alloc&) {
+        return {StatusCode::ResourceExhausted, "out of host memory while rendering"};
+    } catch (const std::exception& e) {
+        return internalError(std::string("render failed: ") + e.what());
+    }
 }
 
 ServiceStatus Service::renderAndStore(v1::Job& job) {
     auto options = renderOptionsOf(job.request());
     if (!options) return invalidArgument("request", options.message());
+    if (Status memory = checkRenderHostMemory(*options, job.request().output_format() == "exr"); !memory)
+        return {StatusCode::ResourceExhausted, memory.message()};
     auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
     if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
     JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes()};

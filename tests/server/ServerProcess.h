@@ -2,6 +2,7 @@
 // Runs the real `vastray serve` on loopback ports chosen by the kernel (port 0), as a child
 // process whose output goes to a log file, and parses the ports it prints.
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -35,6 +36,10 @@ public:
         args.insert(args.end(), extra.begin(), extra.end());
         pid_ = ::fork();
         if (pid_ == 0) {
+            if (addressSpaceLimit_ > 0) {
+                const rlimit limit{addressSpaceLimit_, addressSpaceLimit_};
+                ::setrlimit(RLIMIT_AS, &limit);
+            }
             FILE* log = std::fopen(logPath_.c_str(), "w");
             ::dup2(::fileno(log), 1);
             ::dup2(::fileno(log), 2);
@@ -65,6 +70,9 @@ public:
         return false;
     }
 
+    // The next start runs under this address-space limit (ulimit -v), in bytes; 0: none.
+    void setAddressSpaceLimit(uint64_t bytes) { addressSpaceLimit_ = bytes; }
+
     // Sends `signal` and waits for the process; its wait status (-1 when none ran).
     int kill(int signal) {
         if (pid_ <= 0) return -1;
@@ -87,6 +95,7 @@ private:
     pid_t pid_ = -1;
     int exitStatus_ = 0, starts_ = 0, grpcPort_ = 0, httpPort_ = 0;
     std::filesystem::path logPath_;
+    rlim_t addressSpaceLimit_ = 0;
 };
 
 inline std::string readBytes(const std::filesystem::path& path) {

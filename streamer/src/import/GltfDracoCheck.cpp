@@ -52,6 +52,8 @@ Result<std::string> bufferBytes(const nlohmann::json& buffer, std::string_view g
     const std::string path = urlDecode(uri);
     std::string why;
     if (!isSafeRelativeUri(path, why)) return Status::error("uri '" + path + "' " + why);
+    if (!insideFolder(folder, folder + "/" + path))
+        return Status::error("uri '" + path + "' resolves outside the model folder (a link)");
     auto bytes = readWholeFile(folder + "/" + path);
     if (!bytes) return bytes.status();
     return std::string(bytes->begin(), bytes->end());

@@ -18,6 +18,48 @@ namespace {
 const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
                                                   "KHR_materials_emissive_strength", "KHR_texture_transform"};
 
+// glTF's own structure nests about 6 deep (extensions and extras a few more). tinygltf and
+// nlohmann walk the JSON recursively: 20,000 levels (40 KB of '[') overflowed the stack.
+constexpr int kMaxJsonDepth = 64;
+
+// The deepest nesting of arrays and objects, counted outside strings, stopping as soon as
+// it passes `limit` (the text is not parsed yet: malformed JSON is reported by the parser).
+int jsonDepth(std::string_view text, int limit) {
+    int depth = 0, deepest = 0;
+    bool inString = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\') ++i;
+            else if (c == '"') inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+            if (deepest > limit) break;
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+// Views that interleave attributes have a stride; glTF 2.0 (3.6.2.3) allows 4..252, a
+// multiple of 4. tinygltf kept a negative one as a huge unsigned value.
+Status checkBufferViews(const nlohmann::json& doc) {
+    const auto& views = doc.value("bufferViews", nlohmann::json::array());
+    if (!views.is_array()) return Status::error("bufferViews is not an array");
+    for (size_t i = 0; i < views.size(); ++i) {
+        if (!views[i].is_object() || !views[i].contains("byteStride")) continue;
+        const auto& stride = views[i]["byteStride"];
+        if (!stride.is_number_integer() || stride.get<int64_t>() < 4 || stride.get<int64_t>() > 252 ||
+            stride.get<int64_t>() % 4 != 0)
+            return Status::error("bufferView " + std::to_string(i) + ": byteStride " + stride.dump() +
+                                 " is not a multiple of 4 in [4, 252]");
+    }
+    return Status::ok();
+}
+
 struct Sandbox {
     std::string folder;     // the model's folder, as passed to tinygltf as base_dir
     std::string violation;  // first forbidden URI seen, reported instead of tinygltf's message
@@ -29,8 +71,12 @@ bool allowedPath(const std::string& path, Sandbox& box) {
     if (path.compare(0, prefix.size(), prefix) != 0) return false;
     const std::string uri = path.substr(prefix.size());
     std::string why;
-    if (isSafeRelativeUri(uri, why)) return true;
-    if (box.violation.empty()) box.violation = "uri '" + uri + "' " + why;
+    if (!isSafeRelativeUri(uri, why)) {
+        if (box.violation.empty()) box.violation = "uri '" + uri + "' " + why;
+        return false;
+    }
+    if (insideFolder(box.folder, path)) return true;
+    if (box.violation.empty()) box.violation = "uri '" + uri + "' resolves outside the model folder (a link)";
     return false;
 }
 
@@ -151,6 +197,7 @@ Status checkDracoPrimitive(const nlohmann::json& doc, const nlohmann::json& prim
 
 Status checkDocument(const nlohmann::json& doc) {
     if (!doc.is_object()) return Status::error("top level JSON value is not an object");
+    VASTRAY_TRY(checkBufferViews(doc));
     for (const auto& ext : doc.value("extensionsRequired", nlohmann::json::array())) {
         const std::string name = ext.is_string() ? ext.get<std::string>() : ext.dump();
         if (!kSupportedRequired.count(name)) return Status::error("required extension '" + name + "' is not supported");
@@ -171,6 +218,8 @@ Status checkDocument(const nlohmann::json& doc) {
 }
 
 Status precheckJson(std::string_view text, std::string_view bin, const std::string& folder) {
+    if (jsonDepth(text, kMaxJsonDepth) > kMaxJsonDepth)
+        return Status::error("JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels (the limit)");
     try {
         const nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end());
         if (Status s = checkDocument(doc); !s.isOk()) return s;
@@ -181,22 +230,6 @@ Status precheckJson(std::string_view text, std::string_view bin, const std::stri
 }
 
 }  // namespace
-
-bool isSafeRelativeUri(const std::string& uri, std::string& why) {
-    if (uri.empty()) return why = "is empty", false;
-    if (uri[0] == '/' || uri[0] == '\\') return why = "is an absolute path", false;
-    const size_t colon = uri.find(':');
-    if (colon != std::string::npos && uri.find_first_of("/\\") > colon)
-        return why = "has a scheme ('" + uri.substr(0, colon) + ":'); only relative paths and data: URIs are allowed",
-               false;
-    size_t start = 0;
-    while (start <= uri.size()) {
-        const size_t end = std::min(uri.find_first_of("/\\", start), uri.size());
-        if (uri.compare(start, end - start, "..") == 0) return why = "escapes the model folder ('..')", false;
-        start = end + 1;
-    }
-    return true;
-}
 
 Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary) {
     const std::string name = fileNameOf(path);

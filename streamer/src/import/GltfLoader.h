@@ -11,8 +11,4 @@ namespace vastray::import {
 
 Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary);
 
-// Relative URIs inside the model folder only: no scheme (file:, http:, C:), no absolute
-// path, no ".." component. data: URIs never reach the file system.
-bool isSafeRelativeUri(const std::string& uri, std::string& why);
-
 }  // namespace vastray::import

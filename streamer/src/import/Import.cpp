@@ -2,6 +2,8 @@
 // ends with.
 #include "vastray/streamer/Import.h"
 
+#include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "import/ImportCommon.h"
@@ -10,7 +12,9 @@ namespace vastray {
 namespace {
 
 std::string formatVertex(Vec3f p) {
-    return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")";
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.9g, %.9g, %.9g)", p.x, p.y, p.z);
+    return text;
 }
 
 Status checkPositions(const TriangleMesh& mesh) {
@@ -18,9 +22,14 @@ Status checkPositions(const TriangleMesh& mesh) {
         return Status::error("vertex count " + std::to_string(mesh.positions.size()) +
                              " exceeds the uint32 index range");
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        if (!isFinite(mesh.positions[i]))
-            return Status::error("vertex " + std::to_string(i) + " has a non-finite coordinate " +
-                                 formatVertex(mesh.positions[i]));
+        const Vec3f p = mesh.positions[i];
+        if (!isFinite(p))
+            return Status::error("vertex " + std::to_string(i) + " has a non-finite coordinate " + formatVertex(p));
+        if (std::fabs(p.x) > kMaxAbsCoordinate || std::fabs(p.y) > kMaxAbsCoordinate ||
+            std::fabs(p.z) > kMaxAbsCoordinate)
+            return Status::error("vertex " + std::to_string(i) + " " + formatVertex(p) +
+                                 " lies beyond the coordinate limit of +-1e18 (larger values overflow float "
+                                 "arithmetic in the partition and the tracer)");
     }
     return Status::ok();
 }

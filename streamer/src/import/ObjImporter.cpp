@@ -106,6 +106,9 @@ private:
              token = import::nextToken(p, eol)) {
             uint32_t vertex;
             if (Status s = parseCorner(token, vertex); !s.isOk()) return s;
+            if (corners_.size() == import::kMaxPolygonCorners)
+                return lineError("face has more than " + std::to_string(import::kMaxPolygonCorners) +
+                                 " corners (the polygon limit; triangulate it in the exporter)");
             corners_.push_back(vertex);
         }
         if (corners_.size() < 3)
@@ -165,13 +168,19 @@ private:
 };
 
 // A library next to the model is optional: exporters often reference one they never wrote.
+// Like glTF URIs, names stay inside the model's folder: the service imports uploaded OBJ
+// files, and a client must not make it read (and render the colours of) files elsewhere.
 Status ObjParser::applyMaterialLibraries() {
     import::MtlLibrary library;
     const std::filesystem::path folder = import::directoryOf(path_);
     for (const std::string& name : libraryFiles()) {
+        std::string why;
+        if (!import::isSafeRelativeUri(name, why)) return import::errorIn(name_, "mtllib '" + name + "' " + why);
         const std::filesystem::path file = folder / name;
         std::error_code ec;
         if (!std::filesystem::is_regular_file(file, ec)) continue;
+        if (!import::insideFolder(folder, file))
+            return import::errorIn(name_, "mtllib '" + name + "' resolves outside the model folder (a link)");
         if (Status s = import::parseMtlFile(file.string(), library); !s.isOk()) return s;
     }
     for (Material& m : out_.mesh.materials) {

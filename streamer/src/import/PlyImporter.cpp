@@ -123,6 +123,9 @@ private:
         int64_t count;
         if (!r_.readInt(p.countType, count)) return rowError(e, row, std::string(r_.failure()) + " in list count");
         if (count < 0) return rowError(e, row, "negative list count " + std::to_string(count));
+        if (!strips && uint64_t(count) > import::kMaxPolygonCorners)
+            return rowError(e, row, "polygon has " + std::to_string(count) + " corners, more than the limit of " +
+                                        std::to_string(import::kMaxPolygonCorners) + " (triangulate it in the exporter)");
         corners_.clear();
         for (int64_t i = 0; i < count; ++i) {
             int64_t index;
@@ -132,7 +135,10 @@ private:
                 corners_.push_back(kRestart);
                 continue;
             }
-            if (index < 0 || uint64_t(index) >= vertexCount_)
+            if (index < 0)
+                return rowError(e, row, "index " + std::to_string(index) + " is negative (vertex count " +
+                                            std::to_string(vertexCount_) + ")");
+            if (uint64_t(index) >= vertexCount_)
                 return rowError(e, row, "index " + std::to_string(index) + " >= vertex count " +
                                             std::to_string(vertexCount_));
             corners_.push_back(uint32_t(index));

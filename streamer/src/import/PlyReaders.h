@@ -11,6 +11,21 @@
 
 namespace vastray::import {
 
+// A float-typed integer (list count, index) must be integral and within +-2^53 (exact in a
+// double); converting 1e300 to int64 is undefined and printed as -9223372036854775808.
+inline bool integralValue(double value, int64_t& out, const char*& failure) {
+    if (!std::isfinite(value) || value != std::floor(value)) {
+        failure = "non-integral value";
+        return false;
+    }
+    if (std::fabs(value) > 9007199254740992.0) {
+        failure = "integer value beyond +-2^53";
+        return false;
+    }
+    out = static_cast<int64_t>(value);
+    return true;
+}
+
 class PlyBinaryReader {
 public:
     PlyBinaryReader(const char* p, const char* end, bool bigEndian)
@@ -33,9 +48,8 @@ public:
     // Integers only; a float-typed index must hold an integral value.
     bool readInt(PlyType t, int64_t& out) {
         double value;
-        if (!readReal(t, value) || !std::isfinite(value) || value != std::floor(value)) return false;
-        out = static_cast<int64_t>(value);
-        return true;
+        if (!readReal(t, value)) return false;
+        return integralValue(value, out, failure_);
     }
 
     bool skip(PlyType t) { return skipBytes(plySize(t)); }
@@ -45,7 +59,7 @@ public:
         return true;
     }
     bool canSkipRowsInBulk() const { return true; }
-    const char* failure() const { return "unexpected end of file"; }
+    const char* failure() const { return failure_ ? failure_ : "unexpected end of file"; }
 
 private:
     template <typename T>
@@ -64,6 +78,7 @@ private:
     const char* p_;
     const char* end_;
     bool swap_;
+    const char* failure_ = nullptr;
 };
 
 // ASCII rows are whitespace-separated values; line breaks carry no meaning for the walker.
@@ -75,9 +90,8 @@ public:
     bool readInt(PlyType t, int64_t& out) {
         if (!isFloatType(t)) return parse(out);
         double value;
-        if (!parse(value) || !std::isfinite(value) || value != std::floor(value)) return false;
-        out = static_cast<int64_t>(value);
-        return true;
+        if (!parse(value)) return false;
+        return integralValue(value, out, failure_);
     }
     bool skip(PlyType) {
         skipSpace();
@@ -87,7 +101,9 @@ public:
     }
     bool skipBytes(uint64_t) { return false; }
     bool canSkipRowsInBulk() const { return false; }
-    const char* failure() const { return p_ >= end_ ? "unexpected end of file" : "malformed value"; }
+    const char* failure() const {
+        return failure_ ? failure_ : p_ >= end_ ? "unexpected end of file" : "malformed value";
+    }
 
 private:
     static bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
@@ -106,6 +122,7 @@ private:
 
     const char* p_;
     const char* end_;
+    const char* failure_ = nullptr;
 };
 
 }  // namespace vastray::import

@@ -1,13 +1,61 @@
 #include "package/PackageHeader.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/streamer/Import.h"
 
 namespace vastray {
+namespace {
+
+std::string formatReal(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return text;
+}
+
+// Every float the reader trusts from the header: the checksum only proves the bytes are the
+// ones written, not that a writer (or someone who recomputed it) wrote sane values. A NaN
+// bound or grid origin rendered sky; a grid range of 1e300 overflowed dequantization.
+}  // namespace
+
+Status checkStoredBox(const std::string& what, const Aabb& box) {
+    static const char* kAxes = "xyz";
+    for (int a = 0; a < 3; ++a) {
+        for (float v : {box.lo[a], box.hi[a]}) {
+            if (!std::isfinite(v)) return Status::error(what + " " + kAxes[a] + " " + formatReal(v) + " is not finite");
+            if (std::fabs(v) > kMaxAbsCoordinate)
+                return Status::error(what + " " + kAxes[a] + " " + formatReal(v) +
+                                     " lies beyond the coordinate limit of +-1e18");
+        }
+        if (box.lo[a] > box.hi[a])
+            return Status::error(what + " are inverted on " + kAxes[a] + " (" + formatReal(box.lo[a]) +
+                                 " > " + formatReal(box.hi[a]) + ")");
+    }
+    return Status::ok();
+}
+
+namespace {
+
+Status checkGrid(const QuantizationGrid& grid) {
+    if (grid.bits > 30) return Status::error("header: quantization grid of " + std::to_string(grid.bits) + " bits (limit 30)");
+    static const char* kAxes = "xyz";
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(grid.origin[a]) || std::fabs(grid.origin[a]) > kMaxAbsCoordinate)
+            return Status::error(std::string("header: grid origin ") + kAxes[a] + " " + formatReal(grid.origin[a]) +
+                                 " is not a finite coordinate within +-1e18");
+    // The range is the scene's largest extent: at most twice the coordinate limit.
+    if (!(grid.range > 0) || !(grid.range <= 2.0 * kMaxAbsCoordinate))
+        return Status::error("header: grid range " + formatReal(grid.range) + " is outside (0, 2e18]");
+    return Status::ok();
+}
+
+}  // namespace
+
 
 std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout) {
     ByteWriter out;
@@ -71,8 +119,8 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
     if (!in.ok()) return Status::error("truncated header");
     if (flags & ~format::kKnownHeaderFlags) return Status::error("header has unknown flags " + std::to_string(flags));
-    if (info.grid.bits > 30 || !(info.grid.range > 0) || !std::isfinite(info.grid.range))
-        return Status::error("header has an invalid quantization grid");
+    VASTRAY_TRY(checkGrid(info.grid));
+    VASTRAY_TRY(checkStoredBox("header: scene bounds", info.bounds));
     if (layout.materialCount == 0 || layout.materialCount > format::kMaxMaterials || layout.chunkCount > format::kMaxChunks)
         return Status::error("header counts out of range");
     if (info.triangleCount > info.referenceCount) return Status::error("header has fewer references than triangles");

@@ -1,6 +1,7 @@
 #pragma once
 // Serialization of the package's header, materials and directory, shared by writer and reader.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "package/ByteIo.h"
@@ -18,6 +19,10 @@ struct SectionLayout {
 std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout);
 // Checks magic, version and the header's own checksum; fills the scalar fields of `info`.
 Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo& info);
+
+// A box read from a package: finite, within +-kMaxAbsCoordinate, not inverted. `what`
+// starts the message ("chunk 3: cell bounds x nan is not finite").
+Status checkStoredBox(const std::string& what, const Aabb& box);
 
 std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials);
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count);

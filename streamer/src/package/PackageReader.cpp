@@ -75,6 +75,7 @@ Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOff
         if (c.size < minimum) return Status::error(name + "counts larger than its blob could hold");
         if (c.triangleCount == 0 || c.triangleCount > kBvh4MaxTriangles || c.bvhNodeCount == 0 || c.cell.isEmpty())
             return Status::error(name + "empty or invalid cell");
+        VASTRAY_TRY(checkStoredBox(name + "cell bounds", c.cell));
         next = c.offset + c.size;
     }
     if (next != fileBytes) return Status::error("file size disagrees with the chunk directory");
@@ -95,10 +96,12 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     std::unique_ptr<PackageReader> reader(new PackageReader());
     reader->path_ = path;
     reader->file_ = std::make_unique<File>();
-    reader->file_->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // O_NONBLOCK: a FIFO without a writer must not block the open; fstat then refuses it.
+    reader->file_->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (reader->file_->fd < 0) return Status::error(path + ": cannot open: " + std::strerror(errno));
     struct stat st {};
     if (::fstat(reader->file_->fd, &st) != 0) return Status::error(path + ": cannot stat: " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) return Status::error(path + ": is not a regular file (a FIFO, device or directory)");
     const uint64_t fileSize = uint64_t(st.st_size);
     auto fail = [&](const Status& status) { return status.withContext(path + ": "); };
 
@@ -165,6 +168,10 @@ Result<DecodedChunk> PackageReader::readChunk(uint32_t id) const {
     auto chunk = decodeChunkBlob(*blob, info_.chunks[id], info_.grid, uint32_t(info_.materials.size()),
                                  info_.triangleCount + info_.collapsedDropped);
     if (!chunk) return chunk.status().withContext(path_ + ": chunk " + std::to_string(id) + ": ");
+    // The blob's checksum held; the floats it carries must still be sane (a NaN KD-tree box
+    // made every ray miss the chunk).
+    if (Status s = checkStoredBox("KD-tree bounds", chunk->kdTree.bounds); !s)
+        return s.withContext(path_ + ": chunk " + std::to_string(id) + ": ");
     return chunk;
 }
 

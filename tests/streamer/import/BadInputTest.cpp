@@ -54,7 +54,7 @@ TEST(BadInput, PlyNegativeFaceIndex) {
     const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\n" + kPlyXyz +
                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
                             "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n";
-    EXPECT_IMPORT_ERROR(importMesh(writeFile("negative.ply", ply)), "negative.ply: ", "face 0: index -1");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("negative.ply", ply)), "negative.ply: ", "face 0: index -1 is negative");
 }
 
 TEST(BadInput, GltfIndexBeyondVertexCount) {

@@ -10,14 +10,21 @@
 
 namespace vastray {
 
+// The narrowest field of view: below it the framing distance (radius / tan(fov / 2)) and the
+// pixel footprint leave float range (--fov 1e-30 was reported as "up is parallel").
+constexpr float kMinFovDegrees = 0.001f;
+
+// "camera fov 1e-30 is outside [0.001, 180) degrees" unless kMinFovDegrees <= fov < 180.
+Status checkFov(float fovYDegrees);
+
 struct Camera {
     Vec3f eye{0, 0, 3};
     Vec3f target{0, 0, 0};
     Vec3f up{0, 1, 0};
-    float fovYDegrees = 45.0f;  // vertical field of view, in (0, 180)
+    float fovYDegrees = 45.0f;  // vertical field of view, in [kMinFovDegrees, 180)
 };
 
-// Finite vectors, eye != target, up not parallel to the view direction, fov in (0, 180).
+// Finite vectors, eye != target, up not parallel to the view direction, fov in [0.001, 180).
 Status validateCamera(const Camera& camera);
 
 // A camera that sees the whole of `bounds` (its bounding sphere) from above and to the

@@ -138,6 +138,7 @@ private:
     void workerLoop();
     void runJob(const std::string& id);
     ServiceStatus renderAndStore(v1::Job& job);
+    ServiceStatus renderAndStoreGuarded(v1::Job& job);
     void finishJob(v1::Job job, const ServiceStatus& outcome);
     void onProgress(const JobRenderProgress& progress);
     void notifyChangeLocked() {

@@ -11,6 +11,12 @@
 
 namespace vastray {
 
+// Every coordinate lies within +-kMaxAbsCoordinate. Beyond it the scene's extent, the
+// partition's split planes and the tracer's squared distances overflow float (coordinates
+// near 3e38 imported into a package with no chunks). Importers check it after transforms;
+// the package reader holds a package's bounds and grid to it as well.
+constexpr float kMaxAbsCoordinate = 1e18f;
+
 struct ImportOptions {
     // Overrides every material's doubleSided flag when set (CLI --double-sided/--single-sided).
     enum class Sidedness { FromFile, ForceDoubleSided, ForceSingleSided };

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# libFuzzer runs of the importers and the package reader (issue 16), with ASan and UBSan.
+#
+#   scripts/fuzz.sh                 # smoke: every target for FUZZ_SECONDS (30) from the seed corpus
+#   FUZZ_SECONDS=3600 scripts/fuzz.sh fuzz_import_obj   # the documented long run, one target
+#
+# Builds in $FUZZ_BUILD_DIR (build-fuzz) with clang++-14 (scripts/install-deps.sh installs it).
+# Seeds: fuzz/corpus/<format>/ (in the repository, read only); inputs the fuzzer finds go to
+# $FUZZ_BUILD_DIR/corpus/<target>/; a crash, hang (>10 s per input) or leak stops the run with
+# the input in $FUZZ_BUILD_DIR/artifacts/ and a non-zero exit.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${FUZZ_BUILD_DIR:-build-fuzz}
+SECONDS_PER_TARGET=${FUZZ_SECONDS:-30}
+JOBS=${JOBS:-$(nproc)}
+declare -A SEEDS=([fuzz_import_obj]=obj [fuzz_import_ply]=ply [fuzz_import_gltf]=gltf
+                  [fuzz_import_glb]=glb [fuzz_package]=vast [fuzz_chunk]=chunk)
+TARGETS=("$@")
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_import_obj fuzz_import_ply fuzz_import_gltf fuzz_import_glb fuzz_package fuzz_chunk)
+
+if [ ! -f "$BUILD/build.ninja" ]; then
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 -DVASTRAY_FUZZ=ON
+fi
+cmake --build "$BUILD" -j "$JOBS" --target "${TARGETS[@]}"
+
+mkdir -p "$BUILD/artifacts"
+for target in "${TARGETS[@]}"; do
+  corpus="$BUILD/corpus/$target"
+  mkdir -p "$corpus"
+  echo "== $target: ${SECONDS_PER_TARGET} s"
+  # detect_leaks: the importers return values; a leak is a bug. The limits make an unbounded
+  # allocation (rss) or a slow input (timeout) a failure rather than a stall.
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$BUILD/fuzz/$target" "$corpus" "fuzz/corpus/${SEEDS[$target]}" \
+      -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+      -artifact_prefix="$BUILD/artifacts/$target-" -print_final_stats=1 2>&1 | tail -n 12
+done

@@ -1,0 +1,204 @@
+// Issue 16: inputs a hostile user would try. Each is refused by name, quickly, without a
+// crash, a hang or reading a file outside the model's folder.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "ImportTestFiles.h"
+
+namespace vastray::test {
+namespace {
+
+const std::string kPlyXyz = "property float x\nproperty float y\nproperty float z\n";
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string gltfWith(const std::string& extra) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    return b.json(extra + R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}])");
+}
+
+// 20,000 levels in 40 KB overflowed the stack in tinygltf's JSON walk (SIGSEGV).
+TEST(HostileInput, DeeplyNestedGltfJsonIsRefusedBeforeParsing) {
+    const std::string deep = "\"extras\":" + std::string(20000, '[') + std::string(20000, ']') + ",";
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("deep.gltf", gltfWith(deep))), "deep.gltf: ",
+                        "JSON nests deeper than 64 levels");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("deep.glb", glb("{\"a\":" + std::string(20000, '{'), ""))),
+                        "deep.glb: ", "JSON nests deeper than 64 levels");
+}
+
+TEST(HostileInput, NestingInsideStringsDoesNotCount) {
+    const std::string brackets = "\"extras\":{\"note\":\"" + std::string(1000, '[') + "\\\"\"},";
+    auto imported = importMesh(writeFile("strings.gltf", gltfWith(brackets)));
+    ASSERT_TRUE(imported.isOk()) << imported.message();
+    EXPECT_EQ(imported->mesh.triangleCount(), 1u);
+}
+
+TEST(HostileInput, GltfNegativeByteStrideIsRefused) {
+    std::string json = gltfWith("");
+    const std::string view = "\"byteLength\":36}";
+    json.replace(json.find(view), view.size(), "\"byteLength\":36,\"byteStride\":-12}");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("stride.gltf", json)), "stride.gltf: ",
+                        "bufferView 0: byteStride -12 is not a multiple of 4 in [4, 252]");
+}
+
+// One polygon of 10^6 corners: the fan's triangles all share a corner, and partitioning
+// them took quadratic time (did not finish in minutes). Refused at the corner limit.
+TEST(HostileInput, ObjPolygonWithAMillionCornersIsRefusedQuickly) {
+    std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+    for (int i = 0; i < 1000000; ++i) obj += i % 3 == 0 ? " 1" : i % 3 == 1 ? " 2" : " 3";
+    obj += "\n";
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("million.obj", obj)), "million.obj: ",
+                        "line 4: face has more than 4096 corners");
+    EXPECT_LT(secondsSince(start), 5.0);
+}
+
+TEST(HostileInput, ObjPolygonAtTheCornerLimitImports) {
+    std::string obj;
+    for (int i = 0; i < 4096; ++i) {
+        const double angle = 6.283185307179586 * i / 4096;
+        obj += "v " + std::to_string(std::cos(angle)) + " " + std::to_string(std::sin(angle)) + " 0\n";
+    }
+    obj += "f";
+    for (int i = 1; i <= 4096; ++i) obj += " " + std::to_string(i);
+    obj += "\n";
+    auto imported = importMesh(writeFile("circle.obj", obj));
+    ASSERT_TRUE(imported.isOk()) << imported.message();
+    EXPECT_EQ(imported->report.inputTriangles, 4094u);
+}
+
+TEST(HostileInput, PlyPolygonAboveTheCornerLimitIsRefused) {
+    std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\n" + kPlyXyz +
+                      "element face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n5000";
+    for (int i = 0; i < 5000; ++i) ply += " " + std::to_string(i % 3);
+    ply += "\n";
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("polygon.ply", ply)), "polygon.ply: ",
+                        "face 0: polygon has 5000 corners, more than the limit of 4096");
+}
+
+TEST(HostileInput, GltfTriangleFanAboveTheCornerLimitIsRefused) {
+    GltfBuilder b;
+    std::vector<float> xyz;
+    for (int i = 0; i < 5000; ++i) {
+        const float angle = 6.2831853f * float(i) / 5000.0f;
+        xyz.insert(xyz.end(), {std::cos(angle), std::sin(angle), 0.0f});
+    }
+    b.addPositions(xyz);
+    const std::string json = b.json(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":6}]}],"nodes":[{"mesh":0}])");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("fan.gltf", json)), "fan.gltf: ",
+                        "triangle fan of 5000 corners exceeds the polygon limit of 4096");
+}
+
+// A FIFO with no writer blocked the import for ever; it is refused by its kind.
+TEST(HostileInput, FifoIsRefusedWithoutBlocking) {
+    const std::string path = tmpPath("fifo.obj");
+    std::filesystem::remove(path);
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    EXPECT_IMPORT_ERROR(importMesh(path), "fifo.obj: ", "is a FIFO; only regular files are read");
+    std::filesystem::remove(path);
+}
+
+TEST(HostileInput, CharacterDeviceIsRefused) {
+    EXPECT_IMPORT_ERROR(importObj("/dev/zero"), "zero: ", "is a character device");
+}
+
+class ObjMaterialConfinement : public ::testing::Test {
+protected:
+    void SetUp() override {
+        folder_ = std::filesystem::path(tmpPath("confined")) / "model";
+        std::filesystem::create_directories(folder_);
+        outside_ = folder_.parent_path() / "outside.mtl";
+        std::ofstream(outside_) << "newmtl red\nKd 1 0 0\n";
+    }
+    Result<ImportedMesh> importWithLibrary(const std::string& library) {
+        const std::string obj = "mtllib " + library + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+        const std::filesystem::path path = folder_ / "model.obj";
+        std::ofstream(path) << obj;
+        return importMesh(path.string());
+    }
+    std::filesystem::path folder_, outside_;
+};
+
+TEST_F(ObjMaterialConfinement, ParentFolderIsRefused) {
+    EXPECT_IMPORT_ERROR(importWithLibrary("../outside.mtl"), "model.obj: ",
+                        "mtllib '../outside.mtl' escapes the model folder ('..')");
+}
+
+TEST_F(ObjMaterialConfinement, AbsolutePathIsRefused) {
+    EXPECT_IMPORT_ERROR(importWithLibrary(outside_.string()), "model.obj: ", "is an absolute path");
+    EXPECT_IMPORT_ERROR(importWithLibrary("/etc/passwd"), "model.obj: ", "mtllib '/etc/passwd' is an absolute path");
+}
+
+TEST_F(ObjMaterialConfinement, LinkOutOfTheFolderIsRefused) {
+    std::filesystem::remove(folder_ / "link.mtl");
+    std::filesystem::create_symlink(outside_, folder_ / "link.mtl");
+    EXPECT_IMPORT_ERROR(importWithLibrary("link.mtl"), "model.obj: ",
+                        "mtllib 'link.mtl' resolves outside the model folder");
+}
+
+TEST_F(ObjMaterialConfinement, LibraryInsideTheFolderIsRead) {
+    std::filesystem::create_directories(folder_ / "materials");
+    std::ofstream(folder_ / "materials" / "inside.mtl") << "newmtl red\nKd 1 0 0\n";
+    auto imported = importWithLibrary("materials/inside.mtl");
+    ASSERT_TRUE(imported.isOk()) << imported.message();
+    ASSERT_EQ(imported->mesh.materials.size(), 1u);
+    EXPECT_EQ(imported->mesh.materials[0].baseColor[0], 1.0f);
+    EXPECT_EQ(imported->mesh.materials[0].baseColor[1], 0.0f);
+}
+
+// glTF URIs were confined by name only; a link inside the folder led out of it.
+TEST(HostileInput, GltfBufferLinkOutOfTheFolderIsRefused) {
+    const std::filesystem::path folder = std::filesystem::path(tmpPath("gltf-link")) / "model";
+    std::filesystem::create_directories(folder);
+    const std::filesystem::path outside = folder.parent_path() / "outside.bin";
+    std::ofstream(outside, std::ios::binary) << std::string(36, '\0');
+    std::filesystem::remove(folder / "link.bin");
+    std::filesystem::create_symlink(outside, folder / "link.bin");
+    const std::string json = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"link.bin"}],
+        "bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}]})";
+    std::ofstream(folder / "model.gltf") << json;
+    EXPECT_IMPORT_ERROR(importMesh((folder / "model.gltf").string()), "model.gltf: ",
+                        "uri 'link.bin' resolves outside the model folder (a link)");
+}
+
+// Coordinates near 3e38 imported "successfully" into a package with no chunks.
+TEST(HostileInput, CoordinatesBeyondTheLimitAreRefused) {
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("huge.obj", "v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n")),
+                        "huge.obj: ", "vertex 0 (-3.00000001e+38, 0, 0) lies beyond the coordinate limit of +-1e18");
+    auto near = importMesh(writeFile("near.obj", "v -1e18 0 0\nv 1e18 0 0\nv 0 1e18 0\nf 1 2 3\n"));
+    EXPECT_TRUE(near.isOk()) << near.message();
+}
+
+TEST(HostileInput, PlyNegativeIndexIsNamedNegative) {
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 4\n" + kPlyXyz +
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                            "0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 -1 2\n";
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("negative-index.ply", ply)), "negative-index.ply: ",
+                        "face 0: index -1 is negative (vertex count 4)");
+}
+
+TEST(HostileInput, PlyHugeFloatIndexIsNamedOutOfRange) {
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\n" + kPlyXyz +
+                            "element face 1\nproperty list uchar float vertex_indices\nend_header\n"
+                            "0 0 0\n1 0 0\n0 1 0\n3 0 1e300 2\n";
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("float-index.ply", ply)), "float-index.ply: ",
+                        "face 0: integer value beyond +-2^53 in index list");
+    std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" + kPlyXyz +
+                         "element face 1\nproperty list uchar double vertex_indices\nend_header\n";
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) appendRaw(binary, v);
+    appendRaw(binary, uint8_t(3));
+    for (double v : {0.0, -1e300, 2.0}) appendRaw(binary, v);
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("float-index-bin.ply", binary)), "float-index-bin.ply: ",
+                        "face 0: integer value beyond +-2^53 in index list");
+}
+
+}  // namespace
+}  // namespace vastray::test

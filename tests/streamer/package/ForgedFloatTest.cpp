@@ -1,0 +1,161 @@
+// Issue 16: a package whose checksums were recomputed after its floats were forged (NaN or
+// Inf grid origin, grid range 1e300, inverted or NaN bounds, a NaN cell or chunk KD-tree box)
+// passed `info --verify` and rendered sky. The reader must refuse each by name.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "PackageTestUtil.h"
+#include "package/PackageFormat.h"
+#include "vastray/core/Checksum.h"
+
+namespace vastray::test {
+namespace {
+
+// Offsets in the header, as serializeHeader writes it.
+constexpr size_t kBoundsLoAt = 8 + 4 + 4 + 7 * 8 + 6 * 4;
+constexpr size_t kBoundsHiAt = kBoundsLoAt + 12;
+constexpr size_t kOriginAt = kBoundsHiAt + 12;
+constexpr size_t kRangeAt = kOriginAt + 24;
+constexpr size_t kDirectoryChecksumAt = kRangeAt + 8 + 6 * 8;
+constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
+// In a directory entry: offset, size, checksum, resident bytes, four counts, then the cell.
+constexpr size_t kEntryChecksumAt = 2 * 8;
+constexpr size_t kEntryCellAt = 4 * 8 + 4 * 4;
+// In a chunk blob: magic, version, five counts, flags, then the KD-tree box.
+constexpr size_t kBlobKdBoundsAt = 4 + 4 + 5 * 4 + 4;
+
+const float kNan = std::numeric_limits<float>::quiet_NaN();
+const float kInf = std::numeric_limits<float>::infinity();
+
+class ForgedFloats : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        PackageBuildOptions options;
+        options.chunkSizeBytes = 32 << 10;
+        auto reader = buildAndOpen(generatedMesh(GeneratorKind::Soup, 2000, 3), tempPath("floats.vast"), options);
+        ASSERT_TRUE(reader);
+        info_ = new PackageInfo(reader->info());
+        bytes_ = new std::vector<uint8_t>(readFile(tempPath("floats.vast")));
+    }
+    static void TearDownTestSuite() {
+        delete info_;
+        delete bytes_;
+    }
+
+    template <typename T>
+    static void put(std::vector<uint8_t>& bytes, size_t at, T value) {
+        std::memcpy(&bytes[at], &value, sizeof value);
+    }
+
+    // Recomputes the directory's and the header's checksums, as a forger would.
+    static void reseal(std::vector<uint8_t>& bytes) {
+        const uint64_t directoryAt = format::kHeaderBytes + info_->materials.size() * format::kMaterialBytes +
+                                     info_->topTree.size() * sizeof(KdNode);
+        const uint64_t directoryBytes = info_->chunks.size() * format::kDirectoryEntryBytes;
+        put(bytes, kDirectoryChecksumAt, checksum64(bytes.data() + directoryAt, directoryBytes));
+        put(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
+    }
+
+    static uint64_t entryAt(uint32_t chunk) {
+        return format::kHeaderBytes + info_->materials.size() * format::kMaterialBytes +
+               info_->topTree.size() * sizeof(KdNode) + uint64_t(chunk) * format::kDirectoryEntryBytes;
+    }
+
+    static std::string write(const std::vector<uint8_t>& bytes) {
+        const std::string path = tempPath("forged-floats.vast");
+        writeFile(path, bytes);
+        return path;
+    }
+
+    static void expectRefused(std::vector<uint8_t> bytes, const std::string& expected) {
+        reseal(bytes);
+        auto reader = PackageReader::open(write(bytes));
+        ASSERT_FALSE(reader.isOk()) << "accepted; expected '" << expected << "'";
+        EXPECT_NE(reader.message().find(expected), std::string::npos) << reader.message();
+        EXPECT_NE(reader.message().find("forged-floats.vast"), std::string::npos) << reader.message();
+    }
+
+    static PackageInfo* info_;
+    static std::vector<uint8_t>* bytes_;
+};
+PackageInfo* ForgedFloats::info_ = nullptr;
+std::vector<uint8_t>* ForgedFloats::bytes_ = nullptr;
+
+TEST_F(ForgedFloats, ResealedPristinePackageStillOpens) {
+    std::vector<uint8_t> bytes = *bytes_;
+    reseal(bytes);
+    auto reader = PackageReader::open(write(bytes));
+    ASSERT_TRUE(reader.isOk()) << reader.message();
+    EXPECT_TRUE((*reader)->verify().empty());
+}
+
+TEST_F(ForgedFloats, NanGridOriginIsRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, kOriginAt + 8, std::numeric_limits<double>::quiet_NaN());
+    expectRefused(bytes, "grid origin y nan is not a finite coordinate");
+}
+
+TEST_F(ForgedFloats, InfiniteGridOriginIsRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, kOriginAt, -std::numeric_limits<double>::infinity());
+    expectRefused(bytes, "grid origin x -inf is not a finite coordinate");
+}
+
+TEST_F(ForgedFloats, HugeGridRangeIsRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, kRangeAt, 1e300);
+    expectRefused(bytes, "grid range 1e+300 is outside (0, 2e18]");
+}
+
+TEST_F(ForgedFloats, InvertedSceneBoundsAreRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, kBoundsLoAt + 4, info_->bounds.hi.y + 1.0f);
+    expectRefused(bytes, "scene bounds are inverted on y");
+}
+
+TEST_F(ForgedFloats, NanAndInfiniteSceneBoundsAreRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, kBoundsHiAt + 8, kNan);
+    expectRefused(bytes, "scene bounds z nan is not finite");
+    bytes = *bytes_;
+    put(bytes, kBoundsLoAt, -kInf);
+    expectRefused(bytes, "scene bounds x -inf is not finite");
+}
+
+TEST_F(ForgedFloats, NanCellBoundsAreRefusedWithTheChunk) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, entryAt(1) + kEntryCellAt + 4, kNan);
+    expectRefused(bytes, "chunk 1: cell bounds y nan is not finite");
+}
+
+// The blob's own checksum, then the directory's and the header's, all recomputed: only the
+// value check can tell.
+TEST_F(ForgedFloats, NanChunkKdTreeBoundsFailVerifyWithTheChunk) {
+    std::vector<uint8_t> bytes = *bytes_;
+    const ChunkInfo& chunk = info_->chunks[2];
+    put(bytes, chunk.offset + kBlobKdBoundsAt + 12, kNan);
+    put(bytes, entryAt(2) + kEntryChecksumAt, checksum64(bytes.data() + chunk.offset, chunk.size));
+    reseal(bytes);
+    auto reader = PackageReader::open(write(bytes));
+    ASSERT_TRUE(reader.isOk()) << reader.message();
+    const std::vector<std::string> problems = (*reader)->verify();
+    ASSERT_EQ(problems.size(), 1u);
+    EXPECT_NE(problems[0].find("chunk 2: KD-tree bounds x nan is not finite"), std::string::npos) << problems[0];
+}
+
+TEST(PackageReaderInputs, FifoIsRefusedWithoutBlocking) {
+    const std::string path = tempPath("fifo.vast");
+    std::filesystem::remove(path);
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    auto reader = PackageReader::open(path);
+    ASSERT_FALSE(reader.isOk());
+    EXPECT_NE(reader.message().find("fifo.vast: is not a regular file"), std::string::npos) << reader.message();
+    std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace vastray::test
