@@ -7,6 +7,7 @@
 #include "package/ByteIo.h"
 #include "package/ChunkCodec.h"
 #include "package/PackageFormat.h"
+#include "package/PackageHeader.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
@@ -37,9 +38,8 @@ Result<ChunkBlobHeader> readBlobHeader(ByteReader& in) {
     if (version != format::kChunkVersion) return Status::error("unsupported chunk version " + std::to_string(version));
     if (h.flags & ~format::kChunkKnownFlags) return Status::error("chunk has unknown flags " + std::to_string(h.flags));
     if (h.reserved != 0) return Status::error("chunk header's reserved field is not 0");
-    for (float v : {h.bvhBounds.lo.x, h.bvhBounds.lo.y, h.bvhBounds.lo.z, h.bvhBounds.hi.x, h.bvhBounds.hi.y, h.bvhBounds.hi.z})
-        if (!std::isfinite(v)) return Status::error("chunk's BVH bounds are not finite");
-    if (h.bvhBounds.isEmpty()) return Status::error("chunk's BVH bounds are inverted");
+    // The blob's checksum held; its floats must still be sane (a NaN box makes every ray miss).
+    VASTRAY_TRY(checkStoredBox("BVH bounds", h.bvhBounds));
     if (h.bvhMaxDepth > kBvh4MaxDepth)
         return Status::error("chunk's BVH depth " + std::to_string(h.bvhMaxDepth) + " exceeds " +
                              std::to_string(kBvh4MaxDepth));
@@ -124,7 +124,11 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     for (uint32_t index : chunk.indices)
         if (index >= h.vertexCount) return Status::error("vertex index out of range");
     chunk.positions.resize(h.vertexCount);
-    for (size_t v = 0; v < h.vertexCount; ++v) chunk.positions[v] = grid.position(&geometry->vertexWords[3 * v]);
+    for (size_t v = 0; v < h.vertexCount; ++v) {
+        chunk.positions[v] = grid.position(&geometry->vertexWords[3 * v]);
+        // Lossless chunks carry raw float bits: a resealed blob could hold NaN or Inf.
+        if (!isFinite(chunk.positions[v])) return Status::error("vertex " + std::to_string(v) + " is not finite");
+    }
     in.getArray(chunk.primitiveIds, h.triangleCount);
     if (hasMaterials) in.getArray(chunk.materialIds, h.triangleCount);
     in.getArray(chunk.bvh.nodes, h.bvhNodeCount);

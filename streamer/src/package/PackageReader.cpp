@@ -168,10 +168,6 @@ Result<DecodedChunk> PackageReader::readChunk(uint32_t id) const {
     auto chunk = decodeChunkBlob(*blob, info_.chunks[id], info_.grid, uint32_t(info_.materials.size()),
                                  info_.triangleCount + info_.collapsedDropped);
     if (!chunk) return chunk.status().withContext(path_ + ": chunk " + std::to_string(id) + ": ");
-    // The blob's checksum held; the floats it carries must still be sane (a NaN KD-tree box
-    // made every ray miss the chunk).
-    if (Status s = checkStoredBox("KD-tree bounds", chunk->kdTree.bounds); !s)
-        return s.withContext(path_ + ": chunk " + std::to_string(id) + ": ");
     return chunk;
 }
 

@@ -1,5 +1,5 @@
 // Issue 16: a package whose checksums were recomputed after its floats were forged (NaN or
-// Inf grid origin, grid range 1e300, inverted or NaN bounds, a NaN cell or chunk KD-tree box)
+// Inf grid origin, grid range 1e300, inverted or NaN bounds, a NaN cell or chunk BVH box)
 // passed `info --verify` and rendered sky. The reader must refuse each by name.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -25,8 +25,8 @@ constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 // In a directory entry: offset, size, checksum, resident bytes, four counts, then the cell.
 constexpr size_t kEntryChecksumAt = 2 * 8;
 constexpr size_t kEntryCellAt = 4 * 8 + 4 * 4;
-// In a chunk blob: magic, version, five counts, flags, then the KD-tree box.
-constexpr size_t kBlobKdBoundsAt = 4 + 4 + 5 * 4 + 4;
+// In a chunk blob: magic, version, five counts, flags, then the BVH's box.
+constexpr size_t kBlobBvhBoundsAt = 4 + 4 + 5 * 4 + 4;
 
 const float kNan = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
@@ -134,17 +134,17 @@ TEST_F(ForgedFloats, NanCellBoundsAreRefusedWithTheChunk) {
 
 // The blob's own checksum, then the directory's and the header's, all recomputed: only the
 // value check can tell.
-TEST_F(ForgedFloats, NanChunkKdTreeBoundsFailVerifyWithTheChunk) {
+TEST_F(ForgedFloats, NanChunkBvhBoundsFailVerifyWithTheChunk) {
     std::vector<uint8_t> bytes = *bytes_;
     const ChunkInfo& chunk = info_->chunks[2];
-    put(bytes, chunk.offset + kBlobKdBoundsAt + 12, kNan);
+    put(bytes, chunk.offset + kBlobBvhBoundsAt + 12, kNan);
     put(bytes, entryAt(2) + kEntryChecksumAt, checksum64(bytes.data() + chunk.offset, chunk.size));
     reseal(bytes);
     auto reader = PackageReader::open(write(bytes));
     ASSERT_TRUE(reader.isOk()) << reader.message();
     const std::vector<std::string> problems = (*reader)->verify();
     ASSERT_EQ(problems.size(), 1u);
-    EXPECT_NE(problems[0].find("chunk 2: KD-tree bounds x nan is not finite"), std::string::npos) << problems[0];
+    EXPECT_NE(problems[0].find("chunk 2: BVH bounds x nan is not finite"), std::string::npos) << problems[0];
 }
 
 TEST(PackageReaderInputs, FifoIsRefusedWithoutBlocking) {
