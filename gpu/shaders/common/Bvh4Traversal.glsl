@@ -69,11 +69,9 @@ void pushChild(inout uint sp, float entry, uint word) {
 
 TraceHit traverseBvh4(ChunkView c, TraversalRay ray, float tMin, float tMax, bool anyHit) {
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
-    if (c.nodeCount == 0u) return best;
-    TraversalRay r = ray;
-    setChunkSlack(c, r);
-    float t0 = tMin, t1 = tMax;
-    if (!clipToBounds(c, r, t0, t1)) return best;
+    TraversalRay r;
+    float t0, t1;
+    if (!enterChunk(c, ray, tMin, tMax, r, t0, t1)) return best;
     UintArray nodes = UintArray(c.nodes);
     bool found = false;
     uint sp = 0u, word = 0u;

@@ -195,13 +195,20 @@ void intersectLeaf(ChunkView c, TraversalRay r, uint firstRef, uint count, float
 // Mirrors traverse(): the closest hit, or with anyHit the first one found, for a ray whose
 // chunk-independent constants are prepared (prepareRayConstants). The stack entries below
 // stackBase belong to the caller and are left alone.
+// A chunk traversal's start: the ray with the chunk's margin, and [tMin, tMax] clipped to the
+// chunk's bounds in t0, t1. False when the chunk is empty or the ray misses its bounds.
+bool enterChunk(ChunkView c, TraversalRay ray, float tMin, float tMax, out TraversalRay r, out float t0, out float t1) {
+    r = ray, t0 = tMin, t1 = tMax;
+    if (c.nodeCount == 0u) return false;
+    setChunkSlack(c, r);
+    return clipToBounds(c, r, t0, t1);
+}
+
 TraceHit traverseRay(ChunkView c, TraversalRay ray, float tMin, float tMax, bool anyHit, uint stackBase) {
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
-    if (c.nodeCount == 0u) return best;
-    TraversalRay r = ray;
-    setChunkSlack(c, r);
-    float t0 = tMin, t1 = tMax;
-    if (!clipToBounds(c, r, t0, t1)) return best;
+    TraversalRay r;
+    float t0, t1;
+    if (!enterChunk(c, ray, tMin, tMax, r, t0, t1)) return best;
     UintArray nodes = UintArray(c.nodes);
     uint stackSize = stackBase, index = 0u;
     bool found = false;
