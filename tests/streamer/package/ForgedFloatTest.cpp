@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 
@@ -79,6 +80,19 @@ protected:
         EXPECT_NE(reader.message().find("forged-floats.vast"), std::string::npos) << reader.message();
     }
 
+    // A forged blob with its own, the directory's and the header's checksums recomputed: the
+    // package opens, and verify names the chunk.
+    static void expectChunkRefused(std::vector<uint8_t> bytes, uint32_t id, const std::string& expected) {
+        const ChunkInfo& chunk = info_->chunks[id];
+        put(bytes, entryAt(id) + kEntryChecksumAt, checksum64(bytes.data() + chunk.offset, chunk.size));
+        reseal(bytes);
+        auto reader = PackageReader::open(write(bytes));
+        ASSERT_TRUE(reader.isOk()) << reader.message();
+        const std::vector<std::string> problems = (*reader)->verify();
+        ASSERT_EQ(problems.size(), 1u);
+        EXPECT_NE(problems[0].find(expected), std::string::npos) << problems[0];
+    }
+
     static PackageInfo* info_;
     static std::vector<uint8_t>* bytes_;
 };
@@ -136,15 +150,35 @@ TEST_F(ForgedFloats, NanCellBoundsAreRefusedWithTheChunk) {
 // value check can tell.
 TEST_F(ForgedFloats, NanChunkBvhBoundsFailVerifyWithTheChunk) {
     std::vector<uint8_t> bytes = *bytes_;
-    const ChunkInfo& chunk = info_->chunks[2];
-    put(bytes, chunk.offset + kBlobBvhBoundsAt + 12, kNan);
-    put(bytes, entryAt(2) + kEntryChecksumAt, checksum64(bytes.data() + chunk.offset, chunk.size));
-    reseal(bytes);
-    auto reader = PackageReader::open(write(bytes));
-    ASSERT_TRUE(reader.isOk()) << reader.message();
-    const std::vector<std::string> problems = (*reader)->verify();
-    ASSERT_EQ(problems.size(), 1u);
-    EXPECT_NE(problems[0].find("chunk 2: BVH bounds x nan is not finite"), std::string::npos) << problems[0];
+    put(bytes, info_->chunks[2].offset + kBlobBvhBoundsAt + 12, kNan);
+    expectChunkRefused(bytes, 2, "chunk 2: BVH bounds x nan is not finite");
+}
+
+// Not floats, but the same forgery: a blob whose tree or leaf order is wrong, with every checksum
+// recomputed, would make the kernel read outside the chunk or loop.
+TEST_F(ForgedFloats, BvhChildPointingBackFailsVerifyWithTheNode) {
+    std::vector<uint8_t> bytes = *bytes_;
+    const ChunkInfo& chunk = info_->chunks[1];
+    const uint64_t nodesAt = chunk.offset + chunk.size - uint64_t(chunk.triangleCount) * 4 -
+                             uint64_t(chunk.bvhNodeCount) * sizeof(Bvh4Node);
+    put(bytes, nodesAt + offsetof(Bvh4Node, child), uint32_t(0));  // the root's first child: the root
+    expectChunkRefused(bytes, 1, "chunk 1: BVH node 0: child 0 is not a later node");
+}
+
+TEST_F(ForgedFloats, LeafOrderThatIsNotAPermutationFailsVerify) {
+    std::vector<uint8_t> bytes = *bytes_;
+    const ChunkInfo& chunk = info_->chunks[1];
+    const uint64_t orderAt = chunk.offset + chunk.size - uint64_t(chunk.triangleCount) * 4;
+    uint32_t first = 0;
+    std::memcpy(&first, &bytes[orderAt], 4);
+    put(bytes, orderAt + 4, first);  // entry 1 repeats entry 0
+    expectChunkRefused(bytes, 1, "chunk 1: leaf order entry 1 is not a permutation");
+}
+
+TEST_F(ForgedFloats, FormatVersionOneAsksForAReimport) {
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, 8, uint32_t(1));
+    expectRefused(bytes, "package format version 1 is not supported (expected 2): re-import the mesh");
 }
 
 TEST(PackageReaderInputs, FifoIsRefusedWithoutBlocking) {
