@@ -4,6 +4,7 @@
 #include <cstring>
 #include <vector>
 
+#include "Bvh4Walk.h"
 #include "TestMeshes.h"
 #include "vastray/core/Bvh4.h"
 
@@ -19,46 +20,11 @@ Bvh4 build(const Mesh& m, const Bvh4BuildOptions& o = {}) {
     return buildBvh4(m.positions.data(), m.indices.data(), m.count(), o);
 }
 
-// Walks the tree: every leaf's triangles lie in the child box the kernel computes (up to the
-// rounding of that box's one fp32 sum: 1 ulp of the coordinate, which the traversal's margins
-// cover), every triangle is in exactly one leaf, and node depths match maxDepth.
+// Well formed (tests/Bvh4Walk.h), the order a permutation of the input, and maxDepth the
+// deepest node, within the limit.
 void expectWellFormed(const Mesh& m, const Bvh4& t) {
-    ASSERT_EQ(validateBvh4Nodes(t.nodes, m.count()), "");
     ASSERT_EQ(t.order.size(), m.count());
-    std::vector<int> seen(m.count(), 0);
-    uint32_t deepest = 0;
-    struct Item { uint32_t node, depth; };
-    std::vector<Item> stack{{0, 0}};
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
-        deepest = std::max(deepest, item.depth);
-        const Bvh4Node& n = t.nodes[item.node];
-        for (int i = 0; i < 4; ++i) {
-            const uint32_t w = n.child[i];
-            if (w == kBvh4EmptyChild) continue;
-            const Aabb box = bvh4ChildBox(n, i);
-            auto inside = [&](Vec3f p) {
-                for (int a = 0; a < 3; ++a) {
-                    const float slack = std::nextafter(std::abs(p[a]), INFINITY) - std::abs(p[a]);
-                    if (p[a] < box.lo[a] - slack || p[a] > box.hi[a] + slack) return false;
-                }
-                return true;
-            };
-            if (!bvh4IsLeaf(w)) {
-                stack.push_back({w, item.depth + 1});
-                continue;
-            }
-            for (uint32_t k = 0; k < bvh4LeafCount(w); ++k) {
-                const uint32_t tri = t.order[bvh4LeafFirst(w) + k];
-                ++seen[tri];
-                for (int v = 0; v < 3; ++v)
-                    EXPECT_TRUE(inside(m.positions[m.indices[3 * tri + v]])) << "triangle " << tri << " vertex " << v;
-            }
-        }
-    }
-    for (uint32_t tri = 0; tri < m.count(); ++tri) EXPECT_EQ(seen[tri], 1) << "triangle " << tri;
-    EXPECT_EQ(deepest, t.maxDepth);
+    EXPECT_EQ(test::expectBvhHoldsItsTriangles(t, m.positions, m.indices, &t.order), t.maxDepth);
     EXPECT_LE(t.maxDepth, kBvh4MaxDepth);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "Bvh4Walk.h"
 #include "PackageTestUtil.h"
 
 namespace vastray::test {
@@ -16,53 +17,14 @@ struct DecodedTriangles {
     uint64_t mismatchedDuplicates = 0;  // same triangle decoded differently in two chunks
 };
 
-// Every triangle of a decoded chunk sits in exactly one BVH leaf whose (and whose ancestors')
-// decoded box holds its corners, up to one ulp of the coordinate (the margins of the kernel's
-// box test cover that): the leaf order the blob stores was applied to the decoded faces.
-void expectBvhEnclosesTriangles(const DecodedChunk& c) {
-    const uint32_t triangles = uint32_t(c.indices.size() / 3);
-    ASSERT_EQ(validateBvh4Nodes(c.bvh.nodes, triangles), "") << "chunk " << c.id;
-    std::vector<int> seen(triangles, 0);
-    auto inside = [](Vec3f p, const Aabb& box) {
-        for (int a = 0; a < 3; ++a) {
-            const float ulp = std::nextafter(std::abs(p[a]), INFINITY) - std::abs(p[a]);
-            if (p[a] < box.lo[a] - ulp || p[a] > box.hi[a] + ulp) return false;
-        }
-        return true;
-    };
-    struct Item { uint32_t node; Aabb box; };
-    std::vector<Item> stack{{0, c.bvh.bounds}};
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
-        const Bvh4Node& n = c.bvh.nodes[item.node];
-        for (int i = 0; i < 4; ++i) {
-            const uint32_t w = n.child[i];
-            if (w == kBvh4EmptyChild) continue;
-            const Aabb box = bvh4ChildBox(n, i);
-            if (!bvh4IsLeaf(w)) {
-                stack.push_back({w, box});
-                continue;
-            }
-            for (uint32_t t = bvh4LeafFirst(w); t < bvh4LeafFirst(w) + bvh4LeafCount(w); ++t) {
-                ++seen[t];
-                for (int k = 0; k < 3; ++k) {
-                    const Vec3f p = c.positions[c.indices[3 * t + k]];
-                    EXPECT_TRUE(inside(p, box) && inside(p, item.box)) << "chunk " << c.id << " triangle " << t;
-                }
-            }
-        }
-    }
-    for (uint32_t t = 0; t < triangles; ++t) EXPECT_EQ(seen[t], 1) << "chunk " << c.id << " triangle " << t;
-}
-
 DecodedTriangles decodeAll(const PackageReader& reader) {
     DecodedTriangles out;
     for (const ChunkInfo& info : reader.info().chunks) {
         auto chunk = reader.readChunk(info.id);
         EXPECT_TRUE(chunk.isOk()) << chunk.message();
         if (!chunk) continue;
-        expectBvhEnclosesTriangles(*chunk);
+        // The leaf order the blob stores was applied to the decoded faces.
+        expectBvhHoldsItsTriangles(chunk->bvh, chunk->positions, chunk->indices, nullptr);
         for (size_t t = 0; t < chunk->primitiveIds.size(); ++t) {
             const uint32_t* i = &chunk->indices[3 * t];
             const auto c = canonicalCorners(chunk->positions[i[0]], chunk->positions[i[1]], chunk->positions[i[2]]);
