@@ -35,7 +35,7 @@ constexpr int64_t kMaxGpuDevice = 255;
 
 struct RenderArgs {
     std::string input, output, backend = "vulkan", resolution = "640x480";
-    std::string memoryBudget = "1GiB", hostCache = "1GiB";
+    std::string memoryBudget = "1GiB", hostCache = "auto";
     int64_t gpuDevice = -1;
     std::string eye, target, up = "0,1,0", integrator = "path", aovs, statsJson, progress = "auto";
     int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
@@ -148,9 +148,14 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
         return Status::error("--aovs chunkid and cost need --backend vulkan (the Embree reference has no chunks)");
     auto budget = parseByteSize(args.memoryBudget);
     if (!budget) return budget.status().withContext("--memory-budget: ");
-    auto hostCache = parseByteSize(args.hostCache);
-    if (!hostCache) return hostCache.status().withContext("--host-cache: ");
-    sizes->memoryBudget = *budget, sizes->hostCache = *hostCache;
+    if (args.hostCache == "auto") {
+        sizes->hostCache = StreamingOptions::kHostCacheAuto;
+    } else {
+        auto hostCache = parseByteSize(args.hostCache);
+        if (!hostCache) return hostCache.status().withContext("--host-cache: ");
+        sizes->hostCache = *hostCache;
+    }
+    sizes->memoryBudget = *budget;
     VASTRAY_TRY(parseCamera(args, options));
     VASTRAY_TRY(checkOutput(args, options));
     VASTRAY_TRY(validateRenderOptions(options));
@@ -380,7 +385,7 @@ CommandRun addRenderCommand(CLI::App& app) {
     cmd->add_option("--memory-budget", args->memoryBudget,
                     "vulkan: device memory for chunk slots, the path state of a wave and tables, all of it (KiB/MiB/GiB)")
         ->capture_default_str();
-    cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (0 = none)")
+    cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (KiB/MiB/GiB; 0 = none; auto = the whole decoded scene, up to a quarter of this machine's memory)")
         ->capture_default_str();
     cmd->add_option("--gpu-device", args->gpuDevice,
                     "vulkan: index of the Vulkan device to use, -1..255 (-1: the first discrete GPU, else the first device)")

@@ -1,7 +1,7 @@
 // Camera rays of a wave's paths (core/Camera.h's CameraRays::primary): jittered by the pixel
 // dimensions of the path's random numbers, or through the pixel centre for the AOVs. Resets
 // each path's state, marks its closest-hit ray for walking and its shadow ray as absent, and
-// queues the camera rays (queue pc.queue).
+// queues the camera rays (queue pc.queue). An AOV ray belongs to no path to shade.
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -15,7 +15,7 @@ layout(local_size_x = kWavefrontWorkgroupSize) in;
 void main() {
     const uint j = gl_GlobalInvocationID.x;
     ParamsRef params = ParamsRef(pc.params);
-    appendRays(params, j < wavePaths() ? 1u : 0u, j, 0u);
+    appendToQueue(params, pc.queue, true, j < wavePaths() ? 1u : 0u, j, 0u);
     if (j >= wavePaths()) return;
     const uint pixel = pc.firstPixel + j / pc.sampleCount;
     const uint sampleIndex = pc.firstSample + j % pc.sampleCount;
@@ -35,8 +35,10 @@ void main() {
     Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, kInfinity);
     Vec4Array(params.p.rayDirection).v[j] = vec4(direction, 0.0);
     Vec4Array(params.p.hitNormal).v[j] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending));
+    UVec4Array(params.p.hitIds).v[j] = uvec4(0u);
     Vec4Array(params.p.hitNormal).v[shadow] = vec4(0.0);
     Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
     Vec4Array(params.p.radiance).v[j] = vec4(0.0);
-    UVec4Array(params.p.pathInfo).v[j] = uvec4(pixel, sampleIndex, kPathAlive, 0u);
+    const uint walking = pc.mode == kGeneratePaths ? kPathWalkClosest : 0u;
+    UVec4Array(params.p.pathInfo).v[j] = uvec4(pixel, sampleIndex, kPathAlive | walking, 0u);
 }

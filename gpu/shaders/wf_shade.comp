@@ -1,8 +1,9 @@
-// One scattering event of every path of the wave (cpu/src/Integrators.cpp's tracePath and
-// ambientOcclusion, step for step): first the shadow ray of the previous event (the sun's
-// light, or the occlusion test), then the closest hit of this one: sky on a miss; emission,
-// next-event estimation to the sun (a shadow ray for the next stream), the Lambertian bounce
-// and Russian roulette on a hit. New rays are marked for walking.
+// One scattering event of each path in the shade queue, the paths whose rays are all walked
+// (cpu/src/Integrators.cpp's tracePath and ambientOcclusion, step for step): first the shadow
+// ray of the previous event (the sun's light, or the occlusion test), then the closest hit of
+// this one: sky on a miss; emission, next-event estimation to the sun (a shadow ray), the
+// Lambertian bounce and Russian roulette on a hit. New rays are queued on pc.queue for walking.
+// Each path carries its own bounce, so paths of one wave may be at different bounces.
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -18,6 +19,7 @@ void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tM
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
     Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
     Vec4Array(p.hitNormal).v[ray] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending | kRayFromSurface));
+    UVec4Array(p.hitIds).v[ray] = uvec4(0u);
 }
 
 // Shades path j; count, first and second: the rays it started (at most two), to be queued.
@@ -43,7 +45,7 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
         const vec4 hitNormal = Vec4Array(p.hitNormal).v[j];
         const vec3 direction = Vec4Array(p.rayDirection).v[j].xyz;
         vec3 throughput = Vec4Array(p.throughput).v[j].xyz;
-        const uint bounce = pc.bounce, pixel = info.x, sampleIndex = info.y;
+        const uint bounce = info.w, pixel = info.x, sampleIndex = info.y;
         if ((floatBitsToUint(hitNormal.w) & kHitFound) == 0u) {
             radiance = ao ? vec3(1.0) : radiance + throughput * skyRadiance(p, direction);
         } else {
@@ -53,7 +55,7 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
             if (ao) {
                 const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
                 startRay(p, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range);
-                flags |= kPathShadowPending;
+                flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             } else {
                 const WavefrontMaterial m = materialAt(p, UVec4Array(p.hitIds).v[j].y);
@@ -65,7 +67,7 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                     if (maxComponent(irradiance) > 0.0 && cosine > 0.0) {
                         Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
                         startRay(p, shadow, origin, sun, kInfinity);
-                        flags |= kPathShadowPending;
+                        flags |= kPathShadowPending | kPathWalkShadow;
                         first = shadow, count = 1u;
                     }
                     throughput *= base;
@@ -78,7 +80,8 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                     if (survives) {
                         Vec4Array(p.throughput).v[j] = vec4(throughput, 0.0);
                         startRay(p, j, origin, cosineDirection(n, pixel, sampleIndex, bounce, p.seed), kInfinity);
-                        flags |= kPathAlive;
+                        flags |= kPathAlive | kPathWalkClosest;
+                        info.w = bounce + 1u;
                         if (count == 0u) first = j; else second = j;
                         ++count;
                     }
@@ -92,8 +95,9 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
 }
 
 void main() {
-    const uint j = gl_GlobalInvocationID.x;
+    const uint k = gl_GlobalInvocationID.x;
+    ParamsRef params = ParamsRef(pc.params);
     uint count = 0u, first = 0u, second = 0u;
-    if (j < wavePaths()) shade(j, count, first, second);
-    appendRays(ParamsRef(pc.params), count, first, second);
+    if (k < queueCount(params, kShadeQueue)) shade(queueOf(params, kShadeQueue).v[k], count, first, second);
+    appendToQueue(params, pc.queue, true, count, first, second);
 }

@@ -1,15 +1,17 @@
-// One walk pass over a stream: the rays of queue pc.queue, the wave's closest-hit rays (index j)
-// and shadow rays (pathCapacity + j) that generate or shade started; in later passes the
-// ones still pending. Each ray walks its cells of the top-level tree front to back from where
-// its last pass stopped, and traces the cells whose chunks became resident for this pass
-// (chunkEpoch == pass). A chunk resident for an earlier pass of the stream was traced then by
-// every ray still pending now, so it is skipped even if it has been evicted since. A cell whose
-// chunk has not been resident in this stream adds the ray to that chunk's demand counter; the
-// ray stays pending and resumes at its first such cell in the next pass, after the host has
-// paged chunks in. So each chunk is paged in at most once per stream, and every pass pages in
-// at least one chunk: a stream ends after at most as many passes as it needs chunks. A cell is pruned once a hit lies before it (any hit, for shadow rays). Hits merge under
-// one total order (t, front before back, lower chunk), so the closest hit does not depend on
-// which chunks were resident when: an out-of-core render equals the in-core one bit for bit.
+// One walk pass: the rays of queue pc.queue, closest-hit rays (index j, path j) and shadow rays
+// (pathCapacity + j) that generate or shade started, and rays parked by earlier passes. Each ray
+// walks its cells of the top-level tree front to back and traces the resident ones. At the first
+// cell whose chunk is not resident it stops: it is parked there (the leaf is kept in its walk
+// record), counted in that chunk's demand counter, and queued on the other queue for the next
+// pass, after the host has paged chunks in; its walk goes on without tracing to count the chunks
+// of its later cells in their look-ahead counters (the pager decodes those early, fills free
+// slots with them and keeps them resident rather than others). A parked ray walks again from its start, skipping the
+// cells before the leaf it is parked at (traced, or pruned, before), so each cell is traced at
+// most once per ray and in the in-core order whatever was resident when: an out-of-core render
+// equals the in-core one bit for bit, cost AOV included. A cell is pruned once a hit lies before
+// it (any hit, for shadow rays); hits merge under one total order (t, front before back, lower
+// chunk). A ray that finishes clears its bit in its path's flags; the last of a path's rays to
+// finish queues the path for shading (kShadeQueue).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -35,7 +37,7 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 
 // The closest hit's record: position and geometric normal as core/PathShading.h evaluates them
 // (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them.
-void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk, uint flags) {
+void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk, uint flags, uint parkWord) {
     const ChunkView c = chunkView(s);
     UintArray indices = UintArray(c.indices);
     const vec3 v0 = vertex(c, indices.v[3u * h.triangle]);
@@ -51,31 +53,34 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk, u
     const uint material = (s.flags & kSlotMaterialIds) != 0u ? UintArray(s.materialIds).v[h.triangle] : 0u;
     Vec4Array(params.p.hitPosition).v[ray] = vec4(position, h.t);
     Vec4Array(params.p.hitNormal).v[ray] = vec4(nx, ny, nz, uintBitsToFloat(flags));
-    UVec4Array(params.p.hitIds).v[ray] = uvec4(primitive, material, chunk, 0u);
+    UVec4Array(params.p.hitIds).v[ray] = uvec4(primitive, material, chunk, parkWord);
 }
 
-shared uint groupRays;
-
-void main() {
-    const uint k = gl_GlobalInvocationID.x;
-    ParamsRef params = ParamsRef(pc.params);
-    const uint queued = RwUintArray(params.p.queueCounts).v[pc.queue];
-    const uint ray = k < queued ? rayQueue(params, pc.queue).v[k] : 0u;
+// Walks one ray; returns whether it is parked (queued again) and whether it finished the last
+// walk its path waited for (queued for shading).
+void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
+    parked = false, pathReady = false;
     const uint capacity = params.p.pathCapacity;
     const bool anyHit = ray >= capacity;
     const uint j = anyHit ? ray - capacity : ray;
     Vec4Array normals = Vec4Array(params.p.hitNormal);
-    uint flags = k < queued ? floatBitsToUint(normals.v[ray].w) : 0u;
+    UVec4Array ids = UVec4Array(params.p.hitIds);
+    uint flags = floatBitsToUint(normals.v[ray].w);
+    if ((flags & kRayPending) == 0u) return;
     RwUintArray demand = RwUintArray(params.p.demand);
     const uint chunkCount = params.p.chunkCount;
-    if (pc.pass == 0u) {  // every ray of the stream is pending in its first pass: count them
-        if (gl_LocalInvocationIndex == 0u) groupRays = 0u;
-        barrier();
-        if ((flags & kRayPending) != 0u) atomicAdd(groupRays, 1u);
-        barrier();
-        if (gl_LocalInvocationIndex == 0u && groupRays != 0u) atomicAdd(demand.v[chunkCount + 1u], groupRays);
+    UintArray topNodes = UintArray(params.p.topNodes);
+    UintArray chunkSlots = UintArray(params.p.chunkSlots);
+    const uint parkWord = ids.v[ray].w;  // the leaf it is parked at + 1, or 0
+    if (parkWord != 0u && pc.lookAhead == 0u) {  // still waiting: queued again without a walk
+        const uint chunk = topNodes.v[2u * (parkWord - 1u)];
+        if (chunkSlots.v[chunk] == kWalkNoHit) {
+            atomicAdd(demand.v[chunk], 1u);
+            atomicAdd(demand.v[chunkCount], 1u);
+            parked = true;
+            return;
+        }
     }
-    if ((flags & kRayPending) == 0u) return;
 
     gRayFromSurface = (flags & kRayFromSurface) != 0u;
     const vec4 o = Vec4Array(params.p.rayOrigin).v[ray], d = Vec4Array(params.p.rayDirection).v[ray];
@@ -84,18 +89,14 @@ void main() {
     bool found = (flags & kHitFound) != 0u;
     float bestT = found ? Vec4Array(params.p.hitPosition).v[ray].w : 0.0;
     bool bestFront = (flags & kHitFrontFacing) != 0u;
-    uint bestChunk = found ? UVec4Array(params.p.hitIds).v[ray].z : kWalkNoHit;
+    uint bestChunk = found ? ids.v[ray].z : kWalkNoHit;
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
-    bool newBest = false, missing = false;
-    uint bestSlot = 0u, cells = 0u, triangles = 0u;
-    float resume = d.w;
+    bool newBest = false, skipping = parkWord != 0u, lookingAhead = false;
+    uint bestSlot = 0u, cells = 0u, triangles = 0u, parkedLeaf = 0u;
 
     const ChunkView top = ChunkView(0ul, 0ul, 0ul, 0ul, 0ul, params.p.topNodeCount, false,
                                     vec3(params.p.boundsLoX, params.p.boundsLoY, params.p.boundsLoZ),
                                     vec3(params.p.boundsHiX, params.p.boundsHiY, params.p.boundsHiZ));
-    UintArray topNodes = UintArray(params.p.topNodes);
-    UintArray chunkSlots = UintArray(params.p.chunkSlots);
-    UintArray chunkEpoch = UintArray(params.p.chunkEpoch);
     SlotTable slots = SlotTable(params.p.slotTable);
     TraversalRay r;
     float t0 = d.w, t1 = tMax;
@@ -108,19 +109,21 @@ void main() {
                 continue;
             }
             const uint chunk = word0;  // a top-level leaf's first word is its chunk (kEmptyCell: none)
-            if (chunk < chunkCount) {
+            if (skipping && index + 1u == parkWord) skipping = false;
+            if (!skipping && chunk < chunkCount) {
                 precise float cellT0 = t0 - margin(r, t0);
                 precise float cellT1 = t1 + margin(r, t1);
                 if (found && (anyHit || bestT < cellT0)) {
                     if (anyHit) break;
+                } else if (lookingAhead) {
+                    atomicAdd(RwUintArray(params.p.ahead).v[chunk], 1u);
                 } else {
-                    const uint epoch = chunkEpoch.v[chunk];
-                    if (epoch == kNotResidentThisStream) {
-                        if (!missing) resume = t0;
-                        missing = true;
+                    const uint slot = chunkSlots.v[chunk];
+                    if (slot == kWalkNoHit) {
+                        parked = true, parkedLeaf = index, lookingAhead = true;
                         atomicAdd(demand.v[chunk], 1u);
-                    } else if (epoch == pc.pass) {
-                        const uint slot = chunkSlots.v[chunk];
+                        atomicAdd(demand.v[chunkCount], 1u);
+                    } else {
                         RwUintArray(params.p.touched).v[chunk] = 1u;
                         const float tMinCell = cppMax(0.0, cellT0);
                         const float tMaxCell = cppMin(found ? bestT : tMax, cellT1);
@@ -141,19 +144,34 @@ void main() {
             index = stackNode[stackSize], t0 = stackT0[stackSize], t1 = stackT1[stackSize];
         }
     }
-    if (anyHit && found) missing = false;  // blocked: nothing behind the hit matters
-    if (missing) atomicAdd(demand.v[chunkCount], 1u);
-    flags = (found ? kHitFound : 0u) | (bestFront && !anyHit ? kHitFrontFacing : 0u) | (missing ? kRayPending : 0u) |
+    flags = (found ? kHitFound : 0u) | (bestFront && !anyHit ? kHitFrontFacing : 0u) | (parked ? kRayPending : 0u) |
             (gRayFromSurface ? kRayFromSurface : 0u);
+    const uint newParkWord = parked ? parkedLeaf + 1u : 0u;
     if (newBest && !anyHit) {
-        writeHit(params, ray, slots.v[bestSlot], best, bestChunk, flags);
+        writeHit(params, ray, slots.v[bestSlot], best, bestChunk, flags, newParkWord);
     } else {
         normals.v[ray].w = uintBitsToFloat(flags);
+        if (newParkWord != parkWord) ids.v[ray].w = newParkWord;
     }
-    if (missing) Vec4Array(params.p.rayDirection).v[ray].w = resume;
     if ((params.p.aovs & kAovCostBit) != 0u && cells != 0u) {
         const uint pixel = j / pc.sampleCount;
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel], cells);
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel + 1u], triangles);
     }
+    if (!parked) {
+        const uint mine = anyHit ? kPathWalkShadow : kPathWalkClosest;
+        const uint before = atomicAnd(RwUintArray(params.p.pathInfo).v[4u * j + 2u], ~mine);
+        pathReady = (before & mine) != 0u && (before & (kPathWalkClosest | kPathWalkShadow) & ~mine) == 0u;
+    }
+}
+
+void main() {
+    const uint k = gl_GlobalInvocationID.x;
+    ParamsRef params = ParamsRef(pc.params);
+    const uint ray = k < queueCount(params, pc.queue) ? queueOf(params, pc.queue).v[k] : 0xFFFFFFFFu;
+    bool parked = false, pathReady = false;
+    if (ray != 0xFFFFFFFFu) walk(params, ray, parked, pathReady);
+    const uint capacity = params.p.pathCapacity;
+    appendToQueue(params, pc.queue ^ 1u, false, parked ? 1u : 0u, ray, 0u);
+    appendToQueue(params, kShadeQueue, false, pathReady ? 1u : 0u, ray >= capacity ? ray - capacity : ray, 0u);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Where the Vulkan backend's small tables lie in its one table buffer: the slot table, the
-// package's top-level tree, per chunk its slot, touched flag, epoch and demand counter, the
+// package's top-level tree, per chunk its slot, touched flag, demand and look-ahead counters, the
 // wavefront's parameters and the material table (byte offsets, 16-byte aligned).
 #include <cstdint>
 
@@ -12,7 +12,7 @@
 namespace vastray::gpu {
 
 struct TableLayout {
-    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, epoch = 0, demand = 0, queueCounts = 0, params = 0,
+    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, params = 0,
              materials = 0;
     uint64_t totalBytes = 0;
 };
@@ -24,10 +24,10 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.topNodes = align(slots * sizeof(ChunkSlot));
     t.chunkSlots = t.topNodes + align(package.topTree.size() * sizeof(KdNode));
     t.touched = t.chunkSlots + align(chunks * 4);
-    t.epoch = t.touched + align(chunks * 4);
-    t.demand = t.epoch + align(chunks * 4);
-    t.queueCounts = t.demand + align((chunks + 2) * 4);
-    t.params = t.queueCounts + align(2 * 4);
+    t.demand = t.touched + align(chunks * 4);
+    t.ahead = t.demand + align((chunks + 2) * 4);
+    t.queueCounts = t.ahead + align(chunks * 4);
+    t.params = t.queueCounts + align(3 * 4);
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.totalBytes = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
     return t;
@@ -45,7 +45,7 @@ inline StateLayout stateLayout(uint64_t paths) {
     s.rayOrigin = 0, s.rayDirection = rays, s.hitPosition = 2 * rays, s.hitNormal = 3 * rays, s.hitIds = 4 * rays;
     s.throughput = 5 * rays, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
     s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.queues = s.accum + perPath;
-    s.totalBytes = s.queues + 2 * (2 * paths * 4);
+    s.totalBytes = s.queues + 2 * (2 * paths * 4) + paths * 4;
     return s;
 }
 struct OutputLayout {
@@ -58,6 +58,6 @@ inline OutputLayout outputLayout(uint64_t pixels) {
     o.totalBytes = o.cost + 8 * pixels;
     return o;
 }
-static_assert(kBytesPerPath == 16 * 10 + 4 * 16 + 16 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 16 * 10 + 4 * 16 + 16 + 4 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

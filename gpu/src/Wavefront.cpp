@@ -43,6 +43,9 @@ enum Kernel : int {
     kAov = StreamingStats::kKernelAov,
     kNoKernel = -1
 };
+// Walk passes per paging step out of core (with shading between them): enough for paths that
+// stay in resident chunks to go on for a few bounces before the host pages again.
+constexpr uint32_t kPassesPerPagingStep = 3;
 // Timestamps one submission takes at most; commands beyond them go untimed.
 constexpr uint32_t kMaxQueries = 16384;
 
@@ -128,7 +131,7 @@ public:
     Run(Wavefront& w, const WavefrontBuffers& b, const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
         StreamingStats& stats, double& deviceSeconds)
         : w_(w), b_(b), job_(job), options_(*job.options), pager_(pager), image_(image), stats_(stats),
-          deviceSeconds_(deviceSeconds), epochs_(b.chunkCount, 0), queries_(w.device_) {}
+          deviceSeconds_(deviceSeconds), queries_(w.device_) {}
 
     Status execute() {
         VASTRAY_TRY(uploadParams());
@@ -153,11 +156,8 @@ public:
 
 private:
     const Pipelines& kernels() const { return w_.pipelines_; }
-    bool streamsNeedPaging() const { return !pager_.allResident(); }
 
     Status renderTile(uint32_t first, uint32_t count, uint32_t samplesPerWave) {
-        const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
-        const uint32_t streams = ao ? 2u : options_.maxDepth + 1u;
         const OutputLayout out = outputLayout(b_.pathCapacity);
         const StateLayout state = stateLayout(b_.pathCapacity);
         record([=, this](VkCommandBuffer cmd) {
@@ -166,10 +166,10 @@ private:
             barrier(cmd);
         });
         if (image_.aovs & ~kAovCost) {
-            const WavefrontPush push = makePush(first, count, 0, 1, kGenerateAov);
+            WavefrontPush push = makePush(first, count, 0, 1, kGenerateAov);
             clearQueue(push.queue);
             dispatch(*kernels().generate, kGenerate, push, count);
-            VASTRAY_TRY(stream(push));
+            VASTRAY_TRY(walkWave(push, false));
             dispatch(*kernels().aov, kAov, push, count);
         }
         for (uint32_t s0 = 0; s0 < options_.samplesPerPixel; s0 += samplesPerWave) {
@@ -178,13 +178,7 @@ private:
             WavefrontPush push = makePush(first, count, s0, samples, kGeneratePaths);
             clearQueue(push.queue);
             dispatch(*kernels().generate, kGenerate, push, uint64_t(count) * samples);
-            for (uint32_t bounce = 0; bounce < streams; ++bounce) {
-                VASTRAY_TRY(stream(push));
-                // The rays shade starts go to the other queue: the next stream's.
-                push.bounce = bounce, push.queue ^= 1u;
-                clearQueue(push.queue);
-                dispatch(*kernels().shade, kShade, push, uint64_t(count) * samples);
-            }
+            VASTRAY_TRY(walkWave(push, true));
             push.mode = s0 + samples == options_.samplesPerPixel ? 1u : 0u;
             dispatch(*kernels().accumulate, kAccumulate, push, count);
         }
@@ -192,7 +186,7 @@ private:
         return readTile(first, count);
     }
 
-    // Empties ray queue q (its count) before kernels append to it.
+    // Empties queue q (its count) before kernels append to it.
     void clearQueue(uint32_t q) {
         record([this, q](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * q, 4, 0);
@@ -208,51 +202,80 @@ private:
         return p;
     }
 
-    // Walks the stream's pending rays until none waits. In core one pass, recorded behind the
-    // previous kernels; out of core a submitted pass per paging step.
-    Status stream(WavefrontPush push) {
+    // One walk pass over queue push.queue (its parked rays go to the other queue, which becomes
+    // push.queue), then, when shading, the shading of the paths it finished (their new rays join
+    // the parked ones).
+    // With lookAhead, parked rays walk again (whether or not their chunk came) and count the
+    // chunks they reach later (the look-ahead counters are cleared first).
+    void walkRound(WavefrontPush& push, bool shade, bool countDemand, bool lookAhead) {
         const uint64_t rays = 2ull * push.pixelCount * push.sampleCount;
-        if (!streamsNeedPaging()) {
-            if (epochsDirty_) {
-                VASTRAY_TRY(flush());
-                std::fill(epochs_.begin(), epochs_.end(), 0);
-                VASTRAY_TRY(uploadResidency());
-            }
-            push.pass = 0;
-            dispatch(*kernels().walk, kWalk, push, rays);
-            ++stats_.walkPasses;
-            return Status::ok();
-        }
-        VASTRAY_TRY(flush());
-        pager_.beginStream();
-        const std::span<const uint32_t> slots = pager_.chunkSlots();
-        for (size_t c = 0; c < epochs_.size(); ++c) epochs_[c] = slots[c] == kEmptyCell ? kNotResidentThisStream : 0;
-        VASTRAY_TRY(uploadResidency());
-        VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
-        std::vector<uint32_t> demand(b_.chunkCount + 1);
-        for (uint32_t pass = 0;; ++pass) {
-            if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
-            push.pass = pass;
-            record([this](VkCommandBuffer cmd) {
-                vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand, (uint64_t(b_.chunkCount) + 1) * 4, 0);
+        clearQueue(push.queue ^ 1u);
+        if (countDemand || lookAhead)
+            record([this, countDemand, lookAhead](VkCommandBuffer cmd) {
+                if (countDemand)
+                    vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand, (uint64_t(b_.chunkCount) + 1) * 4, 0);
+                if (lookAhead) vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.ahead, uint64_t(b_.chunkCount) * 4, 0);
                 barrier(cmd);
             });
-            dispatch(*kernels().walk, kWalk, push, rays);
-            ++stats_.walkPasses;
+        push.lookAhead = lookAhead ? 1u : 0u;
+        dispatch(*kernels().walk, kWalk, push, rays);
+        ++stats_.walkPasses;
+        push.queue ^= 1u;
+        if (shade) shadeReady(push);
+    }
+    void shadeReady(const WavefrontPush& push) {
+        dispatch(*kernels().shade, kShade, push, uint64_t(push.pixelCount) * push.sampleCount);
+        clearQueue(kShadeQueue);
+    }
+
+    // Runs the wave's rays (and, when shading, its paths to their ends) from queue push.queue.
+    // In core: one walk pass and one shading per scattering event, recorded behind the previous
+    // kernels. Out of core: paging steps; each submits a few walk passes with shading between
+    // them (a path goes on at once while its chunks are resident), reads the per-chunk demand
+    // of the rays parked by the last one and the queue sizes, and lets the pager page in the
+    // chunks the parked rays wait for. Paths at different bounces share the steps, so a chunk's
+    // residency serves every bounce that needs it.
+    Status walkWave(WavefrontPush& push, bool shade) {
+        const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
+        const uint32_t events = !shade ? 1u : ao ? 2u : options_.maxDepth + 1u;
+        record([this](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * kShadeQueue, 4, 0);
+            barrier(cmd);
+        });
+        if (pager_.allResident()) {
+            for (uint32_t e = 0; e < events; ++e) walkRound(push, shade, false, false);
+            return Status::ok();
+        }
+        pager_.beginStream();
+        std::vector<uint32_t> waveTouched(b_.chunkCount, 0), touched(b_.chunkCount);
+        std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(3);
+        for (uint64_t step = 0;; ++step) {
+            if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
+            if (step > 0 && shade) shadeReady(push);  // the paths the last step's final pass finished
+            record([this](VkCommandBuffer cmd) {
+                vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
+                barrier(cmd);
+            });
+            for (uint32_t r = 0; r < kPassesPerPagingStep; ++r) {
+                const bool last = r + 1 == kPassesPerPagingStep;
+                walkRound(push, shade && !last, last, r == 0);
+            }
             VASTRAY_TRY(flush());
             VASTRAY_TRY(download(demand.data(), demand.size() * 4, *b_.table, b_.tables.demand));
-            if (demand[b_.chunkCount] == 0) break;
-            auto loaded = pager_.page(std::span<const uint32_t>(demand).first(b_.chunkCount));
+            VASTRAY_TRY(download(ahead.data(), ahead.size() * 4, *b_.table, b_.tables.ahead));
+            VASTRAY_TRY(download(counts.data(), counts.size() * 4, *b_.table, b_.tables.queueCounts));
+            VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
+            for (size_t c = 0; c < touched.size(); ++c) waveTouched[c] |= touched[c];
+            pager_.markUsed(touched);
+            if (counts[push.queue] == 0 && counts[kShadeQueue] == 0) break;
+            if (demand[b_.chunkCount] == 0) continue;  // nobody waits: the finished paths go on
+            auto loaded = pager_.page(std::span<const uint32_t>(demand).first(b_.chunkCount), ahead);
             if (!loaded) return loaded.status();
             if (loaded->empty())
                 return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");
-            for (uint32_t c : *loaded) epochs_[c] = pass + 1;
-            epochsDirty_ = true;
             VASTRAY_TRY(uploadResidency());
         }
-        std::vector<uint32_t> touched(b_.chunkCount);
-        VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
-        pager_.streamTouched(touched);
+        pager_.streamTouched(waveTouched);
         return Status::ok();
     }
 
@@ -297,7 +320,7 @@ private:
         const uint64_t table = b_.table->address(), state = b_.state->address(), out = b_.output->address();
         const TableLayout& t = b_.tables;
         p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
-        p.chunkEpoch = table + t.epoch, p.touched = table + t.touched, p.demand = table + t.demand;
+        p.touched = table + t.touched, p.demand = table + t.demand, p.ahead = table + t.ahead;
         p.materials = table + t.materials;
         const StateLayout s = stateLayout(b_.pathCapacity);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
@@ -330,8 +353,7 @@ private:
 
     Status uploadResidency() {
         const std::span<const uint32_t> slots = pager_.chunkSlots();
-        VASTRAY_TRY(uploadBytes(slots.data(), slots.size_bytes(), b_.tables.chunkSlots));
-        return upload(epochs_, b_.tables.epoch);
+        return uploadBytes(slots.data(), slots.size_bytes(), b_.tables.chunkSlots);
     }
 
     template <typename T>
@@ -410,8 +432,6 @@ private:
     RenderImage& image_;
     StreamingStats& stats_;
     double& deviceSeconds_;
-    std::vector<uint32_t> epochs_;  // per chunk: WavefrontParams::chunkEpoch
-    bool epochsDirty_ = false;
     std::vector<Op> ops_;
     QueryPool queries_;
 };

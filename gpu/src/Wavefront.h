@@ -1,9 +1,10 @@
 #pragma once
 // The device wavefront: a whole render as compute kernels over path state in device memory
 // (wf_generate, wf_walk, wf_shade, wf_accumulate, wf_aov). The host records one command buffer
-// per tile when every chunk is resident; otherwise it submits each walk pass, reads the
-// per-chunk demand counters, and lets the pager page chunks in before the next pass. Only the
-// counters and the finished tile's pixels come back.
+// per tile when every chunk is resident; otherwise it submits paging steps (a few walk passes
+// with shading between them), reads the per-chunk demand counters of the parked rays, and lets
+// the pager page chunks in before the next step. Only the counters and the finished tile's
+// pixels come back.
 #include <memory>
 
 #include "PoolLayout.h"

@@ -16,23 +16,29 @@ layout(push_constant, std430) uniform PushBlock { WavefrontPush pc; };
 // Index of path j's shadow ray among the rays.
 uint shadowRayIndex(WavefrontParams p, uint j) { return p.pathCapacity + j; }
 
-// Ray queue q: the ray indices a stream walks, dense, in no particular order (each ray's walk
-// is independent of the others', so the order changes nothing but the schedule).
-RwUintArray rayQueue(ParamsRef params, uint q) { return RwUintArray(params.p.queues + uint64_t(q) * 8ul * params.p.pathCapacity); }
+// Queue q: ray queues 0 and 1 (the ray indices a walk pass walks, and the ones the next pass
+// walks), or kShadeQueue (the paths whose rays are all walked); dense, in no particular order
+// (each ray's walk and each path's shading is independent of the others', so the order changes
+// nothing but the schedule).
+RwUintArray queueOf(ParamsRef params, uint q) { return RwUintArray(params.p.queues + uint64_t(q) * 8ul * params.p.pathCapacity); }
+uint queueCount(ParamsRef params, uint q) { return RwUintArray(params.p.queueCounts).v[q]; }
 
-// Appends up to two rays per invocation to queue pc.queue: one atomic per workgroup reserves
-// the group's range. Every invocation of the workgroup must call it (it has barriers).
+// Appends up to two entries per invocation to queue q: one atomic per workgroup reserves the
+// group's range. With `started`, the entries are rays that begin their walk, counted in
+// demand[chunkCount + 1]. Every invocation of the workgroup must call it (it has barriers).
 shared uint groupAppendCount;
 shared uint groupAppendBase;
-void appendRays(ParamsRef params, uint count, uint first, uint second) {
+void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint first, uint second) {
     if (gl_LocalInvocationIndex == 0u) groupAppendCount = 0u;
     barrier();
     const uint local = count > 0u ? atomicAdd(groupAppendCount, count) : 0u;
     barrier();
-    if (gl_LocalInvocationIndex == 0u)
-        groupAppendBase = groupAppendCount > 0u ? atomicAdd(RwUintArray(params.p.queueCounts).v[pc.queue], groupAppendCount) : 0u;
+    if (gl_LocalInvocationIndex == 0u && groupAppendCount > 0u) {
+        groupAppendBase = atomicAdd(RwUintArray(params.p.queueCounts).v[q], groupAppendCount);
+        if (started) atomicAdd(RwUintArray(params.p.demand).v[params.p.chunkCount + 1u], groupAppendCount);
+    }
     barrier();
-    RwUintArray queue = rayQueue(params, pc.queue);
+    RwUintArray queue = queueOf(params, q);
     if (count > 0u) queue.v[groupAppendBase + local] = first;
     if (count > 1u) queue.v[groupAppendBase + local + 1u] = second;
 }

@@ -19,26 +19,28 @@ const uint kWavefrontWorkgroupSize = 64u;
 const uint kPathAlive = 1u;          // has a closest-hit ray to trace at the next stream
 const uint kPathShadowPending = 2u;  // has a shadow ray in the current stream
 const uint kPathCameraHit = 4u;      // its camera ray hit geometry (alpha)
+const uint kPathWalkClosest = 8u;    // its closest-hit ray is still being walked
+const uint kPathWalkShadow = 16u;    // its shadow ray is still being walked
 
 // Walk record flags (hitNormal .w as bits), besides kHitFound and kHitFrontFacing.
-const uint kRayPending = 4u;      // still to be walked: a cell it needs was not resident yet
+const uint kRayPending = 4u;      // still to be walked: started, or parked at a cell whose chunk was not resident
 const uint kRayFromSurface = 8u;  // leaves a surface: hits within t's rounding error are refused
-
-// WavefrontParams::chunkEpoch of a chunk that has not been resident in this stream.
-const uint kNotResidentThisStream = 0xFFFFFFFFu;
 
 // WavefrontParams::integrator.
 const uint kIntegratorPath = 0u;
 const uint kIntegratorAo = 1u;
+
+// The queue of paths ready to shade (WavefrontParams::queues, queueCounts).
+const uint kShadeQueue = 2u;
 
 // WavefrontPush::mode of wf_generate.comp.
 const uint kGeneratePaths = 0u;  // jittered camera rays of (pixel, sample) paths
 const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
 
 // Device bytes per path of the state arrays (two rays with their walk records, four path
-// vectors, a slot in each of the two ray queues for each ray) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
+// vectors, a slot in each of the two ray queues for each ray, a slot in the shade queue) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
 // waves from the budget with these.
-const uint kBytesPerPath = 2u * (16u + 16u + 16u + 16u + 16u) + 4u * 16u + 2u * 2u * 4u;
+const uint kBytesPerPath = 2u * (16u + 16u + 16u + 16u + 16u) + 4u * 16u + 2u * 2u * 4u + 4u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
@@ -56,24 +58,27 @@ struct WavefrontParams {
     uint64_t slotTable;    // ChunkSlot per slot
     uint64_t topNodes;     // the package's top-level tree (KdNode; a leaf's first word is its chunk)
     uint64_t chunkSlots;   // per chunk: its slot, or kWalkNoHit when not resident
-    uint64_t chunkEpoch;   // per chunk: the walk pass of this stream it was paged in for (resident at
-                           // the stream's start: 0), or kNotResidentThisStream
     uint64_t touched;      // per chunk: set to 1 when a ray traces one of its cells
-    uint64_t demand;       // per chunk: rays that wait for it (this pass); [chunkCount]: all waiting
-                           // rays; [chunkCount + 1]: rays walked (counted at each stream's first pass)
+    uint64_t demand;       // per chunk: rays parked at one of its cells (last walk pass); [chunkCount]:
+                           // all parked rays; [chunkCount + 1]: rays started (camera, shadow, bounce)
+    uint64_t ahead;        // per chunk: parked rays (of the last walk pass) that reach one of its
+                           // cells after the one they wait at, unless a hit prunes it first
     uint64_t materials;    // WavefrontMaterial per material
     uint64_t rayOrigin;    // vec4: origin, tMax
-    uint64_t rayDirection; // vec4: direction, where the walk resumes (t)
+    uint64_t rayDirection; // vec4: direction, tMin (0)
     uint64_t hitPosition;  // vec4: position, t (closest-hit rays)
     uint64_t hitNormal;    // vec4: geometric normal (not normalized), flags as bits
-    uint64_t hitIds;       // uvec4: primitive, material, chunk, 0
+    uint64_t hitIds;       // uvec4: primitive, material, chunk (closest-hit rays); the top-level
+                           // leaf the ray is parked at + 1, or 0 (every ray)
     uint64_t throughput;   // vec4 per path
     uint64_t radiance;     // vec4 per path
     uint64_t pendingSun;   // vec4 per path: the sun's light, added if the shadow ray is unblocked
-    uint64_t pathInfo;     // uvec4 per path: pixel, sample, flags, 0
+    uint64_t pathInfo;     // uvec4 per path: pixel, sample, flags, bounce of its closest-hit ray
     uint64_t queues;       // two ray queues of 2 * pathCapacity ray indices each (queue q at
-                           // queues + q * 8 * pathCapacity bytes): the rays a stream walks
-    uint64_t queueCounts;  // two uints: the rays in each queue
+                           // queues + q * 8 * pathCapacity bytes): the rays a walk pass walks and
+                           // the rays the next one walks; then the shade queue (kShadeQueue) of
+                           // pathCapacity path indices: the paths whose rays are all walked
+    uint64_t queueCounts;  // three uints: the entries of each queue
     uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
     uint64_t outColor;     // vec4 per tile pixel: mean radiance, alpha
     uint64_t outDepth;     // float per tile pixel
@@ -117,10 +122,10 @@ struct WavefrontPush {
     uint firstSample;
     uint sampleCount;
     uint bounce;   // wf_shade.comp: the scattering event being shaded
-    uint pass;     // wf_walk.comp: the walk pass within this stream
+    uint lookAhead; // wf_walk.comp: 1 = parked rays walk again (no shortcut) and count ahead
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
-    uint queue;    // wf_walk.comp: the queue it walks; wf_generate.comp, wf_shade.comp: the queue
-                   // their new rays are appended to
+    uint queue;    // wf_walk.comp: the queue it walks (parked rays go to the other one);
+                   // wf_generate.comp, wf_shade.comp: the queue their new rays are appended to
 };
 
 #ifdef __cplusplus

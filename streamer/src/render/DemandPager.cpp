@@ -26,6 +26,12 @@ bool DemandPager::allResident() const {
     return std::none_of(chunkSlot_.begin(), chunkSlot_.end(), [](uint32_t slot) { return slot == kEmptyCell; });
 }
 
+void DemandPager::markUsed(std::span<const uint32_t> touched) {
+    const uint64_t now = ++tick_;
+    for (size_t c = 0; c < touched.size() && c < chunkSlot_.size(); ++c)
+        if (touched[c] && chunkSlot_[c] != kEmptyCell) slotLastUse_[chunkSlot_[c]] = now;
+}
+
 void DemandPager::streamTouched(std::span<const uint32_t> touched) {
     for (size_t c = 0; c < touched.size() && c < touched_.size(); ++c) {
         if (!touched[c]) continue;
@@ -47,30 +53,51 @@ std::vector<uint8_t> singleSidedFlags(const PackageInfo& package, const ChunkAtt
     return out;
 }
 
-Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand) {
-    std::vector<uint32_t> wanted;
-    for (uint32_t c = 0; c < chunkSlot_.size() && c < demand.size(); ++c)
-        if (demand[c] > 0 && chunkSlot_[c] == kEmptyCell) wanted.push_back(c);
-    // Most waiting rays first; the chunk id breaks ties, so the schedule is deterministic.
+Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand, std::span<const uint32_t> ahead) {
+    const uint32_t chunks = uint32_t(chunkSlot_.size());
+    auto count = [](std::span<const uint32_t> counts, uint32_t c) { return c < counts.size() ? counts[c] : 0u; };
+    // Most waiting rays first, then most rays reaching the chunk later; the chunk id breaks
+    // ties, so the schedule is deterministic.
+    std::vector<uint32_t> wanted, later;
+    for (uint32_t c = 0; c < chunks; ++c) {
+        if (chunkSlot_[c] != kEmptyCell) continue;
+        if (count(demand, c) > 0) wanted.push_back(c);
+        else if (count(ahead, c) > 0) later.push_back(c);
+    }
     std::stable_sort(wanted.begin(), wanted.end(), [&](uint32_t a, uint32_t b) { return demand[a] > demand[b]; });
-    for (uint32_t c : wanted) cache_.prefetch(c);  // decode them on the workers, in parallel
-    if (wanted.size() > slotChunk_.size()) wanted.resize(slotChunk_.size());
-    // Victims: empty slots, then slots whose chunk nobody waits for, least recently used first.
-    std::vector<uint32_t> slots(slotChunk_.size());
+    std::stable_sort(later.begin(), later.end(), [&](uint32_t a, uint32_t b) { return ahead[a] > ahead[b]; });
+    const size_t slotCount = slotChunk_.size();
+    // Decode on the workers, in parallel: what is loaded now, and the chunks rays reach later,
+    // as many as there are slots or as half the host cache holds, whichever is more (a
+    // prefetched chunk stays in the host cache until used).
+    for (uint32_t c : wanted) cache_.prefetch(c);
+    uint64_t prefetchBytes = 0;
+    for (size_t i = 0; i < later.size(); ++i) {
+        prefetchBytes += package_.chunks[later[i]].residentBytes;
+        if (i >= slotCount && prefetchBytes > cache_.capacity() / 2) break;
+        cache_.prefetch(later[i]);
+    }
+    if (wanted.size() > slotCount) wanted.resize(slotCount);
+    // Victims: empty slots, then slots whose chunk nobody waits for, those no ray reaches
+    // later, least recently used first.
+    std::vector<uint32_t> slots(slotCount);
     std::iota(slots.begin(), slots.end(), 0u);
     auto waitedFor = [&](uint32_t slot) {
         const uint32_t c = slotChunk_[slot];
-        return c != kEmptyCell && c < demand.size() && demand[c] > 0;
+        return c != kEmptyCell && count(demand, c) > 0;
+    };
+    auto reachedLater = [&](uint32_t slot) {
+        const uint32_t c = slotChunk_[slot];
+        return c != kEmptyCell && count(ahead, c) > 0;
     };
     std::stable_sort(slots.begin(), slots.end(), [&](uint32_t a, uint32_t b) {
         if ((slotChunk_[a] == kEmptyCell) != (slotChunk_[b] == kEmptyCell)) return slotChunk_[a] == kEmptyCell;
         if (waitedFor(a) != waitedFor(b)) return !waitedFor(a);
+        if (reachedLater(a) != reachedLater(b)) return !reachedLater(a);
         return slotLastUse_[a] < slotLastUse_[b];
     });
     std::vector<uint32_t> loaded;
-    for (size_t i = 0; i < wanted.size(); ++i) {
-        const uint32_t chunk = wanted[i], slot = slots[i];
-        if (waitedFor(slot)) break;  // never evict a chunk rays still wait for
+    auto load = [&](uint32_t chunk, uint32_t slot) -> Status {
         auto decoded = cache_.get(chunk);
         if (!decoded) return decoded.status();
         if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell;
@@ -82,7 +109,16 @@ Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand
         if (seenThisStream_[chunk]) ++stats_.streamReloads;
         seenThisStream_[chunk] = 1;
         loaded.push_back(chunk);
+        return Status::ok();
+    };
+    size_t next = 0;
+    for (; next < wanted.size(); ++next) {
+        if (waitedFor(slots[next])) break;  // never evict a chunk rays still wait for
+        VASTRAY_TRY(load(wanted[next], slots[next]));
     }
+    // Slots still empty take the chunks most rays reach later (nothing is evicted for them).
+    for (size_t i = 0; i < later.size() && next < slotCount && slotChunk_[slots[next]] == kEmptyCell; ++i, ++next)
+        VASTRAY_TRY(load(later[i], slots[next]));
     return loaded;
 }
 

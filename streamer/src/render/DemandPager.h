@@ -25,7 +25,8 @@ public:
     uint64_t chunksTouchedThisRender() const { return touchedThisRender_; }
 
     void beginStream() override;
-    Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand) override;
+    Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand, std::span<const uint32_t> ahead = {}) override;
+    void markUsed(std::span<const uint32_t> touched) override;
     void streamTouched(std::span<const uint32_t> touched) override;
     std::span<const uint32_t> chunkSlots() const override { return chunkSlot_; }
     bool allResident() const override;

@@ -1,6 +1,8 @@
 // A package opened for rendering on a backend that runs the whole path tracer on its device
 // (ChunkBackend::renderOnDevice): this file opens the backend, the host chunk cache and the
 // pager, hands renders to the device, and reports each render's figures.
+#include <unistd.h>
+
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -63,7 +65,15 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     // render mostly waits for decoding: two workers there (1M-4M city on the 2-core machine).
     const uint32_t cores = std::max(1u, std::thread::hardware_concurrency());
     const uint32_t workers = options.decodeThreads > 0 ? options.decodeThreads : cores <= 2 ? cores : cores - 1;
-    s.cache = std::make_unique<ChunkCache>(reader, options.hostCacheBytes, workers);
+    uint64_t hostCache = options.hostCacheBytes;
+    if (hostCache == StreamingOptions::kHostCacheAuto) {
+        uint64_t decoded = 0;
+        for (const ChunkInfo& c : reader.info().chunks) decoded += c.residentBytes;
+        const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
+        const uint64_t memory = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 4ull << 30;
+        hostCache = std::min(decoded, memory / 4);
+    }
+    s.cache = std::make_unique<ChunkCache>(reader, hostCache, workers);
     s.pager = std::make_unique<DemandPager>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
     return scene;
 }

@@ -133,5 +133,35 @@ TEST_F(DemandPagerTest, AllResidentOnceEveryChunkHasASlot) {
     EXPECT_TRUE(p->allResident());
 }
 
+TEST_F(DemandPagerTest, FillsFreeSlotsWithChunksRaysReachLater) {
+    RecordingBackend backend(3);
+    auto p = pager(backend);
+    p->beginStream();
+    // Rays wait for chunk 0; behind it they reach chunk 2 (3 rays) and chunk 5 (7 rays).
+    auto loaded = p->page(demand({{0, 4}}), demand({{2, 3}, {5, 7}}));
+    ASSERT_TRUE(loaded) << loaded.message();
+    EXPECT_EQ(*loaded, (std::vector<uint32_t>{0, 5, 2})) << "waited for first, then most reached later";
+    // All slots are taken now: a chunk only reached later evicts nothing.
+    loaded = p->page(demand({}), demand({{4, 9}}));
+    ASSERT_TRUE(loaded) << loaded.message();
+    EXPECT_TRUE(loaded->empty());
+    EXPECT_EQ(p->chunkSlots()[4], kEmptyCell);
+}
+
+TEST_F(DemandPagerTest, EvictsChunksNoRayReachesLaterFirst) {
+    RecordingBackend backend(2);
+    auto p = pager(backend);
+    p->beginStream();
+    ASSERT_TRUE(p->page(demand({{0, 2}, {1, 1}})));
+    std::vector<uint32_t> touched(reader_->info().chunks.size(), 0);
+    touched[1] = 1;  // chunk 1 is the more recently used
+    p->markUsed(touched);
+    // Rays wait for chunk 3 and will reach chunk 0 after it: chunk 1 goes, although more recent.
+    ASSERT_TRUE(p->page(demand({{3, 5}}), demand({{0, 5}})));
+    EXPECT_NE(p->chunkSlots()[0], kEmptyCell);
+    EXPECT_EQ(p->chunkSlots()[1], kEmptyCell);
+    EXPECT_NE(p->chunkSlots()[3], kEmptyCell);
+}
+
 }  // namespace
 }  // namespace vastray::test

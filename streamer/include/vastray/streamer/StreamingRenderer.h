@@ -48,18 +48,25 @@ inline ChunkLayout chunkLayout(const ChunkInfo& c, const ChunkAttributes& attrib
 struct StreamingStats;
 
 // Residency of chunks in a backend's slots, driven by demand (the pager). A device wavefront
-// asks it, between walk passes, to page in the chunks its waiting rays counted; it decides
+// asks it, between paging steps, to page in the chunks its parked rays wait for; it decides
 // what to load and evict, and loads through ChunkBackend::load. Backends never decide what to load.
 class ChunkPager {
 public:
     virtual ~ChunkPager() = default;
-    // A new ray stream starts: every chunk resident now counts as traced by its first pass.
+    // A new ray stream (a wave's rays, all bounces) starts: a chunk loaded again before the next
+    // beginStream counts as a reload.
     virtual void beginStream() = 0;
-    // demand[c] rays wait for chunk c (chunks that are resident have none). Loads the most
-    // wanted chunks (as many as there are slots), evicting chunks nobody waits for, least
-    // recently used first. Returns the chunks it loaded.
-    virtual Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand) = 0;
-    // Per chunk, set by the device: nonzero when a ray of this stream traced one of its cells.
+    // demand[c] rays wait for chunk c (chunks that are resident have none); ahead[c] (empty, or
+    // one entry per chunk) of them reach chunk c later on. Loads the most wanted chunks (as many
+    // as there are slots), evicting chunks nobody waits for, those no ray reaches later and the
+    // least recently used first; fills slots still empty with the chunks most rays reach later.
+    // Returns the chunks it loaded.
+    virtual Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand,
+                                               std::span<const uint32_t> ahead = {}) = 0;
+    // Per chunk, set by the device: nonzero when a ray traced one of its cells in the last
+    // paging step (recency for eviction).
+    virtual void markUsed(std::span<const uint32_t> touched) = 0;
+    // The same for the whole stream: recency, and the stream's chunks-touched figure.
     virtual void streamTouched(std::span<const uint32_t> touched) = 0;
     virtual std::span<const uint32_t> chunkSlots() const = 0;  // per chunk: its slot or kEmptyCell
     virtual bool allResident() const = 0;                      // every chunk has a slot
@@ -104,7 +111,10 @@ using ChunkBackendFactory =
     std::function<Result<std::unique_ptr<ChunkBackend>>(const PackageInfo& package, const ChunkAttributes& attributes)>;
 
 struct StreamingOptions {
-    uint64_t hostCacheBytes = 1ull << 30;  // decoded chunks kept on the host; 0: none kept
+    // Decoded chunks kept on the host; 0: none kept; kHostCacheAuto: the whole decoded scene,
+    // up to a quarter of the machine's memory (a chunk paged out and in again then decodes once).
+    static constexpr uint64_t kHostCacheAuto = ~0ull;
+    uint64_t hostCacheBytes = kHostCacheAuto;
     uint32_t maxPathsPerWave = 1u << 21;   // (pixel, sample) paths traced together per wave
     uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one (two on two cores)
 };
