@@ -25,8 +25,9 @@ static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 // Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
 // granularity keeps the allocated total under the budget.
 constexpr uint64_t kAllocationGranule = 64 * 1024;
-// Device bytes of one path of a wave: its state, and at most one tile pixel's sum and outputs.
-constexpr uint64_t kRayBytes = kBytesPerPath + kBytesPerTilePixel;
+// Device bytes of one path of a wave: its state, and at most one tile pixel's sum and outputs
+// when those are in device memory.
+uint64_t rayBytes(bool outputInDeviceMemory) { return kBytesPerPath + (outputInDeviceMemory ? kBytesPerTilePixel : 0); }
 
 // Copies to or from a mapped buffer in 256 KiB pieces on all cores: one core writing through a
 // write-combined mapping manages a few GB/s, well below what PCIe takes (most arrays of a
@@ -45,9 +46,10 @@ Status copyInPieces(uint64_t size, Copy&& copy) {
 }
 
 uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
-// The wavefront's buffers for `paths` paths: device-local state, and the tile outputs the host reads.
-uint64_t batchBytes(uint64_t paths) {
-    return granules(stateLayout(paths).totalBytes) + granules(outputLayout(paths).totalBytes);
+// Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile
+// outputs the host reads when they are in device memory.
+uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory) {
+    return granules(stateLayout(paths).totalBytes) + (outputInDeviceMemory ? granules(outputLayout(paths).totalBytes) : 0);
 }
 
 class VulkanChunkBackend final : public ChunkBackend {
@@ -78,7 +80,8 @@ public:
         auto output = device_.createBuffer(outputLayout(plan_.batchRays).totalBytes, VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
-        allocated_ = table_.allocatedBytes() + state_.allocatedBytes() + output_.allocatedBytes();
+        allocated_ = table_.allocatedBytes() + state_.allocatedBytes() +
+                     (plan_.outputInDeviceMemory ? output_.allocatedBytes() : 0);
         for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
         const std::vector<ChunkSlot> empty(plan_.slots, ChunkSlot{});
         VASTRAY_TRY(table_.upload(empty.data(), empty.size() * sizeof(ChunkSlot)));
@@ -186,8 +189,12 @@ private:
 
 }  // namespace
 
-Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget) {
+Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
+                          bool outputInDeviceMemory) {
     PoolPlan plan;
+    plan.outputInDeviceMemory = outputInDeviceMemory;
+    auto batchBytes = [outputInDeviceMemory](uint64_t paths) { return gpu::batchBytes(paths, outputInDeviceMemory); };
+    const uint64_t kRayBytes = rayBytes(outputInDeviceMemory);
     uint64_t largest = 0;
     for (const ChunkInfo& c : package.chunks) largest = std::max(largest, chunkLayout(c, attributes).totalBytes);
     plan.slotBytes = largest;
@@ -230,7 +237,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
 
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget) {
-    auto plan = planPool(package, attributes, budget);
+    auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory());
     if (!plan) return plan.status();
     auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes);
     VASTRAY_TRY(backend->init(package));

@@ -189,6 +189,13 @@ Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits, MemoryUse use) 
     return Status::error("no host-visible coherent memory type for a buffer");
 }
 
+bool VulkanDevice::readbackInDeviceMemory() const {
+    auto type = findMemoryType(~0u, MemoryUse::Readback);
+    if (!type) return true;
+    const uint32_t heap = memoryProperties_.memoryTypes[*type].heapIndex;
+    return (memoryProperties_.memoryHeaps[heap].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) != 0;
+}
+
 Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) {
     if (!failure_.empty()) return Status::error(failure_);
     auto allocInfo = vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);

@@ -17,10 +17,12 @@ struct PoolPlan {
     uint64_t slotBytes = 0;      // one chunk slot: the largest chunk's upload (ChunkLayout)
     uint32_t slots = 0;          // chunk slots (never more than the package's chunks)
     uint32_t batchRays = 0;      // paths per wave of the device wavefront
-    uint64_t rayBytes = 0;       // their state (rays, walk records, path vectors) and tile outputs
+    uint64_t rayBytes = 0;       // their state (rays, walk records, path vectors), and the tile
+                                 // outputs when those are in device memory (outputInDeviceMemory)
     uint64_t tableBytes = 0;     // slot table, top-level tree, per-chunk tables, parameters, materials
     uint64_t totalBytes = 0;     // all of the above, <= the budget
     uint64_t minimumBytes = 0;   // one slot + the minimal batch + the tables
+    bool outputInDeviceMemory = true;  // the tile outputs count against the budget
 };
 
 // The smallest wave a budget must hold besides one chunk slot (~300 KiB of path state).
@@ -34,8 +36,12 @@ constexpr uint32_t kMaxBatchRays = 65535u * 32u;
 constexpr uint32_t kGrowBatchRays = 1u << 18;
 
 // Splits `budget` between slots and the ray batch; an error (naming the minimum) when the
-// budget cannot hold one slot plus a minimal batch.
-Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget);
+// budget cannot hold one slot plus a minimal batch. The tile outputs the host reads back live
+// in host-cached memory: in system memory on a discrete GPU, where they do not count against
+// the device budget (outputInDeviceMemory false), in the one memory of lavapipe or an
+// integrated GPU, where they do (true; also the conservative answer when the device is unknown).
+Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
+                          bool outputInDeviceMemory = true);
 
 // device must outlive the backend. Every buffer is allocated here, once.
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,

@@ -89,6 +89,9 @@ public:
     // is such a heap, for data the GPU reads often. Readback: host-cached system memory, for
     // results the host reads: reading device memory through an uncached mapping is very slow.
     enum class MemoryUse { DeviceLocal, Readback };
+    // Whether Readback buffers land in a device-local heap (lavapipe, integrated GPUs: one
+    // memory) rather than in system memory (discrete GPUs).
+    bool readbackInDeviceMemory() const;
 
     // A zero-size request allocates a small buffer, so that every binding has a valid address.
     Result<GpuBuffer> createBuffer(uint64_t bytes, MemoryUse use = MemoryUse::DeviceLocal);
