@@ -11,6 +11,7 @@
 //                       [--eye X,Y,Z --target X,Y,Z]  (default: frame the scene; give both to match a
 //                       peer renderer's camera, e.g. ../shared/tools/mitsuba_bench.py)
 //                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
+//                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -53,6 +54,7 @@ struct Args {
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
     Vec3f eye, target;
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
+    StreamingOptions streaming;  // --max-paths-per-wave
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -97,6 +99,10 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--resident-only") a.residentOnly = true;
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
+        else if (flag == "--max-paths-per-wave") {
+            a.streaming.maxPathsPerWave = uint32_t(std::stoul(value()));
+            if (a.streaming.maxPathsPerWave == 0) fail("--max-paths-per-wave must be >= 1");
+        }
         else if (flag == "--eye" || flag == "--target") {
             Vec3f v;
             if (std::sscanf(value().c_str(), "%f,%f,%f", &v.x, &v.y, &v.z) != 3) fail(flag + " X,Y,Z");
@@ -187,7 +193,7 @@ int main(int argc, char** argv) {
             row.label = label, row.budget = budget;
             row.streaming.memoryBudgetBytes = budget;
             auto image = renderStreaming(
-                **reader, o, StreamingOptions{},
+                **reader, o, args.streaming,
                 [&](const PackageInfo& p, const ChunkAttributes& a) {
                     return gpu::createVulkanChunkBackend(**device, p, a, budget);
                 },
@@ -203,7 +209,7 @@ int main(int argc, char** argv) {
     // Steady state in core: the scene stays open and resident, so the second render of each
     // kind reads, decodes and uploads nothing (what a service rendering one scene again sees).
     {
-        auto scene = StreamingScene::open(**reader, attributes, StreamingOptions{},
+        auto scene = StreamingScene::open(**reader, attributes, args.streaming,
                                           [&](const PackageInfo& p, const ChunkAttributes& a) {
                                               return gpu::createVulkanChunkBackend(**device, p, a, fitBudget);
                                           });
@@ -280,7 +286,7 @@ int main(int argc, char** argv) {
     md << "| render | budget | slots | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
           "host→device B | device→host B | decode s | upload s | touched | loads | loads/touched | "
-          "per-bounce loads/touched | time vs in core |\n";
+          "per-wave loads/touched | time vs in core |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
