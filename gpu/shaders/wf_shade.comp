@@ -15,6 +15,11 @@
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
+// Specialization constants (Wavefront.cpp): what a render does not need is not compiled in.
+layout(constant_id = 0) const bool kAmbientOcclusion = false;  // the ao integrator, else path
+layout(constant_id = 1) const bool kSun = true;                // the sun has irradiance
+layout(constant_id = 2) const bool kEmission = true;           // some material emits
+
 void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
     Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
@@ -28,7 +33,7 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
     uvec4 info = UVec4Array(p.pathInfo).v[j];
     uint flags = info.z;
     if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return;
-    const bool ao = p.integrator == kIntegratorAo;
+    const bool ao = kAmbientOcclusion;
     const uint shadow = shadowRayIndex(p, j);
     vec3 radiance = Vec4Array(p.radiance).v[j].xyz;
     if ((flags & kPathShadowPending) != 0u) {
@@ -60,11 +65,11 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
             } else {
                 const WavefrontMaterial m = materialAt(p, UVec4Array(p.hitIds).v[j].y);
                 const vec3 base = vec3(m.baseR, m.baseG, m.baseB);
-                radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
+                if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
                 if (bounce < p.maxDepth) {
                     const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
                     const float cosine = dot(n, sun);
-                    if (maxComponent(irradiance) > 0.0 && cosine > 0.0) {
+                    if (kSun && maxComponent(irradiance) > 0.0 && cosine > 0.0) {
                         Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
                         startRay(p, shadow, origin, sun, kInfinity);
                         flags |= kPathShadowPending | kPathWalkShadow;

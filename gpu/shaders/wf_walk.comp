@@ -24,7 +24,9 @@
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
-const uint kAovCostBit = 32u;  // vastray::kAovCost
+// Specialization constants (Wavefront.cpp): what a render does not need is not compiled in.
+layout(constant_id = 0) const bool kCountCost = true;  // the cost AOV: cells and triangles traced per pixel
+layout(constant_id = 1) const bool kPaging = true;     // some chunk is not resident: rays may park
 
 bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, uint bestChunk) {
     if ((h.flags & kHitFound) == 0u) return false;
@@ -72,7 +74,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     UintArray topNodes = UintArray(params.p.topNodes);
     UintArray chunkSlots = UintArray(params.p.chunkSlots);
     const uint parkWord = ids.v[ray].w;  // the leaf it is parked at + 1, or 0
-    if (parkWord != 0u && pc.lookAhead == 0u) {  // still waiting: queued again without a walk
+    if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // still waiting: queued again without a walk
         const uint chunk = topNodes.v[2u * (parkWord - 1u)];
         if (chunkSlots.v[chunk] == kWalkNoHit) {
             atomicAdd(demand.v[chunk], 1u);
@@ -91,7 +93,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     bool bestFront = (flags & kHitFrontFacing) != 0u;
     uint bestChunk = found ? ids.v[ray].z : kWalkNoHit;
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
-    bool newBest = false, skipping = parkWord != 0u, lookingAhead = false;
+    bool newBest = false, skipping = kPaging && parkWord != 0u, lookingAhead = false;
     uint bestSlot = 0u, cells = 0u, triangles = 0u, parkedLeaf = 0u;
 
     const ChunkView top = ChunkView(0ul, 0ul, 0ul, 0ul, 0ul, params.p.topNodeCount, false,
@@ -115,14 +117,16 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
                 precise float cellT1 = t1 + margin(r, t1);
                 if (found && (anyHit || bestT < cellT0)) {
                     if (anyHit) break;
-                } else if (lookingAhead) {
+                } else if (kPaging && lookingAhead) {
                     atomicAdd(RwUintArray(params.p.ahead).v[chunk], 1u);
                 } else {
                     const uint slot = chunkSlots.v[chunk];
-                    if (slot == kWalkNoHit) {
-                        parked = true, parkedLeaf = index, lookingAhead = true;
-                        atomicAdd(demand.v[chunk], 1u);
-                        atomicAdd(demand.v[chunkCount], 1u);
+                    if (slot == kWalkNoHit) {  // (without kPaging the host has every chunk resident)
+                        if (kPaging) {
+                            parked = true, parkedLeaf = index, lookingAhead = true;
+                            atomicAdd(demand.v[chunk], 1u);
+                            atomicAdd(demand.v[chunkCount], 1u);
+                        }
                     } else {
                         RwUintArray(params.p.touched).v[chunk] = 1u;
                         const float tMinCell = cppMax(0.0, cellT0);
@@ -153,7 +157,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
         normals.v[ray].w = uintBitsToFloat(flags);
         if (newParkWord != parkWord) ids.v[ray].w = newParkWord;
     }
-    if ((params.p.aovs & kAovCostBit) != 0u && cells != 0u) {
+    if (kCountCost && cells != 0u) {
         const uint pixel = j / pc.sampleCount;
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel], cells);
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel + 1u], triangles);

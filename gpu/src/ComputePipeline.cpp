@@ -1,19 +1,22 @@
 #include "vastray/gpu/ComputePipeline.h"
 
+#include <vector>
+
 #include "VkCheck.h"
 
 namespace vastray::gpu {
 
 Result<std::unique_ptr<ComputePipeline>> ComputePipeline::create(VulkanDevice& device,
                                                                  std::span<const uint32_t> spirv,
-                                                                 uint32_t pushConstantBytes) {
+                                                                 uint32_t pushConstantBytes,
+                                                                 std::span<const uint32_t> specialization) {
     std::unique_ptr<ComputePipeline> pipeline(new ComputePipeline(device));
     pipeline->pushConstantBytes_ = pushConstantBytes;
-    VASTRAY_TRY(pipeline->init(spirv).withContext("compute pipeline: "));
+    VASTRAY_TRY(pipeline->init(spirv, specialization).withContext("compute pipeline: "));
     return pipeline;
 }
 
-Status ComputePipeline::init(std::span<const uint32_t> spirv) {
+Status ComputePipeline::init(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization) {
     const VkDevice device = device_.handle();
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes_};
     auto layoutInfo = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
@@ -30,6 +33,11 @@ Status ComputePipeline::init(std::span<const uint32_t> spirv) {
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> entries(specialization.size());
+    for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};
+    VkSpecializationInfo constants{uint32_t(entries.size()), entries.data(), specialization.size_bytes(),
+                                   specialization.data()};
+    if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;
     info.layout = layout_;
     const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(device, module, nullptr);  // the pipeline keeps what it needs

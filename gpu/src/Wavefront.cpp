@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -113,8 +114,8 @@ void setEnvironment(WavefrontParams& p, const Environment& e) {
 Result<std::unique_ptr<Wavefront>> Wavefront::create(VulkanDevice& device) {
     std::unique_ptr<Wavefront> w(new Wavefront(device));
     const std::pair<std::span<const uint32_t>, std::unique_ptr<ComputePipeline>*> kernels[] = {
-        {kGenerateSpirv, &w->pipelines_.generate}, {kWalkSpirv, &w->pipelines_.walk},
-        {kShadeSpirv, &w->pipelines_.shade},       {kAccumulateSpirv, &w->pipelines_.accumulate},
+        {kGenerateSpirv, &w->pipelines_.generate},
+        {kAccumulateSpirv, &w->pipelines_.accumulate},
         {kAovSpirv, &w->pipelines_.aov}};
     for (const auto& [spirv, pipeline] : kernels) {
         auto created = ComputePipeline::create(device, spirv, sizeof(WavefrontPush));
@@ -122,6 +123,19 @@ Result<std::unique_ptr<Wavefront>> Wavefront::create(VulkanDevice& device) {
         *pipeline = std::move(created).value();
     }
     return w;
+}
+
+Result<const ComputePipeline*> Wavefront::variant(bool walk, std::initializer_list<uint32_t> constants) {
+    uint32_t key = 0, bit = 0;
+    for (uint32_t c : constants) key |= (c ? 1u : 0u) << bit++;
+    auto& cache = walk ? pipelines_.walk : pipelines_.shade;
+    if (auto found = cache.find(key); found != cache.end()) return found->second.get();
+    const std::vector<uint32_t> values(constants);
+    auto created = ComputePipeline::create(device_, walk ? std::span<const uint32_t>(kWalkSpirv)
+                                                         : std::span<const uint32_t>(kShadeSpirv),
+                                           sizeof(WavefrontPush), values);
+    if (!created) return created.status();
+    return (cache[key] = std::move(created).value()).get();
 }
 
 // One render: records kernels, submits at the points where the host must look (a walk pass
@@ -134,6 +148,15 @@ public:
           deviceSeconds_(deviceSeconds), queries_(w.device_) {}
 
     Status execute() {
+        // What this render does not need is not compiled into its kernels (specialization).
+        bool emission = false;
+        for (const Material& m : job_.materials)
+            emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
+        const std::array<float, 3>& sun = options_.environment.sunIrradiance;
+        auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
+                                        sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission});
+        if (!shade) return shade.status();
+        shade_ = *shade;
         VASTRAY_TRY(uploadParams());
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount + 2, 0), b_.tables.demand));
@@ -218,13 +241,13 @@ private:
                 barrier(cmd);
             });
         push.lookAhead = lookAhead ? 1u : 0u;
-        dispatch(*kernels().walk, kWalk, push, rays);
+        dispatch(*walk_, kWalk, push, rays);
         ++stats_.walkPasses;
         push.queue ^= 1u;
         if (shade) shadeReady(push);
     }
     void shadeReady(const WavefrontPush& push) {
-        dispatch(*kernels().shade, kShade, push, uint64_t(push.pixelCount) * push.sampleCount);
+        dispatch(*shade_, kShade, push, uint64_t(push.pixelCount) * push.sampleCount);
         clearQueue(kShadeQueue);
     }
 
@@ -242,6 +265,10 @@ private:
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * kShadeQueue, 4, 0);
             barrier(cmd);
         });
+        // In core no ray parks: the walk without the paging code.
+        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, !pager_.allResident()});
+        if (!walk) return walk.status();
+        walk_ = *walk;
         if (pager_.allResident()) {
             for (uint32_t e = 0; e < events; ++e) walkRound(push, shade, false, false);
             return Status::ok();
@@ -434,6 +461,8 @@ private:
     double& deviceSeconds_;
     std::vector<Op> ops_;
     QueryPool queries_;
+    const ComputePipeline* shade_ = nullptr;  // this render's specialization
+    const ComputePipeline* walk_ = nullptr;   // this wave's (paging or not)
 };
 
 Status Wavefront::render(const WavefrontBuffers& buffers, const DeviceRenderJob& job, ChunkPager& pager,

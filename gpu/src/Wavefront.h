@@ -5,6 +5,8 @@
 // with shading between them), reads the per-chunk demand counters of the parked rays, and lets
 // the pager page chunks in before the next step. Only the counters and the finished tile's
 // pixels come back.
+#include <initializer_list>
+#include <map>
 #include <memory>
 
 #include "PoolLayout.h"
@@ -36,9 +38,14 @@ public:
 private:
     explicit Wavefront(VulkanDevice& device) : device_(device) {}
     struct Pipelines {
-        std::unique_ptr<ComputePipeline> generate, walk, shade, accumulate, aov;
+        std::unique_ptr<ComputePipeline> generate, accumulate, aov;
+        // Specialized on what a render needs (wf_walk.comp, wf_shade.comp: constant_id 0, 1, ...),
+        // built when first asked for; key: the constants as bits.
+        std::map<uint32_t, std::unique_ptr<ComputePipeline>> walk, shade;
     };
     class Run;
+    // The walk or shade kernel with these specialization constants (each 0 or 1).
+    Result<const ComputePipeline*> variant(bool walk, std::initializer_list<uint32_t> constants);
 
     VulkanDevice& device_;
     Pipelines pipelines_;

@@ -435,6 +435,37 @@ TEST(StreamingRender, BackendRefusesAnUncheckedChunkWithBadIndices) {
 // it, so ambient occlusion is exactly 1 in every pixel (misses see the sky: 1 too). Before
 // bounce rays refused hits within t's rounding error, 13.5 % of them re-hit their own square
 // (the error of t grows with the vertices' distance from the ray origin, not with the offset).
+// A scene lit by emissive triangles with the sun off: the shading kernel specialized for
+// emission and no sun (Wavefront.cpp) agrees with Embree, and out of core equals in core.
+TEST(StreamingRender, EmittersWithoutSunAgreeWithEmbreeAndStreamTheSame) {
+    auto generated = generateMesh({GeneratorKind::City, 20000, 1});
+    ASSERT_TRUE(generated) << generated.message();
+    TriangleMesh mesh = std::move(generated).value();
+    Material lamp{"lamp"};
+    lamp.baseColor = {0.2f, 0.2f, 0.2f, 1.0f};
+    lamp.emissive = {4.0f, 3.0f, 2.0f};
+    mesh.materials = {Material{"stone"}, lamp};
+    mesh.materialIds.resize(mesh.triangleCount());
+    for (uint64_t t = 0; t < mesh.triangleCount(); ++t) mesh.materialIds[t] = t % 7 == 0 ? 1u : 0u;
+    const std::string path = packageFromMesh("city-lamps", std::move(mesh), 64 << 10);
+    RenderOptions o = smallRender(kAovPrimId);
+    o.environment.sunIrradiance = {0, 0, 0};
+    o.environment.zenith = {0, 0, 0}, o.environment.horizon = {0, 0, 0}, o.environment.ground = {0, 0, 0};
+    auto reference = renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    auto ample = renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(ample) << ample.message();
+    expectAgrees(*ample, *reference);
+    double energy = 0;
+    for (float v : ample->rgb) energy += v;
+    EXPECT_GT(energy, 0.0) << "the emitters light the image (the sky and the sun are black)";
+    const uint64_t tight = budgetForSlots(path, 2, o.aovs);
+    ASSERT_GT(tight, 0u);
+    auto streamed = renderVulkan(path, o, tight);
+    ASSERT_TRUE(streamed) << streamed.message();
+    expectIdentical(*ample, *streamed, false);
+}
+
 TEST(StreamingRender, LoneLargeSquareNeverOccludesItself) {
     for (float half : {100.0f, 700.0f, 5000.0f}) {
         TriangleMesh square;

@@ -14,9 +14,12 @@ namespace vastray::gpu {
 
 class ComputePipeline {
 public:
-    // spirv: the module's words; entry point "main"; pushConstantBytes: size of the block.
+    // spirv: the module's words; entry point "main"; pushConstantBytes: size of the block;
+    // specialization: the values of the module's specialization constants 0, 1, ... (32-bit
+    // each; a bool constant takes 0 or 1), compiled into the pipeline.
     static Result<std::unique_ptr<ComputePipeline>> create(VulkanDevice& device, std::span<const uint32_t> spirv,
-                                                           uint32_t pushConstantBytes);
+                                                           uint32_t pushConstantBytes,
+                                                           std::span<const uint32_t> specialization = {});
     ~ComputePipeline();
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;
@@ -26,7 +29,7 @@ public:
 
 private:
     explicit ComputePipeline(VulkanDevice& device) : device_(device) {}
-    Status init(std::span<const uint32_t> spirv);
+    Status init(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization);
 
     VulkanDevice& device_;
     uint32_t pushConstantBytes_ = 0;
