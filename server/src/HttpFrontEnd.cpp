@@ -433,8 +433,8 @@ private:
         server.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
             res.set_content(service_.metricsText(), "text/plain; version=0.0.4");
         });
-        server.Get("/openapi.json", [](const httplib::Request&, httplib::Response& res) {
-            res.set_content(openApiDocument(), kJson);
+        server.Get("/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
+            res.set_content(openApiDocument(!options_.authToken.empty()), kJson);
         });
     }
 
