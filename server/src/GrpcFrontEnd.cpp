@@ -14,6 +14,10 @@
 namespace vastray::server {
 namespace {
 
+// The names a grpc.health.v1 check may ask about, besides "" (the whole server).
+constexpr const char* kHealthServiceNames[] = {v1::SceneService::service_full_name(),
+                                               v1::RenderService::service_full_name()};
+
 // A request message carries at most one upload chunk plus its name.
 constexpr int kMaxReceiveBytes = int(kMaxStreamChunkBytes) + (64 << 10);
 constexpr int kMaxSendBytes = int(kMaxStreamChunkBytes) + (64 << 10);
@@ -218,6 +222,11 @@ Result<std::unique_ptr<GrpcFrontEnd>> GrpcFrontEnd::start(Service& service, cons
     builder.RegisterService(&front->impl_->renders);
     front->impl_->server = builder.BuildAndStart();
     if (!front->impl_->server || front->port_ == 0) return Status::error("gRPC: cannot listen on " + address);
+    // The default health service knows only the server as a whole (""); a check naming one of
+    // our services would answer NOT_FOUND. shutdown() turns them all NOT_SERVING.
+    auto* health = front->impl_->server->GetHealthCheckService();
+    if (!health) return Status::error("gRPC: the health service did not start");
+    for (const char* name : kHealthServiceNames) health->SetServingStatus(name, true);
     return front;
 }
 
