@@ -193,7 +193,7 @@ public:
             if (res.body.empty() && res.status == 404) writeError(res, notFound("no such route"), 404);
         });
         server.set_logger([this](const httplib::Request&, const httplib::Response& res) {
-            service_.metrics().countRequest("http", std::to_string(res.status));
+            service_.metrics().countRequest("http", statusCodeNameOfHttp(res.status));
         });
         addSceneRoutes(server);
         addJobRoutes(server);

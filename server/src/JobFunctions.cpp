@@ -2,6 +2,8 @@
 // list, cancel, watch, results, shutdown.
 #include <google/protobuf/util/message_differencer.h>
 
+#include <algorithm>
+
 #include "JobRequest.h"
 #include "vastray/server/Service.h"
 
@@ -14,6 +16,15 @@ constexpr auto kWatchPoll = std::chrono::milliseconds(250);
 // never finished is failed instead of run again: a job that crashes the server (before the
 // memory estimate, a 16384x16384 render did) would otherwise crash it at every restart.
 constexpr uint32_t kMaxJobStarts = 3;
+
+// Within one watch no figure goes back: a job that FAILED or was CANCELLED mid-render has no
+// stored pass count, and its final event keeps the last one the stream showed.
+void keepMonotone(const v1::JobEvent& last, v1::JobEvent& event) {
+    event.set_percent(std::max(event.percent(), last.percent()));
+    event.set_passes_total(std::max(event.passes_total(), last.passes_total()));
+    event.set_passes_done(std::max(event.passes_done(), last.passes_done()));
+    event.set_chunk_loads(std::max(event.chunk_loads(), last.chunk_loads()));
+}
 
 ServiceStatus checkJobId(const std::string& id) {
     if (id.empty()) return invalidArgument("id", "required");
@@ -163,7 +174,10 @@ ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
             queue_.erase(it);
             break;
         }
-    if (runningId_ == job.id()) cancelRunning_ = true;
+    if (runningId_ == job.id()) {
+        cancelRunning_ = true;
+        metrics_.durationCancelled.observe(secondsBetween(job.start_time(), job.end_time()));
+    }
     ++metrics_.jobsCancelled;
     notifyChangeLocked();
     return job;
@@ -177,10 +191,14 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
     event.set_percent(job.progress());
     event.set_error(job.error());
     event.set_chunk_loads(job.stats().chunk_loads());
+    if (job.state() == v1::SUCCEEDED) {
+        event.set_passes_done(job.stats().passes());
+        event.set_passes_total(job.stats().passes());
+    }
     if (job.id() == runningId_ && job.state() == v1::RUNNING) {
-        event.set_passes_done(live_.passesDone);
-        event.set_passes_total(live_.passesTotal);
-        event.set_chunk_loads(live_.chunkLoads);
+        event.set_passes_done(published_.passesDone);
+        event.set_passes_total(published_.passesTotal);
+        event.set_chunk_loads(published_.chunkLoads);
     }
     *event.mutable_time() = nowTimestamp();
     return event;
@@ -224,10 +242,11 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
             std::lock_guard<std::mutex> lock(mutex_);
             event = eventLocked(*current, v1::JobEvent::PROGRESS);
         }
+        keepMonotone(last, event);
         if (event.state() != last.state())
             event.set_kind(v1::JobEvent::STATE_CHANGED);
         else if (event.percent() == last.percent() && event.passes_done() == last.passes_done() &&
-                 event.chunk_loads() == last.chunk_loads())
+                 event.passes_total() == last.passes_total() && event.chunk_loads() == last.chunk_loads())
             continue;
         if (!emit(event)) return {StatusCode::Cancelled, "the client went away"};
         last = event;
@@ -340,7 +359,7 @@ std::string Service::metricsText() {
         "hold together.",
         std::to_string(options_.memoryBudgetBytes));
     add("vastray_ready", "gauge", "1 when the server accepts work.", ready() ? "1" : "0");
-    return text + metrics_.requestsText();
+    return text + metrics_.histogramsText() + metrics_.requestsText() + buildInfoText() + processMetricsText();
 }
 
 }  // namespace vastray::server

@@ -161,7 +161,10 @@ private:
     uint64_t nextOrder_ = 0;
     uint64_t changeCounter_ = 0;
     std::string runningId_, leftRunning_;
-    JobRenderProgress live_;
+    // The running job's progress: the latest figures, and those last published to watchers.
+    JobRenderProgress live_, published_;
+    std::chrono::steady_clock::time_point publishedAt_;
+    static constexpr auto kLoadPublishInterval = std::chrono::milliseconds(100);
     int livePercent_ = 0;
     std::atomic<bool> cancelRunning_{false};
     bool stopping_ = false, accepting_ = true, workerStopped_ = false, shutdownCancel_ = false;
