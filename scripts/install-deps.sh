@@ -27,7 +27,7 @@ packages=(
   libshaderc-dev glslc spirv-tools
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libssl-dev
-  libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev
+  libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev libzip-dev
   assimp-testmodels python3 python3-matplotlib python3-venv python3-pip time
   curl openssl golang-go
   clang-14 libfuzzer-14-dev libclang-rt-14-dev

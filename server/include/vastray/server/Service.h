@@ -134,6 +134,8 @@ private:
                                          const std::string& digest, uint64_t bytes);
     ServiceResult<v1::Scene> importUpload(const std::string& name, const std::filesystem::path& file,
                                           const std::string& digest, uint64_t bytes);
+    ServiceStatus importZip(const std::string& name, const std::filesystem::path& file,
+                            const std::filesystem::path& package);
 
     void workerLoop();
     void runJob(const std::string& id);
