@@ -2,6 +2,7 @@
 // imported with every path kept inside the upload; hostile archives (zip-slip, absolute paths,
 // symbolic links, too many entries, too many bytes, zip bombs) refused by name, leaving nothing
 // behind. The archives are written here with libzip.
+#include <grpcpp/grpcpp.h>
 #include <sys/stat.h>
 #include <zip.h>
 
@@ -9,6 +10,7 @@
 
 #include "ServerTestSupport.h"
 #include "vastray/streamer/ScenePackage.h"
+#include "vastray/v1/scene_service.grpc.pb.h"
 
 namespace vastray::test {
 namespace {
@@ -121,6 +123,34 @@ TEST_F(ZipUploadTest, GltfWithItsBinAndTextureInFolders) {
     auto job = submit(smallJob(scene["id"]));
     ASSERT_EQ(job->status, 202) << job->body;
     waitForState(json::parse(job->body)["id"], "SUCCEEDED");
+}
+
+// A zip through gRPC's client stream, in several messages (imported there: gRPC goes first);
+// HTTP then finds the same scene.
+TEST_F(ZipUploadTest, GrpcUploadOfAZipImportsItToo) {
+    startServer();
+    const fs::path zip = dir_ / "red.zip";
+    writeZip(zip, {{"red.obj", kObj}, {"materials/red.mtl", kMtl}});
+    auto stub = v1::SceneService::NewStub(grpc::CreateChannel(server_.grpcAddress(), grpc::InsecureChannelCredentials()));
+    grpc::ClientContext context;
+    v1::Scene scene;
+    auto writer = stub->UploadScene(&context, &scene);
+    const std::string bytes = readBytes(zip);
+    for (size_t at = 0; at < bytes.size(); at += 100) {
+        v1::UploadSceneRequest message;
+        if (at == 0) message.set_name("red.zip");
+        message.set_data(bytes.substr(at, 100));
+        ASSERT_TRUE(writer->Write(message));
+    }
+    writer->WritesDone();
+    const grpc::Status status = writer->Finish();
+    ASSERT_TRUE(status.ok()) << status.error_message();
+    EXPECT_EQ(scene.format(), "zip");
+    EXPECT_EQ(scene.triangles(), 2u);
+    EXPECT_FLOAT_EQ(storedMaterials(scene.id())[0].baseColor[0], 0.9f);
+    auto viaHttp = put(zip, "red.zip");
+    ASSERT_TRUE(viaHttp && viaHttp->status == 200) << (viaHttp ? viaHttp->body : "");
+    EXPECT_EQ(json::parse(viaHttp->body)["id"], scene.id());
 }
 
 // The .mtl the OBJ names is read from the archive: its colour reaches the package (a plain
