@@ -68,6 +68,7 @@ public:
         return a_.handle(context, [&]() -> ServiceStatus {
             v1::UploadSceneRequest message;
             if (!reader->Read(&message)) return invalidArgument("name", "the upload stream is empty");
+            const bool async = message.async();
             auto upload = a_.service_.beginUpload(message.name(), 0);
             if (!upload) return upload.status();
             do {
@@ -76,7 +77,7 @@ public:
                 if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
             } while (reader->Read(&message));
             if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
-            return Adapter::assign((*upload)->finish(), response);
+            return Adapter::assign((*upload)->finish(async), response);
         });
     }
     grpc::Status FindMissing(grpc::ServerContext* context, const v1::FindMissingRequest* request,

@@ -295,6 +295,9 @@ private:
     }
 
     void upload(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& content) {
+        const std::string async = req.get_param_value("async");
+        if (async != "" && async != "true" && async != "false")
+            return writeError(res, invalidArgument("async", "'" + async + "': expected true or false"));
         auto upload = service_.beginUpload(req.get_param_value("name"), contentLength(req));
         // An upload refused for its size is 413 (payload too large), not 429.
         if (!upload)
@@ -306,7 +309,10 @@ private:
             return status.isOk();
         });
         if (!status) return writeError(res, status, status.code() == StatusCode::ResourceExhausted ? 413 : 0);
-        reply(res, (*upload)->finish());
+        auto scene = (*upload)->finish(async == "true");
+        // A queued import: 202, the job to watch in Location.
+        if (scene && !scene->import_job_id().empty()) res.set_header("Location", "/v1/jobs/" + scene->import_job_id());
+        reply(res, scene, scene && !scene->import_job_id().empty() ? 202 : 200);
     }
 
     // Route patterns: cpp-httplib takes any pattern containing "/:" for a path-parameter

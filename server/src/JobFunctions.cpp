@@ -48,12 +48,14 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
     service->stores_ = *stores;
     VASTRAY_TRY(service->recoverJobs());
     service->worker_ = std::thread([s = service.get()] { s->workerLoop(); });
+    service->importWorker_ = std::thread([s = service.get()] { s->importLoop(); });
     return service;
 }
 
 Service::~Service() {
     shutdown(std::chrono::hours(24));
     if (worker_.joinable()) worker_.join();
+    if (importWorker_.joinable()) importWorker_.join();
 }
 
 // Jobs a previous server accepted but did not finish go back into the queue; a RUNNING one
@@ -63,6 +65,13 @@ Status Service::recoverJobs() {
     if (!jobs) return jobs.status();
     std::lock_guard<std::mutex> lock(mutex_);
     for (v1::Job& job : *jobs) {
+        if (job.has_import()) {  // its upload was in tmp/, which open() emptied
+            job.set_state(v1::FAILED);
+            job.set_error("the server stopped before this import finished; upload " + job.import().name() + " again");
+            *job.mutable_end_time() = nowTimestamp();
+            VASTRAY_TRY(stores_.jobs->updateJob(job));
+            continue;
+        }
         if (job.state() == v1::RUNNING && job.attempts() >= kMaxJobStarts) {
             job.set_state(v1::FAILED);
             job.set_error("started " + std::to_string(job.attempts()) +
@@ -104,7 +113,7 @@ ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& requ
     }
     auto scene = stores_.scenes->getScene(normalized->scene_id());
     if (!scene) return internalError(scene.message());
-    if (!*scene) return notFound("scene_id: no scene " + normalized->scene_id());
+    if (!*scene) return notFound("scene_id: no scene " + normalized->scene_id() + importNoteLocked(normalized->scene_id()));
     if (queue_.size() >= options_.maxQueue) {
         ++metrics_.jobsRejectedFull;
         return ServiceStatus{StatusCode::ResourceExhausted,
@@ -161,6 +170,9 @@ ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
     if (!stored) return internalError(stored.message());
     if (!*stored) return notFound("no job " + request.id());
     v1::Job job = **stored;
+    if (job.has_import())
+        return ServiceStatus{StatusCode::FailedPrecondition,
+                             "job " + job.id() + " is an import job; an import runs to its end"};
     if (isFinal(job.state()))
         return ServiceStatus{StatusCode::FailedPrecondition,
                              "job " + job.id() + " is " + jobStateName(job.state()) +
@@ -259,6 +271,9 @@ ServiceResult<ResultFile> Service::resultFile(const std::string& jobId) {
     get.set_id(jobId);
     auto job = getJob(get);
     if (!job) return job.status();
+    if (job->has_import())
+        return ServiceStatus{StatusCode::FailedPrecondition, "job " + jobId + " is an import job; it has no result (its scene is " +
+                                                                 job->import().scene_id() + ")"};
     if (job->state() != v1::SUCCEEDED)
         return ServiceStatus{
             StatusCode::FailedPrecondition,
@@ -281,6 +296,7 @@ void Service::stopAccepting() {
     accepting_ = false;
     stopping_ = true;
     workAvailable_.notify_all();
+    importAvailable_.notify_all();
     notifyChangeLocked();
 }
 
@@ -358,6 +374,13 @@ std::string Service::metricsText() {
         "Device memory pool (--memory-budget): the most one job may use, and the most the open scenes "
         "hold together.",
         std::to_string(options_.memoryBudgetBytes));
+    size_t imports = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        imports = importing_.size();
+    }
+    add("vastray_imports_pending", "gauge", "Import jobs queued or running (asynchronous uploads).",
+        std::to_string(imports));
     add("vastray_ready", "gauge", "1 when the server accepts work.", ready() ? "1" : "0");
     return text + metrics_.histogramsText() + metrics_.requestsText() + buildInfoText() + processMetricsText();
 }

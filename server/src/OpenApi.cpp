@@ -72,11 +72,17 @@ void addScenePaths(json& p) {
     json upload = operation("uploadScene", "scenes", "Upload a scene", "SceneService.UploadScene",
                             "The body is the file's bytes. Multipart bodies are refused (415).");
     upload["parameters"] = {queryParameter("name", {{"type", "string"}},
-                                           protoComment("vastray.v1.UploadSceneRequest.name"), true)};
+                                           protoComment("vastray.v1.UploadSceneRequest.name"), true),
+                            queryParameter("async", {{"type", "boolean"}},
+                                           protoComment("vastray.v1.UploadSceneRequest.async"))};
     upload["requestBody"] = {
         {"required", true},
         {"content", {{"application/octet-stream", {{"schema", {{"type", "string"}, {"contentMediaType", "application/octet-stream"}}}}}}}};
-    upload["responses"] = responses({{"200", ok("The stored scene (the existing one for known content).", "Scene")}},
+    json queued = ok("?async=true and new content: the scene's id, name and upload_bytes, and import_job_id.", "Scene");
+    queued["headers"]["Location"] = {{"description", "/v1/jobs/{id} of the import job"},
+                                     {"schema", {{"type", "string"}}}};
+    upload["responses"] = responses({{"200", ok("The stored scene (the existing one for known content).", "Scene")},
+                                     {"202", queued}},
                                     {{"400", "BadRequest"}, {"413", "PayloadTooLarge"}, {"415", "UnsupportedMediaType"},
                                      {"503", "Unavailable"}});
     p["/v1/scenes"]["put"] = upload;

@@ -150,12 +150,14 @@ ServiceStatus SceneUpload::append(const void* data, size_t size) {
     return {};
 }
 
-ServiceResult<v1::Scene> SceneUpload::finish() {
+ServiceResult<v1::Scene> SceneUpload::finish(bool async) {
     if (finished_) return ServiceStatus{StatusCode::FailedPrecondition, "upload already finished"};
     out_.close();
     if (!out_) return internalError(file_.string() + ": write failed");
     if (bytes_ == 0) return invalidArgument("data", "the upload is empty");
-    auto scene = service_.storeUpload(name_, file_, hash_.finishHex(), bytes_);
+    const std::string digest = hash_.finishHex();
+    auto scene = async ? service_.queueImport(name_, file_, digest, bytes_)
+                       : service_.storeUpload(name_, file_, digest, bytes_);
     std::error_code error;
     fs::remove(file_, error);
     finished_ = true;
@@ -258,7 +260,10 @@ ServiceResult<v1::Scene> Service::getScene(const v1::GetSceneRequest& request) {
     if (!isSha256Hex(request.id())) return invalidArgument("id", "expected 64 lowercase hex digits");
     auto scene = stores_.scenes->getScene(request.id());
     if (!scene) return internalError(scene.message());
-    if (!*scene) return notFound("no scene " + request.id());
+    if (!*scene) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return notFound("no scene " + request.id() + importNoteLocked(request.id()));
+    }
     return **scene;
 }
 

@@ -91,7 +91,7 @@ TEST_F(OpenApiTest, PathAndQueryParametersAreDeclared) {
     };
     EXPECT_EQ(parameterNames("/v1/jobs", "get"), (std::set<std::string>{"page_size", "page_token", "state"}));
     EXPECT_EQ(parameterNames("/v1/scenes", "get"), (std::set<std::string>{"page_size", "page_token"}));
-    EXPECT_EQ(parameterNames("/v1/scenes", "put"), (std::set<std::string>{"name"}));
+    EXPECT_EQ(parameterNames("/v1/scenes", "put"), (std::set<std::string>{"name", "async"}));
     EXPECT_EQ(parameterNames("/v1/jobs", "post"), (std::set<std::string>{"Idempotency-Key"}));
     EXPECT_EQ(parameterNames("/v1/jobs/{id}/result", "get"), (std::set<std::string>{"Range"}));
 }
