@@ -175,9 +175,12 @@ CommandRun addServeCommand(CLI::App& app) {
                     "open scenes")
         ->capture_default_str();
     cmd->add_option("--max-queue", args->maxQueue,
-                    "queued jobs; one more is refused (429 / RESOURCE_EXHAUSTED)")
+                    "queued render jobs, and queued import jobs (async uploads); one more is refused "
+                    "(429 / RESOURCE_EXHAUSTED)")
         ->capture_default_str();
-    cmd->add_option("--max-upload", args->maxUpload, "largest scene upload")->capture_default_str();
+    cmd->add_option("--max-upload", args->maxUpload,
+                    "largest scene upload; also the most a zip upload may expand to")
+        ->capture_default_str();
     cmd->add_option("--auth-token-file", args->authTokenFile,
                     "file holding a bearer token every request must carry (health checks excepted)");
     cmd->add_option("--tls-cert", args->tlsCert, "PEM certificate: serve gRPC and HTTP over TLS");

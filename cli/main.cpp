@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "vastray: an out-of-core renderer for triangle meshes larger than GPU memory.\n"
         "Import a mesh once into a chunked scene package (.vast), then inspect or render it."};
-    app.set_version_flag("--version", "vastray 0.1.0");
+    app.set_version_flag("--version", "vastray " VASTRAY_VERSION);  // the CMake project's version
     app.require_subcommand(1);
     std::map<std::string, vastray::cli::CommandRun> commands{
         {"generate", vastray::cli::addGenerateCommand(app)},

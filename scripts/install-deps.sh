@@ -2,9 +2,11 @@
 # Installs everything vastray needs to build, test and run on Debian 12: Debian packages with
 # apt-get, and grpcurl (a Go tool the render service's end-to-end tests drive) built from the
 # Go module proxy with Debian's own Go (golang-go, Go 1.19) into /usr/local/bin. cpp-httplib
-# is vendored (third_party/); clang-14 and libFuzzer serve scripts/fuzz.sh only.
-# Idempotent: when every package is installed and /usr/local/bin/grpcurl is the wanted version
-# it does nothing (and needs no network). Uses sudo only when not root.
+# is vendored (third_party/); clang-14 and libFuzzer serve scripts/fuzz.sh only. And
+# openapi-spec-validator (PyPI), which tests/server/OpenApiTest.cpp runs on /openapi.json, in a
+# virtual environment of its own at $OPENAPI_VENV (default /opt/vastray/openapi-venv).
+# Idempotent: when every package is installed, /usr/local/bin/grpcurl and the validator are the
+# wanted versions it does nothing (and needs no network). Uses sudo only when not root.
 set -euo pipefail
 
 # grpcurl v1.9.1 is the newest release whose go.mod (and whose dependencies' go.mod: grpc
@@ -14,6 +16,8 @@ GRPCURL_MODULE=github.com/fullstorydev/grpcurl
 GRPCURL_VERSION=${GRPCURL_VERSION:-v1.9.1}
 GO=${GO:-/usr/lib/go/bin/go}  # Debian's golang-go; not whichever `go` comes first on PATH
 GRPCURL_BIN=/usr/local/bin/grpcurl
+OPENAPI_VALIDATOR_VERSION=${OPENAPI_VALIDATOR_VERSION:-0.9.0}
+OPENAPI_VENV=${OPENAPI_VENV:-/opt/vastray/openapi-venv}  # tests/server/OpenApiTest.cpp looks here
 
 packages=(
   build-essential cmake ninja-build pkg-config git
@@ -23,8 +27,8 @@ packages=(
   libshaderc-dev glslc spirv-tools
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libssl-dev
-  libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev
-  assimp-testmodels python3 python3-matplotlib time
+  libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev libzip-dev
+  assimp-testmodels python3 python3-matplotlib python3-venv python3-pip time
   curl openssl golang-go
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
 )
@@ -42,6 +46,23 @@ else
   echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
   $sudo apt-get update -q
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+
+installed_validator=""
+if [ -x "$OPENAPI_VENV/bin/python" ]; then
+  installed_validator=$("$OPENAPI_VENV/bin/python" -c \
+    'import importlib.metadata as m; print(m.version("openapi-spec-validator"))' 2> /dev/null || true)
+fi
+if [ "$installed_validator" = "$OPENAPI_VALIDATOR_VERSION" ]; then
+  echo "install-deps: openapi-spec-validator $OPENAPI_VALIDATOR_VERSION present in $OPENAPI_VENV"
+else
+  echo "install-deps: installing openapi-spec-validator $OPENAPI_VALIDATOR_VERSION into $OPENAPI_VENV"
+  # Debian's python3 (not whichever python3 comes first on PATH), for a venv that outlives shells.
+  $sudo mkdir -p "$(dirname "$OPENAPI_VENV")"
+  $sudo /usr/bin/python3 -m venv --clear "$OPENAPI_VENV"
+  $sudo "$OPENAPI_VENV/bin/pip" install -q --disable-pip-version-check \
+    "openapi-spec-validator==$OPENAPI_VALIDATOR_VERSION"
 fi
 
 # The module version grpcurl was built from (go-installed binaries call themselves "dev build").

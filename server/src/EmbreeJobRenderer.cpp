@@ -87,7 +87,14 @@ public:
             tiles = [&progress, chunkLoads](uint64_t done, uint64_t total) {
                 progress({done, total, chunkLoads});
             };
-        return renderWithEmbree(**scene, request.options, stats ? &stats->render : nullptr, tiles);
+        std::atomic<uint64_t> passes{0};  // tiles report from the render's threads
+        RenderProgress tilesCounted = [&](uint64_t done, uint64_t total) {
+            passes = total;
+            if (tiles) tiles(done, total);
+        };
+        auto image = renderWithEmbree(**scene, request.options, stats ? &stats->render : nullptr, tilesCounted);
+        if (stats) stats->passes = passes;
+        return image;
     }
 
 private:

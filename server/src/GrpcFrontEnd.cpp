@@ -14,6 +14,10 @@
 namespace vastray::server {
 namespace {
 
+// The names a grpc.health.v1 check may ask about, besides "" (the whole server).
+constexpr const char* kHealthServiceNames[] = {v1::SceneService::service_full_name(),
+                                               v1::RenderService::service_full_name()};
+
 // A request message carries at most one upload chunk plus its name.
 constexpr int kMaxReceiveBytes = int(kMaxStreamChunkBytes) + (64 << 10);
 constexpr int kMaxSendBytes = int(kMaxStreamChunkBytes) + (64 << 10);
@@ -64,6 +68,7 @@ public:
         return a_.handle(context, [&]() -> ServiceStatus {
             v1::UploadSceneRequest message;
             if (!reader->Read(&message)) return invalidArgument("name", "the upload stream is empty");
+            const bool async = message.async();
             auto upload = a_.service_.beginUpload(message.name(), 0);
             if (!upload) return upload.status();
             do {
@@ -72,7 +77,7 @@ public:
                 if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
             } while (reader->Read(&message));
             if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
-            return Adapter::assign((*upload)->finish(), response);
+            return Adapter::assign((*upload)->finish(async), response);
         });
     }
     grpc::Status FindMissing(grpc::ServerContext* context, const v1::FindMissingRequest* request,
@@ -218,6 +223,11 @@ Result<std::unique_ptr<GrpcFrontEnd>> GrpcFrontEnd::start(Service& service, cons
     builder.RegisterService(&front->impl_->renders);
     front->impl_->server = builder.BuildAndStart();
     if (!front->impl_->server || front->port_ == 0) return Status::error("gRPC: cannot listen on " + address);
+    // The default health service knows only the server as a whole (""); a check naming one of
+    // our services would answer NOT_FOUND. shutdown() turns them all NOT_SERVING.
+    auto* health = front->impl_->server->GetHealthCheckService();
+    if (!health) return Status::error("gRPC: the health service did not start");
+    for (const char* name : kHealthServiceNames) health->SetServingStatus(name, true);
     return front;
 }
 

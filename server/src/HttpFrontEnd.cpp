@@ -193,7 +193,7 @@ public:
             if (res.body.empty() && res.status == 404) writeError(res, notFound("no such route"), 404);
         });
         server.set_logger([this](const httplib::Request&, const httplib::Response& res) {
-            service_.metrics().countRequest("http", std::to_string(res.status));
+            service_.metrics().countRequest("http", statusCodeNameOfHttp(res.status));
         });
         addSceneRoutes(server);
         addJobRoutes(server);
@@ -295,6 +295,9 @@ private:
     }
 
     void upload(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& content) {
+        const std::string async = req.get_param_value("async");
+        if (async != "" && async != "true" && async != "false")
+            return writeError(res, invalidArgument("async", "'" + async + "': expected true or false"));
         auto upload = service_.beginUpload(req.get_param_value("name"), contentLength(req));
         // An upload refused for its size is 413 (payload too large), not 429.
         if (!upload)
@@ -306,7 +309,10 @@ private:
             return status.isOk();
         });
         if (!status) return writeError(res, status, status.code() == StatusCode::ResourceExhausted ? 413 : 0);
-        reply(res, (*upload)->finish());
+        auto scene = (*upload)->finish(async == "true");
+        // A queued import: 202, the job to watch in Location.
+        if (scene && !scene->import_job_id().empty()) res.set_header("Location", "/v1/jobs/" + scene->import_job_id());
+        reply(res, scene, scene && !scene->import_job_id().empty() ? 202 : 200);
     }
 
     // Route patterns: cpp-httplib takes any pattern containing "/:" for a path-parameter
@@ -433,8 +439,8 @@ private:
         server.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
             res.set_content(service_.metricsText(), "text/plain; version=0.0.4");
         });
-        server.Get("/openapi.json", [](const httplib::Request&, httplib::Response& res) {
-            res.set_content(openApiDocument(), kJson);
+        server.Get("/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
+            res.set_content(openApiDocument(!options_.authToken.empty()), kJson);
         });
     }
 

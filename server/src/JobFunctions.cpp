@@ -2,6 +2,8 @@
 // list, cancel, watch, results, shutdown.
 #include <google/protobuf/util/message_differencer.h>
 
+#include <algorithm>
+
 #include "JobRequest.h"
 #include "vastray/server/Service.h"
 
@@ -14,6 +16,15 @@ constexpr auto kWatchPoll = std::chrono::milliseconds(250);
 // never finished is failed instead of run again: a job that crashes the server (before the
 // memory estimate, a 16384x16384 render did) would otherwise crash it at every restart.
 constexpr uint32_t kMaxJobStarts = 3;
+
+// Within one watch no figure goes back: a job that FAILED or was CANCELLED mid-render has no
+// stored pass count, and its final event keeps the last one the stream showed.
+void keepMonotone(const v1::JobEvent& last, v1::JobEvent& event) {
+    event.set_percent(std::max(event.percent(), last.percent()));
+    event.set_passes_total(std::max(event.passes_total(), last.passes_total()));
+    event.set_passes_done(std::max(event.passes_done(), last.passes_done()));
+    event.set_chunk_loads(std::max(event.chunk_loads(), last.chunk_loads()));
+}
 
 ServiceStatus checkJobId(const std::string& id) {
     if (id.empty()) return invalidArgument("id", "required");
@@ -37,12 +48,14 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
     service->stores_ = *stores;
     VASTRAY_TRY(service->recoverJobs());
     service->worker_ = std::thread([s = service.get()] { s->workerLoop(); });
+    service->importWorker_ = std::thread([s = service.get()] { s->importLoop(); });
     return service;
 }
 
 Service::~Service() {
     shutdown(std::chrono::hours(24));
     if (worker_.joinable()) worker_.join();
+    if (importWorker_.joinable()) importWorker_.join();
 }
 
 // Jobs a previous server accepted but did not finish go back into the queue; a RUNNING one
@@ -52,6 +65,13 @@ Status Service::recoverJobs() {
     if (!jobs) return jobs.status();
     std::lock_guard<std::mutex> lock(mutex_);
     for (v1::Job& job : *jobs) {
+        if (job.has_import()) {  // its upload was in tmp/, which open() emptied
+            job.set_state(v1::FAILED);
+            job.set_error("the server stopped before this import finished; upload " + job.import().name() + " again");
+            *job.mutable_end_time() = nowTimestamp();
+            VASTRAY_TRY(stores_.jobs->updateJob(job));
+            continue;
+        }
         if (job.state() == v1::RUNNING && job.attempts() >= kMaxJobStarts) {
             job.set_state(v1::FAILED);
             job.set_error("started " + std::to_string(job.attempts()) +
@@ -93,7 +113,7 @@ ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& requ
     }
     auto scene = stores_.scenes->getScene(normalized->scene_id());
     if (!scene) return internalError(scene.message());
-    if (!*scene) return notFound("scene_id: no scene " + normalized->scene_id());
+    if (!*scene) return notFound("scene_id: no scene " + normalized->scene_id() + importNoteLocked(normalized->scene_id()));
     if (queue_.size() >= options_.maxQueue) {
         ++metrics_.jobsRejectedFull;
         return ServiceStatus{StatusCode::ResourceExhausted,
@@ -150,6 +170,9 @@ ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
     if (!stored) return internalError(stored.message());
     if (!*stored) return notFound("no job " + request.id());
     v1::Job job = **stored;
+    if (job.has_import())
+        return ServiceStatus{StatusCode::FailedPrecondition,
+                             "job " + job.id() + " is an import job; an import runs to its end"};
     if (isFinal(job.state()))
         return ServiceStatus{StatusCode::FailedPrecondition,
                              "job " + job.id() + " is " + jobStateName(job.state()) +
@@ -163,7 +186,10 @@ ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
             queue_.erase(it);
             break;
         }
-    if (runningId_ == job.id()) cancelRunning_ = true;
+    if (runningId_ == job.id()) {
+        cancelRunning_ = true;
+        metrics_.durationCancelled.observe(secondsBetween(job.start_time(), job.end_time()));
+    }
     ++metrics_.jobsCancelled;
     notifyChangeLocked();
     return job;
@@ -177,10 +203,14 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
     event.set_percent(job.progress());
     event.set_error(job.error());
     event.set_chunk_loads(job.stats().chunk_loads());
+    if (job.state() == v1::SUCCEEDED) {
+        event.set_passes_done(job.stats().passes());
+        event.set_passes_total(job.stats().passes());
+    }
     if (job.id() == runningId_ && job.state() == v1::RUNNING) {
-        event.set_passes_done(live_.passesDone);
-        event.set_passes_total(live_.passesTotal);
-        event.set_chunk_loads(live_.chunkLoads);
+        event.set_passes_done(published_.passesDone);
+        event.set_passes_total(published_.passesTotal);
+        event.set_chunk_loads(published_.chunkLoads);
     }
     *event.mutable_time() = nowTimestamp();
     return event;
@@ -224,10 +254,11 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
             std::lock_guard<std::mutex> lock(mutex_);
             event = eventLocked(*current, v1::JobEvent::PROGRESS);
         }
+        keepMonotone(last, event);
         if (event.state() != last.state())
             event.set_kind(v1::JobEvent::STATE_CHANGED);
         else if (event.percent() == last.percent() && event.passes_done() == last.passes_done() &&
-                 event.chunk_loads() == last.chunk_loads())
+                 event.passes_total() == last.passes_total() && event.chunk_loads() == last.chunk_loads())
             continue;
         if (!emit(event)) return {StatusCode::Cancelled, "the client went away"};
         last = event;
@@ -240,6 +271,9 @@ ServiceResult<ResultFile> Service::resultFile(const std::string& jobId) {
     get.set_id(jobId);
     auto job = getJob(get);
     if (!job) return job.status();
+    if (job->has_import())
+        return ServiceStatus{StatusCode::FailedPrecondition, "job " + jobId + " is an import job; it has no result (its scene is " +
+                                                                 job->import().scene_id() + ")"};
     if (job->state() != v1::SUCCEEDED)
         return ServiceStatus{
             StatusCode::FailedPrecondition,
@@ -262,6 +296,7 @@ void Service::stopAccepting() {
     accepting_ = false;
     stopping_ = true;
     workAvailable_.notify_all();
+    importAvailable_.notify_all();
     notifyChangeLocked();
 }
 
@@ -339,8 +374,15 @@ std::string Service::metricsText() {
         "Device memory pool (--memory-budget): the most one job may use, and the most the open scenes "
         "hold together.",
         std::to_string(options_.memoryBudgetBytes));
+    size_t imports = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        imports = importing_.size();
+    }
+    add("vastray_imports_pending", "gauge", "Import jobs queued or running (asynchronous uploads).",
+        std::to_string(imports));
     add("vastray_ready", "gauge", "1 when the server accepts work.", ready() ? "1" : "0");
-    return text + metrics_.requestsText();
+    return text + metrics_.histogramsText() + metrics_.requestsText() + buildInfoText() + processMetricsText();
 }
 
 }  // namespace vastray::server

@@ -167,6 +167,12 @@ google::protobuf::Timestamp nowTimestamp() {
     return t;
 }
 
+double secondsBetween(const google::protobuf::Timestamp& from, const google::protobuf::Timestamp& to) {
+    if (from.seconds() == 0 && from.nanos() == 0) return 0;
+    const double seconds = double(to.seconds() - from.seconds()) + 1e-9 * double(to.nanos() - from.nanos());
+    return seconds > 0 ? seconds : 0;
+}
+
 std::string newJobId() { return "job-" + randomHex(32); }
 
 ServiceResult<uint32_t> pageSize(int32_t requested) {

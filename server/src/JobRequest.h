@@ -26,6 +26,8 @@ const char* resultContentType(const v1::SubmitJobRequest& request);
 const char* jobStateName(v1::JobState state);
 // The wall clock now, to the microsecond.
 google::protobuf::Timestamp nowTimestamp();
+// Seconds from `from` to `to` (0 when `from` is unset or later).
+double secondsBetween(const google::protobuf::Timestamp& from, const google::protobuf::Timestamp& to);
 
 // Random lowercase hex digits (not for secrets).
 std::string randomHex(size_t digits);

@@ -3,6 +3,7 @@
 // record says SUCCEEDED. A crash at any point leaves either no result and an unfinished
 // job (run again at the next start) or a whole result.
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -22,7 +23,7 @@ void Service::workerLoop() {
         const QueueEntry next = *queue_.begin();
         queue_.erase(queue_.begin());
         runningId_ = next.id;
-        live_ = {};
+        live_ = published_ = {};
         livePercent_ = 0;
         cancelRunning_ = false;
         lock.unlock();
@@ -48,6 +49,7 @@ void Service::runJob(const std::string& id) {
         job.set_progress(0);
         job.clear_error();
         *job.mutable_start_time() = nowTimestamp();
+        metrics_.queueWait.observe(secondsBetween(job.create_time(), job.start_time()));
         if (Status updated = stores_.jobs->updateJob(job); !updated) {
             job.set_state(v1::FAILED);
             job.set_error(updated.message());
@@ -86,6 +88,7 @@ ServiceStatus Service::renderAndStore(v1::Job& job) {
     out->set_rays(stats.render.rays);
     out->set_triangles(stats.render.triangles);
     out->set_chunk_loads(stats.chunkLoads);
+    out->set_passes(stats.passes);
     out->set_peak_device_bytes(stats.peakDeviceBytes);
     out->set_memory_budget_bytes(request.memoryBudgetBytes);
     metrics_.chunkLoads += stats.chunkLoads;
@@ -129,17 +132,31 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
         return;
     }
     ++(outcome.isOk() ? metrics_.jobsSucceeded : metrics_.jobsFailed);
+    (outcome.isOk() ? metrics_.durationSucceeded : metrics_.durationFailed)
+        .observe(secondsBetween(job.start_time(), job.end_time()));
     notifyChangeLocked();
 }
 
-// From the renderer's threads: publishes at most one change per percent.
+// From the renderer's threads. Each figure only goes up (a report from a thread that fell
+// behind is merged, not taken whole). A change is published when the percent moves, when the
+// last pass ends, or when chunk loads moved and kLoadPublishInterval has passed since the last
+// publication (a cold render loads thousands of chunks; watchers need not wake for each).
 void Service::onProgress(const JobRenderProgress& progress) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (progress.passesDone < live_.passesDone && progress.passesTotal == live_.passesTotal) return;
-    live_ = progress;
-    const int percent = progress.passesTotal ? int(100 * progress.passesDone / progress.passesTotal) : 0;
-    if (percent == livePercent_ && progress.passesDone != progress.passesTotal) return;
+    live_.passesTotal = std::max(live_.passesTotal, progress.passesTotal);
+    live_.passesDone = std::min(std::max(live_.passesDone, progress.passesDone), live_.passesTotal);
+    live_.chunkLoads = std::max(live_.chunkLoads, progress.chunkLoads);
+    const int percent = live_.passesTotal ? int(100 * live_.passesDone / live_.passesTotal) : 0;
+    const auto now = std::chrono::steady_clock::now();
+    const bool lastPass = live_.passesTotal > 0 && live_.passesDone == live_.passesTotal;
+    const bool passesMoved = live_.passesDone != published_.passesDone || live_.passesTotal != published_.passesTotal;
+    const bool loadsMoved = live_.chunkLoads != published_.chunkLoads;
+    if (percent == livePercent_ && !(lastPass && (passesMoved || loadsMoved)) &&
+        !(loadsMoved && now - publishedAt_ >= kLoadPublishInterval))
+        return;
     livePercent_ = percent;
+    published_ = live_;
+    publishedAt_ = now;
     notifyChangeLocked();
 }
 

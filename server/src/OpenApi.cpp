@@ -1,149 +1,278 @@
 #include "OpenApi.h"
 
-#include <google/protobuf/descriptor.h>
-#include <google/protobuf/descriptor.pb.h>
-
 #include <nlohmann/json.hpp>
 
-#include "vastray/v1/render_service.pb.h"
-#include "vastray/v1/scene_service.pb.h"
+#include "OpenApiSchemas.h"
+#include "ProtoComments.h"
+#include "vastray/server/ServiceStatus.h"
 
 namespace vastray::server {
 namespace {
 
-using google::protobuf::Descriptor;
-using google::protobuf::EnumDescriptor;
-using google::protobuf::FieldDescriptor;
 using nlohmann::json;
 
-std::string schemaName(const std::string& fullName) {
-    const std::string prefix = "vastray.v1.";
-    std::string name = fullName.rfind(prefix, 0) == 0 ? fullName.substr(prefix.size()) : fullName;
-    for (char& c : name)
-        if (c == '.') c = '_';
-    return name;
+json jsonContent(const std::string& protoMessage) {
+    return {{"application/json", {{"schema", openApiSchemaRef("vastray.v1." + protoMessage)}}}};
 }
 
-json schemaRef(const std::string& fullName) {
-    return {{"$ref", "#/components/schemas/" + schemaName(fullName)}};
+json ok(const char* description, const std::string& protoMessage) {
+    return {{"description", description}, {"content", jsonContent(protoMessage)}};
 }
 
-json enumSchema(const EnumDescriptor* e) {
-    json values = json::array();
-    for (int i = 0; i < e->value_count(); ++i) values.push_back(e->value(i)->name());
-    return {{"type", "string"}, {"enum", values}};
+json plainText(const char* description) {
+    return {{"description", description}, {"content", {{"text/plain", {{"schema", {{"type", "string"}}}}}}}};
 }
 
-// One value of the field, in the proto3 JSON mapping.
-json valueSchema(const FieldDescriptor* f) {
-    switch (f->type()) {
-        case FieldDescriptor::TYPE_STRING:
-            return {{"type", "string"}};
-        case FieldDescriptor::TYPE_BYTES:
-            return {{"type", "string"}, {"format", "byte"}};
-        case FieldDescriptor::TYPE_BOOL:
-            return {{"type", "boolean"}};
-        case FieldDescriptor::TYPE_FLOAT:
-        case FieldDescriptor::TYPE_DOUBLE:
-            return {{"type", "number"}};
-        case FieldDescriptor::TYPE_INT64:
-        case FieldDescriptor::TYPE_UINT64:
-        case FieldDescriptor::TYPE_SINT64:
-        case FieldDescriptor::TYPE_FIXED64:
-        case FieldDescriptor::TYPE_SFIXED64:
-            return {{"type", "string"}, {"format", "int64"}};
-        case FieldDescriptor::TYPE_ENUM:
-            return schemaRef(f->enum_type()->full_name());
-        case FieldDescriptor::TYPE_MESSAGE:
-            if (f->message_type()->full_name() == "google.protobuf.Timestamp")
-                return {{"type", "string"}, {"format", "date-time"}};
-            return schemaRef(f->message_type()->full_name());
-        default:
-            return {{"type", "integer"}, {"format", "int32"}};
-    }
-}
+json errorRef(const char* name) { return {{"$ref", "#/components/responses/" + std::string(name)}}; }
 
-json fieldSchema(const FieldDescriptor* f) {
-    if (f->is_map())
-        return {{"type", "object"}, {"additionalProperties", valueSchema(f->message_type()->map_value())}};
-    if (f->is_repeated()) return {{"type", "array"}, {"items", valueSchema(f)}};
-    return valueSchema(f);
-}
-
-void addMessage(const Descriptor* d, json& schemas) {
-    if (d->options().map_entry()) return;
-    json properties = json::object();
-    for (int i = 0; i < d->field_count(); ++i) properties[d->field(i)->name()] = fieldSchema(d->field(i));
-    schemas[schemaName(d->full_name())] = {{"type", "object"}, {"properties", properties}};
-    for (int i = 0; i < d->nested_type_count(); ++i) addMessage(d->nested_type(i), schemas);
-    for (int i = 0; i < d->enum_type_count(); ++i)
-        schemas[schemaName(d->enum_type(i)->full_name())] = enumSchema(d->enum_type(i));
-}
-
-json schemasOf(const google::protobuf::FileDescriptor* file, json& schemas) {
-    for (int i = 0; i < file->message_type_count(); ++i) addMessage(file->message_type(i), schemas);
-    for (int i = 0; i < file->enum_type_count(); ++i)
-        schemas[schemaName(file->enum_type(i)->full_name())] = enumSchema(file->enum_type(i));
-    return schemas;
-}
-
-json response(const char* description, const char* schema) {
-    json r = {{"description", description}};
-    if (schema)
-        r["content"] = {{"application/json", {{"schema", schemaRef(std::string("vastray.v1.") + schema)}}}};
+// Error responses every authenticated route can give, plus `codes` (HTTP status -> name in
+// components/responses).
+json responses(json success, std::initializer_list<std::pair<const char*, const char*>> codes) {
+    json r = std::move(success);
+    r["401"] = errorRef("Unauthorized");
+    r["500"] = errorRef("Internal");
+    for (const auto& [status, name] : codes) r[status] = errorRef(name);
     return r;
 }
 
-json body(const char* schema) {
-    return {
-        {"required", true},
-        {"content", {{"application/json", {{"schema", schemaRef(std::string("vastray.v1.") + schema)}}}}}};
+json requestBody(const std::string& protoMessage, bool required = true) {
+    return {{"required", required}, {"content", jsonContent(protoMessage)}};
 }
 
-json paths() {
-    json p;
-    p["/v1/scenes"]["put"] = {{"summary", "Upload a scene (body: the file; ?name=FILE)"},
-                              {"requestBody", {{"content", {{"application/octet-stream", json::object()}}}}},
-                              {"responses", {{"200", response("the stored scene", "Scene")}}}};
-    p["/v1/scenes"]["get"] = {{"summary", "List scenes (?page_size, ?page_token)"},
-                              {"responses", {{"200", response("a page", "ListScenesResponse")}}}};
-    p["/v1/scenes:findMissing"]["post"] = {
-        {"requestBody", body("FindMissingRequest")},
-        {"responses", {{"200", response("unknown digests", "FindMissingResponse")}}}};
-    p["/v1/scenes/{id}"]["get"] = {{"responses", {{"200", response("the scene", "Scene")}}}};
-    p["/v1/scenes/{id}"]["delete"] = {{"responses", {{"200", response("deleted", "DeleteSceneResponse")}}}};
-    p["/v1/jobs"]["post"] = {{"summary", "Submit a job (Idempotency-Key header = request_id)"},
-                             {"requestBody", body("SubmitJobRequest")},
-                             {"responses",
-                              {{"202", response("queued; Location names the job", "Job")},
-                               {"200", response("an earlier job with this Idempotency-Key", "Job")}}}};
-    p["/v1/jobs"]["get"] = {{"summary", "List jobs (?state, ?page_size, ?page_token)"},
-                            {"responses", {{"200", response("a page", "ListJobsResponse")}}}};
-    p["/v1/jobs/{id}"]["get"] = {{"responses", {{"200", response("the job", "Job")}}}};
-    p["/v1/jobs/{id}:cancel"]["post"] = {{"requestBody", body("CancelJobRequest")},
-                                         {"responses", {{"200", response("the cancelled job", "Job")}}}};
-    p["/v1/jobs/{id}/events"]["get"] = {
-        {"summary", "Server-Sent Events; each data line is a JobEvent"},
-        {"responses", {{"200", {{"description", "text/event-stream of JobEvent"}}}}}};
-    p["/v1/jobs/{id}/result"]["get"] = {{"summary", "The image (Range supported)"},
-                                        {"responses",
-                                         {{"200", {{"description", "image/png or image/x-exr"}}},
-                                          {"206", {{"description", "a byte range"}}}}}};
-    for (const char* path : {"/healthz", "/readyz", "/metrics"})
-        p[path]["get"] = {{"responses", {{"200", {{"description", "text/plain"}}}}}};
-    return p;
+json idParameter(const char* what) {
+    return {{"name", "id"},
+            {"in", "path"},
+            {"required", true},
+            {"description", what},
+            {"schema", {{"type", "string"}}}};
+}
+
+json queryParameter(const char* name, json schema, const std::string& description, bool required = false) {
+    return {{"name", name}, {"in", "query"}, {"required", required}, {"description", description}, {"schema", schema}};
+}
+
+json pageParameters(const std::string& listRequest) {
+    return {queryParameter("page_size", {{"type", "integer"}, {"minimum", 0}, {"maximum", 1000}},
+                           protoComment("vastray.v1." + listRequest + ".page_size")),
+            queryParameter("page_token", {{"type", "string"}},
+                           "next_page_token of the previous page; absent for the first page.")};
+}
+
+// An operation: `rpc` ("SceneService.GetScene") names the gRPC method it equals; its comment
+// leads the description.
+json operation(const char* operationId, const char* tag, const char* summary, const std::string& rpc,
+               const std::string& notes = "") {
+    std::string description = protoComment("vastray.v1." + rpc);
+    if (!notes.empty()) description += (description.empty() ? "" : "\n\n") + notes;
+    description += (description.empty() ? "" : "\n\n") + ("gRPC: `vastray.v1." + rpc + "`.");
+    return {{"operationId", operationId}, {"tags", {tag}}, {"summary", summary}, {"description", description}};
+}
+
+void addScenePaths(json& p) {
+    json upload = operation("uploadScene", "scenes", "Upload a scene", "SceneService.UploadScene",
+                            "The body is the file's bytes. Multipart bodies are refused (415).");
+    upload["parameters"] = {queryParameter("name", {{"type", "string"}},
+                                           protoComment("vastray.v1.UploadSceneRequest.name"), true),
+                            queryParameter("async", {{"type", "boolean"}},
+                                           protoComment("vastray.v1.UploadSceneRequest.async"))};
+    upload["requestBody"] = {
+        {"required", true},
+        {"content", {{"application/octet-stream", {{"schema", {{"type", "string"}, {"contentMediaType", "application/octet-stream"}}}}}}}};
+    json queued = ok("?async=true and new content: the scene's id, name and upload_bytes, and import_job_id.", "Scene");
+    queued["headers"]["Location"] = {{"description", "/v1/jobs/{id} of the import job"},
+                                     {"schema", {{"type", "string"}}}};
+    upload["responses"] = responses({{"200", ok("The stored scene (the existing one for known content).", "Scene")},
+                                     {"202", queued}},
+                                    {{"400", "BadRequest"}, {"413", "PayloadTooLarge"}, {"415", "UnsupportedMediaType"},
+                                     {"503", "Unavailable"}});
+    p["/v1/scenes"]["put"] = upload;
+
+    json list = operation("listScenes", "scenes", "List scenes", "SceneService.ListScenes");
+    list["parameters"] = pageParameters("ListScenesRequest");
+    list["responses"] = responses({{"200", ok("A page of scenes.", "ListScenesResponse")}}, {{"400", "BadRequest"}});
+    p["/v1/scenes"]["get"] = list;
+
+    json find = operation("findMissingScenes", "scenes", "Which digests are unknown", "SceneService.FindMissing");
+    find["requestBody"] = requestBody("FindMissingRequest");
+    find["responses"] = responses({{"200", ok("The unknown digests.", "FindMissingResponse")}},
+                                  {{"400", "BadRequest"}, {"411", "LengthRequired"}, {"413", "PayloadTooLarge"},
+                                   {"415", "UnsupportedMediaType"}});
+    p["/v1/scenes:findMissing"]["post"] = find;
+
+    const json sceneId = idParameter("The scene's id (lowercase hex SHA-256 of its upload).");
+    json get = operation("getScene", "scenes", "Get a scene", "SceneService.GetScene");
+    get["responses"] = responses({{"200", ok("The scene.", "Scene")}}, {{"404", "NotFound"}});
+    json remove = operation("deleteScene", "scenes", "Delete a scene", "SceneService.DeleteScene");
+    remove["responses"] =
+        responses({{"200", ok("Deleted.", "DeleteSceneResponse")}}, {{"404", "NotFound"}, {"409", "Conflict"}});
+    p["/v1/scenes/{id}"] = {{"parameters", {sceneId}}, {"get", get}, {"delete", remove}};
+}
+
+json submitOperation() {
+    json submit = operation("submitJob", "jobs", "Submit a render job", "RenderService.SubmitJob",
+                            "Answers 202 with `Location: /v1/jobs/{id}` for a new job, 200 with the earlier job "
+                            "for a known Idempotency-Key.");
+    submit["parameters"] = {{{"name", "Idempotency-Key"},
+                             {"in", "header"},
+                             {"required", false},
+                             {"description", protoComment("vastray.v1.SubmitJobRequest.request_id")},
+                             {"schema", {{"type", "string"}, {"maxLength", 128}}}}};
+    submit["requestBody"] = requestBody("SubmitJobRequest");
+    json created = ok("Queued.", "Job");
+    created["headers"]["Location"] = {{"description", "/v1/jobs/{id} of the new job"},
+                                      {"schema", {{"type", "string"}}}};
+    submit["responses"] = responses(
+        {{"202", created}, {"200", ok("The job an earlier request with this Idempotency-Key created.", "Job")}},
+        {{"400", "BadRequest"}, {"404", "NotFound"}, {"409", "Conflict"}, {"411", "LengthRequired"},
+         {"413", "PayloadTooLarge"}, {"415", "UnsupportedMediaType"}, {"429", "TooManyRequests"},
+         {"503", "Unavailable"}});
+    return submit;
+}
+
+json resultOperation() {
+    json result = operation("getJobResult", "jobs", "Download a job's image", "RenderService.GetResult",
+                            "Range requests (`Range: bytes=a-b`) answer 206 with Content-Range.");
+    result["parameters"] = {{{"name", "Range"},
+                             {"in", "header"},
+                             {"required", false},
+                             {"description", "Byte ranges of the file (RFC 9110)."},
+                             {"schema", {{"type", "string"}}}}};
+    const json image = {{"type", "string"}, {"contentMediaType", "application/octet-stream"}};
+    const json content = {{"image/png", {{"schema", image}}}, {"image/x-exr", {{"schema", image}}}};
+    result["responses"] = responses(
+        {{"200", {{"description", "The whole image file."}, {"content", content}}},
+         {"206", {{"description", "The requested bytes of the image file."}, {"content", content}}}},
+        {{"404", "NotFound"}, {"409", "Conflict"}, {"416", "RangeNotSatisfiable"}});
+    return result;
+}
+
+void addJobPaths(json& p) {
+    p["/v1/jobs"]["post"] = submitOperation();
+    json list = operation("listJobs", "jobs", "List jobs", "RenderService.ListJobs");
+    list["parameters"] = pageParameters("ListJobsRequest");
+    list["parameters"].push_back(
+        queryParameter("state", openApiSchemaRef("vastray.v1.JobState"), protoComment("vastray.v1.ListJobsRequest.state")));
+    list["responses"] = responses({{"200", ok("A page of jobs.", "ListJobsResponse")}}, {{"400", "BadRequest"}});
+    p["/v1/jobs"]["get"] = list;
+
+    const json jobId = idParameter("The job's id (\"job-\" and 32 hex digits).");
+    json get = operation("getJob", "jobs", "Get a job", "RenderService.GetJob");
+    get["responses"] = responses({{"200", ok("The job.", "Job")}}, {{"404", "NotFound"}});
+    p["/v1/jobs/{id}"] = {{"parameters", {jobId}}, {"get", get}};
+
+    json cancel = operation("cancelJob", "jobs", "Cancel a job", "RenderService.CancelJob",
+                            "The body is optional; its `id`, if any, is replaced by the path's.");
+    cancel["requestBody"] = requestBody("CancelJobRequest", false);
+    cancel["responses"] = responses({{"200", ok("The cancelled job.", "Job")}},
+                                    {{"400", "BadRequest"}, {"404", "NotFound"}, {"409", "Conflict"}});
+    p["/v1/jobs/{id}:cancel"] = {{"parameters", {jobId}}, {"post", cancel}};
+
+    json watch = operation("watchJob", "jobs", "Watch a job (Server-Sent Events)", "RenderService.WatchJob",
+                           "Server-Sent Events: each block is `event: SNAPSHOT|STATE_CHANGED|PROGRESS` and "
+                           "`data:` a JobEvent as JSON; a failed watch ends with an `error` event whose data is "
+                           "the error body's `error` object.");
+    watch["responses"] = responses(
+        {{"200",
+          {{"description", "A text/event-stream of JobEvent messages, ending after a final state."},
+           {"content", {{"text/event-stream", {{"schema", {{"type", "string"}}}}}}}}}},
+        {{"404", "NotFound"}});
+    p["/v1/jobs/{id}/events"] = {{"parameters", {jobId}}, {"get", watch}};
+    p["/v1/jobs/{id}/result"] = {{"parameters", {jobId}}, {"get", resultOperation()}};
+}
+
+void addOperationalPaths(json& p) {
+    const json open = json::array();  // no authentication, whatever the server's token
+    p["/healthz"]["get"] = {{"operationId", "healthz"}, {"tags", {"operations"}}, {"summary", "Liveness"},
+                            {"security", open}, {"responses", {{"200", plainText("The process serves HTTP.")}}}};
+    p["/readyz"]["get"] = {
+        {"operationId", "readyz"}, {"tags", {"operations"}}, {"summary", "Readiness"}, {"security", open},
+        {"responses", {{"200", plainText("Ready to take jobs.")}, {"503", plainText("Shutting down.")}}}};
+    p["/metrics"]["get"] = {
+        {"operationId", "metrics"}, {"tags", {"operations"}}, {"summary", "Prometheus metrics"},
+        {"description", "Prometheus text exposition format 0.0.4; the metrics are listed in docs/SERVICE.md."},
+        {"responses", responses({{"200", plainText("The metrics.")}}, {})}};
+    p["/openapi.json"]["get"] = {
+        {"operationId", "openapi"}, {"tags", {"operations"}}, {"summary", "This document"},
+        {"responses",
+         responses({{"200", {{"description", "OpenAPI 3.1 document."},
+                             {"content", {{"application/json", {{"schema", {{"type", "object"}}}}}}}}}},
+                   {})}};
+}
+
+json errorSchema() {
+    json codes = json::array();
+    for (StatusCode code : {StatusCode::Cancelled, StatusCode::InvalidArgument, StatusCode::NotFound,
+                            StatusCode::AlreadyExists, StatusCode::ResourceExhausted, StatusCode::FailedPrecondition,
+                            StatusCode::Internal, StatusCode::Unavailable, StatusCode::Unauthenticated})
+        codes.push_back(statusCodeName(code));
+    json error = {{"type", "object"}, {"required", {"code", "message"}}};
+    error["properties"]["code"] = {
+        {"type", "string"}, {"enum", codes}, {"description", "The gRPC canonical code name."}};
+    error["properties"]["message"] = {
+        {"type", "string"}, {"description", "What went wrong; a bad field's message starts with the field name."}};
+    json schema = {{"type", "object"}, {"description", "Body of every error response."}, {"required", {"error"}}};
+    schema["properties"]["error"] = error;
+    return schema;
+}
+
+json errorResponses() {
+    const json body = {{"application/json", {{"schema", {{"$ref", "#/components/schemas/Error"}}}}}};
+    auto error = [&](const char* description) { return json{{"description", description}, {"content", body}}; };
+    json tooMany = error("The job queue is full (RESOURCE_EXHAUSTED); try again after Retry-After seconds.");
+    tooMany["headers"]["Retry-After"] = {{"schema", {{"type", "integer"}}}, {"description", "Seconds to wait."}};
+    json unauthorized = error("Missing or wrong bearer token (UNAUTHENTICATED).");
+    unauthorized["headers"]["WWW-Authenticate"] = {{"schema", {{"type", "string"}}}};
+    return {{"BadRequest", error("A bad field or parameter (INVALID_ARGUMENT); the message starts with its name.")},
+            {"Unauthorized", unauthorized},
+            {"NotFound", error("Unknown scene or job (NOT_FOUND).")},
+            {"Conflict", error("The scene or job is in the wrong state, or a reused request_id (FAILED_PRECONDITION).")},
+            {"LengthRequired", error("A JSON body sent without Content-Length (chunked).")},
+            {"PayloadTooLarge", error("The body is larger than the route takes, or the disk is full (RESOURCE_EXHAUSTED).")},
+            {"UnsupportedMediaType", error("The Content-Type is not one the route takes.")},
+            {"RangeNotSatisfiable", error("The Range lies outside the file, or has too many or overlapping ranges.")},
+            {"TooManyRequests", tooMany},
+            {"Internal", error("A storage or render failure on the server (INTERNAL).")},
+            {"Unavailable", error("The server is shutting down (UNAVAILABLE).")}};
+}
+
+json tags() {
+    return {{{"name", "scenes"},
+             {"description", "Scenes are content-addressed: a scene's id is the lowercase hex SHA-256 of the "
+                             "uploaded bytes (SceneService)."}},
+            {{"name", "jobs"}, {"description", "A job renders one stored scene to one image file (RenderService)."}},
+            {{"name", "operations"}, {"description", "Health, metrics and this document."}}};
 }
 
 }  // namespace
 
-std::string openApiDocument() {
-    json schemas = json::object();
-    schemasOf(v1::Scene::descriptor()->file(), schemas);
-    schemasOf(v1::Job::descriptor()->file(), schemas);
-    const json document = {{"openapi", "3.0.3"},
-                           {"info", {{"title", "vastray render service"}, {"version", "v1"}}},
-                           {"paths", paths()},
-                           {"components", {{"schemas", schemas}}}};
+std::string openApiDocument(bool authRequired) {
+    json paths = json::object();
+    addScenePaths(paths);
+    addJobPaths(paths);
+    addOperationalPaths(paths);
+    json schemas = openApiProtoSchemas();
+    schemas["Error"] = errorSchema();
+    json document = {
+        {"openapi", "3.1.0"},
+        {"info",
+         {{"title", "vastray render service"},
+          {"version", "v1"},
+          {"description",
+           "HTTP front end of `vastray serve`. Bodies are the vastray.v1 proto messages in their proto3 JSON "
+           "mapping (field names as in the .proto); every operation equals a gRPC method of the same service."}}},
+        {"tags", tags()},
+        {"paths", paths},
+        {"components",
+         {{"schemas", schemas},
+          {"responses", errorResponses()},
+          {"securitySchemes",
+           {{"bearerAuth",
+             {{"type", "http"},
+              {"scheme", "bearer"},
+              {"description", "The token of --auth-token-file, as `Authorization: Bearer TOKEN`; required "
+                              "by every route but /healthz and /readyz when the server has one."}}}}}}}};
+    // Without a token the scheme is declared but no operation needs it (an empty requirement).
+    document["security"] = authRequired ? json::array({{{"bearerAuth", json::array()}}}) : json::array({json::object()});
     return document.dump(2);
 }
 

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "JobRequest.h"
+#include "ZipArchive.h"
 #include "vastray/server/Service.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/PackageBuilder.h"
@@ -34,7 +35,8 @@ std::string detectFormat(const std::string& name, const fs::path& file) {
     in.read(head, sizeof head);
     if (std::memcmp(head, "VASTRAY\0", 8) == 0) return "vast";
     const std::string ext = lowerExtension(name);
-    if (ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb") return ext;
+    if (ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb" || ext == "zip") return ext;
+    if (std::memcmp(head, "PK\x03\x04", 4) == 0) return "zip";
     if (std::memcmp(head, "glTF", 4) == 0) return "glb";
     if (std::memcmp(head, "ply", 3) == 0) return "ply";
     return "";
@@ -46,7 +48,78 @@ std::string renamePath(std::string message, const std::string& from, const std::
     return message;
 }
 
+bool isModelFile(const fs::path& path) {
+    const std::string ext = lowerExtension(path.filename().string());
+    return ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb";
+}
+
+// Imports the mesh file `mesh` into the scene package `package`. Importer messages name
+// scratch paths: each `renames` pair (scratch path or prefix, what the client calls it) is
+// replaced in turn.
+ServiceStatus importMeshFile(const fs::path& mesh, const fs::path& package,
+                             const std::vector<std::pair<std::string, std::string>>& renames) {
+    auto imported = importMesh(mesh.string());
+    if (imported) {
+        PackageBuildOptions build;
+        build.progress = Progress::Mode::None;
+        build.degenerateDropped = imported->report.degenerateDropped;
+        auto report = buildPackage(std::move(imported->mesh), package.string(), build);
+        if (!report) imported = report.status();
+    }
+    if (imported) return {};
+    std::string message = imported.message();
+    for (const auto& [from, to] : renames) message = renamePath(message, from, to);
+    return invalidArgument("data", message);
+}
+
+// The one model of an extracted zip, or why there is not exactly one.
+ServiceResult<fs::path> zipModel(const std::vector<fs::path>& files, const std::string& zipName) {
+    std::vector<fs::path> models;
+    for (const fs::path& f : files)
+        if (isModelFile(f)) models.push_back(f);
+    if (models.empty())
+        return invalidArgument("data", zipName + ": holds no model (.gltf, .glb, .obj or .ply)");
+    if (models.size() > 1) {
+        std::string list;
+        for (size_t i = 0; i < models.size() && i < 5; ++i) list += (i ? ", " : "") + models[i].string();
+        return invalidArgument("data", zipName + ": holds " + std::to_string(models.size()) + " models (" + list +
+                                           (models.size() > 5 ? ", ..." : "") + "); a zip holds one");
+    }
+    return models.front();
+}
+
+// An importer's message about the model of a zip, which names the model by its file name
+// ("car.obj: line 3 ..."), as "cars.zip:models/car.obj: line 3 ..."; others get the zip's name.
+std::string inZip(const std::string& zipName, const fs::path& model, const std::string& message) {
+    const std::string file = model.filename().string() + ": ";
+    if (message.rfind(file, 0) == 0) return zipName + ":" + model.generic_string() + message.substr(file.size() - 2);
+    return zipName + ": " + message;
+}
+
 }  // namespace
+
+// A zip: extracted into a scratch folder within the limits of ZipArchive.h (its uncompressed
+// size within --max-upload and the free disk), and its one model imported from there. The
+// importers keep every file the model names (.bin, images, .mtl) inside the model's folder.
+ServiceStatus Service::importZip(const std::string& name, const fs::path& file, const fs::path& package) {
+    const fs::path folder = objects_->scratchDir() / ("zip-" + randomHex(8));
+    std::error_code error;
+    if (!fs::create_directory(folder, error)) return internalError(folder.string() + ": cannot create");
+    ZipLimits limits;
+    const uint64_t available = objects_->availableBytes();
+    const uint64_t disk = available > options_.diskReserveBytes ? available - options_.diskReserveBytes : 0;
+    limits.maxTotalBytes = std::min(options_.maxUploadBytes, disk);
+    ServiceStatus status;
+    auto files = extractZip(file, folder, name, limits);
+    if (!files) status = files.status();
+    auto model = files ? zipModel(*files, name) : ServiceResult<fs::path>(status);
+    if (status && !model) status = model.status();
+    if (status) status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}});
+    if (!status && model && status.code() == StatusCode::InvalidArgument)
+        status = invalidArgument("data", inZip(name, *model, status.message().substr(std::strlen("data: "))));
+    fs::remove_all(folder, error);
+    return status;
+}
 
 SceneUpload::SceneUpload(Service& service, std::string name, fs::path file)
     : service_(service), name_(std::move(name)), file_(std::move(file)), out_(file_, std::ios::binary) {}
@@ -77,12 +150,14 @@ ServiceStatus SceneUpload::append(const void* data, size_t size) {
     return {};
 }
 
-ServiceResult<v1::Scene> SceneUpload::finish() {
+ServiceResult<v1::Scene> SceneUpload::finish(bool async) {
     if (finished_) return ServiceStatus{StatusCode::FailedPrecondition, "upload already finished"};
     out_.close();
     if (!out_) return internalError(file_.string() + ": write failed");
     if (bytes_ == 0) return invalidArgument("data", "the upload is empty");
-    auto scene = service_.storeUpload(name_, file_, hash_.finishHex(), bytes_);
+    const std::string digest = hash_.finishHex();
+    auto scene = async ? service_.queueImport(name_, file_, digest, bytes_)
+                       : service_.storeUpload(name_, file_, digest, bytes_);
     std::error_code error;
     fs::remove(file_, error);
     finished_ = true;
@@ -130,29 +205,23 @@ ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs
     scene.set_upload_bytes(bytes);
     if (scene.format().empty())
         return invalidArgument("name",
-                               "'" + name + "': unknown format; expected .obj, .ply, .gltf, .glb or .vast");
+                               "'" + name + "': unknown format; expected .obj, .ply, .gltf, .glb, .zip or .vast");
     const fs::path package = objects_->scratchDir() / (digest + "-" + randomHex(8) + ".vast");
     std::error_code error;
     if (scene.format() == "vast") {
         fs::rename(file, package, error);
         if (error) return internalError(package.string() + ": " + error.message());
+    } else if (scene.format() == "zip") {
+        if (ServiceStatus imported = importZip(name, file, package); !imported) return imported;
     } else {
         // Importers pick the format by extension: give the scratch file the right one.
         const fs::path mesh = fs::path(file).replace_extension("." + scene.format());
         fs::rename(file, mesh, error);
         if (error) return internalError(mesh.string() + ": " + error.message());
-        auto imported = importMesh(mesh.string());
-        if (imported) {
-            PackageBuildOptions build;
-            build.progress = Progress::Mode::None;
-            build.degenerateDropped = imported->report.degenerateDropped;
-            auto report = buildPackage(std::move(imported->mesh), package.string(), build);
-            if (!report) imported = report.status();
-        }
+        ServiceStatus imported =
+            importMeshFile(mesh, package, {{mesh.string(), name}, {mesh.filename().string(), name}});
         fs::remove(mesh, error);
-        if (!imported)
-            return invalidArgument("data", renamePath(renamePath(imported.message(), mesh.string(), name),
-                                                      mesh.filename().string(), name));
+        if (!imported) return imported;
     }
     auto reader = PackageReader::open(package.string());
     std::vector<std::string> damage = reader ? (*reader)->verify() : std::vector<std::string>{};
@@ -191,7 +260,10 @@ ServiceResult<v1::Scene> Service::getScene(const v1::GetSceneRequest& request) {
     if (!isSha256Hex(request.id())) return invalidArgument("id", "expected 64 lowercase hex digits");
     auto scene = stores_.scenes->getScene(request.id());
     if (!scene) return internalError(scene.message());
-    if (!*scene) return notFound("no scene " + request.id());
+    if (!*scene) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return notFound("no scene " + request.id() + importNoteLocked(request.id()));
+    }
     return **scene;
 }
 

@@ -54,4 +54,32 @@ int httpStatusOf(StatusCode code) {
     return 500;
 }
 
+const char* statusCodeNameOfHttp(int httpStatus) {
+    if (httpStatus >= 200 && httpStatus < 300) return "OK";
+    switch (httpStatus) {
+        case 400:
+        case 411:
+        case 415:
+            return "INVALID_ARGUMENT";
+        case 401:
+            return "UNAUTHENTICATED";
+        case 404:
+            return "NOT_FOUND";
+        case 409:
+            return "FAILED_PRECONDITION";
+        case 413:
+        case 429:
+            return "RESOURCE_EXHAUSTED";
+        case 416:
+            return "OUT_OF_RANGE";
+        case 499:
+            return "CANCELLED";
+        case 500:
+            return "INTERNAL";
+        case 503:
+            return "UNAVAILABLE";
+    }
+    return "UNKNOWN";
+}
+
 }  // namespace vastray::server

@@ -21,6 +21,71 @@
 namespace vastray::server {
 namespace {
 
+// The scene's backend, counting chunk loads as they happen: the pager makes every load through
+// it, on the render thread. A render sets `onLoad` to report them in its progress, so a watcher
+// sees chunk loads while the render pages, not only in the final figures.
+class LoadCountingBackend final : public ChunkBackend {
+public:
+    explicit LoadCountingBackend(std::unique_ptr<ChunkBackend> inner) : inner_(std::move(inner)) {}
+
+    std::function<void()> onLoad;  // set for the length of one render
+
+    std::string name() const override { return inner_->name(); }
+    uint32_t slotCount() const override { return inner_->slotCount(); }
+    Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) override {
+        Status loaded = inner_->load(slot, chunk, singleSided);
+        if (loaded && onLoad) onLoad();
+        return loaded;
+    }
+    Status renderOnDevice(const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
+                          StreamingStats& stats) override {
+        return inner_->renderOnDevice(job, pager, image, stats);
+    }
+    uint64_t bytesUploaded() const override { return inner_->bytesUploaded(); }
+    uint64_t peakDeviceBytes() const override { return inner_->peakDeviceBytes(); }
+    double uploadSeconds() const override { return inner_->uploadSeconds(); }
+    double deviceSeconds() const override { return inner_->deviceSeconds(); }
+
+private:
+    std::unique_ptr<ChunkBackend> inner_;
+};
+
+// The progress of one render: passes from the wavefront's tiles, chunk loads from the backend;
+// each report carries both, so neither goes back to 0 when the other moves.
+class RenderProgressReporter {
+public:
+    RenderProgressReporter(const JobProgressCallback& progress, LoadCountingBackend& backend)
+        : progress_(progress), backend_(backend) {
+        if (!progress_) return;
+        backend_.onLoad = [this] {
+            ++now_.chunkLoads;
+            progress_(now_);
+        };
+    }
+    ~RenderProgressReporter() { backend_.onLoad = nullptr; }
+
+    StreamingProgress passReporter() {
+        if (!progress_) return {};
+        return [this](uint64_t done, uint64_t total) {
+            now_.passesDone = done;
+            now_.passesTotal = total;
+            progress_(now_);
+        };
+    }
+    // The last report again with the render's own count of loads (the same number when every
+    // load went through the backend).
+    void finish(uint64_t chunkLoads) {
+        now_.chunkLoads = std::max(now_.chunkLoads, chunkLoads);
+        if (progress_) progress_(now_);
+    }
+    uint64_t passesTotal() const { return now_.passesTotal; }
+
+private:
+    const JobProgressCallback& progress_;
+    LoadCountingBackend& backend_;
+    JobRenderProgress now_;
+};
+
 class StreamingJobRenderer final : public JobRenderer {
 public:
     StreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes, int deviceIndex,
@@ -42,19 +107,19 @@ public:
         auto open = openScene(request);
         held_ = deviceInUse();
         if (!open) return open.status();
-        StreamingScene* scene = *open;
+        OpenScene& scene = **open;
         StreamingStats streaming;
         streaming.memoryBudgetBytes = request.memoryBudgetBytes;
-        StreamingProgress onProgress;
-        if (progress) onProgress = [&](uint64_t done, uint64_t total) { progress({done, total, 0}); };
-        auto image = scene->render(request.options, stats ? &stats->render : nullptr, &streaming, onProgress,
-                                    &cancel);
+        RenderProgressReporter reporter(progress, *scene.backend);
+        auto image = scene.scene->render(request.options, stats ? &stats->render : nullptr, &streaming,
+                                          reporter.passReporter(), &cancel);
+        reporter.finish(streaming.chunkLoads);
         if (stats) {
             stats->chunkLoads = streaming.chunkLoads;
+            stats->passes = reporter.passesTotal();
             stats->peakDeviceBytes = streaming.peakDeviceBytes;
             for (int k = 0; k < StreamingStats::kKernels; ++k) stats->kernelSeconds[k] = streaming.kernelSeconds[k];
         }
-        if (progress) progress({1, 1, streaming.chunkLoads});
         if (!image && cancel) return Status::error("cancelled");
         return image;
     }
@@ -67,6 +132,7 @@ private:
         uint64_t lastUse = 0;
         std::unique_ptr<PackageReader> reader;
         std::unique_ptr<StreamingScene> scene;
+        LoadCountingBackend* backend = nullptr;  // owned by scene
     };
 
     uint64_t deviceInUse() const {
@@ -88,12 +154,12 @@ private:
         return true;
     }
 
-    Result<StreamingScene*> openScene(const JobRenderRequest& request) {
+    Result<OpenScene*> openScene(const JobRenderRequest& request) {
         const uint64_t budget = request.memoryBudgetBytes;
         for (OpenScene& o : open_)
             if (o.path == request.scenePath && o.budget == budget) {
                 o.lastUse = ++tick_;
-                return o.scene.get();
+                return &o;
             }
         // The same scene under another budget is closed, not kept twice.
         std::erase_if(open_, [&](const OpenScene& o) { return o.path == request.scenePath; });
@@ -117,8 +183,15 @@ private:
         StreamingOptions options;
         options.hostCacheBytes = entry.hostBytes;
         auto scene = StreamingScene::open(*entry.reader, needed, options,
-                                          [&](const PackageInfo& p, const ChunkAttributes& attributes) {
-                                              return gpu::createVulkanChunkBackend(*device_, p, attributes, budget);
+                                          [&](const PackageInfo& p, const ChunkAttributes& attributes)
+                                              -> Result<std::unique_ptr<ChunkBackend>> {
+                                              auto backend =
+                                                  gpu::createVulkanChunkBackend(*device_, p, attributes, budget);
+                                              if (!backend) return backend.status();
+                                              auto counting = std::make_unique<LoadCountingBackend>(
+                                                  std::move(backend).value());
+                                              entry.backend = counting.get();
+                                              return std::unique_ptr<ChunkBackend>(std::move(counting));
                                           });
         if (!scene) return scene.status();
         entry.scene = std::move(scene).value();
@@ -126,7 +199,7 @@ private:
         entry.budget = budget;
         entry.lastUse = ++tick_;
         open_.push_back(std::move(entry));
-        return open_.back().scene.get();
+        return &open_.back();
     }
 
     std::mutex mutex_;

@@ -203,6 +203,17 @@ TEST_F(GrpcTest, HealthAndReflectionWorkWithoutTheProto) {
     std::string health;
     ASSERT_TRUE(genericCall("/grpc.health.v1.Health/Check", "", &health).ok());
     EXPECT_EQ(health, std::string("\x08\x01", 2));
+    // HealthCheckRequest{service: NAME} (field 1) for each of our services: SERVING too; an
+    // unknown name is NOT_FOUND (the health protocol's answer for it).
+    for (const std::string name : {"vastray.v1.SceneService", "vastray.v1.RenderService"}) {
+        const std::string request = std::string("\x0a") + char(name.size()) + name;
+        health.clear();
+        const grpc::Status status = genericCall("/grpc.health.v1.Health/Check", request, &health);
+        ASSERT_TRUE(status.ok()) << name << ": " << status.error_message();
+        EXPECT_EQ(health, std::string("\x08\x01", 2)) << name;
+    }
+    EXPECT_EQ(genericCall("/grpc.health.v1.Health/Check", std::string("\x0a\x04nope"), &health).error_code(),
+              grpc::StatusCode::NOT_FOUND);
 
     // ServerReflectionRequest{list_services: ""} (field 7) on the bidi reflection stream.
     grpc::GenericStub stub(channel_);

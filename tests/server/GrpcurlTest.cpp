@@ -167,6 +167,9 @@ TEST_F(GrpcurlTest, DrivesTheServiceThroughReflection) {
     EXPECT_NE(stats.output.find("uint64 peak_device_bytes = 6;"), std::string::npos) << stats.output;
 
     EXPECT_EQ(call("grpc.health.v1.Health/Check", json::object()), json({{"status", "SERVING"}}));
+    for (const char* service : {"vastray.v1.SceneService", "vastray.v1.RenderService"})
+        EXPECT_EQ(call("grpc.health.v1.Health/Check", json({{"service", service}})), json({{"status", "SERVING"}}))
+            << service;
 
     size_t uploadMessages = 0;
     const GrpcurlRun upload = uploadSphere(16 << 10, &uploadMessages);

@@ -8,7 +8,8 @@
 //  - render() runs on the service's single worker thread, one job at a time; the renderer
 //    may use as many threads of its own as it likes.
 //  - `progress` may be called from any thread, as often as the backend likes; the service
-//    throttles what it stores and publishes.
+//    throttles what it stores and publishes. Each report carries every figure (passes and
+//    chunk loads so far); none goes back within one render.
 //  - `cancel` becomes true when the job is cancelled or the server shuts down. A backend
 //    should return soon after (any error: the service records the job as CANCELLED); one
 //    that cannot stop mid-render may finish, and the service discards the image.
@@ -43,6 +44,7 @@ struct JobRenderProgress {
 struct JobRenderStats {
     RenderStats render;
     uint64_t chunkLoads = 0;  // chunks loaded from storage for this job (0: all were resident)
+    uint64_t passes = 0;      // passesTotal of the render's last progress report
     // Device memory the job's render held at its peak (the streaming pool: chunk slots,
     // tables, path state), in bytes; 0 for a backend without device memory (Embree).
     uint64_t peakDeviceBytes = 0;

@@ -6,10 +6,30 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace vastray::server {
 
+// A Prometheus histogram with fixed upper bounds (seconds), safe to observe from any thread.
+class Histogram {
+public:
+    explicit Histogram(std::vector<double> upperBounds);
+    void observe(double value);
+    // The _bucket (cumulative, le="+Inf" last), _sum and _count lines of `name` with `labels`
+    // ("state=\"SUCCEEDED\"", or empty); no HELP/TYPE lines.
+    std::string samplesText(const std::string& name, const std::string& labels) const;
+
+private:
+    const std::vector<double> bounds_;
+    mutable std::mutex mutex_;
+    std::vector<uint64_t> counts_;  // per bucket, not cumulative; the last one is +Inf
+    double sum_ = 0;
+    uint64_t count_ = 0;
+};
+
 struct Metrics {
+    Metrics();
+
     std::atomic<uint64_t> jobsSubmitted{0};     // new jobs accepted
     std::atomic<uint64_t> jobsRejectedFull{0};  // refused with RESOURCE_EXHAUSTED (queue full)
     std::atomic<uint64_t> jobsSucceeded{0}, jobsFailed{0}, jobsCancelled{0};
@@ -24,19 +44,33 @@ struct Metrics {
     static constexpr int kKernels = 5;
     std::atomic<uint64_t> kernelMicroseconds[kKernels] = {};
 
+    // Seconds from a job's creation to the start of each of its attempts.
+    Histogram queueWait;
+    // Seconds from a job's (last) start to its final state, by that state.
+    Histogram durationSucceeded, durationFailed, durationCancelled;
+
     void notePeakDeviceBytes(uint64_t bytes) {
         uint64_t seen = peakDeviceBytes.load();
         while (bytes > seen && !peakDeviceBytes.compare_exchange_weak(seen, bytes)) {
         }
     }
 
-    // Requests answered by a front end ("grpc", "http"), by status code name.
+    // Requests answered by a front end ("grpc", "http"), by canonical status code name
+    // ("OK", "NOT_FOUND", ...: statusCodeName, or statusCodeNameOfHttp for HTTP responses).
     void countRequest(const std::string& frontEnd, const std::string& code);
     std::string requestsText();
+    // vastray_job_queue_wait_seconds and vastray_job_duration_seconds, HELP and TYPE included.
+    std::string histogramsText() const;
 
 private:
     std::mutex mutex_;
     std::map<std::pair<std::string, std::string>, uint64_t> requests_;
 };
+
+// vastray_build_info (version, build type, compiler, gRPC and protobuf versions) and the
+// standard process_* metrics of this process (CPU seconds, resident and virtual memory, open
+// and maximum file descriptors, start time), read from /proc/self.
+std::string buildInfoText();
+std::string processMetricsText();
 
 }  // namespace vastray::server

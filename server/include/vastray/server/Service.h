@@ -4,14 +4,17 @@
 // ServiceStatus at their boundary. Every function is thread-safe.
 //
 // Jobs run one at a time on a worker thread owned by the service, highest priority first
-// (equal priorities in submission order), through the JobRenderer given to open().
+// (equal priorities in submission order), through the JobRenderer given to open(). Import
+// jobs (asynchronous uploads) run one at a time on a second thread, in upload order.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -45,9 +48,10 @@ class SceneUpload {
 public:
     ~SceneUpload();
     ServiceStatus append(const void* data, size_t size);
-    // Hashes, then imports (mesh) or validates (.vast) the file and stores the scene; content
-    // already stored returns the stored scene.
-    ServiceResult<v1::Scene> finish();
+    // Hashes, then imports (mesh, zip) or validates (.vast) the file and stores the scene;
+    // content already stored returns the stored scene. `async`: queues the import as an
+    // import job instead and returns at once, the scene's import_job_id naming the job.
+    ServiceResult<v1::Scene> finish(bool async = false);
 
 private:
     friend class Service;
@@ -134,6 +138,15 @@ private:
                                          const std::string& digest, uint64_t bytes);
     ServiceResult<v1::Scene> importUpload(const std::string& name, const std::filesystem::path& file,
                                           const std::string& digest, uint64_t bytes);
+    ServiceStatus importZip(const std::string& name, const std::filesystem::path& file,
+                            const std::filesystem::path& package);
+    // An import job for the uploaded `file` (moved into the job's keeping); the scene to return.
+    ServiceResult<v1::Scene> queueImport(const std::string& name, const std::filesystem::path& file,
+                                         const std::string& digest, uint64_t bytes);
+    void importLoop();
+    void runImport(const std::string& jobId, const std::filesystem::path& file);
+    // "" or " (job ID is importing it)" for a scene id being imported.
+    std::string importNoteLocked(const std::string& sceneId) const;
 
     void workerLoop();
     void runJob(const std::string& id);
@@ -161,11 +174,20 @@ private:
     uint64_t nextOrder_ = 0;
     uint64_t changeCounter_ = 0;
     std::string runningId_, leftRunning_;
-    JobRenderProgress live_;
+    // The running job's progress: the latest figures, and those last published to watchers.
+    JobRenderProgress live_, published_;
+    std::chrono::steady_clock::time_point publishedAt_;
+    static constexpr auto kLoadPublishInterval = std::chrono::milliseconds(100);
     int livePercent_ = 0;
     std::atomic<bool> cancelRunning_{false};
     bool stopping_ = false, accepting_ = true, workerStopped_ = false, shutdownCancel_ = false;
     std::thread worker_;
+    // Import jobs: queued (job id, the upload's file), and the scene ids being imported (queued
+    // or running) -> their job.
+    std::deque<std::pair<std::string, std::filesystem::path>> importQueue_;
+    std::map<std::string, std::string> importing_;
+    std::condition_variable importAvailable_;
+    std::thread importWorker_;
 };
 
 }  // namespace vastray::server

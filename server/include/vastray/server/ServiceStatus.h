@@ -24,6 +24,11 @@ enum class StatusCode {
 
 const char* statusCodeName(StatusCode code);  // "INVALID_ARGUMENT", ...
 int httpStatusOf(StatusCode code);            // 400, 404, 409, 429, ...
+// The canonical code name of an HTTP response status, for one label scheme in the request
+// metrics of both front ends: the inverse of httpStatusOf (409 is FAILED_PRECONDITION), and
+// for statuses only HTTP has: 2xx OK, 411 and 415 INVALID_ARGUMENT, 413 RESOURCE_EXHAUSTED,
+// 416 OUT_OF_RANGE; any other status UNKNOWN.
+const char* statusCodeNameOfHttp(int httpStatus);
 
 class ServiceStatus {
 public:
