@@ -55,4 +55,11 @@ void ComputePipeline::record(VkCommandBuffer cmd, const void* pushConstants, uin
     vkCmdDispatch(cmd, groupCount, 1, 1);
 }
 
+void ComputePipeline::recordIndirect(VkCommandBuffer cmd, const void* pushConstants, VkBuffer args,
+                                     uint64_t offset) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes_, pushConstants);
+    vkCmdDispatchIndirect(cmd, args, offset);
+}
+
 }  // namespace vastray::gpu

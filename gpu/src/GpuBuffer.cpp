@@ -9,10 +9,12 @@
 namespace vastray::gpu {
 namespace {
 
-// Buffers are read by shaders through device addresses and filled by the host through a map.
+// Buffers are read by shaders through device addresses (and by indirect dispatches) and filled
+// by the host through a map.
 constexpr VkBufferUsageFlags kBufferUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                             VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
-                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                            VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
 constexpr uint64_t kMinBufferBytes = 16;
 
 }  // namespace

@@ -12,7 +12,7 @@
 namespace vastray::gpu {
 
 struct TableLayout {
-    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, params = 0,
+    uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, queueArgs = 0, params = 0,
              materials = 0;
     uint64_t totalBytes = 0;
 };
@@ -27,7 +27,8 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.demand = t.touched + align(chunks * 4);
     t.ahead = t.demand + align((chunks + 2) * 4);
     t.queueCounts = t.ahead + align(chunks * 4);
-    t.params = t.queueCounts + align(3 * 4);
+    t.queueArgs = t.queueCounts + align(3 * 4);
+    t.params = t.queueArgs + align(3 * 12);
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.totalBytes = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
     return t;

@@ -73,16 +73,16 @@ private:
     VkQueryPool pool_ = VK_NULL_HANDLE;
 };
 
-// Every kernel's writes are visible to the next kernel's reads and to transfers, and fills
-// to kernels.
+// Every kernel's writes are visible to the next kernel's reads, to transfers and to indirect
+// dispatches, and fills to kernels.
 void barrier(VkCommandBuffer cmd) {
     VkMemoryBarrier b{};
     b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                      VK_ACCESS_TRANSFER_WRITE_BIT;
+                      VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
     const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    vkCmdPipelineBarrier(cmd, stages, stages, 0, 1, &b, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(cmd, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
 uint32_t groups(uint64_t threads) {
@@ -160,6 +160,7 @@ public:
         VASTRAY_TRY(uploadParams());
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount + 2, 0), b_.tables.demand));
+        VASTRAY_TRY(upload(std::vector<uint32_t>{0, 1, 1, 0, 1, 1, 0, 1, 1}, b_.tables.queueArgs));
         VASTRAY_TRY(uploadResidency());
         const uint64_t pixels = image_.pixelCount();
         const uint32_t spp = options_.samplesPerPixel;
@@ -213,6 +214,7 @@ private:
     void clearQueue(uint32_t q) {
         record([this, q](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * q, 4, 0);
+            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueArgs + 12ull * q, 4, 0);
             barrier(cmd);
         });
     }
@@ -231,7 +233,6 @@ private:
     // With lookAhead, parked rays walk again (whether or not their chunk came) and count the
     // chunks they reach later (the look-ahead counters are cleared first).
     void walkRound(WavefrontPush& push, bool shade, bool countDemand, bool lookAhead) {
-        const uint64_t rays = 2ull * push.pixelCount * push.sampleCount;
         clearQueue(push.queue ^ 1u);
         if (countDemand || lookAhead)
             record([this, countDemand, lookAhead](VkCommandBuffer cmd) {
@@ -241,13 +242,13 @@ private:
                 barrier(cmd);
             });
         push.lookAhead = lookAhead ? 1u : 0u;
-        dispatch(*walk_, kWalk, push, rays);
+        dispatchQueue(*walk_, kWalk, push, push.queue);
         ++stats_.walkPasses;
         push.queue ^= 1u;
         if (shade) shadeReady(push);
     }
     void shadeReady(const WavefrontPush& push) {
-        dispatch(*shade_, kShade, push, uint64_t(push.pixelCount) * push.sampleCount);
+        dispatchQueue(*shade_, kShade, push, kShadeQueue);
         clearQueue(kShadeQueue);
     }
 
@@ -263,6 +264,7 @@ private:
         const uint32_t events = !shade ? 1u : ao ? 2u : options_.maxDepth + 1u;
         record([this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * kShadeQueue, 4, 0);
+            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueArgs + 12ull * kShadeQueue, 4, 0);
             barrier(cmd);
         });
         // In core no ray parks: the walk without the paging code.
@@ -354,7 +356,7 @@ private:
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
         p.throughput = state + s.throughput, p.radiance = state + s.radiance, p.pendingSun = state + s.pendingSun;
         p.pathInfo = state + s.pathInfo, p.accum = state + s.accum, p.queues = state + s.queues;
-        p.queueCounts = table + t.queueCounts;
+        p.queueCounts = table + t.queueCounts, p.queueArgs = table + t.queueArgs;
         const OutputLayout o = outputLayout(b_.pathCapacity);
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
@@ -404,6 +406,15 @@ private:
         record(
             [&pipeline, push, threads](VkCommandBuffer cmd) {
                 pipeline.record(cmd, &push, groups(threads));
+                barrier(cmd);
+            },
+            kernel);
+    }
+    // One thread per entry of queue q (an indirect dispatch: the count is on the device).
+    void dispatchQueue(const ComputePipeline& pipeline, Kernel kernel, const WavefrontPush& push, uint32_t q) {
+        record(
+            [this, &pipeline, push, q](VkCommandBuffer cmd) {
+                pipeline.recordIndirect(cmd, &push, b_.table->handle(), b_.tables.queueArgs + 12ull * q);
                 barrier(cmd);
             },
             kernel);

@@ -24,7 +24,7 @@ RwUintArray queueOf(ParamsRef params, uint q) { return RwUintArray(params.p.queu
 uint queueCount(ParamsRef params, uint q) { return RwUintArray(params.p.queueCounts).v[q]; }
 
 // Appends up to two entries per invocation to queue q: one atomic per workgroup reserves the
-// group's range. With `started`, the entries are rays that begin their walk, counted in
+// group's range (and raises the queue's indirect dispatch to cover it). With `started`, the entries are rays that begin their walk, counted in
 // demand[chunkCount + 1]. Every invocation of the workgroup must call it (it has barriers).
 shared uint groupAppendCount;
 shared uint groupAppendBase;
@@ -35,6 +35,8 @@ void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint firs
     barrier();
     if (gl_LocalInvocationIndex == 0u && groupAppendCount > 0u) {
         groupAppendBase = atomicAdd(RwUintArray(params.p.queueCounts).v[q], groupAppendCount);
+        const uint end = groupAppendBase + groupAppendCount;
+        atomicMax(RwUintArray(params.p.queueArgs).v[3u * q], (end + kWavefrontWorkgroupSize - 1u) / kWavefrontWorkgroupSize);
         if (started) atomicAdd(RwUintArray(params.p.demand).v[params.p.chunkCount + 1u], groupAppendCount);
     }
     barrier();

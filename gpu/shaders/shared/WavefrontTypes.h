@@ -79,6 +79,8 @@ struct WavefrontParams {
                            // the rays the next one walks; then the shade queue (kShadeQueue) of
                            // pathCapacity path indices: the paths whose rays are all walked
     uint64_t queueCounts;  // three uints: the entries of each queue
+    uint64_t queueArgs;    // per queue a VkDispatchIndirectCommand (x, 1, 1): x = the workgroups of
+                           // one thread per entry (the walk and shading are dispatched from them)
     uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
     uint64_t outColor;     // vec4 per tile pixel: mean radiance, alpha
     uint64_t outDepth;     // float per tile pixel
@@ -130,7 +132,7 @@ struct WavefrontPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 26 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 27 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(WavefrontPush) == 40 && offsetof(WavefrontPush, mode) == 32);
 }  // namespace vastray::gpu
 #endif

@@ -26,6 +26,8 @@ public:
 
     // Records a dispatch of groupCount workgroups along x, with these push constants.
     void record(VkCommandBuffer cmd, const void* pushConstants, uint32_t groupCount) const;
+    // The same, with the workgroup counts read by the device from a VkDispatchIndirectCommand.
+    void recordIndirect(VkCommandBuffer cmd, const void* pushConstants, VkBuffer args, uint64_t offset) const;
 
 private:
     explicit ComputePipeline(VulkanDevice& device) : device_(device) {}
