@@ -141,9 +141,10 @@ struct StreamingStats {
     uint32_t slots = 0;             // chunk slots the budget holds
     uint64_t walkedRays = 0;        // walked_rays: rays walked on the device (camera, AOV, bounce and shadow)
     // The device wavefront's (ChunkBackend::renderOnDevice): command-buffer submissions, walk
-    // passes (one per stream in core; one per paging step out of core), and the bytes that
-    // crossed the bus besides chunk data (bytes_uploaded): parameters, chunk tables and epochs
-    // up; demand counters, touched flags and the image with its AOVs down.
+    // passes (one per scattering event in core; three per paging step out of core), and the
+    // bytes that crossed the bus besides chunk data (bytes_uploaded): parameters and chunk
+    // tables up; demand and look-ahead counters, queue sizes, touched flags and the image with
+    // its AOVs down.
     uint64_t submits = 0;           // submits
     uint64_t walkPasses = 0;        // walk_passes
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
