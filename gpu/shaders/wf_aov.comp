@@ -20,7 +20,7 @@ void main() {
     ParamsRef params = ParamsRef(pc.params);
     const uint aovs = params.p.aovs;
     const vec4 n = Vec4Array(params.p.hitNormal).v[i];
-    const bool found = (floatBitsToUint(n.w) & kHitFound) != 0u;
+    const bool found = (UVec2Array(params.p.rayState).v[i].x & kHitFound) != 0u;
     const vec4 position = Vec4Array(params.p.hitPosition).v[i];
     const uvec4 ids = UVec4Array(params.p.hitIds).v[i];
     vec3 normal = vec3(0.0), albedo = vec3(0.0);

@@ -34,9 +34,8 @@ void main() {
     const uint shadow = shadowRayIndex(params.p, j);
     Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, kInfinity);
     Vec4Array(params.p.rayDirection).v[j] = vec4(direction, 0.0);
-    Vec4Array(params.p.hitNormal).v[j] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending));
-    UVec4Array(params.p.hitIds).v[j] = uvec4(0u);
-    Vec4Array(params.p.hitNormal).v[shadow] = vec4(0.0);
+    UVec2Array(params.p.rayState).v[j] = uvec2(kRayPending, 0u);
+    UVec2Array(params.p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
     Vec4Array(params.p.radiance).v[j] = vec4(0.0);
     const uint walking = pc.mode == kGeneratePaths ? kPathWalkClosest : 0u;

@@ -23,8 +23,7 @@ layout(constant_id = 2) const bool kEmission = true;           // some material 
 void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
     Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
-    Vec4Array(p.hitNormal).v[ray] = vec4(0.0, 0.0, 0.0, uintBitsToFloat(kRayPending | kRayFromSurface));
-    UVec4Array(p.hitIds).v[ray] = uvec4(0u);
+    UVec2Array(p.rayState).v[ray] = uvec2(kRayPending | kRayFromSurface, 0u);
 }
 
 // Shades path j; count, first and second: the rays it started (at most two), to be queued.
@@ -37,13 +36,13 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
     const uint shadow = shadowRayIndex(p, j);
     vec3 radiance = Vec4Array(p.radiance).v[j].xyz;
     if ((flags & kPathShadowPending) != 0u) {
-        const bool blocked = (floatBitsToUint(Vec4Array(p.hitNormal).v[shadow].w) & kHitFound) != 0u;
+        const bool blocked = (UVec2Array(p.rayState).v[shadow].x & kHitFound) != 0u;
         if (ao)
             radiance = blocked ? vec3(0.0) : vec3(1.0);
         else if (!blocked)
             radiance += Vec4Array(p.pendingSun).v[j].xyz;
         flags &= ~kPathShadowPending;
-        Vec4Array(p.hitNormal).v[shadow] = vec4(0.0);
+        UVec2Array(p.rayState).v[shadow] = uvec2(0u);
     }
     if ((flags & kPathAlive) != 0u) {
         flags &= ~kPathAlive;
@@ -51,7 +50,7 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
         const vec3 direction = Vec4Array(p.rayDirection).v[j].xyz;
         vec3 throughput = Vec4Array(p.throughput).v[j].xyz;
         const uint bounce = info.w, pixel = info.x, sampleIndex = info.y;
-        if ((floatBitsToUint(hitNormal.w) & kHitFound) == 0u) {
+        if ((UVec2Array(p.rayState).v[j].x & kHitFound) == 0u) {
             radiance = ao ? vec3(1.0) : radiance + throughput * skyRadiance(p, direction);
         } else {
             const vec3 n = facingNormal(hitNormal.xyz, direction);

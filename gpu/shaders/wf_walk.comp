@@ -2,7 +2,7 @@
 // (pathCapacity + j) that generate or shade started, and rays parked by earlier passes. Each ray
 // walks its cells of the top-level tree front to back and traces the resident ones. At the first
 // cell whose chunk is not resident it stops: it is parked there (the leaf is kept in its walk
-// record), counted in that chunk's demand counter, and queued on the other queue for the next
+// state), counted in that chunk's demand counter, and queued on the other queue for the next
 // pass, after the host has paged chunks in; its walk goes on without tracing to count the chunks
 // of its later cells in their look-ahead counters (the pager decodes those early, fills free
 // slots with them and keeps them resident rather than others). A parked ray walks again from its start, skipping the
@@ -39,7 +39,7 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 
 // The closest hit's record: position and geometric normal as core/PathShading.h evaluates them
 // (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them.
-void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk, uint flags, uint parkWord) {
+void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     const ChunkView c = chunkView(s);
     UintArray indices = UintArray(c.indices);
     const vec3 v0 = vertex(c, indices.v[3u * h.triangle]);
@@ -54,8 +54,8 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk, u
     const uint primitive = (s.flags & kSlotPrimitiveIds) != 0u ? UintArray(s.primitiveIds).v[h.triangle] : 0xFFFFFFFFu;
     const uint material = (s.flags & kSlotMaterialIds) != 0u ? UintArray(s.materialIds).v[h.triangle] : 0u;
     Vec4Array(params.p.hitPosition).v[ray] = vec4(position, h.t);
-    Vec4Array(params.p.hitNormal).v[ray] = vec4(nx, ny, nz, uintBitsToFloat(flags));
-    UVec4Array(params.p.hitIds).v[ray] = uvec4(primitive, material, chunk, parkWord);
+    Vec4Array(params.p.hitNormal).v[ray] = vec4(nx, ny, nz, 0.0);
+    UVec4Array(params.p.hitIds).v[ray] = uvec4(primitive, material, chunk, 0u);
 }
 
 // Walks one ray; returns whether it is parked (queued again) and whether it finished the last
@@ -65,15 +65,15 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     const uint capacity = params.p.pathCapacity;
     const bool anyHit = ray >= capacity;
     const uint j = anyHit ? ray - capacity : ray;
-    Vec4Array normals = Vec4Array(params.p.hitNormal);
-    UVec4Array ids = UVec4Array(params.p.hitIds);
-    uint flags = floatBitsToUint(normals.v[ray].w);
+    UVec2Array states = UVec2Array(params.p.rayState);
+    const uvec2 state = states.v[ray];
+    uint flags = state.x;
     if ((flags & kRayPending) == 0u) return;
     RwUintArray demand = RwUintArray(params.p.demand);
     const uint chunkCount = params.p.chunkCount;
     UintArray topNodes = UintArray(params.p.topNodes);
     UintArray chunkSlots = UintArray(params.p.chunkSlots);
-    const uint parkWord = ids.v[ray].w;  // the leaf it is parked at + 1, or 0
+    const uint parkWord = state.y;  // the leaf it is parked at + 1, or 0
     if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // still waiting: queued again without a walk
         const uint chunk = topNodes.v[2u * (parkWord - 1u)];
         if (chunkSlots.v[chunk] == kWalkNoHit) {
@@ -89,9 +89,9 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     const vec3 origin = o.xyz, direction = d.xyz;
     const float tMax = o.w;
     bool found = (flags & kHitFound) != 0u;
-    float bestT = found ? Vec4Array(params.p.hitPosition).v[ray].w : 0.0;
+    float bestT = found && !anyHit ? Vec4Array(params.p.hitPosition).v[ray].w : 0.0;
     bool bestFront = (flags & kHitFrontFacing) != 0u;
-    uint bestChunk = found ? ids.v[ray].z : kWalkNoHit;
+    uint bestChunk = found && !anyHit ? UVec4Array(params.p.hitIds).v[ray].z : kWalkNoHit;
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
     bool newBest = false, skipping = kPaging && parkWord != 0u, lookingAhead = false;
     uint bestSlot = 0u, cells = 0u, triangles = 0u, parkedLeaf = 0u;
@@ -151,12 +151,8 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     flags = (found ? kHitFound : 0u) | (bestFront && !anyHit ? kHitFrontFacing : 0u) | (parked ? kRayPending : 0u) |
             (gRayFromSurface ? kRayFromSurface : 0u);
     const uint newParkWord = parked ? parkedLeaf + 1u : 0u;
-    if (newBest && !anyHit) {
-        writeHit(params, ray, slots.v[bestSlot], best, bestChunk, flags, newParkWord);
-    } else {
-        normals.v[ray].w = uintBitsToFloat(flags);
-        if (newParkWord != parkWord) ids.v[ray].w = newParkWord;
-    }
+    if (newBest && !anyHit) writeHit(params, ray, slots.v[bestSlot], best, bestChunk);
+    states.v[ray] = uvec2(flags, newParkWord);
     if (kCountCost && cells != 0u) {
         const uint pixel = j / pc.sampleCount;
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel], cells);

@@ -37,14 +37,15 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
 // The wavefront's state buffer (device-local) and output buffer (host-readable), per path and
 // per tile pixel: sections in the order of WavefrontParams' addresses.
 struct StateLayout {
-    uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
+    uint64_t rayOrigin, rayDirection, rayState, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
         accum, queues, totalBytes;
 };
 inline StateLayout stateLayout(uint64_t paths) {
     StateLayout s{};
     const uint64_t rays = 2 * paths * 16, perPath = paths * 16;
-    s.rayOrigin = 0, s.rayDirection = rays, s.hitPosition = 2 * rays, s.hitNormal = 3 * rays, s.hitIds = 4 * rays;
-    s.throughput = 5 * rays, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
+    s.rayOrigin = 0, s.rayDirection = rays, s.rayState = 2 * rays, s.hitPosition = s.rayState + 2 * paths * 8;
+    s.hitNormal = s.hitPosition + perPath, s.hitIds = s.hitNormal + perPath;
+    s.throughput = s.hitIds + perPath, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
     s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.queues = s.accum + perPath;
     s.totalBytes = s.queues + 2 * (2 * paths * 4) + paths * 4;
     return s;
@@ -59,6 +60,6 @@ inline OutputLayout outputLayout(uint64_t pixels) {
     o.totalBytes = o.cost + 8 * pixels;
     return o;
 }
-static_assert(kBytesPerPath == 16 * 10 + 4 * 16 + 16 + 4 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 4 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

@@ -353,6 +353,7 @@ private:
         p.materials = table + t.materials;
         const StateLayout s = stateLayout(b_.pathCapacity);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
+        p.rayState = state + s.rayState;
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
         p.throughput = state + s.throughput, p.radiance = state + s.radiance, p.pendingSun = state + s.pendingSun;
         p.pathInfo = state + s.pathInfo, p.accum = state + s.accum, p.queues = state + s.queues;

@@ -7,6 +7,7 @@
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer ParamsRef { WavefrontParams p; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4Array { vec4 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer UVec4Array { uvec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer UVec2Array { uvec2 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer RwUintArray { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer RwFloatArray { float v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MaterialArray { WavefrontMaterial v[]; };

@@ -22,7 +22,7 @@ const uint kPathCameraHit = 4u;      // its camera ray hit geometry (alpha)
 const uint kPathWalkClosest = 8u;    // its closest-hit ray is still being walked
 const uint kPathWalkShadow = 16u;    // its shadow ray is still being walked
 
-// Walk record flags (hitNormal .w as bits), besides kHitFound and kHitFrontFacing.
+// Walk state flags (rayState .x), besides kHitFound and kHitFrontFacing.
 const uint kRayPending = 4u;      // still to be walked: started, or parked at a cell whose chunk was not resident
 const uint kRayFromSurface = 8u;  // leaves a surface: hits within t's rounding error are refused
 
@@ -37,10 +37,11 @@ const uint kShadeQueue = 2u;
 const uint kGeneratePaths = 0u;  // jittered camera rays of (pixel, sample) paths
 const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
 
-// Device bytes per path of the state arrays (two rays with their walk records, four path
-// vectors, a slot in each of the two ray queues for each ray, a slot in the shade queue) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
+// Device bytes per path of the state arrays (two rays with their walk states, the closest hit's
+// record, four path vectors, a slot in each of the two ray queues for each ray, a slot in the
+// shade queue) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
 // waves from the budget with these.
-const uint kBytesPerPath = 2u * (16u + 16u + 16u + 16u + 16u) + 4u * 16u + 2u * 2u * 4u + 4u;
+const uint kBytesPerPath = 2u * (16u + 16u + 8u) + 3u * 16u + 4u * 16u + 2u * 2u * 4u + 4u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
@@ -52,8 +53,9 @@ struct WavefrontMaterial {
 };
 
 // Everything a render's kernels read, written by the host once per render. Addresses are
-// buffer device addresses. Rays and their walk records are arrays of 2 * pathCapacity entries:
-// path j's closest-hit ray at j, its shadow ray at pathCapacity + j.
+// buffer device addresses. Rays and their walk states are arrays of 2 * pathCapacity entries:
+// path j's closest-hit ray at j, its shadow ray at pathCapacity + j; the hit records (closest-hit
+// rays only) have pathCapacity entries.
 struct WavefrontParams {
     uint64_t slotTable;    // ChunkSlot per slot
     uint64_t topNodes;     // the package's top-level tree (KdNode; a leaf's first word is its chunk)
@@ -66,10 +68,11 @@ struct WavefrontParams {
     uint64_t materials;    // WavefrontMaterial per material
     uint64_t rayOrigin;    // vec4: origin, tMax
     uint64_t rayDirection; // vec4: direction, tMin (0)
-    uint64_t hitPosition;  // vec4: position, t (closest-hit rays)
-    uint64_t hitNormal;    // vec4: geometric normal (not normalized), flags as bits
-    uint64_t hitIds;       // uvec4: primitive, material, chunk (closest-hit rays); the top-level
-                           // leaf the ray is parked at + 1, or 0 (every ray)
+    uint64_t rayState;     // uvec2: walk flags (kHitFound, kHitFrontFacing, kRayPending,
+                           // kRayFromSurface), the top-level leaf the ray is parked at + 1 or 0
+    uint64_t hitPosition;  // vec4 per path: its closest hit's position, t
+    uint64_t hitNormal;    // vec4 per path: geometric normal (not normalized), 0
+    uint64_t hitIds;       // uvec4 per path: primitive, material, chunk, 0
     uint64_t throughput;   // vec4 per path
     uint64_t radiance;     // vec4 per path
     uint64_t pendingSun;   // vec4 per path: the sun's light, added if the shadow ray is unblocked
@@ -132,7 +135,7 @@ struct WavefrontPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 27 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 28 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(WavefrontPush) == 40 && offsetof(WavefrontPush, mode) == 32);
 }  // namespace vastray::gpu
 #endif
