@@ -25,15 +25,4 @@ bool prepareWatertightRay(const Ray& ray, WatertightRay* out) {
     return true;
 }
 
-namespace detail {
-
-void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, float* u, float* v,
-                         float* w) {
-    // Products of floats are exact in double, so the signs are exact.
-    *u = float(double(cx) * double(by) - double(cy) * double(bx));
-    *v = float(double(ax) * double(cy) - double(ay) * double(cx));
-    *w = float(double(bx) * double(ay) - double(by) * double(ax));
-}
-
-}  // namespace detail
 }  // namespace vastray

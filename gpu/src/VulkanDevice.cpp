@@ -60,7 +60,6 @@ VulkanDeviceInfo describe(VkPhysicalDevice device) {
     else if (computeQueueFamily(device) < 0) info.missing = "a compute queue";
     else if (!f12.bufferDeviceAddress) info.missing = "bufferDeviceAddress";
     else if (!f.features.shaderInt64) info.missing = "shaderInt64";
-    else if (!f.features.shaderFloat64) info.missing = "shaderFloat64";
     info.usable = info.missing.empty();
     return info;
 }
@@ -146,7 +145,6 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, uint32_t que
     auto features = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
     features.pNext = &f12;
     features.features.shaderInt64 = VK_TRUE;
-    features.features.shaderFloat64 = VK_TRUE;
     auto info = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
     info.pNext = &features;
     info.queueCreateInfoCount = 1;

@@ -57,6 +57,33 @@ TEST(TriangleIntersect, DegenerateInputsNeverHit) {
 // Random triangles and rays: t, barycentrics and facing agree with a double-precision
 // reference. Tolerance 1e-4 relative: float inputs, condition numbers bounded by the
 // filter on the angle between ray and triangle.
+// The fp32 recomputation of an edge function that rounded to 0 (Dekker's product errors) gives
+// the float that double precision gives: the exact difference, rounded once. Products from
+// 2^-60 to 2^60, pairs chosen so that both round to the same float (where the edge function is
+// 0 in float) and nearby pairs that do not (where the function is never called, but still exact
+// while the products are equal; the check covers only those equal ones).
+TEST(TriangleIntersect, ZeroEdgeFunctionEqualsDouble) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> mantissa(1.0f, 2.0f);
+    std::uniform_int_distribution<int> exponent(-30, 30), nudge(-3, 3), sign(0, 1);
+    int checked = 0, nonZero = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const auto pick = [&] { return (sign(rng) ? -1.0f : 1.0f) * std::ldexp(mantissa(rng), exponent(rng)); };
+        const float a = pick(), b = pick(), c = pick();
+        float d = (a * b) / c;
+        for (int k = nudge(rng); k != 0; k += k > 0 ? -1 : 1) d = std::nextafter(d, k > 0 ? kInf : -kInf);
+        if (a * b != c * d) continue;  // not a zero edge function in float
+        ++checked;
+        const float expected = float(double(a) * double(b) - double(c) * double(d));
+        const float got = detail::zeroEdgeFunctionExact(a, b, c, d);
+        if (expected != 0.0f) ++nonZero;
+        ASSERT_EQ(got, expected) << std::hexfloat << a << " * " << b << " - " << c << " * " << d;
+        ASSERT_EQ(std::signbit(got), std::signbit(expected)) << std::hexfloat << a << " " << b << " " << c << " " << d;
+    }
+    EXPECT_GT(checked, 20000);
+    EXPECT_GT(nonZero, checked / 2) << "most equal float products still differ exactly";
+}
+
 TEST(TriangleIntersect, AgreesWithDoubleReference) {
     std::mt19937 rng(7);
     int hits = 0;

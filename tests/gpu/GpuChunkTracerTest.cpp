@@ -204,10 +204,10 @@ TEST(GpuChunkTracer, DegenerateRaysMissLikeCpu) {
 }
 
 // The ray along z passes outside edge bc by about 2^-46: in float the edge function
-// cx*by - cy*bx rounds to exactly 0 (an edge hit), so only the double-precision fallback
-// (TriangleIntersect.h, mirrored in Watertight.glsl) sees the miss. A GPU without the fallback
-// hits triangle 0 here.
-TEST(GpuChunkTracer, EdgeFunctionDoubleFallbackMatchesCpu) {
+// cx*by - cy*bx rounds to exactly 0 (an edge hit), so only the exact fp32 recomputation
+// (detail::zeroEdgeFunctionExact in TriangleIntersect.h, mirrored in Watertight.glsl) sees the
+// miss. A GPU without it, or one whose compiler fused or reordered its steps, hits triangle 0 here.
+TEST(GpuChunkTracer, ZeroEdgeFunctionFallbackMatchesCpu) {
     const float e = std::ldexp(1.0f, -23);  // one ulp of 1
     Mesh mesh;
     mesh.positions = {{1, -1, 0}, {1 + e, 1, 0}, {-(1 + 2 * e), -(1 + e), 0},   // origin just outside bc

@@ -3,10 +3,9 @@
 // run fp64 at 1/32-1/64 of fp32):
 // - every float result that feeds a multiply-add is `precise` (no FMA contraction, no
 //   reassociation), as on the CPU (GCC in ISO C++20 mode does not contract);
-// - an edge function that rounds to exactly 0 (rare) is recomputed in double, as on the CPU, so
-//   that its sign is exact and the test stays watertight. That fallback still needs
-//   shaderFloat64; an fp32 one (Kahan's difference of products) needs an fma that GLSL does not
-//   promise to fuse (lavapipe does not), so it is not used;
+// - an edge function that rounds to exactly 0 (rare) is recomputed exactly, as on the CPU, so that
+//   its sign is exact and the test stays watertight: from Dekker's product errors, in fp32 and
+//   without fma (GLSL does not promise to fuse one; lavapipe does not), so no fp64 at all;
 // - divisions are GLSL's, which may be off by 2.5 ulp: t, u, v may then differ from the CPU's
 //   in the last bits (lavapipe divides exactly and matches the CPU bit for bit; the tests that
 //   compare bits run there). Watertightness does not depend on the division.
@@ -51,14 +50,22 @@ bool prepareWatertightRay(vec3 origin, vec3 d, out WatertightRay r) {
     return true;
 }
 
-// Mirrors detail::edgeFunctionsDouble: products of floats are exact in double. Off the hot path:
-// only where a float edge function rounded to exactly 0.
-void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, inout float u,
-                         inout float v, inout float w) {
-    precise double du = double(cx) * double(by) - double(cy) * double(bx);
-    precise double dv = double(ax) * double(cy) - double(ay) * double(cx);
-    precise double dw = double(bx) * double(ay) - double(by) * double(ax);
-    u = float(du), v = float(dv), w = float(dw);
+// Mirrors detail::productError (Dekker, Veltkamp's split): a*b == p + productError(a, b, p)
+// exactly for p = a*b; every step rounded on its own.
+float productError(float a, float b, float p) {
+    precise float ca = 4097.0 * a, cb = 4097.0 * b;
+    precise float ah = ca - (ca - a), al = a - ah;
+    precise float bh = cb - (cb - b), bl = b - bh;
+    precise float e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
+    return e;
+}
+
+// Mirrors detail::zeroEdgeFunctionExact: a*b - c*d where the float result was exactly 0. Off the
+// hot path.
+float zeroEdgeFunctionExact(float a, float b, float c, float d) {
+    precise float p = a * b, q = c * d;
+    precise float e = productError(a, b, p) - productError(c, d, q);
+    return e;
 }
 
 // Mirrors detail::conservativeTMin (pbrt-v4's bound on the rounding error of t).
@@ -92,7 +99,9 @@ bool intersectTriangle(WatertightRay r, vec3 v0, vec3 v1, vec3 v2, bool cullBack
     precise float u = cx * by - cy * bx;  // weight of v0
     precise float v = ax * cy - ay * cx;  // weight of v1
     precise float w = bx * ay - by * ax;  // weight of v2
-    if (u == 0.0 || v == 0.0 || w == 0.0) edgeFunctionsDouble(ax, ay, bx, by, cx, cy, u, v, w);
+    if (u == 0.0) u = zeroEdgeFunctionExact(cx, by, cy, bx);
+    if (v == 0.0) v = zeroEdgeFunctionExact(ax, cy, ay, cx);
+    if (w == 0.0) w = zeroEdgeFunctionExact(bx, ay, by, ax);
     const bool anyNegative = u < 0.0 || v < 0.0 || w < 0.0;
     const bool anyPositive = u > 0.0 || v > 0.0 || w > 0.0;
     if (anyNegative && (anyPositive || cullBackFace)) return false;

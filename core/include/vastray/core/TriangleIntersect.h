@@ -59,10 +59,30 @@ inline float conservativeTMin(float ax, float ay, float bx, float by, float cx, 
     return 3.0f * (kGamma3 * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::fabs(rcpDet);
 }
 
-// Recomputes the three 2D edge functions in double precision; called only when one of the
-// float results is exactly 0, where float rounding could decide the sign wrongly.
-void edgeFunctionsDouble(float ax, float ay, float bx, float by, float cx, float cy, float* u, float* v,
-                         float* w);
+// Dekker's product error without fma (Veltkamp's split; T. J. Dekker, "A floating-point technique
+// for extending the available precision", 1971): for p = fl(a*b), a*b == p + productError(a, b, p)
+// exactly, in float arithmetic alone, while no step overflows or underflows. Within the imported
+// coordinate range (|x| <= 1e18, so sheared coordinates stay below ~4e18) nothing overflows;
+// products below ~2^-100 lose bits of their error (denormal territory, out of scope).
+// Every operation must be rounded on its own: ISO C++ does not contract a*b+c into an fma (the
+// project builds with CMAKE_CXX_EXTENSIONS OFF) and Watertight.glsl marks the same steps `precise`.
+inline float productError(float a, float b, float p) {
+    const float ca = 4097.0f * a, cb = 4097.0f * b;  // 2^12 + 1 splits a 24-bit significand in two halves
+    const float ah = ca - (ca - a), al = a - ah;
+    const float bh = cb - (cb - b), bl = b - bh;
+    return al * bl - (((p - ah * bh) - al * bh) - ah * bl);
+}
+
+// An edge function a*b - c*d that rounded to exactly 0 in float, recomputed exactly: it rounds
+// to 0 only when fl(a*b) == fl(c*d) (a float subtraction is exact near 0 and rounding is
+// monotone, so a non-zero result already has the exact sign), and then a*b - c*d equals the
+// difference of the two product errors, which one float subtraction rounds correctly. This is
+// the same float a double-precision recomputation gives, in fp32 only (consumer GPUs run fp64 at
+// 1/32-1/64 of the rate, and some have none); tests/core/TriangleIntersectTest.cpp checks it
+// against double.
+inline float zeroEdgeFunctionExact(float a, float b, float c, float d) {
+    return productError(a, b, a * b) - productError(c, d, c * d);
+}
 }  // namespace detail
 
 // Hit when the ray passes through the triangle (edges and vertices included) at a t with
@@ -79,7 +99,10 @@ inline bool intersectTriangle(const WatertightRay& r, Vec3f v0, Vec3f v1, Vec3f 
     float u = cx * by - cy * bx;  // weight of v0
     float v = ax * cy - ay * cx;  // weight of v1
     float w = bx * ay - by * ax;  // weight of v2
-    if (u == 0.0f || v == 0.0f || w == 0.0f) detail::edgeFunctionsDouble(ax, ay, bx, by, cx, cy, &u, &v, &w);
+    // Exact signs where rounding gave 0 (the test's watertightness hangs on them).
+    if (u == 0.0f) u = detail::zeroEdgeFunctionExact(cx, by, cy, bx);
+    if (v == 0.0f) v = detail::zeroEdgeFunctionExact(ax, cy, ay, cx);
+    if (w == 0.0f) w = detail::zeroEdgeFunctionExact(bx, ay, by, ax);
     const bool anyNegative = u < 0.0f || v < 0.0f || w < 0.0f;
     const bool anyPositive = u > 0.0f || v > 0.0f || w > 0.0f;
     if (anyNegative && (anyPositive || cullBackFace)) return false;
