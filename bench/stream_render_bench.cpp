@@ -12,6 +12,7 @@
 //                       peer renderer's camera, e.g. ../shared/tools/mitsuba_bench.py)
 //                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
+//                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -99,6 +100,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--resident-only") a.residentOnly = true;
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
+        else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
         else if (flag == "--max-paths-per-wave") {
             a.streaming.maxPathsPerWave = uint32_t(std::stoul(value()));
             if (a.streaming.maxPathsPerWave == 0) fail("--max-paths-per-wave must be >= 1");

@@ -195,6 +195,12 @@ bool VulkanDevice::readbackInDeviceMemory() const {
 }
 
 Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) {
+    VASTRAY_TRY(begin(record));
+    return wait();
+}
+
+Status VulkanDevice::begin(const std::function<void(VkCommandBuffer)>& record) {
+    VASTRAY_TRY(wait());
     if (!failure_.empty()) return Status::error(failure_);
     auto allocInfo = vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
     allocInfo.commandPool = commandPool_;
@@ -202,18 +208,17 @@ Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) 
     allocInfo.commandBufferCount = 1;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VASTRAY_VK_TRY(vkAllocateCommandBuffers(device_, &allocInfo, &cmd));
-    struct FreeOnExit {
+    struct FreeOnError {
         VkDevice device;
         VkCommandPool pool;
         VkCommandBuffer cmd;
-        bool pending = false;  // still executing (timed out): freed with the pool, once idle
-        ~FreeOnExit() {
-            if (!pending) vkFreeCommandBuffers(device, pool, 1, &cmd);
+        ~FreeOnError() {
+            if (cmd != VK_NULL_HANDLE) vkFreeCommandBuffers(device, pool, 1, &cmd);
         }
-    } freeOnExit{device_, commandPool_, cmd};
-    auto begin = vkStruct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VASTRAY_VK_TRY(vkBeginCommandBuffer(cmd, &begin));
+    } freeOnError{device_, commandPool_, cmd};
+    auto beginInfo = vkStruct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+    beginInfo.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VASTRAY_VK_TRY(vkBeginCommandBuffer(cmd, &beginInfo));
     record(cmd);
     // Host writes before the submit are visible to it (submission order); make the shaders'
     // writes visible to host reads after the fence.
@@ -230,17 +235,26 @@ Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) 
     const VkResult submitted = vkQueueSubmit(queue_, 1, &submitInfo, fence_);
     if (submitted == VK_ERROR_DEVICE_LOST) failure_ = info_.name + ": the device was lost (VK_ERROR_DEVICE_LOST)";
     VASTRAY_TRY(failure_.empty() ? vkStatus(submitted, "vkQueueSubmit") : Status::error(failure_));
+    pending_ = cmd;
+    freeOnError.cmd = VK_NULL_HANDLE;
+    return Status::ok();
+}
+
+Status VulkanDevice::wait() {
+    if (pending_ == VK_NULL_HANDLE) return Status::ok();
     const double limit = std::clamp(submitTimeoutSeconds_, 0.0, 1e9);
     const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, uint64_t(limit * 1e9));
     if (waited == VK_TIMEOUT) {
-        freeOnExit.pending = true;
+        // Still executing: the command buffer is freed with the pool, once idle.
         char seconds[32];
         std::snprintf(seconds, sizeof seconds, "%g", limit);
         failure_ = info_.name + ": the device did not finish a submission within " + seconds +
                    " s (hung device?); it takes no more work";
-    } else if (waited == VK_ERROR_DEVICE_LOST) {
-        failure_ = info_.name + ": the device was lost (VK_ERROR_DEVICE_LOST)";
+    } else {
+        if (waited == VK_ERROR_DEVICE_LOST) failure_ = info_.name + ": the device was lost (VK_ERROR_DEVICE_LOST)";
+        vkFreeCommandBuffers(device_, commandPool_, 1, &pending_);
     }
+    pending_ = VK_NULL_HANDLE;
     return failure_.empty() ? vkStatus(waited, "vkWaitForFences") : Status::error(failure_);
 }
 

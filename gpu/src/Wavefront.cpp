@@ -146,6 +146,8 @@ public:
         StreamingStats& stats, double& deviceSeconds)
         : w_(w), b_(b), job_(job), options_(*job.options), pager_(pager), image_(image), stats_(stats),
           deviceSeconds_(deviceSeconds), queries_(w.device_) {}
+    // A render that fails between a submission and its wait still waits: the buffers outlive it.
+    ~Run() { (void)w_.device_.wait(); }
 
     Status execute() {
         // What this render does not need is not compiled into its kernels (specialization).
@@ -259,6 +261,11 @@ private:
     // of the rays parked by the last one and the queue sizes, and lets the pager page in the
     // chunks the parked rays wait for. Paths at different bounces share the steps, so a chunk's
     // residency serves every bounce that needs it.
+    // With job.overlapLoads the pager only plans between steps (evicting the victims, which the
+    // next step then sees empty) and loads while the device walks that step: uploads and decoding
+    // overlap the device's work, and a chunk serves rays one step later than it would otherwise.
+    // When the next step would have nothing to do without the planned chunks, they are loaded
+    // before it instead.
     Status walkWave(WavefrontPush& push, bool shade) {
         const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
         const uint32_t events = !shade ? 1u : ao ? 2u : options_.maxDepth + 1u;
@@ -278,6 +285,7 @@ private:
         pager_.beginStream();
         std::vector<uint32_t> waveTouched(b_.chunkCount, 0), touched(b_.chunkCount);
         std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(3);
+        bool planned = false;  // loads planned for the step about to run
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             if (step > 0 && shade) shadeReady(push);  // the paths the last step's final pass finished
@@ -289,18 +297,40 @@ private:
                 const bool last = r + 1 == kPassesPerPagingStep;
                 walkRound(push, shade && !last, last, r == 0);
             }
-            VASTRAY_TRY(flush());
+            VASTRAY_TRY(beginSubmit());
+            size_t loaded = 0;
+            if (planned) {
+                auto done = pager_.loadPlanned();  // while the device walks
+                if (!done) return done.status();
+                loaded = done->size(), planned = false;
+            }
+            VASTRAY_TRY(finishSubmit());
             VASTRAY_TRY(download(demand.data(), demand.size() * 4, *b_.table, b_.tables.demand));
             VASTRAY_TRY(download(ahead.data(), ahead.size() * 4, *b_.table, b_.tables.ahead));
             VASTRAY_TRY(download(counts.data(), counts.size() * 4, *b_.table, b_.tables.queueCounts));
             VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
             for (size_t c = 0; c < touched.size(); ++c) waveTouched[c] |= touched[c];
             pager_.markUsed(touched);
-            if (counts[push.queue] == 0 && counts[kShadeQueue] == 0) break;
-            if (demand[b_.chunkCount] == 0) continue;  // nobody waits: the finished paths go on
-            auto loaded = pager_.page(std::span<const uint32_t>(demand).first(b_.chunkCount), ahead);
-            if (!loaded) return loaded.status();
-            if (loaded->empty())
+            const bool finished = counts[push.queue] == 0 && counts[kShadeQueue] == 0;
+            if (finished || demand[b_.chunkCount] == 0) {  // done, or nobody waits: the finished paths go on
+                if (loaded > 0) VASTRAY_TRY(uploadResidency());
+                if (finished) break;
+                continue;
+            }
+            const auto plan = pager_.planLoads(std::span<const uint32_t>(demand).first(b_.chunkCount), ahead);
+            planned = !plan.empty();
+            // Overlap only when the next step has work without the planned chunks: paths to
+            // shade, or rays parked at chunks that are resident now; else it would idle meanwhile.
+            uint64_t ready = counts[kShadeQueue];
+            const std::span<const uint32_t> slots = pager_.chunkSlots();
+            for (uint32_t c = 0; c < b_.chunkCount; ++c)
+                if (slots[c] != kEmptyCell) ready += demand[c];
+            if (planned && (!job_.overlapLoads || ready == 0)) {
+                auto done = pager_.loadPlanned();
+                if (!done) return done.status();
+                loaded += done->size(), planned = false;
+            }
+            if (plan.empty() && loaded == 0)
                 return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");
             VASTRAY_TRY(uploadResidency());
         }
@@ -424,11 +454,17 @@ private:
     // one after each: the difference is the command's device time (commands are serialized by
     // barriers), added to its kernel's figure.
     Status flush() {
+        VASTRAY_TRY(beginSubmit());
+        return finishSubmit();
+    }
+    // flush in two halves: the host may work between them (on what the submission does not read).
+    Status beginSubmit() {
         if (ops_.empty()) return Status::ok();
         const VkQueryPool pool = queries_.handle();
-        const uint32_t queries = pool ? uint32_t(std::min<size_t>(ops_.size() + 1, kMaxQueries)) : 0;
+        submittedQueries_ = pool ? uint32_t(std::min<size_t>(ops_.size() + 1, kMaxQueries)) : 0;
+        const uint32_t queries = submittedQueries_;
         const auto start = std::chrono::steady_clock::now();
-        const Status s = w_.device_.submit([&](VkCommandBuffer cmd) {
+        const Status s = w_.device_.begin([&](VkCommandBuffer cmd) {
             if (queries > 0) {
                 vkCmdResetQueryPool(cmd, pool, 0, queries);
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
@@ -440,7 +476,16 @@ private:
         });
         deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         ++stats_.submits;
-        if (s.isOk() && queries > 1) addKernelTimes(pool, queries);
+        if (!s.isOk()) ops_.clear();
+        return s;
+    }
+    // Waits for the submission (the time waited counts as device time) and adds its kernel times.
+    Status finishSubmit() {
+        if (!w_.device_.running()) return Status::ok();
+        const auto start = std::chrono::steady_clock::now();
+        const Status s = w_.device_.wait();
+        deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (s.isOk() && submittedQueries_ > 1) addKernelTimes(queries_.handle(), submittedQueries_);
         ops_.clear();
         return s;
     }
@@ -471,7 +516,8 @@ private:
     RenderImage& image_;
     StreamingStats& stats_;
     double& deviceSeconds_;
-    std::vector<Op> ops_;
+    std::vector<Op> ops_;  // recorded, or submitted and not yet finished
+    uint32_t submittedQueries_ = 0;
     QueryPool queries_;
     const ComputePipeline* shade_ = nullptr;  // this render's specialization
     const ComputePipeline* walk_ = nullptr;   // this wave's (paging or not)

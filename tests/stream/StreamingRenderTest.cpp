@@ -171,6 +171,13 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
     auto b = renderVulkan(path, o, tight, &small);
     ASSERT_TRUE(b) << b.message();
     expectIdentical(*a, *b, false);
+    // Loading between the paging steps (the device idle) instead of while it walks: other
+    // schedules, the same image.
+    StreamingStats between;
+    auto c = renderVulkan(path, o, tight, &between, 1u << 21, false);
+    ASSERT_TRUE(c) << c.message();
+    expectIdentical(*a, *c, false);
+    EXPECT_GT(between.chunkLoads, between.chunksTouched);
     EXPECT_EQ(small.slots, 2u);
     EXPECT_GT(small.chunkLoads, small.chunksTouched) << "two slots should have forced reloads";
     EXPECT_EQ(ample.chunkLoads, ample.chunksTouched) << "a scene that fits loads each chunk once";

@@ -53,14 +53,17 @@ std::vector<uint8_t> singleSidedFlags(const PackageInfo& package, const ChunkAtt
     return out;
 }
 
-Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand, std::span<const uint32_t> ahead) {
+std::vector<uint32_t> DemandPager::planLoads(std::span<const uint32_t> demand, std::span<const uint32_t> ahead) {
     const uint32_t chunks = uint32_t(chunkSlot_.size());
     auto count = [](std::span<const uint32_t> counts, uint32_t c) { return c < counts.size() ? counts[c] : 0u; };
+    auto isPlanned = [&](uint32_t chunk) {
+        return std::any_of(planned_.begin(), planned_.end(), [&](const auto& p) { return p.first == chunk; });
+    };
     // Most waiting rays first, then most rays reaching the chunk later; the chunk id breaks
     // ties, so the schedule is deterministic.
     std::vector<uint32_t> wanted, later;
     for (uint32_t c = 0; c < chunks; ++c) {
-        if (chunkSlot_[c] != kEmptyCell) continue;
+        if (chunkSlot_[c] != kEmptyCell || isPlanned(c)) continue;
         if (count(demand, c) > 0) wanted.push_back(c);
         else if (count(ahead, c) > 0) later.push_back(c);
     }
@@ -77,11 +80,13 @@ Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand
         if (i >= slotCount && prefetchBytes > cache_.capacity() / 2) break;
         cache_.prefetch(later[i]);
     }
-    if (wanted.size() > slotCount) wanted.resize(slotCount);
     // Victims: empty slots, then slots whose chunk nobody waits for, those no ray reaches
-    // later, least recently used first.
-    std::vector<uint32_t> slots(slotCount);
-    std::iota(slots.begin(), slots.end(), 0u);
+    // later, least recently used first. Slots already planned are not candidates.
+    std::vector<uint32_t> slots;
+    for (uint32_t s = 0; s < slotCount; ++s)
+        if (std::none_of(planned_.begin(), planned_.end(), [&](const auto& p) { return p.second == s; }))
+            slots.push_back(s);
+    if (wanted.size() > slots.size()) wanted.resize(slots.size());
     auto waitedFor = [&](uint32_t slot) {
         const uint32_t c = slotChunk_[slot];
         return c != kEmptyCell && count(demand, c) > 0;
@@ -96,12 +101,31 @@ Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand
         if (reachedLater(a) != reachedLater(b)) return !reachedLater(a);
         return slotLastUse_[a] < slotLastUse_[b];
     });
+    std::vector<uint32_t> planned;
+    auto plan = [&](uint32_t chunk, uint32_t slot) {
+        if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell;  // evicted now
+        slotChunk_[slot] = kEmptyCell;
+        planned_.push_back({chunk, slot});
+        planned.push_back(chunk);
+    };
+    size_t next = 0;
+    for (; next < wanted.size(); ++next) {
+        if (waitedFor(slots[next])) break;  // never evict a chunk rays still wait for
+        plan(wanted[next], slots[next]);
+    }
+    // Slots still empty take the chunks most rays reach later (nothing is evicted for them).
+    for (size_t i = 0; i < later.size() && next < slots.size() && slotChunk_[slots[next]] == kEmptyCell; ++i, ++next)
+        plan(later[i], slots[next]);
+    return planned;
+}
+
+Result<std::vector<uint32_t>> DemandPager::loadPlanned() {
     std::vector<uint32_t> loaded;
-    auto load = [&](uint32_t chunk, uint32_t slot) -> Status {
+    std::vector<std::pair<uint32_t, uint32_t>> planned;
+    planned.swap(planned_);
+    for (const auto& [chunk, slot] : planned) {
         auto decoded = cache_.get(chunk);
         if (!decoded) return decoded.status();
-        if (slotChunk_[slot] != kEmptyCell) chunkSlot_[slotChunk_[slot]] = kEmptyCell;
-        slotChunk_[slot] = kEmptyCell;
         VASTRAY_TRY(backend_.load(slot, **decoded, singleSidedFlags(package_, attributes_, **decoded)));
         slotChunk_[slot] = chunk, chunkSlot_[chunk] = slot;
         slotLastUse_[slot] = ++tick_;
@@ -109,16 +133,7 @@ Result<std::vector<uint32_t>> DemandPager::page(std::span<const uint32_t> demand
         if (seenThisStream_[chunk]) ++stats_.streamReloads;
         seenThisStream_[chunk] = 1;
         loaded.push_back(chunk);
-        return Status::ok();
-    };
-    size_t next = 0;
-    for (; next < wanted.size(); ++next) {
-        if (waitedFor(slots[next])) break;  // never evict a chunk rays still wait for
-        VASTRAY_TRY(load(wanted[next], slots[next]));
     }
-    // Slots still empty take the chunks most rays reach later (nothing is evicted for them).
-    for (size_t i = 0; i < later.size() && next < slotCount && slotChunk_[slots[next]] == kEmptyCell; ++i, ++next)
-        VASTRAY_TRY(load(later[i], slots[next]));
     return loaded;
 }
 

@@ -25,7 +25,8 @@ public:
     uint64_t chunksTouchedThisRender() const { return touchedThisRender_; }
 
     void beginStream() override;
-    Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand, std::span<const uint32_t> ahead = {}) override;
+    std::vector<uint32_t> planLoads(std::span<const uint32_t> demand, std::span<const uint32_t> ahead = {}) override;
+    Result<std::vector<uint32_t>> loadPlanned() override;
     void markUsed(std::span<const uint32_t> touched) override;
     void streamTouched(std::span<const uint32_t> touched) override;
     std::span<const uint32_t> chunkSlots() const override { return chunkSlot_; }
@@ -39,6 +40,7 @@ private:
     StreamingStats& stats_;
     std::vector<uint32_t> slotChunk_, chunkSlot_;  // kEmptyCell: none
     std::vector<uint64_t> slotLastUse_;
+    std::vector<std::pair<uint32_t, uint32_t>> planned_;  // (chunk, slot) that loadPlanned loads
     std::vector<uint8_t> touched_;          // traced in this render
     std::vector<uint8_t> seenThisStream_;   // loaded or resident during this stream
     uint64_t touchedThisRender_ = 0;

@@ -115,6 +115,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     const Material fallback{"default"};
     if (job.materials.empty()) job.materials = std::span<const Material>(&fallback, 1);
     job.maxPathsPerWave = st.options.maxPathsPerWave;
+    job.overlapLoads = st.options.overlapLoads;
     job.progress = progress;
     job.cancel = cancel;
     VASTRAY_TRY(st.backend->renderOnDevice(job, *st.pager, image, st.totals));

@@ -103,6 +103,12 @@ public:
     // (at most options.submitTimeoutSeconds). After a lost device or a timeout every later
     // submit fails at once with the same message: the render stops instead of hanging.
     Status submit(const std::function<void(VkCommandBuffer)>& record);
+    // submit in two halves, so that the host can work while the device runs: begin records and
+    // submits (after waiting for a submission still running), wait waits for it (nothing to do
+    // when none runs). The host may write buffers the running submission does not read.
+    Status begin(const std::function<void(VkCommandBuffer)>& record);
+    Status wait();
+    bool running() const { return pending_ != VK_NULL_HANDLE; }
 
 private:
     friend class GpuBuffer;
@@ -119,6 +125,7 @@ private:
     VkQueue queue_ = VK_NULL_HANDLE;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
+    VkCommandBuffer pending_ = VK_NULL_HANDLE;  // submitted, not yet waited for
     VkPhysicalDeviceMemoryProperties memoryProperties_{};
     double submitTimeoutSeconds_ = 600;
     double timestampPeriodNs_ = 0;

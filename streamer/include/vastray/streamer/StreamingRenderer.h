@@ -61,8 +61,18 @@ public:
     // as there are slots), evicting chunks nobody waits for, those no ray reaches later and the
     // least recently used first; fills slots still empty with the chunks most rays reach later.
     // Returns the chunks it loaded.
-    virtual Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand,
-                                               std::span<const uint32_t> ahead = {}) = 0;
+    Result<std::vector<uint32_t>> page(std::span<const uint32_t> demand, std::span<const uint32_t> ahead = {}) {
+        planLoads(demand, ahead);
+        return loadPlanned();
+    }
+    // page in two halves, for a caller that loads while the device works: planLoads picks the
+    // chunks and their slots and evicts what those slots held (chunkSlots() shows them empty
+    // from then on, so a submission made now does not read them); loadPlanned loads them and
+    // makes them resident (call it while no running submission reads those slots; chunkSlots()
+    // shows them afterwards). Returns the chunks planned, then the chunks loaded.
+    virtual std::vector<uint32_t> planLoads(std::span<const uint32_t> demand,
+                                            std::span<const uint32_t> ahead = {}) = 0;
+    virtual Result<std::vector<uint32_t>> loadPlanned() = 0;
     // Per chunk, set by the device: nonzero when a ray traced one of its cells in the last
     // paging step (recency for eviction).
     virtual void markUsed(std::span<const uint32_t> touched) = 0;
@@ -79,6 +89,7 @@ struct DeviceRenderJob {
     Camera camera;
     std::span<const Material> materials;  // at least one
     uint32_t maxPathsPerWave = 0;         // StreamingOptions::maxPathsPerWave (the budget may allow fewer)
+    bool overlapLoads = true;             // StreamingOptions::overlapLoads
     std::function<void(uint64_t done, uint64_t total)> progress;  // optional
     const std::atomic<bool>* cancel = nullptr;                   // optional: set stops the render
 };
@@ -116,6 +127,9 @@ struct StreamingOptions {
     static constexpr uint64_t kHostCacheAuto = ~0ull;
     uint64_t hostCacheBytes = kHostCacheAuto;
     uint32_t maxPathsPerWave = 1u << 21;   // (pixel, sample) paths traced together per wave
+    // Out of core, chunks are loaded while the device walks the next paging step (they serve the
+    // step after it); false: between steps, the device idle meanwhile (for comparisons).
+    bool overlapLoads = true;
     uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one (two on two cores)
 };
 
