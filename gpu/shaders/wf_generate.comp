@@ -17,9 +17,10 @@ void main() {
     ParamsRef params = ParamsRef(pc.params);
     appendToQueue(params, pc.queue, true, j < wavePaths() ? 1u : 0u, j, 0u);
     if (j >= wavePaths()) return;
-    const uint pixel = pc.firstPixel + j / pc.sampleCount;
-    const uint sampleIndex = pc.firstSample + j % pc.sampleCount;
     const uint seed = params.p.seed, width = params.p.imageWidth;
+    const uint local = j / pc.sampleCount;  // the tile's pixel
+    const uint pixel = pc.firstPixel + (local / pc.tileWidth) * width + local % pc.tileWidth;
+    const uint sampleIndex = pc.firstSample + j % pc.sampleCount;
     float jx = 0.5, jy = 0.5;
     if (pc.mode == kGeneratePaths) {
         jx = randomFloat(pixel, sampleIndex, 0u, kDimPixelX, seed);

@@ -13,6 +13,7 @@
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/VecMath.h"
+#include "vastray/gpu/TileGrid.h"
 
 namespace vastray::gpu {
 namespace {
@@ -164,15 +165,17 @@ public:
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount + 2, 0), b_.tables.demand));
         VASTRAY_TRY(upload(std::vector<uint32_t>{0, 1, 1, 0, 1, 1, 0, 1, 1}, b_.tables.queueArgs));
         VASTRAY_TRY(uploadResidency());
-        const uint64_t pixels = image_.pixelCount();
         const uint32_t spp = options_.samplesPerPixel;
         const uint32_t samplesPerWave = std::min(spp, b_.pathCapacity);
-        const uint64_t tilePixels = std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave);
-        const uint64_t tiles = (pixels + tilePixels - 1) / tilePixels;
-        for (uint64_t tile = 0; tile < tiles; ++tile) {
-            const uint64_t first = tile * tilePixels, count = std::min(tilePixels, pixels - first);
-            VASTRAY_TRY(renderTile(uint32_t(first), uint32_t(count), samplesPerWave));
-            if (job_.progress) job_.progress(tile + 1, tiles);
+        const uint32_t width = image_.width, height = image_.height;
+        const TileGrid grid = planTiles(width, height, std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave));
+        for (uint64_t tile = 0; tile < grid.count(); ++tile) {
+            Tile t;
+            t.x = uint32_t(tile % grid.columns) * grid.tileWidth, t.y = uint32_t(tile / grid.columns) * grid.tileHeight;
+            t.width = std::min(grid.tileWidth, width - t.x), t.height = std::min(grid.tileHeight, height - t.y);
+            t.imageWidth = width;
+            VASTRAY_TRY(renderTile(t, samplesPerWave));
+            if (job_.progress) job_.progress(tile + 1, grid.count());
         }
         std::vector<uint32_t> touched(b_.chunkCount);
         VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
@@ -183,7 +186,16 @@ public:
 private:
     const Pipelines& kernels() const { return w_.pipelines_; }
 
-    Status renderTile(uint32_t first, uint32_t count, uint32_t samplesPerWave) {
+    // A rectangle of the image; its pixel i (row by row) is the image's pixel at(i).
+    struct Tile {
+        uint32_t x = 0, y = 0, width = 0, height = 0, imageWidth = 0;
+        uint32_t first() const { return y * imageWidth + x; }
+        uint32_t count() const { return width * height; }
+        uint64_t at(uint64_t i) const { return uint64_t(y + i / width) * imageWidth + x + i % width; }
+    };
+
+    Status renderTile(const Tile& tile, uint32_t samplesPerWave) {
+        const uint32_t count = tile.count();
         const OutputLayout out = outputLayout(b_.pathCapacity);
         const StateLayout state = stateLayout(b_.pathCapacity);
         record([=, this](VkCommandBuffer cmd) {
@@ -192,7 +204,7 @@ private:
             barrier(cmd);
         });
         if (image_.aovs & ~kAovCost) {
-            WavefrontPush push = makePush(first, count, 0, 1, kGenerateAov);
+            WavefrontPush push = makePush(tile, 0, 1, kGenerateAov);
             clearQueue(push.queue);
             dispatch(*kernels().generate, kGenerate, push, count);
             VASTRAY_TRY(walkWave(push, false));
@@ -201,7 +213,7 @@ private:
         for (uint32_t s0 = 0; s0 < options_.samplesPerPixel; s0 += samplesPerWave) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             const uint32_t samples = std::min(samplesPerWave, options_.samplesPerPixel - s0);
-            WavefrontPush push = makePush(first, count, s0, samples, kGeneratePaths);
+            WavefrontPush push = makePush(tile, s0, samples, kGeneratePaths);
             clearQueue(push.queue);
             dispatch(*kernels().generate, kGenerate, push, uint64_t(count) * samples);
             VASTRAY_TRY(walkWave(push, true));
@@ -209,7 +221,7 @@ private:
             dispatch(*kernels().accumulate, kAccumulate, push, count);
         }
         VASTRAY_TRY(flush());
-        return readTile(first, count);
+        return readTile(tile);
     }
 
     // Empties queue q (its count) before kernels append to it.
@@ -221,10 +233,11 @@ private:
         });
     }
 
-    WavefrontPush makePush(uint32_t first, uint32_t count, uint32_t firstSample, uint32_t samples, uint32_t mode) {
+    WavefrontPush makePush(const Tile& tile, uint32_t firstSample, uint32_t samples, uint32_t mode) {
         WavefrontPush p{};
         p.params = b_.table->address() + b_.tables.params;
-        p.firstPixel = first, p.pixelCount = count, p.firstSample = firstSample, p.sampleCount = samples;
+        p.firstPixel = tile.first(), p.pixelCount = tile.count(), p.tileWidth = tile.width;
+        p.firstSample = firstSample, p.sampleCount = samples;
         p.mode = mode;
         return p;
     }
@@ -338,8 +351,9 @@ private:
         return Status::ok();
     }
 
-    Status readTile(uint32_t first, uint32_t count) {
+    Status readTile(const Tile& tile) {
         const OutputLayout o = outputLayout(b_.pathCapacity);
+        const uint64_t count = tile.count();
         // RGBA in blocks on all cores: a 1080p tile is 33 MB, and one core copying and splitting
         // it (and faulting in the image's fresh pages) took longer than the device's 1 spp render.
         std::atomic<bool> failed{false};
@@ -350,7 +364,7 @@ private:
                 return;
             }
             for (uint64_t i = r.begin(); i != r.end(); ++i) {
-                const uint64_t p = uint64_t(first) + i, k = 4 * (i - r.begin());
+                const uint64_t p = tile.at(i), k = 4 * (i - r.begin());
                 for (int c = 0; c < 3; ++c) image_.rgb[3 * p + c] = block[k + c];
                 image_.alpha[p] = block[k + 3];
             }
@@ -358,20 +372,28 @@ private:
         if (failed) return Status::error("reading the rendered tile back from the device failed");
         stats_.deviceToHostBytes += 16ull * count;
         const uint32_t aovs = image_.aovs;
-        if (aovs & kAovDepth) VASTRAY_TRY(download(&image_.depth[first], 4ull * count, *b_.output, o.depth));
-        if (aovs & kAovNormal) VASTRAY_TRY(download(&image_.normal[3ull * first], 12ull * count, *b_.output, o.normal));
-        if (aovs & kAovAlbedo) VASTRAY_TRY(download(&image_.albedo[3ull * first], 12ull * count, *b_.output, o.albedo));
-        if (aovs & kAovPrimId) VASTRAY_TRY(download(&image_.primId[first], 4ull * count, *b_.output, o.primId));
-        if (aovs & kAovChunkId) VASTRAY_TRY(download(&image_.chunkId[first], 4ull * count, *b_.output, o.chunkId));
-        if (aovs & kAovCost) {
-            std::vector<uint32_t> cost(2ull * count);
-            VASTRAY_TRY(download(cost.data(), cost.size() * 4, *b_.output, o.cost));
-            for (uint64_t i = 0; i < cost.size(); ++i) image_.cost[2ull * first + i] = float(cost[i]);
-        }
+        if (aovs & kAovDepth) VASTRAY_TRY(readRows<float>(tile, 1, o.depth, image_.depth));
+        if (aovs & kAovNormal) VASTRAY_TRY(readRows<float>(tile, 3, o.normal, image_.normal));
+        if (aovs & kAovAlbedo) VASTRAY_TRY(readRows<float>(tile, 3, o.albedo, image_.albedo));
+        if (aovs & kAovPrimId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.primId, image_.primId));
+        if (aovs & kAovChunkId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.chunkId, image_.chunkId));
+        if (aovs & kAovCost) VASTRAY_TRY(readRows<uint32_t>(tile, 2, o.cost, image_.cost));
         uint32_t rays = 0;  // rays walked in this tile's streams; the counter restarts per tile
         VASTRAY_TRY(download(&rays, 4, *b_.table, b_.tables.demand + 4ull * (b_.chunkCount + 1)));
         stats_.walkedRays += rays;
         return upload(std::vector<uint32_t>(1, 0), b_.tables.demand + 4ull * (b_.chunkCount + 1));
+    }
+
+    // An output array of the tile (`channels` values of T per pixel, at `offset` in the output
+    // buffer) into the image's array `to` (element type To), row by row.
+    template <typename T, typename To>
+    Status readRows(const Tile& tile, uint32_t channels, uint64_t offset, std::vector<To>& to) {
+        std::vector<T> rows(uint64_t(channels) * tile.count());
+        VASTRAY_TRY(download(rows.data(), rows.size() * sizeof(T), *b_.output, offset));
+        const uint64_t rowValues = uint64_t(channels) * tile.width;
+        for (uint32_t r = 0; r < tile.height; ++r)
+            std::copy_n(rows.begin() + r * rowValues, rowValues, to.begin() + tile.at(uint64_t(r) * tile.width) * channels);
+        return Status::ok();
     }
 
     Status uploadParams() {

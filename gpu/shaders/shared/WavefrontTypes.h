@@ -117,9 +117,11 @@ struct WavefrontParams {
     uint topNodeCount;
 };
 
-// One block for every wavefront kernel. A wave is the tile's pixels [firstPixel, firstPixel +
-// pixelCount) times samples [firstSample, firstSample + sampleCount); path j of the wave is
-// pixel j / sampleCount, sample firstSample + j % sampleCount.
+// One block for every wavefront kernel. A wave is the tile's pixels times samples [firstSample,
+// firstSample + sampleCount); path j of the wave is the tile's pixel j / sampleCount, sample
+// firstSample + j % sampleCount. A tile is a rectangle of tileWidth columns whose top-left pixel
+// is firstPixel: its pixel i (0 <= i < pixelCount, row by row) is the image's pixel firstPixel +
+// (i / tileWidth) * imageWidth + i % tileWidth.
 struct WavefrontPush {
     uint64_t params;
     uint firstPixel;
@@ -131,12 +133,14 @@ struct WavefrontPush {
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
     uint queue;    // wf_walk.comp: the queue it walks (parked rays go to the other one);
                    // wf_generate.comp, wf_shade.comp: the queue their new rays are appended to
+    uint tileWidth;
+    uint padding;
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
 static_assert(offsetof(WavefrontParams, eyeX) == 28 * 8 && sizeof(WavefrontParams) % 8 == 0);
-static_assert(sizeof(WavefrontPush) == 40 && offsetof(WavefrontPush, mode) == 32);
+static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu
 #endif
 
