@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include "ChunkValidation.h"
@@ -29,20 +30,37 @@ constexpr uint64_t kAllocationGranule = 64 * 1024;
 // when those are in device memory.
 uint64_t rayBytes(bool outputInDeviceMemory) { return kBytesPerPath + (outputInDeviceMemory ? kBytesPerTilePixel : 0); }
 
-// Copies to or from a mapped buffer in 256 KiB pieces on all cores: one core writing through a
-// write-combined mapping manages a few GB/s, well below what PCIe takes (most arrays of a
-// 4 MiB chunk are under 1 MiB, so larger pieces left them to one core).
-template <typename Copy>
-Status copyInPieces(uint64_t size, Copy&& copy) {
+// One array of a chunk to copy into its slot.
+struct SlotCopy {
+    uint64_t offset;  // in the slot
+    const void* data;
+    uint64_t size;
+};
+
+// Copies a chunk's arrays into a mapped slot in 256 KiB pieces on all cores, all arrays in one
+// parallel loop: one core writing through a write-combined mapping manages a few GB/s, well
+// below what PCIe takes (most arrays of a 4 MiB chunk are under 1 MiB, so larger pieces left
+// them to one core), and a loop per array paid its start and join for each (PERF_NOTES 40).
+Status copyToSlot(GpuBuffer& slot, std::span<const SlotCopy> copies) {
     constexpr uint64_t kPiece = 256 << 10;
-    const uint64_t pieces = (size + kPiece - 1) / kPiece;
-    if (pieces <= 1) return size == 0 ? Status::ok() : copy(0, size);
+    struct Piece {
+        const SlotCopy* copy;
+        uint64_t at, size;
+    };
+    std::vector<Piece> pieces;
+    for (const SlotCopy& c : copies)
+        for (uint64_t at = 0; at < c.size; at += kPiece) pieces.push_back({&c, at, std::min(kPiece, c.size - at)});
+    auto run = [&](const Piece& p) {
+        return p.copy->size == 0 ||
+               slot.upload(static_cast<const uint8_t*>(p.copy->data) + p.at, p.size, p.copy->offset + p.at).isOk();
+    };
     std::atomic<bool> failed{false};
-    tbb::parallel_for(uint64_t(0), pieces, [&](uint64_t i) {
-        const uint64_t at = i * kPiece;
-        if (!copy(at, std::min(kPiece, size - at))) failed = true;
-    });
-    return failed ? Status::error("copy to or from the device failed") : Status::ok();
+    if (pieces.size() == 1) failed = !run(pieces[0]);
+    else if (pieces.size() > 1)
+        tbb::parallel_for(size_t(0), pieces.size(), [&](size_t i) {
+            if (!run(pieces[i])) failed = true;
+        });
+    return failed ? Status::error("copy to the device failed") : Status::ok();
 }
 
 uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
@@ -112,34 +130,35 @@ public:
                                  " (the package directory understates it: damaged package?)");
         GpuBuffer& b = slots_[slot];
         uint64_t bytes = 0;
-        auto put = [&](uint64_t offset, const void* data, uint64_t size) -> Status {
+        std::vector<SlotCopy> copies;
+        std::vector<uint8_t> padded;
+        auto put = [&](uint64_t offset, const void* data, uint64_t size) {
             bytes += size;
-            return copyInPieces(size, [&](uint64_t at, uint64_t n) {
-                return b.upload(static_cast<const uint8_t*>(data) + at, n, offset + at);
-            });
+            copies.push_back({offset, data, size});
         };
-        VASTRAY_TRY(put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node)));
-        VASTRAY_TRY(put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12));
-        VASTRAY_TRY(put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4));
+        put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node));
+        put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
+        put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4);
         ChunkSlot entry{};
         const uint64_t base = b.address();
         entry.nodes = base + layout.nodes;
         entry.positions = base + layout.positions, entry.indices = base + layout.indices;
         if (attributes_.singleSided) {
             // One byte per triangle, read four to a word: the bytes in order, zero padded.
-            std::vector<uint8_t> padded((triangles + 3) / 4 * 4, 0);
+            padded.assign((triangles + 3) / 4 * 4, 0);
             std::copy(singleSided.begin(), singleSided.end(), padded.begin());
-            VASTRAY_TRY(put(layout.singleSided, padded.data(), padded.size()));
+            put(layout.singleSided, padded.data(), padded.size());
             entry.singleSided = base + layout.singleSided, entry.flags |= kSlotSingleSided;
         }
         if (attributes_.primitiveIds) {
-            VASTRAY_TRY(put(layout.primitiveIds, chunk.primitiveIds.data(), triangles * 4));
+            put(layout.primitiveIds, chunk.primitiveIds.data(), triangles * 4);
             entry.primitiveIds = base + layout.primitiveIds, entry.flags |= kSlotPrimitiveIds;
         }
         if (attributes_.materialIds && !chunk.materialIds.empty()) {
-            VASTRAY_TRY(put(layout.materialIds, chunk.materialIds.data(), triangles * 4));
+            put(layout.materialIds, chunk.materialIds.data(), triangles * 4);
             entry.materialIds = base + layout.materialIds, entry.flags |= kSlotMaterialIds;
         }
+        VASTRAY_TRY(copyToSlot(b, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
         entry.nodeCount = uint32_t(tree.nodes.size());
         entry.boundsLoX = tree.bounds.lo.x, entry.boundsLoY = tree.bounds.lo.y, entry.boundsLoZ = tree.bounds.lo.z;
         entry.boundsHiX = tree.bounds.hi.x, entry.boundsHiY = tree.bounds.hi.y, entry.boundsHiZ = tree.bounds.hi.z;
