@@ -1,0 +1,165 @@
+// Result previews: one channel group of a job's image as an 8-bit PNG a browser can show (EXR
+// cannot be shown). The mappings are documented in docs/SERVICE.md, "Result previews"; they
+// are for looking at, not for measuring (the EXR is the data).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "JobRequest.h"
+#include "vastray/core/ImageFile.h"
+#include "vastray/server/Service.h"
+
+namespace vastray::server {
+namespace {
+
+namespace fs = std::filesystem;
+using Rgba = std::vector<uint8_t>;
+
+struct PreviewKind {
+    const char* name;
+    std::vector<std::string> channels;  // EXR channel names (ImageFile.h)
+};
+
+const std::vector<PreviewKind>& previewKinds() {
+    static const std::vector<PreviewKind> kinds{
+        {"beauty", {"R", "G", "B", "A"}},      {"depth", {"Z"}},
+        {"normal", {"N.x", "N.y", "N.z"}},     {"albedo", {"albedo.R", "albedo.G", "albedo.B"}},
+        {"primid", {"primid"}},                {"chunkid", {"chunkid"}},
+        {"cost", {"cost.triangles"}}};
+    return kinds;
+}
+
+uint8_t toByte(float unit) { return uint8_t(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
+
+float srgbEncode(float linear) {
+    const float x = std::clamp(linear, 0.0f, 1.0f);
+    return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+void setPixel(Rgba& out, size_t i, float r, float g, float b, float a = 1.0f) {
+    out[4 * i] = toByte(r), out[4 * i + 1] = toByte(g), out[4 * i + 2] = toByte(b), out[4 * i + 3] = toByte(a);
+}
+
+// Beauty from an EXR: the tone mapping of the PNG the CLI writes (toneMapToDisplay), alpha kept.
+void mapBeauty(const ImageChannels& in, Rgba& out) {
+    const auto& p = in.planes;
+    for (size_t i = 0; i < p[0].size(); ++i)
+        setPixel(out, i, toneMapToDisplay(p[0][i]), toneMapToDisplay(p[1][i]), toneMapToDisplay(p[2][i]),
+                 p[3].empty() ? 1.0f : p[3][i]);
+}
+
+// Depth: the nearest hit white, the farthest 20 % grey, linear in distance between; misses black.
+void mapDepth(const ImageChannels& in, Rgba& out) {
+    const std::vector<float>& z = in.planes[0];
+    float nearest = INFINITY, farthest = -INFINITY;
+    for (float d : z)
+        if (std::isfinite(d)) nearest = std::min(nearest, d), farthest = std::max(farthest, d);
+    const float span = farthest > nearest ? farthest - nearest : 1.0f;
+    for (size_t i = 0; i < z.size(); ++i) {
+        const float v = std::isfinite(z[i]) ? 1.0f - 0.8f * (z[i] - nearest) / span : 0.0f;
+        setPixel(out, i, v, v, v);
+    }
+}
+
+// Normal: each component n in [-1, 1] as (n + 1) / 2; misses (normal 0) black.
+void mapNormal(const ImageChannels& in, Rgba& out) {
+    const auto& p = in.planes;
+    for (size_t i = 0; i < p[0].size(); ++i) {
+        const bool miss = p[0][i] == 0.0f && p[1][i] == 0.0f && p[2][i] == 0.0f;
+        auto unit = [&](float n) { return miss ? 0.0f : 0.5f * (n + 1.0f); };
+        setPixel(out, i, unit(p[0][i]), unit(p[1][i]), unit(p[2][i]));
+    }
+}
+
+// Albedo: the base colour with the sRGB transfer function and no tone mapping; misses black.
+void mapAlbedo(const ImageChannels& in, Rgba& out) {
+    const auto& p = in.planes;
+    for (size_t i = 0; i < p[0].size(); ++i) setPixel(out, i, srgbEncode(p[0][i]), srgbEncode(p[1][i]), srgbEncode(p[2][i]));
+}
+
+// Ids are labels, not magnitudes: each id gets its own hue (golden-ratio steps, so neighbouring
+// ids differ clearly), full saturation, value 0.9; misses (kMissPrimId) black.
+void mapIds(const ImageChannels& in, Rgba& out) {
+    const std::vector<float>& ids = in.planes[0];
+    const float miss = float(kMissPrimId);
+    for (size_t i = 0; i < ids.size(); ++i) {
+        if (ids[i] >= miss) {
+            setPixel(out, i, 0, 0, 0);
+            continue;
+        }
+        const float hue = std::fmod(double(ids[i]) * 0.6180339887498949, 1.0) * 6.0f;
+        auto channel = [&](float offset) {
+            const float k = std::fmod(offset + hue, 6.0f);
+            return 0.9f * (1.0f - std::clamp(std::min(k, 4.0f - k), 0.0f, 1.0f));
+        };
+        setPixel(out, i, channel(5.0f), channel(3.0f), channel(1.0f));
+    }
+}
+
+// Cost: triangle tests of the pixel's rays on a log scale, t = log(1 + c) / log(1 + the image's
+// largest c), through a heat ramp black -> red -> yellow -> white (thirds of t).
+void mapCost(const ImageChannels& in, Rgba& out) {
+    const std::vector<float>& cost = in.planes[0];
+    const float largest = cost.empty() ? 0.0f : *std::max_element(cost.begin(), cost.end());
+    const float scale = largest > 0.0f ? 1.0f / std::log1p(largest) : 0.0f;
+    for (size_t i = 0; i < cost.size(); ++i) {
+        const float t = std::log1p(std::max(cost[i], 0.0f)) * scale;
+        setPixel(out, i, 3.0f * t, 3.0f * t - 1.0f, 3.0f * t - 2.0f);
+    }
+}
+
+Rgba mapPreview(const std::string& aov, const ImageChannels& in) {
+    Rgba out(size_t(in.width) * in.height * 4);
+    if (aov == "beauty") mapBeauty(in, out);
+    else if (aov == "depth") mapDepth(in, out);
+    else if (aov == "normal") mapNormal(in, out);
+    else if (aov == "albedo") mapAlbedo(in, out);
+    else if (aov == "cost") mapCost(in, out);
+    else mapIds(in, out);
+    return out;
+}
+
+ServiceResult<const PreviewKind*> findPreviewKind(const std::string& aov) {
+    std::string names;
+    for (const PreviewKind& kind : previewKinds()) {
+        if (aov == kind.name) return &kind;
+        names += (names.empty() ? "" : ", ") + std::string(kind.name);
+    }
+    return invalidArgument("aov", "'" + aov + "': expected one of " + names);
+}
+
+ServiceResult<std::string> readWhole(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return internalError(path.string() + ": cannot read");
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return bytes.str();
+}
+
+}  // namespace
+
+ServiceResult<std::string> Service::resultPreviewPng(const std::string& jobId, const std::string& aov) {
+    auto kind = findPreviewKind(aov);
+    if (!kind) return kind.status();
+    auto file = resultFile(jobId);
+    if (!file) return file.status();
+    // A PNG result is already the beauty as the CLI writes it.
+    if (file->contentType == "image/png" && aov == "beauty") return readWhole(file->path);
+    auto channels = readImageChannels(file->path.string(), (*kind)->channels);
+    if (!channels) return internalError(channels.message());
+    const bool present = std::all_of(channels->planes.begin(), channels->planes.begin() + (aov == "beauty" ? 3 : 1),
+                                      [](const std::vector<float>& plane) { return !plane.empty(); });
+    if (!present)
+        return invalidArgument("aov", "'" + aov + "': job " + jobId + " was rendered without it (request its " +
+                                          "channels with \"aovs\" when submitting)");
+    const fs::path png = objects_->scratchDir() / ("preview-" + randomHex(16) + ".png");
+    Status written = writeRgba8Png(png.string(), channels->width, channels->height, mapPreview(aov, *channels));
+    auto bytes = written ? readWhole(png) : ServiceResult<std::string>(internalError(written.message()));
+    std::error_code error;
+    fs::remove(png, error);
+    return bytes;
+}
+
+}  // namespace vastray::server
