@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "OpenApi.h"
+#include "WebPage.h"
 #include "vastray/server/FrontEnds.h"
 
 namespace vastray::server {
@@ -198,11 +199,13 @@ public:
         addSceneRoutes(server);
         addJobRoutes(server);
         addOperationalRoutes(server);
+        addWebPageRoutes(server);
     }
 
 private:
     bool authorize(const httplib::Request& req, httplib::Response& res) {
-        if (options_.authToken.empty() || req.path == "/healthz" || req.path == "/readyz") return admitBody(req, res);
+        if (options_.authToken.empty() || req.path == "/healthz" || req.path == "/readyz" || isWebPagePath(req.path))
+            return admitBody(req, res);
         if (bearerMatches(req.get_header_value("Authorization"), options_.authToken)) return admitBody(req, res);
         writeError(res, {StatusCode::Unauthenticated,
                          "missing or wrong bearer token (header 'Authorization: Bearer TOKEN')"});
