@@ -21,9 +21,10 @@ const unsigned char kAppJs[] = {
 };
 
 // Scripts and styles only from the page's own files (no inline code, no remote source);
-// images from the API (blob: URLs of fetched previews); fetch and SSE to this origin only.
+// images from the API (blob: URLs of fetched previews) and the empty data: favicon (without
+// it the browser asks for /favicon.ico); fetch and SSE to this origin only.
 constexpr const char* kContentSecurityPolicy =
-    "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' blob:; connect-src 'self'; "
+    "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' blob: data:; connect-src 'self'; "
     "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 
 struct WebFile {
