@@ -253,7 +253,7 @@ class PageTest:
         seen = {}
         for aov in buttons[1:]:
             self.driver.find_element(By.CSS_SELECTOR, f'#aov-switcher button[data-aov="{aov}"]').click()
-            self.wait(lambda: image().get_attribute("data-aov") == aov, f"the {aov} image")
+            self.wait(lambda: image().get_attribute("data-aov") == aov, f"the {aov} image", 30)
             colours[aov] = self.check_image(aov)
             seen[aov] = self.js("return arguments[0].src", image())
         if len(set(seen.values())) != len(seen):
@@ -282,14 +282,14 @@ class PageTest:
             const tick = (t) => { probe.gaps.push(t - probe.last); probe.last = t; probe.raf = requestAnimationFrame(tick); };
             probe.raf = requestAnimationFrame(tick);""")
         start = time.monotonic()
-        job_id = self.submit(scene_id, 128, 128, 256)
+        job_id = self.submit(scene_id, 128, 128, 128)
         self.wait(lambda: self.card(job_id).get_attribute("data-state") == "SUCCEEDED", "the streamed job to end", 120)
         seconds = time.monotonic() - start
         probe = self.js("""cancelAnimationFrame(probe.raf);
             return {gaps: probe.gaps, longTasks: probe.longTasks, events: vastrayPage.events - probe.events0}""")
         gaps = sorted(probe["gaps"][1:])
         self.figures.update({
-            "streaming_job": "128x128, 256 spp",
+            "streaming_job": "128x128, 128 spp",
             "streaming_seconds": round(seconds, 2),
             "events_received": probe["events"],
             "animation_frames": len(gaps),
