@@ -104,7 +104,8 @@ async function apiJson<T>(path: string, init: RequestInit = {}): Promise<T> {
 // ---- upload ---------------------------------------------------------------------------
 
 // A zip with every file STORED (no compression): enough to carry a model's files in one
-// upload, which the server unpacks (docs/SERVICE.md, multi-file models).
+// upload, which the server unpacks (docs/SERVICE.md, multi-file models). Names are UTF-8 (flag
+// bit 11); no zip64, so together under 4 GiB and 65,535 files.
 const crcTable = (() => {
   const table = new Uint32Array(256);
   for (let n = 0; n < 256; ++n) {
@@ -122,6 +123,9 @@ function crc32(bytes: Uint8Array): number {
 }
 
 async function storedZip(files: File[]): Promise<Blob> {
+  const total = files.reduce((n, file) => n + file.size + 76 + 2 * file.name.length * 3, 22);
+  if (total > 0xffffffff || files.length > 0xffff)
+    throw new Error("too large to zip in the browser (4 GiB or 65,535 files at most): zip the files yourself");
   const parts: BlobPart[] = [], central: BlobPart[] = [];
   let offset = 0;
   for (const file of files) {
@@ -129,12 +133,13 @@ async function storedZip(files: File[]): Promise<Blob> {
     const name = new TextEncoder().encode(file.name);
     const crc = crc32(data);
     const local = new DataView(new ArrayBuffer(30));
-    local.setUint32(0, 0x04034b50, true); local.setUint16(4, 20, true); local.setUint16(8, 0, true);
+    local.setUint32(0, 0x04034b50, true); local.setUint16(4, 20, true); local.setUint16(6, 0x0800, true);
     local.setUint32(14, crc, true); local.setUint32(18, data.length, true); local.setUint32(22, data.length, true);
     local.setUint16(26, name.length, true);
     parts.push(local.buffer, name, data);
     const entry = new DataView(new ArrayBuffer(46));
     entry.setUint32(0, 0x02014b50, true); entry.setUint16(4, 20, true); entry.setUint16(6, 20, true);
+    entry.setUint16(8, 0x0800, true);
     entry.setUint32(16, crc, true); entry.setUint32(20, data.length, true); entry.setUint32(24, data.length, true);
     entry.setUint16(28, name.length, true); entry.setUint32(42, offset, true);
     central.push(entry.buffer, name);
@@ -151,18 +156,18 @@ const kModelExtensions = [".gltf", ".glb", ".obj", ".ply"];
 
 async function uploadFiles(files: File[]): Promise<void> {
   if (files.length === 0) return;
-  let body: Blob = files[0], name = files[0].name;
+  let name = files[0].name;
   if (files.length > 1) {
     const model = files.find((f) => kModelExtensions.some((ext) => f.name.toLowerCase().endsWith(ext)));
     name = (model ? model.name.replace(/\.[^.]*$/, "") : "model") + ".zip";
-    body = await storedZip(files);
   }
   const item = document.createElement("li");
   item.className = "upload";
   item.dataset.name = name;
-  item.textContent = `${name}: uploading ${formatBytes(body.size)}…`;
   $("uploads").prepend(item);
   try {
+    const body: Blob = files.length > 1 ? await storedZip(files) : files[0];
+    item.textContent = `${name}: uploading ${formatBytes(body.size)}…`;
     const response = await api(`/v1/scenes?name=${encodeURIComponent(name)}&async=true`, { method: "PUT", body });
     if (!response.ok) throw new Error(await errorText(response));
     const scene = (await response.json()) as Scene;

@@ -109,6 +109,8 @@ def browser(chromium, driver, work):
                  f"--user-data-dir={os.path.join(work, 'chromium-profile')}"):
         options.add_argument(flag)
     options.set_capability("goog:loggingPrefs", {"browser": "SEVERE"})
+    options.add_experimental_option("prefs", {"download.default_directory": os.path.join(work, "downloads"),
+                                              "download.prompt_for_download": False})
     # Debian's selenium 4.8 (log_path; later versions call it log_output).
     return webdriver.Chrome(service=Service(driver, log_path=os.path.join(work, "chromedriver.log")), options=options)
 
@@ -262,6 +264,16 @@ class PageTest:
             fail(f"viewer error: {self.driver.find_element(By.ID, 'viewer-message').text}")
         print("distinct colours on screen per AOV:", colours)
 
+    def download(self, job_id):
+        self.driver.find_element(By.ID, "download").click()
+        path = os.path.join(self.work, "downloads", f"{job_id}.exr")
+        expected = int(self.server.api(f"/v1/jobs/{job_id}")["result_bytes"])
+        self.wait(lambda: os.path.exists(path) and os.path.getsize(path) == expected,
+                  f"the download of {job_id}.exr ({expected} bytes)", 30)
+        with open(path, "rb") as f:
+            if f.read(4) != b"\x76\x2f\x31\x01":
+                fail("the downloaded file is not an EXR")
+
     def cancel_long_job(self, scene_id):
         job_id = self.submit(scene_id, 512, 512, 4096)
         self.wait(lambda: self.card(job_id).get_attribute("data-state") == "RUNNING", "the long job to run", 60)
@@ -316,6 +328,7 @@ class PageTest:
         aovs = ["depth", "normal", "albedo"] + (["chunkid", "cost"] if backend == "vulkan" else [])
         job_id = self.render_and_watch(scene_id, aovs)
         self.view_aovs(job_id, aovs)
+        self.download(job_id)
         self.driver.save_screenshot(os.path.join(self.work, "page.png"))
         # Embree cannot stop inside a render (docs/SERVICE.md): its cancelled job would burn both
         # cores to its end, so the cancel and the figures are taken on vulkan only.
