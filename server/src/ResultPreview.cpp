@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <iterator>
+#include <map>
 #include <sstream>
 
 #include "JobRequest.h"
@@ -39,7 +39,8 @@ float srgbEncode(float linear) {
 }
 
 void setPixel(Rgba& out, size_t i, float r, float g, float b, float a = 1.0f) {
-    out[4 * i] = toByte(r), out[4 * i + 1] = toByte(g), out[4 * i + 2] = toByte(b), out[4 * i + 3] = toByte(a);
+    uint8_t* pixel = &out[4 * i];
+    pixel[0] = toByte(r), pixel[1] = toByte(g), pixel[2] = toByte(b), pixel[3] = toByte(a);
 }
 
 // Beauty from an EXR: the tone mapping of the PNG the CLI writes (toneMapToDisplay), alpha kept.
@@ -76,7 +77,8 @@ void mapNormal(const ImageChannels& in, Rgba& out) {
 // Albedo: the base colour with the sRGB transfer function and no tone mapping; misses black.
 void mapAlbedo(const ImageChannels& in, Rgba& out) {
     const auto& p = in.planes;
-    for (size_t i = 0; i < p[0].size(); ++i) setPixel(out, i, srgbEncode(p[0][i]), srgbEncode(p[1][i]), srgbEncode(p[2][i]));
+    for (size_t i = 0; i < p[0].size(); ++i)
+        setPixel(out, i, srgbEncode(p[0][i]), srgbEncode(p[1][i]), srgbEncode(p[2][i]));
 }
 
 // Ids are labels, not magnitudes: each id gets its own hue (golden-ratio steps, so neighbouring
@@ -112,12 +114,11 @@ void mapCost(const ImageChannels& in, Rgba& out) {
 
 Rgba mapPreview(const std::string& aov, const ImageChannels& in) {
     Rgba out(size_t(in.width) * in.height * 4);
-    if (aov == "beauty") mapBeauty(in, out);
-    else if (aov == "depth") mapDepth(in, out);
-    else if (aov == "normal") mapNormal(in, out);
-    else if (aov == "albedo") mapAlbedo(in, out);
-    else if (aov == "cost") mapCost(in, out);
-    else mapIds(in, out);
+    using Mapping = void (*)(const ImageChannels&, Rgba&);
+    static const std::map<std::string, Mapping> mappings{
+        {"beauty", mapBeauty}, {"depth", mapDepth}, {"normal", mapNormal}, {"albedo", mapAlbedo},
+        {"primid", mapIds},    {"chunkid", mapIds}, {"cost", mapCost}};
+    mappings.at(aov)(in, out);
     return out;
 }
 
@@ -149,13 +150,15 @@ ServiceResult<std::string> Service::resultPreviewPng(const std::string& jobId, c
     if (file->contentType == "image/png" && aov == "beauty") return readWhole(file->path);
     auto channels = readImageChannels(file->path.string(), (*kind)->channels);
     if (!channels) return internalError(channels.message());
-    const bool present = std::all_of(channels->planes.begin(), channels->planes.begin() + (aov == "beauty" ? 3 : 1),
-                                      [](const std::vector<float>& plane) { return !plane.empty(); });
+    const auto needed = channels->planes.begin() + (aov == "beauty" ? 3 : 1);  // beauty: alpha may be absent
+    const bool present = std::all_of(channels->planes.begin(), needed,
+                                     [](const std::vector<float>& plane) { return !plane.empty(); });
     if (!present)
-        return invalidArgument("aov", "'" + aov + "': job " + jobId + " was rendered without it (request its " +
-                                          "channels with \"aovs\" when submitting)");
+        return invalidArgument("aov", "'" + aov + "': job " + jobId + " was rendered without it " +
+                                          "(request it with \"aovs\" when submitting)");
     const fs::path png = objects_->scratchDir() / ("preview-" + randomHex(16) + ".png");
-    Status written = writeRgba8Png(png.string(), channels->width, channels->height, mapPreview(aov, *channels));
+    const Status written =
+        writeRgba8Png(png.string(), channels->width, channels->height, mapPreview(aov, *channels));
     auto bytes = written ? readWhole(png) : ServiceResult<std::string>(internalError(written.message()));
     std::error_code error;
     fs::remove(png, error);

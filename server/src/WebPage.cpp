@@ -24,8 +24,8 @@ const unsigned char kAppJs[] = {
 // images from the API (blob: URLs of fetched previews) and the empty data: favicon (without
 // it the browser asks for /favicon.ico); fetch and SSE to this origin only.
 constexpr const char* kContentSecurityPolicy =
-    "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' blob: data:; connect-src 'self'; "
-    "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+    "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' blob: data:; "
+    "connect-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 
 struct WebFile {
     std::vector<std::string> paths;
@@ -73,7 +73,9 @@ bool isWebPagePath(const std::string& path) {
 void addWebPageRoutes(httplib::Server& server) {
     for (const WebFile& file : webFiles())
         for (const std::string& path : file.paths)
-            server.Get(path, [&file](const httplib::Request& req, httplib::Response& res) { serve(file, req, res); });
+            server.Get(path, [&file](const httplib::Request& req, httplib::Response& res) {
+                serve(file, req, res);
+            });
 }
 
 }  // namespace vastray::server

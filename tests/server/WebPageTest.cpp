@@ -55,7 +55,8 @@ protected:
         Preview out;
         if (!channels) return out;
         out.width = channels->width, out.height = channels->height;
-        for (const auto& plane : channels->planes) EXPECT_EQ(plane.size(), size_t(out.width) * out.height) << name;
+        for (const auto& plane : channels->planes)
+            EXPECT_EQ(plane.size(), size_t(out.width) * out.height) << name;
         out.pixels.resize(size_t(out.width) * out.height);
         for (size_t i = 0; i < out.pixels.size(); ++i)
             for (int c = 0; c < 4; ++c) out.pixels[i][c] = int(std::lround(channels->planes[c][i] * 255.0f));
@@ -167,7 +168,8 @@ TEST_F(WebPageTest, BadPreviewParametersAreRefusedNamingTheParameter) {
     auto bogus = preview(id, "aov=bogus&format=png");
     ASSERT_TRUE(bogus);
     EXPECT_EQ(bogus->status, 400);
-    EXPECT_EQ(messageOf(bogus).rfind("aov: 'bogus': expected one of beauty, depth", 0), 0u) << messageOf(bogus);
+    EXPECT_EQ(messageOf(bogus).rfind("aov: 'bogus': expected one of beauty, depth", 0), 0u)
+        << messageOf(bogus);
     auto exr = preview(id, "aov=depth&format=exr");
     EXPECT_EQ(exr->status, 400);
     EXPECT_EQ(messageOf(exr).rfind("format: 'exr'", 0), 0u) << messageOf(exr);
@@ -178,7 +180,8 @@ TEST_F(WebPageTest, BadPreviewParametersAreRefusedNamingTheParameter) {
     EXPECT_EQ(preview(id, "aov=depth")->status, 200) << "aov alone implies format=png";
     EXPECT_EQ(preview("job-00000000000000000000000000000000", "aov=depth")->status, 404);
     auto whole = http().Get(("/v1/jobs/" + id + "/result").c_str());
-    EXPECT_EQ(whole->get_header_value("Content-Type"), "image/x-exr") << "without parameters: the file as stored";
+    EXPECT_EQ(whole->get_header_value("Content-Type"), "image/x-exr")
+        << "without parameters: the file as stored";
 }
 
 }  // namespace

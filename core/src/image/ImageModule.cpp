@@ -1,4 +1,5 @@
-// writeImageFile, diffImageFiles, readImageChannels and writeRgba8Png forward to the OpenImageIO module, loaded once on first use.
+// writeImageFile, diffImageFiles, readImageChannels and writeRgba8Png forward to the OpenImageIO
+// module, loaded once on first use.
 #include "ImageModule.h"
 
 #include <dlfcn.h>
@@ -79,7 +80,8 @@ Result<ImageChannels> readImageChannels(const std::string& path, const std::vect
     return m.api->readImageChannels(path, names);
 }
 
-Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba) {
+Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
+                     const std::vector<uint8_t>& rgba) {
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(path + ": cannot write: ");
     return m.api->writeRgba8Png(path, width, height, rgba);

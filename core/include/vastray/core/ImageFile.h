@@ -29,7 +29,8 @@ struct ImageChannels {
 Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names);
 
 // Writes 8-bit sRGB RGBA pixels (4 bytes per pixel, row 0 at the top) as a PNG file.
-Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
+Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
+                     const std::vector<uint8_t>& rgba);
 
 // Loads the image module now (it is otherwise loaded by the first read or write): commands
 // call it before long work, so that a missing or broken module fails at once, not after a

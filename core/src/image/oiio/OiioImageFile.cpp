@@ -101,10 +101,11 @@ Status writeExr(const std::string& path, const RenderImage& image) {
 
 }  // namespace
 
-Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba) {
+Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
+                     const std::vector<uint8_t>& rgba) {
     if (rgba.size() != uint64_t(width) * height * 4)
-        return Status::error(path + ": " + std::to_string(rgba.size()) + " bytes are not " + std::to_string(width) +
-                             "x" + std::to_string(height) + " RGBA pixels");
+        return Status::error(path + ": " + std::to_string(rgba.size()) + " bytes are not " +
+                             std::to_string(width) + "x" + std::to_string(height) + " RGBA pixels");
     OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
     return writeWith(path, spec, OIIO::TypeDesc::UINT8, rgba.data());
