@@ -4,10 +4,11 @@ chromium-driver through python3-selenium (all installed by scripts/install-deps.
 
 Starts its own `vastray serve` on loopback (port 0) with a temporary data folder and a token
 file (or none: --no-token, where the page must never ask), then as a person would: a wrong
-token, then the right one; uploads a mesh with the file picker and a two-file OBJ + MTL model
-(zipped by the page); renders 64x64 at 2 spp with AOVs and watches it to completion; switches
-through the AOVs and checks each image on screen (a screenshot of it: the expected size, not
-uniform); cancels a long job while it runs (vulkan). Prints figures (page bytes, first
+token, then the right one; uploads a mesh with the file picker, a two-file OBJ + MTL model
+(zipped by the page) and an OBJ by drag and drop; renders 64x64 at 2 spp with AOVs and watches
+it to completion; switches through the AOVs and checks each image on screen (a screenshot of
+it: the expected size, not uniform); downloads the result; cancels a long job while it runs
+(vulkan). Prints figures (page bytes, first
 contentful paint, main-thread responsiveness while a job streams its events); they are
 measurements for docs/SERVICE.md, not assertions.
 
@@ -161,8 +162,16 @@ class PageTest:
         if self.js("return sessionStorage.getItem('vastray.token')") != TOKEN:
             fail("the token is not kept in sessionStorage")
 
-    def upload(self, paths, name):
-        self.driver.find_element(By.ID, "file-input").send_keys("\n".join(paths))
+    def upload(self, paths, name, drop_text=None):
+        if drop_text is None:
+            self.driver.find_element(By.ID, "file-input").send_keys("\n".join(paths))
+        else:
+            # Drag and drop: a drop event on the drop zone carrying one file made in the page.
+            self.js("""const transfer = new DataTransfer();
+                transfer.items.add(new File([arguments[1]], arguments[0]));
+                document.getElementById('drop-zone').dispatchEvent(
+                    new DragEvent('drop', {dataTransfer: transfer, bubbles: true, cancelable: true}));""",
+                    name, drop_text)
         css = f'li.upload[data-name="{name}"]'
         self.wait(lambda: self.element(css) is not None and self.element(css).get_attribute("data-state") in
                   ("SUCCEEDED", "FAILED"), f"the upload of {name} to end")
@@ -194,6 +203,9 @@ class PageTest:
                                           "quad.zip")
         if quad_cells[1] != "2" or quad_cells[3] != "zip":
             fail(f"the zipped OBJ + MTL should be 2 triangles in a zip scene: {quad_cells}")
+        _, dropped = self.upload([], "dropped.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        if dropped[1] != "1" or dropped[3] != "obj":
+            fail(f"the dropped OBJ should be 1 triangle: {dropped}")
         return scene_id
 
     def submit(self, scene_id, width, height, spp, aovs=()):
