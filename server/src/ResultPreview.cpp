@@ -17,6 +17,10 @@ namespace {
 namespace fs = std::filesystem;
 using Rgba = std::vector<uint8_t>;
 
+// A preview holds up to 4 float planes and the RGBA bytes of the whole image in memory (about
+// 20 bytes a pixel): at most 4096 x 4096 pixels, ~340 MB, however large a job may render.
+constexpr uint64_t kMaxPreviewPixels = 4096ull * 4096ull;
+
 struct PreviewKind {
     const char* name;
     std::vector<std::string> channels;  // EXR channel names (ImageFile.h)
@@ -148,6 +152,15 @@ ServiceResult<std::string> Service::resultPreviewPng(const std::string& jobId, c
     if (!file) return file.status();
     // A PNG result is already the beauty as the CLI writes it.
     if (file->contentType == "image/png" && aov == "beauty") return readWhole(file->path);
+    v1::GetJobRequest get;
+    get.set_id(jobId);
+    auto job = getJob(get);
+    if (!job) return job.status();
+    const uint64_t pixels = uint64_t(job->request().width()) * job->request().height();
+    if (pixels > kMaxPreviewPixels)
+        return invalidArgument("aov", "previews are made for images of at most 4096 x 4096 pixels; job " + jobId +
+                                          " is " + std::to_string(job->request().width()) + " x " +
+                                          std::to_string(job->request().height()) + " (download the file)");
     auto channels = readImageChannels(file->path.string(), (*kind)->channels);
     if (!channels) return internalError(channels.message());
     const auto needed = channels->planes.begin() + (aov == "beauty" ? 3 : 1);  // beauty: alpha may be absent
