@@ -7,6 +7,9 @@
 # virtual environment of its own at $OPENAPI_VENV (default /opt/vastray/openapi-venv).
 # Idempotent: when every package is installed, /usr/local/bin/grpcurl and the validator are the
 # wanted versions it does nothing (and needs no network). Uses sudo only when not root.
+# node-typescript (tsc) compiles the service's web page at build time (server/web/); chromium,
+# chromium-driver, python3-selenium and python3-pil (screenshots) run its browser test
+# (tests/server/web_page_test.py).
 set -euo pipefail
 
 # grpcurl v1.9.1 is the newest release whose go.mod (and whose dependencies' go.mod: grpc
@@ -30,6 +33,7 @@ packages=(
   libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev libzip-dev
   assimp-testmodels python3 python3-matplotlib python3-venv python3-pip time
   curl openssl golang-go
+  node-typescript chromium chromium-driver python3-selenium python3-pil
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
 )
 

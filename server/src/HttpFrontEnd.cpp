@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "OpenApi.h"
+#include "WebPage.h"
 #include "vastray/server/FrontEnds.h"
 
 namespace vastray::server {
@@ -198,11 +199,13 @@ public:
         addSceneRoutes(server);
         addJobRoutes(server);
         addOperationalRoutes(server);
+        addWebPageRoutes(server);
     }
 
 private:
     bool authorize(const httplib::Request& req, httplib::Response& res) {
-        if (options_.authToken.empty() || req.path == "/healthz" || req.path == "/readyz") return admitBody(req, res);
+        if (options_.authToken.empty() || req.path == "/healthz" || req.path == "/readyz" || isWebPagePath(req.path))
+            return admitBody(req, res);
         if (bearerMatches(req.get_header_value("Authorization"), options_.authToken)) return admitBody(req, res);
         writeError(res, {StatusCode::Unauthenticated,
                          "missing or wrong bearer token (header 'Authorization: Bearer TOKEN')"});
@@ -361,7 +364,7 @@ private:
             [this](const httplib::Request& req, httplib::Response& res) { events(req.matches[1], res); });
         server.Get(
             R"(/v1/jobs/([^:/]+)/result)",
-            [this](const httplib::Request& req, httplib::Response& res) { result(req.matches[1], res); });
+            [this](const httplib::Request& req, httplib::Response& res) { result(req.matches[1], req, res); });
     }
 
     void submit(const httplib::Request& req, httplib::Response& res) {
@@ -407,7 +410,17 @@ private:
     }
 
     // The image; httplib answers Range requests (206 + Content-Range, 416) from the provider.
-    void result(const std::string& id, httplib::Response& res) {
+    // With `aov` or `format=png`: a PNG preview of one channel group (Service::resultPreviewPng).
+    void result(const std::string& id, const httplib::Request& req, httplib::Response& res) {
+        const std::string format = req.get_param_value("format");
+        if (req.has_param("format") && format != "png")
+            return writeError(res, invalidArgument("format", "'" + format + "': expected png (leave it out for the file as stored)"));
+        if (req.has_param("format") || req.has_param("aov")) {
+            auto png = service_.resultPreviewPng(id, req.has_param("aov") ? req.get_param_value("aov") : "beauty");
+            if (!png) return writeError(res, png.status());
+            res.set_header("Cache-Control", "private, max-age=3600");  // a job's result never changes
+            return res.set_content(*png, "image/png");
+        }
         auto file = service_.resultFile(id);
         if (!file) return writeError(res, file.status());
         res.set_header("Accept-Ranges", "bytes");

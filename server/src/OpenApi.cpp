@@ -131,18 +131,28 @@ json submitOperation() {
 
 json resultOperation() {
     json result = operation("getJobResult", "jobs", "Download a job's image", "RenderService.GetResult",
-                            "Range requests (`Range: bytes=a-b`) answer 206 with Content-Range.");
-    result["parameters"] = {{{"name", "Range"},
-                             {"in", "header"},
-                             {"required", false},
-                             {"description", "Byte ranges of the file (RFC 9110)."},
-                             {"schema", {{"type", "string"}}}}};
+                            "Range requests (`Range: bytes=a-b`) answer 206 with Content-Range. With `aov` or "
+                            "`format=png`: an 8-bit PNG preview of one channel group for display (HTTP only; "
+                            "mappings in docs/SERVICE.md, \"Result previews\").");
+    result["parameters"] = {
+        {{"name", "Range"},
+         {"in", "header"},
+         {"required", false},
+         {"description", "Byte ranges of the file (RFC 9110)."},
+         {"schema", {{"type", "string"}}}},
+        queryParameter("aov",
+                       {{"type", "string"},
+                        {"enum", {"beauty", "depth", "normal", "albedo", "primid", "chunkid", "cost"}}},
+                       "A PNG preview of this channel group (default beauty); AOVs the job did not render are "
+                       "400."),
+        queryParameter("format", {{"type", "string"}, {"enum", {"png"}}},
+                       "png: a PNG preview (the beauty unless `aov` says otherwise); absent: the file as stored.")};
     const json image = {{"type", "string"}, {"contentMediaType", "application/octet-stream"}};
     const json content = {{"image/png", {{"schema", image}}}, {"image/x-exr", {{"schema", image}}}};
     result["responses"] = responses(
-        {{"200", {{"description", "The whole image file."}, {"content", content}}},
+        {{"200", {{"description", "The whole image file, or the PNG preview."}, {"content", content}}},
          {"206", {{"description", "The requested bytes of the image file."}, {"content", content}}}},
-        {{"404", "NotFound"}, {"409", "Conflict"}, {"416", "RangeNotSatisfiable"}});
+        {{"400", "BadRequest"}, {"404", "NotFound"}, {"409", "Conflict"}, {"416", "RangeNotSatisfiable"}});
     return result;
 }
 

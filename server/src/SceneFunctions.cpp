@@ -232,6 +232,7 @@ ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs
                                "not a valid scene package: " + renamePath(why, package.string(), name));
     }
     scene.set_triangles((*reader)->info().triangleCount);
+    scene.set_chunks((*reader)->info().chunks.size());
     scene.set_package_bytes((*reader)->info().fileBytes);
     reader->reset();
     *scene.mutable_create_time() = nowTimestamp();

@@ -30,6 +30,11 @@ TEST_F(ServerTest, HttpUploadSubmitWatchAndDownloadMatchesCliRender) {
     EXPECT_EQ(scene["format"], "ply");
     EXPECT_GT(std::stoull(scene["triangles"].get<std::string>()), 1000u);
     EXPECT_EQ(uploadSphere()["id"], scene["id"]) << "the same content is the same scene";
+    auto info = runVastray("info " + (dataDir() / "scenes" / (scene["id"].get<std::string>() + ".vast")).string() +
+                           " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_EQ(scene["chunks"], std::to_string(json::parse(info.output)["chunks"].get<uint64_t>()))
+        << "the scene's chunk count is its package's";
 
     auto submitted = submit(smallJob(scene["id"]));
     ASSERT_TRUE(submitted);

@@ -93,7 +93,7 @@ TEST_F(OpenApiTest, PathAndQueryParametersAreDeclared) {
     EXPECT_EQ(parameterNames("/v1/scenes", "get"), (std::set<std::string>{"page_size", "page_token"}));
     EXPECT_EQ(parameterNames("/v1/scenes", "put"), (std::set<std::string>{"name", "async"}));
     EXPECT_EQ(parameterNames("/v1/jobs", "post"), (std::set<std::string>{"Idempotency-Key"}));
-    EXPECT_EQ(parameterNames("/v1/jobs/{id}/result", "get"), (std::set<std::string>{"Range"}));
+    EXPECT_EQ(parameterNames("/v1/jobs/{id}/result", "get"), (std::set<std::string>{"Range", "aov", "format"}));
 }
 
 TEST_F(OpenApiTest, ErrorsAndAuthAreDescribed) {

@@ -1,4 +1,5 @@
-// writeImageFile and diffImageFiles forward to the OpenImageIO module, loaded once on first use.
+// writeImageFile, diffImageFiles, readImageChannels and writeRgba8Png forward to the OpenImageIO
+// module, loaded once on first use.
 #include "ImageModule.h"
 
 #include <dlfcn.h>
@@ -71,6 +72,19 @@ Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::stri
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext("cannot read images: ");
     return m.api->diffImageFiles(pathA, pathB);
+}
+
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(path + ": cannot read: ");
+    return m.api->readImageChannels(path, names);
+}
+
+Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
+                     const std::vector<uint8_t>& rgba) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(path + ": cannot write: ");
+    return m.api->writeRgba8Png(path, width, height, rgba);
 }
 
 }  // namespace vastray

@@ -7,18 +7,23 @@
 #include <string>
 
 #include "vastray/core/ImageDiff.h"
+#include "vastray/core/ImageFile.h"
 #include "vastray/core/RenderImage.h"
 #include "vastray/core/Result.h"
 
 namespace vastray {
 
 // Bumped whenever the table or the types it passes change: a module from another build is refused.
-constexpr uint32_t kImageModuleVersion = 1;
+constexpr uint32_t kImageModuleVersion = 2;
 
 struct ImageModuleApi {
     uint32_t version;
     Status (*writeImageFile)(const std::string& path, const RenderImage& image);
     Result<ImageDiffReport> (*diffImageFiles)(const std::string& pathA, const std::string& pathB);
+    Result<ImageChannels> (*readImageChannels)(const std::string& path,
+                                               const std::vector<std::string>& names);
+    Status (*writeRgba8Png)(const std::string& path, uint32_t width, uint32_t height,
+                            const std::vector<uint8_t>& rgba);
 };
 
 }  // namespace vastray

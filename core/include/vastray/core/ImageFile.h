@@ -2,7 +2,9 @@
 // Image files through OpenImageIO, which lives in a module loaded on the first image read or
 // write (src/image/ImageModule.h says why); no OIIO type here.
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vastray/core/RenderImage.h"
 #include "vastray/core/Result.h"
@@ -14,6 +16,21 @@ namespace vastray {
 // channels Z, N.x, N.y, N.z, albedo.R, albedo.G, albedo.B, cost.cells, cost.triangles (float)
 // and primid, chunkid (uint32).
 Status writeImageFile(const std::string& path, const RenderImage& image);
+
+// Some channels of an image file, each as one plane of width x height floats (row 0 at the top).
+struct ImageChannels {
+    uint32_t width = 0, height = 0;
+    std::vector<std::vector<float>> planes;  // in the order asked for; empty where the file lacks it
+};
+
+// Reads the channels named `names` (EXR names as writeImageFile writes them: "R", "Z", "N.x",
+// "chunkid", ...). Float channels come as they are; 32-bit integer channels (primid, chunkid) as
+// their values (exact below 2^24; kMissPrimId becomes 2^32); 8-bit channels (PNG) as 0..1.
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names);
+
+// Writes 8-bit sRGB RGBA pixels (4 bytes per pixel, row 0 at the top) as a PNG file.
+Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
+                     const std::vector<uint8_t>& rgba);
 
 // Loads the image module now (it is otherwise loaded by the first read or write): commands
 // call it before long work, so that a missing or broken module fails at once, not after a

@@ -5,6 +5,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <vector>
 #include <cmath>
 #include <limits>
 
@@ -119,6 +120,30 @@ Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::stri
     if (channelIndex(sa, "Z") >= 0) VASTRAY_TRY(compareDepth(*a, pathA, *b, pathB, report));
     if (channelIndex(sa, "primid") >= 0) VASTRAY_TRY(comparePrimIds(*a, pathA, *b, pathB, report));
     return report;
+}
+
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names) {
+    auto image = openImage(path);
+    if (!image) return image.status();
+    ImageChannels out;
+    out.width = uint32_t(image->spec.width);
+    out.height = uint32_t(image->spec.height);
+    for (const std::string& name : names) {
+        const int channel = channelIndex(image->spec, name);
+        std::vector<float>& plane = out.planes.emplace_back();
+        if (channel < 0) continue;
+        // Read integer ids as integers: OIIO would scale them into 0..1 on a conversion to float.
+        if (image->spec.channelformat(channel) == OIIO::TypeDesc::UINT32) {
+            auto ids = readChannel<uint32_t>(*image, path, channel, OIIO::TypeDesc::UINT32);
+            if (!ids) return ids.status();
+            plane.assign(ids->begin(), ids->end());
+        } else {
+            auto values = readChannel<float>(*image, path, channel, OIIO::TypeDesc::FLOAT);
+            if (!values) return values.status();
+            plane = std::move(*values);
+        }
+    }
+    return out;
 }
 
 }  // namespace vastray::oiio

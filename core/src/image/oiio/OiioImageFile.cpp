@@ -39,9 +39,7 @@ Status writePng(const std::string& path, const RenderImage& image) {
             pixels[4 * i + c] = uint8_t(std::lround(255.0f * toneMapToDisplay(image.rgb[3 * i + c])));
         pixels[4 * i + 3] = uint8_t(std::lround(255.0f * std::clamp(image.alpha[i], 0.0f, 1.0f)));
     }
-    OIIO::ImageSpec spec(int(image.width), int(image.height), 4, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    return writeWith(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
+    return writeRgba8Png(path, image.width, image.height, pixels);
 }
 
 // One pixel record matching the EXR channel list: floats, then the uint32 channels (primid, chunkid).
@@ -102,6 +100,16 @@ Status writeExr(const std::string& path, const RenderImage& image) {
 }
 
 }  // namespace
+
+Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
+                     const std::vector<uint8_t>& rgba) {
+    if (rgba.size() != uint64_t(width) * height * 4)
+        return Status::error(path + ": " + std::to_string(rgba.size()) + " bytes are not " +
+                             std::to_string(width) + "x" + std::to_string(height) + " RGBA pixels");
+    OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    return writeWith(path, spec, OIIO::TypeDesc::UINT8, rgba.data());
+}
 
 Status writeImageFile(const std::string& path, const RenderImage& image) {
     const std::string ext = lowerExtension(path);

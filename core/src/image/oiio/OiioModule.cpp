@@ -4,6 +4,8 @@
 
 extern "C" __attribute__((visibility("default"))) const vastray::ImageModuleApi* vastray_image_module() {
     static const vastray::ImageModuleApi api{vastray::kImageModuleVersion, &vastray::oiio::writeImageFile,
-                                             &vastray::oiio::diffImageFiles};
+                                             &vastray::oiio::diffImageFiles,
+                                             &vastray::oiio::readImageChannels,
+                                             &vastray::oiio::writeRgba8Png};
     return &api;
 }

@@ -104,6 +104,10 @@ public:
                            const std::function<bool(const v1::JobEvent&)>& emit,
                            const std::function<bool()>& clientGone);
     ServiceResult<ResultFile> resultFile(const std::string& jobId);
+    // One channel group of a SUCCEEDED job's image as an 8-bit PNG for display (`aov`: beauty,
+    // depth, normal, albedo, primid, chunkid or cost; docs/SERVICE.md, "Result previews"). An AOV
+    // the job did not render, or an unknown name, is INVALID_ARGUMENT naming `aov`.
+    ServiceResult<std::string> resultPreviewPng(const std::string& jobId, const std::string& aov);
 
     // Ready: stores open, worker running, not shutting down.
     bool ready() const;

@@ -1,0 +1,392 @@
+#!/usr/bin/python3
+"""The web page of `vastray serve` in a real browser: headless Chromium driven by Debian's
+chromium-driver through python3-selenium (all installed by scripts/install-deps.sh).
+
+Starts its own `vastray serve` on loopback (port 0) with a temporary data folder and a token
+file (or none: --no-token, where the page must never ask), then as a person would: a wrong
+token, then the right one; uploads a mesh with the file picker, a two-file OBJ + MTL model
+(zipped by the page) and an OBJ by drag and drop; renders 64x64 at 2 spp with AOVs and watches
+it to completion; switches through the AOVs and checks each image on screen (a screenshot of
+it: the expected size, not uniform); downloads the result; cancels a long job while it runs
+(vulkan). Prints figures (page bytes, first
+contentful paint, main-thread responsiveness while a job streams its events); they are
+measurements for docs/SERVICE.md, not assertions.
+
+Exit status 0 when every check passed, 1 otherwise (a missing browser, driver or selenium is
+a failure, never a skip: install-deps was supposed to install them).
+"""
+import argparse
+import io
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+TOKEN = "browser-test-token"
+
+
+def fail(message):
+    print(f"FAIL: {message}", flush=True)
+    sys.exit(1)
+
+
+try:
+    from PIL import Image
+    from selenium import webdriver
+    from selenium.common.exceptions import TimeoutException
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select, WebDriverWait
+except ImportError as error:
+    fail(f"{error}: run scripts/install-deps.sh (python3-selenium, python3-pil)")
+
+
+class Server:
+    """`vastray serve` on 127.0.0.1, port 0, output in a log file."""
+
+    def __init__(self, vastray, work, backend, token):
+        self.data = os.path.join(work, "data")
+        self.token = token
+        flags = []
+        if token:
+            flags = ["--auth-token-file", os.path.join(work, "token")]
+            with open(flags[1], "w") as f:
+                f.write(token + "\n")
+        self.log_path = os.path.join(work, "serve.log")
+        self.log = open(self.log_path, "w")
+        self.process = subprocess.Popen(
+            [vastray, "serve", "--data-dir", self.data, "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0",
+             "--backend", backend, "--memory-budget", "256MiB", "--shutdown-grace", "0"] + flags,
+            stdout=self.log, stderr=subprocess.STDOUT)
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            text = open(self.log_path).read()
+            port = re.search(r"HTTP on 127\.0\.0\.1:(\d+)", text)
+            if "ready" in text and port:
+                self.url = f"http://127.0.0.1:{port.group(1)}"
+                return
+            if self.process.poll() is not None:
+                break
+            time.sleep(0.05)
+        self.stop()
+        fail(f"vastray serve did not become ready:\n{open(self.log_path).read()}")
+
+    def api(self, path):
+        request = urllib.request.Request(self.url + path,
+                                         headers={"Authorization": f"Bearer {self.token}"} if self.token else {})
+        with urllib.request.urlopen(request, timeout=30) as response:
+            return json.load(response)
+
+    def raw(self, path):
+        with urllib.request.urlopen(self.url + path, timeout=30) as response:
+            return response.read()
+
+    def stop(self):
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGTERM)
+            try:
+                self.process.wait(10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        self.log.close()
+
+
+def browser(chromium, driver, work):
+    for path in (chromium, driver):
+        if not os.path.exists(path):
+            fail(f"{path} is missing: run scripts/install-deps.sh (chromium, chromium-driver)")
+    options = webdriver.ChromeOptions()
+    options.binary_location = chromium
+    # Root in a container: no sandbox; no GPU; /dev/shm may be tiny.
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                 "--window-size=1280,1800", "--force-device-scale-factor=1",
+                 f"--user-data-dir={os.path.join(work, 'chromium-profile')}"):
+        options.add_argument(flag)
+    options.set_capability("goog:loggingPrefs", {"browser": "SEVERE"})
+    options.add_experimental_option("prefs", {"download.default_directory": os.path.join(work, "downloads"),
+                                              "download.prompt_for_download": False})
+    # Debian's selenium 4.8 (log_path; later versions call it log_output).
+    return webdriver.Chrome(service=Service(driver, log_path=os.path.join(work, "chromedriver.log")), options=options)
+
+
+class PageTest:
+    def __init__(self, server, driver, work, vastray):
+        self.server, self.driver, self.work, self.vastray = server, driver, work, vastray
+        self.figures = {}
+
+    def wait(self, condition, what, seconds=60):
+        try:
+            return WebDriverWait(self.driver, seconds, poll_frequency=0.05).until(lambda d: condition())
+        except TimeoutException:
+            fail(f"timed out after {seconds} s waiting for {what}")
+
+    def js(self, script, *args):
+        return self.driver.execute_script(script, *args)
+
+    def element(self, css):
+        found = self.driver.find_elements(By.CSS_SELECTOR, css)
+        return found[0] if found else None
+
+    def visible_dialog(self):
+        return self.js("return document.getElementById('token-dialog').open")
+
+    def enter_token(self, token):
+        self.driver.find_element(By.ID, "token-input").send_keys(token)
+        self.driver.find_element(By.ID, "token-submit").click()
+
+    def token(self):
+        self.driver.get(self.server.url + "/")
+        if not self.server.token:
+            self.wait(lambda: self.js("return document.body.dataset.ready === 'true'"), "the page to load its data")
+            if self.visible_dialog() or self.js("return sessionStorage.getItem('vastray.token')") is not None:
+                fail("the page asked for a token that the server does not need")
+            return
+        self.wait(self.visible_dialog, "the token dialog (the server answers 401)")
+        self.figures["first_contentful_paint_ms"] = round(self.wait(lambda: self.js(
+            "const e = performance.getEntriesByName('first-contentful-paint');"
+            "return e.length ? e[0].startTime : null"), "the first contentful paint entry", 10), 1)
+        self.enter_token("wrong-token")
+        self.wait(lambda: self.visible_dialog() and "refused" in self.driver.find_element(By.ID, "token-message").text,
+                  "the dialog again, saying the token was refused")
+        self.enter_token(TOKEN)
+        self.wait(lambda: self.js("return document.body.dataset.ready === 'true'"), "the page to load its data")
+        if self.visible_dialog():
+            fail("the token dialog stays open after the right token")
+        if self.js("return sessionStorage.getItem('vastray.token')") != TOKEN:
+            fail("the token is not kept in sessionStorage")
+
+    def upload(self, paths, name, drop_text=None):
+        if drop_text is None:
+            self.driver.find_element(By.ID, "file-input").send_keys("\n".join(paths))
+        else:
+            # Drag and drop: a drop event on the drop zone carrying one file made in the page.
+            self.js("""const transfer = new DataTransfer();
+                transfer.items.add(new File([arguments[1]], arguments[0]));
+                document.getElementById('drop-zone').dispatchEvent(
+                    new DragEvent('drop', {dataTransfer: transfer, bubbles: true, cancelable: true}));""",
+                    name, drop_text)
+        css = f'li.upload[data-name="{name}"]'
+        self.wait(lambda: self.element(css) is not None and self.element(css).get_attribute("data-state") in
+                  ("SUCCEEDED", "FAILED"), f"the upload of {name} to end")
+        item = self.element(css)
+        if item.get_attribute("data-state") != "SUCCEEDED":
+            fail(f"upload of {name}: {item.text}")
+        rows = [r for r in self.driver.find_elements(By.CSS_SELECTOR, "#scenes tbody tr")
+                if r.find_elements(By.TAG_NAME, "td")[0].text == name]
+        if not rows:
+            fail(f"{name} is not in the scenes table")
+        cells = [c.text for c in rows[0].find_elements(By.TAG_NAME, "td")]
+        return rows[0].get_attribute("data-scene-id"), cells
+
+    def uploads(self):
+        sphere = os.path.join(self.work, "sphere.ply")
+        subprocess.run([self.vastray, "generate", "sphere", "--triangles", "2000", "-o", sphere], check=True,
+                       stdout=subprocess.DEVNULL)
+        scene_id, cells = self.upload([sphere], "sphere.ply")
+        stored = self.server.api(f"/v1/scenes/{scene_id}")
+        if cells[1] != f"{int(stored['triangles']):,}" or int(stored["chunks"]) < 1 or \
+                cells[2] != f"{int(stored['chunks']):,}":
+            fail(f"scene row {cells} does not show the scene's triangles and chunks {stored}")
+        # Two files of one model: the page zips them (stored) and the server imports the zip.
+        with open(os.path.join(self.work, "quad.obj"), "w") as f:
+            f.write("mtllib quad.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n")
+        with open(os.path.join(self.work, "quad.mtl"), "w") as f:
+            f.write("newmtl red\nKd 0.8 0.1 0.1\n")
+        quad_id, quad_cells = self.upload([os.path.join(self.work, "quad.obj"), os.path.join(self.work, "quad.mtl")],
+                                          "quad.zip")
+        if quad_cells[1] != "2" or quad_cells[3] != "zip":
+            fail(f"the zipped OBJ + MTL should be 2 triangles in a zip scene: {quad_cells}")
+        _, dropped = self.upload([], "dropped.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        if dropped[1] != "1" or dropped[3] != "obj":
+            fail(f"the dropped OBJ should be 1 triangle: {dropped}")
+        return scene_id
+
+    def submit(self, scene_id, width, height, spp, aovs=()):
+        Select(self.driver.find_element(By.ID, "scene-select")).select_by_value(scene_id)
+        for field, value in (("width", width), ("height", height), ("spp", spp)):
+            box = self.driver.find_element(By.ID, field)
+            box.clear()
+            box.send_keys(str(value))
+        for box in self.driver.find_elements(By.CSS_SELECTOR, "#aovs input"):
+            if box.is_selected() != (box.get_attribute("value") in aovs):
+                box.click()
+        before = {e.get_attribute("data-job-id") for e in self.driver.find_elements(By.CSS_SELECTOR, ".job")}
+        self.driver.find_element(By.ID, "submit-render").click()
+        self.wait(lambda: len(self.driver.find_elements(By.CSS_SELECTOR, ".job")) > len(before), "the new job's card")
+        card = [e for e in self.driver.find_elements(By.CSS_SELECTOR, ".job")
+                if e.get_attribute("data-job-id") not in before][0]
+        return card.get_attribute("data-job-id")
+
+    def card(self, job_id):
+        return self.driver.find_element(By.ID, f"job-{job_id}")
+
+    def render_and_watch(self, scene_id, aovs):
+        job_id = self.submit(scene_id, 64, 64, 2, aovs)
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") in ("SUCCEEDED", "FAILED", "CANCELLED"),
+                  "the render to end", 120)
+        card = self.card(job_id)
+        if card.get_attribute("data-state") != "SUCCEEDED":
+            fail(f"the render did not succeed: {card.text}")
+        if self.js("return arguments[0].querySelector('progress').value", card) != 100:
+            fail("the progress bar is not full at SUCCEEDED")
+        self.wait(lambda: "rays/s" in card.text and "device" in card.text, "rays/s and device memory on the card")
+        text = card.text
+        if not re.search(r"device [\d.]+ \w+ of 256\.0 MiB", text) or "chunk loads" not in text:
+            fail(f"the card lacks device memory against the 256 MiB budget or chunk loads: {text}")
+        return job_id
+
+    def check_image(self, aov):
+        image = self.driver.find_element(By.ID, "result-image")
+        natural = self.js("const i = arguments[0]; return [i.naturalWidth, i.naturalHeight]", image)
+        if natural != [64, 64]:
+            fail(f"{aov}: the image is {natural}, not 64x64")
+        shot = Image.open(io.BytesIO(image.screenshot_as_png)).convert("RGB")
+        shot.save(os.path.join(self.work, f"screenshot-{aov}.png"))
+        if shot.size[0] < 64 or abs(shot.size[0] - shot.size[1]) > 1:
+            fail(f"{aov}: the image shows at {shot.size}, expected a square of at least 64 pixels")
+        colours = shot.getcolors(maxcolors=1 << 20)
+        if colours is None or len(colours) < 2:
+            fail(f"{aov}: the image on screen is uniform")
+        return len(colours)
+
+    def view_aovs(self, job_id, aovs):
+        self.card(job_id).find_element(By.CSS_SELECTOR, "button.view").click()
+        image = lambda: self.driver.find_element(By.ID, "result-image")  # noqa: E731
+        self.wait(lambda: image().get_attribute("data-aov") == "beauty", "the beauty in the viewer")
+        buttons = [b.get_attribute("data-aov") for b in self.driver.find_elements(By.CSS_SELECTOR, "#aov-switcher button")]
+        if buttons != ["beauty", *aovs]:
+            fail(f"AOV switcher shows {buttons}")
+        colours = {"beauty": self.check_image("beauty")}
+        seen = {}
+        for aov in buttons[1:]:
+            self.driver.find_element(By.CSS_SELECTOR, f'#aov-switcher button[data-aov="{aov}"]').click()
+            self.wait(lambda: image().get_attribute("data-aov") == aov, f"the {aov} image", 30)
+            colours[aov] = self.check_image(aov)
+            seen[aov] = self.js("return arguments[0].src", image())
+        if len(set(seen.values())) != len(seen):
+            fail("switching AOVs did not change the image")
+        if self.driver.find_element(By.ID, "viewer-message").text:
+            fail(f"viewer error: {self.driver.find_element(By.ID, 'viewer-message').text}")
+        print("distinct colours on screen per AOV:", colours)
+
+    def download(self, job_id):
+        self.driver.find_element(By.ID, "download").click()
+        path = os.path.join(self.work, "downloads", f"{job_id}.exr")
+        expected = int(self.server.api(f"/v1/jobs/{job_id}")["result_bytes"])
+        self.wait(lambda: os.path.exists(path) and os.path.getsize(path) == expected,
+                  f"the download of {job_id}.exr ({expected} bytes)", 30)
+        with open(path, "rb") as f:
+            if f.read(4) != b"\x76\x2f\x31\x01":
+                fail("the downloaded file is not an EXR")
+
+    def cancel_long_job(self, scene_id):
+        job_id = self.submit(scene_id, 512, 512, 4096)
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "RUNNING", "the long job to run", 60)
+        self.card(job_id).find_element(By.CSS_SELECTOR, "button.cancel").click()
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "CANCELLED", "CANCELLED on the card", 30)
+        job = self.server.api(f"/v1/jobs/{job_id}")
+        if job["state"] != "CANCELLED" or "cancelled from the web page" not in job["error"]:
+            fail(f"the server does not say CANCELLED by the page: {job['state']} {job['error']}")
+
+    def responsiveness(self, scene_id):
+        """While a job streams every progress event the server publishes (one per percent and per
+        last pass, chunk loads at most every 100 ms: docs/SERVICE.md, Progress), from submit to
+        SUCCEEDED: the gaps between animation frames and the main thread's long tasks (> 50 ms)."""
+        self.js("""
+            window.probe = {gaps: [], longTasks: [], last: performance.now(), events0: vastrayPage.events};
+            new PerformanceObserver((l) => l.getEntries().forEach((e) => probe.longTasks.push(e.duration)))
+                .observe({type: 'longtask'});
+            const tick = (t) => { probe.gaps.push(t - probe.last); probe.last = t; probe.raf = requestAnimationFrame(tick); };
+            probe.raf = requestAnimationFrame(tick);""")
+        start = time.monotonic()
+        job_id = self.submit(scene_id, 128, 128, 128)
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "SUCCEEDED", "the streamed job to end", 120)
+        seconds = time.monotonic() - start
+        probe = self.js("""cancelAnimationFrame(probe.raf);
+            return {gaps: probe.gaps, longTasks: probe.longTasks, events: vastrayPage.events - probe.events0}""")
+        gaps = sorted(probe["gaps"][1:])
+        self.figures.update({
+            "streaming_job": "128x128, 128 spp",
+            "streaming_seconds": round(seconds, 2),
+            "events_received": probe["events"],
+            "animation_frames": len(gaps),
+            "frame_gap_ms_median": round(gaps[len(gaps) // 2], 1) if gaps else None,
+            "frame_gap_ms_max": round(gaps[-1], 1) if gaps else None,
+            "long_tasks": len(probe["longTasks"]),
+            "long_task_ms_total": round(sum(probe["longTasks"]), 1),
+        })
+
+    def page_bytes(self):
+        html = self.server.raw("/")
+        scripts = re.findall(rb'src="([^"]+)"', html) + re.findall(rb'href="([^"]+\.css)"', html)
+        sizes = {"index.html": len(html)}
+        for path in scripts:
+            sizes[path.decode()] = len(self.server.raw("/" + path.decode()))
+        self.figures["page_bytes"] = sizes
+        self.figures["page_bytes_total"] = sum(sizes.values())
+
+    def run(self, backend):
+        self.page_bytes()
+        self.token()
+        scene_id = self.uploads()
+        # chunkid and cost exist only in the streaming (vulkan) renderer.
+        aovs = ["depth", "normal", "albedo"] + (["chunkid", "cost"] if backend == "vulkan" else [])
+        job_id = self.render_and_watch(scene_id, aovs)
+        self.view_aovs(job_id, aovs)
+        self.download(job_id)
+        self.driver.save_screenshot(os.path.join(self.work, "page.png"))
+        # Embree cannot stop inside a render (docs/SERVICE.md): its cancelled job would burn both
+        # cores to its end, so the cancel and the figures are taken on vulkan only.
+        if backend == "vulkan":
+            self.cancel_long_job(scene_id)
+            self.responsiveness(scene_id)
+        # The 401s that made the page ask for the token are expected; nothing else may be logged
+        # (a CSP violation, a failed request, an exception in the page).
+        errors = [e for e in self.driver.get_log("browser")
+                  if e["level"] == "SEVERE" and "status of 401 (Unauthorized)" not in e["message"]]
+        if errors:
+            fail(f"errors in the browser console: {errors}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--vastray", required=True)
+    parser.add_argument("--work", required=True, help="folder for the data, logs and screenshots (emptied)")
+    parser.add_argument("--backend", default="vulkan", choices=["vulkan", "embree"])
+    parser.add_argument("--no-token", action="store_true", help="serve without --auth-token-file")
+    parser.add_argument("--chromium", default="/usr/bin/chromium")
+    parser.add_argument("--chromedriver", default="/usr/bin/chromedriver")
+    args = parser.parse_args()
+    shutil.rmtree(args.work, ignore_errors=True)
+    os.makedirs(args.work)
+    began = time.monotonic()
+    server = Server(args.vastray, args.work, args.backend, None if args.no_token else TOKEN)
+    driver = None
+    try:
+        driver = browser(args.chromium, args.chromedriver, args.work)
+        test = PageTest(server, driver, args.work, args.vastray)
+        try:
+            test.run(args.backend)
+        except SystemExit:
+            driver.save_screenshot(os.path.join(args.work, "failure.png"))
+            print(f"page at failure: {os.path.join(args.work, 'failure.png')}; server log: {server.log_path}")
+            raise
+        version = driver.capabilities.get("browserVersion", "?")
+        print(f"FIGURES backend={args.backend} chromium={version} "
+              f"{json.dumps(test.figures, sort_keys=True)}")
+    finally:
+        if driver:
+            driver.quit()
+        server.stop()
+    print(f"PASS in {time.monotonic() - began:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
