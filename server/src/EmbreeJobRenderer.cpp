@@ -92,8 +92,11 @@ public:
             passes = total;
             if (tiles) tiles(done, total);
         };
-        auto image = renderWithEmbree(**scene, request.options, stats ? &stats->render : nullptr, tilesCounted);
-        if (stats) stats->passes = passes;
+        RenderStats render;
+        auto image = renderWithEmbree(**scene, request.options, &render, tilesCounted);
+        if (stats) stats->passes = passes, stats->render = render;
+        // Rays are counted when the render ends (its tiles do not report them).
+        if (image && progress) progress({passes, passes, chunkLoads, render.rays, 0});
         return image;
     }
 

@@ -24,6 +24,8 @@ void keepMonotone(const v1::JobEvent& last, v1::JobEvent& event) {
     event.set_passes_total(std::max(event.passes_total(), last.passes_total()));
     event.set_passes_done(std::max(event.passes_done(), last.passes_done()));
     event.set_chunk_loads(std::max(event.chunk_loads(), last.chunk_loads()));
+    event.set_rays(std::max(event.rays(), last.rays()));
+    event.set_device_bytes(std::max(event.device_bytes(), last.device_bytes()));
 }
 
 ServiceStatus checkJobId(const std::string& id) {
@@ -206,11 +208,15 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
     if (job.state() == v1::SUCCEEDED) {
         event.set_passes_done(job.stats().passes());
         event.set_passes_total(job.stats().passes());
+        event.set_rays(job.stats().rays());
+        event.set_device_bytes(job.stats().peak_device_bytes());
     }
     if (job.id() == runningId_ && job.state() == v1::RUNNING) {
         event.set_passes_done(published_.passesDone);
         event.set_passes_total(published_.passesTotal);
         event.set_chunk_loads(published_.chunkLoads);
+        event.set_rays(published_.rays);
+        event.set_device_bytes(published_.deviceBytes);
     }
     *event.mutable_time() = nowTimestamp();
     return event;
@@ -258,7 +264,8 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
         if (event.state() != last.state())
             event.set_kind(v1::JobEvent::STATE_CHANGED);
         else if (event.percent() == last.percent() && event.passes_done() == last.passes_done() &&
-                 event.passes_total() == last.passes_total() && event.chunk_loads() == last.chunk_loads())
+                 event.passes_total() == last.passes_total() && event.chunk_loads() == last.chunk_loads() &&
+                 event.rays() == last.rays() && event.device_bytes() == last.device_bytes())
             continue;
         if (!emit(event)) return {StatusCode::Cancelled, "the client went away"};
         last = event;

@@ -146,11 +146,15 @@ void Service::onProgress(const JobRenderProgress& progress) {
     live_.passesTotal = std::max(live_.passesTotal, progress.passesTotal);
     live_.passesDone = std::min(std::max(live_.passesDone, progress.passesDone), live_.passesTotal);
     live_.chunkLoads = std::max(live_.chunkLoads, progress.chunkLoads);
+    live_.rays = std::max(live_.rays, progress.rays);
+    live_.deviceBytes = std::max(live_.deviceBytes, progress.deviceBytes);
     const int percent = live_.passesTotal ? int(100 * live_.passesDone / live_.passesTotal) : 0;
     const auto now = std::chrono::steady_clock::now();
     const bool lastPass = live_.passesTotal > 0 && live_.passesDone == live_.passesTotal;
     const bool passesMoved = live_.passesDone != published_.passesDone || live_.passesTotal != published_.passesTotal;
-    const bool loadsMoved = live_.chunkLoads != published_.chunkLoads;
+    // Rays move with passes; device bytes are known from the first report on.
+    const bool loadsMoved = live_.chunkLoads != published_.chunkLoads || live_.rays != published_.rays ||
+                            live_.deviceBytes != published_.deviceBytes;
     if (percent == livePercent_ && !(lastPass && (passesMoved || loadsMoved)) &&
         !(loadsMoved && now - publishedAt_ >= kLoadPublishInterval))
         return;

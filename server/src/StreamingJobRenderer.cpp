@@ -50,12 +50,15 @@ private:
     std::unique_ptr<ChunkBackend> inner_;
 };
 
-// The progress of one render: passes from the wavefront's tiles, chunk loads from the backend;
-// each report carries both, so neither goes back to 0 when the other moves.
+// The progress of one render: passes and rays from the wavefront's tiles, chunk loads from the
+// backend, the pool's device bytes (allocated up front); each report carries all of them, so
+// none goes back to 0 when another moves.
 class RenderProgressReporter {
 public:
-    RenderProgressReporter(const JobProgressCallback& progress, LoadCountingBackend& backend)
-        : progress_(progress), backend_(backend) {
+    RenderProgressReporter(const JobProgressCallback& progress, LoadCountingBackend& backend,
+                           const StreamingScene& scene)
+        : progress_(progress), backend_(backend), scene_(scene), raysBefore_(scene.raysWalked()) {
+        now_.deviceBytes = backend.peakDeviceBytes();
         if (!progress_) return;
         backend_.onLoad = [this] {
             ++now_.chunkLoads;
@@ -69,6 +72,7 @@ public:
         return [this](uint64_t done, uint64_t total) {
             now_.passesDone = done;
             now_.passesTotal = total;
+            now_.rays = scene_.raysWalked() - raysBefore_;
             progress_(now_);
         };
     }
@@ -76,6 +80,7 @@ public:
     // load went through the backend).
     void finish(uint64_t chunkLoads) {
         now_.chunkLoads = std::max(now_.chunkLoads, chunkLoads);
+        now_.rays = scene_.raysWalked() - raysBefore_;
         if (progress_) progress_(now_);
     }
     uint64_t passesTotal() const { return now_.passesTotal; }
@@ -83,6 +88,8 @@ public:
 private:
     const JobProgressCallback& progress_;
     LoadCountingBackend& backend_;
+    const StreamingScene& scene_;
+    const uint64_t raysBefore_;
     JobRenderProgress now_;
 };
 
@@ -110,7 +117,7 @@ public:
         OpenScene& scene = **open;
         StreamingStats streaming;
         streaming.memoryBudgetBytes = request.memoryBudgetBytes;
-        RenderProgressReporter reporter(progress, *scene.backend);
+        RenderProgressReporter reporter(progress, *scene.backend, *scene.scene);
         auto image = scene.scene->render(request.options, stats ? &stats->render : nullptr, &streaming,
                                           reporter.passReporter(), &cancel);
         reporter.finish(streaming.chunkLoads);

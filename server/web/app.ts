@@ -20,7 +20,8 @@ interface Job {
 }
 interface JobEvent {
   kind: string; job_id: string; state: string; percent: number; passes_done: string;
-  passes_total: string; chunk_loads: string; error: string;
+  passes_total: string; chunk_loads: string; rays: string; device_bytes: string; error: string;
+  time: string;
 }
 
 const kFinal = new Set(["SUCCEEDED", "FAILED", "CANCELLED"]);
@@ -330,7 +331,13 @@ function updateState(card: JobCard, state: string, percent: number, error: strin
   card.error.textContent = error;
 }
 
-// Figures a finished job's stats give (the event stream carries passes and chunk loads only).
+// Device memory against the budget, as the card shows it.
+function memoryText(device: number, budget: number): string {
+  return `device ${formatBytes(device)} of ${formatBytes(budget)}` +
+    (budget > 0 ? ` (${((100 * device) / budget).toFixed(1)} %)` : "");
+}
+
+// Figures a finished job's stats give (rays per second over the render's own time).
 function showStats(card: JobCard, job: Job): void {
   const s = job.stats;
   const budget = Number(job.request?.memory_budget_bytes ?? 0);
@@ -341,8 +348,7 @@ function showStats(card: JobCard, job: Job): void {
   const rays = Number(s.rays);
   setFigure(card, "rays", s.render_seconds > 0 ? `${formatCount(Math.round(rays / s.render_seconds))} rays/s` : "");
   const peak = Number(s.peak_device_bytes), ranBudget = Number(s.memory_budget_bytes) || budget;
-  setFigure(card, "memory", `device ${formatBytes(peak)} of ${formatBytes(ranBudget)}` +
-    (ranBudget > 0 ? ` (${((100 * peak) / ranBudget).toFixed(1)} %)` : ""));
+  setFigure(card, "memory", memoryText(peak, ranBudget));
   setFigure(card, "backend", s.backend);
   setFigure(card, "chunks", `${formatCount(Number(s.chunk_loads))} chunk loads`);
 }
@@ -353,17 +359,29 @@ function showJob(job: Job): void {
   cards.set(job.id, card);
   updateState(card, job.state, job.progress, job.error);
   showStats(card, job);
-  if (!kFinal.has(job.state)) void followJob(job.id);
+  if (!kFinal.has(job.state)) void followJob(job);
 }
 
-async function followJob(id: string): Promise<void> {
+async function followJob(job: Job): Promise<void> {
+  const id = job.id;
   const card = cards.get(id)!;
+  const budget = Number(job.request?.memory_budget_bytes ?? 0);
+  // Rays per second while running: the rays counted between the first RUNNING event this
+  // watch saw and the latest, over the time between their timestamps.
+  let first: { rays: number; time: number } | undefined;
   try {
     await watch(id, (event) => {
       updateState(card, event.state, event.percent, event.error);
       if (Number(event.passes_total) > 0)
         setFigure(card, "passes", `pass ${event.passes_done} of ${event.passes_total}`);
-      setFigure(card, "chunks", `${formatCount(Number(event.chunk_loads))} chunk loads`);
+      setFigure(card, "chunks", `${formatCount(Number(event.chunk_loads ?? 0))} chunk loads`);
+      const device = Number(event.device_bytes ?? 0);
+      if (device > 0) setFigure(card, "memory", memoryText(device, budget));
+      if (event.state !== "RUNNING") return;
+      const rays = Number(event.rays ?? 0), time = Date.parse(event.time);
+      if (!first) first = { rays, time };
+      else if (rays > first.rays && time > first.time)
+        setFigure(card, "rays", `${formatCount(Math.round((rays - first.rays) / ((time - first.time) / 1000)))} rays/s`);
     });
     showStats(card, await apiJson<Job>(`/v1/jobs/${id}`));
   } catch (error) {

@@ -17,6 +17,8 @@ namespace vastray::test {
 namespace {
 
 uint64_t u64(const json& value) { return value.is_string() ? std::stoull(value.get<std::string>()) : value.get<uint64_t>(); }
+// A uint64 field of an event, 0 when the JSON leaves it out.
+uint64_t field(const json& event, const char* name) { return event.contains(name) ? u64(event[name]) : 0; }
 
 // The data of every SSE block of GET /v1/jobs/ID/events, in order.
 std::vector<json> watchEvents(const httplib::Client& constClient, const std::string& jobId) {
@@ -37,8 +39,9 @@ class ProgressTest : public ServerTest, public ::testing::WithParamInterface<con
 
 // A job queued behind another on a different scene, watched from QUEUED to SUCCEEDED at a
 // budget that splits it into many passes: no figure of any event is below the one before it,
-// the pass count does not change once known, chunk loads show while passes remain, and the
-// last event has every pass done and the job's own figures.
+// the pass count does not change once known, chunk loads show while passes remain (and, on the
+// device, rays and the pool's bytes), and the last event has every pass done and the job's own
+// figures.
 TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
     startServer({"--backend", GetParam(), "--memory-budget", "64MiB"});
     const std::filesystem::path terrain = dir_ / "terrain.ply";
@@ -63,7 +66,11 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
     const uint64_t passes = u64(job["stats"]["passes"]), loads = u64(job["stats"]["chunk_loads"]);
     EXPECT_GT(passes, 2u) << job.dump();
     EXPECT_GT(loads, 0u) << job.dump();
-    bool loadsWhilePassesRemain = false;
+    const uint64_t rays = u64(job["stats"]["rays"]), deviceBytes = field(job["stats"], "peak_device_bytes");
+    const bool device = std::string(GetParam()) == "vulkan";
+    EXPECT_GT(rays, 0u);
+    EXPECT_EQ(deviceBytes > 0, device) << job.dump();
+    bool loadsWhilePassesRemain = false, raysWhilePassesRemain = false;
     std::set<uint64_t> passesSeen;
     for (size_t i = 0; i < events.size(); ++i) {
         const json& e = events[i];
@@ -73,6 +80,8 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
             EXPECT_GE(e["percent"].get<double>(), p["percent"].get<double>());
             EXPECT_GE(u64(e["passes_done"]), u64(p["passes_done"]));
             EXPECT_GE(u64(e["chunk_loads"]), u64(p["chunk_loads"]));
+            EXPECT_GE(field(e, "rays"), field(p, "rays"));
+            EXPECT_GE(field(e, "device_bytes"), field(p, "device_bytes"));
             if (u64(p["passes_total"]) > 0) {
                 EXPECT_EQ(u64(e["passes_total"]), u64(p["passes_total"]));
             }
@@ -81,9 +90,16 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
         if (e["state"] == "RUNNING") {
             passesSeen.insert(u64(e["passes_done"]));
             if (u64(e["chunk_loads"]) > 0 && u64(e["passes_done"]) < passes) loadsWhilePassesRemain = true;
+            if (field(e, "rays") > 0 && u64(e["passes_done"]) < passes) {
+                raysWhilePassesRemain = true;
+                EXPECT_EQ(field(e, "device_bytes"), deviceBytes) << "the pool is allocated when the render starts";
+            }
+            EXPECT_LE(field(e, "rays"), rays);
         }
     }
     EXPECT_TRUE(loadsWhilePassesRemain) << "chunk loads appeared only with the last pass";
+    // Embree counts its rays when the render ends; the device wavefront after each tile.
+    EXPECT_EQ(raysWhilePassesRemain, device) << "rays should show as passes finish on the device";
     EXPECT_GE(passesSeen.size(), 3u) << "passes should show as they finish";
     const json& last = events.back();
     EXPECT_EQ(last["state"], "SUCCEEDED");
@@ -91,6 +107,8 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
     EXPECT_EQ(u64(last["passes_done"]), passes);
     EXPECT_EQ(u64(last["passes_total"]), passes);
     EXPECT_EQ(u64(last["chunk_loads"]), loads);
+    EXPECT_EQ(field(last, "rays"), rays);
+    EXPECT_EQ(field(last, "device_bytes"), deviceBytes);
     // A watch of the finished job: the same final figures at once.
     const std::vector<json> again = watchEvents(http(), id);
     ASSERT_EQ(again.size(), 1u);

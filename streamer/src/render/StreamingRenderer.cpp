@@ -80,6 +80,7 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
 
 const ChunkAttributes& StreamingScene::attributes() const { return state_->attributes; }
 ChunkBackend& StreamingScene::backend() { return *state_->backend; }
+uint64_t StreamingScene::raysWalked() const { return state_->totals.walkedRays; }
 
 Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderStats* stats,
                                            StreamingStats* streamingStats, const StreamingProgress& progress,

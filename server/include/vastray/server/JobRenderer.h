@@ -39,6 +39,8 @@ struct JobRenderProgress {
     uint64_t passesDone = 0;   // units of work finished (tiles, passes: the backend's choice)
     uint64_t passesTotal = 0;  // 0 while unknown
     uint64_t chunkLoads = 0;   // chunks loaded from storage for this job so far
+    uint64_t rays = 0;         // rays traced for this job so far (at least per finished pass)
+    uint64_t deviceBytes = 0;  // device memory the render holds (0: none, or not known yet)
 };
 
 struct JobRenderStats {

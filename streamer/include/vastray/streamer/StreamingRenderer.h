@@ -200,6 +200,9 @@ public:
 
     const ChunkAttributes& attributes() const;
     ChunkBackend& backend();
+    // Rays walked on the device by this scene's renders so far, the running one included up to
+    // its last finished tile (for progress reports: read it from the progress callback).
+    uint64_t raysWalked() const;
 
 private:
     StreamingScene();
