@@ -422,7 +422,6 @@ private:
         p.imageWidth = options_.width;
         p.materialCount = uint32_t(job_.materials.size());
         p.seed = options_.seed, p.samplesPerPixel = options_.samplesPerPixel, p.maxDepth = options_.maxDepth;
-        p.integrator = options_.integrator == IntegratorKind::AmbientOcclusion ? kIntegratorAo : kIntegratorPath;
         p.aovs = image_.aovs, p.pathCapacity = b_.pathCapacity;
         p.chunkCount = b_.chunkCount, p.topNodeCount = b_.topNodeCount;
         std::vector<WavefrontMaterial> materials;

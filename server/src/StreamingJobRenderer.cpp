@@ -181,9 +181,7 @@ private:
         needed.primitiveIds = true;
         auto plan = gpu::planPool(info, needed, budget);
         if (!plan) return plan.status();
-        uint64_t decodedBytes = 0;
-        for (const ChunkInfo& c : info.chunks) decodedBytes += c.residentBytes;
-        entry.hostBytes = std::min(hostCacheBytes_, decodedBytes);
+        entry.hostBytes = std::min(hostCacheBytes_, info.decodedBytes());
         while ((deviceInUse() + plan->totalBytes > devicePoolBytes_ || hostInUse() + entry.hostBytes > hostCacheBytes_) &&
                closeLeastRecentlyUsed()) {
         }

@@ -26,9 +26,6 @@ const uint kPathWalkShadow = 16u;    // its shadow ray is still being walked
 const uint kRayPending = 4u;      // still to be walked: started, or parked at a cell whose chunk was not resident
 const uint kRayFromSurface = 8u;  // leaves a surface: hits within t's rounding error are refused
 
-// WavefrontParams::integrator.
-const uint kIntegratorPath = 0u;
-const uint kIntegratorAo = 1u;
 
 // The queue of paths ready to shade (WavefrontParams::queues, queueCounts).
 const uint kShadeQueue = 2u;
@@ -110,7 +107,7 @@ struct WavefrontParams {
     uint seed;
     uint samplesPerPixel;
     uint maxDepth;
-    uint integrator;
+    uint padding;      // keeps the struct a multiple of 8 bytes (the integrator is a specialization constant)
     uint aovs;         // vastray::AovFlags
     uint pathCapacity; // paths the state arrays hold
     uint chunkCount;

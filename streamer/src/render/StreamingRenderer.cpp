@@ -67,8 +67,7 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     const uint32_t workers = options.decodeThreads > 0 ? options.decodeThreads : cores <= 2 ? cores : cores - 1;
     uint64_t hostCache = options.hostCacheBytes;
     if (hostCache == StreamingOptions::kHostCacheAuto) {
-        uint64_t decoded = 0;
-        for (const ChunkInfo& c : reader.info().chunks) decoded += c.residentBytes;
+        const uint64_t decoded = reader.info().decodedBytes();
         const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
         const uint64_t memory = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 4ull << 30;
         hostCache = std::min(decoded, memory / 4);

@@ -72,6 +72,12 @@ struct PackageInfo {
     std::vector<ChunkInfo> chunks;
 
     uint64_t duplicatedReferences() const { return referenceCount - triangleCount; }
+    // The decoded size of every chunk together: what a host cache holding the scene needs.
+    uint64_t decodedBytes() const {
+        uint64_t sum = 0;
+        for (const ChunkInfo& c : chunks) sum += c.residentBytes;
+        return sum;
+    }
 };
 
 // A leaf of the top-level tree: its box and its chunk (kEmptyCell when empty).
