@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <ctime>
 
+#include "GrpcUpload.h"
 #include "ServerTestSupport.h"
 #include "vastray/v1/render_service.grpc.pb.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
@@ -149,23 +150,8 @@ TEST_F(ImportJobTest, GrpcAsyncUploadIsWatchedThroughRenderService) {
     auto scenes = v1::SceneService::NewStub(channel);
     auto renders = v1::RenderService::NewStub(channel);
     v1::Scene scene;
-    {
-        grpc::ClientContext context;
-        auto writer = scenes->UploadScene(&context, &scene);
-        const std::string bytes = readBytes(spherePath_);
-        for (size_t at = 0; at < bytes.size(); at += 65536) {
-            v1::UploadSceneRequest message;
-            if (at == 0) {
-                message.set_name("sphere.ply");
-                message.set_async(true);
-            }
-            message.set_data(bytes.substr(at, 65536));
-            ASSERT_TRUE(writer->Write(message));
-        }
-        writer->WritesDone();
-        const grpc::Status status = writer->Finish();
-        ASSERT_TRUE(status.ok()) << status.error_message();
-    }
+    const grpc::Status status = uploadSceneOverGrpc(*scenes, "sphere.ply", readBytes(spherePath_), 65536, true, &scene);
+    ASSERT_TRUE(status.ok()) << status.error_message();
     ASSERT_FALSE(scene.import_job_id().empty());
     grpc::ClientContext context;
     v1::WatchJobRequest watch;

@@ -8,6 +8,7 @@
 
 #include <random>
 
+#include "GrpcUpload.h"
 #include "ServerTestSupport.h"
 #include "vastray/streamer/ScenePackage.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
@@ -132,18 +133,8 @@ TEST_F(ZipUploadTest, GrpcUploadOfAZipImportsItToo) {
     const fs::path zip = dir_ / "red.zip";
     writeZip(zip, {{"red.obj", kObj}, {"materials/red.mtl", kMtl}});
     auto stub = v1::SceneService::NewStub(grpc::CreateChannel(server_.grpcAddress(), grpc::InsecureChannelCredentials()));
-    grpc::ClientContext context;
     v1::Scene scene;
-    auto writer = stub->UploadScene(&context, &scene);
-    const std::string bytes = readBytes(zip);
-    for (size_t at = 0; at < bytes.size(); at += 100) {
-        v1::UploadSceneRequest message;
-        if (at == 0) message.set_name("red.zip");
-        message.set_data(bytes.substr(at, 100));
-        ASSERT_TRUE(writer->Write(message));
-    }
-    writer->WritesDone();
-    const grpc::Status status = writer->Finish();
+    const grpc::Status status = uploadSceneOverGrpc(*stub, "red.zip", readBytes(zip), 100, false, &scene);
     ASSERT_TRUE(status.ok()) << status.error_message();
     EXPECT_EQ(scene.format(), "zip");
     EXPECT_EQ(scene.triangles(), 2u);

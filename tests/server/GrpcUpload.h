@@ -1,0 +1,29 @@
+#pragma once
+// A scene upload through SceneService.UploadScene's client stream, as a client sends it: the
+// name (and async) in the first message, the bytes in pieces.
+#include <grpcpp/grpcpp.h>
+
+#include <string>
+
+#include "vastray/v1/scene_service.grpc.pb.h"
+
+namespace vastray::test {
+
+inline grpc::Status uploadSceneOverGrpc(v1::SceneService::Stub& stub, const std::string& name,
+                                        const std::string& bytes, size_t piece, bool async, v1::Scene* scene) {
+    grpc::ClientContext context;
+    auto writer = stub.UploadScene(&context, scene);
+    for (size_t at = 0; at < bytes.size(); at += piece) {
+        v1::UploadSceneRequest message;
+        if (at == 0) {
+            message.set_name(name);
+            message.set_async(async);
+        }
+        message.set_data(bytes.substr(at, piece));
+        if (!writer->Write(message)) break;  // the server ended the stream: Finish says why
+    }
+    writer->WritesDone();
+    return writer->Finish();
+}
+
+}  // namespace vastray::test
