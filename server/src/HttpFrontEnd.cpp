@@ -20,11 +20,31 @@
 #include <mutex>
 #include <thread>
 
+#include "JsonMessages.h"
 #include "OpenApi.h"
 #include "WebPage.h"
 #include "vastray/server/FrontEnds.h"
 
 namespace vastray::server {
+
+std::string toJson(const google::protobuf::Message& message) {
+    google::protobuf::util::JsonPrintOptions options;
+    options.always_print_primitive_fields = true;
+    options.preserve_proto_field_names = true;
+    std::string json;
+    (void)google::protobuf::util::MessageToJsonString(message, &json, options);
+    return json;
+}
+
+ServiceStatus fromJson(const std::string& body, google::protobuf::Message* message) {
+    if (body.empty()) return {};
+    if (body.size() > kMaxJsonBodyBytes) return invalidArgument("body", "larger than 1 MiB");
+    google::protobuf::util::JsonParseOptions options;  // unknown fields are errors
+    auto status = google::protobuf::util::JsonStringToMessage(body, message, options);
+    if (!status.ok()) return invalidArgument("body", std::string(status.message()));
+    return {};
+}
+
 namespace {
 
 // Connections served at once; an SSE watch holds one for the life of its job. The pool grows
@@ -39,7 +59,6 @@ constexpr size_t kMaxQueuedConnections = 4096;
 constexpr int kReadTimeoutSeconds = 5;
 // Seconds a client told "queue full" (429) should wait before trying again.
 constexpr int kRetryAfterSeconds = 5;
-constexpr size_t kMaxJsonBodyBytes = 1u << 20;
 const char* kJson = "application/json";
 
 // httplib's TaskQueue: one task per accepted connection.
@@ -96,24 +115,6 @@ private:
     size_t idle_ = 0;
     bool stopping_ = false;
 };
-
-std::string toJson(const google::protobuf::Message& message) {
-    google::protobuf::util::JsonPrintOptions options;
-    options.always_print_primitive_fields = true;
-    options.preserve_proto_field_names = true;
-    std::string json;
-    (void)google::protobuf::util::MessageToJsonString(message, &json, options);
-    return json;
-}
-
-ServiceStatus fromJson(const std::string& body, google::protobuf::Message* message) {
-    if (body.empty()) return {};
-    if (body.size() > kMaxJsonBodyBytes) return invalidArgument("body", "larger than 1 MiB");
-    google::protobuf::util::JsonParseOptions options;  // unknown fields are errors
-    auto status = google::protobuf::util::JsonStringToMessage(body, message, options);
-    if (!status.ok()) return invalidArgument("body", std::string(status.message()));
-    return {};
-}
 
 std::string escapeJson(const std::string& text) {
     std::string out;
