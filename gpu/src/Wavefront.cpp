@@ -282,11 +282,7 @@ private:
     Status walkWave(WavefrontPush& push, bool shade) {
         const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
         const uint32_t events = !shade ? 1u : ao ? 2u : options_.maxDepth + 1u;
-        record([this](VkCommandBuffer cmd) {
-            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * kShadeQueue, 4, 0);
-            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueArgs + 12ull * kShadeQueue, 4, 0);
-            barrier(cmd);
-        });
+        clearQueue(kShadeQueue);
         // In core no ray parks: the walk without the paging code.
         auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, !pager_.allResident()});
         if (!walk) return walk.status();
