@@ -152,9 +152,9 @@ private:
             if (corners_[i] >= vertexCount)
                 return Status::error("index " + std::to_string(i) + " value " + std::to_string(corners_[i]) +
                                      " >= vertex count " + std::to_string(vertexCount));
-        if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN && corners_.size() > import::kMaxPolygonCorners)
+        if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN && corners_.size() > import::kMaxFanCorners)
             return Status::error("triangle fan of " + std::to_string(corners_.size()) +
-                                 " corners exceeds the polygon limit of " + std::to_string(import::kMaxPolygonCorners));
+                                 " corners exceeds the fan limit of " + std::to_string(import::kMaxFanCorners));
         if (prim.mode == TINYGLTF_MODE_TRIANGLES && corners_.size() % 3 != 0)
             return Status::error((prim.indices >= 0 ? "index count " : "vertex count ") + std::to_string(corners_.size()) +
                                  " is not a multiple of 3");

@@ -30,11 +30,14 @@ bool isSafeRelativeUri(const std::string& uri, std::string& why);
 // that does not exist counts as inside when its existing folders do (its read then fails).
 bool insideFolder(const std::filesystem::path& folder, const std::filesystem::path& file);
 
-// Polygons (OBJ faces, PLY face lists, glTF triangle fans) are fan-triangulated: every
-// triangle of an n-gon shares its first corner, so the partitioner's cells near that corner
-// each hold all n of them and its time grows as n^2 (10^5 corners took 10 s, 10^6 did not
-// finish). Exporters write far smaller polygons; larger ones are refused by name.
-constexpr uint64_t kMaxPolygonCorners = 4096;
+// OBJ faces and PLY face lists are ear-clipped (Triangulate.h): a polygon of 10^6 corners
+// imports in about a second. The limit bounds one face's scratch memory, not the time.
+constexpr uint64_t kMaxPolygonCorners = uint64_t(1) << 24;
+
+// glTF triangle fans are fans by definition (spec 3.7.2.1): every triangle shares the first
+// corner, so the partitioner's cells near that corner each hold all n of them and its time
+// grows as n^2 (10^5 corners took 10 s). Exporters write far smaller fans.
+constexpr uint64_t kMaxFanCorners = 4096;
 
 // A descriptor for a regular file, refused by name when the path is a FIFO, socket, device
 // or directory (a FIFO without a writer would otherwise block the read for ever).

@@ -1,4 +1,4 @@
-// Wavefront OBJ: v/vt/vn/f, negative indices, fan-triangulated polygons, usemtl/mtllib.
+// Wavefront OBJ: v/vt/vn/f, negative indices, ear-clipped polygons, usemtl/mtllib.
 // The whole file is read once and parsed in place with std::from_chars.
 #include <cstring>
 #include <filesystem>
@@ -8,6 +8,7 @@
 #include "import/ImportCommon.h"
 #include "import/MtlLibrary.h"
 #include "import/TextScan.h"
+#include "import/Triangulate.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -108,16 +109,15 @@ private:
             if (Status s = parseCorner(token, vertex); !s.isOk()) return s;
             if (corners_.size() == import::kMaxPolygonCorners)
                 return lineError("face has more than " + std::to_string(import::kMaxPolygonCorners) +
-                                 " corners (the polygon limit; triangulate it in the exporter)");
+                                 " corners (the polygon limit)");
             corners_.push_back(vertex);
         }
         if (corners_.size() < 3)
             return lineError("face has " + std::to_string(corners_.size()) + " vertices (need at least 3)");
         const uint32_t material = currentMaterial();
-        for (size_t i = 1; i + 1 < corners_.size(); ++i) {
-            out_.mesh.indices.insert(out_.mesh.indices.end(), {corners_[0], corners_[i], corners_[i + 1]});
-            out_.mesh.materialIds.push_back(material);
-        }
+        const uint64_t triangles = triangulator_.triangulate(out_.mesh.positions, corners_, out_.mesh.indices);
+        if (!triangulator_.failure().empty()) return lineError("face: " + triangulator_.failure());
+        out_.mesh.materialIds.insert(out_.mesh.materialIds.end(), triangles, material);
         return Status::ok();
     }
 
@@ -162,6 +162,7 @@ private:
     uint64_t normalCount_ = 0;
     int64_t current_ = -1;
     std::vector<uint32_t> corners_;  // reused for every face: no per-face allocation
+    import::PolygonTriangulator triangulator_;
     std::unordered_map<std::string, uint32_t> materialIds_;
     std::vector<std::string> libraries_;
 

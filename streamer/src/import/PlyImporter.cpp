@@ -1,11 +1,12 @@
 // PLY (ASCII, binary little/big endian): vertex x/y/z of any scalar type, face polygons
-// (fan-triangulated), tristrips (-1 restarts), every other element skipped.
+// (ear-clipped, Triangulate.h), tristrips (-1 restarts), every other element skipped.
 #include <algorithm>
 #include <limits>
 
 #include "import/ImportCommon.h"
 #include "import/PlyHeader.h"
 #include "import/PlyReaders.h"
+#include "import/Triangulate.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -113,7 +114,7 @@ private:
                     continue;
                 }
                 if (Status s = readIndices(e, row, p, strips); !s.isOk()) return s;
-                if (Status s = strips ? emitStrip(e, row) : emitFan(e, row); !s.isOk()) return s;
+                if (Status s = strips ? emitStrip(e, row) : emitPolygon(e, row); !s.isOk()) return s;
             }
         }
         return Status::ok();
@@ -125,7 +126,7 @@ private:
         if (count < 0) return rowError(e, row, "negative list count " + std::to_string(count));
         if (!strips && uint64_t(count) > import::kMaxPolygonCorners)
             return rowError(e, row, "polygon has " + std::to_string(count) + " corners, more than the limit of " +
-                                        std::to_string(import::kMaxPolygonCorners) + " (triangulate it in the exporter)");
+                                        std::to_string(import::kMaxPolygonCorners));
         corners_.clear();
         for (int64_t i = 0; i < count; ++i) {
             int64_t index;
@@ -146,11 +147,11 @@ private:
         return Status::ok();
     }
 
-    Status emitFan(const PlyElement& e, uint64_t row) {
+    Status emitPolygon(const PlyElement& e, uint64_t row) {
         if (corners_.size() < 3)
             return rowError(e, row, "polygon with " + std::to_string(corners_.size()) + " vertices");
-        for (size_t i = 1; i + 1 < corners_.size(); ++i)
-            out_.mesh.indices.insert(out_.mesh.indices.end(), {corners_[0], corners_[i], corners_[i + 1]});
+        triangulator_.triangulate(out_.mesh.positions, corners_, out_.mesh.indices);
+        if (!triangulator_.failure().empty()) return rowError(e, row, triangulator_.failure());
         return Status::ok();
     }
 
@@ -178,6 +179,7 @@ private:
     ImportedMesh& out_;
     uint64_t vertexCount_ = kNoVertices;
     std::vector<uint32_t> corners_;  // reused for every row: no per-face allocation
+    import::PolygonTriangulator triangulator_;
 };
 
 template <typename Reader>

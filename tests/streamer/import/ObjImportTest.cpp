@@ -25,11 +25,13 @@ TEST(ObjImport, NegativeIndicesAreRelativeToTheLastVertex) {
     EXPECT_EQ(r->mesh.indices, (std::vector<uint32_t>{1, 2, 3, 5, 1, 2}));
 }
 
-TEST(ObjImport, PolygonsAreFanTriangulated) {
+// Convex polygons: every second corner clipped, round after round (TriangulateTest.cpp has
+// the concave cases).
+TEST(ObjImport, ConvexPolygonsAreClippedCornerByCorner) {
     const std::string obj = "v 0 0 0\nv 2 0 0\nv 3 1 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4 5\n";
     auto r = importObj(writeFile("pentagon.obj", obj));
     ASSERT_TRUE(r.isOk()) << r.message();
-    EXPECT_EQ(r->mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
+    EXPECT_EQ(r->mesh.indices, (std::vector<uint32_t>{0, 1, 2, 2, 3, 4, 0, 2, 4}));
     EXPECT_EQ(r->report.inputTriangles, 3u);
 }
 
