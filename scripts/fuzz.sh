@@ -15,9 +15,10 @@ BUILD=${FUZZ_BUILD_DIR:-build-fuzz}
 SECONDS_PER_TARGET=${FUZZ_SECONDS:-30}
 JOBS=${JOBS:-$(nproc)}
 declare -A SEEDS=([fuzz_import_obj]=obj [fuzz_import_ply]=ply [fuzz_import_gltf]=gltf
-                  [fuzz_import_glb]=glb [fuzz_package]=vast [fuzz_chunk]=chunk [fuzz_http_json]=json)
+                  [fuzz_import_glb]=glb [fuzz_import_assimp]=assimp [fuzz_package]=vast [fuzz_chunk]=chunk
+                  [fuzz_http_json]=json)
 TARGETS=("$@")
-[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_import_obj fuzz_import_ply fuzz_import_gltf fuzz_import_glb fuzz_package fuzz_chunk
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_import_obj fuzz_import_ply fuzz_import_gltf fuzz_import_glb fuzz_import_assimp fuzz_package fuzz_chunk
                                     fuzz_http_json)
 
 if [ ! -f "$BUILD/build.ninja" ]; then
