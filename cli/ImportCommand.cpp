@@ -94,7 +94,7 @@ void printBuildReport(const std::string& output, const PackageBuildReport& r, co
 
 CommandRun addImportCommand(CLI::App& app) {
     auto args = std::make_shared<ImportArgs>();
-    CLI::App* cmd = app.add_subcommand("import", "Import a mesh (.obj, .ply, .gltf, .glb) into a scene package (.vast).");
+    CLI::App* cmd = app.add_subcommand("import", "Import a mesh (.obj, .ply, .gltf, .glb; .stl, .off, .fbx, .dae, .3ds, .3mf, .ac, .ase, .dxf, .lwo, .ms3d, .x, .x3d through assimp) into a scene package (.vast).");
     cmd->add_option("input", args->input, "mesh file")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", args->output, "scene package to write (.vast)")->required();
     cmd->add_option("--chunk-size", args->chunkSize,
@@ -144,6 +144,8 @@ CommandRun addImportCommand(CLI::App& app) {
         }
         printImportReport(args->input, imported->report, imported->mesh,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        for (const std::string& warning : imported->report.warnings)
+            std::fprintf(stderr, "vastray import: warning: %s: %s\n", args->input.c_str(), warning.c_str());
         options->degenerateDropped = imported->report.degenerateDropped;
         options->defaultDoubleSided = !args->singleSided;
         auto report = buildPackage(std::move(imported->mesh), args->output, *options);

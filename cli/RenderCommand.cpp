@@ -374,7 +374,7 @@ CommandRun addRenderCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "render", "Render a mesh file or a scene package to .png (tone mapped) or .exr (linear).");
     cmd->add_option("input", args->input,
-                    "mesh file (.obj, .ply, .gltf, .glb: rendered whole, in core) or package (.vast)")
+                    "mesh file (.obj, .ply, .gltf, .glb, or a format of `vastray import --help`: rendered whole, in core) or package (.vast)")
         ->required()
         ->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", args->output, "image to write (.png or .exr; AOVs need .exr)")->required();

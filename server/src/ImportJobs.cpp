@@ -97,6 +97,7 @@ void Service::runImport(const std::string& jobId, const fs::path& file) {
     job.set_state(scene ? v1::SUCCEEDED : v1::FAILED);
     job.set_progress(scene ? 100 : 0);
     job.set_error(scene ? "" : scene.status().message());
+    if (scene) *job.mutable_import()->mutable_warnings() = scene->import_warnings();
     *job.mutable_end_time() = nowTimestamp();
     if (Status updated = stores_.jobs->updateJob(job); !updated)
         std::fprintf(stderr, "vastray serve: import job %s: %s\n", jobId.c_str(), updated.message().c_str());

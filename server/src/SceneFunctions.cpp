@@ -36,6 +36,7 @@ std::string detectFormat(const std::string& name, const fs::path& file) {
     if (std::memcmp(head, "VASTRAY\0", 8) == 0) return "vast";
     const std::string ext = lowerExtension(name);
     if (ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb" || ext == "zip") return ext;
+    if (assimpReads(name)) return ext;  // STL, OFF, FBX, ... (kAssimpFormats)
     if (std::memcmp(head, "PK\x03\x04", 4) == 0) return "zip";
     if (std::memcmp(head, "glTF", 4) == 0) return "glb";
     if (std::memcmp(head, "ply", 3) == 0) return "ply";
@@ -50,16 +51,24 @@ std::string renamePath(std::string message, const std::string& from, const std::
 
 bool isModelFile(const fs::path& path) {
     const std::string ext = lowerExtension(path.filename().string());
-    return ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb";
+    return ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb" || assimpReads(path.string());
 }
 
-// Imports the mesh file `mesh` into the scene package `package`. Importer messages name
-// scratch paths: each `renames` pair (scratch path or prefix, what the client calls it) is
-// replaced in turn.
+std::string assimpFormatList() {
+    std::string list;
+    for (const char* format : kAssimpFormats) list += std::string(list.empty() ? "" : ", ") + "." + format;
+    return list;
+}
+
+// Imports the mesh file `mesh` into the scene package `package`, adding the importer's
+// warnings to `warnings`. Importer messages name scratch paths: each `renames` pair (scratch
+// path or prefix, what the client calls it) is replaced in turn.
 ServiceStatus importMeshFile(const fs::path& mesh, const fs::path& package,
-                             const std::vector<std::pair<std::string, std::string>>& renames) {
+                             const std::vector<std::pair<std::string, std::string>>& renames,
+                             std::vector<std::string>& warnings) {
     auto imported = importMesh(mesh.string());
     if (imported) {
+        warnings = imported->report.warnings;
         PackageBuildOptions build;
         build.progress = Progress::Mode::None;
         build.degenerateDropped = imported->report.degenerateDropped;
@@ -78,7 +87,7 @@ ServiceResult<fs::path> zipModel(const std::vector<fs::path>& files, const std::
     for (const fs::path& f : files)
         if (isModelFile(f)) models.push_back(f);
     if (models.empty())
-        return invalidArgument("data", zipName + ": holds no model (.gltf, .glb, .obj or .ply)");
+        return invalidArgument("data", zipName + ": holds no model (.gltf, .glb, .obj, .ply or " + assimpFormatList() + ")");
     if (models.size() > 1) {
         std::string list;
         for (size_t i = 0; i < models.size() && i < 5; ++i) list += (i ? ", " : "") + models[i].string();
@@ -101,7 +110,8 @@ std::string inZip(const std::string& zipName, const fs::path& model, const std::
 // A zip: extracted into a scratch folder within the limits of ZipArchive.h (its uncompressed
 // size within --max-upload and the free disk), and its one model imported from there. The
 // importers keep every file the model names (.bin, images, .mtl) inside the model's folder.
-ServiceStatus Service::importZip(const std::string& name, const fs::path& file, const fs::path& package) {
+ServiceStatus Service::importZip(const std::string& name, const fs::path& file, const fs::path& package,
+                                 std::vector<std::string>& warnings) {
     const fs::path folder = objects_->scratchDir() / ("zip-" + randomHex(8));
     std::error_code error;
     if (!fs::create_directory(folder, error)) return internalError(folder.string() + ": cannot create");
@@ -114,7 +124,7 @@ ServiceStatus Service::importZip(const std::string& name, const fs::path& file, 
     if (!files) status = files.status();
     auto model = files ? zipModel(*files, name) : ServiceResult<fs::path>(status);
     if (status && !model) status = model.status();
-    if (status) status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}});
+    if (status) status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}}, warnings);
     if (!status && model && status.code() == StatusCode::InvalidArgument)
         status = invalidArgument("data", inZip(name, *model, status.message().substr(std::strlen("data: "))));
     fs::remove_all(folder, error);
@@ -205,21 +215,23 @@ ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs
     scene.set_upload_bytes(bytes);
     if (scene.format().empty())
         return invalidArgument("name",
-                               "'" + name + "': unknown format; expected .obj, .ply, .gltf, .glb, .zip or .vast");
+                               "'" + name + "': unknown format; expected .obj, .ply, .gltf, .glb, .zip, .vast or " +
+                                   assimpFormatList());
     const fs::path package = objects_->scratchDir() / (digest + "-" + randomHex(8) + ".vast");
     std::error_code error;
+    std::vector<std::string> warnings;
     if (scene.format() == "vast") {
         fs::rename(file, package, error);
         if (error) return internalError(package.string() + ": " + error.message());
     } else if (scene.format() == "zip") {
-        if (ServiceStatus imported = importZip(name, file, package); !imported) return imported;
+        if (ServiceStatus imported = importZip(name, file, package, warnings); !imported) return imported;
     } else {
         // Importers pick the format by extension: give the scratch file the right one.
         const fs::path mesh = fs::path(file).replace_extension("." + scene.format());
         fs::rename(file, mesh, error);
         if (error) return internalError(mesh.string() + ": " + error.message());
         ServiceStatus imported =
-            importMeshFile(mesh, package, {{mesh.string(), name}, {mesh.filename().string(), name}});
+            importMeshFile(mesh, package, {{mesh.string(), name}, {mesh.filename().string(), name}}, warnings);
         fs::remove(mesh, error);
         if (!imported) return imported;
     }
@@ -233,6 +245,7 @@ ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs
     }
     scene.set_triangles((*reader)->info().triangleCount);
     scene.set_chunks((*reader)->info().chunks.size());
+    for (const std::string& warning : warnings) scene.add_import_warnings(warning);
     scene.set_package_bytes((*reader)->info().fileBytes);
     reader->reset();
     *scene.mutable_create_time() = nowTimestamp();

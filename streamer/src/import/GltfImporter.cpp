@@ -217,15 +217,41 @@ private:
     int64_t defaultMaterial_ = -1;
 };
 
+// What the file holds that the package does not carry, once per kind.
+void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
+    uint64_t colours = 0, morphs = 0;
+    for (const tinygltf::Mesh& mesh : model.meshes)
+        for (const tinygltf::Primitive& prim : mesh.primitives) {
+            const auto colour = prim.attributes.find("COLOR_0");
+            if (colour != prim.attributes.end() && colour->second >= 0 && size_t(colour->second) < model.accessors.size())
+                colours += model.accessors[colour->second].count;
+            morphs += prim.targets.size();
+        }
+    uint64_t lights = model.lights.size();
+    report.warnUnused("vertex colours (COLOR_0)", colours, "a scan renders grey");
+    report.warnUnused("morph targets", morphs);
+    report.warnUnused("skins", model.skins.size());
+    report.warnUnused("animations", model.animations.size());
+    report.warnUnused("cameras", model.cameras.size(), "vastray frames the scene itself");
+    report.warnUnused("textures", model.textures.size(), "materials use their factors only");
+    report.warnUnused("KHR_lights_punctual lights", lights);
+}
+
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {
     const std::string name = import::fileNameOf(path);
     const bool binary = import::lowerExtension(path) == "glb";
-    auto model = import::loadGltfModel(path, binary);
+    bool version1 = false;
+    auto model = import::loadGltfModel(path, binary, &version1);
+    if (version1 && binary)  // assimp 5.2 reads text glTF 1.0 only
+        return import::errorIn(name, "GLB header: version 1 (binary glTF 1.0) is not supported; convert the file "
+                                     "to glTF 2.0 (e.g. gltf-pipeline) or to text glTF 1.0");
+    if (version1) return importWithAssimp(path, options);  // assimp reads glTF 1.0
     if (!model) return model.status();
     ImportedMesh imported;
     imported.report.format = binary ? "glb" : "gltf";
     GltfFlattener flattener(*model, imported);
     if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
+    warnAboutUnused(*model, imported.report);
     if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
     return imported;
 }

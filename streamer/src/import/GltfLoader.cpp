@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "import/GltfDracoCheck.h"
+#include "import/GltfMeshopt.h"
+#include "import/GltfSchema.h"
 #include "import/ImportCommon.h"
 
 namespace vastray::import {
@@ -15,7 +17,7 @@ namespace {
 
 // Textures are not rendered yet, so a required texture transform changes nothing we draw;
 // quantized (normalized integer) positions are read by GltfAccessor.
-const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
+const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
                                                   "KHR_materials_emissive_strength", "KHR_texture_transform"};
 
 // glTF's own structure nests about 6 deep (extensions and extras a few more). tinygltf and
@@ -118,6 +120,23 @@ uint32_t readU32(const std::vector<char>& b, size_t at) {
     return v;  // GLB is little endian, as are the hosts vastray runs on
 }
 
+bool isGlbVersion1(const std::vector<char>& bytes) {
+    return bytes.size() >= 8 && std::memcmp(bytes.data(), "glTF", 4) == 0 && readU32(bytes, 4) == 1;
+}
+
+// asset.version "1.x" (or the number 1, as collada2gltf wrote it), or, without a version,
+// glTF 1.0's dictionaries where 2.0 has arrays.
+bool isJsonVersion1(const nlohmann::json& doc) {
+    if (!doc.is_object()) return false;
+    const auto& asset = doc.value("asset", nlohmann::json());
+    const auto& version = asset.is_object() ? asset.value("version", nlohmann::json()) : nlohmann::json();
+    if (version.is_string()) return version.get<std::string>().rfind("1.", 0) == 0;
+    if (version.is_number()) return version.get<double>() >= 1.0 && version.get<double>() < 2.0;
+    for (const char* key : {"meshes", "accessors", "bufferViews", "nodes"})
+        if (doc.contains(key) && doc[key].is_object()) return true;
+    return false;
+}
+
 // Finds the JSON chunk and, when present, the BIN chunk that follows it.
 Status checkGlbHeader(const std::vector<char>& b, std::string_view& json, std::string_view& bin) {
     if (b.size() < 20) return Status::error("GLB header: file has " + std::to_string(b.size()) + " bytes, need at least 20");
@@ -196,7 +215,7 @@ Status checkDracoPrimitive(const nlohmann::json& doc, const nlohmann::json& prim
 }
 
 Status checkDocument(const nlohmann::json& doc) {
-    if (!doc.is_object()) return Status::error("top level JSON value is not an object");
+    VASTRAY_TRY(checkGltfTypes(doc));
     VASTRAY_TRY(checkBufferViews(doc));
     for (const auto& ext : doc.value("extensionsRequired", nlohmann::json::array())) {
         const std::string name = ext.is_string() ? ext.get<std::string>() : ext.dump();
@@ -217,31 +236,73 @@ Status checkDocument(const nlohmann::json& doc) {
     return Status::ok();
 }
 
-Status precheckJson(std::string_view text, std::string_view bin, const std::string& folder) {
+// Sets `version1` (and stops) when asset.version is "1.x". Lists the EXT_meshopt_compression
+// views in `meshopt` and leaves the document they were rewritten in (GltfMeshopt.h) in `doc`.
+Status precheckJson(std::string_view text, std::string_view bin, const std::string& folder, bool& version1,
+                    nlohmann::json& doc, std::vector<MeshoptView>& meshopt) {
     if (jsonDepth(text, kMaxJsonDepth) > kMaxJsonDepth)
         return Status::error("JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels (the limit)");
     try {
-        const nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end());
+        doc = nlohmann::json::parse(text.begin(), text.end());
+        if ((version1 = isJsonVersion1(doc))) return Status::ok();
         if (Status s = checkDocument(doc); !s.isOk()) return s;
-        return checkDracoAttributes(doc, bin, folder);
+        if (Status s = checkDracoAttributes(doc, bin, folder); !s.isOk()) return s;
+        return prepareMeshopt(doc, meshopt);
     } catch (const std::exception& e) {
         return Status::error(std::string("JSON: ") + e.what());
     }
 }
 
+// A GLB whose JSON chunk is `json` and whose BIN chunk is `bin` (4-byte aligned chunks).
+std::vector<char> rebuildGlb(const std::string& json, std::string_view bin) {
+    auto pad = [](size_t n) { return (n + 3) & ~size_t(3); };
+    const size_t jsonLength = pad(json.size()), binLength = pad(bin.size());
+    const size_t total = 12 + 8 + jsonLength + (bin.empty() ? 0 : 8 + binLength);
+    std::vector<char> out;
+    out.reserve(total);
+    auto u32 = [&](uint32_t v) { out.insert(out.end(), reinterpret_cast<char*>(&v), reinterpret_cast<char*>(&v) + 4); };
+    out.insert(out.end(), {'g', 'l', 'T', 'F'});
+    u32(2);
+    u32(uint32_t(total));
+    u32(uint32_t(jsonLength));
+    u32(0x4E4F534Au);
+    out.insert(out.end(), json.begin(), json.end());
+    out.resize(20 + jsonLength, ' ');
+    if (!bin.empty()) {
+        u32(uint32_t(binLength));
+        u32(0x004E4942u);
+        out.insert(out.end(), bin.begin(), bin.end());
+        out.resize(total, 0);
+    }
+    return out;
+}
+
 }  // namespace
 
-Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary) {
+Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary, bool* version1) {
     const std::string name = fileNameOf(path);
     auto bytes = readWholeFile(path);
     if (!bytes) return bytes.status();
+    bool isVersion1 = binary && isGlbVersion1(*bytes);
     if (bytes->size() > std::numeric_limits<unsigned>::max())  // tinygltf takes 32-bit lengths
         return errorIn(name, "file of " + std::to_string(bytes->size()) + " bytes exceeds the 4 GiB glTF limit");
     std::string_view json(bytes->data(), bytes->size()), bin;
-    if (binary) {
-        if (Status s = checkGlbHeader(*bytes, json, bin); !s.isOk()) return s.withContext(name + ": ");
+    std::vector<MeshoptView> meshopt;
+    if (!isVersion1) {
+        if (binary)
+            if (Status s = checkGlbHeader(*bytes, json, bin); !s.isOk()) return s.withContext(name + ": ");
+        nlohmann::json doc;
+        if (Status s = precheckJson(json, bin, directoryOf(path), isVersion1, doc, meshopt); !s.isOk())
+            return s.withContext(name + ": ");
+        if (!meshopt.empty()) {  // tinygltf parses the rewritten document
+            std::string text = doc.dump();
+            *bytes = binary ? rebuildGlb(text, bin) : std::vector<char>(text.begin(), text.end());
+        }
     }
-    if (Status s = precheckJson(json, bin, directoryOf(path)); !s.isOk()) return s.withContext(name + ": ");
+    if (isVersion1) {
+        if (version1) *version1 = true;
+        return errorIn(name, "glTF 1.0; this importer reads glTF 2.0");
+    }
 
     Sandbox box{directoryOf(path), {}};
     tinygltf::TinyGLTF loader;
@@ -263,6 +324,7 @@ Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary) {
         while (!err.empty() && err.back() == '\n') err.pop_back();
         return errorIn(name, err.empty() ? "glTF load failed" : err);
     }
+    if (Status s = decodeMeshopt(model, meshopt); !s.isOk()) return s.withContext(name + ": ");
     return model;
 }
 

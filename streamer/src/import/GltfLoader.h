@@ -9,6 +9,8 @@
 
 namespace vastray::import {
 
-Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary);
+// `version1` is set when the file is glTF 1.0 (GLB version 1, or asset.version "1.x"): the
+// error then says so, and the caller may hand the file to assimp, which reads 1.0.
+Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary, bool* version1 = nullptr);
 
 }  // namespace vastray::import

@@ -107,6 +107,9 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
         return Status::error(prefix + "all " + std::to_string(imported.report.inputTriangles) +
                              " triangles are degenerate");
     applySidedness(options, mesh.materials);
+    ImportReport& report = imported.report;
+    report.warnUnused("shading normals", report.normalsRead, "shading stays faceted");
+    report.warnUnused("texture coordinates", report.texcoordsRead, "textures are not rendered yet");
     return Status::ok();
 }
 
@@ -115,9 +118,12 @@ Result<ImportedMesh> importMesh(const std::string& path, const ImportOptions& op
     if (ext == "obj") return importObj(path, options);
     if (ext == "ply") return importPly(path, options);
     if (ext == "gltf" || ext == "glb") return importGltf(path, options);
+    if (assimpReads(path)) return importWithAssimp(path, options);
+    std::string supported = ".obj, .ply, .gltf, .glb";
+    for (const char* format : kAssimpFormats) supported += std::string(", .") + format;
     return import::errorIn(import::fileNameOf(path),
                            "unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : "." + ext) +
-                               "' (supported: .obj, .ply, .gltf, .glb)");
+                               "' (supported: " + supported + ")");
 }
 
 }  // namespace vastray

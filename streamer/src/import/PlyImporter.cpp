@@ -15,7 +15,7 @@ namespace {
 using import::PlyElement;
 using import::PlyProperty;
 
-enum class Role : uint8_t { Skip, X, Y, Z, Normal, Texcoord };
+enum class Role : uint8_t { Skip, X, Y, Z, Normal, Texcoord, Colour };
 
 Role roleOf(const PlyProperty& p) {
     if (p.isList) return Role::Skip;
@@ -24,6 +24,7 @@ Role roleOf(const PlyProperty& p) {
     if (p.name == "z") return Role::Z;
     if (p.name == "nx") return Role::Normal;
     if (p.name == "u" || p.name == "s" || p.name == "texture_u") return Role::Texcoord;
+    if (p.name == "red" || p.name == "diffuse_red") return Role::Colour;
     return Role::Skip;
 }
 
@@ -92,6 +93,7 @@ private:
         for (Role role : roles) {
             if (role == Role::Normal) out_.report.normalsRead = e.count;
             if (role == Role::Texcoord) out_.report.texcoordsRead = e.count;
+            if (role == Role::Colour) out_.report.warnUnused("vertex colours", e.count, "a scan renders grey");
         }
         return Status::ok();
     }

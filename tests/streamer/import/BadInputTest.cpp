@@ -199,7 +199,10 @@ TEST(BadInput, NoTrianglesAtAll) {
 }
 
 TEST(BadInput, UnknownExtensionAndMissingFile) {
-    EXPECT_IMPORT_ERROR(importMesh(writeFile("mesh.stl", "solid")), "mesh.stl: ", "unknown mesh format '.stl'");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("mesh.xyz", "solid")), "mesh.xyz: ", "unknown mesh format '.xyz'");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("mesh.blend", "BLENDER")), "mesh.blend: ",
+                        "unknown mesh format '.blend' (supported: .obj, .ply, .gltf, .glb, .stl, .off");
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("mesh.stl", "solid")), "mesh.stl: ", "assimp: File is too small");
     EXPECT_IMPORT_ERROR(importMesh(tmpPath("does-not-exist.ply")), "does-not-exist.ply: ", "cannot open");
     std::filesystem::create_directories(tmpPath("folder.obj"));
     EXPECT_IMPORT_ERROR(importMesh(tmpPath("folder.obj")), "folder.obj: ", "is a directory");

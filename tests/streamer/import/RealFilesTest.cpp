@@ -1,6 +1,9 @@
 // Real meshes: the shared test meshes and Debian's assimp-testmodels.
 #include "ImportTestFiles.h"
 
+#include <algorithm>
+#include <set>
+
 namespace vastray::test {
 namespace {
 
@@ -131,6 +134,86 @@ TEST(AssimpModels, BrokenGltfFilesAreErrorsNotCrashes) {
                         "BoxWithInfinites.glb", "non-finite");
     EXPECT_IMPORT_ERROR(importMesh(kAssimp + "glTF2/MissingBin/BoxTextured.gltf"), "BoxTextured.gltf", "BoxTextured0.bin");
     EXPECT_IMPORT_ERROR(importMesh(kAssimp + "glTF2/RecursiveNodes/RecursiveNodes.gltf"), "RecursiveNodes.gltf", "node");
+}
+
+// The same model as PLY (our reader) and as STL and OFF (assimp): same triangles, same box.
+TEST(AssimpModels, StlAndOffAgreeWithOurPlyReader) {
+    REQUIRE_ASSIMP_MODELS();
+    auto ply = importMesh(kAssimp + "PLY/Wuson.ply");
+    ASSERT_TRUE(ply.isOk()) << ply.message();
+    for (const char* file : {"STL/Wuson.stl", "OFF/Wuson.off"}) {
+        auto r = importMesh(kAssimp + file);
+        ASSERT_TRUE(r.isOk()) << file << ": " << r.message();
+        EXPECT_EQ(r->report.format, std::string("assimp-") + (file[0] == 'S' ? "stl" : "off"));
+        EXPECT_EQ(r->mesh.triangleCount(), ply->mesh.triangleCount()) << file;
+        const Aabb a = ply->mesh.bounds(), b = r->mesh.bounds();
+        for (int axis = 0; axis < 3; ++axis) {
+            EXPECT_NEAR(a.lo[axis], b.lo[axis], 1e-4f) << file;
+            EXPECT_NEAR(a.hi[axis], b.hi[axis], 1e-4f) << file;
+        }
+    }
+}
+
+// glTF 1.0 goes to assimp (text files; binary 1.0 is refused by name in BadInputTest).
+TEST(AssimpModels, Gltf1IsReadThroughAssimp) {
+    REQUIRE_ASSIMP_MODELS();
+    auto r = importMesh(kAssimp + "glTF/TwoBoxes/TwoBoxes.gltf");
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->report.format, "assimp-gltf");
+    EXPECT_EQ(r->mesh.triangleCount(), 24u);
+    auto truck = importMesh(kAssimp + "glTF/CesiumMilkTruck/CesiumMilkTruck.gltf");  // "version": 1, a number
+    ASSERT_TRUE(truck.isOk()) << truck.message();
+    EXPECT_EQ(truck->report.format, "assimp-gltf");
+}
+
+bool hasWarning(const ImportReport& report, const std::string& text) {
+    for (const std::string& w : report.warnings)
+        if (w.find(text) != std::string::npos) return true;
+    return false;
+}
+
+TEST(AssimpModels, WhatIsReadButNotUsedIsWarnedOncePerKind) {
+    REQUIRE_ASSIMP_MODELS();
+    auto skinned = importMesh(kAssimp + "glTF2/simple_skin/simple_skin.gltf");
+    ASSERT_TRUE(skinned.isOk()) << skinned.message();
+    EXPECT_TRUE(hasWarning(skinned->report, "1 skins read but not used")) << ::testing::PrintToString(skinned->report.warnings);
+    EXPECT_TRUE(hasWarning(skinned->report, "animations read but not used"));
+    auto fbx = importMesh(kAssimp + "FBX/animation_with_skeleton.fbx");
+    ASSERT_TRUE(fbx.isOk()) << fbx.message();
+    EXPECT_TRUE(hasWarning(fbx->report, "animations read but not used")) << ::testing::PrintToString(fbx->report.warnings);
+    auto textured = importMesh(kAssimp + "glTF2/BoxTextured-glTF/BoxTextured.gltf");
+    ASSERT_TRUE(textured.isOk());
+    EXPECT_TRUE(hasWarning(textured->report, "1 textures read but not used"));
+    EXPECT_TRUE(hasWarning(textured->report, "shading normals read but not used"));
+    for (const auto* report : {&skinned->report, &fbx->report, &textured->report}) {
+        std::set<std::string> kinds;
+        for (const std::string& w : report->warnings) EXPECT_TRUE(kinds.insert(w.substr(w.find(' '))).second) << w;
+    }
+}
+
+// Every file of Debian's assimp-testmodels in a format we read imports or fails with an
+// error that names it; none crashes or hangs (a crash or a hang fails the whole binary).
+TEST(AssimpModels, EveryTestModelImportsOrFailsByName) {
+    REQUIRE_ASSIMP_MODELS();
+    size_t imported = 0, refused = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(kAssimp)) {
+        if (!entry.is_regular_file()) continue;
+        const std::string path = entry.path().string(), name = entry.path().filename().string();
+        std::string ext = entry.path().extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (ext != ".obj" && ext != ".ply" && ext != ".gltf" && ext != ".glb" && !assimpReads(path)) continue;
+        auto r = importMesh(path);
+        if (r.isOk()) {
+            ++imported;
+            EXPECT_GT(r->mesh.triangleCount(), 0u) << path;
+        } else {
+            ++refused;
+            EXPECT_EQ(r.message().rfind(name + ": ", 0), 0u) << path << ": " << r.message();
+        }
+    }
+    EXPECT_GT(imported, 150u);
+    EXPECT_GT(refused, 0u);
+    std::printf("assimp-testmodels: %zu imported, %zu refused by name\n", imported, refused);
 }
 
 }  // namespace

@@ -143,7 +143,7 @@ private:
     ServiceResult<v1::Scene> importUpload(const std::string& name, const std::filesystem::path& file,
                                           const std::string& digest, uint64_t bytes);
     ServiceStatus importZip(const std::string& name, const std::filesystem::path& file,
-                            const std::filesystem::path& package);
+                            const std::filesystem::path& package, std::vector<std::string>& warnings);
     // An import job for the uploaded `file` (moved into the job's keeping); the scene to return.
     ServiceResult<v1::Scene> queueImport(const std::string& name, const std::filesystem::path& file,
                                          const std::string& digest, uint64_t bytes);

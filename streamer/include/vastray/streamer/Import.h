@@ -1,10 +1,12 @@
 #pragma once
 // Mesh importers: OBJ, PLY (ASCII, binary LE/BE), glTF 2.0 (.gltf/.glb, with
-// KHR_draco_mesh_compression). Each returns a validated world-space TriangleMesh or an
+// KHR_draco_mesh_compression) of our own, and the formats of kAssimpFormats (and glTF 1.0)
+// through assimp. Each returns a validated world-space TriangleMesh or an
 // error that names the file and the element ("bunny.ply: face 1203 index 40122 >= vertex
 // count 35947"). None throws; none trusts a count it has not bounded by the file size.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
@@ -29,9 +31,18 @@ struct ImportReport {
     uint64_t inputTriangles = 0;       // after polygon/strip/fan triangulation, before dropping
     uint64_t degenerateDropped = 0;    // repeated index, coincident positions or zero area
     uint64_t verticesRead = 0;
-    uint64_t normalsRead = 0;          // parsed and validated; not carried into the package yet
+    uint64_t normalsRead = 0;          // parsed and validated; not carried into the package yet (warned)
     uint64_t texcoordsRead = 0;        // likewise
     uint64_t primitivesSkipped = 0;    // glTF points/lines primitives (no triangles to render)
+    // What the file holds and the package does not carry, one line per kind ("3 animations
+    // read but not used"), for `vastray import` and the service's job messages.
+    std::vector<std::string> warnings;
+
+    void warnUnused(const std::string& what, uint64_t count, const std::string& consequence = "") {
+        if (count > 0)
+            warnings.push_back(std::to_string(count) + " " + what + " read but not used" +
+                               (consequence.empty() ? "" : " (" + consequence + ")"));
+    }
 };
 
 struct ImportedMesh {
@@ -39,12 +50,20 @@ struct ImportedMesh {
     ImportReport report;
 };
 
-// Picks the importer by extension (.obj, .ply, .gltf, .glb; case-insensitive).
+// The formats read through assimp, by extension: those its Debian 12 build reads well that
+// studios and scanners write. Others it knows are refused by name: each reader is attack
+// surface for an upload, and these are the ones the hostile-input sweep covers.
+inline constexpr const char* kAssimpFormats[] = {"stl", "off", "fbx", "dae", "3ds", "3mf", "ac",
+                                                 "ase", "dxf", "lwo", "ms3d", "x",  "x3d"};
+
+// Picks the importer by extension (.obj, .ply, .gltf, .glb, kAssimpFormats; case-insensitive).
 Result<ImportedMesh> importMesh(const std::string& path, const ImportOptions& options = {});
 
 Result<ImportedMesh> importObj(const std::string& path, const ImportOptions& options = {});
 Result<ImportedMesh> importPly(const std::string& path, const ImportOptions& options = {});
 Result<ImportedMesh> importGltf(const std::string& path, const ImportOptions& options = {});
+Result<ImportedMesh> importWithAssimp(const std::string& path, const ImportOptions& options = {});
+bool assimpReads(const std::string& path);  // extension in kAssimpFormats
 
 // Shared last step of every importer: rejects NaN/Inf positions and out-of-range indices,
 // drops degenerate triangles (counted in report), guarantees at least one material and
