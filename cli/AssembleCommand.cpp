@@ -51,7 +51,8 @@ Status checkUsage(const AssembleArgs& args) {
     if (ext != ".png" && ext != ".exr") return Status::error("-o " + args.output + ": output must be .png or .exr");
     for (const std::string& tile : args.tiles)
         if (lowerExtension(tile) != ext)
-            return Status::error(tile + ": tiles must have the output's format (" + ext + ", as -o " + args.output + ")");
+            return Status::error(tile + ": tiles must have the output's format (" + ext + ", as -o " + args.output +
+                                 ")");
     return checkWritableOutput("-o", args.output);
 }
 
@@ -75,7 +76,8 @@ Status checkOverlap(const std::vector<std::string>& paths, const std::vector<Pix
                     const std::string& path, const PixelBounds& b) {
     for (size_t i = 0; i < placed.size(); ++i) {
         const PixelBounds& o = placed[i];
-        const PixelBounds shared{std::max(o.x0, b.x0), std::max(o.y0, b.y0), std::min(o.x1, b.x1), std::min(o.y1, b.y1)};
+        const PixelBounds shared{std::max(o.x0, b.x0), std::max(o.y0, b.y0), std::min(o.x1, b.x1),
+                                 std::min(o.y1, b.y1)};
         if (shared.x0 < shared.x1 && shared.y0 < shared.y1)
             return Status::error(path + " (pixels " + describe(b) + ") overlaps " + paths[i] + " (pixels " +
                                  describe(o) + ") at pixels " + describe(shared));

@@ -101,7 +101,8 @@ Status parseRegion(const std::string& text, RenderOptions& options) {
     if (!parseUnsignedList(text, 4, v))
         return Status::error("--region '" + text + "': expected X0,Y0,X1,Y1 (pixels; X1 and Y1 exclusive)");
     const PixelBounds r{v[0], v[1], v[2], v[3]};
-    const std::string frame = " (--resolution " + std::to_string(options.width) + "x" + std::to_string(options.height) + ")";
+    const std::string frame =
+        " (--resolution " + std::to_string(options.width) + "x" + std::to_string(options.height) + ")";
     if (r.x1 > options.width)
         return Status::error("--region " + text + ": X1 " + std::to_string(r.x1) + " is beyond the image width " +
                              std::to_string(options.width) + frame + "; X1 is exclusive, at most the width");
@@ -454,7 +455,8 @@ int runRender(const RenderArgs& args) {
     try {
         return runRenderChecked(args, progress);
     } catch (const std::bad_alloc&) {
-        return progress.fail("out of host memory (resolution " + args.resolution + ", " + args.backend + " backend)", 1);
+        return progress.fail(
+            "out of host memory (resolution " + args.resolution + ", " + args.backend + " backend)", 1);
     }
 }
 

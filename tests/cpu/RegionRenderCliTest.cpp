@@ -114,9 +114,11 @@ TEST_F(RegionCli, AssembleRefusesOverlapsGapsAndMismatchesNamingTheFile) {
         EXPECT_NE(r.output.find(message), std::string::npos) << tiles << "\n" << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << tiles;
     };
-    refuses(left + " " + wide, wide + " (pixels 20,0,50,37) overlaps " + left + " (pixels 0,0,25,37) at pixels 20,0,25,37");
+    refuses(left + " " + wide,
+            wide + " (pixels 20,0,50,37) overlaps " + left + " (pixels 0,0,25,37) at pixels 20,0,25,37");
     refuses(left + " " + left, "overlaps " + left);
-    refuses(left + " " + top, "the tiles do not cover the 50x37 frame: pixels 25,30,50,37 (X1, Y1 exclusive) are in no tile");
+    refuses(left + " " + top,
+            "the tiles do not cover the 50x37 frame: pixels 25,30,50,37 (X1, Y1 exclusive) are in no tile");
     refuses(left, "pixels 25,0,50,37 (X1, Y1 exclusive) are in no tile");
     refuses(left + " " + noAovs, noAovs + ": channels R,G,B,A differ from " + left + "'s R,G,B,A,Z,primid");
     // Another --resolution: another frame.

@@ -20,7 +20,8 @@ const std::string& terrainPackage() {
     static const std::string path = [] {
         const std::string ply = tmp("terrain.ply"), vast = tmp("terrain.vast");
         EXPECT_EQ(test::runVastray("generate terrain --triangles 20000 --seed 4 -o " + ply).exitCode, 0);
-        EXPECT_EQ(test::runVastray("import " + ply + " -o " + vast + " --chunk-size 64KiB --progress none").exitCode, 0);
+        EXPECT_EQ(test::runVastray("import " + ply + " -o " + vast + " --chunk-size 64KiB --progress none").exitCode,
+                  0);
         return vast;
     }();
     return path;
@@ -32,8 +33,9 @@ std::string vulkan(const std::string& extra) {
 }
 
 TEST(RegionStreamCli, ExrTilesWithEveryAovAssembleToTheWholeFrameBitForBit) {
-    test::expectTilesAssembleToTheWholeFrame(vulkan(" --memory-budget 8MiB --aovs depth,normal,albedo,primid,chunkid,cost"),
-                                             tmp("vulkan-exr-"), ".exr", 3, 2);
+    test::expectTilesAssembleToTheWholeFrame(
+        vulkan(" --memory-budget 8MiB --aovs depth,normal,albedo,primid,chunkid,cost"), tmp("vulkan-exr-"), ".exr", 3,
+        2);
 }
 
 TEST(RegionStreamCli, PngTilesAssembleToTheWholeFrameBitForBit) {
