@@ -16,6 +16,7 @@ CommandRun addImportCommand(CLI::App& app);
 CommandRun addInfoCommand(CLI::App& app);
 CommandRun addRenderCommand(CLI::App& app);
 CommandRun addDiffCommand(CLI::App& app);
+CommandRun addAssembleCommand(CLI::App& app);
 CommandRun addServeCommand(CLI::App& app);
 
 }  // namespace vastray::cli

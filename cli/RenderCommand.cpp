@@ -1,5 +1,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 #include "Commands.h"
 #include "OutputPath.h"
@@ -30,6 +32,9 @@
 namespace vastray::cli {
 namespace {
 
+// --tile when not given.
+constexpr int64_t kNoTile = -1;
+
 // Vulkan device indices beyond this name no real machine's device.
 constexpr int64_t kMaxGpuDevice = 255;
 
@@ -38,6 +43,8 @@ struct RenderArgs {
     std::string memoryBudget = "1GiB", hostCache = "auto";
     int64_t gpuDevice = -1;
     std::string eye, target, up = "0,1,0", integrator = "path", aovs, statsJson, progress = "auto";
+    std::string region, tiles;  // --region X0,Y0,X1,Y1; --tiles NX,NY (with --tile)
+    int64_t tile = kNoTile;
     int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
     double fov = 45.0;
     bool stats = false;
@@ -69,6 +76,73 @@ Status parseResolution(const std::string& text, RenderOptions& options) {
                              std::to_string(kMaxImageSide) + "]");
     options.width = uint32_t(w);
     options.height = uint32_t(h);
+    return Status::ok();
+}
+
+// Comma-separated unsigned integers, exactly `count` of them.
+bool parseUnsignedList(const std::string& text, size_t count, std::vector<uint32_t>& values) {
+    values.clear();
+    const char* at = text.c_str();
+    while (values.size() < count) {
+        if (!std::isdigit(static_cast<unsigned char>(*at))) return false;
+        char* end = nullptr;
+        const unsigned long long v = std::strtoull(at, &end, 10);
+        if (v > kMaxImageSide) return false;
+        values.push_back(uint32_t(v));
+        at = end;
+        if (values.size() < count && *at++ != ',') return false;
+    }
+    return *at == '\0';
+}
+
+// --region X0,Y0,X1,Y1: pixels [X0, X1) x [Y0, Y1) of the frame, X1 and Y1 exclusive.
+Status parseRegion(const std::string& text, RenderOptions& options) {
+    std::vector<uint32_t> v;
+    if (!parseUnsignedList(text, 4, v))
+        return Status::error("--region '" + text + "': expected X0,Y0,X1,Y1 (pixels; X1 and Y1 exclusive)");
+    const PixelBounds r{v[0], v[1], v[2], v[3]};
+    const std::string frame =
+        " (--resolution " + std::to_string(options.width) + "x" + std::to_string(options.height) + ")";
+    if (r.x1 > options.width)
+        return Status::error("--region " + text + ": X1 " + std::to_string(r.x1) + " is beyond the image width " +
+                             std::to_string(options.width) + frame + "; X1 is exclusive, at most the width");
+    if (r.y1 > options.height)
+        return Status::error("--region " + text + ": Y1 " + std::to_string(r.y1) + " is beyond the image height " +
+                             std::to_string(options.height) + frame + "; Y1 is exclusive, at most the height");
+    if (r.x0 >= r.x1 || r.y0 >= r.y1)
+        return Status::error("--region " + text + ": empty; needs X0 < X1 and Y0 < Y1 (X1 and Y1 are exclusive)");
+    options.region = r;
+    return Status::ok();
+}
+
+// --tile I --tiles NX,NY: tile I (row by row) of an NX x NY grid whose column c spans
+// [c * W / NX, (c + 1) * W / NX) (integer division), rows alike: every pixel in exactly one tile.
+Status parseTile(const RenderArgs& args, RenderOptions& options) {
+    std::vector<uint32_t> n;
+    if (!parseUnsignedList(args.tiles, 2, n))
+        return Status::error("--tiles '" + args.tiles + "': expected NX,NY (tiles across and down)");
+    if (n[0] < 1 || n[1] < 1 || n[0] > options.width || n[1] > options.height)
+        return Status::error("--tiles " + args.tiles + ": NX must be in [1, " + std::to_string(options.width) +
+                             "] and NY in [1, " + std::to_string(options.height) + "] (the image is " +
+                             std::to_string(options.width) + "x" + std::to_string(options.height) + ")");
+    const int64_t count = int64_t(n[0]) * n[1];
+    if (args.tile < 0 || args.tile >= count)
+        return Status::error("--tile " + std::to_string(args.tile) + " is outside [0, " + std::to_string(count - 1) +
+                             "] (--tiles " + args.tiles + ")");
+    const uint64_t column = uint64_t(args.tile) % n[0], row = uint64_t(args.tile) / n[0];
+    const uint64_t w = options.width, h = options.height;
+    options.region = PixelBounds{uint32_t(column * w / n[0]), uint32_t(row * h / n[1]),
+                                 uint32_t((column + 1) * w / n[0]), uint32_t((row + 1) * h / n[1])};
+    return Status::ok();
+}
+
+Status parsePixelSet(const RenderArgs& args, RenderOptions& options) {
+    const bool tiled = args.tile != kNoTile || !args.tiles.empty();
+    if (tiled && !args.region.empty()) return Status::error("--region and --tile/--tiles exclude each other");
+    if (tiled && args.tiles.empty()) return Status::error("--tile needs --tiles NX,NY (the grid of tiles)");
+    if (tiled && args.tile == kNoTile) return Status::error("--tiles needs --tile I (which tile to render)");
+    if (tiled) return parseTile(args, options);
+    if (!args.region.empty()) return parseRegion(args.region, options);
     return Status::ok();
 }
 
@@ -121,6 +195,7 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
         return Status::error("--backend '" + args.backend + "': expected vulkan or embree");
     RenderOptions options;
     VASTRAY_TRY(parseResolution(args.resolution, options));
+    VASTRAY_TRY(parsePixelSet(args, options));
     VASTRAY_TRY(checkRange("--spp", args.spp, 1, kMaxSamplesPerPixel));
     VASTRAY_TRY(checkRange("--max-depth", args.maxDepth, 0, kMaxDepthLimit));
     VASTRAY_TRY(checkRange("--seed", args.seed, 0, 0xFFFFFFFFll));
@@ -162,7 +237,11 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
     return options;
 }
 
-// Tile progress as the chosen front end shows it; called from worker threads.
+// Tile progress as the chosen front end shows it; called from worker threads. `openjd` writes
+// Open Job Description's action messages ("openjd_progress: N", "openjd_status: TEXT",
+// "openjd_fail: TEXT"), one a line on stdout: the specification defines them on stdout (its
+// runtime, openjd-sessions, reads the action's stdout with stderr merged into it); the other
+// modes write on stderr.
 class RenderProgressView {
 public:
     explicit RenderProgressView(std::string mode) : mode_(std::move(mode)) {}
@@ -174,12 +253,28 @@ public:
     void finish() {
         if (bar_) bar_->finish();
     }
+    // A phase of the command, for OpenJD's task status; other modes show none.
+    void status(const std::string& text) { openjdLine("openjd_status", text); }
+    // The command fails with `message` (also printed on stderr): OpenJD marks the task failed with it.
+    int fail(const std::string& message, int exitCode) {
+        std::fprintf(stderr, "vastray render: %s\n", message.c_str());
+        openjdLine("openjd_fail", message);
+        return exitCode;
+    }
 
 private:
+    // One message line; a message of several lines is joined into one (OpenJD reads lines).
+    void openjdLine(const char* kind, std::string text) {
+        if (mode_ != "openjd") return;
+        std::replace(text.begin(), text.end(), '\n', ' ');
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::printf("%s: %s\n", kind, text.c_str());
+        std::fflush(stdout);
+    }
+
     void report(uint64_t done, uint64_t total) {
         std::lock_guard<std::mutex> lock(mutex_);
         if (mode_ == "openjd") {
-            // OpenJD progress protocol: one "openjd_progress: <percent>" line on stdout.
             const int percent = int(100 * done / total);
             if (percent == lastPercent_) return;
             lastPercent_ = percent;
@@ -312,58 +407,56 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& op
     return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
 
-int runRenderChecked(const RenderArgs& args) {
+// "pixels 16,0,33,19 of 50x37" or "50x37".
+std::string describePixels(const RenderOptions& options) {
+    const std::string frame = std::to_string(options.width) + "x" + std::to_string(options.height);
+    if (!options.region) return frame;
+    const PixelBounds& r = *options.region;
+    return "pixels " + std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
+           std::to_string(r.y1) + " of " + frame;
+}
+
+int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
     StreamingSizes sizes;
     auto options = optionsFrom(args, &sizes);
-    if (!options) {
-        std::fprintf(stderr, "vastray render: %s\n", options.message().c_str());
-        return 2;
-    }
+    if (!options) return progress.fail(options.message(), 2);
     std::string ext = std::filesystem::path(args.output).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (Status memory = checkRenderHostMemory(*options, ext == ".exr"); !memory) {
-        std::fprintf(stderr, "vastray render: %s\n", memory.message().c_str());
-        return 1;
-    }
+    if (Status memory = checkRenderHostMemory(*options, ext == ".exr"); !memory)
+        return progress.fail(memory.message(), 1);
     RenderStats stats;
     StreamingStats streaming;
     const bool vulkan = args.backend == "vulkan";
-    RenderProgressView progress(args.progress);
+    progress.status("rendering " + describePixels(*options) + " of " + args.input + " (" + args.backend + ", " +
+                    std::to_string(options->samplesPerPixel) + " spp)");
     Result<RenderImage> image = Status::error("no image");
     if (vulkan) {
         image = renderVulkan(args, *options, sizes, stats, streaming, progress.callback());
     } else {
         auto scene = loadRenderScene(args.input);
-        if (!scene) {
-            std::fprintf(stderr, "vastray render: %s\n", scene.message().c_str());
-            return 1;
-        }
+        if (!scene) return progress.fail(scene.message(), 1);
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }
-    if (!image) {
-        std::fprintf(stderr, "vastray render: %s\n", image.message().c_str());
-        return 1;
-    }
+    if (!image) return progress.fail(image.message(), 1);
     progress.finish();
+    progress.status("writing " + args.output);
     Status written = writeImageFile(args.output, *image);
     if (written && !args.statsJson.empty()) written = writeStatsJson(args.statsJson, stats, vulkan ? &streaming : nullptr);
-    if (!written) {
-        std::fprintf(stderr, "vastray render: %s\n", written.message().c_str());
-        return 1;
-    }
+    if (!written) return progress.fail(written.message(), 1);
     if (args.stats) printStats(stats, *options, vulkan ? &streaming : nullptr);
+    progress.status("wrote " + args.output);
     return 0;
 }
 
 // The estimate covers the image; an allocation that still fails (another process took the
 // memory meanwhile, a scene larger than the host) ends the command with a message, not abort().
 int runRender(const RenderArgs& args) {
+    RenderProgressView progress(args.progress);
     try {
-        return runRenderChecked(args);
+        return runRenderChecked(args, progress);
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "vastray render: out of host memory (resolution %s, %s backend)\n",
-                     args.resolution.c_str(), args.backend.c_str());
-        return 1;
+        return progress.fail(
+            "out of host memory (resolution " + args.resolution + ", " + args.backend + " backend)", 1);
     }
 }
 
@@ -407,7 +500,18 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--stats", args->stats, "print rays, timings and memory");
     cmd->add_option("--stats-json", args->statsJson, "write the figures as JSON to this file");
-    cmd->add_option("--progress", args->progress, "auto | bar | openjd | none")->capture_default_str();
+    cmd->add_option("--region", args->region,
+                    "render only pixels X0,Y0,X1,Y1 of the --resolution frame (X1, Y1 exclusive, like pbrt's "
+                    "--pixelbounds): same camera, pixels equal to the whole frame's bit for bit; the image is the "
+                    "region's size and records its place in the frame (EXR data window, PNG text chunk "
+                    "vastray:region); join tiles with `vastray assemble`");
+    cmd->add_option("--tile", args->tile, "with --tiles: render tile I (0-based, row by row) of the grid, as --region");
+    cmd->add_option("--tiles", args->tiles,
+                    "NX,NY: a grid of tiles over the frame; column c spans pixels [c*W/NX, (c+1)*W/NX), rows alike");
+    cmd->add_option("--progress", args->progress,
+                    "auto | bar | openjd | none; bar and lines on stderr; openjd: Open Job Description's "
+                    "openjd_progress/openjd_status/openjd_fail lines on stdout")
+        ->capture_default_str();
     return [args]() { return runRender(*args); };
 }
 

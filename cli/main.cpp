@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
         {"info", vastray::cli::addInfoCommand(app)},
         {"render", vastray::cli::addRenderCommand(app)},
         {"diff", vastray::cli::addDiffCommand(app)},
+        {"assemble", vastray::cli::addAssembleCommand(app)},
         {"serve", vastray::cli::addServeCommand(app)},
     };
     try {

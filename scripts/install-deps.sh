@@ -69,6 +69,7 @@ else
     "openapi-spec-validator==$OPENAPI_VALIDATOR_VERSION"
 fi
 
+bash "$(dirname "$0")/install-openjd.sh"
 # The module version grpcurl was built from (go-installed binaries call themselves "dev build").
 installed_grpcurl=""
 if [ -x "$GRPCURL_BIN" ]; then

@@ -63,7 +63,7 @@ uint64_t readAddressSpaceHeadroom() {
 }  // namespace
 
 RenderHostMemory estimateRenderHostBytes(const RenderOptions& options, bool exrOutput) {
-    const uint64_t pixels = uint64_t(options.width) * options.height;
+    const uint64_t pixels = renderBounds(options).pixelCount();
     const uint64_t image = pixels * imageBytesPerPixel(options.aovs);
     return {image, exrOutput ? image : 4 * pixels};
 }
@@ -78,7 +78,8 @@ uint64_t availableHostBytes() {
 Status checkRenderHostMemory(const RenderOptions& options, bool exrOutput, uint64_t available) {
     const RenderHostMemory need = estimateRenderHostBytes(options, exrOutput);
     if (available == 0 || need.total() <= available) return Status::ok();
-    return Status::error("a " + std::to_string(options.width) + "x" + std::to_string(options.height) +
+    const PixelBounds bounds = renderBounds(options);
+    return Status::error("a " + std::to_string(bounds.width()) + "x" + std::to_string(bounds.height()) +
                          " render needs " + formatBytes(need.total()) + " of host memory (image " +
                          formatBytes(need.imageBytes) + " + writer " + formatBytes(need.writerBytes) + "); " +
                          formatBytes(available) + " is available");

@@ -39,6 +39,25 @@ Result<uint32_t> parseAovList(std::string_view list) {
     return flags;
 }
 
+PixelBounds renderBounds(const RenderOptions& options) {
+    return options.region.value_or(PixelBounds{0, 0, options.width, options.height});
+}
+
+// The region is part of the frame and holds at least one pixel.
+static Status validateRegion(const RenderOptions& o) {
+    if (!o.region) return Status::ok();
+    const PixelBounds& r = *o.region;
+    const std::string text = std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
+                             std::to_string(r.y1);
+    if (r.x1 > o.width || r.y1 > o.height)
+        return Status::error("region " + text + " reaches beyond the " + std::to_string(o.width) + "x" +
+                             std::to_string(o.height) + " frame (x1 <= " + std::to_string(o.width) +
+                             ", y1 <= " + std::to_string(o.height) + "; x1 and y1 are exclusive)");
+    if (r.x0 >= r.x1 || r.y0 >= r.y1)
+        return Status::error("region " + text + " is empty (needs x0 < x1 and y0 < y1)");
+    return Status::ok();
+}
+
 Status validateRenderOptions(const RenderOptions& o) {
     auto outside = [](const char* what, uint64_t value, uint64_t lo, uint64_t hi) {
         return Status::error(std::string(what) + " " + std::to_string(value) + " is outside [" +
@@ -50,6 +69,7 @@ Status validateRenderOptions(const RenderOptions& o) {
         return outside("samples per pixel", o.samplesPerPixel, 1, kMaxSamplesPerPixel);
     if (o.maxDepth > kMaxDepthLimit) return outside("max depth", o.maxDepth, 0, kMaxDepthLimit);
     if (o.threads > 4096) return outside("threads", o.threads, 0, 4096);
+    VASTRAY_TRY(validateRegion(o));
     if (!(o.aoDistance >= 0.0f)) return Status::error("ambient occlusion distance must be >= 0");
     if (!o.frameScene)
         VASTRAY_TRY(validateCamera(o.camera).withContext("camera: "));

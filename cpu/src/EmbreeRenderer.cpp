@@ -23,10 +23,11 @@ struct Tile {
     uint32_t x0, y0, x1, y1;
 };
 
-Tile tileAt(uint32_t index, uint32_t width, uint32_t height) {
-    const uint32_t tilesX = (width + kTileSize - 1) / kTileSize;
-    const uint32_t x0 = (index % tilesX) * kTileSize, y0 = (index / tilesX) * kTileSize;
-    return {x0, y0, std::min(x0 + kTileSize, width), std::min(y0 + kTileSize, height)};
+// Tile `index` of the region `b`, in frame pixels.
+Tile tileAt(uint32_t index, const PixelBounds& b) {
+    const uint32_t tilesX = (b.width() + kTileSize - 1) / kTileSize;
+    const uint32_t x0 = b.x0 + (index % tilesX) * kTileSize, y0 = b.y0 + (index / tilesX) * kTileSize;
+    return {x0, y0, std::min(x0 + kTileSize, b.x1), std::min(y0 + kTileSize, b.y1)};
 }
 
 // The AOVs come from one unjittered ray through the pixel centre, so they are exact
@@ -45,14 +46,17 @@ void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, Re
     if (image.aovs & kAovPrimId) image.primId[pixel] = hit.triangle;
 }
 
+// Frame pixel (x, y): its random numbers are keyed by its index in the frame, whatever part of
+// the frame the image holds, so a region's pixels equal the whole frame's bit for bit.
 void renderPixel(const ShadingContext& context, const CameraRays& camera, uint32_t x, uint32_t y,
                  RenderImage& image, uint64_t& rays) {
     const RenderOptions& options = context.options;
-    const uint64_t pixel = uint64_t(y) * image.width + x;
+    const uint32_t framePixel = y * options.width + x;
+    const uint64_t pixel = uint64_t(y - image.originY) * image.width + (x - image.originX);
     double sum[3] = {0, 0, 0};
     uint32_t hits = 0;
     for (uint32_t sample = 0; sample < options.samplesPerPixel; ++sample) {
-        const RandomKey key{uint32_t(pixel), sample, 0};
+        const RandomKey key{framePixel, sample, 0};
         const Ray ray = camera.primary(x, y, randomFloat(key, kDimPixelX, options.seed),
                                        randomFloat(key, kDimPixelY, options.seed));
         const SampleResult s = options.integrator == IntegratorKind::Path
@@ -68,13 +72,14 @@ void renderPixel(const ShadingContext& context, const CameraRays& camera, uint32
 
 uint64_t renderTiles(const ShadingContext& context, const CameraRays& camera, RenderImage& image,
                      const RenderProgress& progress) {
-    const uint32_t tilesX = (image.width + kTileSize - 1) / kTileSize;
-    const uint32_t tileCount = tilesX * ((image.height + kTileSize - 1) / kTileSize);
+    const PixelBounds bounds = renderBounds(context.options);
+    const uint32_t tilesX = (bounds.width() + kTileSize - 1) / kTileSize;
+    const uint32_t tileCount = tilesX * ((bounds.height() + kTileSize - 1) / kTileSize);
     std::atomic<uint64_t> rays{0}, tilesDone{0};
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, tileCount, 1),
                       [&](const tbb::blocked_range<uint32_t>& range) {
                           for (uint32_t index = range.begin(); index != range.end(); ++index) {
-                              const Tile tile = tileAt(index, image.width, image.height);
+                              const Tile tile = tileAt(index, bounds);
                               uint64_t tileRays = 0;
                               for (uint32_t y = tile.y0; y < tile.y1; ++y)
                                   for (uint32_t x = tile.x0; x < tile.x1; ++x)
@@ -112,8 +117,10 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
     const ShadingContext context{scene.mesh, **embree, options, normalize(options.environment.sunDirection)};
+    const PixelBounds bounds = renderBounds(options);
     RenderImage image;
-    image.allocate(options.width, options.height, options.aovs);
+    image.allocate(bounds.width(), bounds.height(), options.aovs);
+    image.placeInFrame(bounds.x0, bounds.y0, options.width, options.height);
 
     const Clock::time_point renderStart = Clock::now();
     const uint64_t rays =

@@ -167,6 +167,7 @@ public:
         VASTRAY_TRY(uploadResidency());
         const uint32_t spp = options_.samplesPerPixel;
         const uint32_t samplesPerWave = std::min(spp, b_.pathCapacity);
+        // Tiles of the image (the frame, or a region of it); the device sees frame pixels.
         const uint32_t width = image_.width, height = image_.height;
         const TileGrid grid = planTiles(width, height, std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave));
         for (uint64_t tile = 0; tile < grid.count(); ++tile) {
@@ -174,6 +175,7 @@ public:
             t.x = uint32_t(tile % grid.columns) * grid.tileWidth, t.y = uint32_t(tile / grid.columns) * grid.tileHeight;
             t.width = std::min(grid.tileWidth, width - t.x), t.height = std::min(grid.tileHeight, height - t.y);
             t.imageWidth = width;
+            t.originX = image_.originX, t.originY = image_.originY, t.frameWidth = options_.width;
             VASTRAY_TRY(renderTile(t, samplesPerWave));
             if (job_.progress) job_.progress(tile + 1, grid.count());
         }
@@ -186,10 +188,12 @@ public:
 private:
     const Pipelines& kernels() const { return w_.pipelines_; }
 
-    // A rectangle of the image; its pixel i (row by row) is the image's pixel at(i).
+    // A rectangle of the image, which lies at (originX, originY) in a frame frameWidth wide; its
+    // pixel i (row by row) is the image's pixel at(i) and the frame's pixel first() + ...
     struct Tile {
         uint32_t x = 0, y = 0, width = 0, height = 0, imageWidth = 0;
-        uint32_t first() const { return y * imageWidth + x; }
+        uint32_t originX = 0, originY = 0, frameWidth = 0;
+        uint32_t first() const { return (originY + y) * frameWidth + originX + x; }
         uint32_t count() const { return width * height; }
         uint64_t at(uint64_t i) const { return uint64_t(y + i / width) * imageWidth + x + i % width; }
     };

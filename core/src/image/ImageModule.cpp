@@ -1,4 +1,5 @@
-// writeImageFile, diffImageFiles, readImageChannels and writeRgba8Png forward to the OpenImageIO
+// writeImageFile, diffImageFiles, readImageChannels, writeRgba8Png, readStoredImage and
+// writeStoredImage forward to the OpenImageIO
 // module, loaded once on first use.
 #include "ImageModule.h"
 
@@ -85,6 +86,18 @@ Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(path + ": cannot write: ");
     return m.api->writeRgba8Png(path, width, height, rgba);
+}
+
+Result<StoredImage> readStoredImage(const std::string& path) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(path + ": cannot read: ");
+    return m.api->readStoredImage(path);
+}
+
+Status writeStoredImage(const std::string& path, const StoredImage& image) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(path + ": cannot write: ");
+    return m.api->writeStoredImage(path, image);
 }
 
 }  // namespace vastray

@@ -14,7 +14,7 @@
 namespace vastray {
 
 // Bumped whenever the table or the types it passes change: a module from another build is refused.
-constexpr uint32_t kImageModuleVersion = 2;
+constexpr uint32_t kImageModuleVersion = 3;
 
 struct ImageModuleApi {
     uint32_t version;
@@ -24,6 +24,8 @@ struct ImageModuleApi {
                                                const std::vector<std::string>& names);
     Status (*writeRgba8Png)(const std::string& path, uint32_t width, uint32_t height,
                             const std::vector<uint8_t>& rgba);
+    Result<StoredImage> (*readStoredImage)(const std::string& path);
+    Status (*writeStoredImage)(const std::string& path, const StoredImage& image);
 };
 
 }  // namespace vastray

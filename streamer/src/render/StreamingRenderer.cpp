@@ -104,8 +104,10 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     before.bytesRead = st.cache->bytesRead(), before.decodes = st.cache->decodes();
     before.decodeSeconds = st.cache->decodeSeconds(), before.uploadSeconds = st.backend->uploadSeconds();
     before.deviceSeconds = st.backend->deviceSeconds(), before.bytesUploaded = st.backend->bytesUploaded();
+    const PixelBounds bounds = renderBounds(options);
     RenderImage image;
-    image.allocate(options.width, options.height, options.aovs);
+    image.allocate(bounds.width(), bounds.height(), options.aovs);
+    image.placeInFrame(bounds.x0, bounds.y0, options.width, options.height);
     const Clock::time_point start = Clock::now();
     st.pager->beginRender();
     DeviceRenderJob job;

@@ -15,7 +15,38 @@ namespace vastray {
 // any were requested); .exr writes 32-bit float linear R,G,B,A and, when present, the
 // channels Z, N.x, N.y, N.z, albedo.R, albedo.G, albedo.B, cost.cells, cost.triangles (float)
 // and primid, chunkid (uint32).
+// An image that is a region of its frame (RenderImage::isRegion) records where it lies: in an
+// EXR as the data window (the region) inside the display window (the frame, origin 0,0); in a
+// PNG as the text chunk kRegionTextKey, "X0,Y0,X1,Y1 WxH" (x1, y1 exclusive; W x H the frame).
 Status writeImageFile(const std::string& path, const RenderImage& image);
+
+constexpr const char* kRegionTextKey = "vastray:region";
+
+// The sample types an image file stores.
+enum class SampleType : uint8_t { UInt8, UInt16, Half, Float, UInt32 };
+uint32_t sampleBytes(SampleType type);
+
+// An image file's pixels exactly as stored (no conversion, no alpha association): every channel
+// in its own sample type, interleaved per pixel, row 0 at the top; and where the image lies in
+// its frame (a file that records no region is a whole frame). `vastray assemble` joins these.
+struct StoredImage {
+    uint32_t width = 0, height = 0;
+    uint32_t originX = 0, originY = 0, frameWidth = 0, frameHeight = 0;
+    std::vector<std::string> channels;
+    std::vector<SampleType> types;  // one per channel
+    std::vector<uint8_t> pixels;    // width * height * pixelBytes()
+    uint32_t pixelBytes() const {
+        uint32_t bytes = 0;
+        for (SampleType t : types) bytes += sampleBytes(t);
+        return bytes;
+    }
+};
+
+// .exr or .png; errors name the file.
+Result<StoredImage> readStoredImage(const std::string& path);
+// Writes `image` with its channels and types unchanged (EXR zip-compressed, PNG sRGB), recording
+// its region as writeImageFile does.
+Status writeStoredImage(const std::string& path, const StoredImage& image);
 
 // Some channels of an image file, each as one plane of width x height floats (row 0 at the top).
 struct ImageChannels {
@@ -39,6 +70,17 @@ Status loadImageModule();
 
 // Tone mapping of the PNG beauty (docs/RENDERING.md): extended Reinhard with white
 // point 4 per channel, then the sRGB transfer function. Input linear, output [0, 1].
+inline uint32_t sampleBytes(SampleType type) {
+    switch (type) {
+        case SampleType::UInt8: return 1;
+        case SampleType::UInt16:
+        case SampleType::Half: return 2;
+        case SampleType::Float:
+        case SampleType::UInt32: return 4;
+    }
+    return 0;
+}
+
 inline float toneMapToDisplay(float linear) {
     constexpr float kWhiteSquared = 16.0f;
     const float x = std::fmax(linear, 0.0f);

@@ -1,6 +1,6 @@
 #pragma once
-// A rendered frame in memory: linear beauty plus the AOVs every backend produces.
-// Row-major, row 0 at the top.
+// A rendered frame, or a region of one, in memory: linear beauty plus the AOVs every backend
+// produces. Row-major, row 0 at the top.
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -11,6 +11,9 @@ constexpr uint32_t kMissPrimId = 0xFFFFFFFFu;
 
 struct RenderImage {
     uint32_t width = 0, height = 0;
+    // Where the image lies in the frame it is part of: its pixel (0, 0) is the frame's pixel
+    // (originX, originY). allocate() makes it the whole frame (origin 0, frame = its size).
+    uint32_t originX = 0, originY = 0, frameWidth = 0, frameHeight = 0;
     uint32_t aovs = 0;             // AovFlags present besides the beauty
     std::vector<float> rgb;        // 3 per pixel, linear radiance (sample mean)
     std::vector<float> alpha;      // fraction of samples whose camera ray hit geometry
@@ -24,6 +27,9 @@ struct RenderImage {
     // Sizes every buffer for width x height (AOV buffers only when requested).
     void allocate(uint32_t w, uint32_t h, uint32_t aovFlags);
     uint64_t pixelCount() const { return uint64_t(width) * height; }
+    // Makes the image the region `x0, y0` .. `x0 + width, y0 + height` of a frameW x frameH frame.
+    void placeInFrame(uint32_t x0, uint32_t y0, uint32_t frameW, uint32_t frameH);
+    bool isRegion() const { return originX != 0 || originY != 0 || frameWidth != width || frameHeight != height; }
 };
 
 }  // namespace vastray

@@ -3,6 +3,7 @@
 // these fields; defaults are documented here and in docs/RENDERING.md.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 #include "vastray/core/Camera.h"
@@ -45,6 +46,16 @@ constexpr uint32_t kMaxImageSide = 16384;
 constexpr uint32_t kMaxSamplesPerPixel = 65536;
 constexpr uint32_t kMaxDepthLimit = 1024;
 
+// A rectangle of pixels of the full frame: columns [x0, x1), rows [y0, y1) (row 0 at the top;
+// x1 and y1 exclusive, like pbrt-v4's --pixelbounds).
+struct PixelBounds {
+    uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    uint32_t width() const { return x1 - x0; }
+    uint32_t height() const { return y1 - y0; }
+    uint64_t pixelCount() const { return uint64_t(width()) * height(); }
+    bool operator==(const PixelBounds&) const = default;
+};
+
 struct RenderOptions {
     uint32_t width = 640, height = 480;
     uint32_t samplesPerPixel = 16;
@@ -55,9 +66,15 @@ struct RenderOptions {
     uint32_t threads = 0;     // 0: all cores
     float aoDistance = 0.0f;  // occlusion range of `ao`; 0: unbounded
     bool frameScene = true;   // ignore `camera` and frame the scene bounds
+    // Render only these pixels of the width x height frame (same camera, same per-pixel random
+    // numbers, so the pixels equal the whole frame's bit for bit); none: the whole frame.
+    std::optional<PixelBounds> region;
     Camera camera;
     Environment environment;
 };
+
+// The pixels a render produces: `region`, or the whole frame.
+PixelBounds renderBounds(const RenderOptions& options);
 
 // Every limit above; the message names the field and the limit.
 Status validateRenderOptions(const RenderOptions& options);

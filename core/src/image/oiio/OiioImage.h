@@ -1,6 +1,8 @@
 #pragma once
 // The OpenImageIO implementations behind writeImageFile and diffImageFiles (ImageFile.h and
 // ImageDiff.h describe them); only the module's table calls these.
+#include <OpenImageIO/imageio.h>
+
 #include <string>
 
 #include "vastray/core/ImageDiff.h"
@@ -15,5 +17,12 @@ Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::stri
 Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names);
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
                      const std::vector<uint8_t>& rgba);
+Result<StoredImage> readStoredImage(const std::string& path);
+Status writeStoredImage(const std::string& path, const StoredImage& image);
+
+// Records where `spec`'s image lies in its frame: the EXR data and display windows, or the PNG
+// text chunk kRegionTextKey (nothing for a whole frame).
+void setRegion(OIIO::ImageSpec& spec, bool png, uint32_t originX, uint32_t originY, uint32_t frameWidth,
+               uint32_t frameHeight);
 
 }  // namespace vastray::oiio

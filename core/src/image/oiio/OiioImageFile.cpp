@@ -30,6 +30,12 @@ Status writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
     return Status::ok();
 }
 
+OIIO::ImageSpec rgba8PngSpec(uint32_t width, uint32_t height) {
+    OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    return spec;
+}
+
 Status writePng(const std::string& path, const RenderImage& image) {
     if (image.aovs != kAovNone)
         return Status::error(path + ": AOVs need an .exr output (PNG holds the beauty only)");
@@ -39,7 +45,9 @@ Status writePng(const std::string& path, const RenderImage& image) {
             pixels[4 * i + c] = uint8_t(std::lround(255.0f * toneMapToDisplay(image.rgb[3 * i + c])));
         pixels[4 * i + 3] = uint8_t(std::lround(255.0f * std::clamp(image.alpha[i], 0.0f, 1.0f)));
     }
-    return writeRgba8Png(path, image.width, image.height, pixels);
+    OIIO::ImageSpec spec = rgba8PngSpec(image.width, image.height);
+    setRegion(spec, true, image.originX, image.originY, image.frameWidth, image.frameHeight);
+    return writeWith(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
 }
 
 // One pixel record matching the EXR channel list: floats, then the uint32 channels (primid, chunkid).
@@ -93,6 +101,7 @@ Status writeExr(const std::string& path, const RenderImage& image) {
             spec.channelformats[c] = OIIO::TypeDesc::UINT32;
     }
     spec.attribute("compression", "zip");
+    setRegion(spec, false, image.originX, image.originY, image.frameWidth, image.frameHeight);
     const std::vector<uint8_t> bytes = packExrPixels(image, layout);
     // With per-channel formats, UNKNOWN means "the data is in the file's native formats".
     return writeWith(path, spec, layout.uintCount > 0 ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT,
@@ -101,14 +110,29 @@ Status writeExr(const std::string& path, const RenderImage& image) {
 
 }  // namespace
 
+void setRegion(OIIO::ImageSpec& spec, bool png, uint32_t originX, uint32_t originY, uint32_t frameWidth,
+               uint32_t frameHeight) {
+    const bool whole = originX == 0 && originY == 0 && frameWidth == uint32_t(spec.width) &&
+                       frameHeight == uint32_t(spec.height);
+    if (whole) return;
+    if (png) {
+        spec.attribute(kRegionTextKey, std::to_string(originX) + "," + std::to_string(originY) + "," +
+                                           std::to_string(originX + spec.width) + "," +
+                                           std::to_string(originY + spec.height) + " " +
+                                           std::to_string(frameWidth) + "x" + std::to_string(frameHeight));
+        return;
+    }
+    spec.x = int(originX), spec.y = int(originY);
+    spec.full_x = 0, spec.full_y = 0;
+    spec.full_width = int(frameWidth), spec.full_height = int(frameHeight);
+}
+
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
                      const std::vector<uint8_t>& rgba) {
     if (rgba.size() != uint64_t(width) * height * 4)
         return Status::error(path + ": " + std::to_string(rgba.size()) + " bytes are not " +
                              std::to_string(width) + "x" + std::to_string(height) + " RGBA pixels");
-    OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    return writeWith(path, spec, OIIO::TypeDesc::UINT8, rgba.data());
+    return writeWith(path, rgba8PngSpec(width, height), OIIO::TypeDesc::UINT8, rgba.data());
 }
 
 Status writeImageFile(const std::string& path, const RenderImage& image) {

@@ -6,6 +6,8 @@ extern "C" __attribute__((visibility("default"))) const vastray::ImageModuleApi*
     static const vastray::ImageModuleApi api{vastray::kImageModuleVersion, &vastray::oiio::writeImageFile,
                                              &vastray::oiio::diffImageFiles,
                                              &vastray::oiio::readImageChannels,
-                                             &vastray::oiio::writeRgba8Png};
+                                             &vastray::oiio::writeRgba8Png,
+                                             &vastray::oiio::readStoredImage,
+                                             &vastray::oiio::writeStoredImage};
     return &api;
 }
