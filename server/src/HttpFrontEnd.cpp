@@ -498,6 +498,9 @@ Result<std::unique_ptr<HttpFrontEnd>> HttpFrontEnd::start(Service& service, cons
         port == 0 ? server->bind_to_any_port(host) : (server->bind_to_port(host, port) ? port : -1);
     if (front->port_ <= 0) return Status::error("HTTP: cannot listen on " + address);
     front->impl_->thread = std::thread([s = server.get()] { s->listen_after_bind(); });
+    // httplib's stop() does nothing until the listen loop runs: a SIGTERM right after start
+    // left the thread in accept() for ever and the join in stop() hung (seen under load).
+    server->wait_until_ready();
     return front;
 }
 
