@@ -29,13 +29,13 @@ ServiceStatus checkVector(const std::string& field, const google::protobuf::Repe
     return {};
 }
 
-ServiceStatus normalizeCamera(v1::Camera& camera) {
+ServiceStatus normalizeCamera(v1::Camera& camera, bool zUp) {
     if (auto s = checkVector("camera.eye", camera.eye()); !s) return s;
     if (auto s = checkVector("camera.target", camera.target()); !s) return s;
     if (camera.up().empty()) {
         camera.add_up(0);
-        camera.add_up(1);
-        camera.add_up(0);
+        camera.add_up(zUp ? 0 : 1);
+        camera.add_up(zUp ? 1 : 0);
     }
     if (auto s = checkVector("camera.up", camera.up()); !s) return s;
     if (camera.fov_y_degrees() == 0) camera.set_fov_y_degrees(45);
@@ -83,7 +83,17 @@ ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
         return invalidArgument("integrator", "'" + r.integrator() + "': expected path or ao");
     if (!r.has_max_depth()) r.set_max_depth(kDefaultMaxDepth);
     if (auto s = checkRange("max_depth", r.max_depth(), 0, kMaxDepthLimit); !s) return s;
-    if (r.has_camera()) return normalizeCamera(*r.mutable_camera());
+    if (r.up_axis().empty()) r.set_up_axis("y");
+    if (r.up_axis() != "y" && r.up_axis() != "z")
+        return invalidArgument("up_axis", "'" + r.up_axis() + "': expected y or z");
+    if (r.has_sun()) {
+        if (auto s = checkVector("sun.direction", r.sun().direction()); !s) return s;
+        const auto& d = r.sun().direction();
+        if (d[0] == 0 && d[1] == 0 && d[2] == 0) return invalidArgument("sun.direction", "the zero vector");
+        if (!std::isfinite(r.sun().intensity()) || r.sun().intensity() < 0 || r.sun().intensity() > kMaxSunIntensity)
+            return invalidArgument("sun.intensity", "expected a number in [0, 1000000]");
+    }
+    if (r.has_camera()) return normalizeCamera(*r.mutable_camera(), r.up_axis() == "z");
     return {};
 }
 
@@ -125,6 +135,12 @@ Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& r) {
     auto flags = parseAovList(aovs);
     if (!flags) return flags.status();
     options.aovs = *flags;
+    applyUpAxis(r.up_axis() == "z" ? Vec3f{0, 0, 1} : Vec3f{0, 1, 0}, options);  // stored requests: ""
+    if (r.has_sun() && r.sun().direction_size() == 3) {
+        const auto& d = r.sun().direction();
+        options.environment.sunDirection = {d[0], d[1], d[2]};
+        for (int c = 0; c < 3; ++c) options.environment.sunIrradiance[c] = kSunTint[c] * r.sun().intensity();
+    }
     if (r.has_camera()) {
         const v1::Camera& c = r.camera();
         options.frameScene = false;

@@ -108,6 +108,24 @@ TEST_F(ServerTest, HttpInvalidRequestsAreRejectedNamingTheField) {
     EXPECT_EQ(res->status, 400);
     EXPECT_EQ(errorMessage(res).rfind("scene_id:", 0), 0u) << errorMessage(res);
 
+    const std::pair<const char*, json> environment[] = {
+        {"up_axis:", {{"up_axis", "x"}}},
+        {"sun.direction:", {{"sun", {{"direction", {0, 0, 0}}, {"intensity", 3}}}}},
+        {"sun.direction:", {{"sun", {{"direction", {1, 1}}, {"intensity", 3}}}}},
+        {"sun.intensity:", {{"sun", {{"direction", {1, 1, 1}}, {"intensity", -1}}}}}};
+    for (const auto& [field, patch] : environment) {
+        body = smallJob(sceneId);
+        body.update(patch);
+        res = submit(body);
+        EXPECT_EQ(res->status, 400) << patch.dump();
+        EXPECT_EQ(errorMessage(res).rfind(field, 0), 0u) << errorMessage(res);
+    }
+    body = smallJob(sceneId);
+    body.update(json{{"up_axis", "z"}, {"sun", {{"direction", {0.2, -0.3, 0.9}}, {"intensity", 2.5}}}});
+    res = submit(body);
+    EXPECT_EQ(res->status, 202) << res->body;
+    EXPECT_EQ(json::parse(res->body)["request"]["up_axis"], "z") << res->body;
+
     res = http().Put("/v1/scenes?name=notes.txt", "hello", "application/octet-stream");
     ASSERT_TRUE(res);
     EXPECT_EQ(res->status, 400);
