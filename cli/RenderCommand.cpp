@@ -19,6 +19,7 @@
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/Progress.h"
+#include "vastray/core/VecMath.h"
 #include "vastray/core/RenderMemory.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -42,7 +43,8 @@ struct RenderArgs {
     std::string input, output, backend = "vulkan", resolution = "640x480";
     std::string memoryBudget = "1GiB", hostCache = "auto";
     int64_t gpuDevice = -1;
-    std::string eye, target, up = "0,1,0", integrator = "path", aovs, statsJson, progress = "auto";
+    std::string eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
+    bool noSun = false;
     std::string region, tiles;  // --region X0,Y0,X1,Y1; --tiles NX,NY (with --tile)
     int64_t tile = kNoTile;
     int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
@@ -152,20 +154,53 @@ Status checkRange(const char* flag, int64_t value, int64_t lo, int64_t hi) {
                          std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
+// --sun X,Y,Z,INTENSITY: towards the sun (world space) and its irradiance, in units of the
+// default sun's colour kSunTint (the default sun is 3).
+Status parseSun(const RenderArgs& args, RenderOptions& options) {
+    if (args.noSun && !args.sun.empty()) return Status::error("--sun and --no-sun exclude each other");
+    if (args.noSun) options.environment.sunIrradiance = {0.0f, 0.0f, 0.0f};
+    if (args.sun.empty()) return Status::ok();
+    const size_t comma = args.sun.rfind(',');
+    const std::string expected = "--sun '" + args.sun + "': expected X,Y,Z,INTENSITY";
+    if (comma == std::string::npos) return Status::error(expected);
+    auto direction = parseVector("--sun", args.sun.substr(0, comma));
+    if (!direction) return Status::error(expected + " (" + direction.message() + ")");
+    char* end = nullptr;
+    const float intensity = std::strtof(args.sun.c_str() + comma + 1, &end);
+    if (end == args.sun.c_str() + comma + 1 || *end != '\0' || !std::isfinite(intensity))
+        return Status::error(expected);
+    if (intensity < 0.0f || intensity > kMaxSunIntensity)
+        return Status::error("--sun: intensity " + args.sun.substr(comma + 1) + " is outside [0, " +
+                             std::to_string(int(kMaxSunIntensity)) + "]");
+    if (length(*direction) == 0.0f) return Status::error("--sun: the direction is the zero vector");
+    options.environment.sunDirection = *direction;
+    for (int c = 0; c < 3; ++c) options.environment.sunIrradiance[c] = kSunTint[c] * intensity;
+    return Status::ok();
+}
+
+// --up-axis turns sky, sun and framing together; --up then sets the camera's up alone (also
+// for automatic framing, which looks down along it); --sun sets the sun in world space.
 Status parseCamera(const RenderArgs& args, RenderOptions& options) {
     options.camera.fovYDegrees = float(args.fov);
+    if (args.upAxis != "y" && args.upAxis != "z")
+        return Status::error("--up-axis '" + args.upAxis + "': expected y or z");
+    applyUpAxis(args.upAxis == "z" ? Vec3f{0, 0, 1} : Vec3f{0, 1, 0}, options);
+    if (!args.up.empty()) {
+        auto up = parseVector("--up", args.up);
+        if (!up) return up.status();
+        if (length(*up) == 0.0f) return Status::error("--up " + args.up + ": the zero vector has no direction");
+        options.camera.up = normalize(*up);
+    }
+    VASTRAY_TRY(parseSun(args, options));
     if (args.eye.empty() != args.target.empty()) return Status::error("--eye and --target go together");
     if (args.eye.empty()) return Status::ok();
     auto eye = parseVector("--eye", args.eye);
     if (!eye) return eye.status();
     auto target = parseVector("--target", args.target);
     if (!target) return target.status();
-    auto up = parseVector("--up", args.up);
-    if (!up) return up.status();
     options.frameScene = false;
     options.camera.eye = *eye;
     options.camera.target = *target;
-    options.camera.up = *up;
     return Status::ok();
 }
 
@@ -487,7 +522,14 @@ CommandRun addRenderCommand(CLI::App& app) {
     cmd->add_option("--resolution", args->resolution, "WxH, each side 1..16384")->capture_default_str();
     cmd->add_option("--eye", args->eye, "camera position x,y,z (with --target; default: frame the scene)");
     cmd->add_option("--target", args->target, "point the camera looks at, x,y,z");
-    cmd->add_option("--up", args->up, "camera up vector x,y,z")->capture_default_str();
+    cmd->add_option("--up", args->up,
+                    "camera up vector x,y,z (default: the --up-axis); automatic framing looks down along it too");
+    cmd->add_option("--up-axis", args->upAxis, "y | z: the world's up for the sky, the default sun and framing")
+        ->capture_default_str();
+    cmd->add_option("--sun", args->sun,
+                    "X,Y,Z,INTENSITY: direction towards the sun (world space) and its strength (default: 3, from "
+                    "0.4,0.8,0.3 turned to the --up-axis)");
+    cmd->add_flag("--no-sun", args->noSun, "sky light only");
     cmd->add_option("--fov", args->fov, "vertical field of view in degrees, [0.001, 180)")->capture_default_str();
     cmd->add_option("--integrator", args->integrator, "path | ao (ambient occlusion)")->capture_default_str();
     cmd->add_option("--max-depth", args->maxDepth, "scattering events per path, 0..1024")

@@ -37,9 +37,21 @@ Status validateCamera(const Camera& c) {
     return Status::ok();
 }
 
-Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect) {
+Vec3f rotateFromYUp(Vec3f up, Vec3f v) {
+    const Vec3f u = normalize(up);
+    const float c = u.y;  // cos of the angle between +Y and u
+    if (c > 1.0f - 1e-7f) return v;
+    if (c < -1.0f + 1e-7f) return {v.x, -v.y, -v.z};  // a half turn about X
+    // Rodrigues about k = (Y x u) / |Y x u| = (u.z, 0, -u.x) / s, with sin = s.
+    const float s = std::sqrt(u.x * u.x + u.z * u.z);
+    const Vec3f k{u.z / s, 0.0f, -u.x / s};
+    return v * c + cross(k, v) * s + k * (dot(k, v) * (1.0f - c));
+}
+
+Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect, Vec3f up) {
     Camera camera;
     camera.fovYDegrees = fovYDegrees;
+    camera.up = up;
     Vec3f centre{0, 0, 0};
     float radius = 1.0f;
     if (!bounds.isEmpty()) {
@@ -50,7 +62,7 @@ Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect) {
     const float halfY = 0.5f * fovYDegrees * kDegrees;
     const float halfX = std::atan(std::tan(halfY) * aspect);
     const float distance = 1.05f * radius / std::sin(std::fmin(halfX, halfY));
-    const Vec3f viewFrom = normalize({0.6f, 0.5f, 1.0f});
+    const Vec3f viewFrom = rotateFromYUp(up, normalize({0.6f, 0.5f, 1.0f}));
     camera.target = centre;
     camera.eye = centre + viewFrom * distance;
     return camera;

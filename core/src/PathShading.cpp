@@ -30,9 +30,10 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
 }
 
 Vec3f skyRadiance(const Environment& env, Vec3f direction) {
-    if (direction.y < 0.0f) return toVec(env.ground);
+    const float height = dot(direction, env.up);
+    if (height < 0.0f) return toVec(env.ground);
     const Vec3f horizon = toVec(env.horizon);
-    return horizon + (toVec(env.zenith) - horizon) * direction.y;
+    return horizon + (toVec(env.zenith) - horizon) * height;
 }
 
 Vec3f emission(const Material& m) { return toVec(m.emissive); }

@@ -2,12 +2,21 @@
 
 #include <string>
 
+#include "vastray/core/VecMath.h"
+
 namespace vastray {
 
 Result<IntegratorKind> parseIntegrator(std::string_view name) {
     if (name == "path") return IntegratorKind::Path;
     if (name == "ao") return IntegratorKind::AmbientOcclusion;
     return Status::error("unknown integrator '" + std::string(name) + "' (expected path or ao)");
+}
+
+void applyUpAxis(Vec3f up, RenderOptions& options) {
+    const Vec3f unit = normalize(up);
+    options.environment.up = unit;
+    options.environment.sunDirection = rotateFromYUp(unit, Environment{}.sunDirection);
+    options.camera.up = unit;
 }
 
 const char* integratorName(IntegratorKind kind) { return kind == IntegratorKind::Path ? "path" : "ao"; }

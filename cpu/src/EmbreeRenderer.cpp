@@ -113,7 +113,7 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
     const double buildSeconds = secondsSince(buildStart);
 
     const Camera camera = options.frameScene ? frameBounds(scene.bounds.isEmpty() ? scene.mesh.bounds() : scene.bounds, options.camera.fovYDegrees,
-                                                           float(options.width) / float(options.height))
+                                                           float(options.width) / float(options.height), options.camera.up)
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
     const ShadingContext context{scene.mesh, **embree, options, normalize(options.environment.sunDirection)};

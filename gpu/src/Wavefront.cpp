@@ -105,6 +105,8 @@ void setEnvironment(WavefrontParams& p, const Environment& e) {
     p.zenithR = e.zenith[0], p.zenithG = e.zenith[1], p.zenithB = e.zenith[2];
     p.horizonR = e.horizon[0], p.horizonG = e.horizon[1], p.horizonB = e.horizon[2];
     p.groundR = e.ground[0], p.groundG = e.ground[1], p.groundB = e.ground[2];
+    const Vec3f up = normalize(e.up);
+    p.skyUpX = up.x, p.skyUpY = up.y, p.skyUpZ = up.z;
     const Vec3f sun = normalize(e.sunDirection);
     p.sunX = sun.x, p.sunY = sun.y, p.sunZ = sun.z;
     p.sunR = e.sunIrradiance[0], p.sunG = e.sunIrradiance[1], p.sunB = e.sunIrradiance[2];

@@ -38,6 +38,30 @@ TEST(Camera, FramingKeepsTheBoundingSphereInView) {
     EXPECT_LE(std::asin(radius / distance), 0.5f * 45.0f * 3.14159265f / 180.0f);
 }
 
+TEST(Camera, RotateFromYUpTakesYOntoUpAndKeepsLengths) {
+    const Vec3f v{0.4f, 0.8f, 0.3f};
+    EXPECT_EQ(rotateFromYUp({0, 1, 0}, v), v);
+    const Vec3f z = rotateFromYUp({0, 0, 1}, v);  // (x, y, z) -> (x, -z, y), exactly
+    EXPECT_EQ(z, (Vec3f{0.4f, -0.3f, 0.8f}));
+    EXPECT_EQ(rotateFromYUp({0, 0, 1}, {0, 1, 0}), (Vec3f{0, 0, 1}));
+    EXPECT_EQ(rotateFromYUp({0, -1, 0}, {0, 1, 0}), (Vec3f{0, -1, 0}));
+    const Vec3f up = normalize(Vec3f{1, 2, -3});
+    const Vec3f y = rotateFromYUp(up, {0, 1, 0});
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(y[a], up[a], 1e-6f);
+    EXPECT_NEAR(length(rotateFromYUp(up, v)), length(v), 1e-6f);
+    EXPECT_NEAR(dot(rotateFromYUp(up, v), y), dot(v, Vec3f{0, 1, 0}), 1e-6f);  // angles kept
+}
+
+// Z up: the same view as Y up, turned: from above along +Z, with +Z as the camera's up.
+TEST(Camera, FramingLooksDownAlongTheUpVector) {
+    const Aabb box{{-1, -1, -1}, {1, 1, 1}};
+    const Camera y = frameBounds(box, 45, 1.5f), z = frameBounds(box, 45, 1.5f, {0, 0, 1});
+    EXPECT_EQ(z.up, (Vec3f{0, 0, 1}));
+    EXPECT_EQ(z.eye, (Vec3f{y.eye.x, -y.eye.z, y.eye.y}));
+    EXPECT_GT(z.eye.z, 0.0f);
+    ASSERT_TRUE(validateCamera(z));
+}
+
 TEST(Camera, RejectsNanEyeEqualTargetParallelUpAndBadFov) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     EXPECT_FALSE(validateCamera({{nan, 0, 0}, {0, 0, 0}, {0, 1, 0}, 45}));

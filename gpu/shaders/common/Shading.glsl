@@ -10,9 +10,10 @@ const uint kRouletteStartBounce = 3u;
 const float kMaxSurvival = 0.95;
 
 vec3 skyRadiance(WavefrontParams p, vec3 direction) {
-    if (direction.y < 0.0) return vec3(p.groundR, p.groundG, p.groundB);
+    const float height = dot(direction, vec3(p.skyUpX, p.skyUpY, p.skyUpZ));
+    if (height < 0.0) return vec3(p.groundR, p.groundG, p.groundB);
     const vec3 horizon = vec3(p.horizonR, p.horizonG, p.horizonB);
-    return horizon + (vec3(p.zenithR, p.zenithG, p.zenithB) - horizon) * direction.y;
+    return horizon + (vec3(p.zenithR, p.zenithG, p.zenithB) - horizon) * height;
 }
 
 // Unit geometric normal on the side the ray came from.

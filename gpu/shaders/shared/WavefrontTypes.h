@@ -97,6 +97,7 @@ struct WavefrontParams {
     float zenithR, zenithG, zenithB;
     float horizonR, horizonG, horizonB;
     float groundR, groundG, groundB;
+    float skyUpX, skyUpY, skyUpZ;  // unit: the sky's zenith (Environment::up)
     float sunX, sunY, sunZ;  // unit
     float sunR, sunG, sunB;  // irradiance; zero: no sun
     float aoDistance;        // 0: unbounded
@@ -107,7 +108,6 @@ struct WavefrontParams {
     uint seed;
     uint samplesPerPixel;
     uint maxDepth;
-    uint padding;      // keeps the struct a multiple of 8 bytes (the integrator is a specialization constant)
     uint aovs;         // vastray::AovFlags
     uint pathCapacity; // paths the state arrays hold
     uint chunkCount;

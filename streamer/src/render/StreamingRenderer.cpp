@@ -95,7 +95,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
 
     const Camera camera = options.frameScene ? frameBounds(info.bounds, options.camera.fovYDegrees,
-                                                           float(options.width) / float(options.height))
+                                                           float(options.width) / float(options.height), options.camera.up)
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
 

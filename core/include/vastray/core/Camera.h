@@ -28,8 +28,14 @@ struct Camera {
 Status validateCamera(const Camera& camera);
 
 // A camera that sees the whole of `bounds` (its bounding sphere) from above and to the
-// front-right, for a width/height aspect ratio.
-Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect);
+// front-right, for a width/height aspect ratio, with `up` (need not be unit) as its up and
+// "above" meaning along `up`: the Y-up view turned by rotateFromYUp.
+Camera frameBounds(const Aabb& bounds, float fovYDegrees, float aspect, Vec3f up = {0, 1, 0});
+
+// `v` turned by the smallest rotation that takes +Y onto the unit vector `up` (a half turn
+// about X when `up` is -Y): a direction given for a Y-up world, in the world whose up is
+// `up`. Y up: unchanged; Z up: (x, y, z) -> (x, -z, y).
+Vec3f rotateFromYUp(Vec3f up, Vec3f v);
 
 // Primary rays of one camera at one resolution. Directions are unit length, so a hit's t
 // is its distance from the eye.

@@ -31,16 +31,24 @@ constexpr uint32_t kAovStreamingOnly = kAovChunkId | kAovCost;
 // "depth,normal,albedo,primid,chunkid,cost" (any subset, any order); "" is none.
 Result<uint32_t> parseAovList(std::string_view list);
 
-// The environment of the `path` integrator. The sky's radiance for unit direction d is
-// `ground` when d.y < 0, else horizon + (zenith - horizon) * d.y. The sun is a directional
-// light: irradiance `sunIrradiance` on a surface facing `sunDirection` (towards the sun).
+// The environment of the `path` integrator. With h = dot(d, up), the sky's radiance for unit
+// direction d is `ground` when h < 0, else horizon + (zenith - horizon) * h. The sun is a
+// directional light: irradiance `sunIrradiance` on a surface facing `sunDirection` (towards
+// the sun).
 struct Environment {
     std::array<float, 3> zenith{0.25f, 0.45f, 0.9f};
     std::array<float, 3> horizon{0.85f, 0.9f, 1.0f};
     std::array<float, 3> ground{0.3f, 0.28f, 0.25f};
+    Vec3f up{0.0f, 1.0f, 0.0f};                            // unit: the sky's zenith
     Vec3f sunDirection{0.4f, 0.8f, 0.3f};                  // need not be unit; normalized when used
     std::array<float, 3> sunIrradiance{3.0f, 2.9f, 2.7f};  // zero: no sun
 };
+
+// The default sun's colour, per unit of --sun intensity (its largest component is 1), and the
+// largest intensity accepted (the default sun is 3).
+constexpr std::array<float, 3> kSunTint{1.0f, 2.9f / 3.0f, 2.7f / 3.0f};
+constexpr float kMaxSunIntensity = 1e6f;
+
 
 constexpr uint32_t kMaxImageSide = 16384;
 constexpr uint32_t kMaxSamplesPerPixel = 65536;
@@ -72,6 +80,11 @@ struct RenderOptions {
     Camera camera;
     Environment environment;
 };
+
+// Turns the world's up to the unit vector `up` (+Y or +Z from --up-axis): the sky's zenith,
+// the default sun (its Y-up direction turned by rotateFromYUp) and the camera's up (which
+// automatic framing also looks down along). An explicit sun or camera up is set after this.
+void applyUpAxis(Vec3f up, RenderOptions& options);
 
 // The pixels a render produces: `region`, or the whole frame.
 PixelBounds renderBounds(const RenderOptions& options);
