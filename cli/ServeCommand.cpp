@@ -1,12 +1,14 @@
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "Commands.h"
 #include "vastray/core/ByteSize.h"
@@ -21,7 +23,7 @@ struct ServeArgs {
     std::string grpc = "127.0.0.1:50051", http = "127.0.0.1:8080", dataDir;
     std::string memoryBudget = "4GiB", hostCache = "2GiB", maxUpload = "16GiB";
     std::string authTokenFile, tlsCert, tlsKey, backend = "vulkan";
-    int64_t gpuDevice = -1;
+    std::string gpuDevices = "-1";
     uint32_t maxQueue = 1000;
     double shutdownGrace = 30;
     bool paused = false;
@@ -78,6 +80,52 @@ Result<server::FrontEndOptions> frontEndOptions(const ServeArgs& args) {
     return options;
 }
 
+// `--gpu-device`: -1 (the default device) or device indices separated by commas, one worker
+// each; an index may repeat (several workers on one device).
+Result<std::vector<int>> parseGpuDevices(const std::string& text) {
+    const std::string expected =
+        "expected -1 or device indices separated by commas, one worker each, at most " +
+        std::to_string(server::Service::kMaxWorkers);
+    auto bad = [&](const std::string& why) {
+        return Status::error("--gpu-device '" + text + "': " + why + "; " + expected);
+    };
+    std::vector<int> devices;
+    size_t start = 0;
+    while (true) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, comma - start);
+        if (item.empty()) return bad("entry " + std::to_string(devices.size() + 1) + " is empty");
+        const bool digits = item.find_first_not_of("0123456789", item == "-1" ? 1 : 0) == std::string::npos;
+        if (!digits) return bad("'" + item + "' is not -1 or a device index");
+        if (item.size() > 10 || std::stoll(item) > INT32_MAX) return bad("'" + item + "' is past 2147483647");
+        if (devices.size() == server::Service::kMaxWorkers)
+            return bad("more than " + std::to_string(server::Service::kMaxWorkers) + " workers");
+        devices.push_back(int(std::stoll(item)));
+        if (comma == text.size()) break;
+        start = comma + 1;
+    }
+    return devices;
+}
+
+// One streaming renderer per worker, each opening its own device and pool (--memory-budget
+// each); the host cache is split evenly between them.
+using Renderers = std::vector<std::unique_ptr<server::JobRenderer>>;
+
+Result<Renderers> vulkanRenderers(const server::ServiceOptions& options, const std::vector<int>& devices) {
+    Renderers renderers;
+    for (int device : devices) {
+        auto streaming = server::makeStreamingJobRenderer(options.hostCacheBytes / devices.size(),
+                                                          options.memoryBudgetBytes, device);
+        if (!streaming) {
+            const std::string flag =
+                device >= 0 ? "--gpu-device " + std::to_string(device) : "--backend vulkan";
+            return Status::error(flag + ": " + streaming.message());
+        }
+        renderers.push_back(std::move(streaming).value());
+    }
+    return renderers;
+}
+
 int fail(const std::string& message, int code) {
     std::fprintf(stderr, "vastray serve: %s\n", message.c_str());
     return code;
@@ -99,27 +147,29 @@ int runServe(const ServeArgs& args) {
     if (!front) return fail(front.message(), 2);
     if (args.backend != "vulkan" && args.backend != "embree")
         return fail("--backend '" + args.backend + "': expected vulkan or embree", 2);
+    auto devices = parseGpuDevices(args.gpuDevices);
+    if (!devices) return fail(devices.message(), 2);
+    // An Embree render already uses every core: a second worker would only halve each job's share.
+    if (args.backend == "embree" && devices->size() > 1)
+        return fail("--gpu-device '" + args.gpuDevices +
+                        "': the embree backend runs one worker (a render uses every core); give one value "
+                        "or none",
+                    2);
     // Results are written through the image module: a broken install stops the start.
     if (Status images = loadImageModule(); !images) return fail(images.message(), 1);
-    // The Vulkan device opens now (never for embree): a --gpu-device that does not exist or
+    // The Vulkan devices open now (never for embree): a --gpu-device that does not exist or
     // cannot run the tracer stops the start, naming the devices Vulkan reports.
-    std::unique_ptr<server::JobRenderer> renderer;
+    Renderers renderers;
     if (args.backend == "vulkan") {
-        if (args.gpuDevice < -1 || args.gpuDevice > INT32_MAX)
-            return fail("--gpu-device " + std::to_string(args.gpuDevice) + ": expected -1 or a device index", 2);
-        auto streaming = server::makeStreamingJobRenderer(options->hostCacheBytes, options->memoryBudgetBytes,
-                                                          int(args.gpuDevice));
-        if (!streaming) {
-            const std::string flag =
-                args.gpuDevice >= 0 ? "--gpu-device " + std::to_string(args.gpuDevice) : "--backend vulkan";
-            return fail(flag + ": " + streaming.message(), 1);
-        }
-        renderer = std::move(streaming).value();
+        auto vulkan = vulkanRenderers(*options, *devices);
+        if (!vulkan) return fail(vulkan.message(), 1);
+        renderers = std::move(vulkan).value();
     } else {
-        renderer = server::makeEmbreeJobRenderer(options->hostCacheBytes);
+        renderers.push_back(server::makeEmbreeJobRenderer(options->hostCacheBytes));
     }
-    const std::string device = renderer->deviceDescription();
-    auto service = server::Service::open(*options, std::move(renderer));
+    std::vector<std::string> deviceNames;
+    for (const auto& renderer : renderers) deviceNames.push_back(renderer->deviceDescription());
+    auto service = server::Service::open(*options, std::move(renderers));
     if (!service) return fail(service.message(), 1);
     auto grpc = server::GrpcFrontEnd::start(**service, args.grpc, *front);
     if (!grpc) return fail(grpc.message(), 1);
@@ -128,8 +178,15 @@ int runServe(const ServeArgs& args) {
     auto host = [](const std::string& address) { return server::splitHostPort(address)->first; };
     std::printf("vastray serve: gRPC on %s:%d\n", host(args.grpc).c_str(), (*grpc)->port());
     std::printf("vastray serve: HTTP on %s:%d\n", host(args.http).c_str(), (*http)->port());
-    std::printf("vastray serve: backend %s%s%s\n", args.backend.c_str(), device.empty() ? "" : " on ",
-                device.c_str());
+    if (deviceNames.size() == 1) {
+        const std::string& device = deviceNames[0];
+        std::printf("vastray serve: backend %s%s%s\n", args.backend.c_str(), device.empty() ? "" : " on ",
+                    device.c_str());
+    } else {
+        std::printf("vastray serve: backend %s, %zu workers\n", args.backend.c_str(), deviceNames.size());
+        for (size_t i = 0; i < deviceNames.size(); ++i)
+            std::printf("vastray serve: worker %zu on %s\n", i, deviceNames[i].c_str());
+    }
     std::printf("vastray serve: ready (data in %s%s)\n", args.dataDir.c_str(), args.paused ? ", paused" : "");
     std::fflush(stdout);
 
@@ -142,13 +199,13 @@ int runServe(const ServeArgs& args) {
     (*grpc)->shutdown(std::chrono::seconds(5));
     const auto grace = std::chrono::milliseconds(int64_t(args.shutdownGrace * 1000));
     const bool stopped = (*service)->shutdown(grace);
-    if (const std::string left = (*service)->jobLeftRunning(); !left.empty()) {
+    for (const std::string& left : (*service)->jobsLeftRunning()) {
         // The job's record says RUNNING: the next start runs it again.
         std::printf(
             "vastray serve: job %s did not finish within --shutdown-grace; it runs again at the next start\n",
             left.c_str());
-        std::fflush(stdout);
     }
+    std::fflush(stdout);
     // A render that cannot be interrupted must not hold the exit up: its job is safe in the store.
     if (!stopped) std::_Exit(0);
     std::printf("vastray serve: stopped\n");
@@ -167,12 +224,12 @@ CommandRun addServeCommand(CLI::App& app) {
     cmd->add_option("--data-dir", args->dataDir, "folder for the job database, scenes and results")
         ->required();
     cmd->add_option("--memory-budget", args->memoryBudget,
-                    "device memory pool of the vulkan backend: the most one job may use, and the sum the "
-                    "open scenes may hold together")
+                    "device memory pool of the vulkan backend, per worker (each --gpu-device entry has its "
+                    "own): the most one job may use, and the sum that worker's open scenes may hold together")
         ->capture_default_str();
     cmd->add_option("--host-cache", args->hostCache,
-                    "decoded chunks (vulkan) or scenes (embree) kept in host memory, shared by all jobs and "
-                    "open scenes")
+                    "decoded chunks (vulkan) or scenes (embree) kept in host memory, for all jobs and open "
+                    "scenes; split evenly between the workers")
         ->capture_default_str();
     cmd->add_option("--max-queue", args->maxQueue,
                     "queued render jobs, and queued import jobs (async uploads); one more is refused "
@@ -186,13 +243,19 @@ CommandRun addServeCommand(CLI::App& app) {
     cmd->add_option("--tls-cert", args->tlsCert, "PEM certificate: serve gRPC and HTTP over TLS");
     cmd->add_option("--tls-key", args->tlsKey, "PEM private key of --tls-cert");
     cmd->add_option("--shutdown-grace", args->shutdownGrace,
-                    "seconds SIGTERM waits for the running job before leaving it to the next start")
+                    "seconds SIGTERM waits for the running jobs before leaving them to the next start")
         ->capture_default_str();
     cmd->add_flag("--paused", args->paused, "accept and store jobs but start none");
     cmd->add_option("--backend", args->backend,
                     "vulkan (streaming; the last job's scene stays resident for the next) | embree (CPU reference)")
         ->capture_default_str();
-    cmd->add_option("--gpu-device", args->gpuDevice, "vulkan: Vulkan device index (-1: first discrete GPU, else first)")
+    cmd->add_option("--gpu-device", args->gpuDevices,
+                    "vulkan: Vulkan device index (-1: first discrete GPU, else first); a list such as 0,1 "
+                    "runs one worker per entry, each with its own --memory-budget, taking jobs from the one "
+                    "queue at the same time (an index may repeat: 0,0 runs two workers on device 0); at "
+                    "most " +
+                        std::to_string(server::Service::kMaxWorkers) +
+                        " entries. embree: one worker, one value")
         ->capture_default_str();
     return [args]() { return runServe(*args); };
 }

@@ -35,13 +35,29 @@ ServiceStatus checkJobId(const std::string& id) {
 
 }  // namespace
 
-Service::Service(const ServiceOptions& options, std::unique_ptr<JobRenderer> renderer)
-    : options_(options), renderer_(std::move(renderer)) {}
+Service::Service(const ServiceOptions& options) : options_(options) {}
 
 Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
                                                std::unique_ptr<JobRenderer> renderer) {
+    std::vector<std::unique_ptr<JobRenderer>> renderers;
+    renderers.push_back(std::move(renderer));
+    return open(options, std::move(renderers));
+}
+
+Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
+                                               std::vector<std::unique_ptr<JobRenderer>> renderers) {
     if (options.dataDir.empty()) return Status::error("a data folder is required");
-    std::unique_ptr<Service> service(new Service(options, std::move(renderer)));
+    if (renderers.empty() || renderers.size() > kMaxWorkers)
+        return Status::error("between 1 and " + std::to_string(kMaxWorkers) + " workers are possible, not " +
+                             std::to_string(renderers.size()));
+    std::unique_ptr<Service> service(new Service(options));
+    for (auto& renderer : renderers) {
+        auto worker = std::make_unique<Worker>();
+        worker->index = uint32_t(service->workers_.size());
+        worker->device = renderer->deviceDescription();
+        worker->renderer = std::move(renderer);
+        service->workers_.push_back(std::move(worker));
+    }
     auto objects = openFileObjectStore(options.dataDir);
     if (!objects) return objects.status();
     service->objects_ = std::move(*objects);
@@ -49,14 +65,16 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
     if (!stores) return stores.status();
     service->stores_ = *stores;
     VASTRAY_TRY(service->recoverJobs());
-    service->worker_ = std::thread([s = service.get()] { s->workerLoop(); });
+    for (auto& worker : service->workers_)
+        worker->thread = std::thread([s = service.get(), w = worker.get()] { s->workerLoop(*w); });
     service->importWorker_ = std::thread([s = service.get()] { s->importLoop(); });
     return service;
 }
 
 Service::~Service() {
     shutdown(std::chrono::hours(24));
-    if (worker_.joinable()) worker_.join();
+    for (auto& worker : workers_)
+        if (worker->thread.joinable()) worker->thread.join();
     if (importWorker_.joinable()) importWorker_.join();
 }
 
@@ -188,8 +206,9 @@ ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
             queue_.erase(it);
             break;
         }
-    if (runningId_ == job.id()) {
-        cancelRunning_ = true;
+    if (Worker* worker = runningWorkerLocked(job.id())) {
+        // Only this job's render stops; the other workers' jobs go on.
+        worker->cancel = true;
         metrics_.durationCancelled.observe(secondsBetween(job.start_time(), job.end_time()));
     }
     ++metrics_.jobsCancelled;
@@ -211,19 +230,21 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
         event.set_rays(job.stats().rays());
         event.set_device_bytes(job.stats().peak_device_bytes());
     }
-    if (job.id() == runningId_ && job.state() == v1::RUNNING) {
-        event.set_passes_done(published_.passesDone);
-        event.set_passes_total(published_.passesTotal);
-        event.set_chunk_loads(published_.chunkLoads);
-        event.set_rays(published_.rays);
-        event.set_device_bytes(published_.deviceBytes);
+    const Worker* worker = job.state() == v1::RUNNING ? runningWorkerLocked(job.id()) : nullptr;
+    if (worker) {
+        event.set_passes_done(worker->published.passesDone);
+        event.set_passes_total(worker->published.passesTotal);
+        event.set_chunk_loads(worker->published.chunkLoads);
+        event.set_rays(worker->published.rays);
+        event.set_device_bytes(worker->published.deviceBytes);
     }
     *event.mutable_time() = nowTimestamp();
     return event;
 }
 
 void Service::overlayLiveLocked(v1::Job& job) const {
-    if (job.id() == runningId_ && job.state() == v1::RUNNING) job.set_progress(livePercent_);
+    if (job.state() != v1::RUNNING) return;
+    if (const Worker* worker = runningWorkerLocked(job.id())) job.set_progress(worker->livePercent);
 }
 
 ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
@@ -295,7 +316,7 @@ ServiceResult<ResultFile> Service::resultFile(const std::string& jobId) {
 
 bool Service::ready() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return accepting_ && !workerStopped_;
+    return accepting_ && workersStopped_ == 0;
 }
 
 void Service::stopAccepting() {
@@ -309,20 +330,26 @@ void Service::stopAccepting() {
 
 bool Service::shutdown(std::chrono::milliseconds grace) {
     stopAccepting();
-    if (!worker_.joinable()) return true;  // open() failed before the worker started
+    // open() failed before the workers started
+    if (workers_.empty() || !workers_.front()->thread.joinable()) return true;
     std::unique_lock<std::mutex> lock(mutex_);
-    if (workerIdle_.wait_for(lock, grace, [&] { return workerStopped_; })) return true;
-    // Past the grace: ask the running job to stop; it stays RUNNING in the store and runs
+    if (workerIdle_.wait_for(lock, grace, [&] { return allWorkersStoppedLocked(); })) return true;
+    // Past the grace: ask every running job to stop; each stays RUNNING in the store and runs
     // again at the next start.
     shutdownCancel_ = true;
-    cancelRunning_ = true;
-    return workerIdle_.wait_for(lock, std::chrono::seconds(2), [&] { return workerStopped_; });
+    for (auto& worker : workers_) worker->cancel = true;
+    return workerIdle_.wait_for(lock, std::chrono::seconds(2), [&] { return allWorkersStoppedLocked(); });
 }
 
-std::string Service::jobLeftRunning() const {
+std::vector<std::string> Service::jobsLeftRunning() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!leftRunning_.empty()) return leftRunning_;
-    return workerStopped_ ? "" : runningId_;
+    std::vector<std::string> left = leftRunning_;
+    // A render that did not stop within shutdown()'s wait: its record still says RUNNING.
+    for (const auto& worker : workers_)
+        if (!worker->stopped && !worker->runningId.empty() &&
+            std::find(left.begin(), left.end(), worker->runningId) == left.end())
+            left.push_back(worker->runningId);
+    return left;
 }
 
 std::string Service::metricsText() {
@@ -330,8 +357,10 @@ std::string Service::metricsText() {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         queued = queue_.size();
-        running = runningId_.empty() ? 0 : 1;
+        for (const auto& worker : workers_) running += worker->runningId.empty() ? 0 : 1;
     }
+    uint64_t held = 0;
+    for (const auto& worker : workers_) held += worker->renderer->deviceBytesHeld();
     std::string text;
     auto add = [&text](const char* name, const char* type, const char* help, const std::string& value) {
         text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n" + name +
@@ -339,6 +368,9 @@ std::string Service::metricsText() {
     };
     add("vastray_jobs_queued", "gauge", "Jobs waiting to run.", std::to_string(queued));
     add("vastray_jobs_running", "gauge", "Jobs rendering now.", std::to_string(running));
+    add("vastray_workers", "gauge",
+        "Render workers (one per --gpu-device entry), each running one job at a time.",
+        std::to_string(workers_.size()));
     add("vastray_jobs_submitted_total", "counter", "New jobs accepted.",
         std::to_string(metrics_.jobsSubmitted));
     add("vastray_jobs_rejected_total", "counter", "Jobs refused because the queue was full.",
@@ -374,12 +406,12 @@ std::string Service::metricsText() {
         "and with the embree backend).",
         std::to_string(metrics_.peakDeviceBytes));
     add("vastray_device_memory_held_bytes", "gauge",
-        "Device memory the open scenes hold now (each pool is allocated when its scene opens); at most "
-        "the budget.",
-        std::to_string(renderer_->deviceBytesHeld()));
+        "Device memory the open scenes hold now, all workers together (each pool is allocated when its "
+        "scene opens); at most the budget times the workers.",
+        std::to_string(held));
     add("vastray_device_memory_budget_bytes", "gauge",
-        "Device memory pool (--memory-budget): the most one job may use, and the most the open scenes "
-        "hold together.",
+        "Device memory pool of each worker (--memory-budget): the most one job may use, and the most "
+        "one worker's open scenes hold together.",
         std::to_string(options_.memoryBudgetBytes));
     size_t imports = 0;
     {

@@ -1,7 +1,7 @@
-// The worker thread: takes the next job from the queue, renders it through the JobRenderer
-// and stores the image atomically (scratch file, then ObjectStore::put) before the job's
-// record says SUCCEEDED. A crash at any point leaves either no result and an unfinished
-// job (run again at the next start) or a whole result.
+// The worker threads (one per renderer): each takes the next job from the one queue, renders
+// it through its own JobRenderer and stores the image atomically (scratch file, then
+// ObjectStore::put) before the job's record says SUCCEEDED. A crash at any point leaves either
+// no result and an unfinished job (run again at the next start) or a whole result.
 
 #include <algorithm>
 #include <cstdio>
@@ -15,28 +15,36 @@
 
 namespace vastray::server {
 
-void Service::workerLoop() {
+void Service::workerLoop(Worker& worker) {
     std::unique_lock<std::mutex> lock(mutex_);
     while (true) {
         workAvailable_.wait(lock, [&] { return stopping_ || (!options_.paused && !queue_.empty()); });
         if (stopping_) break;
         const QueueEntry next = *queue_.begin();
         queue_.erase(queue_.begin());
-        runningId_ = next.id;
-        live_ = published_ = {};
-        livePercent_ = 0;
-        cancelRunning_ = false;
+        worker.runningId = next.id;
+        worker.live = worker.published = {};
+        worker.livePercent = 0;
+        worker.cancel = false;
         lock.unlock();
-        runJob(next.id);
+        runJob(worker, next.id);
         lock.lock();
-        runningId_.clear();
+        worker.runningId.clear();
         notifyChangeLocked();
     }
-    workerStopped_ = true;
+    worker.stopped = true;
+    ++workersStopped_;
     workerIdle_.notify_all();
 }
 
-void Service::runJob(const std::string& id) {
+Service::Worker* Service::runningWorkerLocked(const std::string& id) const {
+    if (id.empty()) return nullptr;
+    for (const auto& worker : workers_)
+        if (worker->runningId == id) return worker.get();
+    return nullptr;
+}
+
+void Service::runJob(Worker& worker, const std::string& id) {
     v1::Job job;
     {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -49,6 +57,9 @@ void Service::runJob(const std::string& id) {
         job.set_progress(0);
         job.clear_error();
         *job.mutable_start_time() = nowTimestamp();
+        // Which worker runs it is known (and stored) from the start: a RUNNING job says so.
+        job.mutable_stats()->set_worker(worker.index);
+        job.mutable_stats()->set_device(worker.device);
         metrics_.queueWait.observe(secondsBetween(job.create_time(), job.start_time()));
         if (Status updated = stores_.jobs->updateJob(job); !updated) {
             job.set_state(v1::FAILED);
@@ -57,13 +68,13 @@ void Service::runJob(const std::string& id) {
         notifyChangeLocked();
     }
     if (job.state() == v1::FAILED) return finishJob(job, internalError(job.error()));
-    finishJob(job, renderAndStoreGuarded(job));
+    finishJob(job, renderAndStoreGuarded(worker, job));
 }
 
 // An allocation failure anywhere in a job fails that job; the server and its other jobs go on.
-ServiceStatus Service::renderAndStoreGuarded(v1::Job& job) {
+ServiceStatus Service::renderAndStoreGuarded(Worker& worker, v1::Job& job) {
     try {
-        return renderAndStore(job);
+        return renderAndStore(worker, job);
     } catch (const std::bad_alloc&) {
         return {StatusCode::ResourceExhausted, "out of host memory while rendering"};
     } catch (const std::exception& e) {
@@ -71,7 +82,7 @@ ServiceStatus Service::renderAndStoreGuarded(v1::Job& job) {
     }
 }
 
-ServiceStatus Service::renderAndStore(v1::Job& job) {
+ServiceStatus Service::renderAndStore(Worker& worker, v1::Job& job) {
     auto options = renderOptionsOf(job.request());
     if (!options) return invalidArgument("request", options.message());
     if (Status memory = checkRenderHostMemory(*options, job.request().output_format() == "exr"); !memory)
@@ -80,10 +91,11 @@ ServiceStatus Service::renderAndStore(v1::Job& job) {
     if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
     JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes()};
     JobRenderStats stats;
-    auto image = renderer_->render(
-        request, [this](const JobRenderProgress& p) { onProgress(p); }, cancelRunning_, &stats);
+    auto image = worker.renderer->render(
+        request, [this, &worker](const JobRenderProgress& p) { onProgress(worker, p); }, worker.cancel,
+        &stats);
     v1::JobStats* out = job.mutable_stats();
-    out->set_backend(renderer_->name());
+    out->set_backend(worker.renderer->name());
     out->set_render_seconds(stats.render.renderSeconds);
     out->set_rays(stats.render.rays);
     out->set_triangles(stats.render.triangles);
@@ -93,7 +105,7 @@ ServiceStatus Service::renderAndStore(v1::Job& job) {
     out->set_memory_budget_bytes(request.memoryBudgetBytes);
     metrics_.chunkLoads += stats.chunkLoads;
     metrics_.notePeakDeviceBytes(stats.peakDeviceBytes);
-    if (cancelRunning_) return {StatusCode::Cancelled, "cancelled"};
+    if (worker.cancel) return {StatusCode::Cancelled, "cancelled"};
     if (!image) return {StatusCode::Internal, image.message()};
     metrics_.rays += stats.render.rays;
     metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
@@ -119,7 +131,7 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
         // Cancelled by a client (already recorded) or stopped by shutdown (stays RUNNING and
         // runs again at the next start): no result may remain.
         objects_->remove(resultKey(job));
-        if (!cancelled) leftRunning_ = job.id();
+        if (!cancelled) leftRunning_.push_back(job.id());
         return;
     }
     job.set_state(outcome.isOk() ? v1::SUCCEEDED : v1::FAILED);
@@ -141,26 +153,29 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
 // behind is merged, not taken whole). A change is published when the percent moves, when the
 // last pass ends, or when chunk loads moved and kLoadPublishInterval has passed since the last
 // publication (a cold render loads thousands of chunks; watchers need not wake for each).
-void Service::onProgress(const JobRenderProgress& progress) {
+void Service::onProgress(Worker& worker, const JobRenderProgress& progress) {
     std::lock_guard<std::mutex> lock(mutex_);
-    live_.passesTotal = std::max(live_.passesTotal, progress.passesTotal);
-    live_.passesDone = std::min(std::max(live_.passesDone, progress.passesDone), live_.passesTotal);
-    live_.chunkLoads = std::max(live_.chunkLoads, progress.chunkLoads);
-    live_.rays = std::max(live_.rays, progress.rays);
-    live_.deviceBytes = std::max(live_.deviceBytes, progress.deviceBytes);
-    const int percent = live_.passesTotal ? int(100 * live_.passesDone / live_.passesTotal) : 0;
+    JobRenderProgress& live = worker.live;
+    JobRenderProgress& published = worker.published;
+    live.passesTotal = std::max(live.passesTotal, progress.passesTotal);
+    live.passesDone = std::min(std::max(live.passesDone, progress.passesDone), live.passesTotal);
+    live.chunkLoads = std::max(live.chunkLoads, progress.chunkLoads);
+    live.rays = std::max(live.rays, progress.rays);
+    live.deviceBytes = std::max(live.deviceBytes, progress.deviceBytes);
+    const int percent = live.passesTotal ? int(100 * live.passesDone / live.passesTotal) : 0;
     const auto now = std::chrono::steady_clock::now();
-    const bool lastPass = live_.passesTotal > 0 && live_.passesDone == live_.passesTotal;
-    const bool passesMoved = live_.passesDone != published_.passesDone || live_.passesTotal != published_.passesTotal;
+    const bool lastPass = live.passesTotal > 0 && live.passesDone == live.passesTotal;
+    const bool passesMoved =
+        live.passesDone != published.passesDone || live.passesTotal != published.passesTotal;
     // Rays move with passes; device bytes are known from the first report on.
-    const bool loadsMoved = live_.chunkLoads != published_.chunkLoads || live_.rays != published_.rays ||
-                            live_.deviceBytes != published_.deviceBytes;
-    if (percent == livePercent_ && !(lastPass && (passesMoved || loadsMoved)) &&
-        !(loadsMoved && now - publishedAt_ >= kLoadPublishInterval))
+    const bool loadsMoved = live.chunkLoads != published.chunkLoads || live.rays != published.rays ||
+                            live.deviceBytes != published.deviceBytes;
+    if (percent == worker.livePercent && !(lastPass && (passesMoved || loadsMoved)) &&
+        !(loadsMoved && now - worker.publishedAt >= kLoadPublishInterval))
         return;
-    livePercent_ = percent;
-    published_ = live_;
-    publishedAt_ = now;
+    worker.livePercent = percent;
+    published = live;
+    worker.publishedAt = now;
     notifyChangeLocked();
 }
 

@@ -1,11 +1,12 @@
 // The streaming Vulkan renderer behind the JobRenderer seam. The device is opened once, when
 // the renderer is made (at server start). Scenes stay open after their jobs (device slots, host
 // chunk cache, residency), so a later job on an open scene and budget loads nothing again, also
-// when jobs alternate between scenes. Every open scene draws on two service-wide budgets: the
-// device pool (`serve --memory-budget`: the sum of the open scenes' device allocations stays
-// within it) and the host chunk cache (`--host-cache`: the sum of their host caches stays
-// within it; a scene's cache is sized to its decoded chunks when those are smaller). A scene
-// that does not fit beside the others closes the least recently used ones first.
+// when jobs alternate between scenes. Every open scene draws on two budgets of its renderer
+// (one renderer per service worker): the device pool (`serve --memory-budget`: the sum of the
+// open scenes' device allocations stays within it) and the host chunk cache (the worker's share
+// of `--host-cache`: the sum of their host caches stays within it; a scene's cache is sized to
+// its decoded chunks when those are smaller). A scene that does not fit beside the others
+// closes the least recently used ones first.
 #include <algorithm>
 #include <atomic>
 #include <memory>

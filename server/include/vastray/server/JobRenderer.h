@@ -5,8 +5,9 @@
 // to Service::open; nothing else in server/ knows which backend renders.
 //
 // Contract:
-//  - render() runs on the service's single worker thread, one job at a time; the renderer
-//    may use as many threads of its own as it likes.
+//  - render() runs on one worker thread of the service, one job at a time: each worker has
+//    a renderer of its own (`serve --gpu-device 0,1`: one per device). The renderer may use
+//    as many threads of its own as it likes.
 //  - `progress` may be called from any thread, as often as the backend likes; the service
 //    throttles what it stores and publishes. Each report carries every figure (passes and
 //    chunk loads so far); none goes back within one render.

@@ -3,9 +3,10 @@
 // exactly these calls: they translate requests, call one function, and map the
 // ServiceStatus at their boundary. Every function is thread-safe.
 //
-// Jobs run one at a time on a worker thread owned by the service, highest priority first
-// (equal priorities in submission order), through the JobRenderer given to open(). Import
-// jobs (asynchronous uploads) run one at a time on a second thread, in upload order.
+// Jobs run on worker threads owned by the service, one per JobRenderer given to open() (one
+// per `serve --gpu-device` entry), each worker one job at a time; all take from the one queue,
+// highest priority first (equal priorities in submission order). Import jobs (asynchronous
+// uploads) run one at a time on a further thread, in upload order.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -20,6 +21,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "vastray/server/JobRenderer.h"
 #include "vastray/server/Metrics.h"
@@ -32,8 +34,8 @@ namespace vastray::server {
 // Defaults are those of `vastray serve`; flags map one-to-one onto these fields.
 struct ServiceOptions {
     std::filesystem::path dataDir;             // required: jobs.db, scenes/, results/, tmp/
-    uint64_t memoryBudgetBytes = 4ull << 30;   // device memory one job may use (--memory-budget)
-    uint64_t hostCacheBytes = 2ull << 30;      // decoded scenes kept in host memory (--host-cache)
+    uint64_t memoryBudgetBytes = 4ull << 30;   // device memory one job may use, per worker (--memory-budget)
+    uint64_t hostCacheBytes = 2ull << 30;      // decoded scenes in host memory, all workers (--host-cache)
     uint32_t maxQueue = 1000;                  // QUEUED jobs; one more is RESOURCE_EXHAUSTED (--max-queue)
     uint64_t maxUploadBytes = 16ull << 30;     // one scene upload (--max-upload)
     uint64_t diskReserveBytes = 256ull << 20;  // an upload that would leave less free disk is refused
@@ -82,6 +84,11 @@ public:
     // or RUNNING when the last server stopped.
     static Result<std::unique_ptr<Service>> open(const ServiceOptions& options,
                                                  std::unique_ptr<JobRenderer> renderer);
+    // One worker per renderer (at least one, at most kMaxWorkers), in this order: worker i
+    // renders through renderers[i] and reports i in JobStats.worker.
+    static Result<std::unique_ptr<Service>> open(const ServiceOptions& options,
+                                                 std::vector<std::unique_ptr<JobRenderer>> renderers);
+    static constexpr size_t kMaxWorkers = 16;
     ~Service();
     Service(const Service&) = delete;
     Service& operator=(const Service&) = delete;
@@ -109,7 +116,7 @@ public:
     // the job did not render, or an unknown name, is INVALID_ARGUMENT naming `aov`.
     ServiceResult<std::string> resultPreviewPng(const std::string& jobId, const std::string& aov);
 
-    // Ready: stores open, worker running, not shutting down.
+    // Ready: stores open, workers running, not shutting down.
     bool ready() const;
     Metrics& metrics() { return metrics_; }
     const ServiceOptions& options() const { return options_; }
@@ -119,11 +126,12 @@ public:
     // Refuses new uploads and jobs, starts no further job and ends every watch (UNAVAILABLE).
     void stopAccepting();
     // stopAccepting(), then waits up to `grace` for the
-    // running one. Past the grace the running job is asked to stop; it stays RUNNING in the
-    // store and is re-run at the next start. True when the worker has stopped.
+    // running jobs (one per busy worker). Past the grace every running job is asked to stop; it
+    // stays RUNNING in the store and is re-run at the next start. True when every worker has
+    // stopped.
     bool shutdown(std::chrono::milliseconds grace);
-    // After shutdown(): the job left RUNNING for the next start ("" when none).
-    std::string jobLeftRunning() const;
+    // After shutdown(): the jobs left RUNNING for the next start (empty when none).
+    std::vector<std::string> jobsLeftRunning() const;
 
 private:
     friend class SceneUpload;
@@ -136,7 +144,23 @@ private:
         }
     };
 
-    Service(const ServiceOptions& options, std::unique_ptr<JobRenderer> renderer);
+    // One render worker: a thread with its own renderer (its own device and pool). Its job
+    // fields are guarded by Service::mutex_.
+    struct Worker {
+        uint32_t index = 0;
+        std::unique_ptr<JobRenderer> renderer;
+        std::string device;  // renderer->deviceDescription(), for JobStats.device
+        std::thread thread;
+        std::string runningId;
+        // The running job's progress: the latest figures, and those last published to watchers.
+        JobRenderProgress live, published;
+        std::chrono::steady_clock::time_point publishedAt;
+        int livePercent = 0;
+        std::atomic<bool> cancel{false};
+        bool stopped = false;
+    };
+
+    explicit Service(const ServiceOptions& options);
     Status recoverJobs();
     ServiceResult<v1::Scene> storeUpload(const std::string& name, const std::filesystem::path& file,
                                          const std::string& digest, uint64_t bytes);
@@ -152,12 +176,15 @@ private:
     // "" or " (job ID is importing it)" for a scene id being imported.
     std::string importNoteLocked(const std::string& sceneId) const;
 
-    void workerLoop();
-    void runJob(const std::string& id);
-    ServiceStatus renderAndStore(v1::Job& job);
-    ServiceStatus renderAndStoreGuarded(v1::Job& job);
+    void workerLoop(Worker& worker);
+    void runJob(Worker& worker, const std::string& id);
+    ServiceStatus renderAndStore(Worker& worker, v1::Job& job);
+    ServiceStatus renderAndStoreGuarded(Worker& worker, v1::Job& job);
     void finishJob(v1::Job job, const ServiceStatus& outcome);
-    void onProgress(const JobRenderProgress& progress);
+    void onProgress(Worker& worker, const JobRenderProgress& progress);
+    // The worker rendering job `id` now, or nullptr.
+    Worker* runningWorkerLocked(const std::string& id) const;
+    bool allWorkersStoppedLocked() const { return workersStopped_ == workers_.size(); }
     void notifyChangeLocked() {
         ++changeCounter_;
         changed_.notify_all();
@@ -166,26 +193,21 @@ private:
     void overlayLiveLocked(v1::Job& job) const;
 
     ServiceOptions options_;
-    std::unique_ptr<JobRenderer> renderer_;
+    std::vector<std::unique_ptr<Worker>> workers_;
     std::unique_ptr<ObjectStore> objects_;
     MetadataStores stores_;
     Metrics metrics_;
 
-    mutable std::mutex mutex_;  // queue, running job, state transitions in the store
+    mutable std::mutex mutex_;  // queue, running jobs, state transitions in the store
     std::mutex importMutex_;    // one import at a time (imports use every core)
     std::condition_variable workAvailable_, changed_, workerIdle_;
     std::set<QueueEntry> queue_;
     uint64_t nextOrder_ = 0;
     uint64_t changeCounter_ = 0;
-    std::string runningId_, leftRunning_;
-    // The running job's progress: the latest figures, and those last published to watchers.
-    JobRenderProgress live_, published_;
-    std::chrono::steady_clock::time_point publishedAt_;
+    std::vector<std::string> leftRunning_;
     static constexpr auto kLoadPublishInterval = std::chrono::milliseconds(100);
-    int livePercent_ = 0;
-    std::atomic<bool> cancelRunning_{false};
-    bool stopping_ = false, accepting_ = true, workerStopped_ = false, shutdownCancel_ = false;
-    std::thread worker_;
+    size_t workersStopped_ = 0;
+    bool stopping_ = false, accepting_ = true, shutdownCancel_ = false;
     // Import jobs: queued (job id, the upload's file), and the scene ids being imported (queued
     // or running) -> their job.
     std::deque<std::pair<std::string, std::filesystem::path>> importQueue_;
