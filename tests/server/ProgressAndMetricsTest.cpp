@@ -20,21 +20,6 @@ uint64_t u64(const json& value) { return value.is_string() ? std::stoull(value.g
 // A uint64 field of an event, 0 when the JSON leaves it out.
 uint64_t field(const json& event, const char* name) { return event.contains(name) ? u64(event[name]) : 0; }
 
-// The data of every SSE block of GET /v1/jobs/ID/events, in order.
-std::vector<json> watchEvents(const httplib::Client& constClient, const std::string& jobId) {
-    httplib::Client& client = const_cast<httplib::Client&>(constClient);
-    std::string stream;
-    auto res = client.Get(("/v1/jobs/" + jobId + "/events").c_str(), [&](const char* data, size_t size) {
-        stream.append(data, size);
-        return true;
-    });
-    EXPECT_TRUE(res && res->status == 200);
-    std::vector<json> events;
-    for (size_t at = stream.find("data: "); at != std::string::npos; at = stream.find("data: ", at + 1))
-        events.push_back(json::parse(stream.substr(at + 6, stream.find('\n', at) - at - 6)));
-    return events;
-}
-
 class ProgressTest : public ServerTest, public ::testing::WithParamInterface<const char*> {};
 
 // A job queued behind another on a different scene, watched from QUEUED to SUCCEEDED at a

@@ -5,6 +5,8 @@
 #include <httplib.h>
 
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "CommandRunner.h"
 #include "ServerProcess.h"
@@ -100,6 +102,21 @@ protected:
 };
 
 // A small job: 32x32, 2 spp, the sphere framed by the default camera.
+// The data of every SSE block of GET /v1/jobs/ID/events, in order (the stream ends after the
+// job's final state).
+inline std::vector<json> watchEvents(httplib::Client client, const std::string& jobId) {
+    std::string stream;
+    auto res = client.Get(("/v1/jobs/" + jobId + "/events").c_str(), [&](const char* data, size_t size) {
+        stream.append(data, size);
+        return true;
+    });
+    EXPECT_TRUE(res && res->status == 200);
+    std::vector<json> events;
+    for (size_t at = stream.find("data: "); at != std::string::npos; at = stream.find("data: ", at + 1))
+        events.push_back(json::parse(stream.substr(at + 6, stream.find('\n', at) - at - 6)));
+    return events;
+}
+
 inline json smallJob(const std::string& sceneId) {
     return {{"scene_id", sceneId}, {"width", 32}, {"height", 32}, {"spp", 2}};
 }

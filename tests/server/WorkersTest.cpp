@@ -32,20 +32,11 @@ google::protobuf::Timestamp timeOf(const json& job, const char* field) {
     return t;
 }
 
-// The data of every SSE block of GET /v1/jobs/ID/events, in order.
-std::vector<json> watchEvents(int httpPort, const std::string& jobId) {
+// Events of a job over a client of its own (the watches run on two threads at once).
+std::vector<json> watchEventsOn(int httpPort, const std::string& jobId) {
     httplib::Client client("127.0.0.1", httpPort);
     client.set_read_timeout(120, 0);
-    std::string stream;
-    auto res = client.Get(("/v1/jobs/" + jobId + "/events").c_str(), [&](const char* data, size_t size) {
-        stream.append(data, size);
-        return true;
-    });
-    EXPECT_TRUE(res && res->status == 200);
-    std::vector<json> events;
-    for (size_t at = stream.find("data: "); at != std::string::npos; at = stream.find("data: ", at + 1))
-        events.push_back(json::parse(stream.substr(at + 6, stream.find('\n', at) - at - 6)));
-    return events;
+    return watchEvents(std::move(client), jobId);
 }
 
 class WorkersTest : public ServerTest {
@@ -88,8 +79,8 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
     const std::string a = submitId(slowJob(sceneId, 1)), b = submitId(slowJob(sceneId, 2));
     // Both jobs watched from the start: each stream's progress is its own job's.
     std::vector<json> eventsA, eventsB;
-    std::thread watchA([&] { eventsA = watchEvents(server_.httpPort(), a); });
-    std::thread watchB([&] { eventsB = watchEvents(server_.httpPort(), b); });
+    std::thread watchA([&] { eventsA = watchEventsOn(server_.httpPort(), a); });
+    std::thread watchB([&] { eventsB = watchEventsOn(server_.httpPort(), b); });
     const bool together = waitUntilBothRunning(a, b);
     const json doneA = waitForState(a, "SUCCEEDED"), doneB = waitForState(b, "SUCCEEDED");
     watchA.join();
