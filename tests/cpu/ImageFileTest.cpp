@@ -66,6 +66,27 @@ TEST(ImageFile, PngRefusesAovs) {
     EXPECT_TRUE(writeImageFile(test::tmpPath("beauty.png"), gradientImage(kAovNone)));
 }
 
+// A partly covered pixel keeps its displayed colour: OIIO divided it by alpha on write (an
+// edge pixel at alpha 0.25 came out 4x too bright, clipped).
+TEST(ImageFile, PngStoresTheDisplayedColourOfPartlyCoveredPixels) {
+    RenderImage image = gradientImage(kAovNone);
+    for (uint32_t p = 0; p < image.pixelCount(); ++p) image.alpha[p] = float(p % 4 + 1) / 4.0f;
+    const std::string path = test::tmpPath("alpha.png");
+    ASSERT_TRUE(writeImageFile(path, image));
+    auto stored = readStoredImage(path);
+    ASSERT_TRUE(stored.isOk()) << stored.message();
+    ASSERT_EQ(stored->pixels.size(), image.pixelCount() * 4);
+    auto channels = readImageChannels(path, {"R", "A"});
+    ASSERT_TRUE(channels.isOk()) << channels.message();
+    for (uint32_t p = 0; p < image.pixelCount(); ++p) {
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(stored->pixels[4 * p + c], uint8_t(std::lround(255.0f * toneMapToDisplay(image.rgb[3 * p + c]))))
+                << "pixel " << p << " alpha " << image.alpha[p];
+        EXPECT_EQ(stored->pixels[4 * p + 3], uint8_t(std::lround(255.0f * image.alpha[p])));
+        EXPECT_NEAR(channels->planes[0][p], toneMapToDisplay(image.rgb[3 * p]), 0.5f / 255.0f) << "read back as stored";
+    }
+}
+
 TEST(ImageFile, ToneMapIsMonotoneAndBounded) {
     EXPECT_EQ(toneMapToDisplay(0.0f), 0.0f);
     EXPECT_EQ(toneMapToDisplay(-1.0f), 0.0f);

@@ -18,7 +18,9 @@ struct OpenedImage {
 };
 
 Result<OpenedImage> openImage(const std::string& path) {
-    auto input = OIIO::ImageInput::open(path);
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);  // PNG: the stored colours, not multiplied by alpha
+    auto input = OIIO::ImageInput::open(path, &config);
     if (!input) return Status::error(path + ": cannot read: " + OIIO::geterror());
     OIIO::ImageSpec spec = input->spec();
     return OpenedImage{std::move(input), std::move(spec)};

@@ -33,6 +33,10 @@ Status writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
 OIIO::ImageSpec rgba8PngSpec(uint32_t width, uint32_t height) {
     OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
+    // The colours are the displayed ones, not multiplied by alpha: without this OIIO divided
+    // them by alpha (PNG stores unassociated alpha), so partly covered edge pixels came out
+    // too bright, often clipped to 255.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     return spec;
 }
 
