@@ -54,11 +54,6 @@ bool isModelFile(const fs::path& path) {
     return ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb" || assimpReads(path.string());
 }
 
-std::string assimpFormatList() {
-    std::string list;
-    for (const char* format : kAssimpFormats) list += std::string(list.empty() ? "" : ", ") + "." + format;
-    return list;
-}
 
 // Imports the mesh file `mesh` into the scene package `package`, adding the importer's
 // warnings to `warnings`. Importer messages name scratch paths: each `renames` pair (scratch

@@ -113,17 +113,21 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     return Status::ok();
 }
 
+std::string assimpFormatList() {
+    std::string list;
+    for (const char* format : kAssimpFormats) list += std::string(list.empty() ? "" : ", ") + "." + format;
+    return list;
+}
+
 Result<ImportedMesh> importMesh(const std::string& path, const ImportOptions& options) {
     const std::string ext = import::lowerExtension(path);
     if (ext == "obj") return importObj(path, options);
     if (ext == "ply") return importPly(path, options);
     if (ext == "gltf" || ext == "glb") return importGltf(path, options);
     if (assimpReads(path)) return importWithAssimp(path, options);
-    std::string supported = ".obj, .ply, .gltf, .glb";
-    for (const char* format : kAssimpFormats) supported += std::string(", .") + format;
     return import::errorIn(import::fileNameOf(path),
                            "unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : "." + ext) +
-                               "' (supported: " + supported + ")");
+                               "' (supported: .obj, .ply, .gltf, .glb, " + assimpFormatList() + ")");
 }
 
 }  // namespace vastray

@@ -64,6 +64,8 @@ Result<ImportedMesh> importPly(const std::string& path, const ImportOptions& opt
 Result<ImportedMesh> importGltf(const std::string& path, const ImportOptions& options = {});
 Result<ImportedMesh> importWithAssimp(const std::string& path, const ImportOptions& options = {});
 bool assimpReads(const std::string& path);  // extension in kAssimpFormats
+// ".stl, .off, ..." (kAssimpFormats), for messages that list what is read.
+std::string assimpFormatList();
 
 // Shared last step of every importer: rejects NaN/Inf positions and out-of-range indices,
 // drops degenerate triangles (counted in report), guarantees at least one material and
