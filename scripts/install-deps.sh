@@ -64,7 +64,10 @@ else
   echo "install-deps: installing openapi-spec-validator $OPENAPI_VALIDATOR_VERSION into $OPENAPI_VENV"
   # Debian's python3 (not whichever python3 comes first on PATH), for a venv that outlives shells.
   $sudo mkdir -p "$(dirname "$OPENAPI_VENV")"
-  $sudo /usr/bin/python3 -m venv --clear "$OPENAPI_VENV"
+  # Removed first, not `venv --clear`: an install interrupted half-way (pip still writing
+  # __pycache__) made --clear fail with "Directory not empty".
+  $sudo rm -rf "$OPENAPI_VENV"
+  $sudo /usr/bin/python3 -m venv "$OPENAPI_VENV"
   $sudo "$OPENAPI_VENV/bin/pip" install -q --disable-pip-version-check \
     "openapi-spec-validator==$OPENAPI_VALIDATOR_VERSION"
 fi

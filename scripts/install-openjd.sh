@@ -28,6 +28,9 @@ fi
 echo "install-openjd: installing openjd-cli $OPENJD_CLI_VERSION into $OPENJD_VENV"
 # Debian's python3 (not whichever python3 comes first on PATH), for a venv that outlives shells.
 $sudo mkdir -p "$(dirname "$OPENJD_VENV")"
-$sudo /usr/bin/python3 -m venv --clear "$OPENJD_VENV"
+# Removed first, not `venv --clear`: an install interrupted half-way (pip still writing
+# __pycache__) made --clear fail with "Directory not empty".
+$sudo rm -rf "$OPENJD_VENV"
+$sudo /usr/bin/python3 -m venv "$OPENJD_VENV"
 $sudo "$OPENJD_VENV/bin/pip" install -q --disable-pip-version-check "openjd-cli==$OPENJD_CLI_VERSION" \
   "openjd-sessions==$OPENJD_SESSIONS_VERSION" "openjd-model==$OPENJD_MODEL_VERSION"
