@@ -13,6 +13,8 @@
 //                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
+//                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
+//                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -55,7 +57,8 @@ struct Args {
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
     Vec3f eye, target;
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
-    StreamingOptions streaming;  // --max-paths-per-wave
+    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-prefetch-scene
+    double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -101,7 +104,11 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
-        else if (flag == "--max-paths-per-wave") {
+        else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
+        else if (flag == "--wave-share") {
+            a.waveShare = std::stod(value());
+            if (!(a.waveShare > 0 && a.waveShare < 1)) fail("--wave-share must be in (0, 1)");
+        } else if (flag == "--max-paths-per-wave") {
             a.streaming.maxPathsPerWave = uint32_t(std::stoul(value()));
             if (a.streaming.maxPathsPerWave == 0) fail("--max-paths-per-wave must be >= 1");
         }
@@ -197,7 +204,7 @@ int main(int argc, char** argv) {
             auto image = renderStreaming(
                 **reader, o, args.streaming,
                 [&](const PackageInfo& p, const ChunkAttributes& a) {
-                    return gpu::createVulkanChunkBackend(**device, p, a, budget);
+                    return gpu::createVulkanChunkBackend(**device, p, a, budget, args.waveShare);
                 },
                 &row.render, &row.streaming);
             if (!image) fail(label + ": " + image.message());

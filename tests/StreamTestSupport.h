@@ -35,12 +35,13 @@ inline gpu::VulkanDevice& sharedVulkanDevice() {
 // One streaming render of a package through the Vulkan backend with this budget.
 inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options, uint64_t budget,
                                         StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21,
-                                        bool overlapLoads = true) {
+                                        bool overlapLoads = true, bool prefetchScene = true) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;
     streaming.maxPathsPerWave = maxPathsPerWave;
     streaming.overlapLoads = overlapLoads;
+    streaming.prefetchScene = prefetchScene;
     StreamingStats local;
     StreamingStats& s = stats ? *stats : local;
     s.memoryBudgetBytes = budget;

@@ -209,7 +209,10 @@ private:
 }  // namespace
 
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
-                          bool outputInDeviceMemory) {
+                          bool outputInDeviceMemory, double waveShareOutOfCore) {
+    if (!(waveShareOutOfCore > 0 && waveShareOutOfCore < 1))
+        return Status::error("the wave's share of an out-of-core budget must be in (0, 1), not " +
+                             std::to_string(waveShareOutOfCore));
     PoolPlan plan;
     plan.outputInDeviceMemory = outputInDeviceMemory;
     auto batchBytes = [outputInDeviceMemory](uint64_t paths) { return gpu::batchBytes(paths, outputInDeviceMemory); };
@@ -229,11 +232,11 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                              " plus tables of " + formatBytes(tableBytes(1)) + ")");
     // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for
     // slots; slots beyond the chunk count are useless, so what they would take goes back to the
-    // wave. When the slots cannot hold every chunk, the wave gets half: every wave pages the
-    // scene through the slots again, so out of core fewer, larger waves mean fewer loads, and
-    // fewer slots only mean more walk passes per stream (PERF_NOTES 25).
-    auto split = [&](uint64_t share, uint64_t& rays, uint64_t& slots) {
-        rays = std::clamp<uint64_t>(budget / share / kRayBytes, kMinBatchRays, kMaxBatchRays);
+    // wave. When the slots cannot hold every chunk, the wave gets waveShareOutOfCore (half by
+    // default): every wave pages the scene through the slots again, so out of core fewer, larger
+    // waves mean fewer loads, and fewer slots only mean more walk passes per stream (PERF_NOTES 25).
+    auto split = [&](double share, uint64_t& rays, uint64_t& slots) {
+        rays = std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, kMaxBatchRays);
         while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
         rays = std::max<uint64_t>(rays, kMinBatchRays);
         const uint64_t available = budget - batchBytes(rays);  // >= one slot and a one-slot table
@@ -242,8 +245,8 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         slots = std::min<uint64_t>(slots, chunks);
     };
     uint64_t rays = 0, slots = 0;
-    split(4, rays, slots);
-    if (slots < chunks) split(2, rays, slots);
+    split(0.25, rays, slots);
+    if (slots < chunks) split(waveShareOutOfCore, rays, slots);
     const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
     while (rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);
@@ -255,8 +258,9 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
 }
 
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
-                                                               const ChunkAttributes& attributes, uint64_t budget) {
-    auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory());
+                                                               const ChunkAttributes& attributes, uint64_t budget,
+                                                               double waveShareOutOfCore) {
+    auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore);
     if (!plan) return plan.status();
     auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes);
     VASTRAY_TRY(backend->init(package));

@@ -178,6 +178,12 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
     ASSERT_TRUE(c) << c.message();
     expectIdentical(*a, *c, false);
     EXPECT_GT(between.chunkLoads, between.chunksTouched);
+    // Decoding chunks only when rays reach them (no scene prefetch): the same image too.
+    StreamingStats onDemand;
+    auto d = renderVulkan(path, o, tight, &onDemand, 1u << 21, true, false);
+    ASSERT_TRUE(d) << d.message();
+    expectIdentical(*a, *d, false);
+    EXPECT_EQ(onDemand.chunksTouched, small.chunksTouched);
     EXPECT_EQ(small.slots, 2u);
     EXPECT_GT(small.chunkLoads, small.chunksTouched) << "two slots should have forced reloads";
     EXPECT_EQ(ample.chunkLoads, ample.chunksTouched) << "a scene that fits loads each chunk once";
@@ -238,9 +244,35 @@ TEST(StreamingRender, HostCacheAvoidsSecondDecodes) {
     const RenderOptions o = smallRender();
     const uint64_t tight = budgetForSlots(path, 2, o.aovs);
     StreamingStats s;
-    auto image = renderVulkan(path, o, tight, &s);
+    auto image = renderVulkan(path, o, tight, &s, 1u << 21, true, false);
     ASSERT_TRUE(image) << image.message();
-    EXPECT_EQ(s.decodes, s.chunksTouched) << "the 1 GiB default host cache holds every chunk";
+    EXPECT_EQ(s.decodes, s.chunksTouched) << "the default host cache holds every chunk";
+    // With the scene prefetch (the default), chunks no ray reaches may be decoded too, but no
+    // chunk twice.
+    StreamingStats p;
+    auto prefetched = renderVulkan(path, o, tight, &p);
+    ASSERT_TRUE(prefetched) << prefetched.message();
+    EXPECT_LE(p.decodes, p.chunksTotal);
+}
+
+TEST(StreamingRender, WaveShareSplitsAnOutOfCoreBudget) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageInfo& info = (*reader)->info();
+    const uint64_t budget = budgetForSlots(path, 4, smallRender().aovs);
+    auto half = gpu::planPool(info, ChunkAttributes{}, budget);
+    auto quarter = gpu::planPool(info, ChunkAttributes{}, budget, true, 0.25);
+    ASSERT_TRUE(half && quarter);
+    ASSERT_LT(half->slots, info.chunks.size()) << "the test needs an out-of-core budget";
+    EXPECT_GT(quarter->slots, half->slots);
+    EXPECT_LT(quarter->batchRays, half->batchRays);
+    EXPECT_LE(quarter->totalBytes, budget);
+    for (double bad : {0.0, 1.0, -0.5, std::nan("")}) {
+        auto refused = gpu::planPool(info, ChunkAttributes{}, budget, true, bad);
+        ASSERT_FALSE(refused) << bad;
+        EXPECT_NE(refused.message().find("share"), std::string::npos) << refused.message();
+    }
 }
 
 void expectAgreesWithEmbree(const std::string& name, const std::string& path, double minAgreement = 0.9999,

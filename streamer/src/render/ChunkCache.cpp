@@ -1,5 +1,6 @@
 #include "render/ChunkCache.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace vastray {
@@ -21,10 +22,12 @@ ChunkCache::~ChunkCache() {
 void ChunkCache::workerLoop() {
     for (;;) {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-        if (queue_.empty()) return;  // stopping, nothing left
-        auto [id, promise] = std::move(queue_.front());
-        queue_.pop_front();
+        wake_.wait(lock, [this] { return stopping_ || !queue_.empty() || !background_.empty(); });
+        if (stopping_) return;  // speculative or not, nobody waits for the rest once the cache goes
+        std::deque<Job>& from = !queue_.empty() ? queue_ : background_;
+        auto [id, promise] = std::move(from.front());
+        from.pop_front();
+        if (auto it = entries_.find(id); it != entries_.end()) it->second.background = false;
         lock.unlock();
 
         const auto start = std::chrono::steady_clock::now();
@@ -56,18 +59,28 @@ void ChunkCache::workerLoop() {
     }
 }
 
-ChunkCache::Decoded ChunkCache::startLocked(uint32_t id) {
+ChunkCache::Decoded ChunkCache::startLocked(uint32_t id, bool background) {
     auto it = entries_.find(id);
     if (it != entries_.end()) {
         it->second.lastUse = ++tick_;
+        if (it->second.background && !background) {  // wanted now: to the front of the queue
+            auto job = std::find_if(background_.begin(), background_.end(), [&](const Job& j) { return j.first == id; });
+            if (job != background_.end()) {
+                queue_.push_front(std::move(*job));
+                background_.erase(job);
+                wake_.notify_one();
+            }
+            it->second.background = false;
+        }
         return it->second.decoded;
     }
     auto promise = std::make_shared<std::promise<Result<ChunkHandle>>>();
     Entry entry;
     entry.decoded = promise->get_future().share();
     entry.lastUse = ++tick_;
+    entry.background = background;
     entries_.emplace(id, entry);
-    queue_.emplace_back(id, std::move(promise));
+    (background ? background_ : queue_).emplace_back(id, std::move(promise));
     wake_.notify_one();
     return entry.decoded;
 }
@@ -75,7 +88,21 @@ ChunkCache::Decoded ChunkCache::startLocked(uint32_t id) {
 void ChunkCache::prefetch(uint32_t id) {
     if (id >= reader_.info().chunks.size()) return;
     std::lock_guard<std::mutex> lock(mutex_);
-    startLocked(id);
+    startLocked(id, false);
+}
+
+void ChunkCache::prefetchBackground(uint32_t id) {
+    if (id >= reader_.info().chunks.size()) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    startLocked(id, true);
+}
+
+uint64_t ChunkCache::unusedBytes() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    uint64_t total = 0;
+    for (const auto& [id, e] : entries_)
+        if (!e.used) total += reader_.info().chunks[id].residentBytes;
+    return total;
 }
 
 Result<ChunkHandle> ChunkCache::get(uint32_t id) {
@@ -84,7 +111,7 @@ Result<ChunkHandle> ChunkCache::get(uint32_t id) {
     Decoded decoded;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        decoded = startLocked(id);
+        decoded = startLocked(id, false);
     }
     Result<ChunkHandle> out = decoded.get();
     std::lock_guard<std::mutex> lock(mutex_);

@@ -1,7 +1,9 @@
 #pragma once
 // Decoded chunks on the host: read + decode on worker threads (so decoding overlaps the GPU's
 // tracing), kept in an LRU cache bounded in bytes so that a chunk evicted from the device and
-// needed again in the same job is not decoded twice while it fits.
+// needed again in the same job is not decoded twice while it fits. Two queues: chunks asked for
+// now (prefetch, get) are decoded before speculative ones (prefetchBackground), and a get() of a
+// chunk still waiting in the background queue moves it to the front.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -29,6 +31,12 @@ public:
 
     // Starts decoding the chunk on a worker unless it is cached or in flight.
     void prefetch(uint32_t id);
+    // The same, behind every chunk asked for by prefetch() or get(): for chunks a render will
+    // probably need later. Speculative chunks are kept until their first get(), so the caller
+    // bounds their bytes (see prefetchForRender).
+    void prefetchBackground(uint32_t id);
+    // Bytes of the chunks decoded or in flight that no get() has used yet.
+    uint64_t unusedBytes() const;
     // The decoded chunk (waits for its decode; decodes it now when nobody asked before).
     // A corrupt chunk is an error naming the package and the chunk.
     Result<ChunkHandle> get(uint32_t id);
@@ -45,8 +53,10 @@ private:
         uint64_t bytes = 0;  // once decoded
         uint64_t lastUse = 0;
         bool used = false;  // prefetched chunks are kept until their first get()
+        bool background = false;  // waiting in background_, not started
     };
-    Decoded startLocked(uint32_t id);
+    using Job = std::pair<uint32_t, std::shared_ptr<std::promise<Result<ChunkHandle>>>>;
+    Decoded startLocked(uint32_t id, bool background);
     void workerLoop();
     void trimLocked();
 
@@ -54,7 +64,8 @@ private:
     const uint64_t capacity_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
-    std::deque<std::pair<uint32_t, std::shared_ptr<std::promise<Result<ChunkHandle>>>>> queue_;
+    std::deque<Job> queue_;       // asked for now
+    std::deque<Job> background_;  // speculative: taken when queue_ is empty
     std::unordered_map<uint32_t, Entry> entries_;
     std::vector<std::thread> threads_;
     bool stopping_ = false;

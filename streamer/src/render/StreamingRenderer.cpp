@@ -24,6 +24,30 @@ double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Out of core, queues the chunks for decoding in the background, nearest the eye first, as many
+// as the host cache holds (with what it holds already): the first wave's rays mostly wait for
+// the nearest ones, and each later load then finds its chunk decoded (PERF_NOTES 43).
+void prefetchForRender(const PackageInfo& info, ChunkCache& cache, const Vec3f& eye) {
+    std::vector<std::pair<float, uint32_t>> order;
+    order.reserve(info.chunks.size());
+    for (const ChunkInfo& c : info.chunks) {
+        float d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            const float below = c.cell.lo[a] - eye[a], above = eye[a] - c.cell.hi[a];
+            const float d = std::max({below, above, 0.0f});
+            d2 += d * d;
+        }
+        order.emplace_back(d2, c.id);
+    }
+    std::sort(order.begin(), order.end());
+    uint64_t bytes = 0;
+    for (const auto& [d2, id] : order) {
+        bytes += info.chunks[id].residentBytes;
+        if (bytes > cache.capacity()) break;
+        cache.prefetchBackground(id);
+    }
+}
+
 }  // namespace
 
 struct StreamingScene::State {
@@ -110,6 +134,8 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     image.placeInFrame(bounds.x0, bounds.y0, options.width, options.height);
     const Clock::time_point start = Clock::now();
     st.pager->beginRender();
+    if (st.options.prefetchScene && st.backend->slotCount() < info.chunks.size())
+        prefetchForRender(info, *st.cache, camera.eye);
     DeviceRenderJob job;
     job.options = &options;
     job.camera = camera;

@@ -163,5 +163,26 @@ TEST_F(DemandPagerTest, EvictsChunksNoRayReachesLaterFirst) {
     EXPECT_NE(p->chunkSlots()[3], kEmptyCell);
 }
 
+// Chunks queued in the background decode once each, a get() of one still queued is served (it
+// moves to the front), and each decoded chunk is the one asked for.
+TEST_F(DemandPagerTest, BackgroundPrefetchDecodesEachChunkOnceAndGetStillServes) {
+    const uint32_t chunks = uint32_t(reader_->info().chunks.size());
+    ChunkCache cache(*reader_, 1ull << 30, 1);
+    for (uint32_t c = 0; c < chunks; ++c) cache.prefetchBackground(c);
+    EXPECT_GT(cache.unusedBytes(), 0u);
+    auto last = cache.get(chunks - 1);
+    ASSERT_TRUE(last) << last.message();
+    EXPECT_EQ((*last)->id, chunks - 1);
+    for (uint32_t c = 0; c < chunks; ++c) {
+        auto got = cache.get(c);
+        ASSERT_TRUE(got) << got.message();
+        EXPECT_EQ((*got)->id, c);
+    }
+    EXPECT_EQ(cache.decodes(), chunks) << "a chunk queued twice (background, then wanted) decodes once";
+    EXPECT_EQ(cache.unusedBytes(), 0u);
+    cache.prefetchBackground(0);  // cached already: nothing to do
+    EXPECT_EQ(cache.decodes(), chunks);
+}
+
 }  // namespace
 }  // namespace vastray::test

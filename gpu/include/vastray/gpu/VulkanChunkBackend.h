@@ -40,11 +40,15 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 // in host-cached memory: in system memory on a discrete GPU, where they do not count against
 // the device budget (outputInDeviceMemory false), in the one memory of lavapipe or an
 // integrated GPU, where they do (true; also the conservative answer when the device is unknown).
+// When the slots cannot hold every chunk, the wave gets waveShareOutOfCore of the budget (in
+// (0, 1); the default, half, is PERF_NOTES 25's measured choice).
+constexpr double kWaveShareOutOfCore = 0.5;
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
-                          bool outputInDeviceMemory = true);
+                          bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore);
 
 // device must outlive the backend. Every buffer is allocated here, once.
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
-                                                               const ChunkAttributes& attributes, uint64_t budget);
+                                                               const ChunkAttributes& attributes, uint64_t budget,
+                                                               double waveShareOutOfCore = kWaveShareOutOfCore);
 
 }  // namespace vastray::gpu

@@ -130,6 +130,10 @@ struct StreamingOptions {
     // Out of core, chunks are loaded while the device walks the next paging step (they serve the
     // step after it); false: between steps, the device idle meanwhile (for comparisons).
     bool overlapLoads = true;
+    // Out of core, every chunk the host cache can hold is queued for decoding when a render
+    // starts, nearest the camera first, behind the chunks rays wait for: a later load then
+    // finds its chunk decoded instead of waiting for it (false: decode on demand only).
+    bool prefetchScene = true;
     uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one (two on two cores)
 };
 
