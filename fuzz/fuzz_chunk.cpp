@@ -1,4 +1,4 @@
-// Fuzzes the chunk decoder (Draco or meshopt geometry, ids, KD-tree) behind its checksum: the
+// Fuzzes the chunk decoder (Draco or meshopt geometry, ids, BVH) behind its checksum: the
 // directory entry is taken from the blob's own counts so that inputs get past the count check,
 // as a package whose checksums were recomputed would.
 #include <cstring>
@@ -8,12 +8,10 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 25) return 0;
     vastray::ChunkInfo info;
-    uint32_t counts[4];
-    std::memcpy(counts, data + 12, sizeof counts);  // after magic, version, triangle count
+    // The chunk header (ChunkBlob.cpp): magic, version, triangles, vertices, BVH nodes, ...
     std::memcpy(&info.triangleCount, data + 8, 4);
-    info.vertexCount = counts[0];
-    info.kdNodeCount = counts[1];
-    info.kdRefCount = counts[2];
+    std::memcpy(&info.vertexCount, data + 12, 4);
+    std::memcpy(&info.bvhNodeCount, data + 16, 4);
     vastray::QuantizationGrid grid;
     grid.bits = data[size - 1] % 2 ? 0 : 20;  // lossless or quantized positions
     const std::vector<uint8_t> blob(data, data + size - 1);

@@ -119,11 +119,16 @@ Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossles
         std::vector<int32_t> low;
         if (!readAttribute(*mesh, mesh->GetNamedAttribute(draco::GeometryAttribute::GENERIC), draco::DT_INT32, low))
             return Status::error("Draco stream lacks the low position bits");
+        if (low.size() != geometry.vertexWords.size())
+            return Status::error("Draco stream's low position bits are not one per coordinate");
         for (size_t i = 0; i < low.size(); ++i)
             geometry.vertexWords[i] = int32_t((uint32_t(geometry.vertexWords[i]) << lowBits) | uint32_t(low[i]));
     }
+    // Modular 32-bit addition, as the meshopt stream's: a forged minimum wraps (the positions
+    // are then checked against the grid like any others) instead of overflowing a signed int.
     if (!lossless)
-        for (size_t i = 0; i < geometry.vertexWords.size(); ++i) geometry.vertexWords[i] += minimum[i % 3];
+        for (size_t i = 0; i < geometry.vertexWords.size(); ++i)
+            geometry.vertexWords[i] = int32_t(uint32_t(geometry.vertexWords[i]) + uint32_t(minimum[i % 3]));
     geometry.indices.resize(size_t(mesh->num_faces()) * 3);
     for (uint32_t f = 0; f < mesh->num_faces(); ++f) {
         const draco::Mesh::Face& face = mesh->face(draco::FaceIndex(f));
