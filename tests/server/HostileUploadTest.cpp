@@ -87,5 +87,17 @@ TEST_F(ServerTest, JobInterruptedAtEveryStartFailsAfterThreeStarts) {
     EXPECT_EQ(http().Get("/healthz")->status, 200);
 }
 
+// A Collada file that crashes assimp 5.2.5 (a <float_array> without its count, found by
+// fuzz_import_assimp) killed the server with SIGSEGV; assimp now reads in a child process.
+TEST_F(ServerTest, UploadThatCrashesAssimpIsRefusedAndTheServerStaysUp) {
+    startServer();
+    const std::string crashing = R"DAE(<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1"><library_geometries><geometry id="g"><mesh><source id="p"><float_array id="pa">0 0 0 1 0 0 0 1 0</float_array><technique_common><accessor source="#pa" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source><vertices id="v"><input semantic="POSITION" source="#p"/></vertices><triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles></mesh></geometry></library_geometries><library_visual_scenes><visual_scene id="s"><node><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>)DAE";
+    auto res = http().Put("/v1/scenes?name=crash.dae", crashing, "application/octet-stream");
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 400);
+    EXPECT_NE(errorMessage(res).find("crash.dae: assimp crashed reading the file"), std::string::npos) << res->body;
+    EXPECT_EQ(http().Get("/healthz")->status, 200);
+}
+
 }  // namespace
 }  // namespace vastray::test

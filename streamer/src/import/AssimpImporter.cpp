@@ -4,15 +4,28 @@
 // points and lines skipped and counted, then finalizeMesh's validation and named errors.
 // Files assimp opens besides the model (a Collada's external parts, say) must lie inside
 // the model's folder, as glTF URIs and OBJ mtllib names must.
+// assimp runs in a child process (fork): its readers crash on hostile files (the fuzzer found a
+// 794-byte Collada file that segfaults assimp 5.2.5), and a crash or a hang there must fail the
+// import, not the CLI or the server that called it. The child sends the triangles back through
+// a pipe; finalizeMesh's validation runs in the caller, as for every other importer.
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <limits>
-#include <unistd.h>
+#include <type_traits>
 
 #include "import/ImportCommon.h"
 #include "vastray/streamer/Import.h"
@@ -126,7 +139,8 @@ Status appendMeshes(const aiScene& scene, ImportedMesh& out) {
     return Status::ok();
 }
 
-Result<ImportedMesh> importWithAssimpUnguarded(const std::string& path, const ImportOptions& options) {
+// The child's part: assimp's read and the conversion to our mesh, without finalizeMesh.
+Result<ImportedMesh> readWithAssimp(const std::string& path) {
     const std::string name = import::fileNameOf(path);
     auto fd = import::openRegularFile(path);  // a FIFO or a folder is refused before assimp sees it
     if (!fd) return fd.status();
@@ -158,7 +172,209 @@ Result<ImportedMesh> importWithAssimpUnguarded(const std::string& path, const Im
     imported.report.texcoordsRead = unused.texcoordsRead;
     imported.report.warnings = std::move(unused.warnings);
     if (Status s = appendMeshes(*scene, imported); !s.isOk()) return s.withContext(name + ": ");
-    if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
+    return imported;
+}
+
+// The child's answer on the pipe: a byte (1: a mesh follows, 0: an error message follows),
+// then length-prefixed fields in this order.
+class Writer {
+public:
+    template <typename T>
+    void put(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        const auto* b = reinterpret_cast<const uint8_t*>(&v);
+        bytes.insert(bytes.end(), b, b + sizeof(T));
+    }
+    void put(const std::string& text) {
+        put(uint64_t(text.size()));
+        bytes.insert(bytes.end(), text.begin(), text.end());
+    }
+    template <typename T>
+    void putArray(const std::vector<T>& values) {
+        put(uint64_t(values.size()));
+        const auto* b = reinterpret_cast<const uint8_t*>(values.data());
+        bytes.insert(bytes.end(), b, b + values.size() * sizeof(T));
+    }
+    std::vector<uint8_t> bytes;
+};
+
+class Reader {
+public:
+    explicit Reader(const std::vector<uint8_t>& bytes) : bytes_(bytes) {}
+    template <typename T>
+    bool get(T& v) {
+        if (bytes_.size() - at_ < sizeof(T)) return false;
+        std::memcpy(&v, bytes_.data() + at_, sizeof(T));
+        at_ += sizeof(T);
+        return true;
+    }
+    bool get(std::string& text) {
+        uint64_t size = 0;
+        if (!get(size) || bytes_.size() - at_ < size) return false;
+        text.assign(reinterpret_cast<const char*>(bytes_.data() + at_), size);
+        at_ += size;
+        return true;
+    }
+    template <typename T>
+    bool getArray(std::vector<T>& values) {
+        uint64_t count = 0;
+        if (!get(count) || count > (bytes_.size() - at_) / sizeof(T)) return false;
+        values.resize(count);
+        std::memcpy(values.data(), bytes_.data() + at_, count * sizeof(T));
+        at_ += count * sizeof(T);
+        return true;
+    }
+    bool done() const { return at_ == bytes_.size(); }
+
+private:
+    const std::vector<uint8_t>& bytes_;
+    size_t at_ = 0;
+};
+
+std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
+    Writer w;
+    if (!result) {
+        w.put(uint8_t(0));
+        w.put(result.message());
+        return w.bytes;
+    }
+    const ImportedMesh& m = *result;
+    w.put(uint8_t(1));
+    w.put(m.report.format);
+    w.put(m.report.verticesRead), w.put(m.report.normalsRead), w.put(m.report.texcoordsRead);
+    w.put(m.report.primitivesSkipped);
+    w.put(uint64_t(m.report.warnings.size()));
+    for (const std::string& warning : m.report.warnings) w.put(warning);
+    w.put(uint64_t(m.mesh.materials.size()));
+    for (const Material& material : m.mesh.materials) {
+        w.put(material.name);
+        w.put(material.baseColor), w.put(material.emissive), w.put(uint8_t(material.doubleSided));
+    }
+    w.putArray(m.mesh.positions), w.putArray(m.mesh.indices), w.putArray(m.mesh.materialIds);
+    return w.bytes;
+}
+
+Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uint8_t>& bytes) {
+    const Status malformed = import::errorIn(name, "the assimp reader process sent a malformed answer");
+    Reader r(bytes);
+    uint8_t ok = 0;
+    if (!r.get(ok)) return malformed;
+    if (!ok) {
+        std::string message;
+        if (!r.get(message) || !r.done()) return malformed;
+        return Status::error(message);
+    }
+    ImportedMesh m;
+    uint64_t warnings = 0, materials = 0;
+    if (!r.get(m.report.format) || !r.get(m.report.verticesRead) || !r.get(m.report.normalsRead) ||
+        !r.get(m.report.texcoordsRead) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
+        warnings > bytes.size())
+        return malformed;
+    m.report.warnings.resize(warnings);
+    for (std::string& warning : m.report.warnings)
+        if (!r.get(warning)) return malformed;
+    if (!r.get(materials) || materials > bytes.size()) return malformed;
+    m.mesh.materials.resize(materials);
+    for (Material& material : m.mesh.materials) {
+        uint8_t doubleSided = 1;
+        if (!r.get(material.name) || !r.get(material.baseColor) || !r.get(material.emissive) || !r.get(doubleSided))
+            return malformed;
+        material.doubleSided = doubleSided != 0;
+    }
+    if (!r.getArray(m.mesh.positions) || !r.getArray(m.mesh.indices) || !r.getArray(m.mesh.materialIds) || !r.done())
+        return malformed;
+    return m;
+}
+
+// How long assimp may take on one file before its process is killed and the import fails.
+constexpr int kAssimpSecondsLimit = 600;
+
+// Runs readWithAssimp in a child process and returns its answer; a child that crashes, is
+// killed, or outlives kAssimpSecondsLimit fails the import by the file's name.
+Result<ImportedMesh> readInChildProcess(const std::string& path) {
+    const std::string name = import::fileNameOf(path);
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return import::errorIn(name, std::string("pipe: ") + std::strerror(errno));
+    const pid_t child = ::fork();
+    if (child < 0) {
+        ::close(fds[0]), ::close(fds[1]);
+        return import::errorIn(name, std::string("fork: ") + std::strerror(errno));
+    }
+    if (child == 0) {
+        // Only this thread exists here: no locks of other threads' making are taken below
+        // (assimp logs nothing without a logger; malloc is fork-safe in glibc).
+        ::close(fds[0]);
+        // A fault ends the child by its signal, whatever handlers the parent installed (the
+        // sanitizers' own would turn it into an exit status).
+        for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) ::signal(sig, SIG_DFL);
+        std::vector<uint8_t> answer;
+        try {
+            answer = encodeAnswer(readWithAssimp(path));
+        } catch (const std::exception& e) {
+            answer = encodeAnswer(import::errorIn(name, std::string("assimp: ") + e.what()));
+        } catch (...) {
+            answer = encodeAnswer(import::errorIn(name, "assimp: unknown exception"));
+        }
+        for (size_t at = 0; at < answer.size();) {
+            const ssize_t n = ::write(fds[1], answer.data() + at, answer.size() - at);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) ::_exit(2);
+            at += size_t(n);
+        }
+        ::_exit(0);  // no destructors or atexit handlers of the parent's state
+    }
+    ::close(fds[1]);
+    std::vector<uint8_t> answer;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kAssimpSecondsLimit);
+    bool timedOut = false;
+    std::string readError;
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        if (left.count() <= 0) {
+            timedOut = true;
+            break;
+        }
+        pollfd p{fds[0], POLLIN, 0};
+        const int ready = ::poll(&p, 1, int(std::min<int64_t>(left.count(), 1000)));
+        if (ready < 0 && errno != EINTR) {
+            readError = std::string("poll: ") + std::strerror(errno);
+            break;
+        }
+        if (ready <= 0) continue;
+        uint8_t block[1 << 16];
+        const ssize_t n = ::read(fds[0], block, sizeof block);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            readError = std::string("read: ") + std::strerror(errno);
+            break;
+        }
+        if (n == 0) break;  // the child closed its end: done, or died
+        answer.insert(answer.end(), block, block + n);
+    }
+    ::close(fds[0]);
+    if (timedOut || !readError.empty()) ::kill(child, SIGKILL);
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (timedOut)
+        return import::errorIn(name, "assimp did not finish reading the file within " +
+                                         std::to_string(kAssimpSecondsLimit) + " s; refused");
+    if (!readError.empty()) return import::errorIn(name, "reading the assimp process's answer: " + readError);
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        return import::errorIn(name, "assimp crashed reading the file (signal " + std::to_string(sig) + ", " +
+                                         std::string(::strsignal(sig)) + "); refused");
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return import::errorIn(name, "the assimp reader process failed (exit status " +
+                                         std::to_string(WEXITSTATUS(status)) + ")");
+    return decodeAnswer(name, answer);
+}
+
+Result<ImportedMesh> importWithAssimpUnguarded(const std::string& path, const ImportOptions& options) {
+    auto imported = readInChildProcess(path);
+    if (!imported) return imported.status();
+    if (Status s = finalizeMesh(import::fileNameOf(path), options, *imported); !s.isOk()) return s;
     return imported;
 }
 

@@ -202,5 +202,19 @@ TEST(HostileInput, PlyHugeFloatIndexIsNamedOutOfRange) {
                         "face 0: integer value beyond +-2^53 in index list");
 }
 
+// A Collada <float_array> without its count (found by fuzz_import_assimp) makes assimp 5.2.5
+// dereference a null pointer: the CLI died with SIGSEGV, and an upload of it killed the server.
+// assimp now reads in a child process; its crash fails the import by the file's name.
+TEST(HostileInput, AssimpCrashFailsTheImportNotTheProcess) {
+    const std::string crashing = R"DAE(<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1"><library_geometries><geometry id="g"><mesh><source id="p"><float_array id="pa">0 0 0 1 0 0 0 1 0</float_array><technique_common><accessor source="#pa" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source><vertices id="v"><input semantic="POSITION" source="#p"/></vertices><triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles></mesh></geometry></library_geometries><library_visual_scenes><visual_scene id="s"><node><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>)DAE";
+    EXPECT_IMPORT_ERROR(importMesh(writeFile("crash.dae", crashing)), "crash.dae: ", "assimp crashed reading the file");
+    // The same document with the count given imports: the crash is assimp's, not the format's.
+    std::string fixed = crashing;
+    fixed.replace(fixed.find("<float_array id=\"pa\">"), 21, "<float_array id=\"pa\" count=\"9\">");
+    auto imported = importMesh(writeFile("fixed.dae", fixed));
+    ASSERT_TRUE(imported.isOk()) << imported.message();
+    EXPECT_EQ(imported->mesh.triangleCount(), 1u);
+}
+
 }  // namespace
 }  // namespace vastray::test
