@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build test demo bench-import bench-accuracy bench-scaling bench-load fuzz clean format
+.PHONY: all deps configure build test test-asan demo bench-import bench-accuracy bench-scaling bench-load fuzz fuzz-smoke clean format
 
 all: build
 
@@ -21,11 +21,19 @@ build: configure
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE long
 
-# libFuzzer smoke run (FUZZ_SECONDS per target, default 30) of the importers, the package reader
-# and the chunk decoder, ASan + UBSan, in build-fuzz/ (clang); not part of `make test`
-# (docs/HARDENING.md: the build alone takes longer than the test budget allows).
+# libFuzzer run (FUZZ_SECONDS per target, default 30) of the importers, the package reader, the
+# chunk decoder and the HTTP JSON bodies, ASan + UBSan, in build-fuzz/ (clang); not part of
+# `make test` (a second, sanitizer build: ~5 minutes on 2 cores); CI runs fuzz-smoke below.
 fuzz: deps
 	bash scripts/fuzz.sh
+
+# What CI runs after `make test` (.ci/run): every fuzz target for 15 s from the seeds, and the
+# parser and package unit tests built with ASan + UBSan, both in build-fuzz/ (docs/HARDENING.md).
+fuzz-smoke: deps
+	FUZZ_SECONDS=15 bash scripts/fuzz.sh
+
+test-asan: deps
+	bash scripts/asan-tests.sh
 
 demo: build
 	bash scripts/demo.sh $(BUILD_DIR)/vastray $(DEMO_DIR)
