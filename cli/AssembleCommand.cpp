@@ -68,6 +68,9 @@ Status checkMatches(const std::string& path, const StoredImage& tile, const std:
                              join(first.channels));
     if (tile.types != first.types)
         return Status::error(path + ": channel sample types differ from " + firstPath + "'s");
+    if (tile.hasCamera != first.hasCamera || tile.worldToCamera != first.worldToCamera ||
+        tile.worldToNdc != first.worldToNdc)
+        return Status::error(path + ": its camera (EXR worldToCamera, worldToNDC) differs from " + firstPath + "'s");
     return Status::ok();
 }
 

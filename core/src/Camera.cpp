@@ -84,4 +84,31 @@ Ray CameraRays::primary(uint32_t x, uint32_t y, float jitterX, float jitterY) co
     return {eye_, normalize(forward_ + right_ * sx + up_ * sy)};
 }
 
+void recordCamera(RenderImage& image, const Camera& camera, uint32_t frameWidth, uint32_t frameHeight) {
+    const CameraRays rays(camera, frameWidth, frameHeight);
+    const Vec3f eye = rays.eye(), f = rays.forward();
+    const float halfWidth = length(rays.right()), halfHeight = length(rays.up());
+    const Vec3f r = rays.right() * (1.0f / halfWidth), u = rays.up() * (1.0f / halfHeight);
+    // World to camera: the rows of the basis as columns, then the eye moved to the origin.
+    const float w2c[16] = {r.x, u.x, f.x, 0,  //
+                           r.y, u.y, f.y, 0,  //
+                           r.z, u.z, f.z, 0,  //
+                           -dot(eye, r), -dot(eye, u), -dot(eye, f), 1};
+    // Camera to NDC, homogeneous: x' = x / (2 halfWidth) + z / 2, y' = -y / (2 halfHeight) + z / 2,
+    // w' = z, so x' / w' = (1 + x / (z halfWidth)) / 2 (CameraRays::primary's sx, from [-1, 1] to
+    // [0, 1]) and y' / w' = (1 - y / (z halfHeight)) / 2 (down the image); z' = 1 (so z' / w' = 1 / z).
+    const float c2n[16] = {0.5f / halfWidth, 0, 0, 0,  //
+                           0, -0.5f / halfHeight, 0, 0,  //
+                           0.5f, 0.5f, 0, 1,  //
+                           0, 0, 1, 0};
+    for (int i = 0; i < 16; ++i) image.worldToCamera[i] = w2c[i];
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) {
+            float sum = 0;
+            for (int k = 0; k < 4; ++k) sum += w2c[4 * row + k] * c2n[4 * k + col];
+            image.worldToNdc[4 * row + col] = sum;
+        }
+    image.hasCamera = true;
+}
+
 }  // namespace vastray

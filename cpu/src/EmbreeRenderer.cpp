@@ -121,6 +121,7 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
     RenderImage image;
     image.allocate(bounds.width(), bounds.height(), options.aovs);
     image.placeInFrame(bounds.x0, bounds.y0, options.width, options.height);
+    recordCamera(image, camera, options.width, options.height);
 
     const Clock::time_point renderStart = Clock::now();
     const uint64_t rays =

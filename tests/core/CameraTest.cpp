@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -94,6 +95,45 @@ TEST(RenderOptions, RejectsZeroAndHugeSizesAndSampleCounts) {
     EXPECT_FALSE(validateRenderOptions(o));
     o.samplesPerPixel = kMaxSamplesPerPixel + 1;
     EXPECT_FALSE(validateRenderOptions(o));
+}
+
+// p' = [x y z 1] * M (row vectors, M row by row), then divided by w'.
+std::array<float, 4> transform(const std::array<float, 16>& m, Vec3f p) {
+    std::array<float, 4> out{};
+    const float in[4] = {p.x, p.y, p.z, 1};
+    for (int col = 0; col < 4; ++col)
+        for (int k = 0; k < 4; ++k) out[col] += in[k] * m[4 * k + col];
+    return out;
+}
+
+// OpenEXR's conventions: camera space left-handed with x right, y up, z the view direction and
+// the eye at the origin; NDC (0, 0) the top-left corner of the frame, (1, 1) the bottom-right.
+TEST(Camera, RecordedMatricesFollowOpenExrConventions) {
+    const Camera camera{{1, 2, 3}, {-2, 0.5f, 1}, {0, 1, 0}, 40};
+    const uint32_t width = 65, height = 33;
+    RenderImage image;
+    recordCamera(image, camera, width, height);
+    ASSERT_TRUE(image.hasCamera);
+    const auto eye = transform(image.worldToCamera, camera.eye);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(eye[a], 0, 1e-5f) << a;
+    const auto target = transform(image.worldToCamera, camera.target);
+    EXPECT_NEAR(target[0], 0, 1e-5f);
+    EXPECT_NEAR(target[1], 0, 1e-5f);
+    EXPECT_NEAR(target[2], length(camera.target - camera.eye), 1e-5f);
+    const CameraRays rays(camera, width, height);
+    const auto above = transform(image.worldToCamera, camera.eye + rays.up());  // up in the image: +y
+    EXPECT_GT(above[1], 0);
+    const auto right = transform(image.worldToCamera, camera.eye + rays.right());  // right: +x
+    EXPECT_GT(right[0], 0);
+    // Points along pixel rays land on those pixels in NDC, at any distance.
+    for (auto [x, y, jx, jy] : {std::array<float, 4>{0, 0, 0, 0}, {64, 32, 1, 1}, {10, 20, 0.5f, 0.5f}, {40, 3, 0.25f, 0.75f}}) {
+        const Ray ray = rays.primary(uint32_t(x), uint32_t(y), jx, jy);
+        for (float t : {0.5f, 7.0f}) {
+            const auto ndc = transform(image.worldToNdc, ray.origin + ray.direction * t);
+            EXPECT_NEAR(ndc[0] / ndc[3], (x + jx) / width, 1e-5f) << x << "," << y;
+            EXPECT_NEAR(ndc[1] / ndc[3], (y + jy) / height, 1e-5f) << x << "," << y;
+        }
+    }
 }
 
 }  // namespace

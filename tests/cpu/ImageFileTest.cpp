@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "TestScenes.h"
+#include "vastray/core/Camera.h"
 #include "vastray/core/ImageDiff.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/RenderOptions.h"
@@ -59,6 +60,38 @@ TEST(ImageFile, PrimIdsAboveFloatPrecisionSurviveTheRoundTrip) {
     std::vector<uint32_t> ids(image.pixelCount());
     ASSERT_TRUE(in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::UINT32, ids.data()));
     EXPECT_EQ(ids, image.primId);
+}
+
+// The camera goes into the EXR header as OpenEXR's worldToCamera and worldToNDC (checked by
+// their names in the file, through OIIO's raw attribute list) and comes back unchanged.
+TEST(ImageFile, ExrRecordsTheCameraMatrices) {
+    RenderImage image = gradientImage(kAovNone);
+    recordCamera(image, Camera{{1, 2, 3}, {-2, 0.5f, 1}, {0, 1, 0}, 40}, image.width, image.height);
+    const std::string path = test::tmpPath("camera.exr");
+    ASSERT_TRUE(writeImageFile(path, image));
+    auto stored = readStoredImage(path);
+    ASSERT_TRUE(stored) << stored.message();
+    ASSERT_TRUE(stored->hasCamera);
+    EXPECT_EQ(stored->worldToCamera, image.worldToCamera);
+    EXPECT_EQ(stored->worldToNdc, image.worldToNdc);
+    // The names in the file: OIIO's "worldtocamera"/"worldtoscreen" are EXR's worldToCamera/worldToNDC.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:RawColor", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
+    ASSERT_TRUE(in);
+    EXPECT_TRUE(in->spec().find_attribute("worldtocamera", OIIO::TypeMatrix44));
+    // A stored image written again keeps them (what `vastray assemble` does with tiles).
+    const std::string copy = test::tmpPath("camera-copy.exr");
+    ASSERT_TRUE(writeStoredImage(copy, *stored));
+    auto again = readStoredImage(copy);
+    ASSERT_TRUE(again && again->hasCamera);
+    EXPECT_EQ(again->worldToNdc, image.worldToNdc);
+    // A PNG has no such attributes; an image rendered without a camera writes none.
+    auto plain = gradientImage(kAovNone);
+    ASSERT_TRUE(writeImageFile(test::tmpPath("nocamera.exr"), plain));
+    auto none = readStoredImage(test::tmpPath("nocamera.exr"));
+    ASSERT_TRUE(none);
+    EXPECT_FALSE(none->hasCamera);
 }
 
 TEST(ImageFile, PngRefusesAovs) {

@@ -126,6 +126,9 @@ TEST_F(RegionCli, AssembleRefusesOverlapsGapsAndMismatchesNamingTheFile) {
     ASSERT_EQ(run("render " + scene() + " --backend embree --resolution 50x40 --spp 1 --aovs depth,primid -o " + other +
                   " --region 25,0,50,37 --progress none").exitCode, 0);
     refuses(left + " " + other, other + ": full frame 50x40 differs from " + left + "'s 50x37");
+    // Another camera (EXR worldToCamera / worldToNDC): tiles of another view.
+    const std::string turned = renderTile("turned.exr", "--region 25,0,50,37 --fov 60");
+    refuses(left + " " + turned, turned + ": its camera (EXR worldToCamera, worldToNDC) differs from " + left + "'s");
     // Not an image, and no file at all.
     const std::string junk = test::tmpPath("junk.exr");
     std::ofstream(junk) << "not an image";

@@ -132,6 +132,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     RenderImage image;
     image.allocate(bounds.width(), bounds.height(), options.aovs);
     image.placeInFrame(bounds.x0, bounds.y0, options.width, options.height);
+    recordCamera(image, camera, options.width, options.height);
     const Clock::time_point start = Clock::now();
     st.pager->beginRender();
     if (st.options.prefetchScene && st.backend->slotCount() < info.chunks.size())

@@ -5,6 +5,7 @@
 
 #include "vastray/core/Aabb.h"
 #include "vastray/core/Ray.h"
+#include "vastray/core/RenderImage.h"
 #include "vastray/core/Result.h"
 #include "vastray/core/Vec3.h"
 
@@ -55,5 +56,9 @@ private:
     Vec3f eye_, forward_, right_, up_;
     float width_, height_;
 };
+
+// Records in `image` the matrices of `camera` rendering a frameWidth x frameHeight frame
+// (RenderImage::worldToCamera, worldToNdc): a region of the frame keeps the whole frame's.
+void recordCamera(RenderImage& image, const Camera& camera, uint32_t frameWidth, uint32_t frameHeight);
 
 }  // namespace vastray

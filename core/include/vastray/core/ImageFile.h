@@ -1,6 +1,7 @@
 #pragma once
 // Image files through OpenImageIO, which lives in a module loaded on the first image read or
 // write (src/image/ImageModule.h says why); no OIIO type here.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -15,7 +16,8 @@ namespace vastray {
 // any were requested); .exr writes 32-bit float linear R,G,B,A and, when present, the
 // channels Z, N.x, N.y, N.z, albedo.R, albedo.G, albedo.B, cost.cells, cost.triangles (float)
 // and primid, chunkid (uint32).
-// An image that is a region of its frame (RenderImage::isRegion) records where it lies: in an
+// An EXR also records the camera (RenderImage::hasCamera) as OpenEXR's worldToCamera and
+// worldToNDC attributes. An image that is a region of its frame (RenderImage::isRegion) records where it lies: in an
 // EXR as the data window (the region) inside the display window (the frame, origin 0,0); in a
 // PNG as the text chunk kRegionTextKey, "X0,Y0,X1,Y1 WxH" (x1, y1 exclusive; W x H the frame).
 Status writeImageFile(const std::string& path, const RenderImage& image);
@@ -35,6 +37,9 @@ struct StoredImage {
     std::vector<std::string> channels;
     std::vector<SampleType> types;  // one per channel
     std::vector<uint8_t> pixels;    // width * height * pixelBytes()
+    // An EXR's worldToCamera and worldToNDC, when it has them (RenderImage's).
+    bool hasCamera = false;
+    std::array<float, 16> worldToCamera{}, worldToNdc{};
     uint32_t pixelBytes() const {
         uint32_t bytes = 0;
         for (SampleType t : types) bytes += sampleBytes(t);

@@ -1,6 +1,7 @@
 #pragma once
 // A rendered frame, or a region of one, in memory: linear beauty plus the AOVs every backend
 // produces. Row-major, row 0 at the top.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -23,6 +24,12 @@ struct RenderImage {
     std::vector<uint32_t> primId;  // triangle index in the imported mesh; kMissPrimId on a miss
     std::vector<uint32_t> chunkId; // chunk whose cell produced the pixel-centre hit; kMissPrimId on a miss
     std::vector<float> cost;       // 2 per pixel: cells traced, triangles tested, over all the pixel's rays
+    // The camera that rendered the frame (recordCamera, Camera.h), written into an EXR header as
+    // OpenEXR's standard worldToCamera and worldToNDC: row vectors, p' = [x y z 1] * M, M row by
+    // row. Camera space is left-handed (x right, y up, z the view direction, origin at the eye);
+    // NDC (0, 0) and (1, 1) are the display window's top-left and bottom-right corners.
+    bool hasCamera = false;
+    std::array<float, 16> worldToCamera{}, worldToNdc{};
 
     // Sizes every buffer for width x height (AOV buffers only when requested).
     void allocate(uint32_t w, uint32_t h, uint32_t aovFlags);

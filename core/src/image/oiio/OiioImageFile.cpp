@@ -106,6 +106,10 @@ Status writeExr(const std::string& path, const RenderImage& image) {
     }
     spec.attribute("compression", "zip");
     setRegion(spec, false, image.originX, image.originY, image.frameWidth, image.frameHeight);
+    if (image.hasCamera) {  // OpenEXR's worldToCamera and worldToNDC (OIIO's names for them)
+        spec.attribute("worldtocamera", OIIO::TypeMatrix44, image.worldToCamera.data());
+        spec.attribute("worldtoscreen", OIIO::TypeMatrix44, image.worldToNdc.data());
+    }
     const std::vector<uint8_t> bytes = packExrPixels(image, layout);
     // With per-channel formats, UNKNOWN means "the data is in the file's native formats".
     return writeWith(path, spec, layout.uintCount > 0 ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT,

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -86,6 +87,13 @@ Result<StoredImage> readStoredImage(const std::string& path) {
     StoredImage image;
     image.width = uint32_t(spec.width), image.height = uint32_t(spec.height);
     VASTRAY_TRY(readRegion(path, spec, image));
+    const OIIO::ParamValue* toCamera = spec.find_attribute("worldtocamera", OIIO::TypeMatrix44);
+    const OIIO::ParamValue* toNdc = spec.find_attribute("worldtoscreen", OIIO::TypeMatrix44);
+    if (toCamera && toNdc) {
+        std::memcpy(image.worldToCamera.data(), toCamera->data(), 64);
+        std::memcpy(image.worldToNdc.data(), toNdc->data(), 64);
+        image.hasCamera = true;
+    }
     for (int c = 0; c < spec.nchannels; ++c) {
         image.channels.push_back(spec.channel_name(c));
         auto type = sampleType(path, image.channels.back(), spec.channelformat(c));
@@ -121,6 +129,10 @@ Status writeStoredImage(const std::string& path, const StoredImage& image) {
         spec.attribute("oiio:UnassociatedAlpha", 1);  // the stored colours as they are
     } else {
         spec.attribute("compression", "zip");
+        if (image.hasCamera) {
+            spec.attribute("worldtocamera", OIIO::TypeMatrix44, image.worldToCamera.data());
+            spec.attribute("worldtoscreen", OIIO::TypeMatrix44, image.worldToNdc.data());
+        }
     }
     setRegion(spec, png, image.originX, image.originY, image.frameWidth, image.frameHeight);
     auto out = OIIO::ImageOutput::create(path);
