@@ -12,11 +12,6 @@ namespace {
 
 constexpr auto kWatchPoll = std::chrono::milliseconds(250);
 
-// A job found RUNNING at start-up was interrupted. One that was started this many times and
-// never finished is failed instead of run again: a job that crashes the server (before the
-// memory estimate, a 16384x16384 render did) would otherwise crash it at every restart.
-constexpr uint32_t kMaxJobStarts = 3;
-
 // Within one watch no figure goes back: a job that FAILED or was CANCELLED mid-render has no
 // stored pass count, and its final event keeps the last one the stream showed.
 void keepMonotone(const v1::JobEvent& last, v1::JobEvent& event) {
@@ -47,6 +42,7 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
 Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
                                                std::vector<std::unique_ptr<JobRenderer>> renderers) {
     if (options.dataDir.empty()) return Status::error("a data folder is required");
+    if (options.maxAttempts == 0) return Status::error("--max-attempts must be at least 1");
     if (renderers.empty() || renderers.size() > kMaxWorkers)
         return Status::error("between 1 and " + std::to_string(kMaxWorkers) + " workers are possible, not " +
                              std::to_string(renderers.size()));
@@ -61,7 +57,8 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
     auto objects = openFileObjectStore(options.dataDir);
     if (!objects) return objects.status();
     service->objects_ = std::move(*objects);
-    auto stores = openSqliteStores(options.dataDir / "jobs.db");
+    auto stores = options.databaseUrl.empty() ? openSqliteStores(options.dataDir / "jobs.db")
+                                              : openPostgresStores(options.databaseUrl);
     if (!stores) return stores.status();
     service->stores_ = *stores;
     VASTRAY_TRY(service->recoverJobs());
@@ -79,7 +76,8 @@ Service::~Service() {
 }
 
 // Jobs a previous server accepted but did not finish go back into the queue; a RUNNING one
-// was interrupted mid-render and runs again from the start (its result was never stored).
+// was interrupted mid-render and runs again from the start (its result was never stored),
+// unless that makes --max-attempts failed attempts.
 Status Service::recoverJobs() {
     auto jobs = stores_.jobs->unfinishedJobs();
     if (!jobs) return jobs.status();
@@ -92,17 +90,21 @@ Status Service::recoverJobs() {
             VASTRAY_TRY(stores_.jobs->updateJob(job));
             continue;
         }
-        if (job.state() == v1::RUNNING && job.attempts() >= kMaxJobStarts) {
-            job.set_state(v1::FAILED);
-            job.set_error("started " + std::to_string(job.attempts()) +
-                          " times and interrupted each time (the server stopped or crashed while rendering it); "
-                          "not run again");
-            *job.mutable_end_time() = nowTimestamp();
-            VASTRAY_TRY(stores_.jobs->updateJob(job));
-            ++metrics_.jobsFailed;
-            continue;
-        }
+        // RUNNING here: the server stopped mid-render without handing the job back (a crash, a
+        // kill, a lost machine). Each such attempt counts as failed; a job that crashes the
+        // server every time fails after --max-attempts instead of crashing it at every start.
         if (job.state() == v1::RUNNING) {
+            job.add_attempt_errors("attempt " + std::to_string(job.attempts()) + " (started " +
+                                   timestampText(job.start_time()) +
+                                   "): the server stopped while rendering it (a crash, a kill or a lost machine)");
+            if (uint32_t(job.attempt_errors_size()) >= options_.maxAttempts) {
+                job.set_state(v1::FAILED);
+                job.set_error(failedAttemptsMessage(job, options_.maxAttempts));
+                *job.mutable_end_time() = nowTimestamp();
+                VASTRAY_TRY(stores_.jobs->updateJob(job));
+                ++metrics_.jobsFailed;
+                continue;
+            }
             job.set_state(v1::QUEUED);
             job.set_progress(0);
             VASTRAY_TRY(stores_.jobs->updateJob(job));

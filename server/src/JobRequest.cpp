@@ -1,5 +1,7 @@
 #include "JobRequest.h"
 
+#include <google/protobuf/util/time_util.h>
+
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -213,6 +215,17 @@ ServiceResult<uint64_t> parsePageToken(const std::string& token) {
 
 bool isFinal(v1::JobState state) {
     return state == v1::SUCCEEDED || state == v1::FAILED || state == v1::CANCELLED;
+}
+
+std::string timestampText(const google::protobuf::Timestamp& time) {
+    return google::protobuf::util::TimeUtil::ToString(time);
+}
+
+std::string failedAttemptsMessage(const v1::Job& job, uint32_t maxAttempts) {
+    std::string text = "failed " + std::to_string(job.attempt_errors_size()) + " times (--max-attempts " +
+                       std::to_string(maxAttempts) + "); not run again: ";
+    for (int i = 0; i < job.attempt_errors_size(); ++i) text += (i ? "; " : "") + job.attempt_errors(i);
+    return text;
 }
 
 }  // namespace vastray::server

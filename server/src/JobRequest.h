@@ -37,5 +37,10 @@ std::string newJobId();
 ServiceResult<uint32_t> pageSize(int32_t requested);
 ServiceResult<uint64_t> parsePageToken(const std::string& token);
 bool isFinal(v1::JobState state);
+// The error of a job whose failed attempts reached --max-attempts: every attempt's reason
+// (Job.attempt_errors), oldest first.
+std::string failedAttemptsMessage(const v1::Job& job, uint32_t maxAttempts);
+// RFC 3339, for messages.
+std::string timestampText(const google::protobuf::Timestamp& time);
 
 }  // namespace vastray::server

@@ -34,6 +34,8 @@ namespace vastray::server {
 // Defaults are those of `vastray serve`; flags map one-to-one onto these fields.
 struct ServiceOptions {
     std::filesystem::path dataDir;             // required: jobs.db, scenes/, results/, tmp/
+    std::string databaseUrl;                   // postgresql://… job store; empty: SQLite dataDir/jobs.db (--database)
+    uint32_t maxAttempts = 3;                  // failed attempts (crashes included) before a job FAILS (--max-attempts)
     uint64_t memoryBudgetBytes = 4ull << 30;   // device memory one job may use, per worker (--memory-budget)
     uint64_t hostCacheBytes = 2ull << 30;      // decoded scenes in host memory, all workers (--host-cache)
     uint32_t maxQueue = 1000;                  // QUEUED jobs; one more is RESOURCE_EXHAUSTED (--max-queue)

@@ -81,11 +81,26 @@ public:
     virtual Result<bool> sceneInUse(const std::string& sceneId) = 0;
 };
 
-// One SQLite database (WAL, synchronous=FULL) implementing both catalogs.
 struct MetadataStores {
     std::shared_ptr<SceneCatalog> scenes;
     std::shared_ptr<JobStore> jobs;
 };
+
+// The schema version both stores write, in a one-row table schema_version. Opening a store
+// runs the migrations from the version it finds (0: an empty database) up to this one, in one
+// transaction; a database of a newer version is an error. SQLite databases written before
+// schema_version existed hold version 1's tables and are migrated as version 0.
+constexpr int kSchemaVersion = 1;
+
+// One SQLite database (WAL, synchronous=FULL) implementing both catalogs.
 Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePath);
+
+// One PostgreSQL database (libpq; `url` postgresql://[USER[:PASSWORD]@]HOST[:PORT]/DATABASE[?…])
+// implementing both catalogs, with SQLite's behaviour. One server per database: a second one
+// is refused. Errors name the URL without its password, and the failing statement.
+Result<MetadataStores> openPostgresStores(const std::string& url);
+
+// `url` without a password (in the user info or a password= parameter), for messages.
+std::string redactDatabaseUrl(const std::string& url);
 
 }  // namespace vastray::server
