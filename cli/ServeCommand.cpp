@@ -24,10 +24,10 @@ namespace {
 struct ServeArgs {
     std::string grpc = "127.0.0.1:50051", http = "127.0.0.1:8080", dataDir;
     std::string memoryBudget = "4GiB", hostCache = "2GiB", maxUpload = "16GiB";
-    std::string authTokenFile, tlsCert, tlsKey, backend = "vulkan", database;
+    std::string authTokenFile, tlsCert, tlsKey, backend = "vulkan", database, storage;
     std::string gpuDevices = "-1";
     uint32_t maxQueue = 1000, maxAttempts = 3;
-    double shutdownGrace = 30;
+    double shutdownGrace = 30, leaseSeconds = 30;
     bool paused = false;
 };
 
@@ -50,7 +50,14 @@ Result<std::string> readToken(const std::string& path) {
 
 Result<server::ServiceOptions> serviceOptions(const ServeArgs& args) {
     server::ServiceOptions options;
-    options.dataDir = args.dataDir;
+    if (args.dataDir.empty() == args.storage.empty())
+        return Status::error("give one of --data-dir (one server) or --storage (replicas sharing a folder)");
+    if (!args.storage.empty() && args.database.empty())
+        return Status::error("--storage needs --database (the replicas share a PostgreSQL database)");
+    if (!(args.leaseSeconds >= 1)) return Status::error("--lease-seconds must be at least 1");
+    options.dataDir = args.storage.empty() ? args.dataDir : args.storage;
+    options.sharedStorage = !args.storage.empty();
+    options.leaseSeconds = args.leaseSeconds;
     auto budget = sizeFlag("--memory-budget", args.memoryBudget);
     if (!budget) return budget.status();
     auto cache = sizeFlag("--host-cache", args.hostCache);
@@ -196,7 +203,10 @@ int runServe(const ServeArgs& args) {
         args.database.empty() ? (std::filesystem::path(args.dataDir) / "jobs.db").string()
                               : server::redactDatabaseUrl(args.database);
     std::printf("vastray serve: job store %s\n", jobStore.c_str());
-    std::printf("vastray serve: ready (data in %s%s)\n", args.dataDir.c_str(), args.paused ? ", paused" : "");
+    if (!args.storage.empty())
+        std::printf("vastray serve: replica %s, tiles leased for %g s\n", (*service)->replicaId().c_str(),
+                    args.leaseSeconds);
+    std::printf("vastray serve: ready (data in %s%s)\n", options->dataDir.c_str(), args.paused ? ", paused" : "");
     std::fflush(stdout);
 
     int signal = 0;
@@ -232,12 +242,19 @@ CommandRun addServeCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--data-dir", args->dataDir,
                     "folder for scenes and results, and for the job database (jobs.db, SQLite) unless "
-                    "--database names one")
-        ->required();
+                    "--database names one (this or --storage is required)");
+    cmd->add_option("--storage", args->storage,
+                    "instead of --data-dir: a folder every replica mounts (scenes, results, tiles); with "
+                    "--database, replicas share the database and lease the tiles of every job (job field "
+                    "tiles [nx, ny])");
+    cmd->add_option("--lease-seconds", args->leaseSeconds,
+                    "with --storage: how long a tile's lease lasts unless renewed (every third of it while "
+                    "it renders); a replica that stops renewing loses its tiles to the others")
+        ->capture_default_str();
     cmd->add_option("--database", args->database,
                     "job store in PostgreSQL instead of SQLite: postgresql://[USER[:PASSWORD]@]HOST[:PORT]/"
                     "DATABASE[?PARAM=VALUE&...] (libpq URL; the schema is created or migrated at start; one "
-                    "server per database)");
+                    "server per database, unless --storage makes them replicas)");
     cmd->add_option("--max-attempts", args->maxAttempts,
                     "failed attempts after which a job FAILS with every attempt's reason; an attempt fails "
                     "when the server stops mid-render without handing the job back (crash, kill: found "

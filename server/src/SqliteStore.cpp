@@ -31,7 +31,7 @@ CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, position);
 CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
 )sql",
 };
-static_assert(std::size(kMigrations) == size_t(kSchemaVersion));
+static_assert(std::size(kMigrations) == size_t(kSqliteSchemaVersion));
 
 // One prepared statement, finalized on scope exit.
 class Statement {
@@ -265,7 +265,7 @@ Status execute(sqlite3* db, const std::string& path, const char* sql) {
     return Status::error(text);
 }
 
-// The migrations from the stored version to kSchemaVersion, in one transaction (IMMEDIATE:
+// The migrations from the stored version to kSqliteSchemaVersion, in one transaction (IMMEDIATE:
 // two servers opening one file at once migrate one after the other).
 Status migrateInTransaction(sqlite3* db, const std::string& path) {
     VASTRAY_TRY(execute(db, path, "CREATE TABLE IF NOT EXISTS schema_version (version INTEGER NOT NULL)"));
@@ -281,11 +281,11 @@ Status migrateInTransaction(sqlite3* db, const std::string& path) {
                              " rows; expected one");
     if (versions.empty()) VASTRAY_TRY(execute(db, path, "INSERT INTO schema_version(version) VALUES(0)"));
     const int64_t version = versions.empty() ? 0 : versions[0];
-    if (version > kSchemaVersion || version < 0)
+    if (version > kSqliteSchemaVersion || version < 0)
         return Status::error(path + ": the database has schema version " + std::to_string(version) +
-                             "; this vastray knows versions up to " + std::to_string(kSchemaVersion) +
+                             "; this vastray knows versions up to " + std::to_string(kSqliteSchemaVersion) +
                              " (a newer vastray wrote it: run that one)");
-    for (int64_t next = version + 1; next <= kSchemaVersion; ++next) {
+    for (int64_t next = version + 1; next <= kSqliteSchemaVersion; ++next) {
         Status step = execute(db, path, kMigrations[next - 1]);
         if (!step) return step.withContext("migration to schema version " + std::to_string(next) + ": ");
         const std::string set = "UPDATE schema_version SET version = " + std::to_string(next);
@@ -318,7 +318,7 @@ Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePat
     // a power loss, not only a crash of the process.
     VASTRAY_TRY(execute(db, path, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"));
     VASTRAY_TRY(migrate(db, path));
-    return MetadataStores{store, store};
+    return MetadataStores{store, store, nullptr};
 }
 
 }  // namespace vastray::server

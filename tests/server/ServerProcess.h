@@ -30,11 +30,20 @@ public:
     // Starts `vastray serve --data-dir DIR --grpc 127.0.0.1:0 --http 127.0.0.1:0 EXTRA...`
     // and waits for its "ready" line; false (with the log in `log()`) when it does not come.
     bool start(const std::filesystem::path& dataDir, const std::vector<std::string>& extra = {}) {
-        logPath_ = dataDir.parent_path() /
-                   (dataDir.filename().string() + "-serve-" + std::to_string(++starts_) + ".log");
-        std::vector<std::string> args = {VASTRAY_BINARY, "serve",       "--data-dir", dataDir.string(),
-                                         "--grpc",       "127.0.0.1:0", "--http",     "127.0.0.1:0"};
+        std::vector<std::string> args = {"--data-dir", dataDir.string()};
         args.insert(args.end(), extra.begin(), extra.end());
+        return startLogged(dataDir.parent_path() /
+                               (dataDir.filename().string() + "-serve-" + std::to_string(starts_ + 1) + ".log"),
+                           args);
+    }
+
+    // Starts `vastray serve --grpc 127.0.0.1:0 --http 127.0.0.1:0 FLAGS...` with its output in
+    // `logPath`, as start() does.
+    bool startLogged(const std::filesystem::path& logPath, const std::vector<std::string>& flags) {
+        ++starts_;
+        logPath_ = logPath;
+        std::vector<std::string> args = {VASTRAY_BINARY, "serve", "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0"};
+        args.insert(args.end(), flags.begin(), flags.end());
         // The child's environment, built before fork (setenv after fork is not safe in a
         // process with threads).
         std::vector<std::string> environment;
@@ -104,6 +113,11 @@ public:
 
     // The next start runs under this address-space limit (ulimit -v), in bytes; 0: none.
     void setAddressSpaceLimit(uint64_t bytes) { addressSpaceLimit_ = bytes; }
+
+    // Sends `signal` without waiting (SIGSTOP, SIGCONT).
+    void signal(int signal) {
+        if (pid_ > 0) ::kill(pid_, signal);
+    }
 
     // Sends `signal` and waits for the process; its wait status (-1 when none ran).
     int kill(int signal) {

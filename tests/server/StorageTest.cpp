@@ -62,9 +62,9 @@ int64_t schemaVersion(const std::filesystem::path& path) {
 TEST(SqliteStore, EmptyDatabaseGetsTheCurrentSchemaVersion) {
     const auto path = freshDir("sqlite-empty") / "jobs.db";
     ASSERT_TRUE(server::openSqliteStores(path).isOk());
-    EXPECT_EQ(schemaVersion(path), server::kSchemaVersion);
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
     ASSERT_TRUE(server::openSqliteStores(path).isOk()) << "a second open finds nothing to migrate";
-    EXPECT_EQ(schemaVersion(path), server::kSchemaVersion);
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
 }
 
 // The previous version: the tables the servers before schema_version wrote (verbatim), with a
@@ -106,7 +106,7 @@ CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
     }
     auto stores = server::openSqliteStores(path);
     ASSERT_TRUE(stores.isOk()) << stores.message();
-    EXPECT_EQ(schemaVersion(path), server::kSchemaVersion);
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
     auto unfinished = stores->jobs->unfinishedJobs();
     ASSERT_TRUE(unfinished.isOk());
     ASSERT_EQ(unfinished->size(), 1u);
@@ -124,7 +124,7 @@ TEST(SqliteStore, NewerSchemaVersionIsRefusedNamingBoth) {
     ASSERT_FALSE(stores.isOk());
     EXPECT_NE(stores.message().find(path.string() + ": the database has schema version 99; this vastray knows "
                                                     "versions up to " +
-                                    std::to_string(server::kSchemaVersion)),
+                                    std::to_string(server::kSqliteSchemaVersion)),
               std::string::npos)
         << stores.message();
     EXPECT_EQ(schemaVersion(path), 99) << "nothing was changed";

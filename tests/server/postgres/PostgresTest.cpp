@@ -35,15 +35,40 @@ TEST_F(PostgresStoreTest, EmptyDatabaseIsMigratedOnceToTheCurrentVersion) {
         ASSERT_TRUE(stores.isOk()) << stores.message();
         ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-kept", v1::QUEUED)).isOk());
     }
-    EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kSchemaVersion));
+    EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kPostgresSchemaVersion));
     EXPECT_EQ(scalar("SELECT string_agg(tablename, ',' ORDER BY tablename) FROM pg_tables WHERE schemaname = "
                      "'public'"),
-              "jobs,scenes,schema_version");
+              "jobs,scenes,schema_version,tasks");
     auto stores = server::openPostgresStores(cluster_.url());
     ASSERT_TRUE(stores.isOk()) << stores.message();
     EXPECT_EQ(scalar("SELECT count(*) FROM schema_version"), "1") << "a second open finds nothing to migrate";
     auto kept = stores->jobs->getJob("job-kept");
     ASSERT_TRUE(kept.isOk() && *kept) << "the rows survive a reopen";
+}
+
+// Version 1 (before tasks): the current database without the tasks table, at version 1, with a
+// job. Opening migrates it to the current version and keeps the job.
+TEST_F(PostgresStoreTest, DatabaseOfThePreviousVersionIsMigratedKeepingItsJobs) {
+    {
+        auto stores = server::openPostgresStores(cluster_.url());
+        ASSERT_TRUE(stores.isOk()) << stores.message();
+        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-old", v1::QUEUED, "old-key")).isOk());
+    }
+    scalar("DROP TABLE tasks; UPDATE schema_version SET version = 1");
+    auto stores = server::openPostgresStores(cluster_.url(), true);
+    ASSERT_TRUE(stores.isOk()) << stores.message();
+    EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kPostgresSchemaVersion));
+    auto unfinished = stores->jobs->unfinishedJobs();
+    ASSERT_TRUE(unfinished.isOk());
+    ASSERT_EQ(unfinished->size(), 1u);
+    EXPECT_EQ((*unfinished)[0].id(), "job-old");
+    // The new table works: a tiled job's tasks are stored and leased.
+    v1::Job tiled = makeJob("job-tiled", v1::QUEUED);
+    tiled.mutable_request()->add_tiles(2);
+    tiled.mutable_request()->add_tiles(1);
+    ASSERT_TRUE(stores->tasks->insertJobWithTasks(tiled, 2).isOk());
+    EXPECT_EQ(scalar("SELECT string_agg(tile::text, ',' ORDER BY tile) FROM tasks WHERE job_id = 'job-tiled'"),
+              "-1,0,1");
 }
 
 TEST_F(PostgresStoreTest, NewerSchemaVersionIsRefusedNamingBoth) {
@@ -53,7 +78,7 @@ TEST_F(PostgresStoreTest, NewerSchemaVersionIsRefusedNamingBoth) {
     ASSERT_FALSE(stores.isOk());
     EXPECT_NE(stores.message().find(cluster_.url() + ": the database has schema version 99; this vastray knows "
                                                      "versions up to " +
-                                    std::to_string(server::kSchemaVersion)),
+                                    std::to_string(server::kPostgresSchemaVersion)),
               std::string::npos)
         << stores.message();
     EXPECT_EQ(scalar("SELECT version FROM schema_version"), "99") << "nothing was changed";
@@ -87,7 +112,7 @@ TEST_F(PostgresStoreTest, SecondServerOnOneDatabaseIsRefusedUntilTheFirstCloses)
 TEST_F(PostgresStoreTest, StatementErrorsNameTheDatabaseAndTheStatement) {
     auto stores = server::openPostgresStores(cluster_.url());
     ASSERT_TRUE(stores.isOk()) << stores.message();
-    scalar("DROP TABLE jobs");
+    scalar("DROP TABLE jobs CASCADE");
     auto job = stores->jobs->getJob("job-1");
     ASSERT_FALSE(job.isOk());
     EXPECT_EQ(job.message().find(cluster_.url() + ": SELECT record FROM jobs WHERE id = $1: ERROR:  relation "
