@@ -206,7 +206,8 @@ int runServe(const ServeArgs& args) {
     if (!args.storage.empty())
         std::printf("vastray serve: replica %s, tiles leased for %g s\n", (*service)->replicaId().c_str(),
                     args.leaseSeconds);
-    std::printf("vastray serve: ready (data in %s%s)\n", options->dataDir.c_str(), args.paused ? ", paused" : "");
+    std::printf("vastray serve: ready (data in %s%s)\n", options->dataDir.c_str(),
+                args.paused ? ", paused" : "");
     std::fflush(stdout);
 
     int signal = 0;

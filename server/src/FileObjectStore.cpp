@@ -82,7 +82,8 @@ Result<std::unique_ptr<ObjectStore>> openFileObjectStore(const fs::path& dataDir
     return std::unique_ptr<ObjectStore>(std::make_unique<FileObjectStore>(dataDir, dataDir / "tmp"));
 }
 
-Result<std::unique_ptr<ObjectStore>> openSharedFileObjectStore(const fs::path& dir, const std::string& replica) {
+Result<std::unique_ptr<ObjectStore>> openSharedFileObjectStore(const fs::path& dir,
+                                                               const std::string& replica) {
     std::error_code error;
     const fs::path scratch = dir / "tmp" / replica;
     for (const fs::path& folder : {scratch, dir / "scenes", dir / "results", dir / "tiles"}) {

@@ -73,8 +73,9 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
                                          : openFileObjectStore(options.dataDir);
     if (!objects) return objects.status();
     service->objects_ = std::move(*objects);
-    auto stores = options.databaseUrl.empty() ? openSqliteStores(options.dataDir / "jobs.db")
-                                              : openPostgresStores(options.databaseUrl, options.sharedStorage);
+    auto stores = options.databaseUrl.empty()
+                      ? openSqliteStores(options.dataDir / "jobs.db")
+                      : openPostgresStores(options.databaseUrl, options.sharedStorage);
     if (!stores) return stores.status();
     service->stores_ = *stores;
     // Replicas recover nothing at start: an interrupted tile's lease expires and another
@@ -114,9 +115,9 @@ Status Service::recoverJobs() {
         // kill, a lost machine). Each such attempt counts as failed; a job that crashes the
         // server every time fails after --max-attempts instead of crashing it at every start.
         if (job.state() == v1::RUNNING) {
-            job.add_attempt_errors("attempt " + std::to_string(job.attempts()) + " (started " +
-                                   timestampText(job.start_time()) +
-                                   "): the server stopped while rendering it (a crash, a kill or a lost machine)");
+            job.add_attempt_errors(
+                "attempt " + std::to_string(job.attempts()) + " (started " + timestampText(job.start_time()) +
+                "): the server stopped while rendering it (a crash, a kill or a lost machine)");
             if (uint32_t(job.attempt_errors_size()) >= options_.maxAttempts) {
                 job.set_state(v1::FAILED);
                 job.set_error(failedAttemptsMessage(job, options_.maxAttempts));

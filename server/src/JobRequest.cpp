@@ -120,7 +120,8 @@ ServiceResult<v1::SubmitJobRequest> normalizeSubmitRequest(const v1::SubmitJobRe
     if (r.tiles_size() != 0) {
         if (r.tiles_size() != 2) return invalidArgument("tiles", "expected [nx, ny]");
         if (r.tiles(0) < 1 || r.tiles(1) < 1 || r.tiles(0) > r.width() || r.tiles(1) > r.height())
-            return invalidArgument("tiles", "each count must be at least 1 and at most the image's width or height");
+            return invalidArgument("tiles",
+                                   "each count must be at least 1 and at most the image's width or height");
         if (uint64_t(r.tiles(0)) * r.tiles(1) > kMaxTiles)
             return invalidArgument("tiles", "more than " + std::to_string(kMaxTiles) + " tiles");
     }

@@ -168,7 +168,8 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
             job.set_state(v1::QUEUED);
             job.set_progress(0);
             if (Status updated = stores_.jobs->updateJob(job); !updated) {
-                std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(), updated.message().c_str());
+                std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(),
+                             updated.message().c_str());
                 return;
             }
             // Stopping: it stays QUEUED in the store for the next start.

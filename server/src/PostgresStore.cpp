@@ -207,8 +207,9 @@ public:
 
     Status updateJob(const v1::Job& job) override {
         std::lock_guard<std::mutex> lock(mutex_);
-        auto updated = run("UPDATE jobs SET state = $1, record = $2 WHERE id = $3",
-                           Params().integer(int64_t(job.state())).bytes(job.SerializeAsString()).text(job.id()));
+        auto updated =
+            run("UPDATE jobs SET state = $1, record = $2 WHERE id = $3",
+                Params().integer(int64_t(job.state())).bytes(job.SerializeAsString()).text(job.id()));
         if (!updated) return updated.status();
         if (std::string(PQcmdTuples(updated->get())) != "1")
             return Status::error(display_ + ": job " + job.id() + " is not stored");
@@ -387,8 +388,9 @@ public:
         if (!job) return rollback(job.status());
         // Serialized by the job row's lock: of two replicas finishing the last two tiles, the
         // second sees the first's tile done, and only it leases the assemble task.
-        auto counts = run("SELECT count(*) FILTER (WHERE state = $2), count(*) FROM tasks WHERE job_id = $1 AND tile >= 0",
-                          Params().text(lease.jobId).integer(kDone));
+        auto counts = run(
+            "SELECT count(*) FILTER (WHERE state = $2), count(*) FROM tasks WHERE job_id = $1 AND tile >= 0",
+            Params().text(lease.jobId).integer(kDone));
         if (!counts) return rollback(counts.status());
         const int64_t done = integerValue(counts->get(), 0, 0), total = integerValue(counts->get(), 0, 1);
         job->set_progress(total ? 100.0 * double(done) / double(total) : 0);
@@ -495,7 +497,13 @@ private:
         auto done = run(
             "UPDATE tasks SET state = $5, lease_until = NULL WHERE job_id = $1 AND tile = $2 AND owner = $3 "
             "AND attempts = $4 AND state = $6",
-            Params().text(lease.jobId).integer(lease.tile).text(owner).integer(lease.attempt).integer(kDone).integer(kLeased));
+            Params()
+                .text(lease.jobId)
+                .integer(lease.tile)
+                .text(owner)
+                .integer(lease.attempt)
+                .integer(kDone)
+                .integer(kLeased));
         if (!done) return done.status();
         return std::string(PQcmdTuples(done->get())) == "1";
     }
@@ -646,7 +654,8 @@ std::string redactDatabaseUrl(const std::string& url) {
 Result<MetadataStores> openPostgresStores(const std::string& url, bool replicas) {
     const std::string display = redactDatabaseUrl(url);
     if (!startsWith(url, "postgresql://") && !startsWith(url, "postgres://"))
-        return Status::error("--database '" + display + "': expected a URL postgresql://[USER[:PASSWORD]@]HOST[:PORT]/DATABASE");
+        return Status::error("--database '" + display +
+                             "': expected a URL postgresql://[USER[:PASSWORD]@]HOST[:PORT]/DATABASE");
     char* parseError = nullptr;
     PQconninfoOption* parsed = PQconninfoParse(url.c_str(), &parseError);
     if (!parsed) {

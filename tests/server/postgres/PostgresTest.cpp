@@ -193,7 +193,8 @@ TEST_F(PostgresServeTest, BadDatabaseUrlsAreNamedErrorsAtStart) {
         std::string url, expected;
     };
     const std::vector<Case> cases = {
-        {"mysql://render:s3cret@localhost/jobs", "--database 'mysql://render@localhost/jobs': expected a URL postgresql://"},
+        {"mysql://render:s3cret@localhost/jobs",
+         "--database 'mysql://render@localhost/jobs': expected a URL postgresql://"},
         {"postgresql://render:s3cret@127.0.0.1:1/jobs",
          "postgresql://render@127.0.0.1:1/jobs: cannot connect: connection to server at \"127.0.0.1\", port 1 failed"},
         {"postgresql://render:s3cret@[::1/jobs", "--database 'postgresql://render@[::1/jobs': "},

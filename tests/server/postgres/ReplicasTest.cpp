@@ -159,7 +159,8 @@ TEST_F(ReplicasTest, TilesNeedReplicasAndReplicasNeedADatabase) {
     EXPECT_NE(res->body.find("tiles"), std::string::npos) << res->body;
     server_.kill(SIGTERM);
 
-    const std::string serve = "timeout 60 " + std::string(VASTRAY_BINARY) + " serve --grpc 127.0.0.1:0 --http 127.0.0.1:0 ";
+    const std::string serve =
+        "timeout 60 " + std::string(VASTRAY_BINARY) + " serve --grpc 127.0.0.1:0 --http 127.0.0.1:0 ";
     const CommandResult noDatabase = runShell(serve + "--storage " + storage().string());
     EXPECT_EQ(noDatabase.exitCode, 2) << noDatabase.output;
     EXPECT_NE(noDatabase.output.find("--storage needs --database"), std::string::npos) << noDatabase.output;

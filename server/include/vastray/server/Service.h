@@ -34,8 +34,8 @@ namespace vastray::server {
 // Defaults are those of `vastray serve`; flags map one-to-one onto these fields.
 struct ServiceOptions {
     std::filesystem::path dataDir;             // required: jobs.db, scenes/, results/, tmp/
-    std::string databaseUrl;                   // postgresql://… job store; empty: SQLite dataDir/jobs.db (--database)
-    uint32_t maxAttempts = 3;                  // failed attempts (crashes included) before a job FAILS (--max-attempts)
+    std::string databaseUrl;    // postgresql://… job store; empty: SQLite dataDir/jobs.db (--database)
+    uint32_t maxAttempts = 3;   // failed attempts (crashes included) before a job FAILS (--max-attempts)
     // dataDir is a folder replicas share (--storage; needs databaseUrl): jobs are tiles in task
     // rows that any replica leases (TileTasks.cpp) instead of this server's own queue.
     bool sharedStorage = false;
@@ -137,7 +137,8 @@ public:
     // stopped.
     bool shutdown(std::chrono::milliseconds grace);
     // After shutdown(): the jobs left RUNNING for the next start (empty when none).
-    std::vector<std::string> jobsLeftRunning() const;    // With sharedStorage: this replica's name in the task rows (host name and a random suffix).
+    std::vector<std::string> jobsLeftRunning() const;
+    // With sharedStorage: this replica's name in the task rows (host name and a random suffix).
     const std::string& replicaId() const { return replicaId_; }
 
 private:

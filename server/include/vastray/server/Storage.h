@@ -108,7 +108,8 @@ public:
     // attempt in its job's attempt_errors; when that makes `maxAttempts` failed attempts of the
     // task, the job is FAILED and the next task is looked for. The job goes RUNNING with its
     // first lease. None: nothing to do now.
-    virtual Result<std::optional<Lease>> leaseTask(const std::string& owner, double seconds, uint32_t maxAttempts) = 0;
+    virtual Result<std::optional<Lease>> leaseTask(const std::string& owner, double seconds,
+                                                   uint32_t maxAttempts) = 0;
     // Extends the lease; false when `owner` lost it (expired and taken over, or its job was
     // cancelled or failed meanwhile).
     virtual Result<bool> renewLease(const Lease& lease, const std::string& owner, double seconds) = 0;
@@ -122,7 +123,8 @@ public:
     virtual Result<Completion> completeTile(const Lease& lease, const std::string& owner, double seconds) = 0;
     // Marks the assemble task done and stores `finished` (the job SUCCEEDED) together; false
     // when the lease was lost.
-    virtual Result<bool> completeJob(const Lease& lease, const std::string& owner, const v1::Job& finished) = 0;
+    virtual Result<bool> completeJob(const Lease& lease, const std::string& owner,
+                                     const v1::Job& finished) = 0;
     // A failed attempt of a held task: `reason` is appended to the job's attempt_errors and the
     // task is free again, or, at `maxAttempts` failed attempts of the task, the job is FAILED.
     virtual Status failTask(const Lease& lease, const std::string& owner, const std::string& reason,
