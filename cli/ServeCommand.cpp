@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 #include "vastray/core/ImageFile.h"
 #include "vastray/server/FrontEnds.h"
 #include "vastray/server/Service.h"
+#include "vastray/server/Storage.h"
 
 namespace vastray::cli {
 namespace {
@@ -22,10 +24,10 @@ namespace {
 struct ServeArgs {
     std::string grpc = "127.0.0.1:50051", http = "127.0.0.1:8080", dataDir;
     std::string memoryBudget = "4GiB", hostCache = "2GiB", maxUpload = "16GiB";
-    std::string authTokenFile, tlsCert, tlsKey, backend = "vulkan";
+    std::string authTokenFile, tlsCert, tlsKey, backend = "vulkan", database, storage;
     std::string gpuDevices = "-1";
-    uint32_t maxQueue = 1000;
-    double shutdownGrace = 30;
+    uint32_t maxQueue = 1000, maxAttempts = 3;
+    double shutdownGrace = 30, leaseSeconds = 30;
     bool paused = false;
 };
 
@@ -48,7 +50,14 @@ Result<std::string> readToken(const std::string& path) {
 
 Result<server::ServiceOptions> serviceOptions(const ServeArgs& args) {
     server::ServiceOptions options;
-    options.dataDir = args.dataDir;
+    if (args.dataDir.empty() == args.storage.empty())
+        return Status::error("give one of --data-dir (one server) or --storage (replicas sharing a folder)");
+    if (!args.storage.empty() && args.database.empty())
+        return Status::error("--storage needs --database (the replicas share a PostgreSQL database)");
+    if (!(args.leaseSeconds >= 1)) return Status::error("--lease-seconds must be at least 1");
+    options.dataDir = args.storage.empty() ? args.dataDir : args.storage;
+    options.sharedStorage = !args.storage.empty();
+    options.leaseSeconds = args.leaseSeconds;
     auto budget = sizeFlag("--memory-budget", args.memoryBudget);
     if (!budget) return budget.status();
     auto cache = sizeFlag("--host-cache", args.hostCache);
@@ -57,11 +66,14 @@ Result<server::ServiceOptions> serviceOptions(const ServeArgs& args) {
     if (!upload) return upload.status();
     if (*budget == 0) return Status::error("--memory-budget must be more than 0");
     if (args.maxQueue == 0) return Status::error("--max-queue must be at least 1");
+    if (args.maxAttempts == 0) return Status::error("--max-attempts must be at least 1");
     if (!(args.shutdownGrace >= 0)) return Status::error("--shutdown-grace must be >= 0 seconds");
     options.memoryBudgetBytes = *budget;
     options.hostCacheBytes = *cache;
     options.maxUploadBytes = *upload;
     options.maxQueue = args.maxQueue;
+    options.maxAttempts = args.maxAttempts;
+    options.databaseUrl = args.database;
     options.paused = args.paused;
     return options;
 }
@@ -187,7 +199,15 @@ int runServe(const ServeArgs& args) {
         for (size_t i = 0; i < deviceNames.size(); ++i)
             std::printf("vastray serve: worker %zu on %s\n", i, deviceNames[i].c_str());
     }
-    std::printf("vastray serve: ready (data in %s%s)\n", args.dataDir.c_str(), args.paused ? ", paused" : "");
+    const std::string jobStore =
+        args.database.empty() ? (std::filesystem::path(args.dataDir) / "jobs.db").string()
+                              : server::redactDatabaseUrl(args.database);
+    std::printf("vastray serve: job store %s\n", jobStore.c_str());
+    if (!args.storage.empty())
+        std::printf("vastray serve: replica %s, tiles leased for %g s\n", (*service)->replicaId().c_str(),
+                    args.leaseSeconds);
+    std::printf("vastray serve: ready (data in %s%s)\n", options->dataDir.c_str(),
+                args.paused ? ", paused" : "");
     std::fflush(stdout);
 
     int signal = 0;
@@ -221,8 +241,27 @@ CommandRun addServeCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--http", args->http, "HTTP address HOST:PORT (port 0: any free port)")
         ->capture_default_str();
-    cmd->add_option("--data-dir", args->dataDir, "folder for the job database, scenes and results")
-        ->required();
+    cmd->add_option("--data-dir", args->dataDir,
+                    "folder for scenes and results, and for the job database (jobs.db, SQLite) unless "
+                    "--database names one (this or --storage is required)");
+    cmd->add_option("--storage", args->storage,
+                    "instead of --data-dir: a folder every replica mounts (scenes, results, tiles); with "
+                    "--database, replicas share the database and lease the tiles of every job (job field "
+                    "tiles [nx, ny])");
+    cmd->add_option("--lease-seconds", args->leaseSeconds,
+                    "with --storage: how long a tile's lease lasts unless renewed (every third of it while "
+                    "it renders); a replica that stops renewing loses its tiles to the others")
+        ->capture_default_str();
+    cmd->add_option("--database", args->database,
+                    "job store in PostgreSQL instead of SQLite: postgresql://[USER[:PASSWORD]@]HOST[:PORT]/"
+                    "DATABASE[?PARAM=VALUE&...] (libpq URL; the schema is created or migrated at start; one "
+                    "server per database, unless --storage makes them replicas)");
+    cmd->add_option("--max-attempts", args->maxAttempts,
+                    "failed attempts after which a job FAILS with every attempt's reason; an attempt fails "
+                    "when the server stops mid-render without handing the job back (crash, kill: found "
+                    "RUNNING at the next start) or its render reports an internal error (a lost device, a "
+                    "failed write; other errors fail the job at once)")
+        ->capture_default_str();
     cmd->add_option("--memory-budget", args->memoryBudget,
                     "device memory pool of the vulkan backend, per worker (each --gpu-device entry has its "
                     "own): the most one job may use, and the sum that worker's open scenes may hold together")

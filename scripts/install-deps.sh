@@ -9,7 +9,10 @@
 # wanted versions it does nothing (and needs no network). Uses sudo only when not root.
 # node-typescript (tsc) compiles the service's web page at build time (server/web/); chromium,
 # chromium-driver, python3-selenium and python3-pil (screenshots) run its browser test
-# (tests/server/web_page_test.py).
+# (tests/server/web_page_test.py). libpq-dev builds the PostgreSQL job store (`serve --database`);
+# postgresql (15, its initdb/pg_ctl/psql in /usr/lib/postgresql/15/bin) runs its tests, each of
+# which starts a throw-away cluster of its own (tests/server/PostgresCluster.h); the cluster
+# that Debian's package sets up is not used.
 set -euo pipefail
 
 # grpcurl v1.9.1 is the newest release whose go.mod (and whose dependencies' go.mod: grpc
@@ -31,6 +34,7 @@ packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libssl-dev
   libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev libzip-dev libassimp-dev
+  libpq-dev postgresql
   assimp-testmodels python3 python3-matplotlib python3-venv python3-pip time
   curl openssl golang-go
   node-typescript chromium chromium-driver python3-selenium python3-pil

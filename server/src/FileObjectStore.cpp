@@ -25,9 +25,9 @@ bool validKey(const std::string& key) {
 
 class FileObjectStore final : public ObjectStore {
 public:
-    explicit FileObjectStore(fs::path root) : root_(std::move(root)) {}
+    FileObjectStore(fs::path root, fs::path scratch) : root_(std::move(root)), scratch_(std::move(scratch)) {}
 
-    fs::path scratchDir() const override { return root_ / "tmp"; }
+    fs::path scratchDir() const override { return scratch_; }
 
     Status put(const std::string& key, const fs::path& file) override {
         if (!validKey(key)) return Status::error("object key '" + key + "' is not valid");
@@ -67,7 +67,7 @@ public:
     }
 
 private:
-    fs::path root_;
+    fs::path root_, scratch_;
 };
 
 }  // namespace
@@ -79,7 +79,18 @@ Result<std::unique_ptr<ObjectStore>> openFileObjectStore(const fs::path& dataDir
         fs::create_directories(dataDir / folder, error);
         if (error) return Status::error((dataDir / folder).string() + ": " + error.message());
     }
-    return std::unique_ptr<ObjectStore>(std::make_unique<FileObjectStore>(dataDir));
+    return std::unique_ptr<ObjectStore>(std::make_unique<FileObjectStore>(dataDir, dataDir / "tmp"));
+}
+
+Result<std::unique_ptr<ObjectStore>> openSharedFileObjectStore(const fs::path& dir,
+                                                               const std::string& replica) {
+    std::error_code error;
+    const fs::path scratch = dir / "tmp" / replica;
+    for (const fs::path& folder : {scratch, dir / "scenes", dir / "results", dir / "tiles"}) {
+        fs::create_directories(folder, error);
+        if (error) return Status::error(folder.string() + ": " + error.message());
+    }
+    return std::unique_ptr<ObjectStore>(std::make_unique<FileObjectStore>(dir, scratch));
 }
 
 }  // namespace vastray::server

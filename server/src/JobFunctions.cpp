@@ -2,7 +2,10 @@
 // list, cancel, watch, results, shutdown.
 #include <google/protobuf/util/message_differencer.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 
 #include "JobRequest.h"
 #include "vastray/server/Service.h"
@@ -11,11 +14,6 @@ namespace vastray::server {
 namespace {
 
 constexpr auto kWatchPoll = std::chrono::milliseconds(250);
-
-// A job found RUNNING at start-up was interrupted. One that was started this many times and
-// never finished is failed instead of run again: a job that crashes the server (before the
-// memory estimate, a 16384x16384 render did) would otherwise crash it at every restart.
-constexpr uint32_t kMaxJobStarts = 3;
 
 // Within one watch no figure goes back: a job that FAILED or was CANCELLED mid-render has no
 // stored pass count, and its final event keeps the last one the stream showed.
@@ -26,6 +24,13 @@ void keepMonotone(const v1::JobEvent& last, v1::JobEvent& event) {
     event.set_chunk_loads(std::max(event.chunk_loads(), last.chunk_loads()));
     event.set_rays(std::max(event.rays(), last.rays()));
     event.set_device_bytes(std::max(event.device_bytes(), last.device_bytes()));
+}
+
+// "HOST-XXXXXXXX": unique per start, readable in the task rows.
+std::string replicaName() {
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) != 0 || !host[0]) std::snprintf(host, sizeof host, "replica");
+    return std::string(host) + "-" + randomHex(8);
 }
 
 ServiceStatus checkJobId(const std::string& id) {
@@ -47,6 +52,7 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
 Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
                                                std::vector<std::unique_ptr<JobRenderer>> renderers) {
     if (options.dataDir.empty()) return Status::error("a data folder is required");
+    if (options.maxAttempts == 0) return Status::error("--max-attempts must be at least 1");
     if (renderers.empty() || renderers.size() > kMaxWorkers)
         return Status::error("between 1 and " + std::to_string(kMaxWorkers) + " workers are possible, not " +
                              std::to_string(renderers.size()));
@@ -58,15 +64,27 @@ Result<std::unique_ptr<Service>> Service::open(const ServiceOptions& options,
         worker->renderer = std::move(renderer);
         service->workers_.push_back(std::move(worker));
     }
-    auto objects = openFileObjectStore(options.dataDir);
+    if (options.sharedStorage && options.databaseUrl.empty())
+        return Status::error("--storage needs --database (the replicas share a PostgreSQL database)");
+    if (options.sharedStorage && !(options.leaseSeconds >= 1))
+        return Status::error("--lease-seconds must be at least 1");
+    if (options.sharedStorage) service->replicaId_ = replicaName();
+    auto objects = options.sharedStorage ? openSharedFileObjectStore(options.dataDir, service->replicaId_)
+                                         : openFileObjectStore(options.dataDir);
     if (!objects) return objects.status();
     service->objects_ = std::move(*objects);
-    auto stores = openSqliteStores(options.dataDir / "jobs.db");
+    auto stores = options.databaseUrl.empty()
+                      ? openSqliteStores(options.dataDir / "jobs.db")
+                      : openPostgresStores(options.databaseUrl, options.sharedStorage);
     if (!stores) return stores.status();
     service->stores_ = *stores;
-    VASTRAY_TRY(service->recoverJobs());
+    // Replicas recover nothing at start: an interrupted tile's lease expires and another
+    // replica takes it over.
+    if (!options.sharedStorage) VASTRAY_TRY(service->recoverJobs());
     for (auto& worker : service->workers_)
-        worker->thread = std::thread([s = service.get(), w = worker.get()] { s->workerLoop(*w); });
+        worker->thread = std::thread([s = service.get(), w = worker.get()] {
+            s->options_.sharedStorage ? s->replicaLoop(*w) : s->workerLoop(*w);
+        });
     service->importWorker_ = std::thread([s = service.get()] { s->importLoop(); });
     return service;
 }
@@ -79,7 +97,8 @@ Service::~Service() {
 }
 
 // Jobs a previous server accepted but did not finish go back into the queue; a RUNNING one
-// was interrupted mid-render and runs again from the start (its result was never stored).
+// was interrupted mid-render and runs again from the start (its result was never stored),
+// unless that makes --max-attempts failed attempts.
 Status Service::recoverJobs() {
     auto jobs = stores_.jobs->unfinishedJobs();
     if (!jobs) return jobs.status();
@@ -92,17 +111,21 @@ Status Service::recoverJobs() {
             VASTRAY_TRY(stores_.jobs->updateJob(job));
             continue;
         }
-        if (job.state() == v1::RUNNING && job.attempts() >= kMaxJobStarts) {
-            job.set_state(v1::FAILED);
-            job.set_error("started " + std::to_string(job.attempts()) +
-                          " times and interrupted each time (the server stopped or crashed while rendering it); "
-                          "not run again");
-            *job.mutable_end_time() = nowTimestamp();
-            VASTRAY_TRY(stores_.jobs->updateJob(job));
-            ++metrics_.jobsFailed;
-            continue;
-        }
+        // RUNNING here: the server stopped mid-render without handing the job back (a crash, a
+        // kill, a lost machine). Each such attempt counts as failed; a job that crashes the
+        // server every time fails after --max-attempts instead of crashing it at every start.
         if (job.state() == v1::RUNNING) {
+            job.add_attempt_errors(
+                "attempt " + std::to_string(job.attempts()) + " (started " + timestampText(job.start_time()) +
+                "): the server stopped while rendering it (a crash, a kill or a lost machine)");
+            if (uint32_t(job.attempt_errors_size()) >= options_.maxAttempts) {
+                job.set_state(v1::FAILED);
+                job.set_error(failedAttemptsMessage(job, options_.maxAttempts));
+                *job.mutable_end_time() = nowTimestamp();
+                VASTRAY_TRY(stores_.jobs->updateJob(job));
+                ++metrics_.jobsFailed;
+                continue;
+            }
             job.set_state(v1::QUEUED);
             job.set_progress(0);
             VASTRAY_TRY(stores_.jobs->updateJob(job));
@@ -146,11 +169,14 @@ ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& requ
     *job.mutable_request() = std::move(*normalized);
     *job.mutable_create_time() = nowTimestamp();
     job.set_result_content_type(resultContentType(job.request()));
-    auto inserted = stores_.jobs->insertJob(job);
+    if (job.request().tiles_size() != 0 && !options_.sharedStorage)
+        return invalidArgument("tiles", "needs a server started with --storage and --database (replicas)");
+    auto inserted = options_.sharedStorage ? stores_.tasks->insertJobWithTasks(job, tileCount(job.request()))
+                                           : stores_.jobs->insertJob(job);
     if (!inserted) return internalError(inserted.message());
-    queue_.insert({job.request().priority(), nextOrder_++, job.id()});
+    if (!options_.sharedStorage) queue_.insert({job.request().priority(), nextOrder_++, job.id()});
     ++metrics_.jobsSubmitted;
-    workAvailable_.notify_one();
+    options_.sharedStorage ? workAvailable_.notify_all() : workAvailable_.notify_one();
     notifyChangeLocked();
     return SubmitOutcome{inserted->job, true};
 }
@@ -230,7 +256,8 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
         event.set_rays(job.stats().rays());
         event.set_device_bytes(job.stats().peak_device_bytes());
     }
-    const Worker* worker = job.state() == v1::RUNNING ? runningWorkerLocked(job.id()) : nullptr;
+    const Worker* worker =
+        job.state() == v1::RUNNING && !options_.sharedStorage ? runningWorkerLocked(job.id()) : nullptr;
     if (worker) {
         event.set_passes_done(worker->published.passesDone);
         event.set_passes_total(worker->published.passesTotal);
@@ -243,7 +270,8 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
 }
 
 void Service::overlayLiveLocked(v1::Job& job) const {
-    if (job.state() != v1::RUNNING) return;
+    // Replicas: the stored progress is the job's (tiles done); a worker's is one tile's.
+    if (job.state() != v1::RUNNING || options_.sharedStorage) return;
     if (const Worker* worker = runningWorkerLocked(job.id())) job.set_progress(worker->livePercent);
 }
 
@@ -267,7 +295,8 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
             std::unique_lock<std::mutex> lock(mutex_);
             changed_.wait_for(lock, kWatchPoll, [&] { return changeCounter_ != seen || stopping_; });
             if (stopping_) return {StatusCode::Unavailable, "the server is shutting down"};
-            if (changeCounter_ == seen) {
+            // Replicas: other servers change the job; read it at every poll.
+            if (changeCounter_ == seen && !options_.sharedStorage) {
                 lock.unlock();
                 if (clientGone && clientGone()) return {StatusCode::Cancelled, "the client went away"};
                 continue;

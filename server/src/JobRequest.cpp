@@ -1,5 +1,7 @@
 #include "JobRequest.h"
 
+#include <google/protobuf/util/time_util.h>
+
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -115,9 +117,28 @@ ServiceResult<v1::SubmitJobRequest> normalizeSubmitRequest(const v1::SubmitJobRe
     if (r.request_id().size() > kMaxRequestIdLength)
         return invalidArgument("request_id",
                                "longer than " + std::to_string(kMaxRequestIdLength) + " characters");
+    if (r.tiles_size() != 0) {
+        if (r.tiles_size() != 2) return invalidArgument("tiles", "expected [nx, ny]");
+        if (r.tiles(0) < 1 || r.tiles(1) < 1 || r.tiles(0) > r.width() || r.tiles(1) > r.height())
+            return invalidArgument("tiles",
+                                   "each count must be at least 1 and at most the image's width or height");
+        if (uint64_t(r.tiles(0)) * r.tiles(1) > kMaxTiles)
+            return invalidArgument("tiles", "more than " + std::to_string(kMaxTiles) + " tiles");
+    }
     auto options = renderOptionsOf(r);
     if (!options) return invalidArgument("request", options.message());
     return r;
+}
+
+uint32_t tileCount(const v1::SubmitJobRequest& r) {
+    return r.tiles_size() == 2 ? r.tiles(0) * r.tiles(1) : 1;
+}
+
+PixelBounds tileBounds(const v1::SubmitJobRequest& r, uint32_t tile) {
+    const uint32_t nx = r.tiles_size() == 2 ? r.tiles(0) : 1, ny = r.tiles_size() == 2 ? r.tiles(1) : 1;
+    const uint32_t column = tile % nx, row = tile / nx;
+    return {uint32_t(uint64_t(column) * r.width() / nx), uint32_t(uint64_t(row) * r.height() / ny),
+            uint32_t(uint64_t(column + 1) * r.width() / nx), uint32_t(uint64_t(row + 1) * r.height() / ny)};
 }
 
 Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& r) {
@@ -213,6 +234,17 @@ ServiceResult<uint64_t> parsePageToken(const std::string& token) {
 
 bool isFinal(v1::JobState state) {
     return state == v1::SUCCEEDED || state == v1::FAILED || state == v1::CANCELLED;
+}
+
+std::string timestampText(const google::protobuf::Timestamp& time) {
+    return google::protobuf::util::TimeUtil::ToString(time);
+}
+
+std::string failedAttemptsMessage(const v1::Job& job, uint32_t maxAttempts) {
+    std::string text = "failed " + std::to_string(job.attempt_errors_size()) + " times (--max-attempts " +
+                       std::to_string(maxAttempts) + "); not run again: ";
+    for (int i = 0; i < job.attempt_errors_size(); ++i) text += (i ? "; " : "") + job.attempt_errors(i);
+    return text;
 }
 
 }  // namespace vastray::server

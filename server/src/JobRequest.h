@@ -37,5 +37,15 @@ std::string newJobId();
 ServiceResult<uint32_t> pageSize(int32_t requested);
 ServiceResult<uint64_t> parsePageToken(const std::string& token);
 bool isFinal(v1::JobState state);
+// Tiles of a job (SubmitJobRequest.tiles; 1 when none) and tile i's pixels (row by row), as
+// `vastray render --tiles NX,NY --tile I` splits the frame.
+constexpr uint32_t kMaxTiles = 1024;
+uint32_t tileCount(const v1::SubmitJobRequest& request);
+PixelBounds tileBounds(const v1::SubmitJobRequest& request, uint32_t tile);
+// The error of a job whose failed attempts reached --max-attempts: every attempt's reason
+// (Job.attempt_errors), oldest first.
+std::string failedAttemptsMessage(const v1::Job& job, uint32_t maxAttempts);
+// RFC 3339, for messages.
+std::string timestampText(const google::protobuf::Timestamp& time);
 
 }  // namespace vastray::server

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <new>
 
@@ -44,6 +45,21 @@ Service::Worker* Service::runningWorkerLocked(const std::string& id) const {
     return nullptr;
 }
 
+namespace {
+
+// Test-only (docs/SERVICE.md, "Attempts"): with VASTRAY_TEST_CRASH_ON_JOB=REQUEST_ID in its
+// environment the server aborts (SIGABRT, a real crash of the process) when a worker starts
+// the job of that request_id, after the attempt is stored: how the tests make a job that
+// crashes its server every time. Unset, it costs one getenv per job.
+void crashIfTestAsks(const v1::Job& job) {
+    const char* crashOn = std::getenv("VASTRAY_TEST_CRASH_ON_JOB");
+    if (!crashOn || !*crashOn || job.request().request_id() != crashOn) return;
+    std::fprintf(stderr, "vastray serve: VASTRAY_TEST_CRASH_ON_JOB: aborting on job %s\n", job.id().c_str());
+    std::abort();
+}
+
+}  // namespace
+
 void Service::runJob(Worker& worker, const std::string& id) {
     v1::Job job;
     {
@@ -68,6 +84,7 @@ void Service::runJob(Worker& worker, const std::string& id) {
         notifyChangeLocked();
     }
     if (job.state() == v1::FAILED) return finishJob(job, internalError(job.error()));
+    crashIfTestAsks(job);
     finishJob(job, renderAndStoreGuarded(worker, job));
 }
 
@@ -128,14 +145,44 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
     auto stored = stores_.jobs->getJob(job.id());
     const bool cancelled = stored && *stored && (*stored)->state() == v1::CANCELLED;
     if (cancelled || (shutdownCancel_ && outcome.code() == StatusCode::Cancelled)) {
-        // Cancelled by a client (already recorded) or stopped by shutdown (stays RUNNING and
-        // runs again at the next start): no result may remain.
+        // Cancelled by a client (already recorded) or stopped by shutdown: no result may
+        // remain. A job stopped by shutdown is handed back QUEUED (not a failed attempt) and
+        // runs again at the next start; should that update fail it stays RUNNING, which the
+        // next start counts as a failed attempt.
         objects_->remove(resultKey(job));
-        if (!cancelled) leftRunning_.push_back(job.id());
+        if (cancelled) return;
+        leftRunning_.push_back(job.id());
+        job.set_state(v1::QUEUED);
+        job.set_progress(0);
+        if (Status updated = stores_.jobs->updateJob(job); !updated)
+            std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(), updated.message().c_str());
         return;
     }
+    if (!outcome.isOk()) {
+        job.add_attempt_errors("attempt " + std::to_string(job.attempts()) + " (started " +
+                               timestampText(job.start_time()) + "): " + outcome.message());
+        // An internal error (a lost device, a failed write) may not recur: the job runs again
+        // until --max-attempts attempts failed. Any other error would recur: FAILED at once.
+        if (outcome.code() == StatusCode::Internal &&
+            uint32_t(job.attempt_errors_size()) < options_.maxAttempts) {
+            job.set_state(v1::QUEUED);
+            job.set_progress(0);
+            if (Status updated = stores_.jobs->updateJob(job); !updated) {
+                std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(),
+                             updated.message().c_str());
+                return;
+            }
+            // Stopping: it stays QUEUED in the store for the next start.
+            if (!stopping_) queue_.insert({job.request().priority(), nextOrder_++, job.id()});
+            ++metrics_.jobsRequeued;
+            workAvailable_.notify_one();
+            notifyChangeLocked();
+            return;
+        }
+    }
     job.set_state(outcome.isOk() ? v1::SUCCEEDED : v1::FAILED);
-    job.set_error(outcome.message());
+    job.set_error(job.attempt_errors_size() > 1 ? failedAttemptsMessage(job, options_.maxAttempts)
+                                                : outcome.message());
     if (outcome.isOk()) job.set_progress(100);
     *job.mutable_end_time() = nowTimestamp();
     if (Status updated = stores_.jobs->updateJob(job); !updated) {

@@ -2,14 +2,20 @@
 // messages; the columns beside them exist only to look records up and order them.
 #include <sqlite3.h>
 
+#include <iterator>
 #include <mutex>
+#include <vector>
 
 #include "vastray/server/Storage.h"
 
 namespace vastray::server {
 namespace {
 
-constexpr const char* kSchema = R"sql(
+// schema_version.version N means kMigrations[0..N-1] have run, each in the transaction that
+// set N. New versions are appended, never edited. Version 1 is the schema of the servers that
+// wrote no schema_version (IF NOT EXISTS: their databases migrate from 0 keeping every row).
+const char* const kMigrations[] = {
+    R"sql(
 CREATE TABLE IF NOT EXISTS scenes (
   position INTEGER PRIMARY KEY AUTOINCREMENT,
   id TEXT NOT NULL UNIQUE,
@@ -23,12 +29,16 @@ CREATE TABLE IF NOT EXISTS jobs (
   record BLOB NOT NULL);
 CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, position);
 CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
-)sql";
+)sql",
+};
+static_assert(std::size(kMigrations) == size_t(kSqliteSchemaVersion));
 
 // One prepared statement, finalized on scope exit.
 class Statement {
 public:
-    Statement(sqlite3* db, const char* sql) : db_(db) { sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr); }
+    Statement(sqlite3* db, const char* sql) : db_(db), sql_(sql) {
+        sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr);
+    }
     ~Statement() { sqlite3_finalize(stmt_); }
     Statement(const Statement&) = delete;
     Statement& operator=(const Statement&) = delete;
@@ -51,9 +61,11 @@ public:
                     : "";
     }
     std::string error() const { return sqlite3_errmsg(db_); }
+    const char* sql() const { return sql_; }
 
 private:
     sqlite3* db_;
+    const char* sql_;
     sqlite3_stmt* stmt_ = nullptr;
 };
 
@@ -215,7 +227,7 @@ public:
 
 private:
     Status failure(const Statement& statement) const {
-        return Status::error(path_ + ": " + statement.error());
+        return Status::error(path_ + ": " + statement.sql() + ": " + statement.error());
     }
 
     Result<std::optional<v1::Scene>> getSceneLocked(const std::string& id) {
@@ -248,9 +260,45 @@ private:
 Status execute(sqlite3* db, const std::string& path, const char* sql) {
     char* message = nullptr;
     if (sqlite3_exec(db, sql, nullptr, nullptr, &message) == SQLITE_OK) return Status::ok();
-    std::string text = path + ": " + (message ? message : "unknown SQLite error");
+    std::string text = path + ": " + sql + ": " + (message ? message : "unknown SQLite error");
     sqlite3_free(message);
     return Status::error(text);
+}
+
+// The migrations from the stored version to kSqliteSchemaVersion, in one transaction (IMMEDIATE:
+// two servers opening one file at once migrate one after the other).
+Status migrateInTransaction(sqlite3* db, const std::string& path) {
+    VASTRAY_TRY(execute(db, path, "CREATE TABLE IF NOT EXISTS schema_version (version INTEGER NOT NULL)"));
+    std::vector<int64_t> versions;
+    {
+        Statement query(db, "SELECT version FROM schema_version");
+        int rc;
+        while ((rc = query.step()) == SQLITE_ROW) versions.push_back(query.integer(0));
+        if (rc != SQLITE_DONE) return Status::error(path + ": " + query.sql() + ": " + query.error());
+    }
+    if (versions.size() > 1)
+        return Status::error(path + ": schema_version holds " + std::to_string(versions.size()) +
+                             " rows; expected one");
+    if (versions.empty()) VASTRAY_TRY(execute(db, path, "INSERT INTO schema_version(version) VALUES(0)"));
+    const int64_t version = versions.empty() ? 0 : versions[0];
+    if (version > kSqliteSchemaVersion || version < 0)
+        return Status::error(path + ": the database has schema version " + std::to_string(version) +
+                             "; this vastray knows versions up to " + std::to_string(kSqliteSchemaVersion) +
+                             " (a newer vastray wrote it: run that one)");
+    for (int64_t next = version + 1; next <= kSqliteSchemaVersion; ++next) {
+        Status step = execute(db, path, kMigrations[next - 1]);
+        if (!step) return step.withContext("migration to schema version " + std::to_string(next) + ": ");
+        const std::string set = "UPDATE schema_version SET version = " + std::to_string(next);
+        VASTRAY_TRY(execute(db, path, set.c_str()));
+    }
+    return Status::ok();
+}
+
+Status migrate(sqlite3* db, const std::string& path) {
+    VASTRAY_TRY(execute(db, path, "BEGIN IMMEDIATE"));
+    const Status migrated = migrateInTransaction(db, path);
+    VASTRAY_TRY(execute(db, path, migrated ? "COMMIT" : "ROLLBACK"));
+    return migrated;
 }
 
 }  // namespace
@@ -269,8 +317,8 @@ Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePat
     // WAL: readers never block the writer; synchronous=FULL: a commit that returned survives
     // a power loss, not only a crash of the process.
     VASTRAY_TRY(execute(db, path, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"));
-    VASTRAY_TRY(execute(db, path, kSchema));
-    return MetadataStores{store, store};
+    VASTRAY_TRY(migrate(db, path));
+    return MetadataStores{store, store, nullptr};
 }
 
 }  // namespace vastray::server

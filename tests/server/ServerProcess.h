@@ -13,6 +13,7 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "TestTmp.h"
@@ -29,11 +30,26 @@ public:
     // Starts `vastray serve --data-dir DIR --grpc 127.0.0.1:0 --http 127.0.0.1:0 EXTRA...`
     // and waits for its "ready" line; false (with the log in `log()`) when it does not come.
     bool start(const std::filesystem::path& dataDir, const std::vector<std::string>& extra = {}) {
-        logPath_ = dataDir.parent_path() /
-                   (dataDir.filename().string() + "-serve-" + std::to_string(++starts_) + ".log");
-        std::vector<std::string> args = {VASTRAY_BINARY, "serve",       "--data-dir", dataDir.string(),
-                                         "--grpc",       "127.0.0.1:0", "--http",     "127.0.0.1:0"};
+        std::vector<std::string> args = {"--data-dir", dataDir.string()};
         args.insert(args.end(), extra.begin(), extra.end());
+        return startLogged(dataDir.parent_path() /
+                               (dataDir.filename().string() + "-serve-" + std::to_string(starts_ + 1) + ".log"),
+                           args);
+    }
+
+    // Starts `vastray serve --grpc 127.0.0.1:0 --http 127.0.0.1:0 FLAGS...` with its output in
+    // `logPath`, as start() does.
+    bool startLogged(const std::filesystem::path& logPath, const std::vector<std::string>& flags) {
+        ++starts_;
+        logPath_ = logPath;
+        std::vector<std::string> args = {VASTRAY_BINARY, "serve", "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0"};
+        args.insert(args.end(), flags.begin(), flags.end());
+        // The child's environment, built before fork (setenv after fork is not safe in a
+        // process with threads).
+        std::vector<std::string> environment;
+        for (char** e = environ; *e; ++e) environment.emplace_back(*e);
+        for (const auto& [name, value] : environment_) environment.push_back(name + "=" + value);
+        grpcPort_ = httpPort_ = 0;
         pid_ = ::fork();
         if (pid_ == 0) {
             if (addressSpaceLimit_ > 0) {
@@ -46,7 +62,10 @@ public:
             std::vector<char*> argv;
             for (auto& a : args) argv.push_back(a.data());
             argv.push_back(nullptr);
-            ::execv(argv[0], argv.data());
+            std::vector<char*> envp;
+            for (auto& e : environment) envp.push_back(e.data());
+            envp.push_back(nullptr);
+            ::execve(argv[0], argv.data(), envp.data());
             std::_Exit(127);
         }
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
@@ -54,7 +73,7 @@ public:
         while (std::chrono::steady_clock::now() < deadline) {
             const std::string text = log();
             std::smatch m;
-            if (text.find("ready") != std::string::npos) {
+            if (text.find("vastray serve: ready") != std::string::npos) {
                 if (std::regex_search(text, m, grpcLine)) grpcPort_ = std::stoi(m[1]);
                 if (std::regex_search(text, m, httpLine)) httpPort_ = std::stoi(m[1]);
                 return grpcPort_ > 0 && httpPort_ > 0;
@@ -70,8 +89,35 @@ public:
         return false;
     }
 
+    // Later starts have NAME=VALUE in their environment, besides this process's.
+    void setEnvironment(const std::string& name, const std::string& value) {
+        environment_.emplace_back(name, value);
+    }
+
+    // Waits up to `timeout` for the process to end by itself; its wait status, or -1 when it
+    // still runs (or none was started). A process that ended during start() counts.
+    int waitExit(std::chrono::seconds timeout) {
+        if (pid_ <= 0) return starts_ > 0 ? exitStatus_ : -1;
+        const auto deadline = std::chrono::steady_clock::now() + timeout;
+        while (std::chrono::steady_clock::now() < deadline) {
+            int status = 0;
+            if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+                pid_ = -1;
+                exitStatus_ = status;
+                return status;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return -1;
+    }
+
     // The next start runs under this address-space limit (ulimit -v), in bytes; 0: none.
     void setAddressSpaceLimit(uint64_t bytes) { addressSpaceLimit_ = bytes; }
+
+    // Sends `signal` without waiting (SIGSTOP, SIGCONT).
+    void signal(int signal) {
+        if (pid_ > 0) ::kill(pid_, signal);
+    }
 
     // Sends `signal` and waits for the process; its wait status (-1 when none ran).
     int kill(int signal) {
@@ -96,6 +142,7 @@ private:
     int exitStatus_ = 0, starts_ = 0, grpcPort_ = 0, httpPort_ = 0;
     std::filesystem::path logPath_;
     rlim_t addressSpaceLimit_ = 0;
+    std::vector<std::pair<std::string, std::string>> environment_;
 };
 
 inline std::string readBytes(const std::filesystem::path& path) {

@@ -1,6 +1,10 @@
-// The storage pieces in process: SHA-256 and the SQLite job store.
+// The storage pieces in process: SHA-256 and the SQLite job store (its behaviour, shared with
+// the PostgreSQL store's tests, and its schema migrations).
 #include <gtest/gtest.h>
 
+#include <sqlite3.h>
+
+#include "StoreBehaviour.h"
 #include "TestTmp.h"
 #include "vastray/server/Sha256.h"
 #include "vastray/server/Storage.h"
@@ -21,63 +25,109 @@ TEST(Sha256, MatchesTheFips180TestVectors) {
     EXPECT_FALSE(server::isSha256Hex(std::string(63, 'f')));
 }
 
-v1::Job makeJob(const std::string& id, v1::JobState state, const std::string& requestId = "") {
-    v1::Job job;
-    job.set_id(id);
-    job.set_state(state);
-    job.mutable_request()->set_scene_id(std::string(64, 'a'));
-    job.mutable_request()->set_request_id(requestId);
-    return job;
+std::filesystem::path freshDir(const std::string& name) {
+    const auto dir = testTmpDir("server") / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
 }
 
 TEST(SqliteStore, JobsPersistAcrossReopenWithIdempotencyAndPaging) {
-    const auto dir = testTmpDir("server") / "sqlite";
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    {
-        auto stores = server::openSqliteStores(dir / "jobs.db");
-        ASSERT_TRUE(stores.isOk()) << stores.message();
-        auto& jobs = *stores->jobs;
-        for (int i = 0; i < 5; ++i)
-            ASSERT_TRUE(jobs.insertJob(makeJob("job-" + std::to_string(i), v1::QUEUED)).isOk());
-        auto first = jobs.insertJob(makeJob("job-x", v1::QUEUED, "key"));
-        ASSERT_TRUE(first.isOk() && first->created);
-        auto again = jobs.insertJob(makeJob("job-y", v1::QUEUED, "key"));
-        ASSERT_TRUE(again.isOk());
-        EXPECT_FALSE(again->created);
-        EXPECT_EQ(again->job.id(), "job-x") << "a request id maps to its first job";
-        v1::Job running = makeJob("job-1", v1::RUNNING);
-        ASSERT_TRUE(jobs.updateJob(running).isOk());
-        EXPECT_FALSE(jobs.updateJob(makeJob("job-missing", v1::FAILED)).isOk()) << "update of an unknown job";
-        ASSERT_TRUE(jobs.updateJob(makeJob("job-2", v1::SUCCEEDED)).isOk());
-    }
-    auto stores = server::openSqliteStores(dir / "jobs.db");
-    ASSERT_TRUE(stores.isOk());
-    auto& jobs = *stores->jobs;
-    auto unfinished = jobs.unfinishedJobs();
-    ASSERT_TRUE(unfinished.isOk());
-    ASSERT_EQ(unfinished->size(), 5u) << "job-2 finished; the others are QUEUED or RUNNING";
-    EXPECT_EQ((*unfinished)[1].id(), "job-1");
-    EXPECT_EQ((*unfinished)[1].state(), v1::RUNNING);
+    const auto dir = freshDir("sqlite");
+    checkStoreBehaviour([&] { return server::openSqliteStores(dir / "jobs.db"); });
+}
 
-    std::vector<std::string> seen;
-    uint64_t before = 0;
-    for (bool more = true; more;) {
-        auto page = jobs.listJobs(v1::JOB_STATE_UNSPECIFIED, before, 2);
-        ASSERT_TRUE(page.isOk());
-        for (const auto& job : page->jobs) seen.push_back(job.id());
-        before = page->last;
-        more = page->more;
+// Runs SQL on a database file directly (the tests' own connection, not the store's).
+void runSql(const std::filesystem::path& path, const std::string& sql) {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    char* message = nullptr;
+    const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message);
+    EXPECT_EQ(rc, SQLITE_OK) << (message ? message : "");
+    sqlite3_free(message);
+    sqlite3_close(db);
+}
+
+int64_t schemaVersion(const std::filesystem::path& path) {
+    sqlite3* db = nullptr;
+    EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    sqlite3_stmt* query = nullptr;
+    sqlite3_prepare_v2(db, "SELECT version FROM schema_version", -1, &query, nullptr);
+    const int64_t version = query && sqlite3_step(query) == SQLITE_ROW ? sqlite3_column_int64(query, 0) : -1;
+    sqlite3_finalize(query);
+    sqlite3_close(db);
+    return version;
+}
+
+TEST(SqliteStore, EmptyDatabaseGetsTheCurrentSchemaVersion) {
+    const auto path = freshDir("sqlite-empty") / "jobs.db";
+    ASSERT_TRUE(server::openSqliteStores(path).isOk());
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
+    ASSERT_TRUE(server::openSqliteStores(path).isOk()) << "a second open finds nothing to migrate";
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
+}
+
+// The previous version: the tables the servers before schema_version wrote (verbatim), with a
+// job in them. Opening migrates it and keeps the job.
+TEST(SqliteStore, DatabaseOfThePreviousVersionIsMigratedKeepingItsJobs) {
+    const auto path = freshDir("sqlite-previous") / "jobs.db";
+    runSql(path, R"sql(
+CREATE TABLE IF NOT EXISTS scenes (
+  position INTEGER PRIMARY KEY AUTOINCREMENT,
+  id TEXT NOT NULL UNIQUE,
+  record BLOB NOT NULL);
+CREATE TABLE IF NOT EXISTS jobs (
+  position INTEGER PRIMARY KEY AUTOINCREMENT,
+  id TEXT NOT NULL UNIQUE,
+  request_id TEXT UNIQUE,
+  scene_id TEXT NOT NULL,
+  state INTEGER NOT NULL,
+  record BLOB NOT NULL);
+CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, position);
+CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
+)sql");
+    {
+        // The previous server's rows, written through its statements.
+        const v1::Job job = makeJob("job-old", v1::QUEUED, "old-key");
+        sqlite3* db = nullptr;
+        ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+        sqlite3_stmt* insert = nullptr;
+        sqlite3_prepare_v2(db, "INSERT INTO jobs(id, request_id, scene_id, state, record) VALUES(?, ?, ?, ?, ?)",
+                           -1, &insert, nullptr);
+        const std::string record = job.SerializeAsString();
+        sqlite3_bind_text(insert, 1, "job-old", -1, SQLITE_STATIC);
+        sqlite3_bind_text(insert, 2, "old-key", -1, SQLITE_STATIC);
+        sqlite3_bind_text(insert, 3, job.request().scene_id().c_str(), -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int64(insert, 4, v1::QUEUED);
+        sqlite3_bind_blob(insert, 5, record.data(), int(record.size()), SQLITE_TRANSIENT);
+        EXPECT_EQ(sqlite3_step(insert), SQLITE_DONE);
+        sqlite3_finalize(insert);
+        sqlite3_close(db);
     }
-    EXPECT_EQ(seen, (std::vector<std::string>{"job-x", "job-4", "job-3", "job-2", "job-1", "job-0"}))
-        << "newest first";
-    auto succeeded = jobs.listJobs(v1::SUCCEEDED, 0, 10);
-    ASSERT_TRUE(succeeded.isOk());
-    ASSERT_EQ(succeeded->jobs.size(), 1u);
-    EXPECT_EQ(succeeded->jobs[0].id(), "job-2");
-    auto inUse = jobs.sceneInUse(std::string(64, 'a'));
-    ASSERT_TRUE(inUse.isOk());
-    EXPECT_TRUE(*inUse);
+    auto stores = server::openSqliteStores(path);
+    ASSERT_TRUE(stores.isOk()) << stores.message();
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
+    auto unfinished = stores->jobs->unfinishedJobs();
+    ASSERT_TRUE(unfinished.isOk());
+    ASSERT_EQ(unfinished->size(), 1u);
+    EXPECT_EQ((*unfinished)[0].id(), "job-old");
+    auto again = stores->jobs->insertJob(makeJob("job-new", v1::QUEUED, "old-key"));
+    ASSERT_TRUE(again.isOk());
+    EXPECT_FALSE(again->created) << "the old request id still maps to its job";
+}
+
+TEST(SqliteStore, NewerSchemaVersionIsRefusedNamingBoth) {
+    const auto path = freshDir("sqlite-newer") / "jobs.db";
+    ASSERT_TRUE(server::openSqliteStores(path).isOk());
+    runSql(path, "UPDATE schema_version SET version = 99");
+    auto stores = server::openSqliteStores(path);
+    ASSERT_FALSE(stores.isOk());
+    EXPECT_NE(stores.message().find(path.string() + ": the database has schema version 99; this vastray knows "
+                                                    "versions up to " +
+                                    std::to_string(server::kSqliteSchemaVersion)),
+              std::string::npos)
+        << stores.message();
+    EXPECT_EQ(schemaVersion(path), 99) << "nothing was changed";
 }
 
 }  // namespace

@@ -34,6 +34,12 @@ namespace vastray::server {
 // Defaults are those of `vastray serve`; flags map one-to-one onto these fields.
 struct ServiceOptions {
     std::filesystem::path dataDir;             // required: jobs.db, scenes/, results/, tmp/
+    std::string databaseUrl;    // postgresql://… job store; empty: SQLite dataDir/jobs.db (--database)
+    uint32_t maxAttempts = 3;   // failed attempts (crashes included) before a job FAILS (--max-attempts)
+    // dataDir is a folder replicas share (--storage; needs databaseUrl): jobs are tiles in task
+    // rows that any replica leases (TileTasks.cpp) instead of this server's own queue.
+    bool sharedStorage = false;
+    double leaseSeconds = 30;  // a tile's lease, renewed every third of it while it renders (--lease-seconds)
     uint64_t memoryBudgetBytes = 4ull << 30;   // device memory one job may use, per worker (--memory-budget)
     uint64_t hostCacheBytes = 2ull << 30;      // decoded scenes in host memory, all workers (--host-cache)
     uint32_t maxQueue = 1000;                  // QUEUED jobs; one more is RESOURCE_EXHAUSTED (--max-queue)
@@ -132,6 +138,8 @@ public:
     bool shutdown(std::chrono::milliseconds grace);
     // After shutdown(): the jobs left RUNNING for the next start (empty when none).
     std::vector<std::string> jobsLeftRunning() const;
+    // With sharedStorage: this replica's name in the task rows (host name and a random suffix).
+    const std::string& replicaId() const { return replicaId_; }
 
 private:
     friend class SceneUpload;
@@ -177,6 +185,11 @@ private:
     std::string importNoteLocked(const std::string& sceneId) const;
 
     void workerLoop(Worker& worker);
+    // sharedStorage: each worker leases tasks (TileTasks.cpp) instead of taking the queue's jobs.
+    void replicaLoop(Worker& worker);
+    void runTask(Worker& worker, const TaskStore::Lease& lease);
+    ServiceStatus renderTile(Worker& worker, const TaskStore::Lease& lease);
+    ServiceStatus assembleResult(const TaskStore::Lease& lease);
     void runJob(Worker& worker, const std::string& id);
     ServiceStatus renderAndStore(Worker& worker, v1::Job& job);
     ServiceStatus renderAndStoreGuarded(Worker& worker, v1::Job& job);
@@ -193,6 +206,7 @@ private:
     void overlayLiveLocked(v1::Job& job) const;
 
     ServiceOptions options_;
+    std::string replicaId_;
     std::vector<std::unique_ptr<Worker>> workers_;
     std::unique_ptr<ObjectStore> objects_;
     MetadataStores stores_;

@@ -37,6 +37,10 @@ public:
 // Objects as files dataDir/KEY; scratch in dataDir/tmp (emptied on open: a crash leaves
 // only partial uploads and renders there, never a partial object).
 Result<std::unique_ptr<ObjectStore>> openFileObjectStore(const std::filesystem::path& dataDir);
+// The same on a folder that several replicas share (`serve --storage`, NFS and the like):
+// scratch in dir/tmp/REPLICA, this replica's own (a replica never empties another's).
+Result<std::unique_ptr<ObjectStore>> openSharedFileObjectStore(const std::filesystem::path& dir,
+                                                               const std::string& replica);
 
 class SceneCatalog {
 public:
@@ -81,11 +85,77 @@ public:
     virtual Result<bool> sceneInUse(const std::string& sceneId) = 0;
 };
 
-// One SQLite database (WAL, synchronous=FULL) implementing both catalogs.
+// The tiles of render jobs as task rows that the replicas of a `serve --storage` deployment
+// lease (PostgreSQL only: SELECT ... FOR UPDATE SKIP LOCKED). A job has one task per tile and
+// one assemble task (tile kAssembleTile) that can be leased once every tile is done. A lease
+// lasts `seconds` unless renewed; one that expired is a failed attempt of its task, and the
+// next replica takes the task over. Every call is one transaction.
+class TaskStore {
+public:
+    static constexpr int32_t kAssembleTile = -1;
+    virtual ~TaskStore() = default;
+    // Stores a new job and its tasks (`tiles` tiles and the assemble task) together; a
+    // request id already used stores nothing, as JobStore::insertJob.
+    virtual Result<JobStore::Insert> insertJobWithTasks(const v1::Job& job, uint32_t tiles) = 0;
+    struct Lease {
+        std::string jobId;
+        int32_t tile = 0;
+        uint32_t attempt = 0;  // 1 for the task's first lease
+        v1::Job job;           // the job's record when leased
+    };
+    // Leases the next task nobody holds (or whose lease expired) for `owner`: highest priority
+    // first, then the oldest job, then the lowest tile. A task whose lease expired counts a failed
+    // attempt in its job's attempt_errors; when that makes `maxAttempts` failed attempts of the
+    // task, the job is FAILED and the next task is looked for. The job goes RUNNING with its
+    // first lease. None: nothing to do now.
+    virtual Result<std::optional<Lease>> leaseTask(const std::string& owner, double seconds,
+                                                   uint32_t maxAttempts) = 0;
+    // Extends the lease; false when `owner` lost it (expired and taken over, or its job was
+    // cancelled or failed meanwhile).
+    virtual Result<bool> renewLease(const Lease& lease, const std::string& owner, double seconds) = 0;
+    // Marks a tile done (the job's progress follows). When it was the job's last, the assemble
+    // task is leased to `owner` in the same transaction and returned: exactly one replica
+    // assembles. `held` false: the lease was lost, nothing changed.
+    struct Completion {
+        bool held = false;
+        std::optional<Lease> assemble;
+    };
+    virtual Result<Completion> completeTile(const Lease& lease, const std::string& owner, double seconds) = 0;
+    // Marks the assemble task done and stores `finished` (the job SUCCEEDED) together; false
+    // when the lease was lost.
+    virtual Result<bool> completeJob(const Lease& lease, const std::string& owner,
+                                     const v1::Job& finished) = 0;
+    // A failed attempt of a held task: `reason` is appended to the job's attempt_errors and the
+    // task is free again, or, at `maxAttempts` failed attempts of the task, the job is FAILED.
+    virtual Status failTask(const Lease& lease, const std::string& owner, const std::string& reason,
+                            uint32_t maxAttempts) = 0;
+};
+
 struct MetadataStores {
     std::shared_ptr<SceneCatalog> scenes;
     std::shared_ptr<JobStore> jobs;
+    std::shared_ptr<TaskStore> tasks;  // PostgreSQL opened for replicas only
 };
+
+// The schema versions the stores write, in a one-row table schema_version. Opening a store
+// runs the migrations from the version it finds (0: an empty database) up to its version, in
+// one transaction; a database of a newer version is an error. SQLite databases written before
+// schema_version existed hold version 1's tables and are migrated as version 0.
+// SQLite 1: scenes, jobs. PostgreSQL 1: scenes, jobs; 2: tasks (the tiles replicas lease).
+constexpr int kSqliteSchemaVersion = 1;
+constexpr int kPostgresSchemaVersion = 2;
+
+// One SQLite database (WAL, synchronous=FULL) implementing both catalogs.
 Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePath);
+
+// One PostgreSQL database (libpq; `url` postgresql://[USER[:PASSWORD]@]HOST[:PORT]/DATABASE[?…])
+// implementing both catalogs, with SQLite's behaviour. Without `replicas`, one server per
+// database: a second one is refused. With `replicas` (`serve --storage`) any number of servers
+// share it, and the TaskStore is open too. Errors name the URL without its password, and the
+// failing statement.
+Result<MetadataStores> openPostgresStores(const std::string& url, bool replicas = false);
+
+// `url` without a password (in the user info or a password= parameter), for messages.
+std::string redactDatabaseUrl(const std::string& url);
 
 }  // namespace vastray::server
