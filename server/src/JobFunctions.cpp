@@ -139,6 +139,12 @@ Status Service::recoverJobs() {
 ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& request) {
     auto normalized = normalizeSubmitRequest(request, options_.memoryBudgetBytes);
     if (!normalized) return normalized.status();
+    // chunkid and cost exist only where chunks stream: refused at submit, not when the job runs.
+    if (!workers_.empty() && workers_.front()->renderer->name() == "embree")
+        for (const std::string& aov : normalized->aovs())
+            if (auto flags = parseAovList(aov); flags && (*flags & kAovStreamingOnly))
+                return ServiceStatus{StatusCode::InvalidArgument,
+                                     "aovs: '" + aov + "' needs the vulkan backend; this server renders with embree"};
     std::lock_guard<std::mutex> lock(mutex_);
     if (!accepting_) return ServiceStatus{StatusCode::Unavailable, "the server is shutting down"};
     if (!normalized->request_id().empty()) {

@@ -138,6 +138,30 @@ TEST_F(ServerTest, HttpInvalidRequestsAreRejectedNamingTheField) {
         << "names the client's file: " << errorMessage(res);
 }
 
+// chunkid and cost need chunks that stream: an embree server refused the job only when it ran
+// (FAILED); now at submit, naming the AOV and the backend. A vulkan server takes them.
+TEST_F(ServerTest, StreamingOnlyAovsAreRefusedAtSubmitByAnEmbreeServer) {
+    startServer({"--backend", "embree", "--paused"});
+    const std::string sceneId = uploadSphere()["id"];
+    for (const char* aov : {"chunkid", "cost"}) {
+        json body = smallJob(sceneId);
+        body["aovs"] = {"depth", aov};
+        auto res = submit(body);
+        ASSERT_TRUE(res);
+        EXPECT_EQ(res->status, 400) << res->body;
+        EXPECT_EQ(errorMessage(res), std::string("aovs: '") + aov + "' needs the vulkan backend; this server renders with embree");
+    }
+    json bad = smallJob(sceneId);
+    bad["aovs"] = {"bogus"};
+    auto res = submit(bad);
+    EXPECT_EQ(res->status, 400);
+    EXPECT_NE(errorMessage(res).find("expected depth, normal, albedo, primid, chunkid or cost"), std::string::npos)
+        << errorMessage(res);
+    json fine = smallJob(sceneId);
+    fine["aovs"] = {"depth", "primid"};
+    EXPECT_EQ(submit(fine)->status, 202);
+}
+
 TEST_F(ServerTest, HttpUnknownIdsAre404AndWrongStatesAre409) {
     startServer({"--paused"});
     const std::string sceneId = uploadSphere()["id"];
