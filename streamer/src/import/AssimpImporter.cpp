@@ -25,9 +25,9 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <type_traits>
 
 #include "import/ImportCommon.h"
+#include "package/ByteIo.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -176,112 +176,82 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
 }
 
 // The child's answer on the pipe: a byte (1: a mesh follows, 0: an error message follows),
-// then length-prefixed fields in this order.
-class Writer {
-public:
-    template <typename T>
-    void put(const T& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        const auto* b = reinterpret_cast<const uint8_t*>(&v);
-        bytes.insert(bytes.end(), b, b + sizeof(T));
-    }
-    void put(const std::string& text) {
-        put(uint64_t(text.size()));
-        bytes.insert(bytes.end(), text.begin(), text.end());
-    }
-    template <typename T>
-    void putArray(const std::vector<T>& values) {
-        put(uint64_t(values.size()));
-        const auto* b = reinterpret_cast<const uint8_t*>(values.data());
-        bytes.insert(bytes.end(), b, b + values.size() * sizeof(T));
-    }
-    std::vector<uint8_t> bytes;
-};
-
-class Reader {
-public:
-    explicit Reader(const std::vector<uint8_t>& bytes) : bytes_(bytes) {}
-    template <typename T>
-    bool get(T& v) {
-        if (bytes_.size() - at_ < sizeof(T)) return false;
-        std::memcpy(&v, bytes_.data() + at_, sizeof(T));
-        at_ += sizeof(T);
-        return true;
-    }
-    bool get(std::string& text) {
-        uint64_t size = 0;
-        if (!get(size) || bytes_.size() - at_ < size) return false;
-        text.assign(reinterpret_cast<const char*>(bytes_.data() + at_), size);
-        at_ += size;
-        return true;
-    }
-    template <typename T>
-    bool getArray(std::vector<T>& values) {
-        uint64_t count = 0;
-        if (!get(count) || count > (bytes_.size() - at_) / sizeof(T)) return false;
-        values.resize(count);
-        std::memcpy(values.data(), bytes_.data() + at_, count * sizeof(T));
-        at_ += count * sizeof(T);
-        return true;
-    }
-    bool done() const { return at_ == bytes_.size(); }
-
-private:
-    const std::vector<uint8_t>& bytes_;
-    size_t at_ = 0;
-};
+// then the fields in this order, strings and arrays each after their uint64 length (the
+// package's ByteWriter/ByteReader, whose reads never pass the end).
+void putText(ByteWriter& w, const std::string& text) {
+    w.put(uint64_t(text.size()));
+    w.putBytes(text.data(), text.size());
+}
+template <typename T>
+void putCounted(ByteWriter& w, const std::vector<T>& values) {
+    w.put(uint64_t(values.size()));
+    w.putArray(values);
+}
+bool getText(ByteReader& r, std::string& text) {
+    uint64_t size = 0;
+    if (!r.get(size) || size > r.remaining()) return false;
+    text.assign(reinterpret_cast<const char*>(r.current()), size);
+    return r.skip(size);
+}
+template <typename T>
+bool getCounted(ByteReader& r, std::vector<T>& values) {
+    uint64_t count = 0;
+    return r.get(count) && r.getArray(values, count);
+}
 
 std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
-    Writer w;
+    ByteWriter w;
     if (!result) {
         w.put(uint8_t(0));
-        w.put(result.message());
-        return w.bytes;
+        putText(w, result.message());
+        return std::move(w.bytes());
     }
     const ImportedMesh& m = *result;
     w.put(uint8_t(1));
-    w.put(m.report.format);
+    putText(w, m.report.format);
     w.put(m.report.verticesRead), w.put(m.report.normalsRead), w.put(m.report.texcoordsRead);
     w.put(m.report.primitivesSkipped);
     w.put(uint64_t(m.report.warnings.size()));
-    for (const std::string& warning : m.report.warnings) w.put(warning);
+    for (const std::string& warning : m.report.warnings) putText(w, warning);
     w.put(uint64_t(m.mesh.materials.size()));
     for (const Material& material : m.mesh.materials) {
-        w.put(material.name);
+        putText(w, material.name);
         w.put(material.baseColor), w.put(material.emissive), w.put(uint8_t(material.doubleSided));
     }
-    w.putArray(m.mesh.positions), w.putArray(m.mesh.indices), w.putArray(m.mesh.materialIds);
-    return w.bytes;
+    putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
+    return std::move(w.bytes());
 }
 
 Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uint8_t>& bytes) {
     const Status malformed = import::errorIn(name, "the assimp reader process sent a malformed answer");
-    Reader r(bytes);
+    ByteReader r(bytes.data(), bytes.size());
     uint8_t ok = 0;
     if (!r.get(ok)) return malformed;
     if (!ok) {
         std::string message;
-        if (!r.get(message) || !r.done()) return malformed;
+        if (!getText(r, message) || r.remaining() != 0) return malformed;
         return Status::error(message);
     }
     ImportedMesh m;
     uint64_t warnings = 0, materials = 0;
-    if (!r.get(m.report.format) || !r.get(m.report.verticesRead) || !r.get(m.report.normalsRead) ||
+    if (!getText(r, m.report.format) || !r.get(m.report.verticesRead) || !r.get(m.report.normalsRead) ||
         !r.get(m.report.texcoordsRead) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
         warnings > bytes.size())
         return malformed;
     m.report.warnings.resize(warnings);
     for (std::string& warning : m.report.warnings)
-        if (!r.get(warning)) return malformed;
+        if (!getText(r, warning)) return malformed;
     if (!r.get(materials) || materials > bytes.size()) return malformed;
     m.mesh.materials.resize(materials);
     for (Material& material : m.mesh.materials) {
         uint8_t doubleSided = 1;
-        if (!r.get(material.name) || !r.get(material.baseColor) || !r.get(material.emissive) || !r.get(doubleSided))
+        if (!getText(r, material.name) || !r.get(material.baseColor) || !r.get(material.emissive) ||
+            !r.get(doubleSided))
             return malformed;
         material.doubleSided = doubleSided != 0;
     }
-    if (!r.getArray(m.mesh.positions) || !r.getArray(m.mesh.indices) || !r.getArray(m.mesh.materialIds) || !r.done())
+    if (!getCounted(r, m.mesh.positions) || !getCounted(r, m.mesh.indices) || !getCounted(r, m.mesh.materialIds) ||
+        r.remaining() != 0)
         return malformed;
     return m;
 }
