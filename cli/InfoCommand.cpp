@@ -50,6 +50,8 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"quantize_bits", info.grid.bits},
             {"quantize_step", info.grid.step()},
             {"codec", geometryCodecName(info.codec)},
+            {"vertex_normals", info.hasNormals},
+            {"vertex_colors", info.hasColors},
             {"degenerate_dropped", info.degenerateDropped},
             {"collapsed_dropped", info.collapsedDropped},
             {"materials", materials},
@@ -70,6 +72,9 @@ void printHuman(const std::string& path, const PackageInfo& info) {
     else
         std::printf("  quantization         lossless\n");
     std::printf("  chunk codec          %s\n", geometryCodecName(info.codec));
+    const char* attributes = info.hasNormals ? (info.hasColors ? "shading normals, colours" : "shading normals")
+                                             : (info.hasColors ? "colours" : "none");
+    std::printf("  vertex attributes    %s\n", attributes);
     std::printf("  materials            %zu\n", info.materials.size());
     std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",
                 (unsigned long long)info.degenerateDropped, (unsigned long long)info.collapsedDropped);

@@ -20,11 +20,26 @@ const Material& materialAt(std::span<const Material> materials, uint32_t id) {
     return id < materials.size() ? materials[id] : materials[0];
 }
 
-SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material) {
+HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const uint32_t> colors, uint32_t i0,
+                            uint32_t i1, uint32_t i2, float u, float v) {
+    HitAttributes a;
+    if (!normals.empty()) a.normal = interpolateNormal(normals[i0], normals[i1], normals[i2], u, v);
+    if (!colors.empty()) a.color = interpolateColor(colors[i0], colors[i1], colors[i2], u, v);
+    return a;
+}
+
+SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material,
+                              HitAttributes attributes) {
     SurfacePoint point;
     point.position = position;
     point.normal = normalize(geometric);
     if (dot(point.normal, rayDirection) > 0.0f) point.normal = point.normal * -1.0f;
+    point.shadingNormal = point.normal;
+    if (attributes.normal != kNoNormal) {
+        const Vec3f n = decodeOctahedral(attributes.normal);
+        point.shadingNormal = dot(n, point.normal) < 0.0f ? n * -1.0f : n;
+    }
+    point.albedo = mul(baseColor(material), unpackHitColor(attributes.color));
     point.material = &material;
     return point;
 }
@@ -41,9 +56,9 @@ Vec3f baseColor(const Material& m) { return {m.baseColor[0], m.baseColor[1], m.b
 
 bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const SurfacePoint& point, Vec3f* light) {
     const Vec3f irradiance = toVec(env.sunIrradiance);
-    const float cosine = dot(point.normal, sunDirection);
-    if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f) return false;
-    *light = mul(baseColor(*point.material), irradiance) * (cosine / kPi);
+    const float cosine = dot(point.shadingNormal, sunDirection);
+    if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f || dot(point.normal, sunDirection) <= 0.0f) return false;
+    *light = mul(point.albedo, irradiance) * (cosine / kPi);
     return true;
 }
 
@@ -51,6 +66,11 @@ Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed) {
     const float u1 = randomFloat(key, kDimDirectionU, seed);
     const float u2 = randomFloat(key, kDimDirectionV, seed);
     return normalize(frameAround(normal).toWorld(cosineHemisphere(u1, u2)));
+}
+
+bool bounceDirection(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction) {
+    *direction = cosineDirection(point.shadingNormal, key, seed);
+    return dot(*direction, point.normal) > 0.0f;
 }
 
 bool surviveRoulette(Vec3f& throughput, uint32_t bounce, RandomKey key, uint32_t seed) {

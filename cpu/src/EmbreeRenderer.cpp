@@ -40,9 +40,9 @@ void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, Re
     const SurfacePoint point = surfaceAt(context.mesh, hit, ray.direction);
     if (image.aovs & kAovDepth) image.depth[pixel] = hit.t;
     if (image.aovs & kAovNormal)
-        for (int c = 0; c < 3; ++c) image.normal[3 * pixel + c] = point.normal[c];
+        for (int c = 0; c < 3; ++c) image.normal[3 * pixel + c] = point.shadingNormal[c];
     if (image.aovs & kAovAlbedo)
-        for (int c = 0; c < 3; ++c) image.albedo[3 * pixel + c] = point.material->baseColor[c];
+        for (int c = 0; c < 3; ++c) image.albedo[3 * pixel + c] = point.albedo[c];
     if (image.aovs & kAovPrimId) image.primId[pixel] = hit.triangle;
 }
 

@@ -27,8 +27,10 @@ SurfacePoint surfaceAt(const TriangleMesh& mesh, const SceneHit& hit, Vec3f rayD
     const Vec3f v0 = mesh.positions[mesh.indices[3 * hit.triangle]];
     const Vec3f v1 = mesh.positions[mesh.indices[3 * hit.triangle + 1]];
     const Vec3f v2 = mesh.positions[mesh.indices[3 * hit.triangle + 2]];
+    const uint32_t* corners = &mesh.indices[3 * size_t(hit.triangle)];
     return makeSurfacePoint(barycentricPosition(v0, v1, v2, hit.u, hit.v), geometricNormal(v0, v1, v2),
-                            rayDirection, materialAt(mesh.materials, mesh.materialOf(hit.triangle)));
+                            rayDirection, materialAt(mesh.materials, mesh.materialOf(hit.triangle)),
+                            hitAttributes(mesh.normals, mesh.colors, corners[0], corners[1], corners[2], hit.u, hit.v));
 }
 
 SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, uint64_t& rays) {
@@ -50,10 +52,12 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
         result.radiance = result.radiance + mul(throughput, sunLight(context, point, origin, rays));
-        // Cosine sampling of a Lambertian BRDF: f * cos / pdf = base colour.
-        throughput = mul(throughput, baseColor(*point.material));
+        // Cosine sampling of a Lambertian BRDF: f * cos / pdf = base colour (times the vertex colour).
+        throughput = mul(throughput, point.albedo);
         if (!surviveRoulette(throughput, bounce, key, options.seed)) break;
-        ray = {origin, cosineDirection(point.normal, key, options.seed)};
+        Vec3f direction;
+        if (!bounceDirection(point, key, options.seed, &direction)) break;
+        ray = {origin, direction};
     }
     return result;
 }

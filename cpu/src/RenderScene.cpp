@@ -11,10 +11,15 @@ namespace {
 
 // Appends the chunk's triangles whose primitive id has not been seen yet. The chunk's
 // vertices are appended whole: a few unused ones are cheaper than a remap.
-Status appendChunk(const DecodedChunk& chunk, const std::string& path, std::vector<uint8_t>& seen,
-                   RenderScene& scene) {
+Status appendChunk(const DecodedChunk& chunk, const PackageInfo& info, const std::string& path,
+                   std::vector<uint8_t>& seen, RenderScene& scene) {
     const auto base = uint32_t(scene.mesh.positions.size());
+    if (chunk.normals.empty() == info.hasNormals || chunk.colors.empty() == info.hasColors)
+        return Status::error(path + ": chunk " + std::to_string(chunk.id) +
+                             ": its vertex attributes disagree with the header's");
     scene.mesh.positions.insert(scene.mesh.positions.end(), chunk.positions.begin(), chunk.positions.end());
+    scene.mesh.normals.insert(scene.mesh.normals.end(), chunk.normals.begin(), chunk.normals.end());
+    scene.mesh.colors.insert(scene.mesh.colors.end(), chunk.colors.begin(), chunk.colors.end());
     for (size_t t = 0; t < chunk.primitiveIds.size(); ++t) {
         const uint32_t id = chunk.primitiveIds[t];
         if (id >= seen.size())
@@ -43,7 +48,7 @@ Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
     for (const ChunkInfo& chunkInfo : info.chunks) {
         auto chunk = reader.readChunk(chunkInfo.id);
         if (!chunk) return chunk.status();
-        VASTRAY_TRY(appendChunk(*chunk, reader.path(), seen, scene));
+        VASTRAY_TRY(appendChunk(*chunk, info, reader.path(), seen, scene));
     }
     return scene;
 }

@@ -8,6 +8,7 @@
 #include "common/WavefrontPrelude.glsl"
 #include "common/Random.glsl"
 #include "common/Shading.glsl"
+#include "common/Attributes.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -19,15 +20,16 @@ void main() {
     if (i >= pc.pixelCount) return;
     ParamsRef params = ParamsRef(pc.params);
     const uint aovs = params.p.aovs;
-    const vec4 n = Vec4Array(params.p.hitNormal).v[i];
+    const uvec4 n = UVec4Array(params.p.hitNormal).v[i];
     const bool found = (UVec2Array(params.p.rayState).v[i].x & kHitFound) != 0u;
     const vec4 position = Vec4Array(params.p.hitPosition).v[i];
     const uvec4 ids = UVec4Array(params.p.hitIds).v[i];
     vec3 normal = vec3(0.0), albedo = vec3(0.0);
     if (found) {
-        normal = facingNormal(n.xyz, Vec4Array(params.p.rayDirection).v[i].xyz);
+        // The shading normal and the base colour times the vertex colour (white without).
+        normal = shadingNormalAt(n.w, facingNormal(uintBitsToFloat(n.xyz), Vec4Array(params.p.rayDirection).v[i].xyz));
         const WavefrontMaterial m = materialAt(params.p, ids.y);
-        albedo = vec3(m.baseR, m.baseG, m.baseB);
+        albedo = vec3(m.baseR, m.baseG, m.baseB) * unpackHitColor(ids.w);
     }
     if ((aovs & kAovDepth) != 0u) RwFloatArray(params.p.outDepth).v[i] = found ? position.w : kInfinity;
     if ((aovs & kAovNormal) != 0u)

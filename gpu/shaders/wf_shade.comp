@@ -12,6 +12,7 @@
 #include "common/WavefrontPrelude.glsl"
 #include "common/Random.glsl"
 #include "common/Shading.glsl"
+#include "common/Attributes.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -19,6 +20,8 @@ layout(local_size_x = kWavefrontWorkgroupSize) in;
 layout(constant_id = 0) const bool kAmbientOcclusion = false;  // the ao integrator, else path
 layout(constant_id = 1) const bool kSun = true;                // the sun has irradiance
 layout(constant_id = 2) const bool kEmission = true;           // some material emits
+layout(constant_id = 3) const bool kShadingNormals = false;    // the scene has per-vertex normals
+layout(constant_id = 4) const bool kVertexColors = false;      // the scene has per-vertex colours
 
 void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
@@ -46,14 +49,14 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
     }
     if ((flags & kPathAlive) != 0u) {
         flags &= ~kPathAlive;
-        const vec4 hitNormal = Vec4Array(p.hitNormal).v[j];
+        const uvec4 hitNormal = UVec4Array(p.hitNormal).v[j];
         const vec3 direction = Vec4Array(p.rayDirection).v[j].xyz;
         vec3 throughput = Vec4Array(p.throughput).v[j].xyz;
         const uint bounce = info.w, pixel = info.x, sampleIndex = info.y;
         if ((UVec2Array(p.rayState).v[j].x & kHitFound) == 0u) {
             radiance = ao ? vec3(1.0) : radiance + throughput * skyRadiance(p, direction);
         } else {
-            const vec3 n = facingNormal(hitNormal.xyz, direction);
+            const vec3 n = facingNormal(uintBitsToFloat(hitNormal.xyz), direction);
             const vec3 origin = offsetRayOrigin(Vec4Array(p.hitPosition).v[j].xyz, n);
             if (bounce == 0u) flags |= kPathCameraHit;
             if (ao) {
@@ -62,13 +65,18 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             } else {
-                const WavefrontMaterial m = materialAt(p, UVec4Array(p.hitIds).v[j].y);
-                const vec3 base = vec3(m.baseR, m.baseG, m.baseB);
+                const uvec4 ids = UVec4Array(p.hitIds).v[j];
+                const WavefrontMaterial m = materialAt(p, ids.y);
+                // Vertex colour and shading normal (docs/RENDERING.md, "Vertex attributes"): the
+                // colour scales the base colour; the shading normal takes the Lambertian cosines,
+                // and light or a bounce below the geometric surface is cut.
+                const vec3 base = vec3(m.baseR, m.baseG, m.baseB) * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
+                const vec3 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
                 if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
                 if (bounce < p.maxDepth) {
                     const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
-                    const float cosine = dot(n, sun);
-                    if (kSun && maxComponent(irradiance) > 0.0 && cosine > 0.0) {
+                    const float cosine = dot(ns, sun);
+                    if (kSun && maxComponent(irradiance) > 0.0 && cosine > 0.0 && (!kShadingNormals || dot(n, sun) > 0.0)) {
                         Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
                         startRay(p, shadow, origin, sun, kInfinity);
                         flags |= kPathShadowPending | kPathWalkShadow;
@@ -81,9 +89,11 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                         survives = randomFloat(pixel, sampleIndex, bounce, kDimRoulette, p.seed) < survival;
                         if (survives) throughput *= 1.0 / survival;
                     }
+                    const vec3 bounced = survives ? cosineDirection(ns, pixel, sampleIndex, bounce, p.seed) : vec3(0.0);
+                    if (kShadingNormals && dot(bounced, n) <= 0.0) survives = false;
                     if (survives) {
                         Vec4Array(p.throughput).v[j] = vec4(throughput, 0.0);
-                        startRay(p, j, origin, cosineDirection(n, pixel, sampleIndex, bounce, p.seed), kInfinity);
+                        startRay(p, j, origin, bounced, kInfinity);
                         flags |= kPathAlive | kPathWalkClosest;
                         info.w = bounce + 1u;
                         if (count == 0u) first = j; else second = j;

@@ -21,6 +21,7 @@
 #include "common/KdTraversal.glsl"
 #include "common/Bvh4Traversal.glsl"
 #include "common/SlotTable.glsl"
+#include "common/Attributes.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -38,7 +39,9 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 }
 
 // The closest hit's record: position and geometric normal as core/PathShading.h evaluates them
-// (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them.
+// (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them, and
+// the interpolated shading normal (hitNormal.w's bits) and colour (hitIds.w) when it holds
+// those (kNoNormal and white otherwise): the chunk may be evicted before the path is shaded.
 void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     const ChunkView c = chunkView(s);
     UintArray indices = UintArray(c.indices);
@@ -53,9 +56,20 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     precise float nz = e1.x * e2.y - e1.y * e2.x;
     const uint primitive = (s.flags & kSlotPrimitiveIds) != 0u ? UintArray(s.primitiveIds).v[h.triangle] : 0xFFFFFFFFu;
     const uint material = (s.flags & kSlotMaterialIds) != 0u ? UintArray(s.materialIds).v[h.triangle] : 0u;
+    uint shadingNormal = kNoNormal, color = 0x3FFFFFFFu;
+    const uvec3 corner = uvec3(indices.v[3u * h.triangle], indices.v[3u * h.triangle + 1u], indices.v[3u * h.triangle + 2u]);
+    if ((s.flags & kSlotNormals) != 0u) {
+        UintArray n = UintArray(s.normals);
+        shadingNormal = interpolateNormal(n.v[corner.x], n.v[corner.y], n.v[corner.z], h.u, h.v);
+    }
+    if ((s.flags & kSlotColors) != 0u) {
+        UintArray c = UintArray(s.colors);
+        color = interpolateColor(c.v[corner.x], c.v[corner.y], c.v[corner.z], h.u, h.v);
+    }
     Vec4Array(params.p.hitPosition).v[ray] = vec4(position, h.t);
-    Vec4Array(params.p.hitNormal).v[ray] = vec4(nx, ny, nz, 0.0);
-    UVec4Array(params.p.hitIds).v[ray] = uvec4(primitive, material, chunk, 0u);
+    // Written as words: a normal's code read back as a float could be flushed or canonicalized.
+    UVec4Array(params.p.hitNormal).v[ray] = uvec4(floatBitsToUint(vec3(nx, ny, nz)), shadingNormal);
+    UVec4Array(params.p.hitIds).v[ray] = uvec4(primitive, material, chunk, color);
 }
 
 // Walks one ray; returns whether it is parked (queued again) and whether it finished the last

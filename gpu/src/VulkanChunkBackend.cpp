@@ -122,6 +122,10 @@ public:
         // Constant time for the package reader's chunks (DecodedChunk::validated); a pass over
         // the arrays only for hand-made ones.
         VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
+        for (const auto* words : {&chunk.normals, &chunk.colors})
+            if (!words->empty() && words->size() != chunk.positions.size())
+                return Status::error("chunk " + std::to_string(chunk.id) + " has " + std::to_string(words->size()) +
+                                     " attribute words for " + std::to_string(chunk.positions.size()) + " vertices");
         const ChunkLayout layout =
             chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, attributes_);
         if (layout.totalBytes > plan_.slotBytes)
@@ -158,6 +162,14 @@ public:
             put(layout.materialIds, chunk.materialIds.data(), triangles * 4);
             entry.materialIds = base + layout.materialIds, entry.flags |= kSlotMaterialIds;
         }
+        if (attributes_.normals && !chunk.normals.empty()) {
+            put(layout.normals, chunk.normals.data(), chunk.normals.size() * 4);
+            entry.normals = base + layout.normals, entry.flags |= kSlotNormals;
+        }
+        if (attributes_.colors && !chunk.colors.empty()) {
+            put(layout.colors, chunk.colors.data(), chunk.colors.size() * 4);
+            entry.colors = base + layout.colors, entry.flags |= kSlotColors;
+        }
         VASTRAY_TRY(copyToSlot(b, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
         entry.nodeCount = uint32_t(tree.nodes.size());
         entry.boundsLoX = tree.bounds.lo.x, entry.boundsLoY = tree.bounds.lo.y, entry.boundsLoZ = tree.bounds.lo.z;
@@ -175,6 +187,7 @@ public:
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
         b.bounds = bounds_;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
+        b.normals = attributes_.normals, b.colors = attributes_.colors;
         return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 

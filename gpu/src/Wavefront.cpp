@@ -159,7 +159,7 @@ public:
             emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
         const std::array<float, 3>& sun = options_.environment.sunIrradiance;
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
-                                        sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission});
+                                        sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors});
         if (!shade) return shade.status();
         shade_ = *shade;
         VASTRAY_TRY(uploadParams());

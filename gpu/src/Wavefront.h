@@ -25,6 +25,7 @@ struct WavefrontBuffers {
     uint32_t pathCapacity = 0;
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
+    bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
 };
 
 class Wavefront {

@@ -15,6 +15,8 @@ using uint = uint32_t;
 const uint kSlotSingleSided = 1u;
 const uint kSlotPrimitiveIds = 2u;
 const uint kSlotMaterialIds = 4u;
+const uint kSlotNormals = 8u;
+const uint kSlotColors = 16u;
 
 // Entries of the chunk traversal's stack (Bvh4Traversal.glsl): three per level below the root
 // and three for the deepest nodes' children; checked against vastray::kBvh4MaxDepth on the host.
@@ -29,6 +31,8 @@ struct ChunkSlot {
     uint64_t singleSided;   // bytes packed four to a word; valid with kSlotSingleSided
     uint64_t primitiveIds;  // valid with kSlotPrimitiveIds
     uint64_t materialIds;   // valid with kSlotMaterialIds
+    uint64_t normals;       // per vertex, octahedral (core/VertexAttributes.h); valid with kSlotNormals
+    uint64_t colors;        // per vertex, sRGB8; valid with kSlotColors
     uint nodeCount;
     uint flags;
     float boundsLoX, boundsLoY, boundsLoZ;
@@ -39,7 +43,7 @@ struct ChunkSlot {
 const uint kWalkNoHit = 0xFFFFFFFFu;
 
 #ifdef __cplusplus
-static_assert(sizeof(ChunkSlot) == 80 && offsetof(ChunkSlot, nodeCount) == 48 && offsetof(ChunkSlot, boundsHiZ) == 76);
+static_assert(sizeof(ChunkSlot) == 96 && offsetof(ChunkSlot, nodeCount) == 64 && offsetof(ChunkSlot, boundsHiZ) == 92);
 }  // namespace vastray::gpu
 #endif
 

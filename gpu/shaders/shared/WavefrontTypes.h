@@ -68,8 +68,10 @@ struct WavefrontParams {
     uint64_t rayState;     // uvec2: walk flags (kHitFound, kHitFrontFacing, kRayPending,
                            // kRayFromSurface), the top-level leaf the ray is parked at + 1 or 0
     uint64_t hitPosition;  // vec4 per path: its closest hit's position, t
-    uint64_t hitNormal;    // vec4 per path: geometric normal (not normalized), 0
-    uint64_t hitIds;       // uvec4 per path: primitive, material, chunk, 0
+    uint64_t hitNormal;    // uvec4 per path: geometric normal's float bits (not normalized), shading normal
+                           // (octahedral code at the hit, or kNoNormal; core/VertexAttributes.h)
+    uint64_t hitIds;       // uvec4 per path: primitive, material, chunk, colour at the hit (10-bit linear
+                           // channels; white without vertex colours)
     uint64_t throughput;   // vec4 per path
     uint64_t radiance;     // vec4 per path
     uint64_t pendingSun;   // vec4 per path: the sun's light, added if the shadow ray is unblocked

@@ -20,7 +20,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -28,6 +30,7 @@
 
 #include "import/ImportCommon.h"
 #include "package/ByteIo.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -94,14 +97,37 @@ void warnAboutUnused(const aiScene& scene, ImportReport& report) {
         morphs += mesh.mNumAnimMeshes;
     }
     report.normalsRead += normals;
+    report.coloursRead += colours;
     report.texcoordsRead += texcoords;
-    report.warnUnused("vertex colours", colours, "a scan renders grey");
     report.warnUnused("skin bones", bones);
     report.warnUnused("morph targets", morphs);
     report.warnUnused("animations", scene.mNumAnimations);
     report.warnUnused("cameras", scene.mNumCameras);
     report.warnUnused("lights", scene.mNumLights);
     report.warnUnused("embedded textures", scene.mNumTextures);
+}
+
+// Normals (world space after aiProcess_PreTransformVertices) and the first colour set, taken as
+// sRGB-encoded like OBJ's and PLY's. The mesh has them on every vertex or on none: parts without
+// get kNoNormal and white once some part has them.
+void appendAttributes(const aiMesh& part, uint64_t base, TriangleMesh& mesh) {
+    if (part.HasNormals()) {
+        mesh.normals.resize(base, kNoNormal);
+        for (unsigned v = 0; v < part.mNumVertices; ++v)
+            mesh.normals.push_back(encodeOctahedral({part.mNormals[v].x, part.mNormals[v].y, part.mNormals[v].z}));
+    } else if (!mesh.normals.empty()) {
+        mesh.normals.resize(base + part.mNumVertices, kNoNormal);
+    }
+    if (part.HasVertexColors(0)) {
+        auto byte = [](float c) { return uint8_t(std::lround(std::clamp(std::isfinite(c) ? c : 0.0f, 0.0f, 1.0f) * 255.0f)); };
+        mesh.colors.resize(base, kWhiteColor);
+        for (unsigned v = 0; v < part.mNumVertices; ++v) {
+            const aiColor4D& c = part.mColors[0][v];
+            mesh.colors.push_back(packSrgb8(byte(c.r), byte(c.g), byte(c.b)));
+        }
+    } else if (!mesh.colors.empty()) {
+        mesh.colors.resize(base + part.mNumVertices, kWhiteColor);
+    }
 }
 
 Status appendMeshes(const aiScene& scene, ImportedMesh& out) {
@@ -120,6 +146,7 @@ Status appendMeshes(const aiScene& scene, ImportedMesh& out) {
         out.report.verticesRead += part.mNumVertices;
         for (unsigned v = 0; v < part.mNumVertices; ++v)
             mesh.positions.push_back({part.mVertices[v].x, part.mVertices[v].y, part.mVertices[v].z});
+        appendAttributes(part, base, mesh);
         if (part.mMaterialIndex >= mesh.materials.size())
             return Status::error("mesh " + std::to_string(i) + ": material " + std::to_string(part.mMaterialIndex) +
                                  " does not exist");
@@ -169,6 +196,7 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     ImportedMesh imported;
     imported.report.format = "assimp-" + import::lowerExtension(path);
     imported.report.normalsRead = unused.normalsRead;
+    imported.report.coloursRead = unused.coloursRead;
     imported.report.texcoordsRead = unused.texcoordsRead;
     imported.report.warnings = std::move(unused.warnings);
     if (Status s = appendMeshes(*scene, imported); !s.isOk()) return s.withContext(name + ": ");
@@ -209,7 +237,8 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
     const ImportedMesh& m = *result;
     w.put(uint8_t(1));
     putText(w, m.report.format);
-    w.put(m.report.verticesRead), w.put(m.report.normalsRead), w.put(m.report.texcoordsRead);
+    w.put(m.report.verticesRead), w.put(m.report.normalsRead), w.put(m.report.coloursRead),
+        w.put(m.report.texcoordsRead);
     w.put(m.report.primitivesSkipped);
     w.put(uint64_t(m.report.warnings.size()));
     for (const std::string& warning : m.report.warnings) putText(w, warning);
@@ -219,6 +248,7 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
         w.put(material.baseColor), w.put(material.emissive), w.put(uint8_t(material.doubleSided));
     }
     putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
+    putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors);
     return std::move(w.bytes());
 }
 
@@ -235,7 +265,7 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
     ImportedMesh m;
     uint64_t warnings = 0, materials = 0;
     if (!getText(r, m.report.format) || !r.get(m.report.verticesRead) || !r.get(m.report.normalsRead) ||
-        !r.get(m.report.texcoordsRead) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
+        !r.get(m.report.coloursRead) || !r.get(m.report.texcoordsRead) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
         warnings > bytes.size())
         return malformed;
     m.report.warnings.resize(warnings);
@@ -251,7 +281,7 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
         material.doubleSided = doubleSided != 0;
     }
     if (!getCounted(r, m.mesh.positions) || !getCounted(r, m.mesh.indices) || !getCounted(r, m.mesh.materialIds) ||
-        r.remaining() != 0)
+        !getCounted(r, m.mesh.normals) || !getCounted(r, m.mesh.colors) || r.remaining() != 0)
         return malformed;
     return m;
 }

@@ -73,16 +73,38 @@ double component(const unsigned char* p, int type, bool normalized) {
 
 }  // namespace
 
-Status readVec3Accessor(const tinygltf::Model& model, int index, std::vector<double>& xyz) {
+Status readVec3Accessor(const tinygltf::Model& model, int index, std::vector<double>& xyz, const char* what) {
     AccessorView view;
     if (Status s = locate(model, index, 3, view); !s.isOk()) return s;
     const tinygltf::Accessor& a = model.accessors[index];
-    if (a.type != TINYGLTF_TYPE_VEC3) return Status::error("accessor " + std::to_string(index) + ": POSITION is not VEC3");
+    if (a.type != TINYGLTF_TYPE_VEC3)
+        return Status::error("accessor " + std::to_string(index) + ": " + what + " is not VEC3");
     const int size = componentSize(a.componentType);
     xyz.resize(view.count * 3);
     for (size_t i = 0; i < view.count; ++i)
         for (int c = 0; c < 3; ++c)
             xyz[i * 3 + c] = component(view.base + i * view.stride + c * size, a.componentType, a.normalized);
+    return Status::ok();
+}
+
+Status readColorAccessor(const tinygltf::Model& model, int index, std::vector<double>& rgb) {
+    if (index < 0 || size_t(index) >= model.accessors.size())
+        return Status::error("accessor " + std::to_string(index) + ": does not exist");
+    const tinygltf::Accessor& a = model.accessors[index];
+    const int t = a.componentType;
+    const bool integer = t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if ((a.type != TINYGLTF_TYPE_VEC3 && a.type != TINYGLTF_TYPE_VEC4) ||
+        !(t == TINYGLTF_COMPONENT_TYPE_FLOAT || (integer && a.normalized)))
+        return Status::error("accessor " + std::to_string(index) +
+                             ": COLOR_0 must be VEC3 or VEC4 of floats or normalized unsigned bytes or shorts");
+    const int components = a.type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+    AccessorView view;
+    if (Status s = locate(model, index, components, view); !s.isOk()) return s;
+    const int size = componentSize(t);
+    rgb.resize(view.count * 3);
+    for (size_t i = 0; i < view.count; ++i)
+        for (int c = 0; c < 3; ++c)
+            rgb[i * 3 + c] = std::clamp(component(view.base + i * view.stride + c * size, t, true), 0.0, 1.0);
     return Status::ok();
 }
 

@@ -9,8 +9,14 @@
 
 namespace vastray::import {
 
-// VEC3 positions as doubles (float, or normalized/integer components for quantized files).
-Status readVec3Accessor(const tinygltf::Model& model, int accessor, std::vector<double>& xyz);
+// VEC3 values as doubles (float, or normalized/integer components for quantized files);
+// `what` names the attribute in messages.
+Status readVec3Accessor(const tinygltf::Model& model, int accessor, std::vector<double>& xyz,
+                        const char* what = "POSITION");
+
+// COLOR_0: VEC3 or VEC4 (float, normalized unsigned byte or short) as RGB doubles in [0, 1],
+// three per element (alpha is dropped).
+Status readColorAccessor(const tinygltf::Model& model, int accessor, std::vector<double>& rgb);
 
 // SCALAR unsigned 8/16/32-bit indices.
 Status readIndexAccessor(const tinygltf::Model& model, int accessor, std::vector<uint32_t>& indices);

@@ -8,6 +8,7 @@
 #include "import/GltfAccessor.h"
 #include "import/GltfLoader.h"
 #include "import/ImportCommon.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -50,6 +51,21 @@ Mat4 localTransform(const tinygltf::Node& n) {
 double determinant3(const Mat4& m) {
     return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
            m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+// Normals transform with the inverse transpose of the upper 3x3: the cofactor matrix divided by
+// the determinant; only its sign matters before normalizing. Column-major, as Mat4.
+std::array<double, 9> normalMatrix(const Mat4& m) {
+    auto at = [&](int row, int column) { return m[column * 4 + row]; };
+    std::array<double, 9> c{};
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) {
+            const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+            c[k * 3 + r] = at(r1, k1) * at(r2, k2) - at(r1, k2) * at(r2, k1);
+        }
+    if (determinant3(m) < 0)
+        for (double& v : c) v = -v;
+    return c;
 }
 
 Material convertMaterial(const tinygltf::Material& g, size_t index) {
@@ -138,7 +154,54 @@ private:
             return Status::error("total vertex count " + std::to_string(base + vertexCount) + " exceeds the uint32 index range");
         countAttributes(prim);
         appendPositions(world);
+        if (Status s = appendNormals(prim, world, vertexCount); !s.isOk()) return s;
+        if (Status s = appendColours(prim, vertexCount); !s.isOk()) return s;
         return appendTriangles(prim, uint32_t(base), determinant3(world) < 0);
+    }
+
+    // NORMAL in world space. The mesh has normals on every vertex or none: once a primitive has
+    // them, the vertices of those without get kNoNormal (the geometric normal is used there).
+    Status appendNormals(const tinygltf::Primitive& prim, const Mat4& world, uint64_t vertexCount) {
+        std::vector<uint32_t>& normals = out_.mesh.normals;
+        const auto normal = prim.attributes.find("NORMAL");
+        const size_t base = out_.mesh.positions.size() - vertexCount;
+        if (normal == prim.attributes.end()) {
+            if (!normals.empty()) normals.resize(base + vertexCount, kNoNormal);
+            return Status::ok();
+        }
+        if (Status s = import::readVec3Accessor(model_, normal->second, xyz_, "NORMAL"); !s.isOk()) return s;
+        if (xyz_.size() / 3 != vertexCount)
+            return Status::error("NORMAL has " + std::to_string(xyz_.size() / 3) + " elements for " +
+                                 std::to_string(vertexCount) + " positions");
+        normals.resize(base, kNoNormal);
+        const std::array<double, 9> n = normalMatrix(world);
+        for (size_t i = 0; i < xyz_.size(); i += 3) {
+            const double x = xyz_[i], y = xyz_[i + 1], z = xyz_[i + 2];
+            normals.push_back(encodeOctahedral({float(n[0] * x + n[3] * y + n[6] * z),
+                                                float(n[1] * x + n[4] * y + n[7] * z),
+                                                float(n[2] * x + n[5] * y + n[8] * z)}));
+        }
+        return Status::ok();
+    }
+
+    // COLOR_0 (linear, spec 3.7.2.1), white on the vertices of primitives without once any has it.
+    Status appendColours(const tinygltf::Primitive& prim, uint64_t vertexCount) {
+        std::vector<uint32_t>& colours = out_.mesh.colors;
+        const auto colour = prim.attributes.find("COLOR_0");
+        const size_t base = out_.mesh.positions.size() - vertexCount;
+        if (colour == prim.attributes.end()) {
+            if (!colours.empty()) colours.resize(base + vertexCount, kWhiteColor);
+            return Status::ok();
+        }
+        if (Status s = import::readColorAccessor(model_, colour->second, rgb_); !s.isOk()) return s;
+        if (rgb_.size() / 3 != vertexCount)
+            return Status::error("COLOR_0 has " + std::to_string(rgb_.size() / 3) + " elements for " +
+                                 std::to_string(vertexCount) + " positions");
+        colours.resize(base, kWhiteColor);
+        for (size_t i = 0; i < rgb_.size(); i += 3)
+            colours.push_back(packLinearColor(float(rgb_[i]), float(rgb_[i + 1]), float(rgb_[i + 2])));
+        out_.report.coloursRead += vertexCount;
+        return Status::ok();
     }
 
     Status readCorners(const tinygltf::Primitive& prim, uint64_t vertexCount) {
@@ -213,22 +276,17 @@ private:
     const tinygltf::Model& model_;
     ImportedMesh& out_;
     std::vector<double> xyz_;        // reused per primitive
+    std::vector<double> rgb_;        // reused per primitive
     std::vector<uint32_t> corners_;  // reused per primitive
     int64_t defaultMaterial_ = -1;
 };
 
 // What the file holds that the package does not carry, once per kind.
 void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
-    uint64_t colours = 0, morphs = 0;
+    uint64_t morphs = 0;
     for (const tinygltf::Mesh& mesh : model.meshes)
-        for (const tinygltf::Primitive& prim : mesh.primitives) {
-            const auto colour = prim.attributes.find("COLOR_0");
-            if (colour != prim.attributes.end() && colour->second >= 0 && size_t(colour->second) < model.accessors.size())
-                colours += model.accessors[colour->second].count;
-            morphs += prim.targets.size();
-        }
+        for (const tinygltf::Primitive& prim : mesh.primitives) morphs += prim.targets.size();
     uint64_t lights = model.lights.size();
-    report.warnUnused("vertex colours (COLOR_0)", colours, "a scan renders grey");
     report.warnUnused("morph targets", morphs);
     report.warnUnused("skins", model.skins.size());
     report.warnUnused("animations", model.animations.size());

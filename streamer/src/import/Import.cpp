@@ -100,6 +100,11 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     if (mesh.materials.empty()) mesh.materials.push_back(Material{"default"});
     if (Status s = checkPositions(mesh); !s.isOk()) return s.withContext(prefix);
     if (Status s = checkIndices(mesh); !s.isOk()) return s.withContext(prefix);
+    if ((!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) ||
+        (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()))
+        return Status::error(prefix + "per-vertex normals or colours are not one per vertex (" +
+                             std::to_string(mesh.normals.size()) + " normals, " + std::to_string(mesh.colors.size()) +
+                             " colours, " + std::to_string(mesh.positions.size()) + " vertices)");
     imported.report.inputTriangles = mesh.triangleCount();
     if (mesh.triangleCount() == 0) return Status::error(prefix + "no triangles");
     imported.report.degenerateDropped = dropDegenerates(mesh);
@@ -108,7 +113,8 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
                              " triangles are degenerate");
     applySidedness(options, mesh.materials);
     ImportReport& report = imported.report;
-    report.warnUnused("shading normals", report.normalsRead, "shading stays faceted");
+    if (mesh.normals.empty()) report.warnUnused("shading normals", report.normalsRead, "shading stays faceted");
+    if (mesh.colors.empty()) report.warnUnused("vertex colours", report.coloursRead, "a scan renders grey");
     report.warnUnused("texture coordinates", report.texcoordsRead, "textures are not rendered yet");
     return Status::ok();
 }

@@ -1,5 +1,9 @@
-// Wavefront OBJ: v/vt/vn/f, negative indices, ear-clipped polygons, usemtl/mtllib.
-// The whole file is read once and parsed in place with std::from_chars.
+// Wavefront OBJ: v (with optional r g b colour)/vt/vn/f, negative indices, ear-clipped polygons,
+// usemtl/mtllib. The whole file is read once and parsed in place with std::from_chars. Normals
+// are indexed apart from positions: a position used with several normals becomes several
+// vertices (splitVertices), as every renderer's vertex arrays want.
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -9,6 +13,7 @@
 #include "import/MtlLibrary.h"
 #include "import/TextScan.h"
 #include "import/Triangulate.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -32,8 +37,13 @@ public:
     }
 
     const std::string& name() const { return name_; }
-    uint64_t normalCount() const { return normalCount_; }
+    uint64_t normalCount() const { return normals_.size(); }
     uint64_t texcoordCount() const { return texcoordCount_; }
+    uint64_t colourCount() const { return colouredVertices_; }
+
+    // Gives the mesh its per-vertex normals and colours: each (position, normal) pair that a
+    // face corner uses becomes one vertex; corners without a normal get kNoNormal.
+    void splitVertices();
 
 private:
     Status lineError(const std::string& message) const {
@@ -44,7 +54,7 @@ private:
         const std::string_view keyword = import::nextToken(p, eol);
         if (keyword == "v") return parseVertex(p, eol);
         if (keyword == "vt") return countAttribute(p, eol, 1, texcoordCount_, "vt");  // v and w optional
-        if (keyword == "vn") return countAttribute(p, eol, 3, normalCount_, "vn");
+        if (keyword == "vn") return parseNormal(p, eol);
         if (keyword == "f") return parseFace(p, eol);
         if (keyword == "usemtl") return useMaterial(std::string(import::trimmed(p, eol)));
         if (keyword == "mtllib") libraries_.emplace_back(import::trimmed(p, eol));
@@ -57,7 +67,32 @@ private:
             return lineError("malformed vertex position");
         if (out_.mesh.positions.size() >= std::numeric_limits<uint32_t>::max())
             return lineError("vertex count exceeds the uint32 index range");
+        // "v x y z r g b" (MeshLab and scanners): colour channels in [0, 1], taken as sRGB-encoded;
+        // "v x y z w": a weight, ignored.
+        float rgb[4];
+        int extra = 0;
+        while (extra < 4 && import::parseField(p, eol, rgb[extra])) ++extra;
+        if (extra == 2 || extra == 4)
+            return lineError("vertex has " + std::to_string(3 + extra) + " values (expected 3, 4 with a weight, or 6 with a colour)");
+        if (extra == 3) {
+            auto byte = [](float c) { return uint8_t(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)); };
+            if (colours_.empty()) colours_.assign(out_.mesh.positions.size(), kWhiteColor);
+            colours_.push_back(packSrgb8(byte(rgb[0]), byte(rgb[1]), byte(rgb[2])));
+            ++colouredVertices_;
+        } else if (!colours_.empty()) {
+            colours_.push_back(kWhiteColor);
+        }
         out_.mesh.positions.push_back(v);
+        return Status::ok();
+    }
+
+    Status parseNormal(const char* p, const char* eol) {
+        Vec3f n;
+        if (!import::parseField(p, eol, n.x) || !import::parseField(p, eol, n.y) || !import::parseField(p, eol, n.z))
+            return lineError("malformed vn");
+        if (normals_.size() >= std::numeric_limits<uint32_t>::max() - 1)
+            return lineError("normal count exceeds the uint32 index range");
+        normals_.push_back(encodeOctahedral(n));
         return Status::ok();
     }
 
@@ -81,21 +116,23 @@ private:
         return Status::ok();
     }
 
-    Status parseCorner(std::string_view token, uint32_t& vertex) const {
+    Status parseCorner(std::string_view token, uint32_t& vertex, uint32_t& normal) const {
         const char* p = token.data();
         const char* end = p + token.size();
         int64_t index = 0;
         if (!parseNumber(p, end, index)) return lineError("malformed face corner '" + std::string(token) + "'");
         if (Status s = resolve(index, out_.mesh.positions.size(), "vertex", vertex); !s.isOk()) return s;
-        const uint64_t counts[2] = {texcoordCount_, normalCount_};
+        const uint64_t counts[2] = {texcoordCount_, normals_.size()};
         const char* names[2] = {"texcoord", "normal"};
+        normal = kNoCornerNormal;
         for (int slot = 0; slot < 2 && p < end; ++slot) {
             if (*p != '/') return lineError("malformed face corner '" + std::string(token) + "'");
             ++p;
             if (p < end && *p == '/') continue;  // v//vn: no texcoord
-            uint32_t ignored;
+            uint32_t resolved;
             if (!parseNumber(p, end, index)) return lineError("malformed face corner '" + std::string(token) + "'");
-            if (Status s = resolve(index, counts[slot], names[slot], ignored); !s.isOk()) return s;
+            if (Status s = resolve(index, counts[slot], names[slot], resolved); !s.isOk()) return s;
+            if (slot == 1) normal = resolved;
         }
         if (p != end) return lineError("malformed face corner '" + std::string(token) + "'");
         return Status::ok();
@@ -103,22 +140,56 @@ private:
 
     Status parseFace(const char* p, const char* eol) {
         corners_.clear();
+        cornerNormals_.clear();
+        bool anyNormal = false;
         for (std::string_view token = import::nextToken(p, eol); !token.empty();
              token = import::nextToken(p, eol)) {
-            uint32_t vertex;
-            if (Status s = parseCorner(token, vertex); !s.isOk()) return s;
+            uint32_t vertex, normal;
+            if (Status s = parseCorner(token, vertex, normal); !s.isOk()) return s;
             if (corners_.size() == import::kMaxPolygonCorners)
                 return lineError("face has more than " + std::to_string(import::kMaxPolygonCorners) +
                                  " corners (the polygon limit)");
             corners_.push_back(vertex);
+            cornerNormals_.push_back(normal);
+            anyNormal = anyNormal || normal != kNoCornerNormal;
         }
         if (corners_.size() < 3)
             return lineError("face has " + std::to_string(corners_.size()) + " vertices (need at least 3)");
         const uint32_t material = currentMaterial();
+        const size_t first = out_.mesh.indices.size();
         const uint64_t triangles = triangulator_.triangulate(out_.mesh.positions, corners_, out_.mesh.indices);
         if (!triangulator_.failure().empty()) return lineError("face: " + triangulator_.failure());
         out_.mesh.materialIds.insert(out_.mesh.materialIds.end(), triangles, material);
+        recordCornerNormals(first, anyNormal);
         return Status::ok();
+    }
+
+    // The triangulator returns position indices: each new corner takes the normal its
+    // position had in the face (the first such corner's, if a polygon repeats a position).
+    void recordCornerNormals(size_t first, bool anyNormal) {
+        const size_t added = out_.mesh.indices.size() - first;
+        if (!anyNormal) {
+            if (!indexNormals_.empty()) indexNormals_.insert(indexNormals_.end(), added, kNoCornerNormal);
+            return;
+        }
+        if (indexNormals_.empty()) indexNormals_.assign(first, kNoCornerNormal);
+        // Large polygons look their corners up in a map (a 10^6-corner face stays linear).
+        std::unordered_map<uint32_t, uint32_t> normalOf;
+        if (corners_.size() > 16)
+            for (size_t c = corners_.size(); c-- > 0;) normalOf[corners_[c]] = cornerNormals_[c];
+        for (size_t i = first; i < out_.mesh.indices.size(); ++i) {
+            uint32_t normal = kNoCornerNormal;
+            if (corners_.size() > 16) {
+                normal = normalOf[out_.mesh.indices[i]];
+            } else {
+                for (size_t c = 0; c < corners_.size(); ++c)
+                    if (corners_[c] == out_.mesh.indices[i]) {
+                        normal = cornerNormals_[c];
+                        break;
+                    }
+            }
+            indexNormals_.push_back(normal);
+        }
     }
 
     // A bare "usemtl" selects the default material (some exporters write it).
@@ -158,10 +229,15 @@ private:
     std::string name_;
     ImportedMesh& out_;
     uint64_t line_ = 0;
+    static constexpr uint32_t kNoCornerNormal = 0xFFFFFFFFu;
     uint64_t texcoordCount_ = 0;
-    uint64_t normalCount_ = 0;
+    uint64_t colouredVertices_ = 0;
     int64_t current_ = -1;
+    std::vector<uint32_t> normals_;       // octahedral codes of the vn lines
+    std::vector<uint32_t> colours_;       // per v line once one has a colour (white before)
+    std::vector<uint32_t> indexNormals_;  // per mesh index: its vn, once a face used one
     std::vector<uint32_t> corners_;  // reused for every face: no per-face allocation
+    std::vector<uint32_t> cornerNormals_;
     import::PolygonTriangulator triangulator_;
     std::unordered_map<std::string, uint32_t> materialIds_;
     std::vector<std::string> libraries_;
@@ -195,6 +271,30 @@ Status ObjParser::applyMaterialLibraries() {
     return Status::ok();
 }
 
+void ObjParser::splitVertices() {
+    TriangleMesh& mesh = out_.mesh;
+    if (indexNormals_.empty()) {
+        mesh.colors = std::move(colours_);
+        return;
+    }
+    std::unordered_map<uint64_t, uint32_t> vertexOf;
+    std::vector<Vec3f> positions;
+    std::vector<uint32_t> normals, colours;
+    for (size_t i = 0; i < mesh.indices.size(); ++i) {
+        const uint32_t position = mesh.indices[i], normal = indexNormals_[i];
+        const auto [it, added] = vertexOf.try_emplace((uint64_t(position) << 32) | normal, uint32_t(positions.size()));
+        if (added) {
+            positions.push_back(mesh.positions[position]);
+            normals.push_back(normal == kNoCornerNormal ? kNoNormal : normals_[normal]);
+            if (!colours_.empty()) colours.push_back(colours_[position]);
+        }
+        mesh.indices[i] = it->second;
+    }
+    mesh.positions = std::move(positions);
+    mesh.normals = std::move(normals);
+    mesh.colors = std::move(colours);
+}
+
 Result<ImportedMesh> importObjUnguarded(const std::string& path, const ImportOptions& options) {
     auto bytes = import::readWholeFile(path);
     if (!bytes) return bytes.status();
@@ -205,7 +305,9 @@ Result<ImportedMesh> importObjUnguarded(const std::string& path, const ImportOpt
     if (Status s = parser.parse(data, data + bytes->size()); !s.isOk()) return s;
     imported.report.verticesRead = imported.mesh.positions.size();
     imported.report.normalsRead = parser.normalCount();
+    imported.report.coloursRead = parser.colourCount();
     imported.report.texcoordsRead = parser.texcoordCount();
+    parser.splitVertices();
     if (Status s = finalizeMesh(parser.name(), options, imported); !s.isOk()) return s;
     return imported;
 }

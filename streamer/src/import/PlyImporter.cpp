@@ -1,12 +1,17 @@
-// PLY (ASCII, binary little/big endian): vertex x/y/z of any scalar type, face polygons
-// (ear-clipped, Triangulate.h), tristrips (-1 restarts), every other element skipped.
+// PLY (ASCII, binary little/big endian): vertex x/y/z of any scalar type, shading normals
+// (nx/ny/nz) and colours (red/green/blue: integers scaled by their type's maximum, floats in
+// [0, 1], both taken as sRGB-encoded), face polygons (ear-clipped, Triangulate.h), tristrips
+// (-1 restarts), every other element skipped.
 #include <algorithm>
+#include <cmath>
+#include <initializer_list>
 #include <limits>
 
 #include "import/ImportCommon.h"
 #include "import/PlyHeader.h"
 #include "import/PlyReaders.h"
 #include "import/Triangulate.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -15,18 +20,44 @@ namespace {
 using import::PlyElement;
 using import::PlyProperty;
 
-enum class Role : uint8_t { Skip, X, Y, Z, Normal, Texcoord, Colour };
+// X..Blue are read in this order into a row's values (Role - X).
+enum class Role : uint8_t { Skip, X, Y, Z, NX, NY, NZ, Red, Green, Blue, Texcoord };
 
 Role roleOf(const PlyProperty& p) {
     if (p.isList) return Role::Skip;
     if (p.name == "x") return Role::X;
     if (p.name == "y") return Role::Y;
     if (p.name == "z") return Role::Z;
-    if (p.name == "nx") return Role::Normal;
+    if (p.name == "nx") return Role::NX;
+    if (p.name == "ny") return Role::NY;
+    if (p.name == "nz") return Role::NZ;
     if (p.name == "u" || p.name == "s" || p.name == "texture_u") return Role::Texcoord;
-    if (p.name == "red" || p.name == "diffuse_red") return Role::Colour;
+    if (p.name == "red" || p.name == "diffuse_red") return Role::Red;
+    if (p.name == "green" || p.name == "diffuse_green") return Role::Green;
+    if (p.name == "blue" || p.name == "diffuse_blue") return Role::Blue;
     return Role::Skip;
 }
+
+bool hasRoles(const std::vector<Role>& roles, std::initializer_list<Role> wanted) {
+    for (Role r : wanted)
+        if (std::find(roles.begin(), roles.end(), r) == roles.end()) return false;
+    return true;
+}
+
+// A colour channel as [0, 1]: integers over their type's largest value, floats as they are.
+double colourScale(import::PlyType type) {
+    switch (type) {
+        case import::PlyType::Int8: return 1.0 / 127.0;
+        case import::PlyType::UInt8: return 1.0 / 255.0;
+        case import::PlyType::Int16: return 1.0 / 32767.0;
+        case import::PlyType::UInt16: return 1.0 / 65535.0;
+        case import::PlyType::Int32: return 1.0 / 2147483647.0;
+        case import::PlyType::UInt32: return 1.0 / 4294967295.0;
+        default: return 1.0;
+    }
+}
+
+uint8_t srgbByte(double c) { return uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); }
 
 template <typename Reader>
 class PlyBody {
@@ -73,28 +104,43 @@ private:
         if (vertexCount_ != kNoVertices) return rowError(e, 0, "second vertex element");
         std::vector<Role> roles;
         for (const PlyProperty& p : e.properties) roles.push_back(roleOf(p));
-        for (Role axis : {Role::X, Role::Y, Role::Z})
-            if (std::find(roles.begin(), roles.end(), axis) == roles.end())
-                return rowError(e, 0, "vertex element lacks an x, y or z property");
+        if (!hasRoles(roles, {Role::X, Role::Y, Role::Z}))
+            return rowError(e, 0, "vertex element lacks an x, y or z property");
+        // A normal or a colour is read only when all three of its properties are there.
+        const bool normals = hasRoles(roles, {Role::NX, Role::NY, Role::NZ});
+        const bool colours = hasRoles(roles, {Role::Red, Role::Green, Role::Blue});
+        std::vector<double> scale(roles.size(), 1.0);
+        for (size_t i = 0; i < roles.size(); ++i) {
+            const bool used = (roles[i] >= Role::X && roles[i] <= Role::Z) ||
+                              (normals && roles[i] >= Role::NX && roles[i] <= Role::NZ) ||
+                              (colours && roles[i] >= Role::Red && roles[i] <= Role::Blue);
+            if (!used) roles[i] = roles[i] == Role::Texcoord ? Role::Texcoord : Role::Skip;
+            if (roles[i] >= Role::Red && roles[i] <= Role::Blue) scale[i] = colourScale(e.properties[i].type);
+        }
         out_.mesh.positions.reserve(e.count);
+        if (normals) out_.mesh.normals.reserve(e.count);
+        if (colours) out_.mesh.colors.reserve(e.count);
         for (uint64_t row = 0; row < e.count; ++row) {
-            double xyz[3] = {0, 0, 0};
+            double values[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
             for (size_t i = 0; i < roles.size(); ++i) {
                 const PlyProperty& p = e.properties[i];
                 const Role role = roles[i];
-                const bool ok = role >= Role::X && role <= Role::Z
-                                    ? r_.readReal(p.type, xyz[int(role) - int(Role::X)])
+                const bool ok = role >= Role::X && role <= Role::Blue
+                                    ? r_.readReal(p.type, values[int(role) - int(Role::X)])
                                     : skipProperty(p);
                 if (!ok) return rowError(e, row, std::string(r_.failure()) + " in " + p.name);
+                if (role >= Role::Red && role <= Role::Blue) values[int(role) - int(Role::X)] *= scale[i];
             }
-            out_.mesh.positions.push_back(Vec3f{float(xyz[0]), float(xyz[1]), float(xyz[2])});
+            out_.mesh.positions.push_back(Vec3f{float(values[0]), float(values[1]), float(values[2])});
+            if (normals)
+                out_.mesh.normals.push_back(encodeOctahedral(Vec3f{float(values[3]), float(values[4]), float(values[5])}));
+            if (colours)
+                out_.mesh.colors.push_back(packSrgb8(srgbByte(values[6]), srgbByte(values[7]), srgbByte(values[8])));
         }
         vertexCount_ = e.count;
-        for (Role role : roles) {
-            if (role == Role::Normal) out_.report.normalsRead = e.count;
-            if (role == Role::Texcoord) out_.report.texcoordsRead = e.count;
-            if (role == Role::Colour) out_.report.warnUnused("vertex colours", e.count, "a scan renders grey");
-        }
+        if (normals) out_.report.normalsRead = e.count;
+        if (colours) out_.report.coloursRead = e.count;
+        if (std::find(roles.begin(), roles.end(), Role::Texcoord) != roles.end()) out_.report.texcoordsRead = e.count;
         return Status::ok();
     }
 

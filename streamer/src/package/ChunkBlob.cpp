@@ -66,7 +66,8 @@ Status applyLeafOrder(const std::vector<uint32_t>& order, std::vector<uint32_t>&
 
 std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, GeometryCodec codec, uint32_t vertexCount,
                                         const std::vector<uint32_t>& primitiveIds,
-                                        const std::vector<uint32_t>& materialIds, const Bvh4& bvh) {
+                                        const std::vector<uint32_t>& materialIds, const Bvh4& bvh,
+                                        GeometryAttributes attributes) {
     ByteWriter out;
     out.putBytes(format::kChunkMagic, 4);
     out.put(format::kChunkVersion);
@@ -76,7 +77,8 @@ std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, Ge
     out.put(uint32_t(0));
     out.put(uint32_t(geometry.size()));
     out.put((materialIds.empty() ? 0u : format::kChunkHasMaterialIds) |
-            (codec == GeometryCodec::Meshopt ? format::kChunkMeshoptGeometry : 0u));
+            (codec == GeometryCodec::Meshopt ? format::kChunkMeshoptGeometry : 0u) |
+            (attributes.normals ? format::kChunkHasNormals : 0u) | (attributes.colors ? format::kChunkHasColors : 0u));
     out.put(bvh.bounds.lo);
     out.put(bvh.bounds.hi);
     out.put(uint32_t(bvh.maxDepth));
@@ -91,7 +93,7 @@ std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, Ge
 
 uint64_t DecodedChunk::residentBytes() const {
     return positions.size() * 12 + indices.size() * 4 + primitiveIds.size() * 4 + materialIds.size() * 4 +
-           bvh.nodes.size() * sizeof(Bvh4Node);
+           normals.size() * 4 + colors.size() * 4 + bvh.nodes.size() * sizeof(Bvh4Node);
 }
 
 Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const ChunkInfo& info,
@@ -112,15 +114,20 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
 
     const GeometryCodec codec =
         (h.flags & format::kChunkMeshoptGeometry) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
-    auto geometry = decodeChunkGeometry(in.current(), h.geometryBytes, grid.bits == 0, codec);
+    const GeometryAttributes attributes{(h.flags & format::kChunkHasNormals) != 0, (h.flags & format::kChunkHasColors) != 0};
+    auto geometry = decodeChunkGeometry(in.current(), h.geometryBytes, grid.bits == 0, codec, attributes);
     if (!geometry) return geometry.status();
     in.skip(h.geometryBytes);
-    if (geometry->indices.size() != size_t(h.triangleCount) * 3 || geometry->vertexWords.size() != size_t(h.vertexCount) * 3)
+    if (geometry->indices.size() != size_t(h.triangleCount) * 3 || geometry->vertexWords.size() != size_t(h.vertexCount) * 3 ||
+        (attributes.normals && geometry->normals.size() != h.vertexCount) ||
+        (attributes.colors && geometry->colors.size() != h.vertexCount))
         return Status::error(std::string(geometryCodecName(codec)) + " stream disagrees with the chunk's counts");
 
     DecodedChunk chunk;
     chunk.id = info.id;
     chunk.indices = std::move(geometry->indices);
+    chunk.normals = std::move(geometry->normals);
+    chunk.colors = std::move(geometry->colors);
     for (uint32_t index : chunk.indices)
         if (index >= h.vertexCount) return Status::error("vertex index out of range");
     chunk.positions.resize(h.vertexCount);

@@ -2,7 +2,8 @@
 // Chunk blob layout (all little-endian):
 //   header (kChunkHeaderBytes): magic "VCHK", version, triangleCount, vertexCount,
 //     bvhNodeCount, reserved (0), geometryBytes, flags, BVH bounds (6 floats), BVH max depth, zero pad
-//   geometry stream (geometryBytes): Draco, or meshopt with kChunkMeshoptGeometry
+//   geometry stream (geometryBytes): Draco, or meshopt with kChunkMeshoptGeometry; positions, and
+//     per-vertex normals (kChunkHasNormals) and colours (kChunkHasColors)
 //   primitive ids  u32 × triangleCount   (leaf order)
 //   material ids   u32 × triangleCount   (leaf order; only with kChunkHasMaterialIds)
 //   BVH nodes      56 B × bvhNodeCount   (Bvh4Node)
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "package/ChunkCodec.h"
 #include "vastray/core/Bvh4.h"
 #include "vastray/streamer/ScenePackage.h"
 
@@ -18,6 +20,7 @@ namespace vastray {
 
 std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, GeometryCodec codec, uint32_t vertexCount,
                                         const std::vector<uint32_t>& primitiveIds,
-                                        const std::vector<uint32_t>& materialIds, const Bvh4& bvh);
+                                        const std::vector<uint32_t>& materialIds, const Bvh4& bvh,
+                                        GeometryAttributes attributes = {});
 
 }  // namespace vastray

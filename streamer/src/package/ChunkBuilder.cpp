@@ -60,6 +60,8 @@ ChunkGeometry gatherGeometry(const ChunkSource& source, const std::vector<Triang
             table[slot] = {global, localCount++};
             geometry.vertexWords.insert(geometry.vertexWords.end(), &source.vertexWords[3 * size_t(global)],
                                         &source.vertexWords[3 * size_t(global)] + 3);
+            if (source.normals) geometry.normals.push_back(source.normals[global]);
+            if (source.colors) geometry.colors.push_back(source.colors[global]);
         }
         geometry.indices[c] = table[slot].second;
     }
@@ -169,8 +171,10 @@ Bvh4 buildChunkBvh(const std::vector<Vec3f>& positions, const std::vector<uint32
 
 }  // namespace
 
-uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes) {
-    return chunkGeometryBytes(vertices, triangles, bvhNodes) + triangles * (4 + (materialIds ? 4 : 0));
+uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes,
+                            uint32_t attributeWords) {
+    return chunkGeometryBytes(vertices, triangles, bvhNodes) + triangles * (4 + (materialIds ? 4 : 0)) +
+           vertices * 4 * attributeWords;
 }
 
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell) {
@@ -184,7 +188,8 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     chunk.encodeSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    auto decoded = decodeChunkGeometry(encoded->data(), encoded->size(), lossless, source.codec);
+    const GeometryAttributes attributes{source.normals != nullptr, source.colors != nullptr};
+    auto decoded = decodeChunkGeometry(encoded->data(), encoded->size(), lossless, source.codec, attributes);
     if (!decoded) return decoded.status();
     auto primitiveIds = recoverPrimitiveIds(input, refs, *decoded);
     if (!primitiveIds) return primitiveIds.status();
@@ -219,8 +224,10 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     chunk.info.triangleCount = triangles;
     chunk.info.vertexCount = uint32_t(positions.size());
     chunk.info.bvhNodeCount = uint32_t(bvh.nodes.size());
-    chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(), bvh.nodes.size());
-    chunk.blob = serializeChunkBlob(*encoded, source.codec, chunk.info.vertexCount, *primitiveIds, materialIds, bvh);
+    chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(), bvh.nodes.size(),
+                                                  uint32_t(attributes.normals) + uint32_t(attributes.colors));
+    chunk.blob =
+        serializeChunkBlob(*encoded, source.codec, chunk.info.vertexCount, *primitiveIds, materialIds, bvh, attributes);
     chunk.info.size = chunk.blob.size();
     return chunk;
 }

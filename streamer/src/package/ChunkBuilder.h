@@ -20,6 +20,8 @@ struct ChunkSource {
     int dracoSpeed = 7;
     GeometryCodec codec = GeometryCodec::Draco;
     double residentBytesPerTriangle = 0;  // PackageBuildOptions::residentBytesPerTriangle
+    const uint32_t* normals = nullptr;    // per vertex, or nullptr (TriangleMesh::normals)
+    const uint32_t* colors = nullptr;     // per vertex, or nullptr (TriangleMesh::colors)
 };
 
 struct BuiltChunk {
@@ -31,6 +33,8 @@ struct BuiltChunk {
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell);
 
 // Decoded resident footprint of a chunk with these counts (what the GPU will hold).
-uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes);
+// attributeWords: per-vertex attribute words (one each for normals and colours).
+uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes,
+                            uint32_t attributeWords = 0);
 
 }  // namespace vastray

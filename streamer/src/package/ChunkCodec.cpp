@@ -35,6 +35,28 @@ void addAttribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, draco:
     for (uint32_t v = 0; v < count; ++v) added->SetAttributeValue(draco::AttributeValueIndex(v), &words[3 * size_t(v)]);
 }
 
+// A per-vertex word as Draco components: a normal as two 16-bit words (its octahedral code), a
+// colour as four bytes, so that Draco's predictors see each component on its own.
+void addPackedAttribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, const std::vector<uint32_t>& packed) {
+    const bool normal = type == draco::GeometryAttribute::NORMAL;
+    draco::GeometryAttribute attribute;
+    attribute.Init(type, nullptr, normal ? 2 : 4, normal ? draco::DT_INT16 : draco::DT_UINT8, false, 4, 0);
+    draco::PointAttribute* added = mesh.attribute(mesh.AddAttribute(attribute, true, uint32_t(packed.size())));
+    for (uint32_t v = 0; v < packed.size(); ++v) added->SetAttributeValue(draco::AttributeValueIndex(v), &packed[v]);
+}
+
+bool readPackedAttribute(const draco::Mesh& mesh, draco::GeometryAttribute::Type type, std::vector<uint32_t>& packed) {
+    const bool normal = type == draco::GeometryAttribute::NORMAL;
+    const draco::PointAttribute* attribute = mesh.GetNamedAttribute(type);
+    if (!attribute || attribute->num_components() != (normal ? 2 : 4) ||
+        attribute->data_type() != (normal ? draco::DT_INT16 : draco::DT_UINT8))
+        return false;
+    packed.resize(mesh.num_points());
+    for (uint32_t p = 0; p < mesh.num_points(); ++p)
+        std::memcpy(&packed[p], attribute->GetAddress(attribute->mapped_index(draco::PointIndex(p))), 4);
+    return true;
+}
+
 bool readAttribute(const draco::Mesh& mesh, const draco::PointAttribute* attribute, draco::DataType dataType,
                    std::vector<int32_t>& words) {
     if (!attribute || attribute->num_components() != 3 || attribute->data_type() != dataType) return false;
@@ -79,6 +101,8 @@ Result<std::vector<uint8_t>> encodeDraco(const ChunkGeometry& geometry, bool los
     mesh.set_num_points(uint32_t(vertexCount));
     addAttribute(mesh, draco::GeometryAttribute::POSITION, lossless ? draco::DT_FLOAT32 : draco::DT_INT32, high);
     if (lowBits) addAttribute(mesh, draco::GeometryAttribute::GENERIC, draco::DT_INT32, low);
+    if (!geometry.normals.empty()) addPackedAttribute(mesh, draco::GeometryAttribute::NORMAL, geometry.normals);
+    if (!geometry.colors.empty()) addPackedAttribute(mesh, draco::GeometryAttribute::COLOR, geometry.colors);
     const uint32_t faceCount = uint32_t(geometry.indices.size() / 3);
     mesh.SetNumFaces(faceCount);
     for (uint32_t f = 0; f < faceCount; ++f) {
@@ -98,7 +122,7 @@ Result<std::vector<uint8_t>> encodeDraco(const ChunkGeometry& geometry, bool los
     return std::move(out.bytes());
 }
 
-Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossless) {
+Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossless, GeometryAttributes attributes) {
     ByteReader in(data, size);
     int32_t minimum[3];
     uint32_t lowBits = 0;
@@ -124,6 +148,10 @@ Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossles
         for (size_t i = 0; i < low.size(); ++i)
             geometry.vertexWords[i] = int32_t((uint32_t(geometry.vertexWords[i]) << lowBits) | uint32_t(low[i]));
     }
+    if (attributes.normals && !readPackedAttribute(*mesh, draco::GeometryAttribute::NORMAL, geometry.normals))
+        return Status::error("Draco stream lacks the chunk's normals (2 x int16 per vertex)");
+    if (attributes.colors && !readPackedAttribute(*mesh, draco::GeometryAttribute::COLOR, geometry.colors))
+        return Status::error("Draco stream lacks the chunk's colours (4 x uint8 per vertex)");
     // Modular 32-bit addition, as the meshopt stream's: a forged minimum wraps (the positions
     // are then checked against the grid like any others) instead of overflowing a signed int.
     if (!lossless)
@@ -141,7 +169,9 @@ Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossles
 // stream bytes (4 x uint32), then meshoptimizer's index stream and vertex stream. Words are
 // stored relative to the chunk minimum in modular 32-bit arithmetic (so float bit patterns
 // work too): 4 x uint16 (w = 0; the vertex codec wants a stride that is a multiple of 4) when
-// every offset fits 16 bits, else 3 x uint32.
+// every offset fits 16 bits, else 3 x uint32. Between the index stream and the position stream
+// (which ends the blob), for each attribute the chunk has (normals, then colours): its stream's
+// bytes (uint32) and meshoptimizer's vertex stream of one word per vertex, in position order.
 Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
     // Index codec version 1 (smaller); set once, before any thread encodes (a global in meshopt).
     static std::once_flag version;
@@ -165,9 +195,11 @@ Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
         }
     std::vector<uint32_t> indices(indexCount);
     meshopt_optimizeVertexCache(indices.data(), geometry.indices.data(), indexCount, vertexCount);
-    std::vector<uint8_t> fetched(vertices.size());
-    const size_t used =
-        meshopt_optimizeVertexFetch(fetched.data(), indices.data(), indexCount, vertices.data(), vertexCount, stride);
+    std::vector<uint32_t> remap(vertexCount);
+    const size_t used = meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indexCount, vertexCount);
+    meshopt_remapIndexBuffer(indices.data(), indices.data(), indexCount, remap.data());
+    std::vector<uint8_t> fetched(used * stride);
+    meshopt_remapVertexBuffer(fetched.data(), vertices.data(), vertexCount, stride, remap.data());
     std::vector<uint8_t> indexStream(meshopt_encodeIndexBufferBound(indexCount, used));
     indexStream.resize(meshopt_encodeIndexBuffer(indexStream.data(), indexStream.size(), indices.data(), indexCount));
     std::vector<uint8_t> vertexStream(meshopt_encodeVertexBufferBound(used, stride));
@@ -177,11 +209,21 @@ Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
     for (int32_t m : minimum) out.put(m);
     for (uint32_t field : {uint32_t(used), uint32_t(indexCount), stride, uint32_t(indexStream.size())}) out.put(field);
     out.putBytes(indexStream.data(), indexStream.size());
+    for (const std::vector<uint32_t>* words : {&geometry.normals, &geometry.colors}) {
+        if (words->empty()) continue;
+        std::vector<uint32_t> ordered(used);
+        meshopt_remapVertexBuffer(ordered.data(), words->data(), vertexCount, 4, remap.data());
+        std::vector<uint8_t> stream(meshopt_encodeVertexBufferBound(used, 4));
+        stream.resize(meshopt_encodeVertexBuffer(stream.data(), stream.size(), ordered.data(), used, 4));
+        if (stream.empty()) return Status::error("meshopt encode returned no bytes for an attribute");
+        out.put(uint32_t(stream.size()));
+        out.putBytes(stream.data(), stream.size());
+    }
     out.putBytes(vertexStream.data(), vertexStream.size());
     return std::move(out.bytes());
 }
 
-Result<ChunkGeometry> decodeMeshopt(const uint8_t* data, size_t size) {
+Result<ChunkGeometry> decodeMeshopt(const uint8_t* data, size_t size, GeometryAttributes attributes) {
     ByteReader in(data, size);
     int32_t minimum[3];
     uint32_t vertexCount = 0, indexCount = 0, stride = 0, indexBytes = 0;
@@ -198,6 +240,16 @@ Result<ChunkGeometry> decodeMeshopt(const uint8_t* data, size_t size) {
     if (meshopt_decodeIndexBuffer(geometry.indices.data(), indexCount, 4, in.current(), indexBytes) != 0)
         return Status::error("meshopt index stream is corrupt");
     in.skip(indexBytes);
+    for (auto [wanted, words] : {std::pair{attributes.normals, &geometry.normals}, {attributes.colors, &geometry.colors}}) {
+        if (!wanted) continue;
+        uint32_t bytes = 0;
+        in.get(bytes);
+        if (!in.ok() || bytes > in.remaining()) return Status::error("meshopt attribute stream overruns the chunk");
+        words->resize(vertexCount);
+        if (meshopt_decodeVertexBuffer(words->data(), vertexCount, 4, in.current(), bytes) != 0)
+            return Status::error("meshopt attribute stream is corrupt");
+        in.skip(bytes);
+    }
     std::vector<uint8_t> vertices(size_t(vertexCount) * stride);
     if (meshopt_decodeVertexBuffer(vertices.data(), vertexCount, stride, in.current(), in.remaining()) != 0)
         return Status::error("meshopt vertex stream is corrupt");
@@ -224,9 +276,10 @@ Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, 
     return codec == GeometryCodec::Meshopt ? encodeMeshopt(geometry) : encodeDraco(geometry, lossless, dracoSpeed);
 }
 
-Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless, GeometryCodec codec) {
-    if (codec == GeometryCodec::Meshopt) return decodeMeshopt(data, size);
-    return decodeDraco(data, size, lossless);
+Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless, GeometryCodec codec,
+                                          GeometryAttributes attributes) {
+    if (codec == GeometryCodec::Meshopt) return decodeMeshopt(data, size, attributes);
+    return decodeDraco(data, size, lossless, attributes);
 }
 
 const char* geometryCodecName(GeometryCodec codec) { return codec == GeometryCodec::Meshopt ? "meshopt" : "draco"; }

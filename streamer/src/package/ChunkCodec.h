@@ -15,6 +15,15 @@ namespace vastray {
 struct ChunkGeometry {
     std::vector<int32_t> vertexWords;  // 3 per vertex
     std::vector<uint32_t> indices;     // 3 per triangle
+    // Per vertex, or empty (core/VertexAttributes.h codes); both codecs return them exactly.
+    std::vector<uint32_t> normals;
+    std::vector<uint32_t> colors;
+};
+
+// Which optional per-vertex attributes a geometry stream carries (the chunk header's flags).
+struct GeometryAttributes {
+    bool normals = false;
+    bool colors = false;
 };
 
 // `lossless` stores float bit patterns, otherwise grid integers; both codecs return exactly
@@ -26,6 +35,8 @@ Result<std::vector<uint8_t>> encodeChunkGeometry(const ChunkGeometry& geometry, 
 
 // Faces come back in the codec's order (not the encoder's input order), possibly with rotated
 // corners (and split vertices with Draco); the cyclic order (winding) of every face is kept.
-Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless, GeometryCodec codec);
+// `attributes` says which attributes the stream carries; a stream lacking one is an error.
+Result<ChunkGeometry> decodeChunkGeometry(const uint8_t* data, size_t size, bool lossless, GeometryCodec codec,
+                                          GeometryAttributes attributes = {});
 
 }  // namespace vastray

@@ -70,7 +70,9 @@ public:
 private:
     uint64_t estimateBytes(size_t refs) const {
         const double perTriangle = std::min(3.0, verticesPerTriangle_ * 1.1 + 0.05) * 12.0 + 16.0 +
-                                   (source_.materialIds ? 4.0 : 0.0) + kEstimatedBvhBytesPerTriangle;
+                                   (source_.materialIds ? 4.0 : 0.0) + kEstimatedBvhBytesPerTriangle +
+                                   std::min(3.0, verticesPerTriangle_ * 1.1 + 0.05) * 4.0 *
+                                       double(int(source_.normals != nullptr) + int(source_.colors != nullptr));
         return uint64_t(double(refs) * perTriangle);
     }
 
@@ -236,6 +238,12 @@ Status validateOptions(const PackageBuildOptions& options, const TriangleMesh& m
     if (mesh.triangleCount() == 0) return Status::error("the mesh has no triangles");
     if (mesh.triangleCount() >= kEmptyCell) return Status::error("more than 2^32-1 triangles");
     if (mesh.materials.empty()) return Status::error("the mesh has no material");
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+        return Status::error("the mesh has " + std::to_string(mesh.normals.size()) + " normals for " +
+                             std::to_string(mesh.positions.size()) + " vertices");
+    if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size())
+        return Status::error("the mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
+                             std::to_string(mesh.positions.size()) + " vertices");
     return Status::ok();
 }
 
@@ -260,7 +268,9 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
 
     ChunkSource source{mesh.positions.data(), scene.words.data(), mesh.indices.data(),
                        mesh.materials.size() > 1 && !mesh.materialIds.empty() ? mesh.materialIds.data() : nullptr,
-                       &grid, options.dracoSpeed, options.codec, options.residentBytesPerTriangle};
+                       &grid, options.dracoSpeed, options.codec, options.residentBytesPerTriangle,
+                       mesh.normals.empty() ? nullptr : mesh.normals.data(),
+                       mesh.colors.empty() ? nullptr : mesh.colors.data()};
     PackageBuildJob job(source, options, double(mesh.positions.size()) / double(mesh.triangleCount()),
                         scene.triangles.size());
     std::unique_ptr<BuildNode> root = job.run(scene.triangles, scene.bounds);
@@ -276,6 +286,8 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     info.collapsedDropped = scene.collapsed;
     info.defaultDoubleSided = options.defaultDoubleSided;
     info.codec = options.codec;
+    info.hasNormals = !mesh.normals.empty();
+    info.hasColors = !mesh.colors.empty();
     info.bounds = scene.bounds;
     info.grid = grid;
     info.materials = mesh.materials;

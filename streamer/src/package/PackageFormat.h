@@ -12,7 +12,8 @@ namespace vastray::format {
 
 constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 2: chunk trees are 4-wide BVHs (Bvh4Node), triangles in leaf order (was: KD nodes and references).
-constexpr uint32_t kVersion = 2;
+// 3: chunks may carry per-vertex shading normals and colours (chunk flags, header flags).
+constexpr uint32_t kVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
 constexpr uint32_t kMaterialBytes = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
@@ -23,13 +24,17 @@ constexpr uint32_t kMaxMaterials = 1u << 20;
 constexpr uint32_t kMaxChunks = 1u << 24;
 
 constexpr char kChunkMagic[4] = {'V', 'C', 'H', 'K'};
-constexpr uint32_t kChunkVersion = 2;
+constexpr uint32_t kChunkVersion = 3;
 constexpr uint32_t kChunkHeaderBytes = 64;
 constexpr uint32_t kChunkHasMaterialIds = 1u;
 constexpr uint32_t kChunkMeshoptGeometry = 2u;  // geometry stream is meshoptimizer's, not Draco's
-constexpr uint32_t kChunkKnownFlags = kChunkHasMaterialIds | kChunkMeshoptGeometry;
+constexpr uint32_t kChunkHasNormals = 4u;  // the geometry stream carries octahedral normals
+constexpr uint32_t kChunkHasColors = 8u;   // the geometry stream carries sRGB8 colours
+constexpr uint32_t kChunkKnownFlags = kChunkHasMaterialIds | kChunkMeshoptGeometry | kChunkHasNormals | kChunkHasColors;
 
-enum HeaderFlags : uint32_t { kDefaultDoubleSided = 1u, kMeshoptChunks = 2u };
-constexpr uint32_t kKnownHeaderFlags = kDefaultDoubleSided | kMeshoptChunks;
+// kHasNormals / kHasColors: every chunk carries them (a scene has them on all its vertices or
+// on none: vertices the file gave none get kNoNormal / kWhiteColor).
+enum HeaderFlags : uint32_t { kDefaultDoubleSided = 1u, kMeshoptChunks = 2u, kHasNormals = 4u, kHasColors = 8u };
+constexpr uint32_t kKnownHeaderFlags = kDefaultDoubleSided | kMeshoptChunks | kHasNormals | kHasColors;
 
 }  // namespace vastray::format

@@ -66,7 +66,8 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
                        info.maxChunkResidentBytes, info.degenerateDropped, info.collapsedDropped})
         out.put(v);
     out.put((info.defaultDoubleSided ? uint32_t(format::kDefaultDoubleSided) : 0u) |
-            (info.codec == GeometryCodec::Meshopt ? uint32_t(format::kMeshoptChunks) : 0u));
+            (info.codec == GeometryCodec::Meshopt ? uint32_t(format::kMeshoptChunks) : 0u) |
+            (info.hasNormals ? uint32_t(format::kHasNormals) : 0u) | (info.hasColors ? uint32_t(format::kHasColors) : 0u));
     out.put(info.grid.bits);
     out.put(layout.materialCount);
     out.put(layout.topNodeCount);
@@ -117,6 +118,8 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
         in.get(*v);
     info.defaultDoubleSided = (flags & format::kDefaultDoubleSided) != 0;
     info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
+    info.hasNormals = (flags & format::kHasNormals) != 0;
+    info.hasColors = (flags & format::kHasColors) != 0;
     if (!in.ok()) return Status::error("truncated header");
     if (flags & ~format::kKnownHeaderFlags) return Status::error("header has unknown flags " + std::to_string(flags));
     VASTRAY_TRY(checkGrid(info.grid));

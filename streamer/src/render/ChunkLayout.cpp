@@ -24,6 +24,8 @@ ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles
     l.singleSided = section(attributes.singleSided ? (triangles + 3) / 4 * 4 : 0);
     l.primitiveIds = section(attributes.primitiveIds ? triangles * 4 : 0);
     l.materialIds = section(attributes.materialIds ? triangles * 4 : 0);
+    l.normals = section(attributes.normals ? vertices * 4 : 0);
+    l.colors = section(attributes.colors ? vertices * 4 : 0);
     l.totalBytes = std::max<uint64_t>(at, 16);
     return l;
 }

@@ -66,6 +66,8 @@ ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions&
     a.primitiveIds = (options.aovs & kAovPrimId) != 0;
     a.materialIds = info.materials.size() > 1;
     for (const Material& m : info.materials) a.singleSided |= !m.doubleSided;
+    a.normals = info.hasNormals;
+    a.colors = info.hasColors;
     return a;
 }
 
@@ -113,7 +115,8 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     const PackageInfo& info = st.reader.info();
     const ChunkAttributes needed = requiredAttributes(info, options);
     if ((needed.primitiveIds && !st.attributes.primitiveIds) || (needed.materialIds && !st.attributes.materialIds) ||
-        (needed.singleSided && !st.attributes.singleSided))
+        (needed.singleSided && !st.attributes.singleSided) || (needed.normals && !st.attributes.normals) ||
+        (needed.colors && !st.attributes.colors))
         return Status::error("this render needs chunk attributes the scene was not opened with (primid AOV?)");
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);

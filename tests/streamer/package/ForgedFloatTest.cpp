@@ -175,10 +175,13 @@ TEST_F(ForgedFloats, LeafOrderThatIsNotAPermutationFailsVerify) {
     expectChunkRefused(bytes, 1, "chunk 1: leaf order entry 1 is not a permutation");
 }
 
-TEST_F(ForgedFloats, FormatVersionOneAsksForAReimport) {
-    std::vector<uint8_t> bytes = *bytes_;
-    put(bytes, 8, uint32_t(1));
-    expectRefused(bytes, "package format version 1 is not supported (expected 2): re-import the mesh");
+TEST_F(ForgedFloats, OlderFormatVersionsAskForAReimport) {
+    for (uint32_t version : {1u, 2u}) {
+        std::vector<uint8_t> bytes = *bytes_;
+        put(bytes, 8, version);
+        expectRefused(bytes, "package format version " + std::to_string(version) +
+                                 " is not supported (expected 3): re-import the mesh");
+    }
 }
 
 TEST(PackageReaderInputs, FifoIsRefusedWithoutBlocking) {

@@ -1,6 +1,7 @@
 #pragma once
 // The in-core triangle mesh every importer produces and every later stage reads:
-// world-space positions, shared vertex indices, one material id per triangle.
+// world-space positions, shared vertex indices, one material id per triangle, optional
+// per-vertex shading normals and colours.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -22,6 +23,10 @@ struct TriangleMesh {
     std::vector<Vec3f> positions;      // world space
     std::vector<uint32_t> indices;     // 3 per triangle, into positions
     std::vector<uint32_t> materialIds; // one per triangle, or empty: every triangle uses material 0
+    // Per vertex, or empty (core/VertexAttributes.h): octahedral shading normals (kNoNormal where
+    // the file gave none) and packed sRGB8 colours (kWhiteColor where it gave none).
+    std::vector<uint32_t> normals;
+    std::vector<uint32_t> colors;
     std::vector<Material> materials;   // at least one once imported
 
     uint64_t triangleCount() const { return indices.size() / 3; }

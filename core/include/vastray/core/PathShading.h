@@ -9,6 +9,7 @@
 #include "vastray/core/Random.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/core/Vec3.h"
+#include "vastray/core/VertexAttributes.h"
 
 namespace vastray {
 
@@ -20,8 +21,24 @@ constexpr float kMaxSurvival = 0.95f;
 struct SurfacePoint {
     Vec3f position;  // from barycentrics (more exact than origin + t * direction)
     Vec3f normal;    // unit geometric normal, on the side the ray came from
+    // Unit shading normal on the same side (the geometric one without vertex normals): the
+    // Lambertian cosines and the bounce use it; light and bounces below `normal` are cut.
+    Vec3f shadingNormal;
+    Vec3f albedo;    // base colour times the vertex colour
     const Material* material = nullptr;
 };
+
+// A hit's interpolated attributes as the hit record keeps them (core/VertexAttributes.h):
+// kNoNormal and white (every 10-bit channel 1023) when the scene has none.
+constexpr uint32_t kWhiteHitColor = 0x3FFFFFFFu;
+struct HitAttributes {
+    uint32_t normal = kNoNormal;
+    uint32_t color = kWhiteHitColor;
+};
+// The attributes at barycentrics (u, v) of a triangle whose corners are vertices i0, i1, i2
+// of per-vertex `normals` and `colors` (either may be empty).
+HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const uint32_t> colors, uint32_t i0,
+                            uint32_t i1, uint32_t i2, float u, float v);
 
 // v0 + (v1 - v0) * u + (v2 - v0) * v, evaluated in exactly this order (the GPU kernel too).
 Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v);
@@ -29,9 +46,10 @@ Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v);
 Vec3f geometricNormal(Vec3f v0, Vec3f v1, Vec3f v2);
 // The material a triangle's id names; out-of-range ids fall back to material 0.
 const Material& materialAt(std::span<const Material> materials, uint32_t id);
-// Normalizes `geometricNormal` and turns it towards the side `rayDirection` came from.
+// Normalizes `geometricNormal` and turns it towards the side `rayDirection` came from; the
+// shading normal is the hit's (turned to that side too) or the geometric one.
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometricNormal, Vec3f rayDirection,
-                              const Material& material);
+                              const Material& material, HitAttributes attributes = {});
 
 Vec3f skyRadiance(const Environment& environment, Vec3f direction);
 Vec3f emission(const Material& material);
@@ -44,6 +62,9 @@ bool unshadowedSunLight(const Environment& environment, Vec3f sunDirection, cons
 
 // A cosine-distributed direction about `normal`, from the key's direction dimensions.
 Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed);
+// The Lambertian bounce at `point`: cosine-distributed about the shading normal; false (the
+// path ends) when that direction lies below the geometric surface.
+bool bounceDirection(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction);
 
 // After scattering event `bounce` (throughput already multiplied by the base colour): from
 // kRouletteStartBounce on, ends the path with probability 1 - min(0.95, max throughput) and

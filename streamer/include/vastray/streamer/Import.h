@@ -31,8 +31,9 @@ struct ImportReport {
     uint64_t inputTriangles = 0;       // after polygon/strip/fan triangulation, before dropping
     uint64_t degenerateDropped = 0;    // repeated index, coincident positions or zero area
     uint64_t verticesRead = 0;
-    uint64_t normalsRead = 0;          // parsed and validated; not carried into the package yet (warned)
-    uint64_t texcoordsRead = 0;        // likewise
+    uint64_t normalsRead = 0;          // shading normals, carried into the package (TriangleMesh::normals)
+    uint64_t coloursRead = 0;          // vertex colours, carried likewise (TriangleMesh::colors)
+    uint64_t texcoordsRead = 0;        // parsed and validated; not carried into the package yet (warned)
     uint64_t primitivesSkipped = 0;    // glTF points/lines primitives (no triangles to render)
     // What the file holds and the package does not carry, one line per kind ("3 animations
     // read but not used"), for `vastray import` and the service's job messages.
@@ -68,8 +69,9 @@ bool assimpReads(const std::string& path);  // extension in kAssimpFormats
 std::string assimpFormatList();
 
 // Shared last step of every importer: rejects NaN/Inf positions and out-of-range indices,
-// drops degenerate triangles (counted in report), guarantees at least one material and
-// applies the sidedness override. `fileName` prefixes every message.
+// and per-vertex normals or colours that are not one per vertex, drops degenerate triangles
+// (counted in report), guarantees at least one material and applies the sidedness override.
+// `fileName` prefixes every message.
 Status finalizeMesh(const std::string& fileName, const ImportOptions& options, ImportedMesh& imported);
 
 }  // namespace vastray

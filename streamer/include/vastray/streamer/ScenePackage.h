@@ -48,7 +48,7 @@ struct ChunkInfo {
     uint64_t offset = 0;        // of the blob in the file
     uint64_t size = 0;          // bytes in the file
     uint64_t checksum = 0;      // XXH64 of the blob
-    uint64_t residentBytes = 0; // decoded footprint: positions, indices, ids, BVH nodes
+    uint64_t residentBytes = 0; // decoded footprint: positions, indices, ids, attributes, BVH nodes
     uint32_t triangleCount = 0; // references, duplicates included
     uint32_t vertexCount = 0;
     uint32_t bvhNodeCount = 0;  // Bvh4Node
@@ -64,6 +64,8 @@ struct PackageInfo {
     uint64_t degenerateDropped = 0;    // by the importer
     uint64_t collapsedDropped = 0;     // by quantization
     bool defaultDoubleSided = true;
+    bool hasNormals = false;           // every chunk carries per-vertex shading normals
+    bool hasColors = false;            // every chunk carries per-vertex colours
     GeometryCodec codec = GeometryCodec::Draco;
     Aabb bounds;
     QuantizationGrid grid;
@@ -95,6 +97,8 @@ struct DecodedChunk {
     std::vector<uint32_t> indices;      // 3 per triangle, into positions, in the BVH's leaf order
     std::vector<uint32_t> primitiveIds; // per triangle: its index in the imported mesh
     std::vector<uint32_t> materialIds;  // per triangle, or empty: material 0
+    std::vector<uint32_t> normals;      // per vertex, or empty: octahedral codes (core/VertexAttributes.h)
+    std::vector<uint32_t> colors;       // per vertex, or empty: packed sRGB8
     Bvh4 bvh;                           // over this chunk's triangles (bvh.order is not kept)
     // Set by the package reader once every index and BVH node is checked to lie in
     // range (backends then skip their own pass over the arrays); false for a hand-made chunk.

@@ -29,6 +29,8 @@ struct ChunkAttributes {
     bool primitiveIds = false;  // the primid AOV
     bool materialIds = false;   // the scene has more than one material
     bool singleSided = false;   // some material is single-sided
+    bool normals = false;       // the package has per-vertex shading normals
+    bool colors = false;        // the package has per-vertex colours
 };
 
 // Where each array of a chunk lies in a device slot: byte offsets of 16-byte aligned sections
@@ -38,6 +40,8 @@ struct ChunkLayout {
     uint64_t singleSided = 0;   // one byte per triangle, four to a word
     uint64_t primitiveIds = 0;  // uint32 per triangle
     uint64_t materialIds = 0;   // uint32 per triangle
+    uint64_t normals = 0;       // uint32 per vertex (octahedral)
+    uint64_t colors = 0;        // uint32 per vertex (sRGB8)
     uint64_t totalBytes = 0;
 };
 ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, const ChunkAttributes& attributes);
