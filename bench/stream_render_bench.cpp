@@ -27,6 +27,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "vastray/core/ByteSize.h"
@@ -56,6 +57,7 @@ struct Args {
     bool camera = false;        // --eye and --target given
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
     Vec3f eye, target;
+    std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
     StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
@@ -83,6 +85,12 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--resolution") {
             const std::string v = value();
             if (std::sscanf(v.c_str(), "%ux%u", &a.width, &a.height) != 2) fail("--resolution WxH");
+        } else if (flag == "--region") {
+            PixelBounds r;
+            const std::string v = value();
+            if (std::sscanf(v.c_str(), "%u,%u,%u,%u", &r.x0, &r.y0, &r.x1, &r.y1) != 4 || r.x1 <= r.x0 || r.y1 <= r.y0)
+                fail("--region X0,Y0,X1,Y1 (X1 > X0, Y1 > Y0)");
+            a.region = r;
         } else if (flag == "--spp") a.spp = uint32_t(std::stoul(value()));
         else if (flag == "--depth") a.depth = uint32_t(std::stoul(value()));
         else if (flag == "--ratios") {
@@ -196,6 +204,7 @@ int main(int argc, char** argv) {
         setCamera(o);
         o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp;
         o.integrator = integrator, o.maxDepth = depth;
+        o.region = args.region;
         std::vector<Row> runs;
         for (int run = 0; run < args.repeat; ++run) {
             Row row;
@@ -227,6 +236,7 @@ int main(int argc, char** argv) {
             RenderOptions o;
             setCamera(o);
             o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp, o.maxDepth = depth;
+            o.region = args.region;
             std::vector<Row> runs;
             for (int pass = 0; pass <= args.repeat; ++pass) {
                 Row row;
@@ -291,6 +301,9 @@ int main(int argc, char** argv) {
     if (args.camera)
         md << ", eye " << args.eye.x << "," << args.eye.y << "," << args.eye.z << " target " << args.target.x << ","
            << args.target.y << "," << args.target.z;
+    if (args.region)
+        md << ", region " << args.region->x0 << "," << args.region->y0 << "," << args.region->x1 << ","
+           << args.region->y1;
     md << ". Each row: the run of median render time of " << args.repeat << "." << embreeNote << "\n\n";
     md << "| render | budget | slots | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
