@@ -11,7 +11,7 @@
 #   usage (device machine; vastray, stream_render_bench on PATH, Mitsuba on PYTHONPATH):
 #     bench/tiles_shared_gpu.sh OUT_DIR MITSUBA_BENCH.py [TRIANGLES]
 #   Environment: RATIOS (out-of-core ratios, default 4), REPEAT (default 3), IMPORT_ARGS,
-#   SPP (16), DEPTH (5), NO_MITSUBA=1.
+#   SPP (16), DEPTH (5), NO_MITSUBA=1. Write the figures into one file (the device tool returns 8 files).
 set -uo pipefail
 out=$1 mitsuba=$2 triangles=${3:-64000000}
 spp=${SPP:-16} depth=${DEPTH:-5} width=1920 height=1080 eye=1.6,1.1,1.9 target=0,0,0
@@ -22,7 +22,7 @@ nproc >> "$out/machine.txt"
 start=$(date +%s.%N)
 vastray generate city --triangles "$triangles" --seed 1 -o "$work/city.ply" > /dev/null
 vastray import "$work/city.ply" -o "$work/city.vast" --progress none ${IMPORT_ARGS:-} > "$out/import.txt" 2>&1
-echo "generate + import $(echo "$(date +%s.%N) - $start" | bc) s" >> "$out/import.txt"
+echo "generate + import $(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN {print b - a}') s" >> "$out/import.txt"
 common=(--package "$work/city.vast" --resolution "${width}x${height}" --spp "$spp" --depth "$depth"
         --ratios "${RATIOS:-4}" --repeat "${REPEAT:-3}" --no-embree --eye "$eye" --target "$target")
 t0=$(date +%s.%N)
@@ -33,7 +33,8 @@ timeout 280 stream_render_bench "${common[@]}" --region "0,0,$half,$height" --ou
 timeout 280 stream_render_bench "${common[@]}" --region "$half,0,$width,$height" --out "$out/right.md" 2> "$out/right.log" &
 wait
 t2=$(date +%s.%N)
-echo "whole frame, one process: $(echo "$t1 - $t0" | bc) s wall (all rows); two tile processes at once: $(echo "$t2 - $t1" | bc) s wall" > "$out/wall.txt"
+seconds() { awk -v a="$1" -v b="$2" 'BEGIN {print b - a}'; }
+echo "whole frame, one process: $(seconds "$t0" "$t1") s wall (all rows); two tile processes at once: $(seconds "$t1" "$t2") s wall" > "$out/wall.txt"
 [ -n "${NO_MITSUBA:-}" ] || timeout 300 python3 "$mitsuba" "$work/city.ply" "$width" "$height" "$spp" "$depth" "$eye" \
   "$target" cuda_ad_rgb > "$out/mitsuba.jsonl" 2> "$out/mitsuba.log"
 exit 0
