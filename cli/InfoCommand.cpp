@@ -37,6 +37,13 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"base_color", m.baseColor},
                              {"emissive", m.emissive},
                              {"double_sided", m.doubleSided}});
+    nlohmann::json cameras = nlohmann::json::array();
+    for (const SceneCamera& c : info.cameras)
+        cameras.push_back({{"name", c.name},
+                           {"eye", {c.camera.eye.x, c.camera.eye.y, c.camera.eye.z}},
+                           {"target", {c.camera.target.x, c.camera.target.y, c.camera.target.z}},
+                           {"up", {c.camera.up.x, c.camera.up.y, c.camera.up.z}},
+                           {"fov_y_degrees", c.camera.fovYDegrees}});
     return {{"format_version", info.formatVersion},
             {"triangles", info.triangleCount},
             {"references", info.referenceCount},
@@ -52,6 +59,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"codec", geometryCodecName(info.codec)},
             {"vertex_normals", info.hasNormals},
             {"vertex_colors", info.hasColors},
+            {"cameras", cameras},
             {"degenerate_dropped", info.degenerateDropped},
             {"collapsed_dropped", info.collapsedDropped},
             {"materials", materials},
@@ -76,6 +84,12 @@ void printHuman(const std::string& path, const PackageInfo& info) {
                                              : (info.hasColors ? "colours" : "none");
     std::printf("  vertex attributes    %s\n", attributes);
     std::printf("  materials            %zu\n", info.materials.size());
+    for (size_t i = 0; i < info.cameras.size(); ++i) {
+        const Camera& c = info.cameras[i].camera;
+        std::printf("  camera %-13zu '%s': eye (%g, %g, %g), looking at (%g, %g, %g), fov %g degrees\n", i,
+                    info.cameras[i].name.c_str(), c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z,
+                    c.fovYDegrees);
+    }
     std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",
                 (unsigned long long)info.degenerateDropped, (unsigned long long)info.collapsedDropped);
 }

@@ -43,7 +43,7 @@ struct RenderArgs {
     std::string input, output, backend = "vulkan", resolution = "640x480";
     std::string memoryBudget = "1GiB", hostCache = "auto";
     int64_t gpuDevice = -1;
-    std::string eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
+    std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
     bool noSun = false;
     std::string region, tiles;  // --region X0,Y0,X1,Y1; --tiles NX,NY (with --tile)
     int64_t tile = kNoTile;
@@ -416,7 +416,7 @@ private:
     std::string path_;
 };
 
-Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& options, const StreamingSizes& sizes,
+Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, const StreamingSizes& sizes,
                                  RenderStats& stats, StreamingStats& streaming, const RenderProgress& progress) {
     const uint64_t budget = sizes.memoryBudget;
     TemporaryPackage temporary;
@@ -428,6 +428,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, const RenderOptions& op
     }
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
+    VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
     gpu::VulkanDeviceOptions deviceOptions;
     deviceOptions.deviceIndex = int(args.gpuDevice);
     auto device = gpu::VulkanDevice::create(deviceOptions);
@@ -470,6 +471,8 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
     } else {
         auto scene = loadRenderScene(args.input);
         if (!scene) return progress.fail(scene.message(), 1);
+        if (Status camera = applySceneCamera(scene->mesh.cameras, args.camera, *options); !camera)
+            return progress.fail(camera.message(), 2);
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }
     if (!image) return progress.fail(image.message(), 1);
@@ -520,7 +523,11 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--spp", args->spp, "samples per pixel, 1..65536")->capture_default_str();
     cmd->add_option("--resolution", args->resolution, "WxH, each side 1..16384")->capture_default_str();
-    cmd->add_option("--eye", args->eye, "camera position x,y,z (with --target; default: frame the scene)");
+    cmd->add_option("--camera", args->camera,
+                    "a camera of the scene (glTF cameras, kept in the package) by name or 0-based index; "
+                    "default: the scene's first camera if it has one and --eye is not given, else framing");
+    cmd->add_option("--eye", args->eye,
+                    "camera position x,y,z (with --target; default: the scene's first camera, else frame the scene)");
     cmd->add_option("--target", args->target, "point the camera looks at, x,y,z");
     cmd->add_option("--up", args->up,
                     "camera up vector x,y,z (default: the --up-axis); automatic framing looks down along it too");

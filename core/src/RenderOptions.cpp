@@ -67,6 +67,29 @@ static Status validateRegion(const RenderOptions& o) {
     return Status::ok();
 }
 
+Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string& choice, RenderOptions& options) {
+    if (choice.empty()) {
+        if (!options.frameScene || cameras.empty()) return Status::ok();
+        options.frameScene = false;
+        options.camera = cameras.front().camera;
+        return Status::ok();
+    }
+    if (!options.frameScene) return Status::error("--camera " + choice + " and --eye/--target exclude each other");
+    std::string names;
+    for (size_t i = 0; i < cameras.size(); ++i) names += (i ? ", " : "") + std::to_string(i) + " '" + cameras[i].name + "'";
+    if (cameras.empty()) return Status::error("--camera " + choice + ": the scene defines no cameras");
+    size_t index = cameras.size();
+    for (size_t i = 0; i < cameras.size() && index == cameras.size(); ++i)
+        if (cameras[i].name == choice) index = i;
+    if (index == cameras.size() && choice.find_first_not_of("0123456789") == std::string::npos && choice.size() < 10)
+        index = std::stoul(choice);
+    if (index >= cameras.size())
+        return Status::error("--camera " + choice + ": no camera of that name or index; the scene has " + names);
+    options.frameScene = false;
+    options.camera = cameras[index].camera;
+    return Status::ok();
+}
+
 Status validateRenderOptions(const RenderOptions& o) {
     auto outside = [](const char* what, uint64_t value, uint64_t lo, uint64_t hi) {
         return Status::error(std::string(what) + " " + std::to_string(value) + " is outside [" +

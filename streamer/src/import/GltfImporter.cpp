@@ -8,6 +8,7 @@
 #include "import/GltfAccessor.h"
 #include "import/GltfLoader.h"
 #include "import/ImportCommon.h"
+#include "vastray/core/VecMath.h"
 #include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
 
@@ -105,10 +106,16 @@ public:
             if (node.mesh >= 0) {
                 if (Status s = addMesh(node.mesh, world); !s.isOk()) return s;
             }
+            if (node.camera >= 0) addCamera(node, world);
             for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, world);
         }
+        // In the order of the file's cameras (a camera placed by two nodes twice, in visiting order).
+        std::stable_sort(cameras_.begin(), cameras_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (auto& [index, camera] : cameras_) out_.mesh.cameras.push_back(std::move(camera));
         return Status::ok();
     }
+
+    uint64_t camerasNotUsed() const { return camerasNotUsed_; }
 
 private:
     // The default scene, else scene 0, else every node that is nobody's child.
@@ -135,6 +142,30 @@ private:
             if (Status s = addPrimitive(prims[p], world); !s.isOk()) return s.withContext(where);
         }
         return Status::ok();
+    }
+
+    // A perspective camera node: it looks down its local -Z with +Y up (spec 3.10); the image's
+    // aspect ratio is the render's --resolution, not the camera's aspectRatio. Orthographic
+    // cameras and ones whose placement is degenerate are counted as not used.
+    void addCamera(const tinygltf::Node& node, const Mat4& m) {
+        if (size_t(node.camera) >= model_.cameras.size() || model_.cameras[node.camera].type != "perspective") {
+            ++camerasNotUsed_;
+            return;
+        }
+        const tinygltf::Camera& c = model_.cameras[node.camera];
+        SceneCamera scene;
+        scene.name = !c.name.empty() ? c.name : !node.name.empty() ? node.name : "camera " + std::to_string(node.camera);
+        const Vec3f eye{float(m[12]), float(m[13]), float(m[14])};
+        const Vec3f forward = normalize(Vec3f{float(-m[8]), float(-m[9]), float(-m[10])});
+        scene.camera.eye = eye;
+        scene.camera.target = eye + forward * std::max(1.0f, length(eye));
+        scene.camera.up = normalize(Vec3f{float(m[4]), float(m[5]), float(m[6])});
+        scene.camera.fovYDegrees = float(c.perspective.yfov * 180.0 / 3.14159265358979323846);
+        if (!validateCamera(scene.camera).isOk()) {
+            ++camerasNotUsed_;
+            return;
+        }
+        cameras_.emplace_back(node.camera, std::move(scene));
     }
 
     Status addPrimitive(const tinygltf::Primitive& prim, const Mat4& world) {
@@ -279,6 +310,8 @@ private:
     std::vector<double> rgb_;        // reused per primitive
     std::vector<uint32_t> corners_;  // reused per primitive
     int64_t defaultMaterial_ = -1;
+    std::vector<std::pair<int, SceneCamera>> cameras_;  // glTF camera index, camera
+    uint64_t camerasNotUsed_ = 0;
 };
 
 // What the file holds that the package does not carry, once per kind.
@@ -290,7 +323,6 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
     report.warnUnused("morph targets", morphs);
     report.warnUnused("skins", model.skins.size());
     report.warnUnused("animations", model.animations.size());
-    report.warnUnused("cameras", model.cameras.size(), "vastray frames the scene itself");
     report.warnUnused("textures", model.textures.size(), "materials use their factors only");
     report.warnUnused("KHR_lights_punctual lights", lights);
 }
@@ -310,6 +342,7 @@ Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOp
     GltfFlattener flattener(*model, imported);
     if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
     warnAboutUnused(*model, imported.report);
+    imported.report.warnUnused("cameras", flattener.camerasNotUsed(), "orthographic, or placed degenerately");
     if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
     return imported;
 }

@@ -291,6 +291,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     info.bounds = scene.bounds;
     info.grid = grid;
     info.materials = mesh.materials;
+    info.cameras = mesh.cameras;
     info.topTree = std::move(flat.nodes);
     info.chunks = std::move(flat.chunks);
     for (const ChunkInfo& chunk : info.chunks) {

@@ -5,6 +5,7 @@
 //   materials  materialCount × kMaterialBytes
 //   top tree   topNodeCount × 8 (KdNode)
 //   directory  chunkCount × kDirectoryEntryBytes
+//   cameras    cameraCount × kCameraBytes (version 3)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
 #include <cstdint>
 
@@ -18,10 +19,13 @@ constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
 constexpr uint32_t kMaterialBytes = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
 constexpr uint32_t kDirectoryEntryBytes = 4 * 8 + 4 * 4 + 6 * 4;
+constexpr uint32_t kCameraNameBytes = 64;
+constexpr uint32_t kCameraBytes = kCameraNameBytes + 10 * 4;  // name, eye, target, up, fov (degrees)
 
 // Upper bounds a reader enforces before allocating anything.
 constexpr uint32_t kMaxMaterials = 1u << 20;
 constexpr uint32_t kMaxChunks = 1u << 24;
+constexpr uint32_t kMaxCameras = 1u << 16;
 
 constexpr char kChunkMagic[4] = {'V', 'C', 'H', 'K'};
 constexpr uint32_t kChunkVersion = 3;

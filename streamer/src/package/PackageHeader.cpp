@@ -80,6 +80,7 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
     for (uint64_t v : {layout.materialsOffset, layout.treeOffset, layout.directoryOffset, layout.blobsOffset,
                        layout.materialsChecksum, layout.treeChecksum, layout.directoryChecksum})
         out.put(v);
+    out.put(layout.camerasOffset), out.put(layout.camerasChecksum), out.put(layout.cameraCount), out.put(uint32_t(0));
     out.padTo(format::kHeaderBytes - 8);
     out.put(checksum64(out.bytes().data(), out.size()));
     return std::move(out.bytes());
@@ -116,6 +117,11 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     for (uint64_t* v : {&layout.materialsOffset, &layout.treeOffset, &layout.directoryOffset, &layout.blobsOffset,
                         &layout.materialsChecksum, &layout.treeChecksum, &layout.directoryChecksum})
         in.get(*v);
+    uint32_t reservedAfterCameras = 0;
+    in.get(layout.camerasOffset), in.get(layout.camerasChecksum), in.get(layout.cameraCount), in.get(reservedAfterCameras);
+    if (reservedAfterCameras != 0 || layout.cameraCount > format::kMaxCameras)
+        return Status::error("header: camera count " + std::to_string(layout.cameraCount) + " exceeds " +
+                             std::to_string(format::kMaxCameras) + " or a reserved field is not 0");
     info.defaultDoubleSided = (flags & format::kDefaultDoubleSided) != 0;
     info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
     info.hasNormals = (flags & format::kHasNormals) != 0;
@@ -159,6 +165,28 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
     }
     if (!in.ok()) return Status::error("truncated materials");
     return materials;
+}
+
+std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras) {
+    ByteWriter out;
+    for (const SceneCamera& c : cameras) {
+        out.putFixedString(c.name, format::kCameraNameBytes);
+        out.put(c.camera.eye), out.put(c.camera.target), out.put(c.camera.up), out.put(c.camera.fovYDegrees);
+    }
+    return std::move(out.bytes());
+}
+
+Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes, uint32_t count) {
+    ByteReader in(bytes.data(), bytes.size());
+    std::vector<SceneCamera> cameras(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        SceneCamera& c = cameras[i];
+        in.getFixedString(c.name, format::kCameraNameBytes);
+        in.get(c.camera.eye), in.get(c.camera.target), in.get(c.camera.up), in.get(c.camera.fovYDegrees);
+        if (!in.ok()) return Status::error("truncated cameras");
+        VASTRAY_TRY(validateCamera(c.camera).withContext("camera " + std::to_string(i) + " '" + c.name + "': "));
+    }
+    return cameras;
 }
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks) {

@@ -14,6 +14,8 @@ struct SectionLayout {
     uint64_t materialsOffset = 0, treeOffset = 0, directoryOffset = 0, blobsOffset = 0;
     uint64_t materialsChecksum = 0, treeChecksum = 0, directoryChecksum = 0;
     uint32_t materialCount = 0, topNodeCount = 0, chunkCount = 0;
+    uint64_t camerasOffset = 0, camerasChecksum = 0;  // the cameras lie between directory and blobs
+    uint32_t cameraCount = 0;
 };
 
 std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout);
@@ -25,6 +27,9 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
 Status checkStoredBox(const std::string& what, const Aabb& box);
 
 std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials);
+std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras);
+// Each camera valid (validateCamera): "camera 2 'Orbit': ..." otherwise.
+Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes, uint32_t count);
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count);
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks);

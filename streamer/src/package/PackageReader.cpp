@@ -118,9 +118,10 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     const uint64_t materialsBytes = uint64_t(l.materialCount) * format::kMaterialBytes;
     const uint64_t treeBytes = uint64_t(l.topNodeCount) * sizeof(KdNode);
     const uint64_t directoryBytes = uint64_t(l.chunkCount) * format::kDirectoryEntryBytes;
+    const uint64_t cameraBytes = uint64_t(l.cameraCount) * format::kCameraBytes;
     if (l.materialsOffset != format::kHeaderBytes || l.treeOffset != l.materialsOffset + materialsBytes ||
-        l.directoryOffset != l.treeOffset + treeBytes || l.blobsOffset != l.directoryOffset + directoryBytes ||
-        l.blobsOffset > fileSize)
+        l.directoryOffset != l.treeOffset + treeBytes || l.camerasOffset != l.directoryOffset + directoryBytes ||
+        l.blobsOffset != l.camerasOffset + cameraBytes || l.blobsOffset > fileSize)
         return fail(Status::error("section offsets are inconsistent"));
 
     auto readSection = [&](uint64_t offset, uint64_t size, uint64_t checksum, const char* name) -> Status {
@@ -141,6 +142,10 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     if (!chunks) return fail(chunks.status());
     info.chunks = std::move(*chunks);
     if (auto s = validateDirectory(info.chunks, l.blobsOffset, fileSize); !s) return fail(s);
+    if (auto s = readSection(l.camerasOffset, cameraBytes, l.camerasChecksum, "cameras"); !s) return fail(s);
+    auto cameras = parseCameras(bytes, l.cameraCount);
+    if (!cameras) return fail(cameras.status());
+    info.cameras = std::move(*cameras);
     if (auto s = validateTopTree(info.topTree, l.chunkCount); !s) return fail(s);
     uint64_t references = 0;
     for (const ChunkInfo& c : info.chunks) references += c.triangleCount;

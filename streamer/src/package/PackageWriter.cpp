@@ -56,7 +56,11 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     layout.materialsOffset = format::kHeaderBytes;
     layout.treeOffset = layout.materialsOffset + materials.size();
     layout.directoryOffset = layout.treeOffset + tree.size();
-    layout.blobsOffset = layout.directoryOffset + uint64_t(info.chunks.size()) * format::kDirectoryEntryBytes;
+    const std::vector<uint8_t> cameras = serializeCameras(info.cameras);
+    layout.cameraCount = uint32_t(info.cameras.size());
+    layout.camerasOffset = layout.directoryOffset + uint64_t(info.chunks.size()) * format::kDirectoryEntryBytes;
+    layout.camerasChecksum = checksum64(cameras.data(), cameras.size());
+    layout.blobsOffset = layout.camerasOffset + cameras.size();
     uint64_t offset = layout.blobsOffset;
     for (size_t i = 0; i < info.chunks.size(); ++i) {
         info.chunks[i].offset = offset;
@@ -74,7 +78,7 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     TempFile file(path + ".tmp");
     if (!file.isOpen()) return Status::error(path + ": cannot create: " + std::strerror(errno));
     bool ok = file.write(serializeHeader(info, layout)) && file.write(materials) && file.write(tree) &&
-              file.write(directory);
+              file.write(directory) && file.write(cameras);
     for (size_t i = 0; ok && i < blobs.size(); ++i) ok = file.write(blobs[i]);
     if (!ok) return Status::error(path + ": write failed: " + std::strerror(errno));
     return file.commit(path);

@@ -73,7 +73,7 @@ TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
         EXPECT_EQ(0, std::memcmp(bytes.data(), blob->data(), blob->size())) << chunkSeed << " is not chunk 0 of " << entry.path();
         ++seeds;
     }
-    EXPECT_EQ(seeds, 4u);  // small and coloured (normals; normals and colours), Draco and meshopt
+    EXPECT_EQ(seeds, 6u);  // small, coloured (normals and colours), cameras; Draco and meshopt
 }
 
 // Every chunk seed through the decoder as fuzz_chunk feeds it (the directory entry from the

@@ -2,6 +2,7 @@
 // Pinhole camera shared by every backend. World space, y up by default; pixel (0, 0) is
 // the top-left corner of the image.
 #include <cstdint>
+#include <string>
 
 #include "vastray/core/Aabb.h"
 #include "vastray/core/Ray.h"
@@ -27,6 +28,12 @@ struct Camera {
 
 // Finite vectors, eye != target, up not parallel to the view direction, fov in [0.001, 180).
 Status validateCamera(const Camera& camera);
+
+// A camera a scene file defines (a glTF camera node), by the name the file gives it.
+struct SceneCamera {
+    std::string name;
+    Camera camera;
+};
 
 // A camera that sees the whole of `bounds` (its bounding sphere) from above and to the
 // front-right, for a width/height aspect ratio, with `up` (need not be unit) as its up and

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vastray/core/Aabb.h"
+#include "vastray/core/Camera.h"
 #include "vastray/core/Vec3.h"
 
 namespace vastray {
@@ -28,6 +29,7 @@ struct TriangleMesh {
     std::vector<uint32_t> normals;
     std::vector<uint32_t> colors;
     std::vector<Material> materials;   // at least one once imported
+    std::vector<SceneCamera> cameras;  // the file's cameras, in its order (glTF); often none
 
     uint64_t triangleCount() const { return indices.size() / 3; }
     uint32_t materialOf(uint64_t triangle) const {

@@ -4,6 +4,8 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
+#include <string>
 #include <string_view>
 
 #include "vastray/core/Camera.h"
@@ -85,6 +87,12 @@ struct RenderOptions {
 // the default sun (its Y-up direction turned by rotateFromYUp) and the camera's up (which
 // automatic framing also looks down along). An explicit sun or camera up is set after this.
 void applyUpAxis(Vec3f up, RenderOptions& options);
+
+// The camera a render uses when the scene defines some (`cameras`, in file order): `choice`
+// names one (its name, else its 0-based index); empty picks the first, unless the options
+// already place the camera (frameScene false: --eye/--target). Sets eye, target, up and field
+// of view. Errors name the choice and list the scene's cameras.
+Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string& choice, RenderOptions& options);
 
 // The pixels a render produces: `region`, or the whole frame.
 PixelBounds renderBounds(const RenderOptions& options);

@@ -70,6 +70,7 @@ struct PackageInfo {
     Aabb bounds;
     QuantizationGrid grid;
     std::vector<Material> materials;
+    std::vector<SceneCamera> cameras;  // the imported file's cameras (glTF), in its order
     std::vector<KdNode> topTree;
     std::vector<ChunkInfo> chunks;
 
