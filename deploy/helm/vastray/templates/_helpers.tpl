@@ -58,8 +58,10 @@ app.kubernetes.io/component: server
 {{- end -}}
 {{- end -}}
 
-{{/* Pod-level settings shared by the server and the batch Jobs. */}}
+{{/* Pod-level settings shared by the server and the batch Jobs; none of them calls the
+Kubernetes API, so no service account token is mounted. */}}
 {{- define "vastray.podCommon" -}}
+automountServiceAccountToken: false
 {{- with .Values.imagePullSecrets }}
 imagePullSecrets:
   {{- toYaml . | nindent 2 }}
