@@ -69,8 +69,22 @@ class Postgres:
     """A throw-away PostgreSQL 15 cluster on a unix socket, run as `nobody` when we are root."""
 
     def __init__(self):
+        self.remove_stale()
         self.dir = pathlib.Path(tempfile.mkdtemp(prefix="vastray-deploy-pg-"))
+        (self.dir / "owner-pid").write_text(str(os.getpid()))
         self.running = False
+
+    def remove_stale(self):
+        """Clusters left by a run that was killed (its owner-pid is gone), not a running one's."""
+        for folder in pathlib.Path(tempfile.gettempdir()).glob("vastray-deploy-pg-*"):
+            try:
+                os.kill(int((folder / "owner-pid").read_text()), 0)
+                continue
+            except (OSError, ValueError):
+                pass
+            if (folder / "data" / "postmaster.pid").exists():
+                self.owner([str(PG_BIN / "pg_ctl"), "-D", str(folder / "data"), "-m", "immediate", "-w", "stop"])
+            shutil.rmtree(folder, ignore_errors=True)
 
     def owner(self, command, **kwargs):
         prefix = ["runuser", "-u", "nobody", "--"] if os.geteuid() == 0 else []
@@ -276,12 +290,12 @@ def batch(tools, vastray, work, bin_dir):
         for i in range(tiles["spec"]["completions"]):
             pod = Pod(docs, tiles, work, bin_dir)
             pod.env["JOB_COMPLETION_INDEX"] = str(i)
-            done = subprocess.run(pod.command(), env=pod.env, capture_output=True, text=True, timeout=300)
+            done = subprocess.run(pod.command(), env=pod.env, capture_output=True, text=True, timeout=60)
             check(done.returncode == 0 and (out / f"tile-{i}.exr").is_file(),
                   f"batch: pod {i} of the Indexed Job wrote tile-{i}.exr" + ("" if done.returncode == 0
                                                                              else "\n" + done.stdout + done.stderr))
         try:
-            log, _ = waiting.communicate(timeout=120)
+            log, _ = waiting.communicate(timeout=60)
         except subprocess.TimeoutExpired:
             waiting.kill()
             log, _ = waiting.communicate()
@@ -292,7 +306,7 @@ def batch(tools, vastray, work, bin_dir):
         whole = work / "whole.exr"
         flags = tiles["spec"]["template"]["spec"]["containers"][0]["args"]
         scene = work / "volume" / "scenes" / "sphere.ply"
-        subprocess.run([vastray, "render", scene, "-o", whole, *flags], check=True, capture_output=True, timeout=300)
+        subprocess.run([vastray, "render", scene, "-o", whole, *flags], check=True, capture_output=True, timeout=60)
         # OpenImageIO's idiff (install-deps.sh: openimageio-tools) over every channel, no tolerance:
         # the files' bytes differ (EXR header attributes), the pixels must not.
         done = subprocess.run(["idiff", "-fail", "0", "-failpercent", "0", "-warn", "0", frame, whole],
@@ -311,7 +325,7 @@ def batch(tools, vastray, work, bin_dir):
     pod.env["JOB_COMPLETION_INDEX"] = "0"
     (work / "gpu" / "volume" / "scenes").mkdir(parents=True, exist_ok=True)
     shutil.copy(scene, work / "gpu" / "volume" / "scenes")
-    done = subprocess.run(pod.command(), env=pod.env, capture_output=True, text=True, timeout=120)
+    done = subprocess.run(pod.command(), env=pod.env, capture_output=True, text=True, timeout=60)
     said = (done.stderr + done.stdout).strip()
     check(done.returncode != 0 and "Vulkan" in said
           and not (work / "gpu" / "volume" / "batch" / "frame" / "tile-0.exr").exists(),
