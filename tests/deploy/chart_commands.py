@@ -239,7 +239,8 @@ def replicas(tools, vastray, work, bin_dir, scene):
             status, _ = request(f"http://127.0.0.1:{http}/metrics")
             check(status == 401, f"replica {i}: /metrics refused without the token ({status})")
             status, metrics = request(f"http://127.0.0.1:{http}/metrics", token="chart-token")
-            names = [m["name"] for m in yaml.safe_load((CHART / "values.yaml").read_text())["autoscaling"]["podsMetrics"]]
+            defaults = yaml.safe_load((CHART / "values.yaml").read_text())
+            names = [m["name"] for m in defaults["autoscaling"]["podsMetrics"]]
             check(status == 200 and all(re.search(f"^{n} ", metrics, re.M) for n in names),
                   f"replica {i}: /metrics with the Secret's token has the HPA's Pods metrics {names}")
         http = processes[0][2]

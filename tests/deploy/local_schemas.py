@@ -18,7 +18,8 @@ def local(node):
         # Only string values are keywords: "$ref" is also a property name (of
         # CustomResourceDefinition's JSONSchemaProps), whose value is a schema.
         return {
-            key: (value.replace("/api/_definitions.json#", "_definitions.json#") if isinstance(value, str) and key == "$ref" else local(value))
+            key: (value.replace("/api/_definitions.json#", "_definitions.json#")
+                  if isinstance(value, str) and key == "$ref" else local(value))
             for key, value in node.items()
             if not (key == "$id" and isinstance(value, str))
         }

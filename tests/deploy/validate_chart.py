@@ -126,8 +126,8 @@ def check_replicas(docs):
           and not [d for d in docs if d["kind"] == "PersistentVolumeClaim"], "replicas: the existing claim")
     check(c["args"][-1] == "--paused", "replicas: extraArgs appended")
     hpa = find(docs, "HorizontalPodAutoscaler")
-    check(hpa["spec"]["scaleTargetRef"] == {"apiVersion": "apps/v1", "kind": "Deployment",
-                                            "name": deployment["metadata"]["name"]}, "replicas: HPA targets the Deployment")
+    target = {"apiVersion": "apps/v1", "kind": "Deployment", "name": deployment["metadata"]["name"]}
+    check(hpa["spec"]["scaleTargetRef"] == target, "replicas: HPA targets the Deployment")
     kinds = [(m["type"], m.get("pods", m.get("external"))["metric"]["name"]) for m in hpa["spec"]["metrics"]]
     check(kinds == [("Pods", "vastray_jobs_running"), ("External", "vastray_tasks_pending")],
           "replicas: HPA on the Pods and External metrics")
@@ -191,7 +191,8 @@ def main():
             text = yaml.safe_dump(manifest)
             for version in KUBE_VERSIONS:
                 code, out = kubeconform(tools, text, version)
-                check(code != 0 and word in out, f"kubeconform rejects {what} ({version})" + ("" if code else "\n" + out))
+                check(code != 0 and word in out,
+                      f"kubeconform rejects {what} ({version})" + ("" if code else "\n" + out))
                 code, out = kubernetes_validate(tools, text, version)
                 check(code != 0 and word in out,
                       f"kubernetes-validate rejects {what} ({version})" + ("" if code else "\n" + out))
