@@ -26,7 +26,7 @@ OPENAPI_VALIDATOR_VERSION=${OPENAPI_VALIDATOR_VERSION:-0.9.0}
 OPENAPI_VENV=${OPENAPI_VENV:-/opt/vastray/openapi-venv}  # tests/server/OpenApiTest.cpp looks here
 
 packages=(
-  build-essential cmake ninja-build pkg-config git
+  ca-certificates build-essential cmake ninja-build pkg-config git
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libdraco-dev
   libtinygltf-dev nlohmann-json3-dev libopenimageio-dev openimageio-tools libglm-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-dev glslang-tools

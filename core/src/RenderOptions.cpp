@@ -77,14 +77,14 @@ Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string&
     if (!options.frameScene) return Status::error("--camera " + choice + " and --eye/--target exclude each other");
     std::string names;
     for (size_t i = 0; i < cameras.size(); ++i) names += (i ? ", " : "") + std::to_string(i) + " '" + cameras[i].name + "'";
-    if (cameras.empty()) return Status::error("--camera " + choice + ": the scene defines no cameras");
+    if (cameras.empty()) return Status::error("scene camera '" + choice + "': the scene defines no cameras");
     size_t index = cameras.size();
     for (size_t i = 0; i < cameras.size() && index == cameras.size(); ++i)
         if (cameras[i].name == choice) index = i;
     if (index == cameras.size() && choice.find_first_not_of("0123456789") == std::string::npos && choice.size() < 10)
         index = std::stoul(choice);
     if (index >= cameras.size())
-        return Status::error("--camera " + choice + ": no camera of that name or index; the scene has " + names);
+        return Status::error("scene camera '" + choice + "': no camera of that name or index; the scene has " + names);
     options.frameScene = false;
     options.camera = cameras[index].camera;
     return Status::ok();

@@ -92,8 +92,10 @@ public:
             passes = total;
             if (tiles) tiles(done, total);
         };
+        RenderOptions options = request.options;
+        VASTRAY_TRY(applySceneCamera((*scene)->mesh.cameras, request.sceneCamera, options));
         RenderStats render;
-        auto image = renderWithEmbree(**scene, request.options, &render, tilesCounted);
+        auto image = renderWithEmbree(**scene, options, &render, tilesCounted);
         if (stats) stats->passes = passes, stats->render = render;
         // Rays are counted when the render ends (its tiles do not report them).
         if (image && progress) progress({passes, passes, chunkLoads, render.rays, 0});

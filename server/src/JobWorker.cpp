@@ -99,18 +99,35 @@ ServiceStatus Service::renderAndStoreGuarded(Worker& worker, v1::Job& job) {
     }
 }
 
-ServiceStatus Service::renderAndStore(Worker& worker, v1::Job& job) {
+ServiceStatus Service::renderRequest(Worker& worker, const v1::Job& job, std::optional<PixelBounds> region,
+                                     JobRenderStats& stats, std::optional<RenderImage>& image) {
     auto options = renderOptionsOf(job.request());
     if (!options) return invalidArgument("request", options.message());
+    options->region = region;
     if (Status memory = checkRenderHostMemory(*options, job.request().output_format() == "exr"); !memory)
         return {StatusCode::ResourceExhausted, memory.message()};
     auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
     if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
-    JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes()};
+    JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes(),
+                             job.request().scene_camera()};
+    auto rendered = worker.renderer->render(
+        request, [this, &worker](const JobRenderProgress& p) { onProgress(worker, p); }, worker.cancel, &stats);
+    metrics_.chunkLoads += stats.chunkLoads;
+    metrics_.notePeakDeviceBytes(stats.peakDeviceBytes);
+    if (worker.cancel) return {StatusCode::Cancelled, "cancelled"};
+    if (!rendered) return {StatusCode::Internal, rendered.message()};
+    metrics_.rays += stats.render.rays;
+    metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
+    static_assert(Metrics::kKernels == StreamingStats::kKernels);
+    for (int k = 0; k < Metrics::kKernels; ++k) metrics_.kernelMicroseconds[k] += uint64_t(stats.kernelSeconds[k] * 1e6);
+    image = std::move(rendered).value();
+    return {};
+}
+
+ServiceStatus Service::renderAndStore(Worker& worker, v1::Job& job) {
     JobRenderStats stats;
-    auto image = worker.renderer->render(
-        request, [this, &worker](const JobRenderProgress& p) { onProgress(worker, p); }, worker.cancel,
-        &stats);
+    std::optional<RenderImage> image;
+    const ServiceStatus rendered = renderRequest(worker, job, std::nullopt, stats, image);
     v1::JobStats* out = job.mutable_stats();
     out->set_backend(worker.renderer->name());
     out->set_render_seconds(stats.render.renderSeconds);
@@ -119,15 +136,8 @@ ServiceStatus Service::renderAndStore(Worker& worker, v1::Job& job) {
     out->set_chunk_loads(stats.chunkLoads);
     out->set_passes(stats.passes);
     out->set_peak_device_bytes(stats.peakDeviceBytes);
-    out->set_memory_budget_bytes(request.memoryBudgetBytes);
-    metrics_.chunkLoads += stats.chunkLoads;
-    metrics_.notePeakDeviceBytes(stats.peakDeviceBytes);
-    if (worker.cancel) return {StatusCode::Cancelled, "cancelled"};
-    if (!image) return {StatusCode::Internal, image.message()};
-    metrics_.rays += stats.render.rays;
-    metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
-    static_assert(Metrics::kKernels == StreamingStats::kKernels);
-    for (int k = 0; k < Metrics::kKernels; ++k) metrics_.kernelMicroseconds[k] += uint64_t(stats.kernelSeconds[k] * 1e6);
+    out->set_memory_budget_bytes(job.request().memory_budget_bytes());
+    if (!rendered.isOk()) return rendered;
     // The scratch name keeps the extension: the image writer picks the format by it.
     const std::filesystem::path scratch =
         objects_->scratchDir() / (job.id() + "." + job.request().output_format());

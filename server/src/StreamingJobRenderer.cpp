@@ -118,8 +118,10 @@ public:
         OpenScene& scene = **open;
         StreamingStats streaming;
         streaming.memoryBudgetBytes = request.memoryBudgetBytes;
+        RenderOptions options = request.options;
+        VASTRAY_TRY(applySceneCamera(scene.reader->info().cameras, request.sceneCamera, options));
         RenderProgressReporter reporter(progress, *scene.backend, *scene.scene);
-        auto image = scene.scene->render(request.options, stats ? &stats->render : nullptr, &streaming,
+        auto image = scene.scene->render(options, stats ? &stats->render : nullptr, &streaming,
                                           reporter.passReporter(), &cancel);
         reporter.finish(streaming.chunkLoads);
         if (stats) {

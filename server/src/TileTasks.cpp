@@ -167,23 +167,11 @@ void Service::runTask(Worker& worker, const TaskStore::Lease& lease) {
 
 ServiceStatus Service::renderTile(Worker& worker, const TaskStore::Lease& lease) {
     const v1::Job& job = lease.job;
-    auto options = renderOptionsOf(job.request());
-    if (!options) return invalidArgument("request", options.message());
-    options->region = tileBounds(job.request(), uint32_t(lease.tile));
-    if (Status memory = checkRenderHostMemory(*options, job.request().output_format() == "exr"); !memory)
-        return {StatusCode::ResourceExhausted, memory.message()};
-    auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
-    if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
-    JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes()};
     JobRenderStats stats;
-    auto image = worker.renderer->render(
-        request, [this, &worker](const JobRenderProgress& p) { onProgress(worker, p); }, worker.cancel, &stats);
-    metrics_.chunkLoads += stats.chunkLoads;
-    metrics_.notePeakDeviceBytes(stats.peakDeviceBytes);
-    if (worker.cancel) return {StatusCode::Cancelled, "cancelled"};
-    if (!image) return {StatusCode::Internal, image.message()};
-    metrics_.rays += stats.render.rays;
-    metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
+    std::optional<RenderImage> image;
+    if (ServiceStatus rendered = renderRequest(worker, job, tileBounds(job.request(), uint32_t(lease.tile)), stats, image);
+        !rendered.isOk())
+        return rendered;
     const std::filesystem::path scratch = objects_->scratchDir() / (job.id() + "-" + std::to_string(lease.tile) +
                                                                     "." + job.request().output_format());
     if (Status written = writeImageFile(scratch.string(), *image); !written) return internalError(written.message());

@@ -108,7 +108,7 @@ TEST_F(SceneCameraCli, BadChoicesAreNamedErrors) {
                              test::tmpPath("bad.png");
     CommandResult unknown = run(base + " --camera Top");
     EXPECT_NE(unknown.exitCode, 0);
-    EXPECT_NE(unknown.output.find("--camera Top: no camera of that name or index; the scene has 0 'Front', 1 'Side'"),
+    EXPECT_NE(unknown.output.find("scene camera 'Top': no camera of that name or index; the scene has 0 'Front', 1 'Side'"),
               std::string::npos)
         << unknown.output;
     CommandResult both = run(base + " --camera Front --eye 0,0,3 --target 0,0,0");
@@ -118,7 +118,7 @@ TEST_F(SceneCameraCli, BadChoicesAreNamedErrors) {
     CommandResult none = run("render --backend embree " + test::tmpPath("no-camera.obj") +
                              " --resolution 16x16 --spp 1 --progress none --camera 0 -o " + test::tmpPath("none.png"));
     EXPECT_NE(none.exitCode, 0);
-    EXPECT_NE(none.output.find("--camera 0: the scene defines no cameras"), std::string::npos) << none.output;
+    EXPECT_NE(none.output.find("scene camera '0': the scene defines no cameras"), std::string::npos) << none.output;
 }
 
 }  // namespace

@@ -34,6 +34,9 @@ struct JobRenderRequest {
     std::string scenePath;           // a validated scene package (.vast) on local disk
     RenderOptions options;           // validated with validateRenderOptions()
     uint64_t memoryBudgetBytes = 0;  // device memory this job may use
+    // A camera of the scene by name or index (SubmitJobRequest.scene_camera); empty: the
+    // scene's first camera unless `options` place the camera (applySceneCamera).
+    std::string sceneCamera;
 };
 
 struct JobRenderProgress {

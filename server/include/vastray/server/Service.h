@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -192,6 +193,11 @@ private:
     ServiceStatus assembleResult(const TaskStore::Lease& lease);
     void runJob(Worker& worker, const std::string& id);
     ServiceStatus renderAndStore(Worker& worker, v1::Job& job);
+    // What a whole-frame job and a tile share: the request's options (`region`, if any), the
+    // host-memory check, the stored scene, the render on `worker`, and the metrics every render
+    // adds to. `image` is set when the status is OK.
+    ServiceStatus renderRequest(Worker& worker, const v1::Job& job, std::optional<PixelBounds> region,
+                                JobRenderStats& stats, std::optional<RenderImage>& image);
     ServiceStatus renderAndStoreGuarded(Worker& worker, v1::Job& job);
     void finishJob(v1::Job job, const ServiceStatus& outcome);
     void onProgress(Worker& worker, const JobRenderProgress& progress);

@@ -1,0 +1,63 @@
+// A job's scene_camera (a glTF camera kept in the package) renders what `vastray render
+// --camera` renders; the default is the scene's first camera; scene_camera and camera exclude
+// each other at submit; an unknown name fails the job naming the cameras there are.
+#include "ServerTestSupport.h"
+
+namespace vastray::test {
+namespace {
+
+// One triangle and two perspective cameras: "Near" at z = 3 and "Far" at z = 6.
+const char* kCamerasGltf = R"({"asset":{"version":"2.0"},
+ "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AACAvwAAgL8AAAAAAACAPwAAgL8AAAAAAAAAAAAAgD8AAAAA"}],
+ "bufferViews":[{"buffer":0,"byteLength":36}],
+ "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3,"min":[-1,-1,0],"max":[1,1,0]}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+ "cameras":[{"name":"Near","type":"perspective","perspective":{"yfov":0.8,"znear":0.1}},
+            {"name":"Far","type":"perspective","perspective":{"yfov":0.8,"znear":0.1}}],
+ "nodes":[{"mesh":0},{"camera":0,"translation":[0,0,3]},{"camera":1,"translation":[0.5,0,6]}],
+ "scenes":[{"nodes":[0,1,2]}]})";
+
+TEST_F(ServerTest, SceneCameraOfAJobIsTheCliRendersCamera) {
+    startServer();
+    auto uploaded = http().Put("/v1/scenes?name=cameras.gltf", kCamerasGltf, "application/octet-stream");
+    ASSERT_TRUE(uploaded);
+    ASSERT_EQ(uploaded->status, 200) << uploaded->body;
+    const std::string sceneId = json::parse(uploaded->body)["id"];
+    json far = smallJob(sceneId), near = smallJob(sceneId), fallback = smallJob(sceneId);
+    far["scene_camera"] = "Far";
+    near["scene_camera"] = "0";
+    std::map<std::string, std::string> images;
+    for (const auto& [name, body] : {std::pair{"far", far}, {"near", near}, {"default", fallback}}) {
+        auto res = submit(body);
+        ASSERT_TRUE(res);
+        ASSERT_EQ(res->status, 202) << res->body;
+        const std::string id = json::parse(res->body)["id"];
+        EXPECT_EQ(waitForState(id, "SUCCEEDED")["state"], "SUCCEEDED");
+        images[name] = result(id);
+    }
+    const std::string flags = "--resolution 32x32 --spp 2";
+    EXPECT_EQ(images["far"], cliRender(sceneId, flags + " --camera Far"));
+    EXPECT_EQ(images["near"], cliRender(sceneId, flags + " --camera Near"));
+    EXPECT_EQ(images["default"], images["near"]) << "without scene_camera the first camera is used";
+    EXPECT_NE(images["far"], images["near"]);
+
+    json both = smallJob(sceneId);
+    both["scene_camera"] = "Far";
+    both["camera"] = {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}};
+    auto refused = submit(both);
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 400) << refused->body;
+    EXPECT_NE(refused->body.find("scene_camera"), std::string::npos) << refused->body;
+
+    json unknown = smallJob(sceneId);
+    unknown["scene_camera"] = "Top";
+    auto res = submit(unknown);
+    ASSERT_TRUE(res && res->status == 202);
+    const json failed = waitForState(json::parse(res->body)["id"], "FAILED");
+    EXPECT_NE(failed.dump().find("scene camera 'Top': no camera of that name or index; the scene has 0 'Near', 1 'Far'"),
+              std::string::npos)
+        << failed.dump();
+}
+
+}  // namespace
+}  // namespace vastray::test
