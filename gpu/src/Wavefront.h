@@ -16,6 +16,8 @@
 
 namespace vastray::gpu {
 
+class ChunkUploader;
+
 // The backend's buffers the wavefront works in.
 struct WavefrontBuffers {
     GpuBuffer* table = nullptr;  // TableLayout
@@ -25,6 +27,7 @@ struct WavefrontBuffers {
     uint32_t pathCapacity = 0;
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
+    ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
 };
 
 class Wavefront {

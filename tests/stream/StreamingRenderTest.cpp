@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "StreamTestSupport.h"
+#include "shared/StreamTypes.h"
 #include "TestTmp.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -194,6 +195,82 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
                 (unsigned long long)small.chunksTotal, (unsigned long long)small.chunksTouched,
                 formatBytes(tight).c_str(), (unsigned long long)small.chunkLoads,
                 (unsigned long long)small.streamReloads, (unsigned long long)small.decodes);
+}
+
+// Chunks copied by the transfer queue from pinned staging memory into slots the host cannot map
+// (gpu::ChunkUploadMode::Dma): the kernels wait for the copies on a timeline semaphore, so a
+// render that streams with them equals the mapped render bit for bit. On lavapipe the staging
+// area is device memory, two slots' worth taken from the budget: the ring wraps every second
+// load and waits for the copies still reading it, and the peak stays within the budget.
+TEST(StreamingRender, DmaUploadsEqualMappedUploads) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    const RenderOptions o = smallRender(kAllAovs);
+    gpu::VulkanDevice& d = device();
+    const bool stagingInDevice = d.inDeviceMemory(gpu::VulkanDevice::MemoryUse::Staging);
+    const uint64_t tight = budgetForSlots(path, 2, o.aovs, stagingInDevice);
+    ASSERT_GT(tight, 0u);
+    StreamingStats mapped, dma, dmaBetween;
+    gpu::ChunkUploadFigures figures, mappedFigures;
+    gpu::ChunkUploadOptions upload;
+    upload.mode = gpu::ChunkUploadMode::Mapped;
+    upload.figures = &mappedFigures;
+    auto a = renderVulkan(path, o, budgetForSlots(path, 2, o.aovs), &mapped, 1u << 21, true, true, upload);
+    ASSERT_TRUE(a) << a.message();
+    upload.mode = gpu::ChunkUploadMode::Dma;
+    upload.figures = &figures;
+    auto b = renderVulkan(path, o, tight, &dma, 1u << 21, true, true, upload);
+    ASSERT_TRUE(b) << b.message();
+    expectIdentical(*a, *b, false);
+    EXPECT_EQ(dma.slots, 2u);
+    EXPECT_GT(dma.chunkLoads, dma.chunksTouched) << "two slots should have forced reloads";
+    EXPECT_LE(dma.peakDeviceBytes, dma.memoryBudgetBytes);
+    // Every load went through the transfer queue: the chunk arrays by DMA, the slot entry by map.
+    EXPECT_EQ(figures.dmaCopies, dma.chunkLoads);
+    EXPECT_EQ(figures.dmaBytes + dma.chunkLoads * sizeof(gpu::ChunkSlot), dma.bytesUploaded);
+    EXPECT_GT(figures.hostCopySeconds, 0.0);
+    EXPECT_LE(figures.hostCopySeconds, dma.uploadSeconds);
+    EXPECT_GT(figures.stagingBytes, 0u);
+    EXPECT_EQ(mappedFigures.dmaCopies, 0u);
+    EXPECT_GT(mappedFigures.hostCopySeconds, 0.0);
+    // Loads between the steps (the next kernels then wait for copies submitted just before).
+    auto c = renderVulkan(path, o, tight, &dmaBetween, 1u << 21, false, true, upload);
+    ASSERT_TRUE(c) << c.message();
+    expectIdentical(*a, *c, false);
+    EXPECT_EQ(figures.dmaCopies, dma.chunkLoads + dmaBetween.chunkLoads);
+    EXPECT_EQ(figures.dmaSubmits, figures.dmaCopies) << "a submission per chunk by default";
+    // Copies batched until the next compute submission (or until the ring needs the bytes of
+    // the batch still open): fewer transfer submissions, the same image.
+    gpu::ChunkUploadFigures batchedFigures;
+    upload.submitBytes = 1ull << 30;
+    upload.figures = &batchedFigures;
+    StreamingStats batched;
+    auto e = renderVulkan(path, o, tight, &batched, 1u << 21, true, true, upload);
+    ASSERT_TRUE(e) << e.message();
+    expectIdentical(*a, *e, false);
+    EXPECT_EQ(batchedFigures.dmaCopies, batched.chunkLoads);
+    EXPECT_LT(batchedFigures.dmaSubmits, batchedFigures.dmaCopies);
+}
+
+// DMA uploads whose staging lies in device memory keep two slots' worth of the budget for it.
+TEST(StreamingRender, StagingInDeviceMemoryCountsAgainstTheBudget) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageInfo& info = (*reader)->info();
+    auto plain = gpu::planPool(info, ChunkAttributes{}, 1ull << 40);
+    auto staged = gpu::planPool(info, ChunkAttributes{}, 1ull << 40, true, gpu::kWaveShareOutOfCore, true);
+    ASSERT_TRUE(plain && staged);
+    EXPECT_EQ(plain->stagingBytes, 0u);
+    EXPECT_GE(staged->stagingBytes, 2 * staged->slotBytes);
+    EXPECT_EQ(staged->minimumBytes, plain->minimumBytes + staged->stagingBytes);
+    auto refused = gpu::planPool(info, ChunkAttributes{}, plain->minimumBytes, true, gpu::kWaveShareOutOfCore, true);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("staging area"), std::string::npos) << refused.message();
+    const uint64_t budget = budgetForSlots(path, 3, 0, true);
+    auto three = gpu::planPool(info, ChunkAttributes{}, budget, true, gpu::kWaveShareOutOfCore, true);
+    ASSERT_TRUE(three);
+    EXPECT_EQ(three->slots, 3u);
+    EXPECT_LE(three->totalBytes, budget);
 }
 
 // The same scene packaged with each chunk codec: the codecs order faces and rotate corners
