@@ -16,7 +16,7 @@
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
 //                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
 //                       [--upload auto|mapped|dma]  (how chunks reach the slots: gpu::ChunkUploadMode)
-//                       [--staging-bytes 64MiB]  (--upload dma: the pinned staging ring's size)
+//                       [--staging-bytes 1GiB]  (--upload dma: the pinned staging area's size)
 //                       [--dma-batch 0]  (--upload dma: bytes of chunk copies per transfer submission; 0: per chunk)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
@@ -356,15 +356,17 @@ int main(int argc, char** argv) {
         md << line;
     }
     md << "\nUploads per row: host copy s (into slots or staging) / DMA s (transfer queue, timestamps) / "
-          "staging wait s / DMA GB / transfer submissions / staging ring:\n\n";
+          "staging wait s / DMA GB / transfer submissions / copies of chunks still staged (no host copy) / "
+          "staging area:\n\n";
     for (const Row& r : rows) {
         const gpu::ChunkUploadFigures& u = r.upload;
         if (u.hostCopySeconds == 0 && u.dmaCopies == 0) continue;
         char dma[32] = "-", line[512];
         if (u.dmaCopies > 0) std::snprintf(dma, sizeof dma, u.dmaTimed ? "%.3f" : "untimed", u.dmaSeconds);
-        std::snprintf(line, sizeof line, "- %s: %.3f / %s / %.3f / %.2f / %llu / %s\n", r.label.c_str(),
+        std::snprintf(line, sizeof line, "- %s: %.3f / %s / %.3f / %.2f / %llu / %llu / %s\n", r.label.c_str(),
                       u.hostCopySeconds, dma, u.stagingWaitSeconds, double(u.dmaBytes) / 1e9,
-                      (unsigned long long)u.dmaSubmits, u.stagingBytes ? formatBytes(u.stagingBytes).c_str() : "-");
+                      (unsigned long long)u.dmaSubmits, (unsigned long long)u.stagingHits,
+                      u.stagingBytes ? formatBytes(u.stagingBytes).c_str() : "-");
         md << line;
     }
     std::fputs(md.str().c_str(), stdout);

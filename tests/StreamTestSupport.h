@@ -87,9 +87,9 @@ inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions o
 
 // The smallest budget (in 4 KiB steps) that gives exactly `slots` chunk slots to a render with
 // these AOVs, or 0 (also when the package has fewer chunks than that). stagingInDeviceMemory:
-// for DMA uploads whose staging area takes two slots' worth of the budget (lavapipe).
+// the staging bytes DMA uploads ask for where their staging area is device memory (lavapipe).
 inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs,
-                               bool stagingInDeviceMemory = false) {
+                               uint64_t stagingInDeviceMemory = 0) {
     auto reader = PackageReader::open(path);
     if (!reader) return 0;
     RenderOptions options;

@@ -48,10 +48,15 @@ Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies
 }
 
 Result<std::unique_ptr<ChunkUploader>> ChunkUploader::create(VulkanDevice& device, uint64_t stagingBytes,
-                                                             uint64_t largestUpload, uint64_t submitBytes) {
+                                                             uint64_t largestUpload, uint32_t chunks,
+                                                             uint64_t submitBytes) {
     std::unique_ptr<ChunkUploader> u(new ChunkUploader(device));
     u->submitBytes_ = submitBytes;
-    VASTRAY_TRY(u->init(std::max(stagingBytes, largestUpload)).withContext("chunk uploads: "));
+    u->blockBytes_ = (std::max<uint64_t>(largestUpload, 1) + 255) / 256 * 256;
+    const uint64_t blocks = std::clamp<uint64_t>(stagingBytes / u->blockBytes_, 2, std::max<uint32_t>(chunks, 2));
+    u->blocks_.resize(blocks);
+    u->chunkBlock_.assign(chunks, kNoChunk);
+    VASTRAY_TRY(u->init(blocks * u->blockBytes_).withContext("chunk uploads: "));
     return u;
 }
 
@@ -119,29 +124,29 @@ Status ChunkUploader::waitFor(uint64_t value) {
     if (r == VK_ERROR_DEVICE_LOST) device_.fail(device_.info().name + ": the device was lost (VK_ERROR_DEVICE_LOST)");
     VASTRAY_VK_TRY(r);
     completed_ = value;
-    while (!inFlight_.empty() && inFlight_.front().value <= completed_) inFlight_.pop_front();
     return Status::ok();
 }
 
-// The ring hands out [head, head + bytes), wrapping to 0 when that would pass the end; a copy
-// still reading any of those bytes is waited for.
-Result<uint64_t> ChunkUploader::allocate(uint64_t bytes) {
-    if (bytes > staging_.size())
-        return Status::error("an upload of " + std::to_string(bytes) + " bytes exceeds the staging ring's " +
-                             std::to_string(staging_.size()));
-    if (head_ + bytes > staging_.size()) head_ = 0;
-    const uint64_t begin = head_, end = head_ + bytes;
-    uint64_t wait = 0;
-    for (const Region& r : inFlight_)
-        if (r.begin < end && begin < r.end) wait = std::max(wait, r.value);
-    if (wait > completed_) {
+// An empty block, else the least recently used; a copy still reading it is waited for.
+Result<uint32_t> ChunkUploader::victim() {
+    uint32_t best = 0;
+    for (uint32_t b = 0; b < blocks_.size(); ++b) {
+        if (blocks_[b].chunk == kNoChunk) {
+            best = b;
+            break;
+        }
+        if (blocks_[b].lastUse < blocks_[best].lastUse) best = b;
+    }
+    Block& block = blocks_[best];
+    if (block.value > completed_) {
         const auto start = std::chrono::steady_clock::now();
-        if (wait > submitted_) VASTRAY_TRY(close());  // the bytes belong to the batch still open
-        VASTRAY_TRY(waitFor(wait));
+        if (block.value > submitted_) VASTRAY_TRY(close());  // read by the batch still open
+        VASTRAY_TRY(waitFor(block.value));
         figures_.stagingWaitSeconds += secondsSince(start);
     }
-    head_ = end;
-    return begin;
+    if (block.chunk != kNoChunk) chunkBlock_[block.chunk] = kNoChunk;
+    block.chunk = kNoChunk;
+    return best;
 }
 
 void ChunkUploader::collectTimes(uint32_t index) {
@@ -156,17 +161,31 @@ void ChunkUploader::collectTimes(uint32_t index) {
     figures_.dmaSeconds += double((ticks[1] - ticks[0]) & mask) * device_.timestampPeriodNs() * 1e-9;
 }
 
-Status ChunkUploader::upload(const GpuBuffer& slot, std::span<const SlotCopy> copies, uint64_t span) {
-    auto at = allocate(span);
-    if (!at) return at.status();
-    const auto start = std::chrono::steady_clock::now();
-    VASTRAY_TRY(copyPieces(staging_, *at, copies));
-    figures_.hostCopySeconds += secondsSince(start);
+Status ChunkUploader::upload(uint32_t chunk, const GpuBuffer& slot, std::span<const SlotCopy> copies, uint64_t span) {
+    if (chunk >= chunkBlock_.size() || span > blockBytes_)
+        return Status::error("chunk " + std::to_string(chunk) + " of " + std::to_string(span) +
+                             " bytes does not fit the staging blocks");
+    uint32_t b = chunkBlock_[chunk];
+    if (b != kNoChunk && blocks_[b].span == span) {
+        ++figures_.stagingHits;  // staged before and kept: the device copies it again
+    } else {
+        auto free = victim();
+        if (!free) return free.status();
+        b = *free;
+        const auto start = std::chrono::steady_clock::now();
+        VASTRAY_TRY(copyPieces(staging_, b * blockBytes_, copies));
+        figures_.hostCopySeconds += secondsSince(start);
+        blocks_[b].chunk = chunk, blocks_[b].span = span, chunkBlock_[chunk] = b;
+    }
+    Block& block = blocks_[b];
+    block.lastUse = ++tick_;
+    block.value = submitted_ + 1;
+    const uint64_t at = b * blockBytes_;
     if (open_ < 0) VASTRAY_TRY(open());
     std::vector<VkBufferCopy> regions;
     uint64_t bytes = 0;
     for (const SlotCopy& c : copies)
-        if (c.size > 0) regions.push_back({*at + c.offset, c.offset, c.size}), bytes += c.size;
+        if (c.size > 0) regions.push_back({at + c.offset, c.offset, c.size}), bytes += c.size;
     const VkCommandBuffer cmd = commands_[uint32_t(open_)];
     // Copies into one slot follow each other in queue order: a chunk loaded and evicted before
     // any kernel waited for its copy must not land after the copy that replaces it.
@@ -176,7 +195,6 @@ Status ChunkUploader::upload(const GpuBuffer& slot, std::span<const SlotCopy> co
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &order, 0, nullptr, 0,
                          nullptr);
     if (!regions.empty()) vkCmdCopyBuffer(cmd, staging_.handle(), slot.handle(), uint32_t(regions.size()), regions.data());
-    inFlight_.push_back({*at, *at + span, submitted_ + 1});
     figures_.dmaBytes += bytes;
     ++figures_.dmaCopies;
     openBytes_ += bytes;

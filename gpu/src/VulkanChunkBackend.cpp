@@ -50,7 +50,7 @@ public:
             const ChunkUploadFigures& f = uploader_->figures();
             figures_.dmaSeconds = f.dmaSeconds, figures_.stagingWaitSeconds = f.stagingWaitSeconds;
             figures_.hostCopySeconds = f.hostCopySeconds, figures_.dmaBytes = f.dmaBytes;
-            figures_.dmaCopies = f.dmaCopies, figures_.dmaSubmits = f.dmaSubmits;
+            figures_.dmaCopies = f.dmaCopies, figures_.dmaSubmits = f.dmaSubmits, figures_.stagingHits = f.stagingHits;
             figures_.dmaTimed = f.dmaTimed, figures_.stagingBytes = f.stagingBytes;
         }
         if (ChunkUploadFigures* to = upload_.figures) {
@@ -58,6 +58,7 @@ public:
             to->stagingWaitSeconds += figures_.stagingWaitSeconds;
             to->dmaBytes += figures_.dmaBytes, to->dmaCopies += figures_.dmaCopies, to->dmaSubmits += figures_.dmaSubmits;
             to->dmaTimed = figures_.dmaTimed, to->stagingBytes = figures_.stagingBytes;
+            to->stagingHits += figures_.stagingHits;
         }
     }
 
@@ -73,12 +74,10 @@ public:
             slots_.push_back(std::move(slot).value());
         }
         if (dma) {
-            // In host memory: up to the options' size, no more than all slots hold; in device
-            // memory: the two slots' worth the plan kept (a chunk staged while the one before is copied).
-            const uint64_t staging =
-                plan_.stagingBytes > 0 ? plan_.stagingBytes
-                                       : std::clamp(upload_.stagingBytes, plan_.slotBytes, plan_.slotBytes * plan_.slots);
-            auto uploader = ChunkUploader::create(device_, staging, plan_.slotBytes, upload_.submitBytes);
+            // In host memory: the options' size (one block per chunk at most); in device memory:
+            // what the plan kept of the budget for it.
+            const uint64_t staging = plan_.stagingBytes > 0 ? plan_.stagingBytes : upload_.stagingBytes;
+            auto uploader = ChunkUploader::create(device_, staging, plan_.slotBytes, chunkCount_, upload_.submitBytes);
             if (!uploader) return uploader.status();
             uploader_ = std::move(uploader).value();
             if (plan_.stagingBytes > 0) allocated_ += uploader_->stagingAllocatedBytes();
@@ -155,7 +154,8 @@ public:
             entry.materialIds = base + layout.materialIds, entry.flags |= kSlotMaterialIds;
         }
         if (uploader_) {
-            VASTRAY_TRY(uploader_->upload(b, copies, layout.totalBytes).withContext("chunk " + std::to_string(chunk.id) + ": "));
+            VASTRAY_TRY(uploader_->upload(chunk.id, b, copies, layout.totalBytes)
+                            .withContext("chunk " + std::to_string(chunk.id) + ": "));
         } else {
             const auto copyStart = std::chrono::steady_clock::now();
             VASTRAY_TRY(copyPieces(b, 0, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
@@ -216,7 +216,7 @@ private:
 }  // namespace
 
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
-                          bool outputInDeviceMemory, double waveShareOutOfCore, bool stagingInDeviceMemory) {
+                          bool outputInDeviceMemory, double waveShareOutOfCore, uint64_t stagingInDeviceMemory) {
     if (!(waveShareOutOfCore > 0 && waveShareOutOfCore < 1))
         return Status::error("the wave's share of an out-of-core budget must be in (0, 1), not " +
                              std::to_string(waveShareOutOfCore));
@@ -230,7 +230,10 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     const uint64_t slotAllocation = granules(largest);
     const uint32_t chunks = uint32_t(std::max<size_t>(package.chunks.size(), 1));
     auto tableBytes = [&](uint64_t slots) { return granules(tableLayout(slots, package).totalBytes); };
-    const uint64_t staging = stagingInDeviceMemory ? 2 * slotAllocation : 0;
+    const uint64_t staging =
+        stagingInDeviceMemory ? std::clamp<uint64_t>(granules(stagingInDeviceMemory), 2 * slotAllocation,
+                                                     std::max<uint64_t>(chunks, 2) * slotAllocation)
+                              : 0;
     plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1) + staging;
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
@@ -276,8 +279,8 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore, const ChunkUploadOptions& upload) {
     const ChunkUploadMode mode = resolveUploadMode(device, upload.mode);
-    const bool stagingInDeviceMemory =
-        mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
+    const uint64_t stagingInDeviceMemory =
+        mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging) ? upload.stagingBytes : 0;
     auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
                          stagingInDeviceMemory);
     if (!plan) return plan.status();

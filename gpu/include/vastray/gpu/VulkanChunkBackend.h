@@ -24,16 +24,17 @@ struct PoolPlan {
     uint64_t minimumBytes = 0;   // one slot + the minimal batch + the tables (+ the staging area
                                  // when it is in device memory)
     bool outputInDeviceMemory = true;  // the tile outputs count against the budget
-    // DMA uploads with the staging area in device memory (lavapipe): two slots' worth of staging
-    // taken from the budget (stagingBytes, counted in totalBytes); 0 otherwise.
+    // DMA uploads with the staging area in device memory (lavapipe): the staging taken from the
+    // budget (counted in totalBytes; two slots at least, a slot per chunk at most); 0 otherwise.
     uint64_t stagingBytes = 0;
 };
 
 // How chunk data reaches the slots (gpu/src/ChunkUploader.h). Mapped: the host writes each chunk
 // through the slot's mapping (resizable BAR on a discrete GPU) on all cores. Dma: the host
-// writes it into a ring of pinned staging memory and the transfer queue (a DMA engine where
+// writes it into a block of pinned staging memory and the transfer queue (a DMA engine where
 // the device has one) copies it into slots in device memory the host cannot map, overlapping
-// the walk. Auto: Mapped (PERF_NOTES 44 measured both on an H200).
+// the walk; a block keeps its chunk, so a chunk paged in again while its block holds it costs
+// the host nothing. Auto: Mapped (PERF_NOTES 44 measured both on an H200).
 enum class ChunkUploadMode { Auto, Mapped, Dma };
 
 // Upload figures of a backend's life, for benchmarks (bytes_uploaded and upload_seconds in
@@ -43,16 +44,18 @@ struct ChunkUploadFigures {
     double dmaSeconds = 0;       // the transfer queue's copies, from timestamps (Dma; 0 untimed)
     double stagingWaitSeconds = 0;  // waiting for staging memory still being copied (Dma)
     uint64_t dmaBytes = 0, dmaCopies = 0, dmaSubmits = 0;
+    uint64_t stagingHits = 0;    // DMA copies of a chunk the staging area still held (no host copy)
     bool dmaTimed = false;       // the transfer queue has timestamps
     uint64_t stagingBytes = 0;   // the staging ring (host memory on a discrete GPU)
 };
 
 struct ChunkUploadOptions {
     ChunkUploadMode mode = ChunkUploadMode::Auto;
-    // Dma: the staging ring's size when it lies in host memory (pinned system memory: not
-    // counted against the device budget), clamped to [one slot, all slots]. Where the staging
-    // memory is device memory (lavapipe) it is two slots, taken from the budget.
-    uint64_t stagingBytes = 64ull << 20;
+    // Dma: the staging area's size when it lies in host memory (pinned system memory: not
+    // counted against the device budget; it is host memory besides the host chunk cache), cut
+    // into blocks of one slot: at least two, at most one per chunk of the package. Where the
+    // staging memory is device memory (lavapipe) it is taken from the budget (PoolPlan::stagingBytes).
+    uint64_t stagingBytes = 1ull << 30;
     // Dma: chunk copies are submitted to the transfer queue in batches of at least this many
     // bytes (0: one submission per chunk), and whatever is staged before each compute submission.
     uint64_t submitBytes = 0;
@@ -77,12 +80,13 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 // integrated GPU, where they do (true; also the conservative answer when the device is unknown).
 // When the slots cannot hold every chunk, the wave gets waveShareOutOfCore of the budget (in
 // (0, 1); the default, half, is PERF_NOTES 25's measured choice).
-// stagingInDeviceMemory: DMA uploads whose staging area is device memory; two slots' worth of
-// the budget is kept for it (PoolPlan::stagingBytes).
+// stagingInDeviceMemory: for DMA uploads whose staging area is device memory, the staging bytes
+// asked for (ChunkUploadOptions::stagingBytes), kept from the budget as whole slots, two at least
+// and one per chunk at most (PoolPlan::stagingBytes); 0: none.
 constexpr double kWaveShareOutOfCore = 0.5;
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
                           bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore,
-                          bool stagingInDeviceMemory = false);
+                          uint64_t stagingInDeviceMemory = 0);
 
 // The upload mode Auto resolves to on this device.
 ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode);
