@@ -271,8 +271,12 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     return plan;
 }
 
-ChunkUploadMode resolveUploadMode(const VulkanDevice&, ChunkUploadMode mode) {
-    return mode == ChunkUploadMode::Auto ? ChunkUploadMode::Mapped : mode;
+// DMA where the slots can live in memory the host does not map and the staging in system
+// memory (a discrete GPU: PERF_NOTES 44); elsewhere (lavapipe, integrated GPUs: one memory) a
+// copy through staging would only add one.
+ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode) {
+    if (mode != ChunkUploadMode::Auto) return mode;
+    return device.hasSeparateMemory() ? ChunkUploadMode::Dma : ChunkUploadMode::Mapped;
 }
 
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
