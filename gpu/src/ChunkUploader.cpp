@@ -35,8 +35,8 @@ Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies
     for (const SlotCopy& c : copies)
         for (uint64_t at = 0; at < c.size; at += kPiece) pieces.push_back({&c, at, std::min(kPiece, c.size - at)});
     auto run = [&](const Piece& p) {
-        return p.copy->size == 0 ||
-               to.upload(static_cast<const uint8_t*>(p.copy->data) + p.at, p.size, base + p.copy->offset + p.at).isOk();
+        const auto* from = static_cast<const uint8_t*>(p.copy->data) + p.at;
+        return p.copy->size == 0 || to.upload(from, p.size, base + p.copy->offset + p.at).isOk();
     };
     std::atomic<bool> failed{false};
     if (pieces.size() == 1) failed = !run(pieces[0]);
@@ -153,9 +153,9 @@ void ChunkUploader::collectTimes(uint32_t index) {
     if (!timed_[index] || commandValue_[index] > completed_) return;
     timed_[index] = false;
     uint64_t ticks[2] = {};
-    if (vkGetQueryPoolResults(device_.handle(), queries_, 2 * index, 2, sizeof ticks, ticks, 8, VK_QUERY_RESULT_64_BIT) !=
-        VK_SUCCESS)
-        return;
+    const VkResult r =
+        vkGetQueryPoolResults(device_.handle(), queries_, 2 * index, 2, sizeof ticks, ticks, 8, VK_QUERY_RESULT_64_BIT);
+    if (r != VK_SUCCESS) return;
     const uint32_t bits = device_.transferTimestampValidBits();
     const uint64_t mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
     figures_.dmaSeconds += double((ticks[1] - ticks[0]) & mask) * device_.timestampPeriodNs() * 1e-9;
@@ -192,9 +192,10 @@ Status ChunkUploader::upload(uint32_t chunk, const GpuBuffer& slot, std::span<co
     auto order = vkStruct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
     order.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     order.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &order, 0, nullptr, 0,
-                         nullptr);
-    if (!regions.empty()) vkCmdCopyBuffer(cmd, staging_.handle(), slot.handle(), uint32_t(regions.size()), regions.data());
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &order, 0, nullptr,
+                         0, nullptr);
+    if (!regions.empty())
+        vkCmdCopyBuffer(cmd, staging_.handle(), slot.handle(), uint32_t(regions.size()), regions.data());
     figures_.dmaBytes += bytes;
     ++figures_.dmaCopies;
     openBytes_ += bytes;

@@ -46,19 +46,15 @@ public:
 
     ~VulkanChunkBackend() override {
         if (uploader_) {
-            (void)uploader_->finish();
-            const ChunkUploadFigures& f = uploader_->figures();
-            figures_.dmaSeconds = f.dmaSeconds, figures_.stagingWaitSeconds = f.stagingWaitSeconds;
-            figures_.hostCopySeconds = f.hostCopySeconds, figures_.dmaBytes = f.dmaBytes;
-            figures_.dmaCopies = f.dmaCopies, figures_.dmaSubmits = f.dmaSubmits, figures_.stagingHits = f.stagingHits;
-            figures_.dmaTimed = f.dmaTimed, figures_.stagingBytes = f.stagingBytes;
+            (void)uploader_->finish();  // the last copies' device times
+            figures_ = uploader_->figures();
         }
         if (ChunkUploadFigures* to = upload_.figures) {
             to->hostCopySeconds += figures_.hostCopySeconds, to->dmaSeconds += figures_.dmaSeconds;
             to->stagingWaitSeconds += figures_.stagingWaitSeconds;
-            to->dmaBytes += figures_.dmaBytes, to->dmaCopies += figures_.dmaCopies, to->dmaSubmits += figures_.dmaSubmits;
+            to->dmaBytes += figures_.dmaBytes, to->dmaCopies += figures_.dmaCopies;
+            to->dmaSubmits += figures_.dmaSubmits, to->stagingHits += figures_.stagingHits;
             to->dmaTimed = figures_.dmaTimed, to->stagingBytes = figures_.stagingBytes;
-            to->stagingHits += figures_.stagingHits;
         }
     }
 
@@ -77,7 +73,8 @@ public:
             // In host memory: the options' size (one block per chunk at most); in device memory:
             // what the plan kept of the budget for it.
             const uint64_t staging = plan_.stagingBytes > 0 ? plan_.stagingBytes : upload_.stagingBytes;
-            auto uploader = ChunkUploader::create(device_, staging, plan_.slotBytes, chunkCount_, upload_.submitBytes);
+            auto uploader =
+                ChunkUploader::create(device_, staging, plan_.slotBytes, chunkCount_, upload_.submitBytes);
             if (!uploader) return uploader.status();
             uploader_ = std::move(uploader).value();
             if (plan_.stagingBytes > 0) allocated_ += uploader_->stagingAllocatedBytes();
@@ -159,7 +156,8 @@ public:
         } else {
             const auto copyStart = std::chrono::steady_clock::now();
             VASTRAY_TRY(copyPieces(b, 0, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
-            figures_.hostCopySeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - copyStart).count();
+            const auto copied = std::chrono::steady_clock::now() - copyStart;
+            figures_.hostCopySeconds += std::chrono::duration<double>(copied).count();
         }
         entry.nodeCount = uint32_t(tree.nodes.size());
         entry.boundsLoX = tree.bounds.lo.x, entry.boundsLoY = tree.bounds.lo.y, entry.boundsLoZ = tree.bounds.lo.z;
@@ -281,10 +279,12 @@ ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mo
 
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
-                                                               double waveShareOutOfCore, const ChunkUploadOptions& upload) {
+                                                               double waveShareOutOfCore,
+                                                               const ChunkUploadOptions& upload) {
     const ChunkUploadMode mode = resolveUploadMode(device, upload.mode);
-    const uint64_t stagingInDeviceMemory =
-        mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging) ? upload.stagingBytes : 0;
+    const bool dmaStagingInDevice =
+        mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
+    const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;
     auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
                          stagingInDeviceMemory);
     if (!plan) return plan.status();

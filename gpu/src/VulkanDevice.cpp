@@ -55,8 +55,8 @@ int transferOnlyQueueFamily(VkPhysicalDevice device) {
     const auto families = queueFamilies(device);
     for (uint32_t i = 0; i < families.size(); ++i) {
         const VkQueueFlags f = families[i].queueFlags;
-        if ((f & VK_QUEUE_TRANSFER_BIT) && !(f & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) && families[i].queueCount > 0)
-            return int(i);
+        const bool transferOnly = (f & VK_QUEUE_TRANSFER_BIT) && !(f & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT));
+        if (transferOnly && families[i].queueCount > 0) return int(i);
     }
     return -1;
 }
@@ -161,7 +161,8 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical) {
         queueInfos[i].queueCount = 1;
         queueInfos[i].pQueuePriorities = &priority;
     }
-    auto supported12 = vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    auto supported12 =
+        vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
     auto supported = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
     supported.pNext = &supported12;
     vkGetPhysicalDeviceFeatures2(physical, &supported);
@@ -220,7 +221,9 @@ Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits, MemoryUse use) 
     switch (use) {
         case MemoryUse::Readback: choices = {{host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, 0}, {host, 0}}; break;
         case MemoryUse::DeviceLocal: choices = {{host | local, 0}, {host, 0}}; break;
-        case MemoryUse::DeviceOnly: choices = {{local, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}, {host | local, 0}, {host, 0}}; break;
+        case MemoryUse::DeviceOnly:
+            choices = {{local, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}, {host | local, 0}, {host, 0}};
+            break;
         case MemoryUse::Staging: choices = {{host, local}, {host, 0}}; break;
     }
     for (const Choice& c : choices)
@@ -240,8 +243,9 @@ bool VulkanDevice::inDeviceMemory(MemoryUse use) const {
 
 bool VulkanDevice::hasSeparateMemory() const {
     auto deviceOnly = findMemoryType(~0u, MemoryUse::DeviceOnly);
-    return deviceOnly && !(memoryProperties_.memoryTypes[*deviceOnly].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) &&
-           !inDeviceMemory(MemoryUse::Staging);
+    if (!deviceOnly) return false;
+    const VkMemoryPropertyFlags flags = memoryProperties_.memoryTypes[*deviceOnly].propertyFlags;
+    return !(flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) && !inDeviceMemory(MemoryUse::Staging);
 }
 
 Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) {
