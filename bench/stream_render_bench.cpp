@@ -15,6 +15,9 @@
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
 //                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
+//                       [--upload auto|mapped|dma]  (how chunks reach the slots: gpu::ChunkUploadMode)
+//                       [--staging-bytes 1GiB]  (--upload dma: the pinned staging area's size)
+//                       [--dma-batch 0]  (--upload dma: bytes of chunk copies per transfer submission; 0: per chunk)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -61,6 +64,7 @@ struct Args {
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
     StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
+    gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -113,6 +117,21 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
+        else if (flag == "--upload") {
+            const std::string v = value();
+            if (v == "auto") a.upload.mode = gpu::ChunkUploadMode::Auto;
+            else if (v == "mapped") a.upload.mode = gpu::ChunkUploadMode::Mapped;
+            else if (v == "dma") a.upload.mode = gpu::ChunkUploadMode::Dma;
+            else fail("--upload auto|mapped|dma");
+        } else if (flag == "--staging-bytes") {
+            auto size = parseByteSize(value());
+            if (!size) fail(size.message());
+            a.upload.stagingBytes = *size;
+        } else if (flag == "--dma-batch") {
+            auto size = parseByteSize(value());
+            if (!size) fail(size.message());
+            a.upload.submitBytes = *size;
+        }
         else if (flag == "--wave-share") {
             a.waveShare = std::stod(value());
             if (!(a.waveShare > 0 && a.waveShare < 1)) fail("--wave-share must be in (0, 1)");
@@ -161,6 +180,7 @@ struct Row {
     uint64_t budget = 0;
     RenderStats render;
     StreamingStats streaming;
+    gpu::ChunkUploadFigures upload;  // the render's backend's
 };
 
 }  // namespace
@@ -210,10 +230,12 @@ int main(int argc, char** argv) {
             Row row;
             row.label = label, row.budget = budget;
             row.streaming.memoryBudgetBytes = budget;
+            gpu::ChunkUploadOptions upload = args.upload;
+            upload.figures = &row.upload;
             auto image = renderStreaming(
                 **reader, o, args.streaming,
                 [&](const PackageInfo& p, const ChunkAttributes& a) {
-                    return gpu::createVulkanChunkBackend(**device, p, a, budget, args.waveShare);
+                    return gpu::createVulkanChunkBackend(**device, p, a, budget, args.waveShare, upload);
                 },
                 &row.render, &row.streaming);
             if (!image) fail(label + ": " + image.message());
@@ -229,7 +251,8 @@ int main(int argc, char** argv) {
     {
         auto scene = StreamingScene::open(**reader, attributes, args.streaming,
                                           [&](const PackageInfo& p, const ChunkAttributes& a) {
-                                              return gpu::createVulkanChunkBackend(**device, p, a, fitBudget);
+                                              return gpu::createVulkanChunkBackend(**device, p, a, fitBudget,
+                                                                                   args.waveShare, args.upload);
                                           });
         if (!scene) fail(scene.message());
         for (uint32_t depth : {0u, args.depth}) {
@@ -304,7 +327,13 @@ int main(int argc, char** argv) {
     if (args.region)
         md << ", region " << args.region->x0 << "," << args.region->y0 << "," << args.region->x1 << ","
            << args.region->y1;
-    md << ". Each row: the run of median render time of " << args.repeat << "." << embreeNote << "\n\n";
+    md << ". Each row: the run of median render time of " << args.repeat << "." << embreeNote;
+    const gpu::ChunkUploadMode mode = gpu::resolveUploadMode(**device, args.upload.mode);
+    md << " Chunk uploads: " << (mode == gpu::ChunkUploadMode::Dma ? "DMA from pinned staging" : "mapped (host writes)");
+    if (mode == gpu::ChunkUploadMode::Dma)
+        md << " (transfer queue " << ((*device)->separateTransferQueue() ? "of its own family" : "= the compute queue")
+           << ", device-only slots " << ((*device)->hasSeparateMemory() ? "yes" : "no") << ")";
+    md << ".\n\n";
     md << "| render | budget | slots | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
           "host→device B | device→host B | decode s | upload s | touched | loads | loads/touched | "
@@ -337,6 +366,20 @@ int main(int argc, char** argv) {
                       s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
                       s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,
                       ratio(reference).c_str());
+        md << line;
+    }
+    md << "\nUploads per row: host copy s (into slots or staging) / DMA s (transfer queue, timestamps) / "
+          "staging wait s / DMA GB / transfer submissions / copies of chunks still staged (no host copy) / "
+          "staging area:\n\n";
+    for (const Row& r : rows) {
+        const gpu::ChunkUploadFigures& u = r.upload;
+        if (u.hostCopySeconds == 0 && u.dmaCopies == 0) continue;
+        char dma[32] = "-", line[512];
+        if (u.dmaCopies > 0) std::snprintf(dma, sizeof dma, u.dmaTimed ? "%.3f" : "untimed", u.dmaSeconds);
+        std::snprintf(line, sizeof line, "- %s: %.3f / %s / %.3f / %.2f / %llu / %llu / %s\n", r.label.c_str(),
+                      u.hostCopySeconds, dma, u.stagingWaitSeconds, double(u.dmaBytes) / 1e9,
+                      (unsigned long long)u.dmaSubmits, (unsigned long long)u.stagingHits,
+                      u.stagingBytes ? formatBytes(u.stagingBytes).c_str() : "-");
         md << line;
     }
     std::fputs(md.str().c_str(), stdout);

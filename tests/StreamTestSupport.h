@@ -35,7 +35,8 @@ inline gpu::VulkanDevice& sharedVulkanDevice() {
 // One streaming render of a package through the Vulkan backend with this budget.
 inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options, uint64_t budget,
                                         StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21,
-                                        bool overlapLoads = true, bool prefetchScene = true) {
+                                        bool overlapLoads = true, bool prefetchScene = true,
+                                        const gpu::ChunkUploadOptions& upload = {}) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;
@@ -48,7 +49,8 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
     return renderStreaming(
         **reader, options, streaming,
         [&](const PackageInfo& info, const ChunkAttributes& a) {
-            return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget);
+            return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget, gpu::kWaveShareOutOfCore,
+                                                 upload);
         },
         nullptr, &s);
 }
@@ -84,18 +86,20 @@ inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions o
 }
 
 // The smallest budget (in 4 KiB steps) that gives exactly `slots` chunk slots to a render with
-// these AOVs, or 0 (also when the package has fewer chunks than that).
-inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs) {
+// these AOVs, or 0 (also when the package has fewer chunks than that). stagingInDeviceMemory:
+// the staging bytes DMA uploads ask for where their staging area is device memory (lavapipe).
+inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs,
+                               uint64_t stagingInDeviceMemory = 0) {
     auto reader = PackageReader::open(path);
     if (!reader) return 0;
     RenderOptions options;
     options.aovs = aovs;
     const ChunkAttributes a = requiredAttributes((*reader)->info(), options);
     if ((*reader)->info().chunks.size() < slots) return 0;  // never that many slots
-    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40);
+    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40, true, gpu::kWaveShareOutOfCore, stagingInDeviceMemory);
     if (!minimum) return 0;
     for (uint64_t budget = minimum->minimumBytes;; budget += 4 * 1024) {
-        auto plan = gpu::planPool((*reader)->info(), a, budget);
+        auto plan = gpu::planPool((*reader)->info(), a, budget, true, gpu::kWaveShareOutOfCore, stagingInDeviceMemory);
         if (plan && plan->slots >= slots) return plan->slots == slots ? budget : 0;
     }
 }

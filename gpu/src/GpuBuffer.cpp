@@ -10,7 +10,7 @@ namespace vastray::gpu {
 namespace {
 
 // Buffers are read by shaders through device addresses (and by indirect dispatches) and filled
-// by the host through a map.
+// by the host through a map or by copies.
 constexpr VkBufferUsageFlags kBufferUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                             VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
                                             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
@@ -28,6 +28,14 @@ Result<GpuBuffer> VulkanDevice::createBuffer(uint64_t bytes, MemoryUse use) {
     info.size = std::max(bytes, kMinBufferBytes);
     info.usage = kBufferUsage;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    // Filled on the transfer queue and read by the kernels: concurrent sharing spares the queue
+    // family ownership transfers (a release and an acquire barrier per copy).
+    const uint32_t families[2] = {computeFamily_, transferFamily_};
+    if (use == MemoryUse::DeviceOnly && separateTransferQueue()) {
+        info.sharingMode = VK_SHARING_MODE_CONCURRENT;
+        info.queueFamilyIndexCount = 2;
+        info.pQueueFamilyIndices = families;
+    }
     VASTRAY_VK_TRY(vkCreateBuffer(device_, &info, nullptr, &buffer.buffer_));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device_, buffer.buffer_, &req);
@@ -45,7 +53,8 @@ Result<GpuBuffer> VulkanDevice::createBuffer(uint64_t bytes, MemoryUse use) {
     peakBytes_ = std::max(peakBytes_, liveBytes_);
     ++allocationCount_;
     VASTRAY_VK_TRY(vkBindBufferMemory(device_, buffer.buffer_, buffer.memory_, 0));
-    VASTRAY_VK_TRY(vkMapMemory(device_, buffer.memory_, 0, VK_WHOLE_SIZE, 0, &buffer.mapped_));
+    if (memoryProperties_.memoryTypes[*type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+        VASTRAY_VK_TRY(vkMapMemory(device_, buffer.memory_, 0, VK_WHOLE_SIZE, 0, &buffer.mapped_));
     auto addressInfo = vkStruct<VkBufferDeviceAddressInfo>(VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO);
     addressInfo.buffer = buffer.buffer_;
     buffer.address_ = vkGetBufferDeviceAddress(device_, &addressInfo);
@@ -97,6 +106,7 @@ void GpuBuffer::release() {
 }
 
 Status GpuBuffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
+    if (!mapped_ && buffer_) return Status::error("upload into a buffer the host cannot map (copy it on the device)");
     if (!mapped_ || offset > size_ || bytes > size_ - offset)
         return Status::error("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
                              " exceeds a buffer of " + std::to_string(size_) + " bytes");
@@ -105,6 +115,7 @@ Status GpuBuffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
 }
 
 Status GpuBuffer::download(void* data, uint64_t bytes, uint64_t offset) const {
+    if (!mapped_ && buffer_) return Status::error("download from a buffer the host cannot map (copy it on the device)");
     if (!mapped_ || offset > size_ || bytes > size_ - offset)
         return Status::error("download of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
                              " exceeds a buffer of " + std::to_string(size_) + " bytes");

@@ -1,7 +1,5 @@
 #include "vastray/gpu/VulkanChunkBackend.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -9,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "ChunkUploader.h"
 #include "ChunkValidation.h"
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
@@ -30,39 +29,6 @@ constexpr uint64_t kAllocationGranule = 64 * 1024;
 // when those are in device memory.
 uint64_t rayBytes(bool outputInDeviceMemory) { return kBytesPerPath + (outputInDeviceMemory ? kBytesPerTilePixel : 0); }
 
-// One array of a chunk to copy into its slot.
-struct SlotCopy {
-    uint64_t offset;  // in the slot
-    const void* data;
-    uint64_t size;
-};
-
-// Copies a chunk's arrays into a mapped slot in 256 KiB pieces on all cores, all arrays in one
-// parallel loop: one core writing through a write-combined mapping manages a few GB/s, well
-// below what PCIe takes (most arrays of a 4 MiB chunk are under 1 MiB, so larger pieces left
-// them to one core), and a loop per array paid its start and join for each (PERF_NOTES 40).
-Status copyToSlot(GpuBuffer& slot, std::span<const SlotCopy> copies) {
-    constexpr uint64_t kPiece = 256 << 10;
-    struct Piece {
-        const SlotCopy* copy;
-        uint64_t at, size;
-    };
-    std::vector<Piece> pieces;
-    for (const SlotCopy& c : copies)
-        for (uint64_t at = 0; at < c.size; at += kPiece) pieces.push_back({&c, at, std::min(kPiece, c.size - at)});
-    auto run = [&](const Piece& p) {
-        return p.copy->size == 0 ||
-               slot.upload(static_cast<const uint8_t*>(p.copy->data) + p.at, p.size, p.copy->offset + p.at).isOk();
-    };
-    std::atomic<bool> failed{false};
-    if (pieces.size() == 1) failed = !run(pieces[0]);
-    else if (pieces.size() > 1)
-        tbb::parallel_for(size_t(0), pieces.size(), [&](size_t i) {
-            if (!run(pieces[i])) failed = true;
-        });
-    return failed ? Status::error("copy to the device failed") : Status::ok();
-}
-
 uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
 // Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile
 // outputs the host reads when they are in device memory.
@@ -73,19 +39,45 @@ uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory) {
 class VulkanChunkBackend final : public ChunkBackend {
 public:
     VulkanChunkBackend(VulkanDevice& device, const PackageInfo& package, const PoolPlan& plan,
-                       const ChunkAttributes& attributes)
-        : device_(device), plan_(plan), attributes_(attributes), tables_(tableLayout(plan.slots, package)),
-          bounds_(package.bounds),
+                       const ChunkAttributes& attributes, const ChunkUploadOptions& upload, ChunkUploadMode mode)
+        : device_(device), plan_(plan), attributes_(attributes), upload_(upload), mode_(mode),
+          tables_(tableLayout(plan.slots, package)), bounds_(package.bounds),
           topNodeCount_(uint32_t(package.topTree.size())), chunkCount_(uint32_t(package.chunks.size())) {}
+
+    ~VulkanChunkBackend() override {
+        if (uploader_) {
+            (void)uploader_->finish();  // the last copies' device times
+            figures_ = uploader_->figures();
+        }
+        if (ChunkUploadFigures* to = upload_.figures) {
+            to->hostCopySeconds += figures_.hostCopySeconds, to->dmaSeconds += figures_.dmaSeconds;
+            to->stagingWaitSeconds += figures_.stagingWaitSeconds;
+            to->dmaBytes += figures_.dmaBytes, to->dmaCopies += figures_.dmaCopies;
+            to->dmaSubmits += figures_.dmaSubmits, to->stagingHits += figures_.stagingHits;
+            to->dmaTimed = figures_.dmaTimed, to->stagingBytes = figures_.stagingBytes;
+        }
+    }
 
     Status init(const PackageInfo& package) {
         auto wavefront = Wavefront::create(device_);
         if (!wavefront) return wavefront.status();
         wavefront_ = std::move(wavefront).value();
+        const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
-            auto slot = device_.createBuffer(plan_.slotBytes);
+            auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly
+                                                                  : VulkanDevice::MemoryUse::DeviceLocal);
             if (!slot) return slot.status().withContext("chunk slot " + std::to_string(s) + ": ");
             slots_.push_back(std::move(slot).value());
+        }
+        if (dma) {
+            // In host memory: the options' size (one block per chunk at most); in device memory:
+            // what the plan kept of the budget for it.
+            const uint64_t staging = plan_.stagingBytes > 0 ? plan_.stagingBytes : upload_.stagingBytes;
+            auto uploader =
+                ChunkUploader::create(device_, staging, plan_.slotBytes, chunkCount_, upload_.submitBytes);
+            if (!uploader) return uploader.status();
+            uploader_ = std::move(uploader).value();
+            if (plan_.stagingBytes > 0) allocated_ += uploader_->stagingAllocatedBytes();
         }
         auto table = device_.createBuffer(tables_.totalBytes);
         if (!table) return table.status();
@@ -98,7 +90,7 @@ public:
         auto output = device_.createBuffer(outputLayout(plan_.batchRays).totalBytes, VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
-        allocated_ = table_.allocatedBytes() + state_.allocatedBytes() +
+        allocated_ += table_.allocatedBytes() + state_.allocatedBytes() +
                      (plan_.outputInDeviceMemory ? output_.allocatedBytes() : 0);
         for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
         const std::vector<ChunkSlot> empty(plan_.slots, ChunkSlot{});
@@ -170,7 +162,15 @@ public:
             put(layout.colors, chunk.colors.data(), chunk.colors.size() * 4);
             entry.colors = base + layout.colors, entry.flags |= kSlotColors;
         }
-        VASTRAY_TRY(copyToSlot(b, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
+        if (uploader_) {
+            VASTRAY_TRY(uploader_->upload(chunk.id, b, copies, layout.totalBytes)
+                            .withContext("chunk " + std::to_string(chunk.id) + ": "));
+        } else {
+            const auto copyStart = std::chrono::steady_clock::now();
+            VASTRAY_TRY(copyPieces(b, 0, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
+            const auto copied = std::chrono::steady_clock::now() - copyStart;
+            figures_.hostCopySeconds += std::chrono::duration<double>(copied).count();
+        }
         entry.nodeCount = uint32_t(tree.nodes.size());
         entry.boundsLoX = tree.bounds.lo.x, entry.boundsLoY = tree.bounds.lo.y, entry.boundsLoZ = tree.bounds.lo.z;
         entry.boundsHiX = tree.bounds.hi.x, entry.boundsHiY = tree.bounds.hi.y, entry.boundsHiZ = tree.bounds.hi.z;
@@ -188,6 +188,7 @@ public:
         b.bounds = bounds_;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors;
+        b.uploader = uploader_.get();
         return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 
@@ -209,12 +210,16 @@ private:
     VulkanDevice& device_;
     PoolPlan plan_;
     ChunkAttributes attributes_;
+    ChunkUploadOptions upload_;
+    ChunkUploadMode mode_;  // Mapped or Dma
     TableLayout tables_;  // in table_
     Aabb bounds_;         // the package's: the top-level tree's bounds
     uint32_t topNodeCount_, chunkCount_;
     std::unique_ptr<Wavefront> wavefront_;
     std::vector<GpuBuffer> slots_;
     GpuBuffer table_, state_, output_;
+    std::unique_ptr<ChunkUploader> uploader_;  // Dma; destroyed first: its copies write the slots
+    ChunkUploadFigures figures_;
     uint64_t allocated_ = 0, uploaded_ = 0;
     double uploadSeconds_ = 0, deviceSeconds_ = 0;
 };
@@ -222,7 +227,7 @@ private:
 }  // namespace
 
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
-                          bool outputInDeviceMemory, double waveShareOutOfCore) {
+                          bool outputInDeviceMemory, double waveShareOutOfCore, uint64_t stagingInDeviceMemory) {
     if (!(waveShareOutOfCore > 0 && waveShareOutOfCore < 1))
         return Status::error("the wave's share of an out-of-core budget must be in (0, 1), not " +
                              std::to_string(waveShareOutOfCore));
@@ -236,13 +241,19 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     const uint64_t slotAllocation = granules(largest);
     const uint32_t chunks = uint32_t(std::max<size_t>(package.chunks.size(), 1));
     auto tableBytes = [&](uint64_t slots) { return granules(tableLayout(slots, package).totalBytes); };
-    plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1);
+    const uint64_t staging =
+        stagingInDeviceMemory ? std::clamp<uint64_t>(granules(stagingInDeviceMemory), 2 * slotAllocation,
+                                                     std::max<uint64_t>(chunks, 2) * slotAllocation)
+                              : 0;
+    plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1) + staging;
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
                              formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) +
                              " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a wave of " +
                              std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
-                             " plus tables of " + formatBytes(tableBytes(1)) + ")");
+                             " plus tables of " + formatBytes(tableBytes(1)) +
+                             (staging ? " plus a staging area of " + formatBytes(staging) : std::string()) + ")");
+    budget -= staging;  // the rest is split between the wave and the slots
     // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for
     // slots; slots beyond the chunk count are useless, so what they would take goes back to the
     // wave. When the slots cannot hold every chunk, the wave gets waveShareOutOfCore (half by
@@ -266,16 +277,31 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.batchRays = uint32_t(rays);
     plan.rayBytes = batchBytes(rays);
     plan.tableBytes = tableBytes(slots);
-    plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes;
+    plan.stagingBytes = staging;
+    plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes + staging;
     return plan;
+}
+
+// DMA where the slots can live in memory the host does not map and the staging in system
+// memory (a discrete GPU: PERF_NOTES 44); elsewhere (lavapipe, integrated GPUs: one memory) a
+// copy through staging would only add one.
+ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode) {
+    if (mode != ChunkUploadMode::Auto) return mode;
+    return device.hasSeparateMemory() ? ChunkUploadMode::Dma : ChunkUploadMode::Mapped;
 }
 
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
-                                                               double waveShareOutOfCore) {
-    auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore);
+                                                               double waveShareOutOfCore,
+                                                               const ChunkUploadOptions& upload) {
+    const ChunkUploadMode mode = resolveUploadMode(device, upload.mode);
+    const bool dmaStagingInDevice =
+        mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
+    const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;
+    auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
+                         stagingInDeviceMemory);
     if (!plan) return plan.status();
-    auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes);
+    auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes, upload, mode);
     VASTRAY_TRY(backend->init(package));
     if (backend->peakDeviceBytes() > budget)
         return Status::error("the device rounded the pool up to " + formatBytes(backend->peakDeviceBytes()) +

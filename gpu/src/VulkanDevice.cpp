@@ -33,19 +33,36 @@ Result<std::vector<VkPhysicalDevice>> physicalDevices(VkInstance instance) {
     return devices;
 }
 
-// Index of a queue family with compute, or -1.
-int computeQueueFamily(VkPhysicalDevice device) {
+std::vector<VkQueueFamilyProperties> queueFamilies(VkPhysicalDevice device) {
     uint32_t count = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
     std::vector<VkQueueFamilyProperties> families(count);
     vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
-    for (uint32_t i = 0; i < count; ++i)
+    families.resize(count);
+    return families;
+}
+
+// Index of a queue family with compute, or -1.
+int computeQueueFamily(VkPhysicalDevice device) {
+    const auto families = queueFamilies(device);
+    for (uint32_t i = 0; i < families.size(); ++i)
         if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return int(i);
     return -1;
 }
 
+// A family that only transfers (the DMA engines of a discrete GPU), or -1.
+int transferOnlyQueueFamily(VkPhysicalDevice device) {
+    const auto families = queueFamilies(device);
+    for (uint32_t i = 0; i < families.size(); ++i) {
+        const VkQueueFlags f = families[i].queueFlags;
+        const bool transferOnly = (f & VK_QUEUE_TRANSFER_BIT) && !(f & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT));
+        if (transferOnly && families[i].queueCount > 0) return int(i);
+    }
+    return -1;
+}
+
 // What the tracer needs: Vulkan 1.2, device addresses, 64-bit ints (addresses in push constants)
-// and 64-bit floats (the watertight test's exact fallback and exact division, see Watertight.glsl).
+// and timeline semaphores (chunk copies on the transfer queue; core in 1.2).
 VulkanDeviceInfo describe(VkPhysicalDevice device) {
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(device, &props);
@@ -60,6 +77,7 @@ VulkanDeviceInfo describe(VkPhysicalDevice device) {
     else if (computeQueueFamily(device) < 0) info.missing = "a compute queue";
     else if (!f12.bufferDeviceAddress) info.missing = "bufferDeviceAddress";
     else if (!f.features.shaderInt64) info.missing = "shaderInt64";
+    else if (!f12.timelineSemaphore) info.missing = "timelineSemaphore";
     info.usable = info.missing.empty();
     return info;
 }
@@ -122,38 +140,53 @@ Status VulkanDevice::init(const VulkanDeviceOptions& options) {
     physical_ = (*devices)[size_t(index)];
     info_ = infos[size_t(index)];
     vkGetPhysicalDeviceMemoryProperties(physical_, &memoryProperties_);
-    const uint32_t family = uint32_t(computeQueueFamily(physical_));
+    computeFamily_ = uint32_t(computeQueueFamily(physical_));
+    const int transfer = transferOnlyQueueFamily(physical_);
+    transferFamily_ = transfer >= 0 ? uint32_t(transfer) : computeFamily_;
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(physical_, &props);
-    uint32_t familyCount = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, nullptr);
-    std::vector<VkQueueFamilyProperties> families(familyCount);
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, families.data());
+    const auto families = queueFamilies(physical_);
     timestampPeriodNs_ = props.limits.timestampPeriod;
-    timestampValidBits_ = family < familyCount ? families[family].timestampValidBits : 0;
-    return createLogicalDevice(physical_, family);
+    timestampValidBits_ = families[computeFamily_].timestampValidBits;
+    transferTimestampValidBits_ = families[transferFamily_].timestampValidBits;
+    return createLogicalDevice(physical_);
 }
 
-Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, uint32_t queueFamily) {
+Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical) {
     const float priority = 1.0f;
-    auto queueInfo = vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
-    queueInfo.queueFamilyIndex = queueFamily;
-    queueInfo.queueCount = 1;
-    queueInfo.pQueuePriorities = &priority;
+    VkDeviceQueueCreateInfo queueInfos[2];
+    for (uint32_t i = 0; i < 2; ++i) {
+        queueInfos[i] = vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+        queueInfos[i].queueFamilyIndex = i == 0 ? computeFamily_ : transferFamily_;
+        queueInfos[i].queueCount = 1;
+        queueInfos[i].pQueuePriorities = &priority;
+    }
+    auto supported12 =
+        vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    auto supported = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+    supported.pNext = &supported12;
+    vkGetPhysicalDeviceFeatures2(physical, &supported);
+    // Host query resets time the transfer queue's copies (vkCmdResetQueryPool is not a
+    // transfer-queue command); without them the copies go untimed.
+    hostQueryReset_ = supported12.hostQueryReset == VK_TRUE;
     auto f12 = vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
     f12.bufferDeviceAddress = VK_TRUE;
+    f12.timelineSemaphore = VK_TRUE;
+    f12.hostQueryReset = hostQueryReset_ ? VK_TRUE : VK_FALSE;
     auto features = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
     features.pNext = &f12;
     features.features.shaderInt64 = VK_TRUE;
     auto info = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
     info.pNext = &features;
-    info.queueCreateInfoCount = 1;
-    info.pQueueCreateInfos = &queueInfo;
+    info.queueCreateInfoCount = separateTransferQueue() ? 2 : 1;
+    info.pQueueCreateInfos = queueInfos;
     VASTRAY_VK_TRY(vkCreateDevice(physical, &info, nullptr, &device_));
-    vkGetDeviceQueue(device_, queueFamily, 0, &queue_);
+    vkGetDeviceQueue(device_, computeFamily_, 0, &queue_);
+    transferQueue_ = queue_;
+    if (separateTransferQueue()) vkGetDeviceQueue(device_, transferFamily_, 0, &transferQueue_);
     auto poolInfo = vkStruct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = queueFamily;
+    poolInfo.queueFamilyIndex = computeFamily_;
     VASTRAY_VK_TRY(vkCreateCommandPool(device_, &poolInfo, nullptr, &commandPool_));
     auto fenceInfo = vkStruct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
     VASTRAY_VK_TRY(vkCreateFence(device_, &fenceInfo, nullptr, &fence_));
@@ -174,24 +207,45 @@ VulkanDevice::~VulkanDevice() {
     if (instance_) vkDestroyInstance(instance_, nullptr);
 }
 
-// Host-visible and coherent (the buffers stay mapped); device-local too when a heap offers both
-// (lavapipe: all memory; discrete GPUs: the resizable-BAR heap).
+// In order of preference, the properties a type must have and those it must not have.
+// Host-visible and coherent (the buffers stay mapped), device-local too when a heap offers both
+// (lavapipe: all memory; discrete GPUs: the resizable-BAR heap); DeviceOnly prefers device-local
+// memory the host cannot see, Staging host memory outside the device's heaps.
 Result<uint32_t> VulkanDevice::findMemoryType(uint32_t typeBits, MemoryUse use) const {
     const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    const VkMemoryPropertyFlags first = use == MemoryUse::Readback ? host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT
-                                                                    : host | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    for (VkMemoryPropertyFlags wanted : {first, host})
-        for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i)
-            if ((typeBits & (1u << i)) && (memoryProperties_.memoryTypes[i].propertyFlags & wanted) == wanted)
-                return i;
+    const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    struct Choice {
+        VkMemoryPropertyFlags with, without;
+    };
+    std::vector<Choice> choices;
+    switch (use) {
+        case MemoryUse::Readback: choices = {{host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, 0}, {host, 0}}; break;
+        case MemoryUse::DeviceLocal: choices = {{host | local, 0}, {host, 0}}; break;
+        case MemoryUse::DeviceOnly:
+            choices = {{local, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}, {host | local, 0}, {host, 0}};
+            break;
+        case MemoryUse::Staging: choices = {{host, local}, {host, 0}}; break;
+    }
+    for (const Choice& c : choices)
+        for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i) {
+            const VkMemoryPropertyFlags flags = memoryProperties_.memoryTypes[i].propertyFlags;
+            if ((typeBits & (1u << i)) && (flags & c.with) == c.with && (flags & c.without) == 0) return i;
+        }
     return Status::error("no host-visible coherent memory type for a buffer");
 }
 
-bool VulkanDevice::readbackInDeviceMemory() const {
-    auto type = findMemoryType(~0u, MemoryUse::Readback);
+bool VulkanDevice::inDeviceMemory(MemoryUse use) const {
+    auto type = findMemoryType(~0u, use);
     if (!type) return true;
     const uint32_t heap = memoryProperties_.memoryTypes[*type].heapIndex;
     return (memoryProperties_.memoryHeaps[heap].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) != 0;
+}
+
+bool VulkanDevice::hasSeparateMemory() const {
+    auto deviceOnly = findMemoryType(~0u, MemoryUse::DeviceOnly);
+    if (!deviceOnly) return false;
+    const VkMemoryPropertyFlags flags = memoryProperties_.memoryTypes[*deviceOnly].propertyFlags;
+    return !(flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) && !inDeviceMemory(MemoryUse::Staging);
 }
 
 Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) {
@@ -199,7 +253,7 @@ Status VulkanDevice::submit(const std::function<void(VkCommandBuffer)>& record) 
     return wait();
 }
 
-Status VulkanDevice::begin(const std::function<void(VkCommandBuffer)>& record) {
+Status VulkanDevice::begin(const std::function<void(VkCommandBuffer)>& record, const SubmitWait* after) {
     VASTRAY_TRY(wait());
     if (!failure_.empty()) return Status::error(failure_);
     auto allocInfo = vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
@@ -231,6 +285,15 @@ Status VulkanDevice::begin(const std::function<void(VkCommandBuffer)>& record) {
     auto submitInfo = vkStruct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
     submitInfo.commandBufferCount = 1;
     submitInfo.pCommandBuffers = &cmd;
+    auto timeline = vkStruct<VkTimelineSemaphoreSubmitInfo>(VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
+    if (after && after->semaphore != VK_NULL_HANDLE) {
+        timeline.waitSemaphoreValueCount = 1;
+        timeline.pWaitSemaphoreValues = &after->value;
+        submitInfo.pNext = &timeline;
+        submitInfo.waitSemaphoreCount = 1;
+        submitInfo.pWaitSemaphores = &after->semaphore;
+        submitInfo.pWaitDstStageMask = &after->stages;
+    }
     VASTRAY_VK_TRY(vkResetFences(device_, 1, &fence_));
     const VkResult submitted = vkQueueSubmit(queue_, 1, &submitInfo, fence_);
     if (submitted == VK_ERROR_DEVICE_LOST) failure_ = info_.name + ": the device was lost (VK_ERROR_DEVICE_LOST)";

@@ -13,6 +13,7 @@
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/VecMath.h"
+#include "ChunkUploader.h"
 #include "vastray/gpu/TileGrid.h"
 
 namespace vastray::gpu {
@@ -487,6 +488,17 @@ private:
         submittedQueries_ = pool ? uint32_t(std::min<size_t>(ops_.size() + 1, kMaxQueries)) : 0;
         const uint32_t queries = submittedQueries_;
         const auto start = std::chrono::steady_clock::now();
+        // Chunks loaded since the last submission are copied on the transfer queue: the kernels
+        // wait for those copies on the device, the host does not.
+        SubmitWait copies;
+        if (b_.uploader) {
+            auto pending = b_.uploader->pending();
+            if (!pending) {
+                ops_.clear();
+                return pending.status();
+            }
+            copies = *pending;
+        }
         const Status s = w_.device_.begin([&](VkCommandBuffer cmd) {
             if (queries > 0) {
                 vkCmdResetQueryPool(cmd, pool, 0, queries);
@@ -496,7 +508,7 @@ private:
                 ops_[i].record(cmd);
                 if (i + 1 < queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, uint32_t(i + 1));
             }
-        });
+        }, copies.semaphore ? &copies : nullptr);
         deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         ++stats_.submits;
         if (!s.isOk()) ops_.clear();

@@ -16,6 +16,8 @@
 
 namespace vastray::gpu {
 
+class ChunkUploader;
+
 // The backend's buffers the wavefront works in.
 struct WavefrontBuffers {
     GpuBuffer* table = nullptr;  // TableLayout
@@ -26,6 +28,7 @@ struct WavefrontBuffers {
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
+    ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
 };
 
 class Wavefront {

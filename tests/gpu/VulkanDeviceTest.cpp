@@ -38,6 +38,44 @@ TEST(VulkanDevice, UploadDownloadRoundTrip) {
     EXPECT_FALSE(buffer->upload(data.data(), 8, buffer->size() - 4).isOk()) << "write past the end";
 }
 
+// Chunk slots for DMA uploads live in device memory the host cannot map where the device has
+// such memory (a discrete GPU), and are filled by copies from mapped staging memory; on lavapipe
+// both are its one memory. Either way a copy through them returns the bytes.
+TEST(VulkanDevice, StagingCopiesReachDeviceOnlyBuffers) {
+    VASTRAY_REQUIRE_DEVICE(device);
+    std::vector<uint32_t> data(4096);
+    std::iota(data.begin(), data.end(), 11u);
+    const uint64_t bytes = data.size() * sizeof(uint32_t);
+    auto staging = device.createBuffer(bytes, VulkanDevice::MemoryUse::Staging);
+    auto slot = device.createBuffer(bytes, VulkanDevice::MemoryUse::DeviceOnly);
+    auto back = device.createBuffer(bytes, VulkanDevice::MemoryUse::Readback);
+    ASSERT_TRUE(staging && slot && back) << staging.message() << slot.message() << back.message();
+    ASSERT_TRUE(staging->isMapped());
+    EXPECT_NE(slot->address(), 0u);
+    EXPECT_EQ(slot->isMapped(), !device.hasSeparateMemory());
+    if (!slot->isMapped()) {
+        const Status refused = slot->upload(data.data(), 16);
+        ASSERT_FALSE(refused.isOk());
+        EXPECT_NE(refused.message().find("cannot map"), std::string::npos) << refused.message();
+    }
+    ASSERT_TRUE(staging->upload(data.data(), bytes).isOk());
+    const Status copied = device.submit([&](VkCommandBuffer cmd) {
+        const VkBufferCopy region{0, 0, bytes};
+        vkCmdCopyBuffer(cmd, staging->handle(), slot->handle(), 1, &region);
+        VkMemoryBarrier b{};
+        b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0, nullptr,
+                             0, nullptr);
+        vkCmdCopyBuffer(cmd, slot->handle(), back->handle(), 1, &region);
+    });
+    ASSERT_TRUE(copied.isOk()) << copied.message();
+    std::vector<uint32_t> read(data.size());
+    ASSERT_TRUE(back->download(read.data(), bytes).isOk());
+    EXPECT_EQ(read, data);
+}
+
 // A device of its own, so that nothing else is allocated on it.
 TEST(VulkanDevice, CountsEveryAllocationAndThePeak) {
     auto created = VulkanDevice::create();

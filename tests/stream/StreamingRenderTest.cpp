@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "StreamTestSupport.h"
+#include "shared/StreamTypes.h"
 #include "TestTmp.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -194,6 +195,84 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
                 (unsigned long long)small.chunksTotal, (unsigned long long)small.chunksTouched,
                 formatBytes(tight).c_str(), (unsigned long long)small.chunkLoads,
                 (unsigned long long)small.streamReloads, (unsigned long long)small.decodes);
+}
+
+// Chunks copied by the transfer queue from pinned staging memory into slots the host cannot map
+// (gpu::ChunkUploadMode::Dma): the kernels wait for the copies on a timeline semaphore, so a
+// render that streams with them equals the mapped render bit for bit, whether the staging area
+// holds two chunks (every load is written into it and waits for the copy that last read its
+// block) or every chunk (a chunk is written once; loads again are copies on the device alone).
+// On lavapipe the staging area is device memory, taken from the budget.
+TEST(StreamingRender, DmaUploadsEqualMappedUploads) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    const RenderOptions o = smallRender(kAllAovs);
+    const bool stagingInDevice = device().inDeviceMemory(gpu::VulkanDevice::MemoryUse::Staging);
+    gpu::ChunkUploadOptions upload;
+    upload.mode = gpu::ChunkUploadMode::Mapped;
+    StreamingStats mapped;
+    auto a = renderVulkan(path, o, budgetForSlots(path, 2, o.aovs), &mapped, 1u << 21, true, true, upload);
+    ASSERT_TRUE(a) << a.message();
+    auto render = [&](uint64_t stagingBytes, uint64_t submitBytes, bool overlap, StreamingStats& stats,
+                      gpu::ChunkUploadFigures& figures) {
+        upload.mode = gpu::ChunkUploadMode::Dma;
+        upload.stagingBytes = stagingBytes, upload.submitBytes = submitBytes, upload.figures = &figures;
+        const uint64_t budget = budgetForSlots(path, 2, o.aovs, stagingInDevice ? stagingBytes : 0);
+        ASSERT_GT(budget, 0u);
+        auto image = renderVulkan(path, o, budget, &stats, 1u << 21, overlap, true, upload);
+        ASSERT_TRUE(image) << image.message();
+        expectIdentical(*a, *image, false);
+        EXPECT_EQ(stats.slots, 2u);
+        EXPECT_GT(stats.chunkLoads, stats.chunksTotal) << "two slots should have forced reloads";
+        EXPECT_LE(stats.peakDeviceBytes, stats.memoryBudgetBytes);
+        // Every load went through the transfer queue: the arrays by DMA, the slot entry by map.
+        EXPECT_EQ(figures.dmaCopies, stats.chunkLoads);
+        EXPECT_EQ(figures.dmaBytes + stats.chunkLoads * sizeof(gpu::ChunkSlot), stats.bytesUploaded);
+        EXPECT_GT(figures.hostCopySeconds, 0.0);
+        EXPECT_LE(figures.hostCopySeconds, stats.uploadSeconds);
+    };
+    StreamingStats small, between, all, batched;
+    gpu::ChunkUploadFigures smallFigures, betweenFigures, allFigures, batchedFigures;
+    render(1, 0, true, small, smallFigures);
+    EXPECT_EQ(smallFigures.dmaSubmits, smallFigures.dmaCopies) << "a submission per chunk";
+    // Loads between the steps: the next kernels wait for copies submitted just before them.
+    render(1, 0, false, between, betweenFigures);
+    // Every chunk kept staged: the host writes each chunk once at most.
+    render(1ull << 30, 0, true, all, allFigures);
+    EXPECT_GT(allFigures.stagingHits, 0u);
+    EXPECT_LE(allFigures.dmaCopies - allFigures.stagingHits, all.chunksTotal);
+    // Copies batched until the next compute submission (or until a block of the open batch is
+    // needed again): fewer transfer submissions.
+    render(1, 1ull << 30, true, batched, batchedFigures);
+    EXPECT_LT(batchedFigures.dmaSubmits, batchedFigures.dmaCopies);
+    std::printf("dma: %llu loads; all chunks staged: %llu copies of chunks still staged\n",
+                (unsigned long long)all.chunkLoads, (unsigned long long)allFigures.stagingHits);
+}
+
+// DMA uploads whose staging lies in device memory keep it from the budget, in whole slots: two
+// at least, one per chunk at most.
+TEST(StreamingRender, StagingInDeviceMemoryCountsAgainstTheBudget) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageInfo& info = (*reader)->info();
+    const double share = gpu::kWaveShareOutOfCore;
+    auto plain = gpu::planPool(info, ChunkAttributes{}, 1ull << 40);
+    auto two = gpu::planPool(info, ChunkAttributes{}, 1ull << 40, true, share, 1);
+    auto every = gpu::planPool(info, ChunkAttributes{}, 1ull << 40, true, share, 1ull << 40);
+    ASSERT_TRUE(plain && two && every);
+    const uint64_t slot = (plain->slotBytes + 65535) / 65536 * 65536;
+    EXPECT_EQ(plain->stagingBytes, 0u);
+    EXPECT_EQ(two->stagingBytes, 2 * slot);
+    EXPECT_EQ(every->stagingBytes, info.chunks.size() * slot);
+    EXPECT_EQ(two->minimumBytes, plain->minimumBytes + two->stagingBytes);
+    auto refused = gpu::planPool(info, ChunkAttributes{}, plain->minimumBytes, true, share, 1);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("staging area"), std::string::npos) << refused.message();
+    const uint64_t budget = budgetForSlots(path, 3, 0, 1);
+    auto three = gpu::planPool(info, ChunkAttributes{}, budget, true, share, 1);
+    ASSERT_TRUE(three);
+    EXPECT_EQ(three->slots, 3u);
+    EXPECT_LE(three->totalBytes, budget);
 }
 
 // The same scene packaged with each chunk codec: the codecs order faces and rotate corners

@@ -21,8 +21,48 @@ struct PoolPlan {
                                  // outputs when those are in device memory (outputInDeviceMemory)
     uint64_t tableBytes = 0;     // slot table, top-level tree, per-chunk tables, parameters, materials
     uint64_t totalBytes = 0;     // all of the above, <= the budget
-    uint64_t minimumBytes = 0;   // one slot + the minimal batch + the tables
+    uint64_t minimumBytes = 0;   // one slot + the minimal batch + the tables (+ the staging area
+                                 // when it is in device memory)
     bool outputInDeviceMemory = true;  // the tile outputs count against the budget
+    // DMA uploads with the staging area in device memory (lavapipe): the staging taken from the
+    // budget (counted in totalBytes; two slots at least, a slot per chunk at most); 0 otherwise.
+    uint64_t stagingBytes = 0;
+};
+
+// How chunk data reaches the slots (gpu/src/ChunkUploader.h). Mapped: the host writes each chunk
+// through the slot's mapping (resizable BAR on a discrete GPU) on all cores. Dma: the host
+// writes it into a block of pinned staging memory and the transfer queue (a DMA engine where
+// the device has one) copies it into slots in device memory the host cannot map, overlapping
+// the walk; a block keeps its chunk, so a chunk paged in again while its block holds it costs
+// the host nothing. Auto: Dma on a discrete GPU (device-only memory and system memory the device
+// can read: VulkanDevice::hasSeparateMemory), Mapped elsewhere (PERF_NOTES 44 measured both on
+// an H200: Dma 13 % faster at 4x over budget).
+enum class ChunkUploadMode { Auto, Mapped, Dma };
+
+// Upload figures of a backend's life, for benchmarks (bytes_uploaded and upload_seconds in
+// StreamingStats stay the totals: upload_seconds is the host's time in ChunkBackend::load).
+struct ChunkUploadFigures {
+    double hostCopySeconds = 0;  // writing chunk arrays into slots (Mapped) or staging (Dma)
+    double dmaSeconds = 0;       // the transfer queue's copies, from timestamps (Dma; 0 untimed)
+    double stagingWaitSeconds = 0;  // waiting for staging memory still being copied (Dma)
+    uint64_t dmaBytes = 0, dmaCopies = 0, dmaSubmits = 0;
+    uint64_t stagingHits = 0;    // DMA copies of a chunk the staging area still held (no host copy)
+    bool dmaTimed = false;       // the transfer queue has timestamps
+    uint64_t stagingBytes = 0;   // the staging ring (host memory on a discrete GPU)
+};
+
+struct ChunkUploadOptions {
+    ChunkUploadMode mode = ChunkUploadMode::Auto;
+    // Dma: the staging area's size when it lies in host memory (pinned system memory: not
+    // counted against the device budget; it is host memory besides the host chunk cache), cut
+    // into blocks of one slot: at least two, at most one per chunk of the package. Where the
+    // staging memory is device memory (lavapipe) it is taken from the budget (PoolPlan::stagingBytes).
+    uint64_t stagingBytes = 1ull << 30;
+    // Dma: chunk copies are submitted to the transfer queue in batches of at least this many
+    // bytes (0: one submission per chunk), and whatever is staged before each compute submission.
+    uint64_t submitBytes = 0;
+    // When set, the backend adds its figures here when it is destroyed.
+    ChunkUploadFigures* figures = nullptr;
 };
 
 // The smallest wave a budget must hold besides one chunk slot (~300 KiB of path state).
@@ -42,13 +82,21 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 // integrated GPU, where they do (true; also the conservative answer when the device is unknown).
 // When the slots cannot hold every chunk, the wave gets waveShareOutOfCore of the budget (in
 // (0, 1); the default, half, is PERF_NOTES 25's measured choice).
+// stagingInDeviceMemory: for DMA uploads whose staging area is device memory, the staging bytes
+// asked for (ChunkUploadOptions::stagingBytes), kept from the budget as whole slots, two at least
+// and one per chunk at most (PoolPlan::stagingBytes); 0: none.
 constexpr double kWaveShareOutOfCore = 0.5;
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
-                          bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore);
+                          bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore,
+                          uint64_t stagingInDeviceMemory = 0);
+
+// The upload mode Auto resolves to on this device.
+ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode);
 
 // device must outlive the backend. Every buffer is allocated here, once.
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
-                                                               double waveShareOutOfCore = kWaveShareOutOfCore);
+                                                               double waveShareOutOfCore = kWaveShareOutOfCore,
+                                                               const ChunkUploadOptions& upload = {});
 
 }  // namespace vastray::gpu

@@ -31,13 +31,21 @@ struct VulkanDeviceInfo {
     std::string missing;  // why not usable
 };
 
+// A timeline semaphore value a submission waits for before the given stages run.
+struct SubmitWait {
+    VkSemaphore semaphore = VK_NULL_HANDLE;
+    uint64_t value = 0;
+    VkPipelineStageFlags stages = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
+};
+
 // Every physical device, usable or not (for `--gpu-device` help and error messages).
 Result<std::vector<VulkanDeviceInfo>> listVulkanDevices();
 
 class VulkanDevice;
 
-// A buffer in host-visible memory, mapped for its whole life; addressed from shaders by its
-// device address. Move-only; releases its memory (and its share of the accounting) when destroyed.
+// A buffer addressed from shaders by its device address; mapped for its whole life when its
+// memory is host-visible (every MemoryUse but DeviceOnly on a discrete GPU). Move-only; releases
+// its memory (and its share of the accounting) when destroyed.
 class GpuBuffer {
 public:
     GpuBuffer() = default;
@@ -52,9 +60,11 @@ public:
     VkDeviceAddress address() const { return address_; }
     bool isValid() const { return buffer_ != VK_NULL_HANDLE; }
     VkBuffer handle() const { return buffer_; }  // for transfer commands (fills, copies)
+    bool isMapped() const { return mapped_ != nullptr; }
 
-    // Copies between host memory and [offset, offset + bytes) of the buffer. Call only while
-    // no dispatch that uses the buffer is running (VulkanDevice::submit waits for completion).
+    // Copies between host memory and [offset, offset + bytes) of the buffer (an error when it is
+    // not mapped). Call only while no dispatch or copy that uses those bytes is running
+    // (VulkanDevice::submit waits for completion).
     Status upload(const void* data, uint64_t bytes, uint64_t offset = 0);
     Status download(void* data, uint64_t bytes, uint64_t offset = 0) const;
 
@@ -88,10 +98,18 @@ public:
     // Where a buffer lives. DeviceLocal: GPU memory the host can map (resizable BAR) when there
     // is such a heap, for data the GPU reads often. Readback: host-cached system memory, for
     // results the host reads: reading device memory through an uncached mapping is very slow.
-    enum class MemoryUse { DeviceLocal, Readback };
-    // Whether Readback buffers land in a device-local heap (lavapipe, integrated GPUs: one
-    // memory) rather than in system memory (discrete GPUs).
-    bool readbackInDeviceMemory() const;
+    // DeviceOnly: GPU memory the host does not map, filled by copies on the transfer queue
+    // (readable by the compute queue too); where every device-local type is host-visible
+    // (lavapipe) the same memory as DeviceLocal. Staging: pinned host-visible memory the
+    // transfer queue copies from, system memory where the device has a type for it.
+    enum class MemoryUse { DeviceLocal, Readback, DeviceOnly, Staging };
+    // Whether buffers of this use land in a device-local heap (lavapipe, integrated GPUs: one
+    // memory) rather than in system memory (Readback and Staging on discrete GPUs).
+    bool inDeviceMemory(MemoryUse use) const;
+    bool readbackInDeviceMemory() const { return inDeviceMemory(MemoryUse::Readback); }
+    // Whether the device has device-local memory the host cannot map and host-visible memory
+    // outside its heaps: a discrete GPU, where chunk data can travel by DMA from system memory.
+    bool hasSeparateMemory() const;
 
     // A zero-size request allocates a small buffer, so that every binding has a valid address.
     Result<GpuBuffer> createBuffer(uint64_t bytes, MemoryUse use = MemoryUse::DeviceLocal);
@@ -106,15 +124,33 @@ public:
     // submit in two halves, so that the host can work while the device runs: begin records and
     // submits (after waiting for a submission still running), wait waits for it (nothing to do
     // when none runs). The host may write buffers the running submission does not read.
-    Status begin(const std::function<void(VkCommandBuffer)>& record);
+    // after, when given, holds the submission's stages until its semaphore value is reached
+    // (copies on the transfer queue that the kernels read).
+    Status begin(const std::function<void(VkCommandBuffer)>& record, const SubmitWait* after = nullptr);
     Status wait();
     bool running() const { return pending_ != VK_NULL_HANDLE; }
+
+    // The transfer queue: a queue of a transfer-only family (a DMA engine) when the device has
+    // one, else the compute queue itself. Submissions to it come from the thread that submits
+    // compute work (the queues are not locked). Buffers of MemoryUse::DeviceOnly are shared by
+    // both families (VK_SHARING_MODE_CONCURRENT) when they differ.
+    VkQueue transferQueue() const { return transferQueue_; }
+    uint32_t transferFamily() const { return transferFamily_; }
+    uint32_t computeFamily() const { return computeFamily_; }
+    bool separateTransferQueue() const { return transferFamily_ != computeFamily_; }
+    uint32_t transferTimestampValidBits() const { return transferTimestampValidBits_; }
+    bool hostQueryReset() const { return hostQueryReset_; }  // vkResetQueryPool may be called
+    double submitTimeoutSeconds() const { return submitTimeoutSeconds_; }
+    // Marks the device failed (a lost device, a timeout seen elsewhere): later submits fail.
+    void fail(const std::string& message) {
+        if (failure_.empty()) failure_ = message;
+    }
 
 private:
     friend class GpuBuffer;
     VulkanDevice() = default;
     Status init(const VulkanDeviceOptions& options);
-    Status createLogicalDevice(VkPhysicalDevice physical, uint32_t queueFamily);
+    Status createLogicalDevice(VkPhysicalDevice physical);
     Result<uint32_t> findMemoryType(uint32_t typeBits, MemoryUse use) const;
     void freeBuffer(GpuBuffer& buffer);
 
@@ -123,6 +159,10 @@ private:
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
+    VkQueue transferQueue_ = VK_NULL_HANDLE;
+    uint32_t computeFamily_ = 0, transferFamily_ = 0;
+    uint32_t transferTimestampValidBits_ = 0;
+    bool hostQueryReset_ = false;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkCommandBuffer pending_ = VK_NULL_HANDLE;  // submitted, not yet waited for
