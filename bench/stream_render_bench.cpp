@@ -11,6 +11,7 @@
 //                       [--eye X,Y,Z --target X,Y,Z]  (default: frame the scene; give both to match a
 //                       peer renderer's camera, e.g. ../shared/tools/mitsuba_bench.py)
 //                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
+//                       [--attributes]  (the generated mesh gets per-vertex normals and colours)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
@@ -34,6 +35,7 @@
 #include <vector>
 
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
@@ -59,6 +61,7 @@ struct Args {
     bool residentOnly = false;  // only the resident rows (for profiling the host side)
     bool camera = false;        // --eye and --target given
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
+    bool attributes = false;    // --attributes: the generated mesh gets per-vertex normals and colours
     Vec3f eye, target;
     std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
@@ -115,6 +118,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--resident-only") a.residentOnly = true;
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
+        else if (flag == "--attributes") a.attributes = true;
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
         else if (flag == "--upload") {
@@ -154,7 +158,7 @@ std::string makePackage(const Args& a, double* importSeconds) {
                               ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + "-" +
                                geometryCodecName(a.codec) +
                                "-cap" + std::to_string(int(a.residentBytesPerTriangle)) +
-                               ".vast"))
+                               (a.attributes ? "-attributes" : "") + ".vast"))
                                  .string();
     GenerateOptions g;
     auto kind = parseGeneratorKind(a.kind);
@@ -163,6 +167,17 @@ std::string makePackage(const Args& a, double* importSeconds) {
     g.triangles = a.triangles;
     auto mesh = generateMesh(g);
     if (!mesh) fail(mesh.message());
+    if (a.attributes) {
+        // What a scan with normals and colours costs: a normal leaning from each vertex towards
+        // +Y (radial from below the scene), a colour from its position.
+        const Aabb box = mesh->bounds();
+        const Vec3f centre = (box.lo + box.hi) * 0.5f, size = box.hi - box.lo;
+        for (const Vec3f& p : mesh->positions) {
+            mesh->normals.push_back(encodeOctahedral(p - centre + Vec3f{0, 2.0f * size.y, 0}));
+            auto byte = [](float v) { return uint8_t(int(v * 251.0f) & 255); };
+            mesh->colors.push_back(packSrgb8(byte((p.x - box.lo.x) / size.x), 200, byte((p.z - box.lo.z) / size.z)));
+        }
+    }
     PackageBuildOptions options;
     options.chunkSizeBytes = a.chunkSize;
     options.codec = a.codec;
