@@ -1,17 +1,23 @@
 // One walk pass: the rays of queue pc.queue, closest-hit rays (index j, path j) and shadow rays
 // (pathCapacity + j) that generate or shade started, and rays parked by earlier passes. Each ray
-// walks its cells of the top-level tree front to back and traces the resident ones. At the first
-// cell whose chunk is not resident it stops: it is parked there (the leaf is kept in its walk
-// state), counted in that chunk's demand counter, and queued on the other queue for the next
-// pass, after the host has paged chunks in; its walk goes on without tracing to count the chunks
-// of its later cells in their look-ahead counters (the pager decodes those early, fills free
-// slots with them and keeps them resident rather than others). A parked ray walks again from its start, skipping the
-// cells before the leaf it is parked at (traced, or pruned, before), so each cell is traced at
-// most once per ray and in the in-core order whatever was resident when: an out-of-core render
-// equals the in-core one bit for bit, cost AOV included. A cell is pruned once a hit lies before
-// it (any hit, for shadow rays); hits merge under one total order (t, front before back, lower
-// chunk). A ray that finishes clears its bit in its path's flags; the last of a path's rays to
-// finish queues the path for shading (kShadeQueue).
+// walks its cells of the top-level tree front to back and traces those of resident chunks. Out of
+// core, a cell whose chunk is not resident does not stop the walk: the ray goes on tracing the
+// resident cells beyond it, and at the end it is parked if it still waits for such a cell (a
+// shadow ray that found a hit waits for nothing): counted in the demand counter of the first such
+// cell's chunk and in the look-ahead counters of the others' (the pager loads by the first,
+// decodes the others early and fills free slots with them), and queued on the other queue for
+// the next pass. Its state keeps the first cell it waits for (the cells before it are done) and
+// which of the kRayDoneBits cells after it are done; a parked ray walks again in the first pass
+// of the next paging step (look-ahead) and traces the resident cells it has not done, and in the
+// step's later passes, where nothing new is resident, it is queued again without a walk. So
+// every resident chunk a waiting ray needs is traced by it at once, and a chunk need not come
+// back for rays that waited elsewhere while it was resident. The hit does not depend on the order
+// cells are traced in: hits merge under one total order (t, front before back, lower chunk) and a
+// cell's trace finds its hits up to the best so far inclusive, so an out-of-core render equals
+// the in-core one bit for bit (the cost AOV counts the work done, which is more out of core). A
+// cell is pruned once a hit lies before it (any hit, for shadow rays). A ray that finishes
+// clears its bit in its path's flags; the last of a path's rays to finish queues the path for
+// shading (kShadeQueue).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -87,8 +93,8 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     const uint chunkCount = params.p.chunkCount;
     UintArray topNodes = UintArray(params.p.topNodes);
     UintArray chunkSlots = UintArray(params.p.chunkSlots);
-    const uint parkWord = state.y;  // the leaf it is parked at + 1, or 0
-    if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // still waiting: queued again without a walk
+    const uint parkWord = state.y;  // the leaf of the first cell it waits for + 1, or 0
+    if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // nothing came since its walk: queued again
         const uint chunk = topNodes.v[2u * (parkWord - 1u)];
         if (chunkSlots.v[chunk] == kWalkNoHit) {
             atomicAdd(demand.v[chunk], 1u);
@@ -107,8 +113,15 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     bool bestFront = (flags & kHitFrontFacing) != 0u;
     uint bestChunk = found && !anyHit ? UVec4Array(params.p.hitIds).v[ray].z : kWalkNoHit;
     TraceHit best = TraceHit(0.0, 0.0, 0.0, 0u, 0u, 0u, 0u, 0u);
-    bool newBest = false, skipping = kPaging && parkWord != 0u, lookingAhead = false;
+    bool newBest = false;
     uint bestSlot = 0u, cells = 0u, triangles = 0u, parkedLeaf = 0u;
+    // Out of core: the cells it waits for (the first one's leaf and chunk, how many). A hit found
+    // later in the walk lies in a later cell, so it prunes none of them. Cells are counted from
+    // the first one waited for: `since` from the last walk's (its done bits: doneBefore), `after`
+    // from this walk's (the done bits it leaves: doneNow).
+    bool beforeFirst = parkWord != 0u;  // cells before the last walk's first are done (or pruned)
+    const uint doneBefore = flags >> kRayDoneShift;
+    uint since = 0u, after = 0u, doneNow = 0u, waiting = 0u, firstWaitChunk = 0u;
 
     const ChunkView top = ChunkView(0ul, 0ul, 0ul, 0ul, 0ul, params.p.topNodeCount, false,
                                     vec3(params.p.boundsLoX, params.p.boundsLoY, params.p.boundsLoZ),
@@ -125,28 +138,37 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
                 continue;
             }
             const uint chunk = word0;  // a top-level leaf's first word is its chunk (kEmptyCell: none)
-            if (skipping && index + 1u == parkWord) skipping = false;
-            if (!skipping && chunk < chunkCount) {
+            if (chunk < chunkCount) {
+                bool done = false;
+                if (kPaging) {
+                    if (beforeFirst) {
+                        beforeFirst = index + 1u != parkWord;
+                        done = beforeFirst;
+                    } else if (parkWord != 0u) {
+                        ++since;
+                        done = since <= kRayDoneBits && ((doneBefore >> (since - 1u)) & 1u) != 0u;
+                    }
+                }
+                bool first = false, traced = false;
                 precise float cellT0 = t0 - margin(r, t0);
                 precise float cellT1 = t1 + margin(r, t1);
-                if (found && (anyHit || bestT < cellT0)) {
+                if (done) {
+                } else if (found && (anyHit || bestT < cellT0)) {
                     if (anyHit) break;
-                } else if (kPaging && lookingAhead) {
-                    atomicAdd(RwUintArray(params.p.ahead).v[chunk], 1u);
                 } else {
                     const uint slot = chunkSlots.v[chunk];
                     if (slot == kWalkNoHit) {  // (without kPaging the host has every chunk resident)
                         if (kPaging) {
-                            parked = true, parkedLeaf = index, lookingAhead = true;
-                            atomicAdd(demand.v[chunk], 1u);
-                            atomicAdd(demand.v[chunkCount], 1u);
+                            first = waiting++ == 0u;
+                            if (first) parkedLeaf = index, firstWaitChunk = chunk;
+                            else atomicAdd(RwUintArray(params.p.ahead).v[chunk], 1u);
                         }
                     } else {
                         RwUintArray(params.p.touched).v[chunk] = 1u;
                         const float tMinCell = cppMax(0.0, cellT0);
                         const float tMaxCell = cppMin(found ? bestT : tMax, cellT1);
                         const TraceHit h = traverseBvh4(chunkView(slots.v[slot]), r, tMinCell, tMaxCell, anyHit);
-                        ++cells;
+                        ++cells, traced = true;
                         triangles += h.trianglesTested;
                         if (anyHit ? (h.flags & kHitFound) != 0u : replaces(h, chunk, found, bestT, bestFront, bestChunk)) {
                             best = h, found = true, newBest = true;
@@ -156,14 +178,26 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
                         }
                     }
                 }
+                // A cell beyond the window is traced again if it is resident at a later walk
+                // (the same hits), or waited for if it is not.
+                if (kPaging && waiting != 0u && !first) {
+                    ++after;
+                    if ((done || traced) && after <= kRayDoneBits) doneNow |= 1u << (after - 1u);
+                }
             }
             if (stackSize == 0u) break;
             --stackSize;
             index = stackNode[stackSize], t0 = stackT0[stackSize], t1 = stackT1[stackSize];
         }
     }
+    // A shadow ray that found a hit beyond a cell it waits for needs that cell no more.
+    parked = kPaging && waiting != 0u && !(anyHit && found);
+    if (parked) {
+        atomicAdd(demand.v[firstWaitChunk], 1u);
+        atomicAdd(demand.v[chunkCount], 1u);
+    }
     flags = (found ? kHitFound : 0u) | (bestFront && !anyHit ? kHitFrontFacing : 0u) | (parked ? kRayPending : 0u) |
-            (gRayFromSurface ? kRayFromSurface : 0u);
+            (gRayFromSurface ? kRayFromSurface : 0u) | (parked ? doneNow << kRayDoneShift : 0u);
     const uint newParkWord = parked ? parkedLeaf + 1u : 0u;
     if (newBest && !anyHit) writeHit(params, ray, slots.v[bestSlot], best, bestChunk);
     states.v[ray] = uvec2(flags, newParkWord);

@@ -252,8 +252,9 @@ private:
     // One walk pass over queue push.queue (its parked rays go to the other queue, which becomes
     // push.queue), then, when shading, the shading of the paths it finished (their new rays join
     // the parked ones).
-    // With lookAhead, parked rays walk again (whether or not their chunk came) and count the
-    // chunks they reach later (the look-ahead counters are cleared first).
+    // With lookAhead, parked rays walk again (whether or not their first chunk came: others they
+    // wait for may have) and count the chunks they wait for besides the first (the look-ahead
+    // counters are cleared first).
     void walkRound(WavefrontPush& push, bool shade, bool countDemand, bool lookAhead) {
         clearQueue(push.queue ^ 1u);
         if (countDemand || lookAhead)
@@ -336,11 +337,12 @@ private:
             const auto plan = pager_.planLoads(std::span<const uint32_t>(demand).first(b_.chunkCount), ahead);
             planned = !plan.empty();
             // Overlap only when the next step has work without the planned chunks: paths to
-            // shade, or rays parked at chunks that are resident now; else it would idle meanwhile.
+            // shade, or parked rays that wait for chunks resident now (loaded during the step);
+            // else it would idle meanwhile.
             uint64_t ready = counts[kShadeQueue];
             const std::span<const uint32_t> slots = pager_.chunkSlots();
             for (uint32_t c = 0; c < b_.chunkCount; ++c)
-                if (slots[c] != kEmptyCell) ready += demand[c];
+                if (slots[c] != kEmptyCell) ready += demand[c] + ahead[c];
             if (planned && (!job_.overlapLoads || ready == 0)) {
                 auto done = pager_.loadPlanned();
                 if (!done) return done.status();

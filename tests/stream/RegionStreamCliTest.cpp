@@ -32,20 +32,24 @@ std::string vulkan(const std::string& extra) {
     return terrainPackage() + " --backend vulkan --resolution 50x37 --spp 3 --seed 2" + extra;
 }
 
+// Every AOV but `cost`, which counts the work done: each render pages its chunks in as its rays
+// reach them (a fresh process starts with none resident), and a ray traces the cells that are
+// resident when it walks, so the work depends on what a tile's rays ask for first.
 TEST(RegionStreamCli, ExrTilesWithEveryAovAssembleToTheWholeFrameBitForBit) {
     test::expectTilesAssembleToTheWholeFrame(
-        vulkan(" --memory-budget 8MiB --aovs depth,normal,albedo,primid,chunkid,cost"), tmp("vulkan-exr-"), ".exr", 3,
-        2);
+        vulkan(" --memory-budget 8MiB --aovs depth,normal,albedo,primid,chunkid"), tmp("vulkan-exr-"), ".exr", 3, 2);
 }
 
 TEST(RegionStreamCli, PngTilesAssembleToTheWholeFrameBitForBit) {
     test::expectTilesAssembleToTheWholeFrame(vulkan(" --memory-budget 8MiB"), tmp("vulkan-png-"), ".png", 3, 2);
 }
 
-// 512 KiB holds 2 chunk slots of this 16-chunk package: chunks are paged in and out (132 loads
-// for the whole frame), yet every channel, `cost` included, is the same.
+// 512 KiB holds 2 chunk slots of this 16-chunk package: chunks are paged in and out, yet every
+// channel is the same. (Not `cost`: it counts the work done, and out of core a ray traces the
+// cells that are resident when it walks, so that depends on the schedule, which differs between a
+// tile and the frame.)
 TEST(RegionStreamCli, OutOfCoreTilesAssembleToTheWholeFrameBitForBit) {
-    test::expectTilesAssembleToTheWholeFrame(vulkan(" --memory-budget 512KiB --aovs depth,primid,cost"),
+    test::expectTilesAssembleToTheWholeFrame(vulkan(" --memory-budget 512KiB --aovs depth,normal,albedo,primid,chunkid"),
                                              tmp("vulkan-tight-"), ".exr", 2, 3);
 }
 

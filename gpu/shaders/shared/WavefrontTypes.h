@@ -25,6 +25,11 @@ const uint kPathWalkShadow = 16u;    // its shadow ray is still being walked
 // Walk state flags (rayState .x), besides kHitFound and kHitFrontFacing.
 const uint kRayPending = 4u;      // still to be walked: started, or parked at a cell whose chunk was not resident
 const uint kRayFromSurface = 8u;  // leaves a surface: hits within t's rounding error are refused
+// rayState .x above its flags, for a parked ray: the cells it has done (traced) among the
+// kRayDoneBits cells that follow, in the order of its walk, the first one it waits for (bit i:
+// the (i + 1)-th such cell; cells before the first one it waits for are all done or pruned).
+const uint kRayDoneShift = 8u;
+const uint kRayDoneBits = 24u;
 
 
 // The queue of paths ready to shade (WavefrontParams::queues, queueCounts).
@@ -60,13 +65,14 @@ struct WavefrontParams {
     uint64_t touched;      // per chunk: set to 1 when a ray traces one of its cells
     uint64_t demand;       // per chunk: rays parked at one of its cells (last walk pass); [chunkCount]:
                            // all parked rays; [chunkCount + 1]: rays started (camera, shadow, bounce)
-    uint64_t ahead;        // per chunk: parked rays (of the last walk pass) that reach one of its
-                           // cells after the one they wait at, unless a hit prunes it first
+    uint64_t ahead;        // per chunk: parked rays (of the last walk pass) that wait for one of its
+                           // cells besides the first one they wait for
     uint64_t materials;    // WavefrontMaterial per material
     uint64_t rayOrigin;    // vec4: origin, tMax
     uint64_t rayDirection; // vec4: direction, tMin (0)
     uint64_t rayState;     // uvec2: walk flags (kHitFound, kHitFrontFacing, kRayPending,
-                           // kRayFromSurface), the top-level leaf the ray is parked at + 1 or 0
+                           // kRayFromSurface) and the cells done beyond the first it waits for
+                           // (kRayDoneShift), the top-level leaf of that first cell + 1 or 0
     uint64_t hitPosition;  // vec4 per path: its closest hit's position, t
     uint64_t hitNormal;    // uvec4 per path: geometric normal's float bits (not normalized), shading normal
                            // (octahedral code at the hit, or kNoNormal; core/VertexAttributes.h)
