@@ -168,10 +168,12 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
     return materials;
 }
 
+static_assert(format::kCameraNameBytes == kMaxSceneCameraNameBytes);
+
 std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras) {
     ByteWriter out;
     for (const SceneCamera& c : cameras) {
-        out.putFixedString(c.name, format::kCameraNameBytes);
+        out.putFixedString(storedCameraName(c.name), format::kCameraNameBytes);  // importers cut it already
         out.put(c.camera.eye), out.put(c.camera.target), out.put(c.camera.up), out.put(c.camera.fovYDegrees);
     }
     return std::move(out.bytes());

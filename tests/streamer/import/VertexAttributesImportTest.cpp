@@ -107,5 +107,32 @@ TEST(VertexAttributesImport, GltfNormalsFollowTheTransformAndColoursAreLinear) {
     EXPECT_EQ(r->report.coloursRead, 3u);
 }
 
+// A camera name longer than the package keeps (64 bytes) is cut at import, at a character
+// boundary, and the report says what was stored for what.
+TEST(VertexAttributesImport, GltfCameraNameBeyond64BytesIsCutAndReported) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    std::string longName = "Shot 12 ";
+    while (longName.size() < 100) longName += "\xC3\xA9";  // "é": 2 bytes, so 8 + 46 * 2 = 100
+    ASSERT_EQ(longName.size(), 100u);
+    const std::string stored = longName.substr(0, 64);
+    const std::string json = b.json(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+        "cameras":[{"name":")" + longName + R"(","type":"perspective","perspective":{"yfov":0.7,"znear":0.1}},
+                   {"name":"Short","type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}],
+        "nodes":[{"mesh":0},{"camera":0,"translation":[0,0,5]},{"camera":1,"translation":[0,0,6]}],
+        "scenes":[{"nodes":[0,1,2]}],"scene":0)");
+    auto r = importGltf(writeFile("long-camera.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.cameras.size(), 2u);
+    EXPECT_EQ(r->mesh.cameras[0].name, stored);
+    EXPECT_EQ(r->mesh.cameras[1].name, "Short");
+    bool reported = false;
+    for (const std::string& w : r->report.warnings)
+        reported |= w == "camera 0 name '" + longName + "' (100 bytes) is stored as '" + stored +
+                             "' (64 bytes; names are kept to 64); --camera takes either";
+    EXPECT_TRUE(reported) << ::testing::PrintToString(r->report.warnings);
+    EXPECT_EQ(r->report.warnings.size(), 1u) << "only the long name is reported";
+}
+
 }  // namespace
 }  // namespace vastray::test

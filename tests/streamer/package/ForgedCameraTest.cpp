@@ -110,5 +110,19 @@ TEST_F(ForgedCameras, ChangedCameraWithoutItsChecksumIsRefused) {
     expectRefused(bytes, false, "cameras checksum mismatch");
 }
 
+// A caller that bypasses the importers (which cut names and say so) still gets a name cut at a
+// character boundary, never half a UTF-8 character: "€" is 3 bytes, 21 of them fill 63.
+TEST(PackageCameras, WriterKeepsAtMost64BytesOfWholeCharacters) {
+    TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 200, 7);
+    std::string euros;
+    for (int i = 0; i < 30; ++i) euros += "\xE2\x82\xAC";
+    mesh.cameras = {{euros, {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 40}}, {std::string(64, 'a'), {{0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 40}}};
+    auto reader = buildAndOpen(std::move(mesh), tempPath("euro-cameras.vast"), PackageBuildOptions{});
+    ASSERT_TRUE(reader);
+    ASSERT_EQ(reader->info().cameras.size(), 2u);
+    EXPECT_EQ(reader->info().cameras[0].name, euros.substr(0, 63));
+    EXPECT_EQ(reader->info().cameras[1].name, std::string(64, 'a')) << "a name of exactly 64 bytes is kept whole";
+}
+
 }  // namespace
 }  // namespace vastray::test
