@@ -107,6 +107,47 @@ TEST(VertexAttributesImport, GltfNormalsFollowTheTransformAndColoursAreLinear) {
     EXPECT_EQ(r->report.coloursRead, 3u);
 }
 
+// One triangle whose attribute `name` is the accessor `bytes` of `componentType` and `type`
+// with `count` elements; the import must fail with `expected` in its message.
+void expectAttributeRefused(const char* name, const std::string& bytes, int componentType, const char* type,
+                            size_t count, const std::string& expected) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    b.addAccessor(bytes, componentType, type, count);
+    const std::string json = b.json(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,")" + std::string(name) +
+                                    R"(":1}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0)");
+    auto r = importGltf(writeFile("bad-attribute.gltf", json));
+    ASSERT_FALSE(r.isOk()) << name << " " << type << " accepted; expected '" << expected << "'";
+    EXPECT_NE(r.message().find("bad-attribute.gltf: mesh 0 primitive 0: " + expected), std::string::npos)
+        << r.message();
+}
+
+std::string floats(size_t count, float value = 0.5f) {
+    std::string bytes;
+    for (size_t i = 0; i < count; ++i) appendRaw(bytes, value);
+    return bytes;
+}
+
+TEST(VertexAttributesImport, GltfColourOfAWrongTypeIsNamed) {
+    const std::string wrong = "accessor 1: COLOR_0 must be VEC3 or VEC4 of floats or normalized unsigned bytes or shorts";
+    expectAttributeRefused("COLOR_0", floats(3), 5126, "SCALAR", 3, wrong);
+    expectAttributeRefused("COLOR_0", floats(6), 5126, "VEC2", 3, wrong);
+    expectAttributeRefused("COLOR_0", std::string(12, '\x40'), 5121, "VEC4", 3, wrong);  // bytes, not normalized
+    expectAttributeRefused("COLOR_0", std::string(18, '\x10'), 5122, "VEC3", 3, wrong);        // signed shorts
+    expectAttributeRefused("COLOR_0", std::string(36, '\x01'), 5125, "VEC3", 3, wrong);        // unsigned ints
+}
+
+TEST(VertexAttributesImport, GltfNormalOfAWrongTypeIsNamed) {
+    expectAttributeRefused("NORMAL", floats(12), 5126, "VEC4", 3, "accessor 1: NORMAL is not VEC3");
+}
+
+TEST(VertexAttributesImport, GltfNormalOrColourCountOtherThanPositionsIsNamed) {
+    expectAttributeRefused("NORMAL", floats(6), 5126, "VEC3", 2, "NORMAL has 2 elements for 3 positions");
+    expectAttributeRefused("NORMAL", floats(12), 5126, "VEC3", 4, "NORMAL has 4 elements for 3 positions");
+    expectAttributeRefused("COLOR_0", floats(6), 5126, "VEC3", 2, "COLOR_0 has 2 elements for 3 positions");
+    expectAttributeRefused("COLOR_0", floats(16), 5126, "VEC4", 4, "COLOR_0 has 4 elements for 3 positions");
+}
+
 // A camera name longer than the package keeps (64 bytes) is cut at import, at a character
 // boundary, and the report says what was stored for what.
 TEST(VertexAttributesImport, GltfCameraNameBeyond64BytesIsCutAndReported) {
