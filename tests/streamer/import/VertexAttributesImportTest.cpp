@@ -107,6 +107,33 @@ TEST(VertexAttributesImport, GltfNormalsFollowTheTransformAndColoursAreLinear) {
     EXPECT_EQ(r->report.coloursRead, 3u);
 }
 
+// The mesh has an attribute on every vertex or on none, whichever primitive brings it: here the
+// first primitive has neither, the second both, so the first's vertices are back-filled.
+TEST(VertexAttributesImport, GltfAttributesOfALaterPrimitiveFillTheEarlierOnes) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    std::string normals, colours;
+    for (int i = 0; i < 3; ++i)
+        for (float f : {0.0f, 0.0f, 1.0f}) appendRaw(normals, f);
+    for (int i = 0; i < 3; ++i)
+        for (float f : {1.0f, 0.0f, 0.0f}) appendRaw(colours, f);
+    b.addAccessor(normals, 5126, "VEC3", 3);
+    b.addAccessor(colours, 5126, "VEC3", 3);
+    const std::string json = b.json(
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}},{"attributes":{"POSITION":0,"NORMAL":1,"COLOR_0":2}}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0)");
+    auto r = importGltf(writeFile("attributes-later.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.normals.size(), 6u);
+    ASSERT_EQ(r->mesh.colors.size(), 6u);
+    for (size_t v = 0; v < 3; ++v) {
+        EXPECT_EQ(r->mesh.normals[v], kNoNormal) << v;
+        EXPECT_EQ(r->mesh.colors[v], kWhiteColor) << v;
+        expectNormal(r->mesh.normals[3 + v], {0, 0, 1}, "vertex " + std::to_string(3 + v));
+        EXPECT_EQ(r->mesh.colors[3 + v], packSrgb8(255, 0, 0)) << 3 + v;
+    }
+}
+
 // One triangle whose attribute `name` is the accessor `bytes` of `componentType` and `type`
 // with `count` elements; the import must fail with `expected` in its message.
 void expectAttributeRefused(const char* name, const std::string& bytes, int componentType, const char* type,
