@@ -1,6 +1,7 @@
 #include "vastray/core/RenderOptions.h"
 
 #include <string>
+#include <vector>
 
 #include "vastray/core/VecMath.h"
 
@@ -67,6 +68,28 @@ static Status validateRegion(const RenderOptions& o) {
     return Status::ok();
 }
 
+// The index of the camera `choice` names: its exact name, else (a name longer than a package
+// stores) the one stored under its cut (storedCameraName), else its index; cameras.size() if none.
+static Result<size_t> findSceneCamera(std::span<const SceneCamera> cameras, const std::string& choice,
+                                      const std::string& names) {
+    for (size_t i = 0; i < cameras.size(); ++i)
+        if (cameras[i].name == choice) return i;
+    const std::string stored = storedCameraName(choice);
+    if (stored != choice) {
+        std::vector<size_t> matches;
+        for (size_t i = 0; i < cameras.size(); ++i)
+            if (cameras[i].name == stored) matches.push_back(i);
+        if (matches.size() > 1)
+            return Status::error("scene camera '" + choice + "': cameras " + std::to_string(matches[0]) + " and " +
+                                 std::to_string(matches[1]) + " are both stored as '" + stored +
+                                 "' (names are kept to " + std::to_string(kMaxSceneCameraNameBytes) +
+                                 " bytes); pick one by index; the scene has " + names);
+        if (matches.size() == 1) return matches[0];
+    }
+    if (choice.find_first_not_of("0123456789") == std::string::npos && choice.size() < 10) return size_t(std::stoul(choice));
+    return cameras.size();
+}
+
 Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string& choice, RenderOptions& options) {
     if (choice.empty()) {
         if (!options.frameScene || cameras.empty()) return Status::ok();
@@ -78,15 +101,12 @@ Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string&
     std::string names;
     for (size_t i = 0; i < cameras.size(); ++i) names += (i ? ", " : "") + std::to_string(i) + " '" + cameras[i].name + "'";
     if (cameras.empty()) return Status::error("scene camera '" + choice + "': the scene defines no cameras");
-    size_t index = cameras.size();
-    for (size_t i = 0; i < cameras.size() && index == cameras.size(); ++i)
-        if (cameras[i].name == choice) index = i;
-    if (index == cameras.size() && choice.find_first_not_of("0123456789") == std::string::npos && choice.size() < 10)
-        index = std::stoul(choice);
-    if (index >= cameras.size())
+    auto index = findSceneCamera(cameras, choice, names);
+    if (!index) return index.status();
+    if (*index >= cameras.size())
         return Status::error("scene camera '" + choice + "': no camera of that name or index; the scene has " + names);
     options.frameScene = false;
-    options.camera = cameras[index].camera;
+    options.camera = cameras[*index].camera;
     return Status::ok();
 }
 

@@ -387,6 +387,15 @@ std::vector<std::string> Service::jobsLeftRunning() const {
     return left;
 }
 
+std::optional<uint64_t> Service::countWaitingTiles() {
+    auto count = stores_.tasks->countWaitingTiles();
+    if (!count) {
+        std::fprintf(stderr, "vastray serve: /metrics: counting the waiting tiles: %s\n", count.message().c_str());
+        return std::nullopt;
+    }
+    return *count;
+}
+
 std::string Service::metricsText() {
     size_t queued = 0, running = 0;
     {
@@ -394,6 +403,8 @@ std::string Service::metricsText() {
         queued = queue_.size();
         for (const auto& worker : workers_) running += worker->runningId.empty() ? 0 : 1;
     }
+    // Replicas' work waits in the task store; a single server's waits in its queue, a job a task.
+    const std::optional<uint64_t> waiting = stores_.tasks ? waitingTiles_.read() : std::optional<uint64_t>(queued);
     uint64_t held = 0;
     for (const auto& worker : workers_) held += worker->renderer->deviceBytesHeld();
     std::string text;
@@ -403,6 +414,11 @@ std::string Service::metricsText() {
     };
     add("vastray_jobs_queued", "gauge", "Jobs waiting to run.", std::to_string(queued));
     add("vastray_jobs_running", "gauge", "Jobs rendering now.", std::to_string(running));
+    if (waiting)
+        add("vastray_tasks_waiting", "gauge",
+            "Tiles waiting for a worker over every job in the store (not leased, or their lease expired; "
+            "replicas), or jobs in this server's queue (one server). Refreshed at most once a second.",
+            std::to_string(*waiting));
     add("vastray_workers", "gauge",
         "Render workers (one per --gpu-device entry), each running one job at a time.",
         std::to_string(workers_.size()));

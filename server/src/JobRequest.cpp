@@ -95,9 +95,11 @@ ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
         if (!std::isfinite(r.sun().intensity()) || r.sun().intensity() < 0 || r.sun().intensity() > kMaxSunIntensity)
             return invalidArgument("sun.intensity", "expected a number in [0, 1000000]");
     }
-    if (r.scene_camera().size() > 64)
-        return invalidArgument("scene_camera", "is " + std::to_string(r.scene_camera().size()) +
-                                                   " characters long (at most 64)");
+    if (r.scene_camera().size() > kMaxSceneCameraNameBytes)
+        return invalidArgument("scene_camera", "is " + std::to_string(r.scene_camera().size()) + " bytes long (at most " +
+                                                   std::to_string(kMaxSceneCameraNameBytes) +
+                                                   ", the longest camera name a package keeps: give the name "
+                                                   "`vastray info` lists, or the camera's index)");
     if (r.has_camera() && !r.scene_camera().empty())
         return invalidArgument("scene_camera", "and camera exclude each other");
     if (r.has_camera()) return normalizeCamera(*r.mutable_camera(), r.up_axis() == "z");

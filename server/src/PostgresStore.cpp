@@ -468,6 +468,18 @@ public:
         return run("COMMIT", Params()).status();
     }
 
+    // The leaseable tiles leaseTask chooses among (its WHERE clause without the assemble task),
+    // counted; docs/DEPLOY.md describes the figure.
+    Result<uint64_t> countWaitingTiles() override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto rows = run(
+            "SELECT count(*) FROM tasks t JOIN jobs j ON j.id = t.job_id "
+            "WHERE j.state IN ($1, $2) AND t.tile >= 0 AND (t.state = $3 OR (t.state = $4 AND t.lease_until < now()))",
+            Params().integer(v1::QUEUED).integer(v1::RUNNING).integer(kWaiting).integer(kLeased));
+        if (!rows) return rows.status();
+        return uint64_t(integerValue(rows->get(), 0, 0));
+    }
+
 private:
     static std::string taskName(int32_t tile) {
         return tile == kAssembleTile ? std::string("assembling") : "tile " + std::to_string(tile);

@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/RenderOptions.h"
@@ -71,6 +73,53 @@ TEST(Camera, RejectsNanEyeEqualTargetParallelUpAndBadFov) {
     EXPECT_FALSE(validateCamera({{0, 5, 0}, {0, 0, 0}, {0, 1, 0}, 45}));
     EXPECT_FALSE(validateCamera({{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 180}));
     EXPECT_TRUE(validateCamera({{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 45}));
+}
+
+// A package keeps 64 bytes of a camera's name: the cut never splits a UTF-8 character.
+TEST(SceneCameraName, LongNamesAreCutAtACharacterBoundary) {
+    EXPECT_EQ(storedCameraName("Front"), "Front");
+    EXPECT_EQ(storedCameraName(std::string(64, 'a')), std::string(64, 'a')) << "64 bytes fit the field";
+    EXPECT_EQ(storedCameraName(std::string(100, 'a')), std::string(64, 'a'));
+    std::string twoByte;  // "é" is 2 bytes: 32 of them end exactly at 64
+    for (int i = 0; i < 50; ++i) twoByte += "\xC3\xA9";
+    EXPECT_EQ(storedCameraName(twoByte), twoByte.substr(0, 64));
+    std::string threeByte;  // "€" is 3 bytes: 21 of them take 63, the 22nd would straddle 64
+    for (int i = 0; i < 40; ++i) threeByte += "\xE2\x82\xAC";
+    EXPECT_EQ(storedCameraName(threeByte), threeByte.substr(0, 63));
+    const std::string fourByte = std::string(62, 'a') + "\xF0\x9F\x8E\xA5";  // a 4-byte emoji over 62..65
+    EXPECT_EQ(storedCameraName(fourByte), std::string(62, 'a'));
+    EXPECT_EQ(storedCameraName(std::string("Cam\0era", 7)), "Cam") << "the field is zero-padded: a NUL ends it";
+}
+
+TEST(RenderOptions, ALongCameraNamePicksTheCameraStoredUnderItsCut) {
+    const std::string longName = std::string(70, 'x') + "-left";
+    std::vector<SceneCamera> cameras(3);
+    cameras[0] = {"Front", {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 45}};
+    cameras[1] = {storedCameraName(longName), {{5, 0, 0}, {0, 0, 0}, {0, 1, 0}, 30}};
+    cameras[2] = {"Top", {{0, 5, 0.1f}, {0, 0, 0}, {0, 1, 0}, 20}};
+    for (const std::string& choice : {longName, storedCameraName(longName)}) {
+        RenderOptions options;
+        ASSERT_TRUE(applySceneCamera(cameras, choice, options)) << choice;
+        EXPECT_EQ(options.camera.fovYDegrees, 30.0f) << choice;
+    }
+    RenderOptions options;
+    const Status unknown = applySceneCamera(cameras, std::string(70, 'y'), options);
+    ASSERT_FALSE(unknown);
+    EXPECT_NE(unknown.message().find("no camera of that name or index; the scene has 0 'Front', 1 '" +
+                                     std::string(64, 'x') + "', 2 'Top'"),
+              std::string::npos)
+        << unknown.message();
+
+    // Two names alike in their first 64 bytes are stored alike: the long name cannot say which.
+    cameras[2].name = storedCameraName(std::string(70, 'x') + "-right");
+    const Status ambiguous = applySceneCamera(cameras, longName, options);
+    ASSERT_FALSE(ambiguous);
+    EXPECT_NE(ambiguous.message().find("cameras 1 and 2 are both stored as '" + std::string(64, 'x') +
+                                       "' (names are kept to 64 bytes); pick one by index"),
+              std::string::npos)
+        << ambiguous.message();
+    ASSERT_TRUE(applySceneCamera(cameras, "2", options)) << "the index still picks either";
+    EXPECT_EQ(options.camera.fovYDegrees, 20.0f);
 }
 
 TEST(RenderOptions, ParsesAovsAndIntegratorsAndRejectsUnknownNames) {

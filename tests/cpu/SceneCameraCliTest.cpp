@@ -123,5 +123,44 @@ TEST_F(SceneCameraCli, BadChoicesAreNamedErrors) {
     EXPECT_NE(none.output.find("scene camera '0': the scene defines no cameras"), std::string::npos) << none.output;
 }
 
+// A camera name longer than a package keeps (64 bytes) still imports: it is cut at a character
+// boundary, `import` says what it stored for what, and `render --camera` takes the stored name
+// or the file's full one, both the same camera as its index.
+TEST_F(SceneCameraCli, LongCameraNameIsCutReportedAndPickedByEitherName) {
+    std::string longName = "Shot-12_";
+    while (longName.size() < 100) longName += "\xC3\xA9";  // "é" is 2 bytes: 8 + 46 * 2 = 100
+    ASSERT_EQ(longName.size(), 100u);
+    const std::string stored = longName.substr(0, 64);
+    std::string gltf = kGltf;
+    gltf.replace(gltf.find("\"Front\""), 7, "\"" + longName + "\"");
+    std::ofstream(test::tmpPath("long-camera.gltf")) << gltf;
+    const std::string package = test::tmpPath("long-camera.vast");
+    CommandResult i = run("import " + test::tmpPath("long-camera.gltf") + " -o " + package + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("warning: " + test::tmpPath("long-camera.gltf") + ": camera 0 name '" + longName +
+                            "' (100 bytes) is stored as '" + stored + "' (64 bytes; names are kept to 64)"),
+              std::string::npos)
+        << i.output;
+    CommandResult info = run("info " + package + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_EQ(nlohmann::json::parse(info.output)["cameras"][0]["name"], stored);
+
+    const std::string base = "render --backend embree " + package + " --resolution 24x16 --spp 1 --progress none -o ";
+    const std::string byIndex = test::tmpPath("long-index.png"), byStored = test::tmpPath("long-stored.png"),
+                      byFull = test::tmpPath("long-full.png");
+    ASSERT_EQ(run(base + byIndex + " --camera 0").exitCode, 0);
+    CommandResult s = run(base + byStored + " --camera '" + stored + "'");
+    ASSERT_EQ(s.exitCode, 0) << s.output;
+    CommandResult f = run(base + byFull + " --camera '" + longName + "'");
+    ASSERT_EQ(f.exitCode, 0) << f.output;
+    EXPECT_TRUE(sameImage(byStored, byIndex));
+    EXPECT_TRUE(sameImage(byFull, byIndex));
+    CommandResult other = run(base + test::tmpPath("long-other.png") + " --camera " + std::string(70, 'z'));
+    EXPECT_NE(other.exitCode, 0);
+    EXPECT_NE(other.output.find("no camera of that name or index; the scene has 0 '" + stored + "', 1 'Side'"),
+              std::string::npos)
+        << other.output;
+}
+
 }  // namespace
 }  // namespace vastray

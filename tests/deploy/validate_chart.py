@@ -129,9 +129,24 @@ def check_replicas(docs):
     target = {"apiVersion": "apps/v1", "kind": "Deployment", "name": deployment["metadata"]["name"]}
     check(hpa["spec"]["scaleTargetRef"] == target, "replicas: HPA targets the Deployment")
     kinds = [(m["type"], m.get("pods", m.get("external"))["metric"]["name"]) for m in hpa["spec"]["metrics"]]
-    check(kinds == [("Pods", "vastray_jobs_running"), ("External", "vastray_tasks_pending")],
+    check(kinds == [("Pods", "vastray_jobs_running"), ("External", "vastray_tasks_waiting")],
           "replicas: HPA on the Pods and External metrics")
     check(not [d for d in docs if d["kind"] == "Secret"], "replicas: no Secret made when existing ones are named")
+
+
+def check_default_hpa(tools):
+    """Autoscaling with the chart's default metrics: the waiting tiles as an External metric (a
+    figure for the whole database) and the busy workers per pod."""
+    code, text = template(tools, "--set", "autoscaling.enabled=true", "--set", "database.url=postgresql://v@db/v")
+    if not check(code == 0, "autoscaling defaults: helm template" + ("" if code == 0 else "\n" + text)):
+        return
+    metrics = find(documents(text), "HorizontalPodAutoscaler")["spec"]["metrics"]
+    check(metrics == [
+        {"type": "Pods", "pods": {"metric": {"name": "vastray_jobs_running"},
+                                  "target": {"type": "AverageValue", "averageValue": "800m"}}},
+        {"type": "External", "external": {"metric": {"name": "vastray_tasks_waiting"},
+                                          "target": {"type": "AverageValue", "averageValue": "2"}}}],
+        f"autoscaling defaults: External vastray_tasks_waiting and Pods vastray_jobs_running ({metrics})")
 
 
 def check_batch(docs):
@@ -196,6 +211,7 @@ def main():
                 code, out = kubernetes_validate(tools, text, version)
                 check(code != 0 and word in out,
                       f"kubernetes-validate rejects {what} ({version})" + ("" if code else "\n" + out))
+    check_default_hpa(tools)
     refused(tools, "an unknown values key", "--set", "server.replica=3", expect="additional properties 'replica'")
     refused(tools, "replicas without PostgreSQL", "--set", "server.replicas=2", expect="need database")
     refused(tools, "autoscaling without PostgreSQL", "--set", "autoscaling.enabled=true", expect="need database")

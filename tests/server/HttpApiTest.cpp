@@ -206,6 +206,9 @@ TEST_F(ServerTest, HttpFullQueueIs429WithRetryAfter) {
     ASSERT_TRUE(metrics);
     EXPECT_NE(metrics->body.find("vastray_jobs_rejected_total 1\n"), std::string::npos) << metrics->body;
     EXPECT_NE(metrics->body.find("vastray_jobs_queued 2\n"), std::string::npos) << metrics->body;
+    // One server: its queued jobs are the tasks waiting (each job one task).
+    EXPECT_NE(metrics->body.find("\n# TYPE vastray_tasks_waiting gauge\nvastray_tasks_waiting 2\n"), std::string::npos)
+        << metrics->body;
 }
 
 TEST_F(ServerTest, HttpIdempotencyKeyReturnsTheSameJob) {

@@ -3,14 +3,18 @@
 // process metrics and one status-code label scheme for both front ends.
 #include <grpcpp/grpcpp.h>
 
+#include <atomic>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <cstring>
 #include <regex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "ServerTestSupport.h"
+#include "vastray/server/Metrics.h"
 #include "vastray/v1/render_service.grpc.pb.h"
 
 namespace vastray::test {
@@ -209,6 +213,48 @@ TEST_F(ServerTest, MetricsHaveHistogramsBuildInfoProcessMetricsAndOneCodeScheme)
     EXPECT_GE(m.at("vastray_requests_total{frontend=\"grpc\",code=\"NOT_FOUND\"}"), 1);
     EXPECT_GE(m.at("vastray_requests_total{frontend=\"http\",code=\"OK\"}"), 3);
     EXPECT_FALSE(std::regex_search(metrics->body, std::regex(R"(code="[0-9]+")"))) << metrics->body;
+}
+
+// vastray_tasks_waiting reads the task store (a database query on replicas): however often
+// /metrics is scraped, the query runs at most once a period; a failed query leaves the sample out
+// until the next period rather than repeating a stale figure.
+TEST(CachedGaugeTest, ComputesAtMostOncePerPeriodAndForgetsAFailure) {
+    int computations = 0;
+    std::optional<uint64_t> next = 4;
+    server::CachedGauge gauge(std::chrono::seconds(1), [&] {
+        ++computations;
+        return next;
+    });
+    const auto t0 = server::CachedGauge::Clock::time_point{} + std::chrono::hours(1);
+    EXPECT_EQ(gauge.read(t0), 4u);
+    next = 7;
+    for (int ms : {0, 1, 500, 999}) EXPECT_EQ(gauge.read(t0 + std::chrono::milliseconds(ms)), 4u) << ms;
+    EXPECT_EQ(computations, 1) << "five reads within a second: one query";
+    EXPECT_EQ(gauge.read(t0 + std::chrono::milliseconds(1000)), 7u);
+    EXPECT_EQ(computations, 2);
+    next = std::nullopt;
+    EXPECT_EQ(gauge.read(t0 + std::chrono::milliseconds(2500)), std::nullopt) << "a failed query reads as none";
+    next = 9;
+    EXPECT_EQ(gauge.read(t0 + std::chrono::milliseconds(3000)), std::nullopt) << "and is not retried within the period";
+    EXPECT_EQ(gauge.read(t0 + std::chrono::milliseconds(3500)), 9u);
+    EXPECT_EQ(computations, 4);
+}
+
+// Scrapes from many threads at once (several Prometheus servers, or an adapter and a person)
+// share one computation.
+TEST(CachedGaugeTest, ConcurrentReadsShareOneComputation) {
+    std::atomic<int> computations{0};
+    server::CachedGauge gauge(std::chrono::hours(1), [&] {
+        ++computations;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        return std::optional<uint64_t>(3);
+    });
+    std::vector<std::thread> readers;
+    std::atomic<int> threes{0};
+    for (int i = 0; i < 8; ++i) readers.emplace_back([&] { threes += gauge.read() == 3u ? 1 : 0; });
+    for (auto& t : readers) t.join();
+    EXPECT_EQ(computations.load(), 1);
+    EXPECT_EQ(threes.load(), 8);
 }
 
 }  // namespace

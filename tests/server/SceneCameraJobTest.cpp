@@ -59,5 +59,32 @@ TEST_F(ServerTest, SceneCameraOfAJobIsTheCliRendersCamera) {
         << failed.dump();
 }
 
+// A package keeps camera names to 64 bytes: a longer scene_camera can name no camera, so it is
+// refused at submit, naming the field and the limit; 64 bytes is still a name to look for.
+TEST_F(ServerTest, SceneCameraLongerThan64BytesIsRefusedAtSubmit) {
+    startServer();
+    auto uploaded = http().Put("/v1/scenes?name=cameras.gltf", kCamerasGltf, "application/octet-stream");
+    ASSERT_TRUE(uploaded);
+    ASSERT_EQ(uploaded->status, 200) << uploaded->body;
+    const std::string sceneId = json::parse(uploaded->body)["id"];
+    json tooLong = smallJob(sceneId);
+    tooLong["scene_camera"] = std::string(65, 'c');
+    auto refused = submit(tooLong);
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 400) << refused->body;
+    EXPECT_NE(refused->body.find("scene_camera: is 65 bytes long (at most 64, the longest camera name a package keeps"),
+              std::string::npos)
+        << refused->body;
+
+    json longest = smallJob(sceneId);
+    longest["scene_camera"] = std::string(64, 'c');
+    auto accepted = submit(longest);
+    ASSERT_TRUE(accepted);
+    EXPECT_EQ(accepted->status, 202) << accepted->body;
+    const json failed = waitForState(json::parse(accepted->body)["id"], "FAILED");
+    EXPECT_NE(failed.dump().find("no camera of that name or index; the scene has 0 'Near', 1 'Far'"), std::string::npos)
+        << failed.dump();
+}
+
 }  // namespace
 }  // namespace vastray::test

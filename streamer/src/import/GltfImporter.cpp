@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "import/GltfAccessor.h"
 #include "import/GltfLoader.h"
@@ -190,21 +191,29 @@ private:
         return appendTriangles(prim, uint32_t(base), determinant3(world) < 0);
     }
 
+    // The accessor of `attribute` on `prim`, the primitive whose positions were appended last.
+    // Without it: none, and once earlier primitives gave the mesh that attribute (`values` not
+    // empty), this primitive's vertices get `fill`: a mesh has it on every vertex or on none.
+    // With it, the caller reads it and pads the vertices before this primitive with `fill`.
+    std::optional<int> attributeOrFill(const tinygltf::Primitive& prim, const char* attribute,
+                                       std::vector<uint32_t>& values, uint32_t fill) {
+        const auto found = prim.attributes.find(attribute);
+        if (found != prim.attributes.end()) return found->second;
+        if (!values.empty()) values.resize(out_.mesh.positions.size(), fill);
+        return std::nullopt;
+    }
+
     // NORMAL in world space. The mesh has normals on every vertex or none: once a primitive has
     // them, the vertices of those without get kNoNormal (the geometric normal is used there).
     Status appendNormals(const tinygltf::Primitive& prim, const Mat4& world, uint64_t vertexCount) {
         std::vector<uint32_t>& normals = out_.mesh.normals;
-        const auto normal = prim.attributes.find("NORMAL");
-        const size_t base = out_.mesh.positions.size() - vertexCount;
-        if (normal == prim.attributes.end()) {
-            if (!normals.empty()) normals.resize(base + vertexCount, kNoNormal);
-            return Status::ok();
-        }
-        if (Status s = import::readVec3Accessor(model_, normal->second, xyz_, "NORMAL"); !s.isOk()) return s;
+        const std::optional<int> normal = attributeOrFill(prim, "NORMAL", normals, kNoNormal);
+        if (!normal) return Status::ok();
+        if (Status s = import::readVec3Accessor(model_, *normal, xyz_, "NORMAL"); !s.isOk()) return s;
         if (xyz_.size() / 3 != vertexCount)
             return Status::error("NORMAL has " + std::to_string(xyz_.size() / 3) + " elements for " +
                                  std::to_string(vertexCount) + " positions");
-        normals.resize(base, kNoNormal);
+        normals.resize(out_.mesh.positions.size() - vertexCount, kNoNormal);
         const std::array<double, 9> n = normalMatrix(world);
         for (size_t i = 0; i < xyz_.size(); i += 3) {
             const double x = xyz_[i], y = xyz_[i + 1], z = xyz_[i + 2];
@@ -218,17 +227,13 @@ private:
     // COLOR_0 (linear, spec 3.7.2.1), white on the vertices of primitives without once any has it.
     Status appendColours(const tinygltf::Primitive& prim, uint64_t vertexCount) {
         std::vector<uint32_t>& colours = out_.mesh.colors;
-        const auto colour = prim.attributes.find("COLOR_0");
-        const size_t base = out_.mesh.positions.size() - vertexCount;
-        if (colour == prim.attributes.end()) {
-            if (!colours.empty()) colours.resize(base + vertexCount, kWhiteColor);
-            return Status::ok();
-        }
-        if (Status s = import::readColorAccessor(model_, colour->second, rgb_); !s.isOk()) return s;
+        const std::optional<int> colour = attributeOrFill(prim, "COLOR_0", colours, kWhiteColor);
+        if (!colour) return Status::ok();
+        if (Status s = import::readColorAccessor(model_, *colour, rgb_); !s.isOk()) return s;
         if (rgb_.size() / 3 != vertexCount)
             return Status::error("COLOR_0 has " + std::to_string(rgb_.size() / 3) + " elements for " +
                                  std::to_string(vertexCount) + " positions");
-        colours.resize(base, kWhiteColor);
+        colours.resize(out_.mesh.positions.size() - vertexCount, kWhiteColor);
         for (size_t i = 0; i < rgb_.size(); i += 3)
             colours.push_back(packLinearColor(float(rgb_[i]), float(rgb_[i + 1]), float(rgb_[i + 2])));
         out_.report.coloursRead += vertexCount;

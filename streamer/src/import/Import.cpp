@@ -92,6 +92,21 @@ void applySidedness(const ImportOptions& options, std::vector<Material>& materia
     for (Material& m : materials) m.doubleSided = doubleSided;
 }
 
+// A package keeps kMaxSceneCameraNameBytes of a camera's name: a longer one is cut here, where
+// the report can say so, rather than silently by the writer; `render --camera` takes either.
+void shortenCameraNames(TriangleMesh& mesh, ImportReport& report) {
+    for (size_t i = 0; i < mesh.cameras.size(); ++i) {
+        std::string& name = mesh.cameras[i].name;
+        std::string stored = storedCameraName(name);
+        if (stored == name) continue;
+        report.warnings.push_back("camera " + std::to_string(i) + " name '" + name + "' (" +
+                                  std::to_string(name.size()) + " bytes) is stored as '" + stored + "' (" +
+                                  std::to_string(stored.size()) + " bytes; names are kept to " +
+                                  std::to_string(kMaxSceneCameraNameBytes) + "); --camera takes either");
+        name = std::move(stored);
+    }
+}
+
 }  // namespace
 
 Status finalizeMesh(const std::string& fileName, const ImportOptions& options, ImportedMesh& imported) {
@@ -116,6 +131,7 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     if (mesh.normals.empty()) report.warnUnused("shading normals", report.normalsRead, "shading stays faceted");
     if (mesh.colors.empty()) report.warnUnused("vertex colours", report.coloursRead, "a scan renders grey");
     report.warnUnused("texture coordinates", report.texcoordsRead, "textures are not rendered yet");
+    shortenCameraNames(mesh, report);
     return Status::ok();
 }
 

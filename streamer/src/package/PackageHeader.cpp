@@ -119,9 +119,10 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
         in.get(*v);
     uint32_t reservedAfterCameras = 0;
     in.get(layout.camerasOffset), in.get(layout.camerasChecksum), in.get(layout.cameraCount), in.get(reservedAfterCameras);
-    if (reservedAfterCameras != 0 || layout.cameraCount > format::kMaxCameras)
-        return Status::error("header: camera count " + std::to_string(layout.cameraCount) + " exceeds " +
-                             std::to_string(format::kMaxCameras) + " or a reserved field is not 0");
+    if (layout.cameraCount > format::kMaxCameras)
+        return Status::error("header: camera count " + std::to_string(layout.cameraCount) + " exceeds the limit of " +
+                             std::to_string(format::kMaxCameras));
+    if (reservedAfterCameras != 0) return Status::error("header: the field after the camera count is not 0");
     info.defaultDoubleSided = (flags & format::kDefaultDoubleSided) != 0;
     info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
     info.hasNormals = (flags & format::kHasNormals) != 0;
@@ -167,10 +168,12 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
     return materials;
 }
 
+static_assert(format::kCameraNameBytes == kMaxSceneCameraNameBytes);
+
 std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras) {
     ByteWriter out;
     for (const SceneCamera& c : cameras) {
-        out.putFixedString(c.name, format::kCameraNameBytes);
+        out.putFixedString(storedCameraName(c.name), format::kCameraNameBytes);  // importers cut it already
         out.put(c.camera.eye), out.put(c.camera.target), out.put(c.camera.up), out.put(c.camera.fovYDegrees);
     }
     return std::move(out.bytes());

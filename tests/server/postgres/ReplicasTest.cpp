@@ -58,6 +58,22 @@ protected:
         return out;
     }
 
+    // vastray_tasks_waiting on replica i once it reads `expected` (it is refreshed once a
+    // second), else the last figure read within 10 s; -1: absent from /metrics.
+    long waitingTiles(int i, long expected) {
+        long value = -2;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        do {
+            auto metrics = client(i).Get("/metrics");
+            if (!metrics || metrics->status != 200) return -3;
+            const size_t at = metrics->body.find("\nvastray_tasks_waiting ");
+            value = at == std::string::npos ? -1 : std::stol(metrics->body.substr(at + 23));
+            if (value == expected) break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        } while (std::chrono::steady_clock::now() < deadline);
+        return value;
+    }
+
     PostgresCluster cluster_;
     std::array<std::unique_ptr<ServerProcess>, kReplicas> replicas_;
 };
@@ -241,6 +257,41 @@ TEST_F(ReplicasTest, ATileThatKeepsFailingFailsTheJobAfterMaxAttempts) {
     EXPECT_EQ(sql("SELECT count(*) FROM tasks WHERE job_id = '" + jobId + "' AND state = 1"), "0")
         << "nothing leased once the job failed";
     EXPECT_EQ(client(0).Get("/healthz")->status, 200);
+}
+
+// Replicas' queue is the tasks table (their vastray_jobs_queued stays 0): vastray_tasks_waiting
+// counts, on every replica, the tiles of all jobs that a replica could lease now: waiting, or
+// leased with an expired lease; not those leased and held, done, of a cancelled job, nor the
+// assemble tasks. It is what the Helm chart's HPA scales on.
+TEST_F(ReplicasTest, TasksWaitingGaugeCountsLeasableTilesOnEveryReplica) {
+    for (int i = 0; i < 2; ++i) ASSERT_FALSE(startReplica(i, {"--paused"}).empty()) << replicas_[i]->log();
+    EXPECT_EQ(waitingTiles(0, 0), 0);
+    auto put = client(0).Put("/v1/scenes?name=sphere.ply", readBytes(spherePath_), "application/octet-stream");
+    ASSERT_TRUE(put && put->status == 200);
+    const std::string sceneId = json::parse(put->body)["id"];
+    std::vector<std::string> jobs;
+    for (const json& tiles : {json({2, 2}), json({3, 1})}) {
+        json body = smallJob(sceneId);
+        body["tiles"] = tiles;
+        auto res = client(0).Post("/v1/jobs", body.dump(), "application/json");
+        ASSERT_TRUE(res && res->status == 202) << (res ? res->body : "no response");
+        jobs.push_back(json::parse(res->body)["id"]);
+    }
+    for (int i = 0; i < 2; ++i) EXPECT_EQ(waitingTiles(i, 7), 7) << "replica " << i << ": 4 + 3 tiles";
+    auto metrics = client(1).Get("/metrics");
+    ASSERT_TRUE(metrics);
+    EXPECT_NE(metrics->body.find("\nvastray_jobs_queued 0\n"), std::string::npos) << "the in-memory queue is empty";
+
+    // Of the first job: tile 0 held (lease in the future), tile 1 leased but expired, tile 2 done.
+    const std::string first = "job_id = '" + jobs[0] + "' AND tile = ";
+    sql("UPDATE tasks SET state = 1, owner = 'elsewhere', lease_until = now() + interval '1 hour' WHERE " + first + "0");
+    sql("UPDATE tasks SET state = 1, owner = 'gone', lease_until = now() - interval '1 second' WHERE " + first + "1");
+    sql("UPDATE tasks SET state = 2 WHERE " + first + "2");
+    EXPECT_EQ(waitingTiles(1, 5), 5) << "tiles 1 and 3 of the first job, 3 of the second";
+
+    auto cancelled = client(0).Post(("/v1/jobs/" + jobs[1] + ":cancel").c_str(), "{}", "application/json");
+    ASSERT_TRUE(cancelled && cancelled->status == 200) << (cancelled ? cancelled->body : "no response");
+    EXPECT_EQ(waitingTiles(0, 2), 2) << "a cancelled job's tiles wait for nobody";
 }
 
 }  // namespace

@@ -107,5 +107,100 @@ TEST(VertexAttributesImport, GltfNormalsFollowTheTransformAndColoursAreLinear) {
     EXPECT_EQ(r->report.coloursRead, 3u);
 }
 
+// The mesh has an attribute on every vertex or on none, whichever primitive brings it: here the
+// first primitive has neither, the second both, so the first's vertices are back-filled.
+TEST(VertexAttributesImport, GltfAttributesOfALaterPrimitiveFillTheEarlierOnes) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    std::string normals, colours;
+    for (int i = 0; i < 3; ++i)
+        for (float f : {0.0f, 0.0f, 1.0f}) appendRaw(normals, f);
+    for (int i = 0; i < 3; ++i)
+        for (float f : {1.0f, 0.0f, 0.0f}) appendRaw(colours, f);
+    b.addAccessor(normals, 5126, "VEC3", 3);
+    b.addAccessor(colours, 5126, "VEC3", 3);
+    const std::string json = b.json(
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}},{"attributes":{"POSITION":0,"NORMAL":1,"COLOR_0":2}}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0)");
+    auto r = importGltf(writeFile("attributes-later.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.normals.size(), 6u);
+    ASSERT_EQ(r->mesh.colors.size(), 6u);
+    for (size_t v = 0; v < 3; ++v) {
+        EXPECT_EQ(r->mesh.normals[v], kNoNormal) << v;
+        EXPECT_EQ(r->mesh.colors[v], kWhiteColor) << v;
+        expectNormal(r->mesh.normals[3 + v], {0, 0, 1}, "vertex " + std::to_string(3 + v));
+        EXPECT_EQ(r->mesh.colors[3 + v], packSrgb8(255, 0, 0)) << 3 + v;
+    }
+}
+
+// One triangle whose attribute `name` is the accessor `bytes` of `componentType` and `type`
+// with `count` elements; the import must fail with `expected` in its message.
+void expectAttributeRefused(const char* name, const std::string& bytes, int componentType, const char* type,
+                            size_t count, const std::string& expected) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    b.addAccessor(bytes, componentType, type, count);
+    const std::string json = b.json(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,")" + std::string(name) +
+                                    R"(":1}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0)");
+    auto r = importGltf(writeFile("bad-attribute.gltf", json));
+    ASSERT_FALSE(r.isOk()) << name << " " << type << " accepted; expected '" << expected << "'";
+    EXPECT_NE(r.message().find("bad-attribute.gltf: mesh 0 primitive 0: " + expected), std::string::npos)
+        << r.message();
+}
+
+std::string floats(size_t count, float value = 0.5f) {
+    std::string bytes;
+    for (size_t i = 0; i < count; ++i) appendRaw(bytes, value);
+    return bytes;
+}
+
+TEST(VertexAttributesImport, GltfColourOfAWrongTypeIsNamed) {
+    const std::string wrong = "accessor 1: COLOR_0 must be VEC3 or VEC4 of floats or normalized unsigned bytes or shorts";
+    expectAttributeRefused("COLOR_0", floats(3), 5126, "SCALAR", 3, wrong);
+    expectAttributeRefused("COLOR_0", floats(6), 5126, "VEC2", 3, wrong);
+    expectAttributeRefused("COLOR_0", std::string(12, '\x40'), 5121, "VEC4", 3, wrong);  // bytes, not normalized
+    expectAttributeRefused("COLOR_0", std::string(18, '\x10'), 5122, "VEC3", 3, wrong);        // signed shorts
+    expectAttributeRefused("COLOR_0", std::string(36, '\x01'), 5125, "VEC3", 3, wrong);        // unsigned ints
+}
+
+TEST(VertexAttributesImport, GltfNormalOfAWrongTypeIsNamed) {
+    expectAttributeRefused("NORMAL", floats(12), 5126, "VEC4", 3, "accessor 1: NORMAL is not VEC3");
+}
+
+TEST(VertexAttributesImport, GltfNormalOrColourCountOtherThanPositionsIsNamed) {
+    expectAttributeRefused("NORMAL", floats(6), 5126, "VEC3", 2, "NORMAL has 2 elements for 3 positions");
+    expectAttributeRefused("NORMAL", floats(12), 5126, "VEC3", 4, "NORMAL has 4 elements for 3 positions");
+    expectAttributeRefused("COLOR_0", floats(6), 5126, "VEC3", 2, "COLOR_0 has 2 elements for 3 positions");
+    expectAttributeRefused("COLOR_0", floats(16), 5126, "VEC4", 4, "COLOR_0 has 4 elements for 3 positions");
+}
+
+// A camera name longer than the package keeps (64 bytes) is cut at import, at a character
+// boundary, and the report says what was stored for what.
+TEST(VertexAttributesImport, GltfCameraNameBeyond64BytesIsCutAndReported) {
+    GltfBuilder b;
+    b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    std::string longName = "Shot 12 ";
+    while (longName.size() < 100) longName += "\xC3\xA9";  // "é": 2 bytes, so 8 + 46 * 2 = 100
+    ASSERT_EQ(longName.size(), 100u);
+    const std::string stored = longName.substr(0, 64);
+    const std::string json = b.json(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+        "cameras":[{"name":")" + longName + R"(","type":"perspective","perspective":{"yfov":0.7,"znear":0.1}},
+                   {"name":"Short","type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}],
+        "nodes":[{"mesh":0},{"camera":0,"translation":[0,0,5]},{"camera":1,"translation":[0,0,6]}],
+        "scenes":[{"nodes":[0,1,2]}],"scene":0)");
+    auto r = importGltf(writeFile("long-camera.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.cameras.size(), 2u);
+    EXPECT_EQ(r->mesh.cameras[0].name, stored);
+    EXPECT_EQ(r->mesh.cameras[1].name, "Short");
+    bool reported = false;
+    for (const std::string& w : r->report.warnings)
+        reported |= w == "camera 0 name '" + longName + "' (100 bytes) is stored as '" + stored +
+                             "' (64 bytes; names are kept to 64); --camera takes either";
+    EXPECT_TRUE(reported) << ::testing::PrintToString(r->report.warnings);
+    EXPECT_EQ(r->report.warnings.size(), 1u) << "only the long name is reported";
+}
+
 }  // namespace
 }  // namespace vastray::test

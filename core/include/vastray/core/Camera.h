@@ -1,6 +1,7 @@
 #pragma once
 // Pinhole camera shared by every backend. World space, y up by default; pixel (0, 0) is
 // the top-left corner of the image.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -34,6 +35,15 @@ struct SceneCamera {
     std::string name;
     Camera camera;
 };
+
+// A scene camera's name holds at most this many bytes: the package's fixed name field
+// (format::kCameraNameBytes). Importers store longer names cut by storedCameraName.
+constexpr size_t kMaxSceneCameraNameBytes = 64;
+
+// `name` as a package stores it: cut before its first NUL byte (the field is zero-padded), then
+// to at most kMaxSceneCameraNameBytes without splitting a UTF-8 character (a name of 100 bytes
+// of two-byte characters keeps 64 bytes, one of three-byte characters 63). Unchanged if it fits.
+std::string storedCameraName(const std::string& name);
 
 // A camera that sees the whole of `bounds` (its bounding sphere) from above and to the
 // front-right, for a width/height aspect ratio, with `up` (need not be unit) as its up and

@@ -90,8 +90,10 @@ void applyUpAxis(Vec3f up, RenderOptions& options);
 
 // The camera a render uses when the scene defines some (`cameras`, in file order): `choice`
 // names one (its name, else its 0-based index); empty picks the first, unless the options
-// already place the camera (frameScene false: --eye/--target). Sets eye, target, up and field
-// of view. Errors name the choice and list the scene's cameras.
+// already place the camera (frameScene false: --eye/--target). A name longer than a package
+// keeps (kMaxSceneCameraNameBytes) also picks the camera stored under its cut name
+// (storedCameraName), unless two are: then it is an error that asks for the index. Sets eye,
+// target, up and field of view. Errors name the choice and list the scene's cameras.
 Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string& choice, RenderOptions& options);
 
 // The pixels a render produces: `region`, or the whole frame.

@@ -2,9 +2,12 @@
 // Counters of the render service, exposed as Prometheus text by Service::metricsText()
 // (names in docs/SERVICE.md). Updated from any thread.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,33 @@ private:
     std::vector<uint64_t> counts_;  // per bucket, not cumulative; the last one is +Inf
     double sum_ = 0;
     uint64_t count_ = 0;
+};
+
+// A gauge whose value is costly to read (a database query): computed at most once per
+// `period` however often /metrics is scraped; reads within the period return the last value,
+// and concurrent reads wait for the one computation in flight instead of each running one.
+// `compute` returns none when it failed: the gauge then reads none (its sample is left out,
+// rather than a stale or made-up figure) until the next computation, a period later.
+class CachedGauge {
+public:
+    using Clock = std::chrono::steady_clock;
+    CachedGauge(Clock::duration period, std::function<std::optional<uint64_t>()> compute)
+        : period_(period), compute_(std::move(compute)) {}
+    std::optional<uint64_t> read(Clock::time_point now = Clock::now()) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!computedAt_ || now - *computedAt_ >= period_) {
+            value_ = compute_();
+            computedAt_ = now;
+        }
+        return value_;
+    }
+
+private:
+    const Clock::duration period_;
+    const std::function<std::optional<uint64_t>()> compute_;
+    std::mutex mutex_;
+    std::optional<Clock::time_point> computedAt_;
+    std::optional<uint64_t> value_;
 };
 
 struct Metrics {

@@ -211,8 +211,16 @@ private:
     v1::JobEvent eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) const;
     void overlayLiveLocked(v1::Job& job) const;
 
+    // vastray_tasks_waiting: with a task store (replicas), its leaseable tiles; none when the
+    // query failed (logged).
+    std::optional<uint64_t> countWaitingTiles();
+
     ServiceOptions options_;
     std::string replicaId_;
+    // The task store is queried for vastray_tasks_waiting at most once per this period, however
+    // often /metrics is scraped (Prometheus scrapes every 15-60 s; several scrapers may share it).
+    static constexpr auto kWaitingTilesPeriod = std::chrono::seconds(1);
+    CachedGauge waitingTiles_{kWaitingTilesPeriod, [this] { return countWaitingTiles(); }};
     std::vector<std::unique_ptr<Worker>> workers_;
     std::unique_ptr<ObjectStore> objects_;
     MetadataStores stores_;

@@ -129,6 +129,10 @@ public:
     // task is free again, or, at `maxAttempts` failed attempts of the task, the job is FAILED.
     virtual Status failTask(const Lease& lease, const std::string& owner, const std::string& reason,
                             uint32_t maxAttempts) = 0;
+    // The tiles a replica could lease now, over every job in the store: waiting, or leased with
+    // an expired lease, of QUEUED and RUNNING jobs. Assemble tasks are not counted (they wait
+    // for tiles, not for a replica). The queue depth that autoscaling reads (vastray_tasks_waiting).
+    virtual Result<uint64_t> countWaitingTiles() = 0;
 };
 
 struct MetadataStores {

@@ -71,6 +71,7 @@ std::string assimpFormatList();
 // Shared last step of every importer: rejects NaN/Inf positions and out-of-range indices,
 // and per-vertex normals or colours that are not one per vertex, drops degenerate triangles
 // (counted in report), guarantees at least one material and applies the sidedness override.
+// Cuts camera names a package could not keep whole (storedCameraName), a warning each.
 // `fileName` prefixes every message.
 Status finalizeMesh(const std::string& fileName, const ImportOptions& options, ImportedMesh& imported);
 
