@@ -197,6 +197,28 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
                 (unsigned long long)small.streamReloads, (unsigned long long)small.decodes);
 }
 
+// Camera rays out of core: a ray does not stop at its first missing cell but traces the resident
+// cells beyond it, and every waiting ray walks again once per paging step, so a chunk serves all
+// the rays of the wave that need it while it is resident and is never loaded twice for one wave
+// (with shading, later bounces may need it again after its eviction). Stopping at the first
+// missing cell, as the walk once did, loaded chunks again for rays that had waited elsewhere.
+TEST(StreamingRender, CameraRaysLoadEachChunkOncePerWave) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    RenderOptions o = smallRender(kAovDepth | kAovPrimId);
+    o.maxDepth = 0;
+    o.samplesPerPixel = 4;
+    StreamingStats ample, small;
+    auto a = renderVulkan(path, o, 256ull << 20, &ample);
+    ASSERT_TRUE(a) << a.message();
+    auto b = renderVulkan(path, o, budgetForSlots(path, 2, o.aovs), &small);
+    ASSERT_TRUE(b) << b.message();
+    expectIdentical(*a, *b, false);
+    EXPECT_EQ(small.slots, 2u);
+    EXPECT_GT(small.chunkLoads, uint64_t(small.slots)) << "two slots should page chunks in and out";
+    EXPECT_EQ(small.streamReloads, 0u) << small.chunkLoads << " loads for " << small.streamChunksTouched
+                                       << " chunks touched over the waves";
+}
+
 // Chunks copied by the transfer queue from pinned staging memory into slots the host cannot map
 // (gpu::ChunkUploadMode::Dma): the kernels wait for the copies on a timeline semaphore, so a
 // render that streams with them equals the mapped render bit for bit, whether the staging area
