@@ -101,8 +101,12 @@ TEST_P(ChunkCodecTest, AttributesFollowTheirVertices) {
                 size_t v = 0;
                 while (v < vertices && std::memcmp(&input.vertexWords[3 * v], &decoded->vertexWords[3 * d], 12) != 0) ++v;
                 ASSERT_LT(v, vertices);
-                if (normals) EXPECT_EQ(decoded->normals[d], input.normals[v]) << d;
-                if (colors) EXPECT_EQ(decoded->colors[d], input.colors[v]) << d;
+                if (normals) {
+                    EXPECT_EQ(decoded->normals[d], input.normals[v]) << d;
+                }
+                if (colors) {
+                    EXPECT_EQ(decoded->colors[d], input.colors[v]) << d;
+                }
             }
             EXPECT_EQ(canonical(*decoded), canonical(input));
             // A stream asked for an attribute it does not carry is an error, not garbage.
