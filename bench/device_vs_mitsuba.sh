@@ -3,14 +3,15 @@
 # (docs/PERFORMANCE.md, "Device wavefront"): a generated city is written as PLY and imported;
 # stream_render_bench renders it resident, in core and out of core, plus the Embree reference on
 # the host's cores; ../shared/tools/mitsuba_bench.py renders the same PLY with the same camera,
-# resolution, spp and depth; a cold CLI render times package-on-disk to image.
+# resolution, spp and depth; a cold CLI render per config times package-on-disk to image.
 #
 #   usage (on the device machine, with vastray and stream_render_bench on PATH and Mitsuba on
 #   PYTHONPATH):  bench/device_vs_mitsuba.sh OUT_DIR MITSUBA_BENCH.py [TRIANGLES] [CONFIGS]
 #   CONFIGS: space-separated SPP:DEPTH pairs (default "1:2 16:5"). Environment: RATIOS (out-of-core
 #   ratios, default 4,16), REPEAT (renders per row, default 3), RESIDENT_ONLY=1 (resident rows and
 #   Embree only), WORK (scratch folder), IMPORT_ARGS (extra `vastray import` options, e.g.
-#   "--resident-bytes-per-triangle 0"), NO_MITSUBA=1 (skip the Mitsuba rows).
+#   "--resident-bytes-per-triangle 0"), NO_MITSUBA=1 (skip the Mitsuba rows), COLD_BUDGET (the cold
+#   render's --memory-budget, default 8GiB: the scene in core, as Mitsuba holds it).
 set -uo pipefail
 out=$1 mitsuba=$2 triangles=${3:-10000000} configs=${4:-"1:2 16:5"}
 ratios=${RATIOS:-4,16} repeat=${REPEAT:-3} only=${RESIDENT_ONLY:+--resident-only}
@@ -31,9 +32,14 @@ for config in $configs; do
   [ -n "${NO_MITSUBA:-}" ] || timeout 300 python3 "$mitsuba" "$work/city.ply" "$width" "$height" "$spp" "$depth" "$eye" "$target" cuda_ad_rgb \
     >> "$out/mitsuba.jsonl" 2>> "$out/mitsuba.log" || echo "mitsuba $config failed: $?" >> "$out/mitsuba.log"
 done
-# Cold: package on disk to image in a fresh process (the image write needs the OpenImageIO module,
-# which does not travel: its failure after the render is expected; the stats JSON is written first).
-{ /usr/bin/time -f "cold render wall %e s" vastray render "$work/city.vast" -o "$work/cold.png" --resolution \
-    "${width}x${height}" --eye "$eye" --target "$target" --spp 1 --max-depth 2 --progress none \
-    --stats-json "$out/cold-stats.json"; } >> "$out/cold.txt" 2>&1
+# Cold: package on disk to image in a fresh process, for each config (a .pfm: written without the
+# OpenImageIO module, which does not travel to the device machine). The page cache is dropped
+# first where the machine lets us (root), so that "cold" includes reading the package.
+for config in $configs; do
+  spp=${config%%:*} depth=${config##*:}
+  sync; echo 3 > /proc/sys/vm/drop_caches 2>/dev/null && echo "page cache dropped" >> "$out/cold.txt"
+  { /usr/bin/time -f "cold render s${spp} d${depth} wall %e s" vastray render "$work/city.vast" -o "$work/cold.pfm" \
+      --resolution "${width}x${height}" --eye "$eye" --target "$target" --spp "$spp" --max-depth "$depth" \
+      --memory-budget "${COLD_BUDGET:-8GiB}" --progress none --stats-json "$out/cold-stats-s${spp}-d${depth}.json"; } >> "$out/cold.txt" 2>&1
+done
 exit 0

@@ -208,14 +208,19 @@ Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
     std::string ext = std::filesystem::path(args.output).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext != ".png" && ext != ".exr") return Status::error(args.output + ": output must be .png or .exr");
-    if (ext == ".png" && options.aovs != kAovNone) return Status::error("--aovs needs an .exr output");
+    if (ext != ".png" && ext != ".exr" && ext != ".pfm")
+        return Status::error(args.output + ": output must be .png, .exr or .pfm");
+    if (ext != ".exr" && options.aovs != kAovNone) return Status::error("--aovs needs an .exr output");
+    if (ext == ".pfm" && options.region)
+        return Status::error(args.output + ": a .pfm cannot record where a region lies in its frame; use .exr or .png");
     if (args.progress != "auto" && args.progress != "bar" && args.progress != "openjd" &&
         args.progress != "none")
         return Status::error("--progress '" + args.progress + "': expected auto, bar, openjd or none");
     VASTRAY_TRY(checkWritableOutput("--output", args.output));
     if (!args.statsJson.empty()) VASTRAY_TRY(checkWritableOutput("--stats-json", args.statsJson));
-    // The image writer is a module loaded on demand: a broken install fails now, not after the render.
+    // The image writer is a module loaded on demand: a broken install fails now, not after the
+    // render. A .pfm is written without it.
+    if (ext == ".pfm") return Status::ok();
     return loadImageModule().withContext(args.output + ": cannot write: ");
 }
 
@@ -503,12 +508,12 @@ int runRender(const RenderArgs& args) {
 CommandRun addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "render", "Render a mesh file or a scene package to .png (tone mapped) or .exr (linear).");
+        "render", "Render a mesh file or a scene package to .png (tone mapped), .exr (linear) or .pfm (linear RGB floats).");
     cmd->add_option("input", args->input,
                     "mesh file (.obj, .ply, .gltf, .glb, or a format of `vastray import --help`: rendered whole, in core) or package (.vast)")
         ->required()
         ->check(CLI::ExistingFile);
-    cmd->add_option("-o,--output", args->output, "image to write (.png or .exr; AOVs need .exr)")->required();
+    cmd->add_option("-o,--output", args->output, "image to write (.png, .exr or .pfm; AOVs need .exr; .pfm: beauty only, written without the OpenImageIO module)")->required();
     cmd->add_option("--backend", args->backend,
                     "vulkan (streaming path tracer on the GPU; a mesh file is imported to a temporary package first) | "
                     "embree (CPU reference, whole scene in core)")

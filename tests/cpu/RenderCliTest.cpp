@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "TestScenes.h"
+#include "vastray/core/ImageFile.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
@@ -99,6 +100,56 @@ TEST_F(RenderCli, OpenImageIoIsLoadedOnlyToReadOrWriteImages) {
     CommandResult diff = vastray::test::runShell(missing + " diff " + png + " " + png);
     EXPECT_NE(diff.exitCode, 0);
     EXPECT_NE(diff.output.find("libvastray_oiio.so"), std::string::npos) << diff.output;
+}
+
+// A .pfm is written without the image module (where it cannot be loaded, e.g. a device bundle)
+// and holds the same linear colours as the .exr of the same render, rows bottom to top.
+TEST_F(RenderCli, PfmIsWrittenWithoutTheImageModule) {
+    const std::string binary = VASTRAY_BINARY;
+    const std::string missing = "VASTRAY_IMAGE_MODULE=" + test::tmpPath("no-such-module.so") + " " + binary;
+    const std::string pfm = test::tmpPath("beauty.pfm"), exr = test::tmpPath("beauty.exr");
+    const std::string flags = " --backend embree --resolution 24x16 --spp 2 --progress none";
+    CommandResult render = vastray::test::runShell("LD_DEBUG=libs " + missing + " render " + terrain() + " -o " +
+                                                   pfm + flags);
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_EQ(render.output.find("libOpenImageIO"), std::string::npos) << "the module was loaded";
+    ASSERT_EQ(run("render " + terrain() + " -o " + exr + flags).exitCode, 0);
+
+    std::ifstream in(pfm, std::ios::binary);
+    std::string magic;
+    uint32_t width = 0, height = 0;
+    float scale = 0;
+    in >> magic >> width >> height >> scale;
+    in.get();  // the one whitespace byte before the floats
+    ASSERT_EQ(magic, "PF");
+    ASSERT_EQ(width, 24u);
+    ASSERT_EQ(height, 16u);
+    EXPECT_EQ(scale, -1.0f);  // little-endian
+    std::vector<float> floats(3ull * width * height);
+    in.read(reinterpret_cast<char*>(floats.data()), std::streamsize(floats.size() * 4));
+    ASSERT_EQ(uint64_t(in.gcount()), floats.size() * 4);
+    EXPECT_EQ(in.peek(), std::char_traits<char>::eof()) << "bytes after the pixels";
+
+    auto expected = readImageChannels(exr, {"R", "G", "B"});
+    ASSERT_TRUE(expected.isOk()) << expected.message();
+    double sum = 0;
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+            for (uint32_t c = 0; c < 3; ++c) {
+                const float stored = floats[(uint64_t(height - 1 - y) * width + x) * 3 + c];
+                ASSERT_EQ(stored, expected->planes[c][uint64_t(y) * width + x]) << x << "," << y << " channel " << c;
+                sum += stored;
+            }
+    EXPECT_GT(sum, 0.0) << "a black image proves nothing";
+
+    for (const char* extra : {" --aovs depth", " --region 0,0,8,8"}) {
+        const std::string never = test::tmpPath("never.pfm");
+        std::filesystem::remove(never);
+        CommandResult refused = run("render " + terrain() + " -o " + never + flags + extra);
+        EXPECT_EQ(refused.exitCode, 2) << extra << "\n" << refused.output;
+        EXPECT_NE(refused.output.find(".exr"), std::string::npos) << extra << "\n" << refused.output;
+        EXPECT_FALSE(std::filesystem::exists(never)) << extra;
+    }
 }
 
 TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {

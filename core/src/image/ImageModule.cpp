@@ -1,9 +1,12 @@
-// writeImageFile, diffImageFiles, readImageChannels, writeRgba8Png, readStoredImage and
+// writeImageFile (but for .pfm, PfmFile.h), diffImageFiles, readImageChannels, writeRgba8Png, readStoredImage and
 // writeStoredImage forward to the OpenImageIO
 // module, loaded once on first use.
 #include "ImageModule.h"
+#include "PfmFile.h"
 
 #include <dlfcn.h>
+
+#include <cctype>
 
 #include <filesystem>
 #include <vector>
@@ -63,7 +66,14 @@ const LoadedModule& module() {
 
 Status loadImageModule() { return module().status; }
 
+bool isPfmPath(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".pfm";
+}
+
 Status writeImageFile(const std::string& path, const RenderImage& image) {
+    if (isPfmPath(path)) return writePfmFile(path, image);
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(path + ": cannot write: ");
     return m.api->writeImageFile(path, image);

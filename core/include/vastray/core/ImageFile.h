@@ -13,7 +13,8 @@
 namespace vastray {
 
 // By extension: .png writes the beauty tone mapped to 8-bit sRGB (no AOVs: an error if
-// any were requested); .exr writes 32-bit float linear R,G,B,A and, when present, the
+// any were requested); .pfm writes the beauty's linear RGB as 32-bit floats without the
+// OpenImageIO module (no alpha; AOVs or a region are errors); .exr writes 32-bit float linear R,G,B,A and, when present, the
 // channels Z, N.x, N.y, N.z, albedo.R, albedo.G, albedo.B, cost.cells, cost.triangles (float)
 // and primid, chunkid (uint32).
 // An EXR also records the camera (RenderImage::hasCamera) as OpenEXR's worldToCamera and
@@ -21,6 +22,8 @@ namespace vastray {
 // EXR as the data window (the region) inside the display window (the frame, origin 0,0); in a
 // PNG as the text chunk kRegionTextKey, "X0,Y0,X1,Y1 WxH" (x1, y1 exclusive; W x H the frame).
 Status writeImageFile(const std::string& path, const RenderImage& image);
+// True for a .pfm path (any case): writeImageFile writes it without the OpenImageIO module.
+bool isPfmPath(const std::string& path);
 
 constexpr const char* kRegionTextKey = "vastray:region";
 
