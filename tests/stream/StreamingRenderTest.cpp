@@ -4,12 +4,16 @@
 // rounding: the device's sqrt, division and cosine round differently).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
+#include <sstream>
+#include <thread>
 
 #include "StreamTestSupport.h"
 #include "shared/StreamTypes.h"
@@ -506,6 +510,68 @@ TEST(StreamingRender, SecondRenderOfAnOpenSceneLoadsNothing) {
                                        });
     ASSERT_TRUE(scene2);
     EXPECT_FALSE((*scene2)->render(o)) << "primid needs primitive ids the scene was opened without";
+}
+
+// The bytes this process has read through read()/pread() so far (/proc/self/io's rchar: the
+// chunk reads of decode workers, whether the file is in the page cache or not), less what
+// reading /proc/self/io itself has read (`own`, which this adds to).
+uint64_t bytesReadByThisProcess(uint64_t& own) {
+    std::ifstream io("/proc/self/io");
+    const std::string text((std::istreambuf_iterator<char>(io)), std::istreambuf_iterator<char>());
+    own += text.size();
+    std::istringstream fields(text);
+    std::string key;
+    uint64_t value = 0;
+    while (fields >> key >> value)
+        if (key == "rchar:") return value - own;
+    return 0;
+}
+
+// StreamingOptions::decodeOnOpen (the CLI's): the chunks are read and decoded while the backend
+// factory runs (there the CLI waits for its device), the first render counts those decodes, and
+// the image is the one a scene opened without it renders.
+TEST(StreamingRender, DecodeOnOpenDecodesWhileTheFactoryWaits) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageInfo& info = (*reader)->info();
+    ASSERT_GT(info.chunks.size(), 1u);
+    uint64_t chunkBytes = 0;
+    for (const ChunkInfo& c : info.chunks) chunkBytes += c.size;
+    const RenderOptions o = smallRender(kAovDepth | kAovPrimId);
+    StreamingOptions early;
+    early.decodeOnOpen = true;
+    bool sawReads = false;
+    uint64_t own = 0;
+    const uint64_t before = bytesReadByThisProcess(own);
+    auto scene = StreamingScene::open(**reader, requiredAttributes(info, o), early,
+                                      [&](const PackageInfo& i, const ChunkAttributes& a) {
+                                          // Wait (at most 30 s) for the workers to read every chunk.
+                                          const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+                                          while (!(sawReads = bytesReadByThisProcess(own) - before >= chunkBytes) &&
+                                                 std::chrono::steady_clock::now() < deadline)
+                                              std::this_thread::sleep_for(std::chrono::milliseconds(2));
+                                          return gpu::createVulkanChunkBackend(device(), i, a, 64ull << 20);
+                                      });
+    ASSERT_TRUE(scene) << scene.message();
+    EXPECT_TRUE(sawReads) << "the chunks were not read while the factory waited";
+    StreamingStats first, second;
+    auto a = (*scene)->render(o, nullptr, &first);
+    ASSERT_TRUE(a) << a.message();
+    EXPECT_EQ(first.decodes, info.chunks.size()) << "the decodes done before the render are its own";
+    EXPECT_EQ(first.bytesRead, chunkBytes);
+    auto b = (*scene)->render(o, nullptr, &second);
+    ASSERT_TRUE(b) << b.message();
+    EXPECT_EQ(second.decodes, 0u);
+
+    auto plain = StreamingScene::open(**reader, requiredAttributes(info, o), StreamingOptions{},
+                                      [&](const PackageInfo& i, const ChunkAttributes& c) {
+                                          return gpu::createVulkanChunkBackend(device(), i, c, 64ull << 20);
+                                      });
+    ASSERT_TRUE(plain) << plain.message();
+    auto c = (*plain)->render(o);
+    ASSERT_TRUE(c) << c.message();
+    expectIdentical(*a, *c);
 }
 
 // import --resident-bytes-per-triangle (default 32): the chunk trees are cut shallower until

@@ -58,6 +58,7 @@ struct StreamingScene::State {
     std::unique_ptr<ChunkCache> cache;
     std::unique_ptr<DemandPager> pager;
     StreamingStats totals;  // what the pager and the backend count into; each render reports its difference
+    bool rendered = false;  // a render has reported its statistics
     explicit State(const PackageReader& r) : reader(r) {}
 };
 
@@ -84,9 +85,6 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     State& s = *scene->state_;
     s.attributes = attributes;
     s.options = options;
-    auto backend = factory(reader.info(), attributes);
-    if (!backend) return backend.status();
-    s.backend = std::move(backend).value();
     // One worker per core but one (the render thread's), except on two cores, where a cold
     // render mostly waits for decoding: two workers there (1M-4M city on the 2-core machine).
     const uint32_t cores = std::max(1u, std::thread::hardware_concurrency());
@@ -99,6 +97,11 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
         hostCache = std::min(decoded, memory / 4);
     }
     s.cache = std::make_unique<ChunkCache>(reader, hostCache, workers);
+    if (options.decodeOnOpen && reader.info().decodedBytes() <= s.cache->capacity())
+        for (const ChunkInfo& c : reader.info().chunks) s.cache->prefetchBackground(c.id);
+    auto backend = factory(reader.info(), attributes);
+    if (!backend) return backend.status();
+    s.backend = std::move(backend).value();
     s.pager = std::make_unique<DemandPager>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
     return scene;
 }
@@ -127,9 +130,14 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
 
     // The streamer counts into st.totals across renders; this render reports the difference.
+    // The first render counts the decoding done since the scene opened (decodeOnOpen).
     StreamingStats before = st.totals;
-    before.bytesRead = st.cache->bytesRead(), before.decodes = st.cache->decodes();
-    before.decodeSeconds = st.cache->decodeSeconds(), before.uploadSeconds = st.backend->uploadSeconds();
+    if (st.rendered) {
+        before.bytesRead = st.cache->bytesRead(), before.decodes = st.cache->decodes();
+        before.decodeSeconds = st.cache->decodeSeconds();
+    }
+    st.rendered = true;
+    before.uploadSeconds = st.backend->uploadSeconds();
     before.deviceSeconds = st.backend->deviceSeconds(), before.bytesUploaded = st.backend->bytesUploaded();
     const PixelBounds bounds = renderBounds(options);
     RenderImage image;

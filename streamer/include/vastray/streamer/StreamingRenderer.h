@@ -138,6 +138,11 @@ struct StreamingOptions {
     // starts, nearest the camera first, behind the chunks rays wait for: a later load then
     // finds its chunk decoded instead of waiting for it (false: decode on demand only).
     bool prefetchScene = true;
+    // When the host cache holds the whole decoded scene, every chunk is queued for decoding as
+    // the scene opens, before the backend factory runs: a factory that waits for a device being
+    // created meanwhile (the CLI's) overlaps its start-up with decoding. The first render's
+    // statistics count these decodes. False (the default): decoding starts with a render.
+    bool decodeOnOpen = false;
     uint32_t decodeThreads = 0;            // chunk decode workers; 0: one per core but one (two on two cores)
 };
 
