@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "vastray/core/Utf8.h"
 #include "vastray/core/VecMath.h"
 
 namespace vastray {
@@ -17,18 +18,7 @@ std::string describe(Vec3f v) {
 
 }  // namespace
 
-std::string storedCameraName(const std::string& name) {
-    size_t end = std::min(name.find('\0'), name.size());
-    if (end > kMaxSceneCameraNameBytes) {
-        end = kMaxSceneCameraNameBytes;
-        // Back up over continuation bytes (10xxxxxx) so the cut falls before a lead byte; a
-        // character has at most 3 of them, more is not UTF-8 and is cut at the limit.
-        size_t cut = end;
-        while (cut > end - 3 && (uint8_t(name[cut]) & 0xC0) == 0x80) --cut;
-        if ((uint8_t(name[cut]) & 0xC0) != 0x80) end = cut;
-    }
-    return name.substr(0, end);
-}
+std::string storedCameraName(const std::string& name) { return cutUtf8(name, kMaxSceneCameraNameBytes); }
 
 Status checkFov(float fovYDegrees) {
     if (fovYDegrees >= kMinFovDegrees && fovYDegrees < 180.0f) return Status::ok();

@@ -93,3 +93,22 @@ TEST_F(HostileCli, RenderTooLargeForHostMemoryIsRefusedWithTheNeed) {
 }
 
 }  // namespace
+
+namespace {
+
+// A material name longer than the package's 64-byte field, of 3-byte characters: the package
+// keeps 21 whole ones (63 bytes), and `info --json` prints valid JSON (a split character made
+// nlohmann::json throw, and the process abort).
+TEST_F(HostileCli, LongMaterialNameIsCutToWholeCharacters) {
+    std::string euro;
+    for (int i = 0; i < 30; ++i) euro += "\xE2\x82\xAC";
+    std::ofstream(tmp("euro.mtl")) << "newmtl " << euro << "\nKd 0.5 0.5 0.5\n";
+    std::ofstream(tmp("euro.obj")) << "mtllib euro.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl " << euro << "\nf 1 2 3\n";
+    CommandResult i = run("import " + tmp("euro.obj") + " -o " + tmp("euro.vast") + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    CommandResult info = run("info " + tmp("euro.vast") + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("\"" + euro.substr(0, 63) + "\""), std::string::npos) << info.output;
+}
+
+}  // namespace

@@ -7,6 +7,7 @@
 
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/Utf8.h"
 #include "vastray/streamer/Import.h"
 
 namespace vastray {
@@ -143,7 +144,7 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.put(m.baseColor);
         out.put(m.emissive);
         out.put(uint32_t(m.doubleSided ? 1 : 0));
-        out.putFixedString(m.name, format::kMaterialNameBytes);
+        out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
     }
     return std::move(out.bytes());
 }
@@ -158,6 +159,7 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         in.get(m.emissive);
         in.get(doubleSided);
         in.getFixedString(m.name, format::kMaterialNameBytes);
+        m.name = validUtf8(m.name);  // a forged or older package may hold a split character
         m.doubleSided = doubleSided != 0;
         for (float v : m.baseColor)
             if (!std::isfinite(v)) return Status::error("material " + std::to_string(i) + " has a non-finite colour");
@@ -185,6 +187,7 @@ Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes,
     for (uint32_t i = 0; i < count; ++i) {
         SceneCamera& c = cameras[i];
         in.getFixedString(c.name, format::kCameraNameBytes);
+        c.name = validUtf8(c.name);
         in.get(c.camera.eye), in.get(c.camera.target), in.get(c.camera.up), in.get(c.camera.fovYDegrees);
         if (!in.ok()) return Status::error("truncated cameras");
         VASTRAY_TRY(validateCamera(c.camera).withContext("camera " + std::to_string(i) + " '" + c.name + "': "));

@@ -110,6 +110,20 @@ TEST_F(ForgedCameras, ChangedCameraWithoutItsChecksumIsRefused) {
     expectRefused(bytes, false, "cameras checksum mismatch");
 }
 
+// A forged name that is not UTF-8 (half a character, a lone continuation byte) opens with '?'
+// for each bad byte: names go out as JSON and protobuf strings, which must be valid UTF-8.
+TEST_F(ForgedCameras, NameThatIsNotUtf8OpensWithQuestionMarks) {
+    std::vector<uint8_t> bytes = *bytes_;
+    const char forged[] = "S\xE2\x82" "de\x80";  // "S", a 3-byte character cut short, "de", a continuation byte
+    std::memcpy(&bytes[cameraAt(1)], forged, sizeof forged);  // with its NUL
+    reseal(bytes, true);
+    const std::string path = tempPath("forged-cameras.vast");
+    writeFile(path, bytes);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader.isOk()) << reader.message();
+    EXPECT_EQ((*reader)->info().cameras[1].name, "S??de?");
+}
+
 // A caller that bypasses the importers (which cut names and say so) still gets a name cut at a
 // character boundary, never half a UTF-8 character: "€" is 3 bytes, 21 of them fill 63.
 TEST(PackageCameras, WriterKeepsAtMost64BytesOfWholeCharacters) {
