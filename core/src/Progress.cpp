@@ -7,8 +7,8 @@
 
 namespace vastray {
 
-Progress::Progress(std::string label, uint64_t total, Mode mode)
-    : label_(std::move(label)), total_(total), mode_(mode) {
+Progress::Progress(std::string label, uint64_t total, Mode mode, Observer observer)
+    : label_(std::move(label)), total_(total), mode_(mode), observer_(std::move(observer)) {
     if (mode_ == Mode::Auto) mode_ = isatty(STDERR_FILENO) ? Mode::Bar : Mode::Lines;
     start_ = lastPrint_ = std::chrono::steady_clock::now();
 }
@@ -17,6 +17,7 @@ Progress::~Progress() { end(false); }
 
 void Progress::advance(uint64_t amount) {
     const uint64_t done = done_.fetch_add(amount) + amount;
+    if (observer_) observer_(std::min(done, total_), total_);
     if (mode_ == Mode::None) return;
     const auto now = std::chrono::steady_clock::now();
     const int decile = total_ ? int(std::min<uint64_t>(done * 10 / total_, 10)) : 10;
@@ -30,7 +31,10 @@ void Progress::advance(uint64_t amount) {
     print(done, false);
 }
 
-void Progress::finish() { end(true); }
+void Progress::finish() {
+    if (observer_) observer_(total_, total_);
+    end(true);
+}
 
 void Progress::end(bool complete) {
     std::lock_guard lock(printMutex_);

@@ -2,9 +2,13 @@
 // bytes and returns at once; a job resource (the same Job as renders, with `import` set instead
 // of `request`) reports the import's state and error. Imports run one at a time on their own
 // thread, in upload order, so they neither hold client connections nor wait behind renders.
+// Their progress rises as they go: 10 % once the model is read, to 90 % as the package builder
+// places triangles, 95 % once the package is written, 100 % when it is verified and stored.
 // The upload's file waits in tmp/, which the next start empties: an import job that was not
 // finished when the server stopped is FAILED at the next start (recoverJobs), never re-run.
+#include <chrono>
 #include <cstdio>
+#include <mutex>
 
 #include "JobRequest.h"
 #include "vastray/server/Service.h"
@@ -88,9 +92,24 @@ void Service::runImport(const std::string& jobId, const fs::path& file) {
         (void)stores_.jobs->updateJob(job);  // a lost update leaves QUEUED: failed at the next start
         notifyChangeLocked();
     }
-    const v1::ImportDetails& details = job.import();
+    const v1::ImportDetails details = job.import();
+    // The job's progress as the import goes: stored and announced when it has risen by 5 points,
+    // or by less after 0.2 s (the builder reports from its worker threads, often).
+    std::mutex progressMutex;
+    int reported = 0;
+    auto lastWrite = std::chrono::steady_clock::now();
+    const ImportProgress progress = [&](int percent) {
+        std::lock_guard<std::mutex> progressLock(progressMutex);
+        const auto now = std::chrono::steady_clock::now();
+        if (percent <= reported || (percent < reported + 5 && now - lastWrite < std::chrono::milliseconds(200))) return;
+        reported = percent, lastWrite = now;
+        std::lock_guard<std::mutex> lock(mutex_);
+        job.set_progress(percent);
+        (void)stores_.jobs->updateJob(job);  // a lost update only loses a progress figure
+        notifyChangeLocked();
+    };
     // storeUpload consumes the file (moved into the package, or removed by the importer's caller).
-    auto scene = storeUpload(details.name(), file, details.scene_id(), details.upload_bytes());
+    auto scene = storeUpload(details.name(), file, details.scene_id(), details.upload_bytes(), progress);
     std::error_code error;
     fs::remove(file, error);
     std::lock_guard<std::mutex> lock(mutex_);

@@ -60,15 +60,21 @@ bool isModelFile(const fs::path& path) {
 // path or prefix, what the client calls it) is replaced in turn.
 ServiceStatus importMeshFile(const fs::path& mesh, const fs::path& package,
                              const std::vector<std::pair<std::string, std::string>>& renames,
-                             std::vector<std::string>& warnings) {
+                             std::vector<std::string>& warnings, const ImportProgress& progress) {
     auto imported = importMesh(mesh.string());
     if (imported) {
+        if (progress) progress(10);
         warnings = imported->report.warnings;
         PackageBuildOptions build;
         build.progress = Progress::Mode::None;
         build.degenerateDropped = imported->report.degenerateDropped;
+        if (progress)
+            build.observer = [&progress](uint64_t done, uint64_t total) {
+                progress(10 + int(total ? 80 * std::min(done, total) / total : 80));
+            };
         auto report = buildPackage(std::move(imported->mesh), package.string(), build);
         if (!report) imported = report.status();
+        else if (progress) progress(95);
     }
     if (imported) return {};
     std::string message = imported.message();
@@ -106,7 +112,7 @@ std::string inZip(const std::string& zipName, const fs::path& model, const std::
 // size within --max-upload and the free disk), and its one model imported from there. The
 // importers keep every file the model names (.bin, images, .mtl) inside the model's folder.
 ServiceStatus Service::importZip(const std::string& name, const fs::path& file, const fs::path& package,
-                                 std::vector<std::string>& warnings) {
+                                 std::vector<std::string>& warnings, const ImportProgress& progress) {
     const fs::path folder = objects_->scratchDir() / ("zip-" + randomHex(8));
     std::error_code error;
     if (!fs::create_directory(folder, error)) return internalError(folder.string() + ": cannot create");
@@ -119,7 +125,7 @@ ServiceStatus Service::importZip(const std::string& name, const fs::path& file, 
     if (!files) status = files.status();
     auto model = files ? zipModel(*files, name) : ServiceResult<fs::path>(status);
     if (status && !model) status = model.status();
-    if (status) status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}}, warnings);
+    if (status) status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}}, warnings, progress);
     if (!status && model && status.code() == StatusCode::InvalidArgument)
         status = invalidArgument("data", inZip(name, *model, status.message().substr(std::strlen("data: "))));
     fs::remove_all(folder, error);
@@ -193,16 +199,18 @@ ServiceResult<std::unique_ptr<SceneUpload>> Service::beginUpload(const std::stri
 }
 
 ServiceResult<v1::Scene> Service::storeUpload(const std::string& name, const fs::path& file,
-                                              const std::string& digest, uint64_t bytes) {
+                                              const std::string& digest, uint64_t bytes,
+                                              const ImportProgress& progress) {
     std::lock_guard<std::mutex> importLock(importMutex_);
     auto known = stores_.scenes->getScene(digest);
     if (!known) return internalError(known.message());
     if (*known) return **known;
-    return importUpload(name, file, digest, bytes);
+    return importUpload(name, file, digest, bytes, progress);
 }
 
 ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs::path& file,
-                                               const std::string& digest, uint64_t bytes) {
+                                               const std::string& digest, uint64_t bytes,
+                                               const ImportProgress& progress) {
     v1::Scene scene;
     scene.set_id(digest);
     scene.set_name(name);
@@ -219,14 +227,14 @@ ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs
         fs::rename(file, package, error);
         if (error) return internalError(package.string() + ": " + error.message());
     } else if (scene.format() == "zip") {
-        if (ServiceStatus imported = importZip(name, file, package, warnings); !imported) return imported;
+        if (ServiceStatus imported = importZip(name, file, package, warnings, progress); !imported) return imported;
     } else {
         // Importers pick the format by extension: give the scratch file the right one.
         const fs::path mesh = fs::path(file).replace_extension("." + scene.format());
         fs::rename(file, mesh, error);
         if (error) return internalError(mesh.string() + ": " + error.message());
         ServiceStatus imported =
-            importMeshFile(mesh, package, {{mesh.string(), name}, {mesh.filename().string(), name}}, warnings);
+            importMeshFile(mesh, package, {{mesh.string(), name}, {mesh.filename().string(), name}}, warnings, progress);
         fs::remove(mesh, error);
         if (!imported) return imported;
     }

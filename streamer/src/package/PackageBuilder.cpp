@@ -55,7 +55,7 @@ public:
           options_(options),
           partitioner_(source.positions, source.indices),
           verticesPerTriangle_(verticesPerTriangle),
-          progress_("import", triangles, options.progress) {}
+          progress_("import", triangles, options.progress, options.observer) {}
 
     std::unique_ptr<BuildNode> run(const std::vector<uint32_t>& triangles, const Aabb& bounds) {
         auto root = std::make_unique<BuildNode>();

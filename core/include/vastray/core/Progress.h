@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 
@@ -12,8 +13,11 @@ namespace vastray {
 class Progress {
 public:
     enum class Mode { Auto, Bar, Lines, None };
+    // Told the work done after every advance() and once more at finish() (done == total), from
+    // the thread that advanced: it must be thread-safe and cheap (a job's progress field).
+    using Observer = std::function<void(uint64_t done, uint64_t total)>;
 
-    Progress(std::string label, uint64_t total, Mode mode = Mode::Auto);
+    Progress(std::string label, uint64_t total, Mode mode = Mode::Auto, Observer observer = {});
     ~Progress();
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;
@@ -30,6 +34,7 @@ private:
     std::string label_;
     uint64_t total_;
     Mode mode_;
+    Observer observer_;
     std::atomic<uint64_t> done_{0};
     std::mutex printMutex_;
     std::chrono::steady_clock::time_point start_;

@@ -49,6 +49,10 @@ struct ServiceOptions {
     bool paused = false;                       // accept and store jobs but start none (--paused)
 };
 
+// How far an import has come, in percent (rising; called from worker threads): 10 once the model
+// is read, up to 90 as the package builder places triangles, 95 once written.
+using ImportProgress = std::function<void(int percent)>;
+
 class Service;
 
 // One scene upload in progress: append() the bytes as they arrive, then finish(). Destroying
@@ -172,11 +176,13 @@ private:
     explicit Service(const ServiceOptions& options);
     Status recoverJobs();
     ServiceResult<v1::Scene> storeUpload(const std::string& name, const std::filesystem::path& file,
-                                         const std::string& digest, uint64_t bytes);
+                                         const std::string& digest, uint64_t bytes,
+                                         const ImportProgress& progress = {});
     ServiceResult<v1::Scene> importUpload(const std::string& name, const std::filesystem::path& file,
-                                          const std::string& digest, uint64_t bytes);
+                                          const std::string& digest, uint64_t bytes, const ImportProgress& progress);
     ServiceStatus importZip(const std::string& name, const std::filesystem::path& file,
-                            const std::filesystem::path& package, std::vector<std::string>& warnings);
+                            const std::filesystem::path& package, std::vector<std::string>& warnings,
+                            const ImportProgress& progress);
     // An import job for the uploaded `file` (moved into the job's keeping); the scene to return.
     ServiceResult<v1::Scene> queueImport(const std::string& name, const std::filesystem::path& file,
                                          const std::string& digest, uint64_t bytes);

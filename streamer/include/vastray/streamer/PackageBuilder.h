@@ -26,6 +26,7 @@ struct PackageBuildOptions {
     double residentBytesPerTriangle = 32;
     bool defaultDoubleSided = true;         // recorded in the header for tools
     Progress::Mode progress = Progress::Mode::Auto;
+    Progress::Observer observer;            // told the triangles placed, from worker threads
     uint64_t degenerateDropped = 0;         // from the importer's report, recorded in the header
 };
 
