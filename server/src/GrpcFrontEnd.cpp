@@ -140,25 +140,39 @@ public:
     grpc::Status GetResult(grpc::ServerContext* context, const v1::GetResultRequest* request,
                            grpc::ServerWriter<v1::ResultChunk>* writer) override {
         return a_.handle(context, [&]() -> ServiceStatus {
-            auto file = a_.service_.resultFile(request->job_id());
-            if (!file) return file.status();
-            if (request->offset() > file->bytes)
-                return invalidArgument("offset", std::to_string(request->offset()) +
-                                                     " is beyond the end of the " +
-                                                     std::to_string(file->bytes) + "-byte result");
-            const uint64_t rest = file->bytes - request->offset();
-            uint64_t left = request->limit() == 0 ? rest : std::min<uint64_t>(request->limit(), rest);
-            std::ifstream in(file->path, std::ios::binary);
-            in.seekg(std::streamoff(request->offset()));
+            // The bytes to send: a preview PNG made now, or the stored file.
+            std::string png;
+            std::ifstream in;
+            uint64_t total = 0;
             v1::ResultChunk chunk;
-            chunk.set_total_bytes(file->bytes);
-            chunk.set_content_type(file->contentType);
+            if (!request->aov().empty()) {
+                auto preview = a_.service_.resultPreviewPng(request->job_id(), request->aov());
+                if (!preview) return preview.status();
+                png = std::move(*preview);
+                total = png.size();
+                chunk.set_content_type("image/png");
+            } else {
+                auto file = a_.service_.resultFile(request->job_id());
+                if (!file) return file.status();
+                in.open(file->path, std::ios::binary);
+                if (!in) return internalError(file->path.string() + ": cannot read");
+                total = file->bytes;
+                chunk.set_content_type(file->contentType);
+            }
+            if (request->offset() > total)
+                return invalidArgument("offset", std::to_string(request->offset()) + " is beyond the end of the " +
+                                                     std::to_string(total) + "-byte result");
+            const uint64_t rest = total - request->offset();
+            uint64_t left = request->limit() == 0 ? rest : std::min<uint64_t>(request->limit(), rest);
+            if (png.empty()) in.seekg(std::streamoff(request->offset()));
+            chunk.set_total_bytes(total);
             uint64_t offset = request->offset();
             std::string buffer;
             do {
                 buffer.resize(std::min<uint64_t>(left, kMaxStreamChunkBytes));
-                if (!in.read(buffer.data(), std::streamsize(buffer.size())))
-                    return internalError(file->path.string() + ": read failed");
+                if (!png.empty()) buffer.assign(png, offset, buffer.size());
+                else if (!in.read(buffer.data(), std::streamsize(buffer.size())))
+                    return internalError("job " + request->job_id() + ": reading its result failed");
                 chunk.set_offset(offset);
                 chunk.set_data(buffer);
                 if (!writer->Write(chunk)) return {StatusCode::Cancelled, "the client went away"};

@@ -123,6 +123,40 @@ TEST_F(GrpcTest, UploadSubmitWatchAndGetResult) {
     ASSERT_TRUE(partial->Finish().ok());
     EXPECT_EQ(part, image.substr(4, 10));
 
+    // A PNG preview, as HTTP's ?aov= gives it; offset and limit count its bytes.
+    v1::GetResultRequest preview;
+    preview.set_job_id(job.id());
+    preview.set_aov("beauty");
+    std::string png;
+    auto c4 = context();
+    auto previewChunks = renders_->GetResult(c4.get(), preview);
+    for (v1::ResultChunk chunk; previewChunks->Read(&chunk);) {
+        EXPECT_EQ(chunk.content_type(), "image/png");
+        png += chunk.data();
+    }
+    ASSERT_TRUE(previewChunks->Finish().ok());
+    auto httpPng = http().Get(("/v1/jobs/" + job.id() + "/result?aov=beauty").c_str());
+    ASSERT_TRUE(httpPng && httpPng->status == 200);
+    EXPECT_EQ(png, httpPng->body) << "the same preview over gRPC and HTTP";
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    preview.set_offset(8);
+    preview.set_limit(4);
+    std::string pngPart;
+    auto c5 = context();
+    auto partPreview = renders_->GetResult(c5.get(), preview);
+    for (v1::ResultChunk chunk; partPreview->Read(&chunk);) pngPart += chunk.data();
+    ASSERT_TRUE(partPreview->Finish().ok());
+    EXPECT_EQ(pngPart, png.substr(8, 4));
+    preview.set_offset(0);
+    preview.set_aov("colour");
+    auto c6 = context();
+    auto unknown = renders_->GetResult(c6.get(), preview);
+    v1::ResultChunk none;
+    EXPECT_FALSE(unknown->Read(&none));
+    const grpc::Status refused = unknown->Finish();
+    EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << refused.error_message();
+    EXPECT_NE(refused.error_message().find("colour"), std::string::npos) << refused.error_message();
+
     v1::SubmitJobRequest again = smallRequest(scene.id());
     again.set_request_id("grpc-1");
     v1::Job first, second;
