@@ -58,6 +58,13 @@ Status checkGrid(const QuantizationGrid& grid) {
 }  // namespace
 
 
+Status checksumMismatch(const std::string& name, uint64_t stored, uint64_t computed) {
+    char text[80];
+    std::snprintf(text, sizeof text, " checksum mismatch (stored 0x%016llx, computed 0x%016llx)",
+                  (unsigned long long)stored, (unsigned long long)computed);
+    return Status::error(name + text);
+}
+
 std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout) {
     ByteWriter out;
     out.putBytes(format::kMagic, 8);
@@ -99,8 +106,10 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
                              std::to_string(format::kVersion) + "): re-import the mesh with this vastray");
     uint64_t stored = 0;
     std::memcpy(&stored, bytes + format::kHeaderBytes - 8, 8);
-    if (headerBytes != format::kHeaderBytes || stored != checksum64(bytes, format::kHeaderBytes - 8))
-        return Status::error("header checksum mismatch");
+    if (headerBytes != format::kHeaderBytes) return Status::error("header size " + std::to_string(headerBytes) +
+                                                                  " is not " + std::to_string(format::kHeaderBytes));
+    if (const uint64_t computed = checksum64(bytes, format::kHeaderBytes - 8); stored != computed)
+        return checksumMismatch("header", stored, computed);
     SectionLayout layout;
     for (uint64_t* v : {&info.fileBytes, &info.triangleCount, &info.referenceCount, &info.chunkSizeBytes,
                         &info.maxChunkResidentBytes, &info.degenerateDropped, &info.collapsedDropped})

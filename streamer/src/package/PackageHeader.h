@@ -18,6 +18,10 @@ struct SectionLayout {
     uint32_t cameraCount = 0;
 };
 
+// "NAME checksum mismatch (stored 0x..., computed 0x...)": what a reader says of a section,
+// the header or a chunk whose XXH64 is not the one recorded.
+Status checksumMismatch(const std::string& name, uint64_t stored, uint64_t computed);
+
 std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayout& layout);
 // Checks magic, version and the header's own checksum; fills the scalar fields of `info`.
 Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo& info);

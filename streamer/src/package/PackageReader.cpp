@@ -126,8 +126,8 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
 
     auto readSection = [&](uint64_t offset, uint64_t size, uint64_t checksum, const char* name) -> Status {
         if (!reader->file_->read(offset, size, bytes)) return Status::error(std::string("cannot read ") + name);
-        if (checksum64(bytes.data(), bytes.size()) != checksum)
-            return Status::error(std::string(name) + " checksum mismatch");
+        if (const uint64_t computed = checksum64(bytes.data(), bytes.size()); computed != checksum)
+            return checksumMismatch(name, checksum, computed);
         return Status::ok();
     };
     if (auto s = readSection(l.materialsOffset, materialsBytes, l.materialsChecksum, "materials"); !s) return fail(s);
@@ -161,8 +161,8 @@ Result<std::vector<uint8_t>> PackageReader::readChunkBlob(uint32_t id) const {
     std::vector<uint8_t> blob;
     if (!file_->read(chunk.offset, chunk.size, blob))
         return Status::error(path_ + ": chunk " + std::to_string(id) + ": read failed");
-    if (checksum64(blob.data(), blob.size()) != chunk.checksum)
-        return Status::error(path_ + ": chunk " + std::to_string(id) + ": checksum mismatch");
+    if (const uint64_t computed = checksum64(blob.data(), blob.size()); computed != chunk.checksum)
+        return checksumMismatch(path_ + ": chunk " + std::to_string(id) + ":", chunk.checksum, computed);
     return blob;
 }
 

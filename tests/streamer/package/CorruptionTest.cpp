@@ -1,6 +1,7 @@
 // A damaged package is an error that names what is damaged, never a crash or a wrong scene.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 
 #include "PackageTestUtil.h"
@@ -55,7 +56,10 @@ TEST_F(Corruption, AnyChunkByteIsReportedWithTheChunkName) {
             ASSERT_TRUE(reader.isOk()) << reader.message();
             const std::vector<std::string> problems = (*reader)->verify();
             ASSERT_EQ(problems.size(), 1u) << "chunk " << chunk.id << " byte " << at;
-            EXPECT_NE(problems[0].find("chunk " + std::to_string(chunk.id) + ": checksum mismatch"), std::string::npos)
+            char values[64];
+            std::snprintf(values, sizeof values, " (stored 0x%016llx, computed 0x", (unsigned long long)chunk.checksum);
+            EXPECT_NE(problems[0].find("chunk " + std::to_string(chunk.id) + ": checksum mismatch" + values),
+                      std::string::npos)
                 << problems[0];
         }
     }

@@ -107,7 +107,7 @@ TEST_F(ForgedCameras, CountThatDisagreesWithTheSectionsIsRefused) {
 TEST_F(ForgedCameras, ChangedCameraWithoutItsChecksumIsRefused) {
     std::vector<uint8_t> bytes = *bytes_;
     bytes[cameraAt(1)] = 'T';  // "Side" -> "Tide"; the header still holds the old checksum
-    expectRefused(bytes, false, "cameras checksum mismatch");
+    expectRefused(bytes, false, "cameras checksum mismatch (stored 0x");  // then the value computed
 }
 
 // A forged name that is not UTF-8 (half a character, a lone continuation byte) opens with '?'
