@@ -27,6 +27,21 @@ protected:
         return c;
     }
 
+    // GetResult's chunks joined (each at the offset the ones before it reached, of `type` when
+    // given); the call's status in `status`.
+    std::string readResult(const v1::GetResultRequest& request, grpc::Status& status, const std::string& type = "") {
+        auto c = context();
+        auto chunks = renders_->GetResult(c.get(), request);
+        std::string bytes;
+        for (v1::ResultChunk chunk; chunks->Read(&chunk);) {
+            EXPECT_EQ(chunk.offset(), request.offset() + bytes.size());
+            if (!type.empty()) EXPECT_EQ(chunk.content_type(), type);
+            bytes += chunk.data();
+        }
+        status = chunks->Finish();
+        return bytes;
+    }
+
     // Streams the sphere in 64 KiB messages.
     grpc::Status upload(v1::Scene* scene) {
         auto c = context();
@@ -104,58 +119,34 @@ TEST_F(GrpcTest, UploadSubmitWatchAndGetResult) {
 
     v1::GetResultRequest get;
     get.set_job_id(job.id());
-    std::string image;
-    auto c2 = context();
-    auto chunks = renders_->GetResult(c2.get(), get);
-    for (v1::ResultChunk chunk; chunks->Read(&chunk);) {
-        EXPECT_EQ(chunk.offset(), image.size());
-        image += chunk.data();
-    }
-    ASSERT_TRUE(chunks->Finish().ok());
+    grpc::Status status;
+    const std::string image = readResult(get, status);
+    ASSERT_TRUE(status.ok()) << status.error_message();
     EXPECT_EQ(image, result(job.id())) << "same bytes over gRPC and HTTP";
-
     get.set_offset(4);
     get.set_limit(10);
-    std::string part;
-    auto c3 = context();
-    auto partial = renders_->GetResult(c3.get(), get);
-    for (v1::ResultChunk chunk; partial->Read(&chunk);) part += chunk.data();
-    ASSERT_TRUE(partial->Finish().ok());
-    EXPECT_EQ(part, image.substr(4, 10));
+    EXPECT_EQ(readResult(get, status), image.substr(4, 10));
+    ASSERT_TRUE(status.ok()) << status.error_message();
 
     // A PNG preview, as HTTP's ?aov= gives it; offset and limit count its bytes.
     v1::GetResultRequest preview;
     preview.set_job_id(job.id());
     preview.set_aov("beauty");
-    std::string png;
-    auto c4 = context();
-    auto previewChunks = renders_->GetResult(c4.get(), preview);
-    for (v1::ResultChunk chunk; previewChunks->Read(&chunk);) {
-        EXPECT_EQ(chunk.content_type(), "image/png");
-        png += chunk.data();
-    }
-    ASSERT_TRUE(previewChunks->Finish().ok());
+    const std::string png = readResult(preview, status, "image/png");
+    ASSERT_TRUE(status.ok()) << status.error_message();
     auto httpPng = http().Get(("/v1/jobs/" + job.id() + "/result?aov=beauty").c_str());
     ASSERT_TRUE(httpPng && httpPng->status == 200);
     EXPECT_EQ(png, httpPng->body) << "the same preview over gRPC and HTTP";
     EXPECT_EQ(png.substr(1, 3), "PNG");
     preview.set_offset(8);
     preview.set_limit(4);
-    std::string pngPart;
-    auto c5 = context();
-    auto partPreview = renders_->GetResult(c5.get(), preview);
-    for (v1::ResultChunk chunk; partPreview->Read(&chunk);) pngPart += chunk.data();
-    ASSERT_TRUE(partPreview->Finish().ok());
-    EXPECT_EQ(pngPart, png.substr(8, 4));
+    EXPECT_EQ(readResult(preview, status, "image/png"), png.substr(8, 4));
+    ASSERT_TRUE(status.ok()) << status.error_message();
     preview.set_offset(0);
     preview.set_aov("colour");
-    auto c6 = context();
-    auto unknown = renders_->GetResult(c6.get(), preview);
-    v1::ResultChunk none;
-    EXPECT_FALSE(unknown->Read(&none));
-    const grpc::Status refused = unknown->Finish();
-    EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << refused.error_message();
-    EXPECT_NE(refused.error_message().find("colour"), std::string::npos) << refused.error_message();
+    EXPECT_EQ(readResult(preview, status), "");
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+    EXPECT_NE(status.error_message().find("colour"), std::string::npos) << status.error_message();
 
     v1::SubmitJobRequest again = smallRequest(scene.id());
     again.set_request_id("grpc-1");
