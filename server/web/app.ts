@@ -181,7 +181,8 @@ async function uploadFiles(files: File[]): Promise<void> {
     item.textContent = `${name}: importing (job ${scene.import_job_id})`;
     const final = await watch(scene.import_job_id, (event) => {
       item.dataset.state = event.state;
-      item.textContent = `${name}: import ${event.state}${event.error ? ": " + event.error : ""}`;
+      const percent = event.state === "RUNNING" ? ` ${event.percent} %` : "";
+      item.textContent = `${name}: import ${event.state}${percent}${event.error ? ": " + event.error : ""}`;
     });
     if (final === "SUCCEEDED") await refreshScenes(scene.id);
   } catch (error) {
