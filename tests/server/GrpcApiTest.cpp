@@ -35,7 +35,9 @@ protected:
         std::string bytes;
         for (v1::ResultChunk chunk; chunks->Read(&chunk);) {
             EXPECT_EQ(chunk.offset(), request.offset() + bytes.size());
-            if (!type.empty()) EXPECT_EQ(chunk.content_type(), type);
+            if (!type.empty()) {
+                EXPECT_EQ(chunk.content_type(), type);
+            }
             bytes += chunk.data();
         }
         status = chunks->Finish();
