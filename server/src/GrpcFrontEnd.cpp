@@ -145,7 +145,8 @@ public:
             std::ifstream in;
             uint64_t total = 0;
             v1::ResultChunk chunk;
-            if (!request->aov().empty()) {
+            const bool preview = !request->aov().empty();
+            if (preview) {
                 auto preview = a_.service_.resultPreviewPng(request->job_id(), request->aov());
                 if (!preview) return preview.status();
                 png = std::move(*preview);
@@ -164,13 +165,13 @@ public:
                                                      std::to_string(total) + "-byte result");
             const uint64_t rest = total - request->offset();
             uint64_t left = request->limit() == 0 ? rest : std::min<uint64_t>(request->limit(), rest);
-            if (png.empty()) in.seekg(std::streamoff(request->offset()));
+            if (!preview) in.seekg(std::streamoff(request->offset()));
             chunk.set_total_bytes(total);
             uint64_t offset = request->offset();
             std::string buffer;
             do {
                 buffer.resize(std::min<uint64_t>(left, kMaxStreamChunkBytes));
-                if (!png.empty()) buffer.assign(png, offset, buffer.size());
+                if (preview) buffer.assign(png, offset, buffer.size());
                 else if (!in.read(buffer.data(), std::streamsize(buffer.size())))
                     return internalError("job " + request->job_id() + ": reading its result failed");
                 chunk.set_offset(offset);
