@@ -14,6 +14,7 @@
 
 #include "Commands.h"
 #include "OutputPath.h"
+#include "vastray/core/FilePath.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/RenderOptions.h"
 
@@ -25,11 +26,6 @@ struct AssembleArgs {
     std::string output;
 };
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
 
 // "X0,Y0,X1,Y1" (X1, Y1 exclusive), as --region takes it.
 std::string describe(const PixelBounds& b) {

@@ -19,6 +19,7 @@
 #include "Commands.h"
 #include "OutputPath.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/FilePath.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/Progress.h"
 #include "vastray/core/VecMath.h"
@@ -207,9 +208,7 @@ Status parseCamera(const RenderArgs& args, RenderOptions& options) {
 }
 
 Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
-    std::string ext = std::filesystem::path(args.output).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowerExtension(args.output);
     if (ext != ".png" && ext != ".exr" && ext != ".pfm")
         return Status::error(args.output + ": output must be .png, .exr or .pfm");
     if (ext != ".exr" && options.aovs != kAovNone) return Status::error("--aovs needs an .exr output");
@@ -470,8 +469,7 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
     StreamingSizes sizes;
     auto options = optionsFrom(args, &sizes);
     if (!options) return progress.fail(options.message(), 2);
-    std::string ext = std::filesystem::path(args.output).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowerExtension(args.output);
     if (Status memory = checkRenderHostMemory(*options, ext == ".exr"); !memory)
         return progress.fail(memory.message(), 1);
     RenderStats stats;

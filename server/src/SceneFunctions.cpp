@@ -7,6 +7,7 @@
 
 #include "JobRequest.h"
 #include "ZipArchive.h"
+#include "vastray/core/FilePath.h"
 #include "vastray/server/Service.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/PackageBuilder.h"
@@ -20,10 +21,9 @@ namespace fs = std::filesystem;
 constexpr uint64_t kDiskCheckInterval = 16ull << 20;
 constexpr size_t kMaxNameLength = 255;
 
-std::string lowerExtension(const std::string& name) {
-    std::string ext = fs::path(name).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+// A name's extension without its dot, lower case ("" for none).
+std::string extensionWithoutDot(const std::string& name) {
+    const std::string ext = lowerExtension(name);
     return ext.empty() ? ext : ext.substr(1);
 }
 
@@ -34,7 +34,7 @@ std::string detectFormat(const std::string& name, const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
     in.read(head, sizeof head);
     if (std::memcmp(head, "VASTRAY\0", 8) == 0) return "vast";
-    const std::string ext = lowerExtension(name);
+    const std::string ext = extensionWithoutDot(name);
     if (ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb" || ext == "zip") return ext;
     if (assimpReads(name)) return ext;  // STL, OFF, FBX, ... (kAssimpFormats)
     if (std::memcmp(head, "PK\x03\x04", 4) == 0) return "zip";
@@ -50,7 +50,7 @@ std::string renamePath(std::string message, const std::string& from, const std::
 }
 
 bool isModelFile(const fs::path& path) {
-    const std::string ext = lowerExtension(path.filename().string());
+    const std::string ext = extensionWithoutDot(path.filename().string());
     return ext == "obj" || ext == "ply" || ext == "gltf" || ext == "glb" || assimpReads(path.string());
 }
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "vastray/core/FilePath.h"
 #include "vastray/core/ImageDiff.h"
 #include "vastray/core/ImageFile.h"
 
@@ -66,14 +67,8 @@ const LoadedModule& module() {
 
 Status loadImageModule() { return module().status; }
 
-bool isPfmPath(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".pfm";
-}
-
 Status writeImageFile(const std::string& path, const RenderImage& image) {
-    if (isPfmPath(path)) return writePfmFile(path, image);
+    if (lowerExtension(path) == ".pfm") return writePfmFile(path, image);
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(path + ": cannot write: ");
     return m.api->writeImageFile(path, image);

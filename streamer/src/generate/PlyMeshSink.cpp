@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "generate/Generators.h"
+#include "vastray/core/FilePath.h"
 
 namespace vastray::gen {
 
@@ -121,12 +122,7 @@ void PlyMeshSink::discard() {
 
 namespace {
 
-bool hasPlyExtension(const std::string& path) {
-    if (path.size() < 4) return false;
-    std::string ext = path.substr(path.size() - 4);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    return ext == ".ply";
-}
+bool hasPlyExtension(const std::string& path) { return lowerExtension(path) == ".ply"; }
 
 }  // namespace
 }  // namespace vastray::gen

@@ -11,6 +11,7 @@
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/FilePath.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
@@ -86,11 +87,7 @@ Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOff
 
 PackageReader::~PackageReader() = default;
 
-bool isPackagePath(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == ".vast";
-}
+bool isPackagePath(const std::string& path) { return lowerExtension(path) == ".vast"; }
 
 Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& path) {
     std::unique_ptr<PackageReader> reader(new PackageReader());

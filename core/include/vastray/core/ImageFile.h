@@ -22,8 +22,6 @@ namespace vastray {
 // EXR as the data window (the region) inside the display window (the frame, origin 0,0); in a
 // PNG as the text chunk kRegionTextKey, "X0,Y0,X1,Y1 WxH" (x1, y1 exclusive; W x H the frame).
 Status writeImageFile(const std::string& path, const RenderImage& image);
-// True for a .pfm path (any case): writeImageFile writes it without the OpenImageIO module.
-bool isPfmPath(const std::string& path);
 
 constexpr const char* kRegionTextKey = "vastray:region";
 

@@ -7,18 +7,13 @@
 #include <cstring>
 #include <filesystem>
 
+#include "vastray/core/FilePath.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/RenderOptions.h"
 
 namespace vastray::oiio {
 namespace {
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
 
 Status writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc format,
                  const void* pixels) {

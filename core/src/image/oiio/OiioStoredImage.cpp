@@ -9,15 +9,12 @@
 #include <filesystem>
 
 #include "OiioImage.h"
+#include "vastray/core/FilePath.h"
 
 namespace vastray::oiio {
 namespace {
 
-bool isPng(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == ".png";
-}
+bool isPng(const std::string& path) { return lowerExtension(path) == ".png"; }
 
 Result<SampleType> sampleType(const std::string& path, const std::string& channel, OIIO::TypeDesc t) {
     if (t == OIIO::TypeDesc::UINT8) return SampleType::UInt8;
