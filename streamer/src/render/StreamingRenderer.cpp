@@ -130,13 +130,13 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
 
     // The streamer counts into st.totals across renders; this render reports the difference.
-    // The first render counts the decoding done since the scene opened (decodeOnOpen).
+    // Until a render has reported, the cache's counters start at zero: the first report counts
+    // the decoding done since the scene opened (decodeOnOpen), and that of a render that failed.
     StreamingStats before = st.totals;
     if (st.rendered) {
         before.bytesRead = st.cache->bytesRead(), before.decodes = st.cache->decodes();
         before.decodeSeconds = st.cache->decodeSeconds();
     }
-    st.rendered = true;
     before.uploadSeconds = st.backend->uploadSeconds();
     before.deviceSeconds = st.backend->deviceSeconds(), before.bytesUploaded = st.backend->bytesUploaded();
     const PixelBounds bounds = renderBounds(options);
@@ -161,6 +161,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     VASTRAY_TRY(st.backend->renderOnDevice(job, *st.pager, image, st.totals));
     const uint64_t rays = st.totals.walkedRays - before.walkedRays;
     reportStats(st, before, stats, streamingStats, start, rays);
+    st.rendered = true;
     return image;
 }
 
