@@ -121,6 +121,29 @@ TEST_F(Corruption, ForgedCountsWithAValidChecksumAreRejectedBeforeAllocating) {
     }
 }
 
+// The header records its own size; any other size (a different writer's layout) is refused by
+// name, with the stored size, whether or not the header's checksum was recomputed over it.
+TEST_F(Corruption, ForgedHeaderSizeIsRefusedWithTheSizeNamed) {
+    const size_t headerSizeAt = 8 + 4;  // see serializeHeader: magic, version, header size
+    for (const uint32_t forged : {0u, 255u, 257u, 512u, 0xFFFFFFFFu}) {
+        for (const bool resealed : {false, true}) {
+            std::vector<uint8_t> bytes = *bytes_;
+            std::memcpy(&bytes[headerSizeAt], &forged, 4);
+            if (resealed) {
+                const uint64_t sum = checksum64(bytes.data(), 248);
+                std::memcpy(&bytes[248], &sum, 8);
+            }
+            const std::string path = tempPath("header-size.vast");
+            writeFile(path, bytes);
+            auto reader = PackageReader::open(path);
+            ASSERT_FALSE(reader.isOk()) << forged;
+            EXPECT_NE(reader.message().find("header size " + std::to_string(forged) + " is not 256"), std::string::npos)
+                << reader.message();
+            EXPECT_NE(reader.message().find("header-size.vast"), std::string::npos) << reader.message();
+        }
+    }
+}
+
 // Flag bits this reader does not know (a newer writer's feature) are refused by name, in the
 // header and in a chunk, even when every checksum matches.
 TEST_F(Corruption, UnknownFlagBitsAreRefused) {
