@@ -536,7 +536,7 @@ CommandRun addRenderCommand(CLI::App& app) {
     cmd->add_option("--spp", args->spp, "samples per pixel, 1..65536")->capture_default_str();
     cmd->add_option("--resolution", args->resolution, "WxH, each side 1..16384")->capture_default_str();
     cmd->add_option("--camera", args->camera,
-                    "a camera of the scene (glTF cameras, kept in the package) by name or 0-based index; "
+                    "a camera of the scene (glTF, Collada, FBX... cameras, kept in the package) by name or 0-based index; "
                     "default: the scene's first camera if it has one and --eye is not given, else framing");
     cmd->add_option("--eye", args->eye,
                     "camera position x,y,z (with --target; default: the scene's first camera, else frame the scene)");

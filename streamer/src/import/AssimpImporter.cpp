@@ -9,6 +9,7 @@
 // import, not the CLI or the server that called it. The child sends the triangles back through
 // a pipe; finalizeMesh's validation runs in the caller, as for every other importer.
 #include <assimp/DefaultIOSystem.h>
+#include <assimp/camera.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -30,6 +31,8 @@
 
 #include "import/ImportCommon.h"
 #include "package/ByteIo.h"
+#include "vastray/core/Camera.h"
+#include "vastray/core/VecMath.h"
 #include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
 
@@ -102,9 +105,53 @@ void warnAboutUnused(const aiScene& scene, ImportReport& report) {
     report.warnUnused("skin bones", bones);
     report.warnUnused("morph targets", morphs);
     report.warnUnused("animations", scene.mNumAnimations);
-    report.warnUnused("cameras", scene.mNumCameras);
     report.warnUnused("lights", scene.mNumLights);
     report.warnUnused("embedded textures", scene.mNumTextures);
+}
+
+// A node's transform to world space: its own, then each parent's up to the root.
+aiMatrix4x4 worldTransform(const aiNode& node) {
+    aiMatrix4x4 m = node.mTransformation;
+    for (const aiNode* parent = node.mParent; parent; parent = parent->mParent) m = parent->mTransformation * m;
+    return m;
+}
+
+// The scene's perspective cameras in world space, in the file's order (read before
+// post-processing, while the node tree that places them is whole). An aiCamera sits at
+// mPosition looking along mLookAt with mUp, in the frame of the node of its name.
+// mHorizontalFOV is the full horizontal angle as assimp 5.2's Collada and FBX readers store it
+// (its header said "half" until assimp PR #3912 corrected it; issue #2256); with mAspect
+// (width / height) it gives the vertical angle we store; a file that states no aspect is taken
+// as square. The image's aspect ratio is the render's --resolution, as for glTF cameras.
+// Orthographic cameras, cameras no node places and degenerate ones are counted in `notUsed`.
+std::vector<SceneCamera> worldCameras(const aiScene& scene, uint64_t& notUsed) {
+    std::vector<SceneCamera> cameras;
+    for (unsigned i = 0; i < scene.mNumCameras; ++i) {
+        const aiCamera& c = *scene.mCameras[i];
+        const aiNode* node = scene.mRootNode ? scene.mRootNode->FindNode(c.mName) : nullptr;
+        if (!node || c.mOrthographicWidth != 0.0f || !(c.mHorizontalFOV > 0.0f)) {
+            ++notUsed;
+            continue;
+        }
+        const aiMatrix4x4 m = worldTransform(*node);
+        const aiMatrix3x3 r(m);
+        const aiVector3D eye = m * c.mPosition, forward = r * c.mLookAt, up = r * c.mUp;
+        const float aspect = std::isfinite(c.mAspect) && c.mAspect > 0.0f ? c.mAspect : 1.0f;
+        SceneCamera camera;
+        camera.name = c.mName.length > 0 ? c.mName.C_Str() : "camera " + std::to_string(i);
+        camera.camera.eye = {eye.x, eye.y, eye.z};
+        const Vec3f direction = normalize(Vec3f{forward.x, forward.y, forward.z});
+        camera.camera.target = camera.camera.eye + direction * std::max(1.0f, length(camera.camera.eye));
+        camera.camera.up = normalize(Vec3f{up.x, up.y, up.z});
+        camera.camera.fovYDegrees =
+            float(2.0 * std::atan(std::tan(0.5 * double(c.mHorizontalFOV)) / double(aspect)) * 180.0 / 3.14159265358979323846);
+        if (!validateCamera(camera.camera).isOk()) {
+            ++notUsed;
+            continue;
+        }
+        cameras.push_back(std::move(camera));
+    }
+    return cameras;
 }
 
 // Normals (world space after aiProcess_PreTransformVertices) and the first colour set, taken as
@@ -180,7 +227,13 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     // then triangulate, bake node transforms into world space and sort out points and lines.
     const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
     ImportReport unused;
-    if (scene) warnAboutUnused(*scene, unused);
+    std::vector<SceneCamera> cameras;
+    uint64_t camerasNotUsed = 0;
+    if (scene) {
+        warnAboutUnused(*scene, unused);
+        cameras = worldCameras(*scene, camerasNotUsed);
+        unused.warnUnused("cameras", camerasNotUsed, "orthographic, placed by no node, or placed degenerately");
+    }
     if (scene && !(scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
         scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices |
                                              aiProcess_SortByPType | aiProcess_ValidateDataStructure);
@@ -199,6 +252,7 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     imported.report.coloursRead = unused.coloursRead;
     imported.report.texcoordsRead = unused.texcoordsRead;
     imported.report.warnings = std::move(unused.warnings);
+    imported.mesh.cameras = std::move(cameras);
     if (Status s = appendMeshes(*scene, imported); !s.isOk()) return s.withContext(name + ": ");
     return imported;
 }
@@ -249,6 +303,11 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
     }
     putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
     putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors);
+    w.put(uint64_t(m.mesh.cameras.size()));
+    for (const SceneCamera& camera : m.mesh.cameras) {
+        putText(w, camera.name);
+        w.put(camera.camera.eye), w.put(camera.camera.target), w.put(camera.camera.up), w.put(camera.camera.fovYDegrees);
+    }
     return std::move(w.bytes());
 }
 
@@ -280,9 +339,16 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
             return malformed;
         material.doubleSided = doubleSided != 0;
     }
+    uint64_t cameras = 0;
     if (!getCounted(r, m.mesh.positions) || !getCounted(r, m.mesh.indices) || !getCounted(r, m.mesh.materialIds) ||
-        !getCounted(r, m.mesh.normals) || !getCounted(r, m.mesh.colors) || r.remaining() != 0)
+        !getCounted(r, m.mesh.normals) || !getCounted(r, m.mesh.colors) || !r.get(cameras) || cameras > bytes.size())
         return malformed;
+    m.mesh.cameras.resize(cameras);
+    for (SceneCamera& camera : m.mesh.cameras)
+        if (!getText(r, camera.name) || !r.get(camera.camera.eye) || !r.get(camera.camera.target) ||
+            !r.get(camera.camera.up) || !r.get(camera.camera.fovYDegrees) || !validateCamera(camera.camera).isOk())
+            return malformed;
+    if (r.remaining() != 0) return malformed;
     return m;
 }
 

@@ -30,7 +30,8 @@ struct Camera {
 // Finite vectors, eye != target, up not parallel to the view direction, fov in [0.001, 180).
 Status validateCamera(const Camera& camera);
 
-// A camera a scene file defines (a glTF camera node), by the name the file gives it.
+// A camera a scene file defines (a glTF camera node, or a camera assimp reads from a Collada,
+// FBX, ... file), by the name the file gives it.
 struct SceneCamera {
     std::string name;
     Camera camera;
