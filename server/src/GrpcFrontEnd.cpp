@@ -1,11 +1,11 @@
 // gRPC adapters: each handler checks the token, calls one Service function and converts
 // the ServiceStatus to a grpc::Status.
-#include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 
 #include <fstream>
 
+#include "GrpcReflection.h"
 #include "grpc/health/v1/health.pb.h"
 #include "vastray/server/FrontEnds.h"
 #include "vastray/v1/render_service.grpc.pb.h"
@@ -213,6 +213,9 @@ struct GrpcFrontEnd::Impl {
     Adapter adapter;
     SceneServiceImpl scenes;
     RenderServiceImpl renders;
+    std::unique_ptr<grpc::Service> reflection =
+        makeReflectionService({v1::SceneService::service_full_name(), v1::RenderService::service_full_name(),
+                               "grpc.health.v1.Health"});
     std::unique_ptr<grpc::Server> server;
 };
 
@@ -229,13 +232,13 @@ Result<std::unique_ptr<GrpcFrontEnd>> GrpcFrontEnd::start(Service& service, cons
     // also keeps its object file in the link.
     if (!grpc::health::v1::HealthCheckRequest::descriptor())
         return Status::error("gRPC: grpc.health.v1 descriptor missing");
-    grpc::reflection::InitProtoReflectionServerBuilderPlugin();
     grpc::ServerBuilder builder;
     builder.AddListeningPort(address, *creds, &front->port_);
     builder.SetMaxReceiveMessageSize(kMaxReceiveBytes);
     builder.SetMaxSendMessageSize(kMaxSendBytes);
     builder.RegisterService(&front->impl_->scenes);
     builder.RegisterService(&front->impl_->renders);
+    builder.RegisterService(front->impl_->reflection.get());
     front->impl_->server = builder.BuildAndStart();
     if (!front->impl_->server || front->port_ == 0) return Status::error("gRPC: cannot listen on " + address);
     // The default health service knows only the server as a whole (""); a check naming one of

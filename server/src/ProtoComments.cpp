@@ -97,11 +97,38 @@ std::map<std::string, std::string> parse() {
     return comments;
 }
 
+// protoc fills every field's json_name ("sceneId") in a descriptor set, the generated pool's
+// descriptors leave it unset: cleared, so that clients print the names they printed before
+// reflection sent these files (grpcurl prints scene_id), as the field's own name.
+void clearJsonNames(DescriptorProto& message) {
+    for (auto& field : *message.mutable_field()) field.clear_json_name();
+    for (auto& field : *message.mutable_extension()) field.clear_json_name();
+    for (DescriptorProto& nested : *message.mutable_nested_type()) clearJsonNames(nested);
+}
+void clearJsonNames(FileDescriptorProto& file) {
+    for (DescriptorProto& message : *file.mutable_message_type()) clearJsonNames(message);
+    for (auto& field : *file.mutable_extension()) field.clear_json_name();
+}
+
 }  // namespace
 
 const std::map<std::string, std::string>& protoComments() {
     static const std::map<std::string, std::string> comments = parse();
     return comments;
+}
+
+const std::map<std::string, std::string>& commentedProtoFiles() {
+    static const std::map<std::string, std::string> files = [] {
+        std::map<std::string, std::string> serialized;
+        google::protobuf::FileDescriptorSet set;
+        if (set.ParseFromArray(kDescriptorSet, int(sizeof kDescriptorSet)))
+            for (FileDescriptorProto& file : *set.mutable_file()) {
+                clearJsonNames(file);
+                serialized[file.name()] = file.SerializeAsString();
+            }
+        return serialized;
+    }();
+    return files;
 }
 
 std::string protoComment(const std::string& fullName) {

@@ -15,4 +15,8 @@ const std::map<std::string, std::string>& protoComments();
 // The comment of `fullName`, or "" when it has none.
 std::string protoComment(const std::string& fullName);
 
+// Each vastray.v1 .proto file, by its name ("vastray/v1/render_service.proto"), as a serialized
+// FileDescriptorProto with its source_code_info (the comments): what server reflection sends.
+const std::map<std::string, std::string>& commentedProtoFiles();
+
 }  // namespace vastray::server

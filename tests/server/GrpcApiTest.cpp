@@ -4,8 +4,12 @@
 #include <grpcpp/grpcpp.h>
 
 #include <future>
+#include <set>
+
+#include <google/protobuf/descriptor.pb.h>
 
 #include "ServerTestSupport.h"
+#include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
 #include "vastray/v1/render_service.grpc.pb.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
 
@@ -271,6 +275,62 @@ TEST_F(GrpcTest, HealthAndReflectionWorkWithoutTheProto) {
     queue.Shutdown();
     while (queue.Next(&tag, &ok)) {
     }
+}
+
+// Reflection sends our .proto files with their comments (the generated C++ descriptors have
+// none), the files they import after them, and a named error for what does not exist.
+TEST_F(GrpcTest, ReflectionDescribesTheApiWithItsComments) {
+    namespace refl = grpc::reflection::v1alpha;
+    startServer();
+    connect();
+    auto stub = refl::ServerReflection::NewStub(channel_);
+    auto c = context();
+    auto stream = stub->ServerReflectionInfo(c.get());
+    refl::ServerReflectionRequest request;
+    refl::ServerReflectionResponse response;
+
+    request.set_file_containing_symbol("vastray.v1.RenderService.SubmitJob");
+    ASSERT_TRUE(stream->Write(request) && stream->Read(&response));
+    ASSERT_TRUE(response.has_file_descriptor_response()) << response.DebugString();
+    const auto& files = response.file_descriptor_response().file_descriptor_proto();
+    ASSERT_GE(files.size(), 1);
+    google::protobuf::FileDescriptorProto file;
+    ASSERT_TRUE(file.ParseFromString(files[0]));
+    EXPECT_EQ(file.name(), "vastray/v1/render_service.proto");
+    ASSERT_GT(file.source_code_info().location_size(), 0) << "sent without its comments";
+    bool documented = false;
+    for (const auto& location : file.source_code_info().location())
+        documented |= location.leading_comments().find("tile") != std::string::npos;
+    EXPECT_TRUE(documented) << "no leading comment mentions tiles in render_service.proto";
+    std::set<std::string> names;
+    for (const std::string& bytes : files) {
+        google::protobuf::FileDescriptorProto f;
+        ASSERT_TRUE(f.ParseFromString(bytes));
+        EXPECT_TRUE(names.insert(f.name()).second) << f.name() << " sent twice";
+    }
+    for (const std::string& dependency : file.dependency()) EXPECT_TRUE(names.count(dependency)) << dependency;
+
+    request.set_file_by_filename("grpc/health/v1/health.proto");
+    ASSERT_TRUE(stream->Write(request) && stream->Read(&response));
+    ASSERT_TRUE(response.has_file_descriptor_response()) << response.DebugString();
+    ASSERT_TRUE(file.ParseFromString(response.file_descriptor_response().file_descriptor_proto(0)));
+    EXPECT_EQ(file.package(), "grpc.health.v1");
+
+    request.set_file_containing_symbol("vastray.v1.NoSuchThing");
+    ASSERT_TRUE(stream->Write(request) && stream->Read(&response));
+    ASSERT_TRUE(response.has_error_response());
+    EXPECT_EQ(response.error_response().error_code(), int(grpc::StatusCode::NOT_FOUND));
+    EXPECT_NE(response.error_response().error_message().find("vastray.v1.NoSuchThing"), std::string::npos);
+    EXPECT_EQ(response.original_request().file_containing_symbol(), "vastray.v1.NoSuchThing");
+
+    request.set_list_services("");
+    ASSERT_TRUE(stream->Write(request) && stream->Read(&response));
+    std::set<std::string> services;
+    for (const auto& service : response.list_services_response().service()) services.insert(service.name());
+    EXPECT_EQ(services, (std::set<std::string>{"vastray.v1.SceneService", "vastray.v1.RenderService",
+                                                "grpc.health.v1.Health", "grpc.reflection.v1alpha.ServerReflection"}));
+    stream->WritesDone();
+    EXPECT_TRUE(stream->Finish().ok());
 }
 
 }  // namespace

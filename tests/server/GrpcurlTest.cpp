@@ -163,6 +163,8 @@ TEST_F(GrpcurlTest, DrivesTheServiceThroughReflection) {
     EXPECT_NE(method.output.find("rpc SubmitJob ( .vastray.v1.SubmitJobRequest ) returns ( .vastray.v1.Job );"),
               std::string::npos)
         << method.output;
+    // The method's comment from render_service.proto (reflection sends the files with comments).
+    EXPECT_NE(method.output.find("// Validates and queues a job."), std::string::npos) << method.output;
     const GrpcurlRun stats = grpcurl({}, {"describe", "vastray.v1.JobStats"});
     EXPECT_NE(stats.output.find("uint64 peak_device_bytes = 6;"), std::string::npos) << stats.output;
 
