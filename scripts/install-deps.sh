@@ -29,7 +29,7 @@ packages=(
   ca-certificates build-essential cmake ninja-build pkg-config git
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libdraco-dev
   libtinygltf-dev nlohmann-json3-dev libopenimageio-dev openimageio-tools libglm-dev
-  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-dev glslang-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-dev glslang-tools
   libshaderc-dev glslc spirv-tools
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libssl-dev

@@ -45,8 +45,11 @@ Status ComputePipeline::init(std::span<const uint32_t> spirv, std::span<const ui
 }
 
 ComputePipeline::~ComputePipeline() {
-    if (pipeline_) vkDestroyPipeline(device_.handle(), pipeline_, nullptr);
-    if (layout_) vkDestroyPipelineLayout(device_.handle(), layout_, nullptr);
+    if (!pipeline_ && !layout_) return;
+    device_.destroyWhenIdle([pipeline = pipeline_, layout = layout_](VkDevice d) {
+        if (pipeline) vkDestroyPipeline(d, pipeline, nullptr);
+        if (layout) vkDestroyPipelineLayout(d, layout, nullptr);
+    });
 }
 
 void ComputePipeline::record(VkCommandBuffer cmd, const void* pushConstants, uint32_t groupCount) const {

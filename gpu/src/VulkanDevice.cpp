@@ -196,6 +196,7 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical) {
 VulkanDevice::~VulkanDevice() {
     if (device_) {
         vkDeviceWaitIdle(device_);
+        for (const auto& destroy : abandonedObjects_) destroy(device_);
         for (const auto& [buffer, memory] : abandoned_) {
             vkDestroyBuffer(device_, buffer, nullptr);
             vkFreeMemory(device_, memory, nullptr);  // unmapped implicitly
@@ -301,6 +302,11 @@ Status VulkanDevice::begin(const std::function<void(VkCommandBuffer)>& record, c
     pending_ = cmd;
     freeOnError.cmd = VK_NULL_HANDLE;
     return Status::ok();
+}
+
+void VulkanDevice::destroyWhenIdle(const std::function<void(VkDevice)>& destroy) {
+    if (failure_.empty()) destroy(device_);
+    else abandonedObjects_.push_back(destroy);
 }
 
 Status VulkanDevice::wait() {

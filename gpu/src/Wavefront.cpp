@@ -64,7 +64,7 @@ public:
         if (vkCreateQueryPool(device.handle(), &info, nullptr, &pool_) != VK_SUCCESS) pool_ = VK_NULL_HANDLE;
     }
     ~QueryPool() {
-        if (pool_) vkDestroyQueryPool(device_.handle(), pool_, nullptr);
+        if (pool_) device_.destroyWhenIdle([pool = pool_](VkDevice d) { vkDestroyQueryPool(d, pool, nullptr); });
     }
     QueryPool(const QueryPool&) = delete;
     QueryPool& operator=(const QueryPool&) = delete;

@@ -145,6 +145,10 @@ public:
     void fail(const std::string& message) {
         if (failure_.empty()) failure_ = message;
     }
+    // Runs `destroy` (which destroys a Vulkan object: a pipeline, a query pool) now; after a
+    // timed-out submission, which may still use the object, only once the device is idle, in
+    // ~VulkanDevice (as GpuBuffer's memory is).
+    void destroyWhenIdle(const std::function<void(VkDevice)>& destroy);
 
 private:
     friend class GpuBuffer;
@@ -172,6 +176,7 @@ private:
     uint32_t timestampValidBits_ = 0;
     std::string failure_;  // set once the device is lost or hung
     std::vector<std::pair<VkBuffer, VkDeviceMemory>> abandoned_;  // freed after failure_: released when idle
+    std::vector<std::function<void(VkDevice)>> abandonedObjects_;   // destroyed after failure_: when idle
     uint64_t liveBytes_ = 0;
     uint64_t peakBytes_ = 0;
     uint32_t allocationCount_ = 0;
