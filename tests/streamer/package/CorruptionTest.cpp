@@ -35,6 +35,12 @@ protected:
         return path;
     }
 
+    // Recomputes the header's checksum (its last 8 of 256 bytes) over the forged header.
+    static void resealHeader(std::vector<uint8_t>& bytes) {
+        const uint64_t sum = checksum64(bytes.data(), 248);
+        std::memcpy(&bytes[248], &sum, 8);
+    }
+
     static PackageInfo* info_;
     static std::vector<uint8_t>* bytes_;
 };
@@ -112,8 +118,7 @@ TEST_F(Corruption, ForgedCountsWithAValidChecksumAreRejectedBeforeAllocating) {
     const size_t chunkCountAt = 8 + 4 + 4 + 7 * 8 + 4 + 4 + 4 + 4;  // see serializeHeader
     for (uint32_t forged : {0xFFFFFFFFu, 1u << 23, 0u}) {
         std::memcpy(&bytes[chunkCountAt], &forged, 4);
-        const uint64_t sum = checksum64(bytes.data(), 248);
-        std::memcpy(&bytes[248], &sum, 8);
+        resealHeader(bytes);
         const std::string path = tempPath("forged.vast");
         writeFile(path, bytes);
         auto reader = PackageReader::open(path);
@@ -129,10 +134,7 @@ TEST_F(Corruption, ForgedHeaderSizeIsRefusedWithTheSizeNamed) {
         for (const bool resealed : {false, true}) {
             std::vector<uint8_t> bytes = *bytes_;
             std::memcpy(&bytes[headerSizeAt], &forged, 4);
-            if (resealed) {
-                const uint64_t sum = checksum64(bytes.data(), 248);
-                std::memcpy(&bytes[248], &sum, 8);
-            }
+            if (resealed) resealHeader(bytes);
             const std::string path = tempPath("header-size.vast");
             writeFile(path, bytes);
             auto reader = PackageReader::open(path);
@@ -150,8 +152,7 @@ TEST_F(Corruption, UnknownFlagBitsAreRefused) {
     std::vector<uint8_t> bytes = *bytes_;
     const size_t flagsAt = 8 + 4 + 4 + 7 * 8;  // see serializeHeader
     bytes[flagsAt] |= 0x80;
-    const uint64_t sum = checksum64(bytes.data(), 248);
-    std::memcpy(&bytes[248], &sum, 8);
+    resealHeader(bytes);
     const std::string path = tempPath("unknown-flags.vast");
     writeFile(path, bytes);
     auto forged = PackageReader::open(path);
