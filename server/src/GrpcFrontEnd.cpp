@@ -18,6 +18,13 @@ namespace {
 constexpr const char* kHealthServiceNames[] = {v1::SceneService::service_full_name(),
                                                v1::RenderService::service_full_name()};
 
+// What reflection lists (besides itself): our services and the health service.
+std::vector<std::string> reflectedServices() {
+    std::vector<std::string> names(std::begin(kHealthServiceNames), std::end(kHealthServiceNames));
+    names.push_back("grpc.health.v1.Health");
+    return names;
+}
+
 // A request message carries at most one upload chunk plus its name.
 constexpr int kMaxReceiveBytes = int(kMaxStreamChunkBytes) + (64 << 10);
 constexpr int kMaxSendBytes = int(kMaxStreamChunkBytes) + (64 << 10);
@@ -147,9 +154,9 @@ public:
             v1::ResultChunk chunk;
             const bool preview = !request->aov().empty();
             if (preview) {
-                auto preview = a_.service_.resultPreviewPng(request->job_id(), request->aov());
-                if (!preview) return preview.status();
-                png = std::move(*preview);
+                auto made = a_.service_.resultPreviewPng(request->job_id(), request->aov());
+                if (!made) return made.status();
+                png = std::move(*made);
                 total = png.size();
                 chunk.set_content_type("image/png");
             } else {
@@ -213,9 +220,7 @@ struct GrpcFrontEnd::Impl {
     Adapter adapter;
     SceneServiceImpl scenes;
     RenderServiceImpl renders;
-    std::unique_ptr<grpc::Service> reflection =
-        makeReflectionService({v1::SceneService::service_full_name(), v1::RenderService::service_full_name(),
-                               "grpc.health.v1.Health"});
+    std::unique_ptr<grpc::Service> reflection = makeReflectionService(reflectedServices());
     std::unique_ptr<grpc::Server> server;
 };
 

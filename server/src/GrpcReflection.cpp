@@ -17,8 +17,6 @@ using google::protobuf::DescriptorPool;
 using google::protobuf::FieldDescriptor;
 using google::protobuf::FileDescriptor;
 
-constexpr int kNotFound = 5;  // grpc::StatusCode::NOT_FOUND
-constexpr int kInvalidArgument = 3;
 
 class ReflectionService final : public refl::ServerReflection::Service {
 public:
@@ -60,7 +58,7 @@ private:
             }
             case refl::ServerReflectionRequest::kAllExtensionNumbersOfType: {
                 const Descriptor* type = pool.FindMessageTypeByName(request.all_extension_numbers_of_type());
-                if (!type) return error(kNotFound, "type " + request.all_extension_numbers_of_type() + " not found", response);
+                if (!type) return error(grpc::StatusCode::NOT_FOUND, "type " + request.all_extension_numbers_of_type() + " not found", response);
                 std::vector<const FieldDescriptor*> extensions;
                 pool.FindAllExtensions(type, &extensions);
                 auto* numbers = response.mutable_all_extension_numbers_response();
@@ -75,13 +73,13 @@ private:
             case refl::ServerReflectionRequest::MESSAGE_REQUEST_NOT_SET:
                 break;
         }
-        error(kInvalidArgument, "the request asks for nothing (message_request is not set)", response);
+        error(grpc::StatusCode::INVALID_ARGUMENT, "the request asks for nothing (message_request is not set)", response);
     }
 
     // The file and every file it imports, directly or not, each once: a vastray.v1 file as
     // compiled with its comments, any other as protobuf's generated pool holds it.
     static void sendFile(const FileDescriptor* file, const std::string& what, refl::ServerReflectionResponse& response) {
-        if (!file) return error(kNotFound, what + " not found", response);
+        if (!file) return error(grpc::StatusCode::NOT_FOUND, what + " not found", response);
         auto* files = response.mutable_file_descriptor_response();
         std::set<const FileDescriptor*> sent;
         std::vector<const FileDescriptor*> todo{file};
@@ -101,8 +99,8 @@ private:
         }
     }
 
-    static void error(int code, const std::string& message, refl::ServerReflectionResponse& response) {
-        response.mutable_error_response()->set_error_code(code);
+    static void error(grpc::StatusCode code, const std::string& message, refl::ServerReflectionResponse& response) {
+        response.mutable_error_response()->set_error_code(int(code));
         response.mutable_error_response()->set_error_message(message);
     }
 
