@@ -87,13 +87,21 @@ private:
     std::map<std::string, std::string>& out_;
 };
 
+// The embedded descriptor set, parsed once for both readers below. Compiled in by the build:
+// failing to parse it is a build defect, which the tests catch (every described element would
+// lose its description, reflection its files); it reads as an empty set.
+const google::protobuf::FileDescriptorSet& descriptorSet() {
+    static const google::protobuf::FileDescriptorSet set = [] {
+        google::protobuf::FileDescriptorSet parsed;
+        if (!parsed.ParseFromArray(kDescriptorSet, int(sizeof kDescriptorSet))) parsed.Clear();
+        return parsed;
+    }();
+    return set;
+}
+
 std::map<std::string, std::string> parse() {
-    google::protobuf::FileDescriptorSet set;
     std::map<std::string, std::string> comments;
-    // Compiled in by the build: failing to parse it is a build defect, which the tests catch
-    // (every described element would lose its description).
-    if (!set.ParseFromArray(kDescriptorSet, int(sizeof kDescriptorSet))) return comments;
-    for (const FileDescriptorProto& file : set.file()) Collector(file, comments);
+    for (const FileDescriptorProto& file : descriptorSet().file()) Collector(file, comments);
     return comments;
 }
 
@@ -120,12 +128,10 @@ const std::map<std::string, std::string>& protoComments() {
 const std::map<std::string, std::string>& commentedProtoFiles() {
     static const std::map<std::string, std::string> files = [] {
         std::map<std::string, std::string> serialized;
-        google::protobuf::FileDescriptorSet set;
-        if (set.ParseFromArray(kDescriptorSet, int(sizeof kDescriptorSet)))
-            for (FileDescriptorProto& file : *set.mutable_file()) {
-                clearJsonNames(file);
-                serialized[file.name()] = file.SerializeAsString();
-            }
+        for (FileDescriptorProto file : descriptorSet().file()) {
+            clearJsonNames(file);
+            serialized[file.name()] = file.SerializeAsString();
+        }
         return serialized;
     }();
     return files;
