@@ -19,6 +19,7 @@
 #include "Commands.h"
 #include "OutputPath.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/FilePath.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/Progress.h"
@@ -48,6 +49,8 @@ struct RenderArgs {
     int64_t gpuDevice = -1;
     std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
     bool noSun = false;
+    std::string environment;  // --environment FILE
+    double environmentScale = 1.0;
     std::string region, tiles;  // --region X0,Y0,X1,Y1; --tiles NX,NY (with --tile)
     int64_t tile = kNoTile;
     int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
@@ -161,7 +164,9 @@ Status checkRange(const char* flag, int64_t value, int64_t lo, int64_t hi) {
 // default sun's colour kSunTint (the default sun is 3).
 Status parseSun(const RenderArgs& args, RenderOptions& options) {
     if (args.noSun && !args.sun.empty()) return Status::error("--sun and --no-sun exclude each other");
-    if (args.noSun) options.environment.sunIrradiance = {0.0f, 0.0f, 0.0f};
+    // An environment map brings its own sun (the bright texels): the default sun goes with the sky.
+    if (args.noSun || (!args.environment.empty() && args.sun.empty()))
+        options.environment.sunIrradiance = {0.0f, 0.0f, 0.0f};
     if (args.sun.empty()) return Status::ok();
     const size_t comma = args.sun.rfind(',');
     const std::string expected = "--sun '" + args.sun + "': expected X,Y,Z,INTENSITY";
@@ -272,6 +277,12 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
         sizes->hostCache = *hostCache;
     }
     sizes->memoryBudget = *budget;
+    if (!(args.environmentScale >= 0.0 && args.environmentScale <= kMaxEnvironmentRadiance))
+        return Status::error("--environment-scale " + std::to_string(args.environmentScale) + " is outside [0, 1e18]");
+    if (args.environmentScale != 1.0 && args.environment.empty())
+        return Status::error("--environment-scale needs --environment");
+    if (!args.environment.empty() && options.integrator == IntegratorKind::AmbientOcclusion)
+        return Status::error("--environment lights the path integrator; --integrator ao has no lights");
     VASTRAY_TRY(parseCamera(args, options));
     VASTRAY_TRY(checkOutput(args, options));
     VASTRAY_TRY(validateRenderOptions(options));
@@ -451,7 +462,8 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
         [&](const PackageInfo& info, const ChunkAttributes& attributes) -> Result<std::unique_ptr<ChunkBackend>> {
         if (!device) device.emplace(starting.get());
         if (!*device) return device->status();
-        return gpu::createVulkanChunkBackend(***device, info, attributes, budget);
+        return gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
+                                             gpu::environmentBytes(options.environment));
     };
     return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
@@ -472,6 +484,12 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
     const std::string ext = lowerExtension(args.output);
     if (Status memory = checkRenderHostMemory(*options, ext == ".exr"); !memory)
         return progress.fail(memory.message(), 1);
+    if (!args.environment.empty()) {
+        progress.status("reading " + args.environment);
+        auto map = readEnvironmentMap(args.environment, float(args.environmentScale));
+        if (!map) return progress.fail(map.message(), 1);
+        options->environment.map = std::move(map).value();
+    }
     RenderStats stats;
     StreamingStats streaming;
     const bool vulkan = args.backend == "vulkan";
@@ -549,6 +567,13 @@ CommandRun addRenderCommand(CLI::App& app) {
                     "X,Y,Z,INTENSITY: direction towards the sun (world space) and its strength (default: 3, from "
                     "0.4,0.8,0.3 turned to the --up-axis)");
     cmd->add_flag("--no-sun", args->noSun, "sky light only");
+    cmd->add_option("--environment", args->environment,
+                    "FILE (.exr, .hdr, .pfm, ...): a latitude-longitude environment map that replaces the sky (its top "
+                    "row towards the --up-axis), importance sampled; the default sun is off with it (--sun adds one)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--environment-scale", args->environmentScale,
+                    "multiplies the --environment map's radiance, [0, 1e18]")
+        ->capture_default_str();
     cmd->add_option("--fov", args->fov, "vertical field of view in degrees, [0.001, 180)")->capture_default_str();
     cmd->add_option("--integrator", args->integrator, "path | ao (ambient occlusion)")->capture_default_str();
     cmd->add_option("--max-depth", args->maxDepth, "scattering events per path, 0..1024")

@@ -50,7 +50,7 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
         **reader, options, streaming,
         [&](const PackageInfo& info, const ChunkAttributes& a) {
             return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget, gpu::kWaveShareOutOfCore,
-                                                 upload);
+                                                 upload, gpu::environmentBytes(options.environment));
         },
         nullptr, &s);
 }
@@ -89,17 +89,19 @@ inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions o
 // these AOVs, or 0 (also when the package has fewer chunks than that). stagingInDeviceMemory:
 // the staging bytes DMA uploads ask for where their staging area is device memory (lavapipe).
 inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t aovs,
-                               uint64_t stagingInDeviceMemory = 0) {
+                               uint64_t stagingInDeviceMemory = 0, uint64_t reservedBytes = 0) {
     auto reader = PackageReader::open(path);
     if (!reader) return 0;
     RenderOptions options;
     options.aovs = aovs;
     const ChunkAttributes a = requiredAttributes((*reader)->info(), options);
     if ((*reader)->info().chunks.size() < slots) return 0;  // never that many slots
-    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40, true, gpu::kWaveShareOutOfCore, stagingInDeviceMemory);
+    auto minimum = gpu::planPool((*reader)->info(), a, 1ull << 40, true, gpu::kWaveShareOutOfCore, stagingInDeviceMemory,
+                                 reservedBytes);
     if (!minimum) return 0;
     for (uint64_t budget = minimum->minimumBytes;; budget += 4 * 1024) {
-        auto plan = gpu::planPool((*reader)->info(), a, budget, true, gpu::kWaveShareOutOfCore, stagingInDeviceMemory);
+        auto plan = gpu::planPool((*reader)->info(), a, budget, true, gpu::kWaveShareOutOfCore, stagingInDeviceMemory,
+                                  reservedBytes);
         if (plan && plan->slots >= slots) return plan->slots == slots ? budget : 0;
     }
 }

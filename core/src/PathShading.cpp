@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
 
@@ -45,6 +46,7 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
 }
 
 Vec3f skyRadiance(const Environment& env, Vec3f direction) {
+    if (env.map) return environmentRadiance(*env.map, env.up, direction);
     const float height = dot(direction, env.up);
     if (height < 0.0f) return toVec(env.ground);
     const Vec3f horizon = toVec(env.horizon);
@@ -60,6 +62,36 @@ bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const Surfac
     if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f || dot(point.normal, sunDirection) <= 0.0f) return false;
     *light = mul(point.albedo, irradiance) * (cosine / kPi);
     return true;
+}
+
+float sunPickProbability(const Environment& env) {
+    if (!env.map || !env.map->sampleable) return 1.0f;
+    return maxComponent(toVec(env.sunIrradiance)) > 0.0f ? 0.5f : 0.0f;
+}
+
+bool unshadowedDirectLight(const Environment& env, Vec3f sunDirection, const SurfacePoint& point, RandomKey key,
+                           uint32_t seed, Vec3f* light, Vec3f* direction) {
+    const float pickSun = sunPickProbability(env);
+    if (pickSun >= 1.0f || (pickSun > 0.0f && randomFloat(key, kDimLightPick, seed) < pickSun)) {
+        if (!unshadowedSunLight(env, sunDirection, point, light)) return false;
+        if (pickSun < 1.0f) *light = *light * (1.0f / pickSun);
+        *direction = sunDirection;
+        return true;
+    }
+    const EnvironmentSample s =
+        sampleEnvironment(*env.map, env.up, randomFloat(key, kDimLightU, seed), randomFloat(key, kDimLightV, seed));
+    const float cosine = dot(point.shadingNormal, s.direction);
+    if (!(s.pdf > 0.0f) || cosine <= 0.0f || dot(point.normal, s.direction) <= 0.0f) return false;
+    const float lightPdf = (1.0f - pickSun) * s.pdf;
+    const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
+    *light = mul(point.albedo, s.radiance) * ((cosine / kPi) * weight);
+    *direction = s.direction;
+    return true;
+}
+
+float environmentHitWeight(const Environment& env, Vec3f direction, float bouncePdf) {
+    if (bouncePdf <= 0.0f || !env.map || !env.map->sampleable) return 1.0f;
+    return powerHeuristic(bouncePdf, (1.0f - sunPickProbability(env)) * environmentPdf(*env.map, env.up, direction));
 }
 
 Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed) {

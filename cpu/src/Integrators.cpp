@@ -12,12 +12,16 @@ namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-// The sun's reflection at `point`, zero when the shadow ray from `origin` is blocked.
-Vec3f sunLight(const ShadingContext& context, const SurfacePoint& point, Vec3f origin, uint64_t& rays) {
-    Vec3f light;
-    if (!unshadowedSunLight(context.options.environment, context.sunDirection, point, &light)) return {};
+// Next-event estimation's light at `point` (the sun's or the environment map's), zero when the
+// shadow ray from `origin` is blocked.
+Vec3f directLight(const ShadingContext& context, const SurfacePoint& point, Vec3f origin, RandomKey key,
+                  uint64_t& rays) {
+    Vec3f light, direction;
+    if (!unshadowedDirectLight(context.options.environment, context.sunDirection, point, key, context.options.seed,
+                               &light, &direction))
+        return {};
     ++rays;
-    if (context.scene.occluded({origin, context.sunDirection}, kInfinity)) return {};
+    if (context.scene.occluded({origin, direction}, kInfinity)) return {};
     return light;
 }
 
@@ -37,13 +41,15 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
     const RenderOptions& options = context.options;
     SampleResult result;
     Vec3f throughput{1, 1, 1};
+    float bouncePdf = 0;  // the solid-angle density of the last bounce; 0 for the camera ray
     for (uint32_t bounce = 0;; ++bounce) {
         key.bounce = bounce;
         SceneHit hit;
         ++rays;
         if (!context.scene.intersect(ray, kInfinity, &hit)) {
-            result.radiance =
-                result.radiance + mul(throughput, skyRadiance(options.environment, ray.direction));
+            const Environment& environment = options.environment;
+            result.radiance = result.radiance + mul(throughput, skyRadiance(environment, ray.direction)) *
+                                                    environmentHitWeight(environment, ray.direction, bouncePdf);
             break;
         }
         if (bounce == 0) result.cameraRayHit = true;
@@ -51,12 +57,13 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         result.radiance = result.radiance + mul(throughput, emission(*point.material));
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
-        result.radiance = result.radiance + mul(throughput, sunLight(context, point, origin, rays));
+        result.radiance = result.radiance + mul(throughput, directLight(context, point, origin, key, rays));
         // Cosine sampling of a Lambertian BRDF: f * cos / pdf = base colour (times the vertex colour).
         throughput = mul(throughput, point.albedo);
         if (!surviveRoulette(throughput, bounce, key, options.seed)) break;
         Vec3f direction;
         if (!bounceDirection(point, key, options.seed, &direction)) break;
+        bouncePdf = dot(point.shadingNormal, direction) / kPi;
         ray = {origin, direction};
     }
     return result;

@@ -1,8 +1,8 @@
 // One scattering event of each path in the shade queue, the paths whose rays are all walked
 // (cpu/src/Integrators.cpp's tracePath and ambientOcclusion, step for step): first the shadow
 // ray of the previous event (the sun's light, or the occlusion test), then the closest hit of
-// this one: sky on a miss; emission, next-event estimation to the sun (a shadow ray), the
-// Lambertian bounce and Russian roulette on a hit. New rays are queued on pc.queue for walking.
+// this one: sky (or environment map) on a miss; emission, next-event estimation to the sun or
+// the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. New rays are queued on pc.queue for walking.
 // Each path carries its own bounce, so paths of one wave may be at different bounces.
 #version 460
 #extension GL_EXT_buffer_reference : require
@@ -13,6 +13,7 @@
 #include "common/Random.glsl"
 #include "common/Shading.glsl"
 #include "common/Attributes.glsl"
+#include "common/Environment.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -22,6 +23,7 @@ layout(constant_id = 1) const bool kSun = true;                // the sun has ir
 layout(constant_id = 2) const bool kEmission = true;           // some material emits
 layout(constant_id = 3) const bool kShadingNormals = false;    // the scene has per-vertex normals
 layout(constant_id = 4) const bool kVertexColors = false;      // the scene has per-vertex colours
+layout(constant_id = 5) const bool kEnvironmentMap = false;    // an environment map replaces the sky
 
 void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
@@ -51,10 +53,17 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
         flags &= ~kPathAlive;
         const uvec4 hitNormal = UVec4Array(p.hitNormal).v[j];
         const vec3 direction = Vec4Array(p.rayDirection).v[j].xyz;
-        vec3 throughput = Vec4Array(p.throughput).v[j].xyz;
+        const vec4 carried = Vec4Array(p.throughput).v[j];
+        vec3 throughput = carried.xyz;
         const uint bounce = info.w, pixel = info.x, sampleIndex = info.y;
         if ((UVec2Array(p.rayState).v[j].x & kHitFound) == 0u) {
-            radiance = ao ? vec3(1.0) : radiance + throughput * skyRadiance(p, direction);
+            if (ao)
+                radiance = vec3(1.0);
+            else if (kEnvironmentMap)
+                radiance += throughput * environmentRadiance(p, direction) *
+                            environmentHitWeight(p, direction, bounce == 0u ? 0.0 : carried.w);
+            else
+                radiance += throughput * skyRadiance(p, direction);
         } else {
             const vec3 n = facingNormal(uintBitsToFloat(hitNormal.xyz), direction);
             const vec3 origin = offsetRayOrigin(Vec4Array(p.hitPosition).v[j].xyz, n);
@@ -76,7 +85,15 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                 if (bounce < p.maxDepth) {
                     const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
                     const float cosine = dot(ns, sun);
-                    if (kSun && maxComponent(irradiance) > 0.0 && cosine > 0.0 && (!kShadingNormals || dot(n, sun) > 0.0)) {
+                    vec3 light, toLight;
+                    if (kEnvironmentMap) {
+                        if (environmentDirectLight(p, n, ns, base, pixel, sampleIndex, bounce, light, toLight)) {
+                            Vec4Array(p.pendingSun).v[j] = vec4(throughput * light, 0.0);
+                            startRay(p, shadow, origin, toLight, kInfinity);
+                            flags |= kPathShadowPending | kPathWalkShadow;
+                            first = shadow, count = 1u;
+                        }
+                    } else if (kSun && maxComponent(irradiance) > 0.0 && cosine > 0.0 && (!kShadingNormals || dot(n, sun) > 0.0)) {
                         Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
                         startRay(p, shadow, origin, sun, kInfinity);
                         flags |= kPathShadowPending | kPathWalkShadow;
@@ -92,7 +109,7 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                     const vec3 bounced = survives ? cosineDirection(ns, pixel, sampleIndex, bounce, p.seed) : vec3(0.0);
                     if (kShadingNormals && dot(bounced, n) <= 0.0) survives = false;
                     if (survives) {
-                        Vec4Array(p.throughput).v[j] = vec4(throughput, 0.0);
+                        Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? dot(ns, bounced) / kPi : 0.0);
                         startRay(p, j, origin, bounced, kInfinity);
                         flags |= kPathAlive | kPathWalkClosest;
                         info.w = bounce + 1u;

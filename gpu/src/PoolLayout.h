@@ -60,6 +60,17 @@ inline OutputLayout outputLayout(uint64_t pixels) {
     o.totalBytes = o.cost + 8 * pixels;
     return o;
 }
+// The environment map's buffer (core/EnvironmentMap.h's arrays, in this order).
+struct EnvironmentLayout {
+    uint64_t rgb, density, marginal, conditional, totalBytes;
+};
+inline EnvironmentLayout environmentLayout(uint64_t width, uint64_t height) {
+    EnvironmentLayout e{};
+    e.rgb = 0, e.density = 12 * width * height, e.marginal = e.density + 4 * width * height;
+    e.conditional = e.marginal + 4 * (height + 1);
+    e.totalBytes = e.conditional + 4 * height * (width + 1);
+    return e;
+}
 static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 4 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

@@ -11,6 +11,7 @@
 #include "ChunkValidation.h"
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/EnvironmentMap.h"
 #include "shared/TraceTypes.h"
 #include "PoolLayout.h"
 #include "Wavefront.h"
@@ -102,7 +103,8 @@ public:
     std::string name() const override { return "vulkan"; }
     uint32_t slotCount() const override { return plan_.slots; }
     uint64_t bytesUploaded() const override { return uploaded_; }
-    uint64_t peakDeviceBytes() const override { return allocated_; }  // everything is allocated up front
+    // Everything is allocated up front but the environment map's buffer (within the plan's reserve).
+    uint64_t peakDeviceBytes() const override { return std::max(peak_, allocated_); }
     double uploadSeconds() const override { return uploadSeconds_; }
     double deviceSeconds() const override { return deviceSeconds_; }
 
@@ -189,10 +191,43 @@ public:
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors;
         b.uploader = uploader_.get();
+        VASTRAY_TRY(prepareEnvironment(job.options->environment, stats));
+        b.environment = environment_ ? &environmentBuffer_ : nullptr;
         return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 
 private:
+    // The environment map's arrays in their own buffer (EnvironmentLayout), in the bytes the plan
+    // kept for it; kept while the next render uses the same map.
+    Status prepareEnvironment(const Environment& environment, StreamingStats& stats) {
+        if (environment.map == environment_) return Status::ok();
+        if (environment_) {
+            allocated_ -= environmentBuffer_.allocatedBytes();
+            environmentBuffer_ = GpuBuffer();
+            environment_.reset();
+        }
+        if (!environment.map) return Status::ok();
+        const EnvironmentMap& map = *environment.map;
+        if (environmentBytes(environment) > plan_.reservedBytes)
+            return Status::error("the environment map needs " + formatBytes(environmentBytes(environment)) +
+                                 " of device memory; the pool kept " + formatBytes(plan_.reservedBytes) +
+                                 " for it (createVulkanChunkBackend's reservedBytes)");
+        const EnvironmentLayout layout = environmentLayout(map.width, map.height);
+        auto buffer = device_.createBuffer(layout.totalBytes);
+        if (!buffer) return buffer.status().withContext("environment map: ");
+        environmentBuffer_ = std::move(buffer).value();
+        VASTRAY_TRY(environmentBuffer_.upload(map.rgb.data(), map.rgb.size() * 4, layout.rgb));
+        VASTRAY_TRY(environmentBuffer_.upload(map.density.data(), map.density.size() * 4, layout.density));
+        VASTRAY_TRY(environmentBuffer_.upload(map.marginalCdf.data(), map.marginalCdf.size() * 4, layout.marginal));
+        VASTRAY_TRY(environmentBuffer_.upload(map.conditionalCdf.data(), map.conditionalCdf.size() * 4,
+                                              layout.conditional));
+        stats.hostToDeviceBytes += map.deviceBytes();
+        allocated_ += environmentBuffer_.allocatedBytes();
+        peak_ = std::max(peak_, allocated_);
+        environment_ = environment.map;
+        return Status::ok();
+    }
+
     // Out-of-range references would read outside the slot on the device: reject them here.
     Status validate(const DecodedChunk& c, std::span<const uint8_t> singleSided) const {
         const uint64_t triangles = c.indices.size() / 3;
@@ -218,16 +253,19 @@ private:
     std::unique_ptr<Wavefront> wavefront_;
     std::vector<GpuBuffer> slots_;
     GpuBuffer table_, state_, output_;
+    std::shared_ptr<const EnvironmentMap> environment_;  // the map in environmentBuffer_
+    GpuBuffer environmentBuffer_;
     std::unique_ptr<ChunkUploader> uploader_;  // Dma; destroyed first: its copies write the slots
     ChunkUploadFigures figures_;
-    uint64_t allocated_ = 0, uploaded_ = 0;
+    uint64_t allocated_ = 0, peak_ = 0, uploaded_ = 0;
     double uploadSeconds_ = 0, deviceSeconds_ = 0;
 };
 
 }  // namespace
 
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
-                          bool outputInDeviceMemory, double waveShareOutOfCore, uint64_t stagingInDeviceMemory) {
+                          bool outputInDeviceMemory, double waveShareOutOfCore, uint64_t stagingInDeviceMemory,
+                          uint64_t reservedBytes) {
     if (!(waveShareOutOfCore > 0 && waveShareOutOfCore < 1))
         return Status::error("the wave's share of an out-of-core budget must be in (0, 1), not " +
                              std::to_string(waveShareOutOfCore));
@@ -245,15 +283,17 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         stagingInDeviceMemory ? std::clamp<uint64_t>(granules(stagingInDeviceMemory), 2 * slotAllocation,
                                                      std::max<uint64_t>(chunks, 2) * slotAllocation)
                               : 0;
-    plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1) + staging;
+    const uint64_t reserved = reservedBytes > 0 ? granules(reservedBytes) : 0;
+    plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1) + staging + reserved;
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
                              formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) +
                              " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a wave of " +
                              std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
                              " plus tables of " + formatBytes(tableBytes(1)) +
-                             (staging ? " plus a staging area of " + formatBytes(staging) : std::string()) + ")");
-    budget -= staging;  // the rest is split between the wave and the slots
+                             (staging ? " plus a staging area of " + formatBytes(staging) : std::string()) +
+                             (reserved ? " plus the environment map's " + formatBytes(reserved) : std::string()) + ")");
+    budget -= staging + reserved;  // the rest is split between the wave and the slots
     // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for
     // slots; slots beyond the chunk count are useless, so what they would take goes back to the
     // wave. When the slots cannot hold every chunk, the wave gets waveShareOutOfCore (half by
@@ -278,13 +318,18 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.rayBytes = batchBytes(rays);
     plan.tableBytes = tableBytes(slots);
     plan.stagingBytes = staging;
-    plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes + staging;
+    plan.reservedBytes = reserved;
+    plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes + staging + reserved;
     return plan;
 }
 
 // DMA where the slots can live in memory the host does not map and the staging in system
 // memory (a discrete GPU: PERF_NOTES 44); elsewhere (lavapipe, integrated GPUs: one memory) a
 // copy through staging would only add one.
+uint64_t environmentBytes(const Environment& environment) {
+    return environment.map ? granules(environment.map->deviceBytes()) : 0;
+}
+
 ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode) {
     if (mode != ChunkUploadMode::Auto) return mode;
     return device.hasSeparateMemory() ? ChunkUploadMode::Dma : ChunkUploadMode::Mapped;
@@ -293,13 +338,14 @@ ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mo
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore,
-                                                               const ChunkUploadOptions& upload) {
+                                                               const ChunkUploadOptions& upload,
+                                                               uint64_t reservedBytes) {
     const ChunkUploadMode mode = resolveUploadMode(device, upload.mode);
     const bool dmaStagingInDevice =
         mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
     const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;
     auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
-                         stagingInDeviceMemory);
+                         stagingInDeviceMemory, reservedBytes);
     if (!plan) return plan.status();
     auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes, upload, mode);
     VASTRAY_TRY(backend->init(package));

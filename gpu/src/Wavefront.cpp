@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "vastray/core/Camera.h"
+#include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/PathShading.h"
 #include "vastray/core/VecMath.h"
 #include "ChunkUploader.h"
 #include "vastray/gpu/TileGrid.h"
@@ -111,6 +113,8 @@ void setEnvironment(WavefrontParams& p, const Environment& e) {
     const Vec3f sun = normalize(e.sunDirection);
     p.sunX = sun.x, p.sunY = sun.y, p.sunZ = sun.z;
     p.sunR = e.sunIrradiance[0], p.sunG = e.sunIrradiance[1], p.sunB = e.sunIrradiance[2];
+    p.sunPick = sunPickProbability(e);
+    if (e.map) p.envWidth = e.map->width, p.envHeight = e.map->height;
 }
 
 }  // namespace
@@ -159,8 +163,11 @@ public:
         for (const Material& m : job_.materials)
             emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
         const std::array<float, 3>& sun = options_.environment.sunIrradiance;
+        const bool environmentMap = options_.environment.map != nullptr;
+        if (environmentMap && !b_.environment) return Status::error("device render: the environment map has no buffer");
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
-                                        sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors});
+                                        sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
+                                        environmentMap});
         if (!shade) return shade.status();
         shade_ = *shade;
         VASTRAY_TRY(uploadParams());
@@ -421,6 +428,12 @@ private:
         p.outCost = out + o.cost;
         setCamera(p, job_.camera, options_.width, options_.height);
         setEnvironment(p, options_.environment);
+        if (b_.environment) {
+            const uint64_t base = b_.environment->address();
+            const EnvironmentLayout e = environmentLayout(p.envWidth, p.envHeight);
+            p.envRgb = base + e.rgb, p.envDensity = base + e.density;
+            p.envMarginal = base + e.marginal, p.envConditional = base + e.conditional;
+        }
         p.aoDistance = options_.aoDistance;
         p.boundsLoX = b_.bounds.lo.x, p.boundsLoY = b_.bounds.lo.y, p.boundsLoZ = b_.bounds.lo.z;
         p.boundsHiX = b_.bounds.hi.x, p.boundsHiY = b_.bounds.hi.y, p.boundsHiZ = b_.bounds.hi.z;

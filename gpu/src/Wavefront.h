@@ -29,6 +29,7 @@ struct WavefrontBuffers {
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
+    GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
 };
 
 class Wavefront {

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 
 #include "TestScenes.h"
 #include "vastray/core/Camera.h"
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/ImageDiff.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/RenderOptions.h"
@@ -169,6 +172,55 @@ TEST(ImageDiff, DifferentSizesOrChannelsAreErrors) {
     auto channels = diffImageFiles(b, c);
     ASSERT_FALSE(channels);
     EXPECT_NE(channels.message().find("channels differ"), std::string::npos) << channels.message();
+}
+
+// A .pfm environment map is read without the OpenImageIO module (core/src/image/PfmFile.cpp):
+// what vastray writes reads back exactly, either byte order and grey maps are read, and a
+// damaged file is refused with its name and what is wrong.
+TEST(ImageFile, PfmEnvironmentMapsAreReadAndDamagedOnesNamed) {
+    const std::string written = test::tmpPath("written.pfm");
+    const RenderImage image = gradientImage(kAovNone, 3.0f);
+    ASSERT_TRUE(writeImageFile(written, image));
+    auto map = readEnvironmentMap(written);
+    ASSERT_TRUE(map) << map.message();
+    ASSERT_EQ((*map)->width, image.width);
+    ASSERT_EQ((*map)->height, image.height);
+    EXPECT_EQ((*map)->rgb, image.rgb) << "rows in the same order, values unchanged";
+
+    auto write = [](const std::string& name, const std::string& header, const std::vector<float>& values, bool bigEndian) {
+        const std::string path = test::tmpPath(name);
+        std::ofstream out(path, std::ios::binary);
+        out << header;
+        for (float v : values) {
+            uint32_t bits;
+            std::memcpy(&bits, &v, 4);
+            if (bigEndian) bits = __builtin_bswap32(bits);
+            out.write(reinterpret_cast<const char*>(&bits), 4);
+        }
+        return path;
+    };
+    // Big-endian grey, 2x1, scale 2: each value doubled and copied to R, G and B.
+    auto grey = readEnvironmentMap(write("grey.pfm", "Pf\n2 1\n2.0\n", {0.25f, 1.5f}, true));
+    ASSERT_TRUE(grey) << grey.message();
+    EXPECT_EQ((*grey)->rgb, (std::vector<float>{0.5f, 0.5f, 0.5f, 3.0f, 3.0f, 3.0f}));
+    const std::vector<std::pair<std::string, std::string>> damaged{
+        {write("short.pfm", "PF\n2 2\n-1.0\n", std::vector<float>(11, 1.0f), false), "44 bytes of pixels where the header says 48"},
+        {write("long.pfm", "PF\n1 1\n-1.0\n", std::vector<float>(4, 1.0f), false), "bytes after the pixels"},
+        {write("magic.pfm", "P6\n1 1\n255\n", {}, false), "not a portable float map"},
+        {write("size.pfm", "PF\n-2 1\n-1.0\n", {}, false), "is not two whole numbers"},
+        {write("scale.pfm", "PF\n1 1\nnan\n", {1, 1, 1}, false), "scale 'nan'"},
+        {write("zero.pfm", "PF\n1 1\n0\n", {1, 1, 1}, false), "scale '0'"},
+        {write("token.pfm", "PF\n" + std::string(40, '1') + " 1\n-1.0\n", {}, false), "is not two whole numbers"},
+        {write("huge.pfm", "PF\n99999 99999\n-1.0\n", {}, false), "99999x99999 pixels is more than the 67108864"},
+        {write("inf.pfm", "PF\n1 1\n-1.0\n", {1.0f, INFINITY, 1.0f}, false), "texel (0, 0) channel G is inf"},
+        {test::tmpPath("absent.pfm"), "cannot open"},
+    };
+    for (const auto& [path, message] : damaged) {
+        auto result = readEnvironmentMap(path);
+        ASSERT_FALSE(result) << path;
+        EXPECT_NE(result.message().find(path), std::string::npos) << result.message();
+        EXPECT_NE(result.message().find(message), std::string::npos) << result.message();
+    }
 }
 
 }  // namespace

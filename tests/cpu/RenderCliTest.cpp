@@ -232,5 +232,76 @@ TEST_F(RenderCli, DiffFailsOnDifferentSizesOrChannels) {
     EXPECT_NE(channels.output.find("channels differ"), std::string::npos) << channels.output;
 }
 
+// A little-endian portable float map of w x h RGB texels (rows bottom to top) from f(x, y, c),
+// y counted from the top; `header` replaces the size line when given.
+void writePfm(const std::string& path, uint32_t w, uint32_t h, float (*f)(uint32_t, uint32_t, uint32_t),
+              const std::string& header = "") {
+    std::ofstream out(path, std::ios::binary);
+    out << "PF\n" << (header.empty() ? std::to_string(w) + " " + std::to_string(h) : header) << "\n-1.0\n";
+    for (uint32_t y = h; y-- > 0;)
+        for (uint32_t x = 0; x < w; ++x)
+            for (uint32_t c = 0; c < 3; ++c) {
+                const float v = f(x, y, c);
+                out.write(reinterpret_cast<const char*>(&v), 4);
+            }
+}
+
+float skyTexel(uint32_t x, uint32_t y, uint32_t c) {
+    if (x == 5 && y == 2) return 40.0f;
+    return y < 4 ? 0.4f + 0.1f * float(c) : 0.2f;
+}
+
+// --environment FILE lights the render with the file's map (both backends); the scale multiplies
+// it (a power of two exactly: the sampling does not depend on it); bad files and flags are
+// named errors.
+TEST_F(RenderCli, EnvironmentMapLightsTheRenderAndBadMapsAreNamed) {
+    const std::string sky = test::tmpPath("sky.pfm");
+    writePfm(sky, 16, 8, skyTexel);
+    const std::string flags = " --resolution 24x16 --spp 4 --progress none --environment " + sky;
+    std::vector<std::vector<float>> images;
+    for (const std::string& scale : {"1", "2", "0"}) {
+        const std::string out = test::tmpPath("env-" + scale + ".exr");
+        CommandResult r = run("render " + terrain() + " -o " + out + " --backend embree --environment-scale " + scale + flags);
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        auto rgb = readImageChannels(out, {"R", "G", "B"});
+        ASSERT_TRUE(rgb) << rgb.message();
+        std::vector<float> all;
+        for (const auto& plane : rgb->planes) all.insert(all.end(), plane.begin(), plane.end());
+        images.push_back(all);
+    }
+    double energy = 0;
+    for (size_t i = 0; i < images[0].size(); ++i) {
+        ASSERT_EQ(images[1][i], 2.0f * images[0][i]) << i;
+        ASSERT_EQ(images[2][i], 0.0f) << "the default sun is off with a map, and the map scaled to black: " << i;
+        energy += images[0][i];
+    }
+    EXPECT_GT(energy, 0.0);
+    // The Vulkan backend (the map's device bytes kept from the budget) renders it too.
+    const std::string device = test::tmpPath("env-vulkan.exr");
+    CommandResult vulkan = run("render " + test::tmpPath("terrain.vast") + " -o " + device + flags);
+    ASSERT_EQ(vulkan.exitCode, 0) << vulkan.output;
+
+    const std::string nan = test::tmpPath("nan.pfm"), huge = test::tmpPath("huge.pfm"), text = test::tmpPath("text.exr");
+    writePfm(nan, 4, 2, [](uint32_t x, uint32_t y, uint32_t c) { return x == 1 && y == 0 && c == 2 ? std::nanf("") : 1.0f; });
+    writePfm(huge, 1, 1, skyTexel, "100000 100000");
+    std::ofstream(text) << "not an image";
+    const std::string out = test::tmpPath("never-env.exr");
+    const std::vector<std::tuple<std::string, int, std::string>> cases{
+        {"--environment " + nan, 1, "nan.pfm: texel (1, 0) channel B is nan"},
+        {"--environment " + huge, 1, "huge.pfm: 100000x100000 pixels is more than the 67108864"},
+        {"--environment " + text, 1, "text.exr"},
+        {"--environment " + test::tmpPath("missing.hdr"), 2, "missing.hdr"},
+        {"--environment-scale 2", 2, "--environment-scale needs --environment"},
+        {"--environment " + sky + " --environment-scale -1", 2, "--environment-scale -1"},
+        {"--environment " + sky + " --integrator ao", 2, "--integrator ao has no lights"},
+    };
+    for (const auto& [flag, code, message] : cases) {
+        CommandResult r = run("render " + terrain() + " -o " + out + " --backend embree --progress none " + flag);
+        EXPECT_EQ(r.exitCode, code) << flag << "\n" << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << flag << "\n" << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << flag;
+    }
+}
+
 }  // namespace
 }  // namespace vastray

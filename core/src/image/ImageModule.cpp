@@ -80,10 +80,11 @@ Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::stri
     return m.api->diffImageFiles(pathA, pathB);
 }
 
-Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names) {
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names,
+                                        uint64_t maxPixels) {
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(path + ": cannot read: ");
-    return m.api->readImageChannels(path, names);
+    return m.api->readImageChannels(path, names, maxPixels);
 }
 
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,

@@ -14,14 +14,14 @@
 namespace vastray {
 
 // Bumped whenever the table or the types it passes change: a module from another build is refused.
-constexpr uint32_t kImageModuleVersion = 3;
+constexpr uint32_t kImageModuleVersion = 4;
 
 struct ImageModuleApi {
     uint32_t version;
     Status (*writeImageFile)(const std::string& path, const RenderImage& image);
     Result<ImageDiffReport> (*diffImageFiles)(const std::string& pathA, const std::string& pathB);
-    Result<ImageChannels> (*readImageChannels)(const std::string& path,
-                                               const std::vector<std::string>& names);
+    Result<ImageChannels> (*readImageChannels)(const std::string& path, const std::vector<std::string>& names,
+                                               uint64_t maxPixels);
     Status (*writeRgba8Png)(const std::string& path, uint32_t width, uint32_t height,
                             const std::vector<uint8_t>& rgba);
     Result<StoredImage> (*readStoredImage)(const std::string& path);

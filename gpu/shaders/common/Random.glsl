@@ -8,6 +8,9 @@ const uint kDimPixelY = 1u;
 const uint kDimDirectionU = 2u;
 const uint kDimDirectionV = 3u;
 const uint kDimRoulette = 4u;
+const uint kDimLightPick = 5u;
+const uint kDimLightU = 6u;
+const uint kDimLightV = 7u;
 
 uint pcgHash(uint v) {
     const uint state = v * 747796405u + 2891336453u;

@@ -78,9 +78,11 @@ struct WavefrontParams {
                            // (octahedral code at the hit, or kNoNormal; core/VertexAttributes.h)
     uint64_t hitIds;       // uvec4 per path: primitive, material, chunk, colour at the hit (10-bit linear
                            // channels; white without vertex colours)
-    uint64_t throughput;   // vec4 per path
+    uint64_t throughput;   // vec4 per path: throughput, and the solid-angle density of the bounce
+                           // that started its closest-hit ray (environment maps' MIS weight)
     uint64_t radiance;     // vec4 per path
-    uint64_t pendingSun;   // vec4 per path: the sun's light, added if the shadow ray is unblocked
+    uint64_t pendingSun;   // vec4 per path: next-event estimation's light (the sun's or the
+                           // environment map's), added if the shadow ray is unblocked
     uint64_t pathInfo;     // uvec4 per path: pixel, sample, flags, bounce of its closest-hit ray
     uint64_t queues;       // two ray queues of 2 * pathCapacity ray indices each (queue q at
                            // queues + q * 8 * pathCapacity bytes): the rays a walk pass walks and
@@ -97,6 +99,10 @@ struct WavefrontParams {
     uint64_t outPrimId;    // uint per tile pixel
     uint64_t outChunkId;   // uint per tile pixel
     uint64_t outCost;      // uint[2] per tile pixel: cells traced, triangles tested
+    uint64_t envRgb;       // the environment map (core/EnvironmentMap.h), when the render has one:
+    uint64_t envDensity;   // float[3] per texel, its density, the rows' CDF (envHeight + 1) and
+    uint64_t envMarginal;  // each row's CDF (envWidth + 1 per row)
+    uint64_t envConditional;
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -120,6 +126,10 @@ struct WavefrontParams {
     uint pathCapacity; // paths the state arrays hold
     uint chunkCount;
     uint topNodeCount;
+    uint envWidth, envHeight;  // texels of the environment map; 0: none
+    float sunPick;             // the probability that next-event estimation picks the sun
+                               // (sunPickProbability; 1: never the environment map)
+    uint envPadding;
 };
 
 // One block for every wavefront kernel. A wave is the tile's pixels times samples [firstSample,
@@ -144,7 +154,7 @@ struct WavefrontPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 28 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 32 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu
 #endif

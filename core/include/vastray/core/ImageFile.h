@@ -63,7 +63,10 @@ struct ImageChannels {
 // Reads the channels named `names` (EXR names as writeImageFile writes them: "R", "Z", "N.x",
 // "chunkid", ...). Float channels come as they are; 32-bit integer channels (primid, chunkid) as
 // their values (exact below 2^24; kMissPrimId becomes 2^32); 8-bit channels (PNG) as 0..1.
-Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names);
+// An image of more than maxPixels pixels is refused (naming the file and the limit) before its
+// pixels are read.
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names,
+                                        uint64_t maxPixels = UINT64_MAX);
 
 // Writes 8-bit sRGB RGBA pixels (4 bytes per pixel, row 0 at the top) as a PNG file.
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,

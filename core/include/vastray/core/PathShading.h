@@ -51,6 +51,7 @@ const Material& materialAt(std::span<const Material> materials, uint32_t id);
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometricNormal, Vec3f rayDirection,
                               const Material& material, HitAttributes attributes = {});
 
+// The environment's radiance towards unit `direction`: the map's, or the sky's.
 Vec3f skyRadiance(const Environment& environment, Vec3f direction);
 Vec3f emission(const Material& material);
 Vec3f baseColor(const Material& material);
@@ -59,6 +60,22 @@ Vec3f baseColor(const Material& material);
 // ray needed, no light) when there is no sun or the surface faces away from it. sunDirection: unit.
 bool unshadowedSunLight(const Environment& environment, Vec3f sunDirection, const SurfacePoint& point,
                         Vec3f* light);
+
+// The probability with which next-event estimation picks the sun: 1 without an environment
+// map that has light, 0 without a sun, else 1/2 (docs/RENDERING.md, "Lights").
+float sunPickProbability(const Environment& environment);
+
+// Next-event estimation at `point`: picks the sun or the environment map (kDimLightPick, only
+// when both shine) and returns the light it brings if its shadow ray, towards *direction, is
+// unblocked: the sun's divided by its pick probability; the map's (a direction drawn from its
+// density, kDimLightU/V) weighted against the Lambertian bounce by the power heuristic. false:
+// no shadow ray (no light, or the direction lies below the surface). sunDirection: unit.
+bool unshadowedDirectLight(const Environment& environment, Vec3f sunDirection, const SurfacePoint& point,
+                           RandomKey key, uint32_t seed, Vec3f* light, Vec3f* direction);
+// The weight of the environment's radiance reached by a bounce of solid-angle density
+// `bouncePdf` (0: a camera ray, weight 1): with a map that next-event estimation samples, the
+// power heuristic against it; else 1.
+float environmentHitWeight(const Environment& environment, Vec3f direction, float bouncePdf);
 
 // A cosine-distributed direction about `normal`, from the key's direction dimensions.
 Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed);

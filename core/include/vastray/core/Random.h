@@ -24,13 +24,17 @@ struct RandomKey {
 
 // Dimensions in use (docs/RENDERING.md): at bounce 0, 0 and 1 jitter the pixel; at every
 // bounce, 2 and 3 pick the scattered (or ambient occlusion) direction, 4 decides Russian
-// roulette.
+// roulette; with an environment map, 5 picks the light of next-event estimation (sun or map,
+// when both shine) and 6 and 7 the map's direction.
 enum RandomDimension : uint32_t {
     kDimPixelX = 0,
     kDimPixelY = 1,
     kDimDirectionU = 2,
     kDimDirectionV = 3,
     kDimRoulette = 4,
+    kDimLightPick = 5,
+    kDimLightU = 6,
+    kDimLightV = 7,
 };
 
 constexpr uint32_t randomBits(RandomKey key, uint32_t dimension, uint32_t seed) {

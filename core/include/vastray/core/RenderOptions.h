@@ -3,6 +3,7 @@
 // these fields; defaults are documented here and in docs/RENDERING.md.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -33,10 +34,13 @@ constexpr uint32_t kAovStreamingOnly = kAovChunkId | kAovCost;
 // "depth,normal,albedo,primid,chunkid,cost" (any subset, any order); "" is none.
 Result<uint32_t> parseAovList(std::string_view list);
 
+struct EnvironmentMap;  // vastray/core/EnvironmentMap.h
+
 // The environment of the `path` integrator. With h = dot(d, up), the sky's radiance for unit
-// direction d is `ground` when h < 0, else horizon + (zenith - horizon) * h. The sun is a
-// directional light: irradiance `sunIrradiance` on a surface facing `sunDirection` (towards
-// the sun).
+// direction d is `ground` when h < 0, else horizon + (zenith - horizon) * h; with a `map`, the
+// map's radiance instead (its zenith is `up`), importance sampled by next-event estimation. The
+// sun is a directional light: irradiance `sunIrradiance` on a surface facing `sunDirection`
+// (towards the sun).
 struct Environment {
     std::array<float, 3> zenith{0.25f, 0.45f, 0.9f};
     std::array<float, 3> horizon{0.85f, 0.9f, 1.0f};
@@ -44,6 +48,7 @@ struct Environment {
     Vec3f up{0.0f, 1.0f, 0.0f};                            // unit: the sky's zenith
     Vec3f sunDirection{0.4f, 0.8f, 0.3f};                  // need not be unit; normalized when used
     std::array<float, 3> sunIrradiance{3.0f, 2.9f, 2.7f};  // zero: no sun
+    std::shared_ptr<const EnvironmentMap> map;             // none: the sky above
 };
 
 // The default sun's colour, per unit of --sun intensity (its largest component is 1), and the

@@ -14,7 +14,8 @@ namespace vastray::oiio {
 
 Status writeImageFile(const std::string& path, const RenderImage& image);
 Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::string& pathB);
-Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names);
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names,
+                                        uint64_t maxPixels);
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
                      const std::vector<uint8_t>& rgba);
 Result<StoredImage> readStoredImage(const std::string& path);

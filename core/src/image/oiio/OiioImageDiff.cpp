@@ -124,9 +124,15 @@ Result<ImageDiffReport> diffImageFiles(const std::string& pathA, const std::stri
     return report;
 }
 
-Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names) {
+Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names,
+                                        uint64_t maxPixels) {
     auto image = openImage(path);
     if (!image) return image.status();
+    const uint64_t pixels = uint64_t(std::max(image->spec.width, 0)) * uint64_t(std::max(image->spec.height, 0));
+    if (pixels > maxPixels)
+        return Status::error(path + ": " + std::to_string(image->spec.width) + "x" +
+                             std::to_string(image->spec.height) + " pixels is more than the " +
+                             std::to_string(maxPixels) + " this read accepts");
     ImageChannels out;
     out.width = uint32_t(image->spec.width);
     out.height = uint32_t(image->spec.height);

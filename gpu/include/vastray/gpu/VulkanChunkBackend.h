@@ -27,6 +27,9 @@ struct PoolPlan {
     // DMA uploads with the staging area in device memory (lavapipe): the staging taken from the
     // budget (counted in totalBytes; two slots at least, a slot per chunk at most); 0 otherwise.
     uint64_t stagingBytes = 0;
+    // Device bytes kept from the budget for the render's environment map (counted in totalBytes
+    // and minimumBytes, allocated by the render that uses it); 0: none.
+    uint64_t reservedBytes = 0;
 };
 
 // How chunk data reaches the slots (gpu/src/ChunkUploader.h). Mapped: the host writes each chunk
@@ -88,15 +91,22 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 constexpr double kWaveShareOutOfCore = 0.5;
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
                           bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore,
-                          uint64_t stagingInDeviceMemory = 0);
+                          uint64_t stagingInDeviceMemory = 0, uint64_t reservedBytes = 0);
 
 // The upload mode Auto resolves to on this device.
 ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode);
 
-// device must outlive the backend. Every buffer is allocated here, once.
+// The device bytes an environment map takes (environmentBytes(options.environment) is what a
+// render with those options needs kept: reservedBytes below); 0 without a map.
+uint64_t environmentBytes(const Environment& environment);
+
+// device must outlive the backend. Every buffer is allocated here, once, but the environment
+// map's: reservedBytes of the budget are kept for it (environmentBytes), and a render whose map
+// needs more is refused.
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore = kWaveShareOutOfCore,
-                                                               const ChunkUploadOptions& upload = {});
+                                                               const ChunkUploadOptions& upload = {},
+                                                               uint64_t reservedBytes = 0);
 
 }  // namespace vastray::gpu

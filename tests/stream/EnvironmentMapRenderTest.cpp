@@ -1,0 +1,212 @@
+// `--environment` (issue "Real assets"): a latitude-longitude map lights the path integrator,
+// importance sampled with MIS, on the device and in the Embree reference alike. Checked against
+// the closed form (a convex Lambertian sphere under a constant sky reflects albedo x sky), the
+// two backends against each other, a streamed render against the in-core one, and the map's
+// device bytes against the budget.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "StreamTestSupport.h"
+#include "TestTmp.h"
+#include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/PathShading.h"
+#include "vastray/core/Sampling.h"
+#include "vastray/streamer/Generate.h"
+#include "vastray/streamer/PackageBuilder.h"
+
+namespace vastray {
+namespace {
+
+std::string package(const std::string& name, GeneratorKind kind, uint64_t triangles) {
+    const std::filesystem::path dir = test::testTmpDir("environment");
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / (name + ".vast")).string();
+    auto mesh = generateMesh({kind, triangles, 1});
+    EXPECT_TRUE(mesh) << mesh.message();
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh).value(), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
+
+std::shared_ptr<const EnvironmentMap> constantMap(float r, float g, float b) {
+    auto map = makeEnvironmentMap("constant", 8, 4, std::vector<float>(32, r), std::vector<float>(32, g),
+                                  std::vector<float>(32, b));
+    EXPECT_TRUE(map) << map.message();
+    return *map;
+}
+
+// A sky with a horizon, a dark ground and a small bright sun-like spot: the case importance
+// sampling is for.
+std::shared_ptr<const EnvironmentMap> skyMap() {
+    const uint32_t w = 64, h = 32;
+    std::vector<float> r(w * h), g(w * h), b(w * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const uint32_t i = y * w + x;
+            const float v = (y + 0.5f) / h;
+            r[i] = y < h / 2 ? 0.3f + 0.5f * (1 - v) : 0.2f;
+            g[i] = y < h / 2 ? 0.4f + 0.4f * (1 - v) : 0.18f;
+            b[i] = y < h / 2 ? 0.8f : 0.15f;
+            if (x >= 9 && x <= 11 && y >= 5 && y <= 7) r[i] = 200, g[i] = 180, b[i] = 150;
+        }
+    auto map = makeEnvironmentMap("sky", w, h, r, g, b);
+    EXPECT_TRUE(map) << map.message();
+    return *map;
+}
+
+double relativeRmse(const std::vector<float>& a, const std::vector<float>& b) {
+    double se = 0, energy = 0;
+    for (size_t i = 0; i < b.size(); ++i) {
+        const double d = double(a[i]) - double(b[i]);
+        se += d * d, energy += double(b[i]) * b[i];
+    }
+    return std::sqrt(se / std::max(energy, 1e-30));
+}
+
+// Under a constant sky L, every point of a convex Lambertian body of albedo a reflects a * L (its
+// whole hemisphere sees the sky); the background is L.
+TEST(EnvironmentMapRender, ConvexSphereUnderAConstantSkyReflectsAlbedoTimesSky) {
+    const std::string path = package("sphere", GeneratorKind::Sphere, 20000);
+    RenderOptions o;
+    o.width = o.height = 48;
+    o.samplesPerPixel = 32;
+    o.maxDepth = 3;
+    o.environment.sunIrradiance = {0, 0, 0};
+    o.environment.map = constantMap(0.5f, 1.0f, 2.0f);
+    const float sky[3] = {0.5f, 1.0f, 2.0f}, albedo = 0.8f;
+    for (const char* backend : {"vulkan", "embree"}) {
+        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
+        ASSERT_TRUE(image) << backend << ": " << image.message();
+        double sum[3] = {0, 0, 0}, squares[3] = {0, 0, 0};
+        uint64_t hits = 0;
+        for (size_t p = 0; p < image->alpha.size(); ++p) {
+            if (image->alpha[p] == 0.0f) {
+                for (int c = 0; c < 3; ++c) ASSERT_EQ(image->rgb[3 * p + c], sky[c]) << backend << " background pixel " << p;
+                continue;
+            }
+            if (image->alpha[p] < 1.0f) continue;  // the silhouette: partly background
+            ++hits;
+            for (int c = 0; c < 3; ++c) sum[c] += image->rgb[3 * p + c], squares[c] += double(image->rgb[3 * p + c]) * image->rgb[3 * p + c];
+        }
+        ASSERT_GT(hits, 300u);
+        for (int c = 0; c < 3; ++c) {
+            // Every hit pixel has the same expectation: their spread gives the mean's standard error.
+            const double mean = sum[c] / double(hits);
+            const double standardError = std::sqrt(std::max(0.0, squares[c] / double(hits) - mean * mean) / double(hits));
+            std::printf("%s: channel %d mean %.5f, expected %.5f, standard error %.5f\n", backend, c, mean,
+                        double(albedo * sky[c]), standardError);
+            EXPECT_LT(standardError, 0.005 * albedo * sky[c]);
+            EXPECT_NEAR(mean, albedo * sky[c], 4 * standardError) << backend << " channel " << c;
+        }
+    }
+}
+
+TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
+    const std::string path = package("city", GeneratorKind::City, 20000);
+    RenderOptions o;
+    o.width = 48, o.height = 36;
+    o.samplesPerPixel = 4;
+    o.maxDepth = 3;
+    o.aovs = kAovPrimId;
+    o.environment.map = skyMap();  // and the default sun: next-event estimation picks one of the two
+    auto reference = test::renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    StreamingStats stats;
+    auto device = test::renderVulkan(path, o, 256ull << 20, &stats);
+    ASSERT_TRUE(device) << device.message();
+    EXPECT_GT(stats.chunksTotal, 4u);
+    const double rmse = relativeRmse(device->rgb, reference->rgb);
+    std::printf("device vs Embree beauty relative RMSE %.2e\n", rmse);
+    EXPECT_LE(rmse, 2e-3);
+    // The map lights the picture: without it (the sky and sun) the image is another.
+    RenderOptions plain = o;
+    plain.environment.map.reset();
+    auto unlit = test::renderVulkan(path, plain, 256ull << 20);
+    ASSERT_TRUE(unlit) << unlit.message();
+    EXPECT_GT(relativeRmse(unlit->rgb, device->rgb), 0.1);
+
+    const uint64_t reserved = gpu::environmentBytes(o.environment);
+    EXPECT_GE(reserved, o.environment.map->deviceBytes());
+    const uint64_t tight = test::budgetForSlots(path, 2, o.aovs, 0, reserved);
+    ASSERT_GT(tight, 0u);
+    StreamingStats streamedStats;
+    auto streamed = test::renderVulkan(path, o, tight, &streamedStats);
+    ASSERT_TRUE(streamed) << streamed.message();
+    EXPECT_GT(streamedStats.chunkLoads, stats.chunksTotal) << "two slots page chunks in more than once";
+    EXPECT_LE(streamedStats.peakDeviceBytes, tight);
+    EXPECT_EQ(std::memcmp(streamed->rgb.data(), device->rgb.data(), device->rgb.size() * 4), 0);
+}
+
+// A map of the analytic sky (core/PathShading.h's skyRadiance, which depends on the height of a
+// direction only: 1,024 rows) lights a city as the sky does, although the map is sampled by next-
+// event estimation with MIS and the sky only found by bounces: two estimators of one integral,
+// occlusion included.
+TEST(EnvironmentMapRender, AMapOfTheSkyLightsAsTheSkyDoes) {
+    const std::string path = package("city-sky", GeneratorKind::City, 20000);
+    RenderOptions o;
+    o.width = 48, o.height = 36;
+    o.samplesPerPixel = 32;
+    o.maxDepth = 3;
+    o.environment.sunIrradiance = {0, 0, 0};
+    const uint32_t w = 4, h = 1024;
+    std::vector<float> planes[3];
+    for (auto& plane : planes) plane.resize(w * h);
+    for (uint32_t y = 0; y < h; ++y) {
+        const float theta = kPi * (y + 0.5f) / h;
+        const Vec3f sky = skyRadiance(o.environment, {std::sin(theta), std::cos(theta), 0});
+        for (uint32_t x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) planes[c][y * w + x] = sky[c];
+    }
+    auto map = makeEnvironmentMap("sky rows", w, h, planes[0], planes[1], planes[2]);
+    ASSERT_TRUE(map) << map.message();
+    auto bySky = test::renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(bySky) << bySky.message();
+    o.environment.map = *map;
+    auto byMap = test::renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(byMap) << byMap.message();
+    double skySum = 0, mapSum = 0;
+    for (size_t p = 0; p < byMap->alpha.size(); ++p) {
+        if (byMap->alpha[p] == 0.0f) continue;  // the background: the sky itself
+        for (int c = 0; c < 3; ++c) skySum += bySky->rgb[3 * p + c], mapSum += byMap->rgb[3 * p + c];
+    }
+    std::printf("lit by the sky %.2f, by its map %.2f\n", skySum, mapSum);
+    EXPECT_NEAR(mapSum / skySum, 1.0, 0.01);
+    EXPECT_GT(relativeRmse(byMap->rgb, bySky->rgb), 1e-3) << "the two estimators differ pixel by pixel";
+}
+
+TEST(EnvironmentMapRender, TheBudgetCountsTheMap) {
+    const std::string path = package("city-budget", GeneratorKind::City, 20000);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    RenderOptions o;
+    o.environment.map = skyMap();
+    const ChunkAttributes a = requiredAttributes((*reader)->info(), o);
+    const uint64_t reserved = gpu::environmentBytes(o.environment);
+    auto without = gpu::planPool((*reader)->info(), a, 1ull << 30);
+    auto with = gpu::planPool((*reader)->info(), a, 1ull << 30, true, gpu::kWaveShareOutOfCore, 0, reserved);
+    ASSERT_TRUE(without && with);
+    EXPECT_EQ(with->minimumBytes, without->minimumBytes + reserved);
+    EXPECT_EQ(with->reservedBytes, reserved);
+    EXPECT_LE(with->totalBytes, 1ull << 30);
+    auto refused = gpu::planPool((*reader)->info(), a, with->minimumBytes - 1, true, gpu::kWaveShareOutOfCore, 0, reserved);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("environment map"), std::string::npos) << refused.message();
+    // A backend that kept nothing for the map refuses to render with one.
+    auto scene = StreamingScene::open(**reader, a, StreamingOptions{}, [&](const PackageInfo& info, const ChunkAttributes& attributes) {
+        return gpu::createVulkanChunkBackend(test::sharedVulkanDevice(), info, attributes, 256ull << 20);
+    });
+    ASSERT_TRUE(scene) << scene.message();
+    auto unreserved = (*scene)->render(o);
+    ASSERT_FALSE(unreserved);
+    EXPECT_NE(unreserved.message().find("environment map needs"), std::string::npos) << unreserved.message();
+}
+
+}  // namespace
+}  // namespace vastray
