@@ -50,7 +50,7 @@ struct RenderArgs {
     std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
     bool noSun = false;
     std::string environment;  // --environment FILE
-    double environmentScale = 1.0;
+    double environmentScale = 1.0, environmentRotate = 0.0;
     std::string region, tiles;  // --region X0,Y0,X1,Y1; --tiles NX,NY (with --tile)
     int64_t tile = kNoTile;
     int64_t spp = 16, maxDepth = 5, seed = 0, threads = 0;
@@ -281,6 +281,12 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
         return Status::error("--environment-scale " + std::to_string(args.environmentScale) + " is outside [0, 1e18]");
     if (args.environmentScale != 1.0 && args.environment.empty())
         return Status::error("--environment-scale needs --environment");
+    if (!(std::fabs(args.environmentRotate) <= kMaxEnvironmentRotation))
+        return Status::error("--environment-rotate " + std::to_string(args.environmentRotate) +
+                             " is outside [-360, 360] degrees");
+    if (args.environmentRotate != 0.0 && args.environment.empty())
+        return Status::error("--environment-rotate needs --environment");
+    options.environment.mapRotationDegrees = float(args.environmentRotate);
     if (!args.environment.empty() && options.integrator == IntegratorKind::AmbientOcclusion)
         return Status::error("--environment lights the path integrator; --integrator ao has no lights");
     VASTRAY_TRY(parseCamera(args, options));
@@ -573,6 +579,10 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->check(CLI::ExistingFile);
     cmd->add_option("--environment-scale", args->environmentScale,
                     "multiplies the --environment map's radiance, [0, 1e18]")
+        ->capture_default_str();
+    cmd->add_option("--environment-rotate", args->environmentRotate,
+                    "turns the --environment map about the up axis by DEGREES, [-360, 360] (positive: the map's "
+                    "first column moves from the frame's tangent towards its bitangent; docs/RENDERING.md)")
         ->capture_default_str();
     cmd->add_option("--fov", args->fov, "vertical field of view in degrees, [0.001, 180)")->capture_default_str();
     cmd->add_option("--integrator", args->integrator, "path | ao (ambient occlusion)")->capture_default_str();

@@ -29,9 +29,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     auto map = vastray::makeEnvironmentMap("fuzz", w, h, planes[0], planes[1], planes[2], scale);
     if (!map) return 0;
-    const vastray::Vec3f ups[] = {{0, 1, 0}, {0, 0, 1}, vastray::normalize(vastray::Vec3f{1, -2, 0.5f})};
+    const vastray::Frame frames[] = {vastray::environmentFrame({0, 1, 0}, 0.0f), vastray::environmentFrame({0, 0, 1}, 90.0f),
+                                     vastray::environmentFrame(vastray::normalize(vastray::Vec3f{1, -2, 0.5f}), -33.0f)};
     for (int i = 0; i < 64; ++i) {
-        const vastray::Vec3f up = ups[i % 3];
+        const vastray::Frame& up = frames[i % 3];
         const float u1 = float((i * 37) % 64) / 64.0f, u2 = float((i * 11) % 64) / 64.0f;
         const vastray::EnvironmentSample s = vastray::sampleEnvironment(**map, up, u1, u2);
         if (!(s.pdf >= 0.0f) || !std::isfinite(s.pdf)) std::abort();

@@ -18,9 +18,8 @@ uint64_t texelAt(const EnvironmentMap& map, float u, float v) {
 
 // The texel towards unit d, and sin(theta) there. theta and sin(theta) come from the
 // components along up and across it (atan2, not acos: exact to a few ulps at the poles too).
-uint64_t texelToward(const EnvironmentMap& map, Vec3f up, Vec3f d, float* sinTheta) {
-    const Frame frame = frameAround(up);
-    const float x = dot(d, frame.tangent), y = dot(d, frame.bitangent), z = dot(d, up);
+uint64_t texelToward(const EnvironmentMap& map, const Frame& frame, Vec3f d, float* sinTheta) {
+    const float x = dot(d, frame.tangent), y = dot(d, frame.bitangent), z = dot(d, frame.normal);
     *sinTheta = std::sqrt(x * x + y * y);
     float phi = std::atan2(y, x);
     if (phi < 0.0f) phi += 2.0f * kPi;
@@ -108,21 +107,31 @@ Result<std::shared_ptr<const EnvironmentMap>> makeEnvironmentMap(const std::stri
     return std::shared_ptr<const EnvironmentMap>(std::move(map));
 }
 
-Vec3f environmentRadiance(const EnvironmentMap& map, Vec3f up, Vec3f d) {
+Frame environmentFrame(Vec3f up, float rotationDegrees) {
+    Frame frame = frameAround(up);
+    if (rotationDegrees == 0.0f) return frame;
+    const float a = rotationDegrees * (kPi / 180.0f), c = std::cos(a), s = std::sin(a);
+    const Vec3f t = frame.tangent, b = frame.bitangent;
+    frame.tangent = t * c + b * s;
+    frame.bitangent = b * c - t * s;
+    return frame;
+}
+
+Vec3f environmentRadiance(const EnvironmentMap& map, const Frame& frame, Vec3f d) {
     float sinTheta;
-    const uint64_t t = texelToward(map, up, d, &sinTheta);
+    const uint64_t t = texelToward(map, frame, d, &sinTheta);
     return {map.rgb[3 * t], map.rgb[3 * t + 1], map.rgb[3 * t + 2]};
 }
 
-float environmentPdf(const EnvironmentMap& map, Vec3f up, Vec3f d) {
+float environmentPdf(const EnvironmentMap& map, const Frame& frame, Vec3f d) {
     if (!map.sampleable) return 0.0f;
     float sinTheta;
-    const uint64_t t = texelToward(map, up, d, &sinTheta);
+    const uint64_t t = texelToward(map, frame, d, &sinTheta);
     if (sinTheta <= 0.0f) return 0.0f;
     return map.density[t] / (2.0f * kPi * kPi * sinTheta);
 }
 
-EnvironmentSample sampleEnvironment(const EnvironmentMap& map, Vec3f up, float u1, float u2) {
+EnvironmentSample sampleEnvironment(const EnvironmentMap& map, const Frame& frame, float u1, float u2) {
     EnvironmentSample s;
     if (!map.sampleable) return s;
     float dv = 0, du = 0;
@@ -133,7 +142,7 @@ EnvironmentSample sampleEnvironment(const EnvironmentMap& map, Vec3f up, float u
     const float sinTheta = std::sin(theta);
     if (!(sinTheta > 0.0f)) return s;
     const uint64_t t = uint64_t(y) * map.width + x;
-    s.direction = normalize(frameAround(up).toWorld(
+    s.direction = normalize(frame.toWorld(
         {sinTheta * std::cos(phi), sinTheta * std::sin(phi), std::cos(theta)}));
     s.radiance = {map.rgb[3 * t], map.rgb[3 * t + 1], map.rgb[3 * t + 2]};
     s.pdf = map.density[t] / (2.0f * kPi * kPi * sinTheta);

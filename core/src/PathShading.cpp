@@ -46,7 +46,7 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
 }
 
 Vec3f skyRadiance(const Environment& env, Vec3f direction) {
-    if (env.map) return environmentRadiance(*env.map, env.up, direction);
+    if (env.map) return environmentRadiance(*env.map, environmentFrame(env.up, env.mapRotationDegrees), direction);
     const float height = dot(direction, env.up);
     if (height < 0.0f) return toVec(env.ground);
     const Vec3f horizon = toVec(env.horizon);
@@ -78,8 +78,8 @@ bool unshadowedDirectLight(const Environment& env, Vec3f sunDirection, const Sur
         *direction = sunDirection;
         return true;
     }
-    const EnvironmentSample s =
-        sampleEnvironment(*env.map, env.up, randomFloat(key, kDimLightU, seed), randomFloat(key, kDimLightV, seed));
+    const EnvironmentSample s = sampleEnvironment(*env.map, environmentFrame(env.up, env.mapRotationDegrees),
+                                                  randomFloat(key, kDimLightU, seed), randomFloat(key, kDimLightV, seed));
     const float cosine = dot(point.shadingNormal, s.direction);
     if (!(s.pdf > 0.0f) || cosine <= 0.0f || dot(point.normal, s.direction) <= 0.0f) return false;
     const float lightPdf = (1.0f - pickSun) * s.pdf;
@@ -91,7 +91,8 @@ bool unshadowedDirectLight(const Environment& env, Vec3f sunDirection, const Sur
 
 float environmentHitWeight(const Environment& env, Vec3f direction, float bouncePdf) {
     if (bouncePdf <= 0.0f || !env.map || !env.map->sampleable) return 1.0f;
-    return powerHeuristic(bouncePdf, (1.0f - sunPickProbability(env)) * environmentPdf(*env.map, env.up, direction));
+    const Frame frame = environmentFrame(env.up, env.mapRotationDegrees);
+    return powerHeuristic(bouncePdf, (1.0f - sunPickProbability(env)) * environmentPdf(*env.map, frame, direction));
 }
 
 Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed) {

@@ -115,6 +115,9 @@ void setEnvironment(WavefrontParams& p, const Environment& e) {
     p.sunR = e.sunIrradiance[0], p.sunG = e.sunIrradiance[1], p.sunB = e.sunIrradiance[2];
     p.sunPick = sunPickProbability(e);
     if (e.map) p.envWidth = e.map->width, p.envHeight = e.map->height;
+    const Frame frame = environmentFrame(up, e.mapRotationDegrees);
+    p.envTangentX = frame.tangent.x, p.envTangentY = frame.tangent.y, p.envTangentZ = frame.tangent.z;
+    p.envBitangentX = frame.bitangent.x, p.envBitangentY = frame.bitangent.y, p.envBitangentZ = frame.bitangent.z;
 }
 
 }  // namespace

@@ -37,19 +37,20 @@ float u01(uint32_t i, uint32_t d) { return randomFloat({i, 0, 0}, d, 1234); }
 
 TEST(EnvironmentMap, SamplesFollowTheTexelWeights) {
     const auto map = variedMap();
-    const Vec3f up{0, 1, 0};
+    const Frame frame = environmentFrame({0, 1, 0}, 30.0f);  // a turned map: the frame is all that counts
+    const Vec3f up = frame.normal;
     const uint32_t n = 400000;
     std::vector<double> counts(kW * kH, 0.0);
     // A direction drawn within float rounding of a texel's edge may look up its neighbour.
     uint32_t elsewhere = 0;
     for (uint32_t i = 0; i < n; ++i) {
-        const EnvironmentSample s = sampleEnvironment(*map, up, u01(i, 0), u01(i, 1));
+        const EnvironmentSample s = sampleEnvironment(*map, frame, u01(i, 0), u01(i, 1));
         ASSERT_GT(s.pdf, 0.0f);
         // The lookup and the density at the drawn direction are the sample's.
-        const Vec3f looked = environmentRadiance(*map, up, s.direction);
-        const float pdf = environmentPdf(*map, up, s.direction);
+        const Vec3f looked = environmentRadiance(*map, frame, s.direction);
+        const float pdf = environmentPdf(*map, frame, s.direction);
         if (looked.x != s.radiance.x || looked.z != s.radiance.z || std::fabs(pdf - s.pdf) > 1e-3f * s.pdf) ++elsewhere;
-        const Frame f = frameAround(up);
+        const Frame& f = frame;
         float phi = std::atan2(dot(s.direction, f.bitangent), dot(s.direction, f.tangent));
         if (phi < 0) phi += 2 * kPi;
         const uint32_t x = std::min(uint32_t(phi / (2 * kPi) * kW), kW - 1);
@@ -87,13 +88,14 @@ TEST(EnvironmentMap, SamplesFollowTheTexelWeights) {
 TEST(EnvironmentMap, DensityIntegratesToOneOverTheSphere) {
     for (const Vec3f up : {Vec3f{0, 1, 0}, Vec3f{0, 0, 1}, normalize(Vec3f{1, -2, 0.5f})}) {
         const auto map = variedMap();
+        const Frame frame = environmentFrame(up, up.z == 1.0f ? -100.0f : 0.0f);
         // Uniform directions on the sphere: E[pdf / (1 / 4 pi)] = 1.
         const uint32_t n = 400000;
         double sum = 0, squares = 0;
         for (uint32_t i = 0; i < n; ++i) {
             const float z = 1.0f - 2.0f * u01(i, 2), phi = 2 * kPi * u01(i, 3);
             const float r = std::sqrt(std::fmax(0.0f, 1 - z * z));
-            const double value = double(environmentPdf(*map, up, {r * std::cos(phi), r * std::sin(phi), z})) * 4 * kPi;
+            const double value = double(environmentPdf(*map, frame, {r * std::cos(phi), r * std::sin(phi), z})) * 4 * kPi;
             sum += value, squares += value * value;
         }
         const double mean = sum / n, standardError = std::sqrt((squares / n - mean * mean) / n);
@@ -110,12 +112,21 @@ TEST(EnvironmentMap, TopRowIsTheZenithAndAzimuthStartsAtTheTangent) {
     auto map = makeEnvironmentMap("tiny", 4, 2, r, g, b);
     ASSERT_TRUE(map) << map.message();
     for (const Vec3f up : {Vec3f{0, 1, 0}, Vec3f{0, 0, 1}}) {
-        const Frame f = frameAround(up);
+        const Frame f = frameAround(up), same = environmentFrame(up, 0.0f);
+        EXPECT_EQ(same.tangent, f.tangent);
+        EXPECT_EQ(same.bitangent, f.bitangent);
         const Vec3f northEast = normalize(up + f.tangent + f.bitangent * 0.5f);
-        EXPECT_EQ(environmentRadiance(**map, up, northEast).x, 1.0f);
+        EXPECT_EQ(environmentRadiance(**map, f, northEast).x, 1.0f);
         const Vec3f southWest = normalize(up * -1.0f - f.tangent - f.bitangent * 0.5f);
-        EXPECT_EQ(environmentRadiance(**map, up, southWest).y, 1.0f);
-        EXPECT_EQ(environmentRadiance(**map, up, up * -1.0f).x, 0.0f);
+        EXPECT_EQ(environmentRadiance(**map, f, southWest).y, 1.0f);
+        EXPECT_EQ(environmentRadiance(**map, f, up * -1.0f).x, 0.0f);
+        // --environment-rotate 90 turns the map by one of its four columns: what lay at azimuth
+        // phi + 90 degrees of the unturned frame now reads column 0.
+        const Frame turned = environmentFrame(up, 90.0f);
+        const float phi = 30.0f * kPi / 180.0f + kPi / 2;
+        const Vec3f d = normalize(up + f.tangent * std::cos(phi) + f.bitangent * std::sin(phi));
+        EXPECT_EQ(environmentRadiance(**map, turned, d).x, 1.0f);
+        EXPECT_EQ(environmentRadiance(**map, f, d).x, 0.0f);
     }
 }
 
@@ -124,8 +135,9 @@ TEST(EnvironmentMap, BlackMapIsNotSampled) {
     auto map = makeEnvironmentMap("black", 3, 2, zero, zero, zero);
     ASSERT_TRUE(map) << map.message();
     EXPECT_FALSE((*map)->sampleable);
-    EXPECT_EQ(sampleEnvironment(**map, {0, 1, 0}, 0.3f, 0.7f).pdf, 0.0f);
-    EXPECT_EQ(environmentPdf(**map, {0, 1, 0}, {1, 0, 0}), 0.0f);
+    const Frame frame = frameAround({0, 1, 0});
+    EXPECT_EQ(sampleEnvironment(**map, frame, 0.3f, 0.7f).pdf, 0.0f);
+    EXPECT_EQ(environmentPdf(**map, frame, {1, 0, 0}), 0.0f);
 }
 
 TEST(EnvironmentMap, HostileMapsAreRefusedByName) {

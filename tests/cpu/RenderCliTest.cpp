@@ -259,7 +259,7 @@ TEST_F(RenderCli, EnvironmentMapLightsTheRenderAndBadMapsAreNamed) {
     writePfm(sky, 16, 8, skyTexel);
     const std::string flags = " --resolution 24x16 --spp 4 --progress none --environment " + sky;
     std::vector<std::vector<float>> images;
-    for (const std::string& scale : {"1", "2", "0"}) {
+    for (const std::string scale : {"1", "2", "0"}) {
         const std::string out = test::tmpPath("env-" + scale + ".exr");
         CommandResult r = run("render " + terrain() + " -o " + out + " --backend embree --environment-scale " + scale + flags);
         ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -292,6 +292,9 @@ TEST_F(RenderCli, EnvironmentMapLightsTheRenderAndBadMapsAreNamed) {
         {"--environment " + text, 1, "text.exr"},
         {"--environment " + test::tmpPath("missing.hdr"), 2, "missing.hdr"},
         {"--environment-scale 2", 2, "--environment-scale needs --environment"},
+        {"--environment-rotate 10", 2, "--environment-rotate needs --environment"},
+        {"--environment " + sky + " --environment-rotate 400", 2, "--environment-rotate 400"},
+        {"--environment " + sky + " --environment-rotate nan", 2, "--environment-rotate"},
         {"--environment " + sky + " --environment-scale -1", 2, "--environment-scale -1"},
         {"--environment " + sky + " --integrator ao", 2, "--integrator ao has no lights"},
     };

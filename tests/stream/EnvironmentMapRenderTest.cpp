@@ -116,6 +116,7 @@ TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
     o.maxDepth = 3;
     o.aovs = kAovPrimId;
     o.environment.map = skyMap();  // and the default sun: next-event estimation picks one of the two
+    o.environment.mapRotationDegrees = 37.0f;
     auto reference = test::renderEmbree(path, o);
     ASSERT_TRUE(reference) << reference.message();
     StreamingStats stats;
@@ -131,6 +132,12 @@ TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
     auto unlit = test::renderVulkan(path, plain, 256ull << 20);
     ASSERT_TRUE(unlit) << unlit.message();
     EXPECT_GT(relativeRmse(unlit->rgb, device->rgb), 0.1);
+    // Turning the map turns its sun-like spot: another image.
+    RenderOptions unturned = o;
+    unturned.environment.mapRotationDegrees = 0.0f;
+    auto straight = test::renderVulkan(path, unturned, 256ull << 20);
+    ASSERT_TRUE(straight) << straight.message();
+    EXPECT_GT(relativeRmse(straight->rgb, device->rgb), 0.1);
 
     const uint64_t reserved = gpu::environmentBytes(o.environment);
     EXPECT_GE(reserved, o.environment.map->deviceBytes());

@@ -8,15 +8,9 @@
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
 
 vec3 skyUp(WavefrontParams p) { return vec3(p.skyUpX, p.skyUpY, p.skyUpZ); }
-
-// frameAround(n)'s tangent and bitangent (core/Sampling.h; toWorld in Shading.glsl).
-void frameAround(vec3 n, out vec3 tangent, out vec3 bitangent) {
-    const float sign = n.z >= 0.0 ? 1.0 : -1.0;
-    const float a = -1.0 / (sign + n.z);
-    const float b = n.x * n.y * a;
-    tangent = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    bitangent = vec3(b, sign + n.y * n.y * a, -n.y);
-}
+// The map's frame (environmentFrame, computed on the host): tangent, bitangent and skyUp.
+vec3 envTangent(WavefrontParams p) { return vec3(p.envTangentX, p.envTangentY, p.envTangentZ); }
+vec3 envBitangent(WavefrontParams p) { return vec3(p.envBitangentX, p.envBitangentY, p.envBitangentZ); }
 
 uint envTexelAt(WavefrontParams p, float u, float v) {
     const uint x = min(uint(u * float(p.envWidth)), p.envWidth - 1u);
@@ -26,10 +20,7 @@ uint envTexelAt(WavefrontParams p, float u, float v) {
 
 // The texel towards unit d, and sin(theta) there.
 uint envTexelToward(WavefrontParams p, vec3 d, out float sinTheta) {
-    const vec3 up = skyUp(p);
-    vec3 tangent, bitangent;
-    frameAround(up, tangent, bitangent);
-    const float x = dot(d, tangent), y = dot(d, bitangent), z = dot(d, up);
+    const float x = dot(d, envTangent(p)), y = dot(d, envBitangent(p)), z = dot(d, skyUp(p));
     sinTheta = sqrt(x * x + y * y);
     // GLSL leaves atan(0, 0) undefined (C++'s atan2 gives 0).
     float phi = sinTheta == 0.0 ? 0.0 : atan(y, x);
@@ -81,7 +72,9 @@ vec3 sampleEnvironment(WavefrontParams p, float u1, float u2, out vec3 radiance,
     const uint t = y * p.envWidth + x;
     radiance = envTexelRadiance(p, t);
     pdf = FloatArray(p.envDensity).v[t] / (2.0 * kPi * kPi * sinTheta);
-    return normalize(toWorld(skyUp(p), vec3(sinTheta * cos(phi), sinTheta * sin(phi), cos(theta))));
+    // Frame::toWorld's order of operations.
+    return normalize(envTangent(p) * (sinTheta * cos(phi)) + envBitangent(p) * (sinTheta * sin(phi)) +
+                     skyUp(p) * cos(theta));
 }
 
 float powerHeuristic(float chosen, float other) {

@@ -129,6 +129,8 @@ struct WavefrontParams {
     uint envWidth, envHeight;  // texels of the environment map; 0: none
     float sunPick;             // the probability that next-event estimation picks the sun
                                // (sunPickProbability; 1: never the environment map)
+    float envTangentX, envTangentY, envTangentZ;        // the map's frame (environmentFrame; its
+    float envBitangentX, envBitangentY, envBitangentZ;  // normal is skyUp)
     uint envPadding;
 };
 

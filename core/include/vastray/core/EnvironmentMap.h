@@ -4,8 +4,9 @@
 // same steps on the arrays below). docs/RENDERING.md, "Environment map", specifies it.
 //
 // Mapping: row 0 of the image is the zenith (Environment::up), the last row the nadir; column u
-// is the azimuth phi = 2 pi u measured from the tangent of frameAround(up) towards its
-// bitangent (core/Sampling.h). A direction d has cos(theta) = dot(d, up), u = phi / 2 pi,
+// is the azimuth phi = 2 pi u measured from the map frame's tangent towards its bitangent: those
+// of frameAround(up) (core/Sampling.h) turned about up by the map's rotation (environmentFrame).
+// A direction d has cos(theta) = dot(d, up), u = phi / 2 pi,
 // v = theta / pi, and the radiance of the texel (floor(u W), floor(v H)): nearest texel, no
 // filtering, so that the sampling density below is exactly the lookup's.
 //
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "vastray/core/Result.h"
+#include "vastray/core/Sampling.h"
 #include "vastray/core/Vec3.h"
 
 namespace vastray {
@@ -55,11 +57,19 @@ Result<std::shared_ptr<const EnvironmentMap>> makeEnvironmentMap(const std::stri
 // part of vastray_image) and builds the map. Sizes are checked before the pixels are read.
 Result<std::shared_ptr<const EnvironmentMap>> readEnvironmentMap(const std::string& path, float scale = 1.0f);
 
-// The map's radiance towards unit direction d, for a sky whose zenith is unit `up`.
-Vec3f environmentRadiance(const EnvironmentMap& map, Vec3f up, Vec3f d);
+// Largest |--environment-rotate| in degrees.
+constexpr float kMaxEnvironmentRotation = 360.0f;
+
+// The map's frame: normal = unit `up` (the zenith); tangent and bitangent those of
+// frameAround(up) turned about up by `rotationDegrees` (t cos a + b sin a, b cos a - t sin a), so
+// that the map turns with the rotation; exactly frameAround(up) at 0.
+Frame environmentFrame(Vec3f up, float rotationDegrees);
+
+// The map's radiance towards unit direction d, in the map frame `frame`.
+Vec3f environmentRadiance(const EnvironmentMap& map, const Frame& frame, Vec3f d);
 // The solid-angle density with which sampleEnvironment picks unit direction d (0 where it
 // never does).
-float environmentPdf(const EnvironmentMap& map, Vec3f up, Vec3f d);
+float environmentPdf(const EnvironmentMap& map, const Frame& frame, Vec3f d);
 
 struct EnvironmentSample {
     Vec3f direction;  // unit
@@ -67,7 +77,7 @@ struct EnvironmentSample {
     float pdf = 0;    // solid angle; 0: no sample (the map is not sampleable, or a pole)
 };
 // A direction drawn from the map's density with u1, u2 in [0, 1).
-EnvironmentSample sampleEnvironment(const EnvironmentMap& map, Vec3f up, float u1, float u2);
+EnvironmentSample sampleEnvironment(const EnvironmentMap& map, const Frame& frame, float u1, float u2);
 
 // The power heuristic's weight (beta = 2) of a strategy of density `chosen` against one of
 // density `other`: chosen^2 / (chosen^2 + other^2), computed without overflow; 0 when chosen is 0.

@@ -49,6 +49,7 @@ struct Environment {
     Vec3f sunDirection{0.4f, 0.8f, 0.3f};                  // need not be unit; normalized when used
     std::array<float, 3> sunIrradiance{3.0f, 2.9f, 2.7f};  // zero: no sun
     std::shared_ptr<const EnvironmentMap> map;             // none: the sky above
+    float mapRotationDegrees = 0.0f;  // turns the map about up (environmentFrame), [-360, 360]
 };
 
 // The default sun's colour, per unit of --sun intensity (its largest component is 1), and the
