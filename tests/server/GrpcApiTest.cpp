@@ -329,6 +329,16 @@ TEST_F(GrpcTest, ReflectionDescribesTheApiWithItsComments) {
     for (const auto& service : response.list_services_response().service()) services.insert(service.name());
     EXPECT_EQ(services, (std::set<std::string>{"vastray.v1.SceneService", "vastray.v1.RenderService",
                                                 "grpc.health.v1.Health", "grpc.reflection.v1alpha.ServerReflection"}));
+
+    // A request that asks for nothing gets an error response, and the stream goes on.
+    ASSERT_TRUE(stream->Write(refl::ServerReflectionRequest()) && stream->Read(&response));
+    ASSERT_TRUE(response.has_error_response()) << response.DebugString();
+    EXPECT_EQ(response.error_response().error_code(), int(grpc::StatusCode::INVALID_ARGUMENT));
+    EXPECT_NE(response.error_response().error_message().find("message_request is not set"), std::string::npos);
+    request.set_file_by_filename("no/such/file.proto");
+    ASSERT_TRUE(stream->Write(request) && stream->Read(&response));
+    ASSERT_TRUE(response.has_error_response()) << response.DebugString();
+    EXPECT_EQ(response.error_response().error_code(), int(grpc::StatusCode::NOT_FOUND));
     stream->WritesDone();
     EXPECT_TRUE(stream->Finish().ok());
 }
