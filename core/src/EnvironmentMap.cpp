@@ -50,6 +50,49 @@ void cumulate(const double* weights, uint32_t n, double total, float* cdf) {
     cdf[n] = 1.0f;
 }
 
+// Scales the planes' texels into map.rgb (each checked: finite, >= 0, <= the limit after scaling).
+Status fillTexels(const std::string& source, const std::vector<float>* planes[3], float scale, EnvironmentMap& map) {
+    map.rgb.resize(3 * planes[0]->size());
+    for (uint64_t i = 0; i < planes[0]->size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const float c = (*planes[k])[i], value = c * scale;
+            if (!(c >= 0.0f) || !std::isfinite(c) || !std::isfinite(value) || value > kMaxEnvironmentRadiance)
+                return Status::error(source + ": texel (" + std::to_string(i % map.width) + ", " +
+                                     std::to_string(i / map.width) + ") channel " + "RGB"[k] + " is " +
+                                     std::to_string(c) +
+                                     (scale != 1.0f ? " (scaled by " + std::to_string(scale) + ")" : "") +
+                                     ": environment radiance must be finite, at least 0 and at most 1e18");
+            map.rgb[3 * i + k] = value;
+        }
+    return Status::ok();
+}
+
+// The sampling tables of map.rgb: each texel weighs its mean RGB times sin(theta) at its centre.
+void buildDistribution(EnvironmentMap& map) {
+    const uint32_t width = map.width, height = map.height;
+    const uint64_t texels = uint64_t(width) * height;
+    map.density.resize(texels);
+    map.marginalCdf.resize(height + 1);
+    map.conditionalCdf.resize(uint64_t(height) * (width + 1));
+    std::vector<double> weights(texels), rowWeights(height);
+    double total = 0;
+    for (uint32_t y = 0; y < height; ++y) {
+        const double sinTheta = std::sin(kPi * (double(y) + 0.5) / double(height));
+        double row = 0;
+        for (uint64_t i = uint64_t(y) * width; i < uint64_t(y + 1) * width; ++i) {
+            weights[i] = (double(map.rgb[3 * i]) / 3.0 + double(map.rgb[3 * i + 1]) / 3.0 +
+                          double(map.rgb[3 * i + 2]) / 3.0) * sinTheta;
+            row += weights[i];
+        }
+        rowWeights[y] = row;
+        total += row;
+        cumulate(&weights[uint64_t(y) * width], width, row, &map.conditionalCdf[uint64_t(y) * (width + 1)]);
+    }
+    cumulate(rowWeights.data(), height, total, map.marginalCdf.data());
+    map.sampleable = total > 0;
+    for (uint64_t i = 0; i < texels; ++i) map.density[i] = total > 0 ? float(weights[i] * double(texels) / total) : 0.0f;
+}
+
 }  // namespace
 
 Result<std::shared_ptr<const EnvironmentMap>> makeEnvironmentMap(const std::string& source, uint32_t width,
@@ -70,40 +113,9 @@ Result<std::shared_ptr<const EnvironmentMap>> makeEnvironmentMap(const std::stri
                              "x" + std::to_string(height) + " values");
     auto map = std::make_shared<EnvironmentMap>();
     map->width = width, map->height = height;
-    map->rgb.resize(3 * texels);
-    map->density.resize(texels);
-    map->marginalCdf.resize(height + 1);
-    map->conditionalCdf.resize(uint64_t(height) * (width + 1));
-    std::vector<double> weights(texels), rowWeights(height);
-    double total = 0;
-    for (uint32_t y = 0; y < height; ++y) {
-        const double sinTheta = std::sin(kPi * (double(y) + 0.5) / double(height));
-        double row = 0;
-        for (uint32_t x = 0; x < width; ++x) {
-            const uint64_t i = uint64_t(y) * width + x;
-            const float c[3] = {r[i], g[i], b[i]};
-            double mean = 0;
-            for (int k = 0; k < 3; ++k) {
-                const float value = c[k] * scale;
-                if (!(c[k] >= 0.0f) || !std::isfinite(c[k]) || !std::isfinite(value) || value > kMaxEnvironmentRadiance)
-                    return Status::error(source + ": texel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                         ") channel " + "RGB"[k] + " is " + std::to_string(c[k]) +
-                                         (scale != 1.0f ? " (scaled by " + std::to_string(scale) + ")" : "") +
-                                         ": environment radiance must be finite, at least 0 and at most 1e18");
-                map->rgb[3 * i + k] = value;
-                mean += value / 3.0;
-            }
-            weights[i] = mean * sinTheta;
-            row += weights[i];
-        }
-        rowWeights[y] = row;
-        total += row;
-        cumulate(&weights[uint64_t(y) * width], width, row, &map->conditionalCdf[uint64_t(y) * (width + 1)]);
-    }
-    cumulate(rowWeights.data(), height, total, map->marginalCdf.data());
-    map->sampleable = total > 0;
-    for (uint64_t i = 0; i < texels; ++i)
-        map->density[i] = total > 0 ? float(weights[i] * double(texels) / total) : 0.0f;
+    const std::vector<float>* planes[3] = {&r, &g, &b};
+    VASTRAY_TRY(fillTexels(source, planes, scale, *map));
+    buildDistribution(*map);
     return std::shared_ptr<const EnvironmentMap>(std::move(map));
 }
 
