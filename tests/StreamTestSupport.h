@@ -3,6 +3,8 @@
 // stress_tests): one Vulkan device per binary, budgets that give an exact slot count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -75,6 +77,16 @@ inline Result<std::pair<RenderImage, RenderImage>> renderVulkanColdAndWarm(const
     auto second = (*scene)->render(options, warmRender, warm);
     if (!second) return second.status();
     return std::make_pair(std::move(first).value(), std::move(second).value());
+}
+
+// sqrt(sum (a - b)^2 / sum b^2): the error of image a against reference b, relative to b's energy.
+inline double relativeRmse(const std::vector<float>& a, const std::vector<float>& b) {
+    double se = 0, energy = 0;
+    for (size_t i = 0; i < b.size(); ++i) {
+        const double d = double(a[i]) - double(b[i]);
+        se += d * d, energy += double(b[i]) * b[i];
+    }
+    return std::sqrt(se / std::max(energy, 1e-30));
 }
 
 // The Embree reference of the same package (without the streaming-only AOVs).

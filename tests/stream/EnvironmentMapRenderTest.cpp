@@ -61,15 +61,6 @@ std::shared_ptr<const EnvironmentMap> skyMap() {
     return *map;
 }
 
-double relativeRmse(const std::vector<float>& a, const std::vector<float>& b) {
-    double se = 0, energy = 0;
-    for (size_t i = 0; i < b.size(); ++i) {
-        const double d = double(a[i]) - double(b[i]);
-        se += d * d, energy += double(b[i]) * b[i];
-    }
-    return std::sqrt(se / std::max(energy, 1e-30));
-}
-
 // Under a constant sky L, every point of a convex Lambertian body of albedo a reflects a * L (its
 // whole hemisphere sees the sky); the background is L.
 TEST(EnvironmentMapRender, ConvexSphereUnderAConstantSkyReflectsAlbedoTimesSky) {
@@ -108,12 +99,22 @@ TEST(EnvironmentMapRender, ConvexSphereUnderAConstantSkyReflectsAlbedoTimesSky) 
     }
 }
 
-TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
-    const std::string path = package("city", GeneratorKind::City, 20000);
+// A 20k-triangle city in 64 KiB chunks (built once), and a small render of it.
+const std::string& city() {
+    static const std::string path = package("city", GeneratorKind::City, 20000);
+    return path;
+}
+RenderOptions cityRender(uint32_t spp) {
     RenderOptions o;
     o.width = 48, o.height = 36;
-    o.samplesPerPixel = 4;
+    o.samplesPerPixel = spp;
     o.maxDepth = 3;
+    return o;
+}
+
+TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
+    const std::string& path = city();
+    RenderOptions o = cityRender(4);
     o.aovs = kAovPrimId;
     o.environment.map = skyMap();  // and the default sun: next-event estimation picks one of the two
     o.environment.mapRotationDegrees = 37.0f;
@@ -123,7 +124,7 @@ TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
     auto device = test::renderVulkan(path, o, 256ull << 20, &stats);
     ASSERT_TRUE(device) << device.message();
     EXPECT_GT(stats.chunksTotal, 4u);
-    const double rmse = relativeRmse(device->rgb, reference->rgb);
+    const double rmse = test::relativeRmse(device->rgb, reference->rgb);
     std::printf("device vs Embree beauty relative RMSE %.2e\n", rmse);
     EXPECT_LE(rmse, 2e-3);
     // The map lights the picture: without it (the sky and sun) the image is another.
@@ -131,13 +132,13 @@ TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
     plain.environment.map.reset();
     auto unlit = test::renderVulkan(path, plain, 256ull << 20);
     ASSERT_TRUE(unlit) << unlit.message();
-    EXPECT_GT(relativeRmse(unlit->rgb, device->rgb), 0.1);
+    EXPECT_GT(test::relativeRmse(unlit->rgb, device->rgb), 0.1);
     // Turning the map turns its sun-like spot: another image.
     RenderOptions unturned = o;
     unturned.environment.mapRotationDegrees = 0.0f;
     auto straight = test::renderVulkan(path, unturned, 256ull << 20);
     ASSERT_TRUE(straight) << straight.message();
-    EXPECT_GT(relativeRmse(straight->rgb, device->rgb), 0.1);
+    EXPECT_GT(test::relativeRmse(straight->rgb, device->rgb), 0.1);
 
     const uint64_t reserved = gpu::environmentBytes(o.environment);
     EXPECT_GE(reserved, o.environment.map->deviceBytes());
@@ -156,11 +157,8 @@ TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
 // event estimation with MIS and the sky only found by bounces: two estimators of one integral,
 // occlusion included.
 TEST(EnvironmentMapRender, AMapOfTheSkyLightsAsTheSkyDoes) {
-    const std::string path = package("city-sky", GeneratorKind::City, 20000);
-    RenderOptions o;
-    o.width = 48, o.height = 36;
-    o.samplesPerPixel = 32;
-    o.maxDepth = 3;
+    const std::string& path = city();
+    RenderOptions o = cityRender(32);
     o.environment.sunIrradiance = {0, 0, 0};
     const uint32_t w = 4, h = 1024;
     std::vector<float> planes[3];
@@ -185,11 +183,11 @@ TEST(EnvironmentMapRender, AMapOfTheSkyLightsAsTheSkyDoes) {
     }
     std::printf("lit by the sky %.2f, by its map %.2f\n", skySum, mapSum);
     EXPECT_NEAR(mapSum / skySum, 1.0, 0.01);
-    EXPECT_GT(relativeRmse(byMap->rgb, bySky->rgb), 1e-3) << "the two estimators differ pixel by pixel";
+    EXPECT_GT(test::relativeRmse(byMap->rgb, bySky->rgb), 1e-3) << "the two estimators differ pixel by pixel";
 }
 
 TEST(EnvironmentMapRender, TheBudgetCountsTheMap) {
-    const std::string path = package("city-budget", GeneratorKind::City, 20000);
+    const std::string& path = city();
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     RenderOptions o;

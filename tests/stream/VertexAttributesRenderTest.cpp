@@ -59,15 +59,6 @@ RenderOptions render() {
     return o;
 }
 
-double relativeRmse(const std::vector<float>& a, const std::vector<float>& b) {
-    double se = 0, energy = 0;
-    for (size_t i = 0; i < b.size(); ++i) {
-        const double d = double(a[i]) - double(b[i]);
-        se += d * d, energy += double(b[i]) * b[i];
-    }
-    return std::sqrt(se / std::max(energy, 1e-30));
-}
-
 double largestDifference(const RenderImage& a, const RenderImage& b, const std::vector<float> RenderImage::*channel) {
     double worst = 0;
     for (size_t i = 0; i < (a.*channel).size(); ++i)
@@ -94,9 +85,9 @@ TEST(VertexAttributesRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
         // host's in the last bits; a path whose roulette draw or below-surface test falls within
         // them takes another turn: beauty within 1e-3 (well below these renders' noise).
         std::printf("%s: device vs Embree beauty relative RMSE %.2e, normal %.2e, albedo %.2e\n", name.c_str(),
-                    relativeRmse(device->rgb, reference->rgb), largestDifference(*device, *reference, &RenderImage::normal),
+                    test::relativeRmse(device->rgb, reference->rgb), largestDifference(*device, *reference, &RenderImage::normal),
                     largestDifference(*device, *reference, &RenderImage::albedo));
-        EXPECT_LE(relativeRmse(device->rgb, reference->rgb), 1e-3) << name;
+        EXPECT_LE(test::relativeRmse(device->rgb, reference->rgb), 1e-3) << name;
         EXPECT_LE(largestDifference(*device, *reference, &RenderImage::normal), 2e-4) << name;
         EXPECT_LE(largestDifference(*device, *reference, &RenderImage::albedo), 2e-4) << name;
         const uint64_t tight = test::budgetForSlots(path, 2, o.aovs);
@@ -121,11 +112,11 @@ TEST(VertexAttributesRender, EachAttributeIsUsedAndOnlyPaidForWhenPresent) {
     for (const std::string& path : {normals, colours}) {
         auto image = test::renderVulkan(path, o, 256ull << 20);
         ASSERT_TRUE(image) << image.message();
-        std::printf("%s against no attributes: relative RMSE %.3f\n", path.c_str(), relativeRmse(image->rgb, base->rgb));
-        EXPECT_GT(relativeRmse(image->rgb, base->rgb), 0.05) << path;
+        std::printf("%s against no attributes: relative RMSE %.3f\n", path.c_str(), test::relativeRmse(image->rgb, base->rgb));
+        EXPECT_GT(test::relativeRmse(image->rgb, base->rgb), 0.05) << path;
         auto reference = test::renderEmbree(path, o);
         ASSERT_TRUE(reference) << reference.message();
-        EXPECT_GT(relativeRmse(reference->rgb, base->rgb), 0.05) << path;
+        EXPECT_GT(test::relativeRmse(reference->rgb, base->rgb), 0.05) << path;
     }
     auto plainInfo = PackageReader::open(plain), normalsInfo = PackageReader::open(normals);
     ASSERT_TRUE(plainInfo && normalsInfo);
