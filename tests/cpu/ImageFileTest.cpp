@@ -223,5 +223,29 @@ TEST(ImageFile, PfmEnvironmentMapsAreReadAndDamagedOnesNamed) {
     }
 }
 
+// .exr and .hdr maps come through the OpenImageIO module with their values (RGBE keeps 8 bits of
+// mantissa: within 1 %), row 0 at the top.
+TEST(ImageFile, ExrAndHdrEnvironmentMapsAreReadThroughOpenImageIo) {
+    const uint32_t w = 6, h = 3;
+    std::vector<float> pixels(3 * w * h);
+    for (uint32_t i = 0; i < w * h; ++i)
+        for (uint32_t c = 0; c < 3; ++c) pixels[3 * i + c] = 0.25f + float(i) * 1.5f + float(c) * 0.125f;
+    for (const char* name : {"map.exr", "map.hdr"}) {
+        const std::string path = test::tmpPath(name);
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out) << name;
+        ASSERT_TRUE(out->open(path, OIIO::ImageSpec(int(w), int(h), 3, OIIO::TypeDesc::FLOAT)));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+        ASSERT_TRUE(out->close());
+        auto map = readEnvironmentMap(path, 2.0f);
+        ASSERT_TRUE(map) << map.message();
+        ASSERT_EQ((*map)->width, w);
+        ASSERT_EQ((*map)->height, h);
+        for (size_t i = 0; i < pixels.size(); ++i)
+            EXPECT_NEAR((*map)->rgb[i], 2.0f * pixels[i], 0.01f * 2.0f * pixels[i]) << name << " value " << i;
+        EXPECT_TRUE((*map)->sampleable);
+    }
+}
+
 }  // namespace
 }  // namespace vastray
