@@ -8,8 +8,8 @@
 #     bench/cold_render_ab.sh MITSUBA_BENCH.py VASTRAY_PROGRAM...
 #   Environment: SIZES (triangles, default "10000000 64000000"), CONFIGS (SPP:DEPTH pairs, default
 #   "1:2 16:5"), ROUNDS (2), WORK (scratch folder, /tmp/vastray-cold), BUDGET (--memory-budget, 8GiB:
-#   the scene in core, as Mitsuba holds it). Scenes of 64M triangles or more are imported with
-#   meshopt chunks (Draco decoding would dominate), others with Draco; 4 MiB chunks.
+#   the scene in core, as Mitsuba holds it), CODEC (draco or meshopt; default: meshopt for scenes of
+#   64M triangles or more, where Draco decoding would dominate, Draco below); 4 MiB chunks.
 set -uo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 MITSUBA_BENCH.py VASTRAY_PROGRAM..." >&2; exit 2; }
 mitsuba=$1; shift
@@ -23,6 +23,7 @@ mitsubaFirst() {  # load_and_bvh_s first_render_s
 for n in ${SIZES:-10000000 64000000}; do
   mkdir -p "$work"
   codec=; [ "$n" -ge 64000000 ] && codec="--codec meshopt"
+  [ -n "${CODEC:-}" ] && codec="--codec $CODEC"
   "$1" generate city --triangles "$n" --seed 1 -o "$work/city.ply" > /dev/null
   # shellcheck disable=SC2086
   "$1" import "$work/city.ply" -o "$work/city.vast" --progress none --chunk-size 4MiB $codec > /dev/null

@@ -123,15 +123,19 @@ function crc32(bytes: Uint8Array): number {
   return (crc ^ 0xffffffff) >>> 0;
 }
 
-async function storedZip(files: File[]): Promise<Blob> {
-  const total = files.reduce((n, file) => n + file.size + 76 + 2 * file.name.length * 3, 22);
+// A file to upload and its path in the model's folder ("textures/wood.png"; its name alone when
+// it was chosen or dropped as a file).
+interface ModelFile { path: string; file: File }
+
+async function storedZip(files: ModelFile[]): Promise<Blob> {
+  const total = files.reduce((n, { path, file }) => n + file.size + 76 + 2 * path.length * 3, 22);
   if (total > 0xffffffff || files.length > 0xffff)
     throw new Error("too large to zip in the browser (4 GiB or 65,535 files at most): zip the files yourself");
   const parts: BlobPart[] = [], central: BlobPart[] = [];
   let offset = 0;
-  for (const file of files) {
+  for (const { path, file } of files) {
     const data = new Uint8Array(await file.arrayBuffer());
-    const name = new TextEncoder().encode(file.name);
+    const name = new TextEncoder().encode(path);
     const crc = crc32(data);
     const local = new DataView(new ArrayBuffer(30));
     local.setUint32(0, 0x04034b50, true); local.setUint16(4, 20, true); local.setUint16(6, 0x0800, true);
@@ -155,19 +159,22 @@ async function storedZip(files: File[]): Promise<Blob> {
 
 const kModelExtensions = [".gltf", ".glb", ".obj", ".ply"];
 
-async function uploadFiles(files: File[]): Promise<void> {
+// Uploads one model: a file as it is, several files or a folder (`folder`: its name) as one zip.
+async function uploadFiles(files: ModelFile[], folder = ""): Promise<void> {
   if (files.length === 0) return;
-  let name = files[0].name;
-  if (files.length > 1) {
-    const model = files.find((f) => kModelExtensions.some((ext) => f.name.toLowerCase().endsWith(ext)));
-    name = (model ? model.name.replace(/\.[^.]*$/, "") : "model") + ".zip";
+  let name = files[0].file.name;
+  if (folder !== "") {
+    name = folder + ".zip";
+  } else if (files.length > 1) {
+    const model = files.find((f) => kModelExtensions.some((ext) => f.file.name.toLowerCase().endsWith(ext)));
+    name = (model ? model.file.name.replace(/\.[^.]*$/, "") : "model") + ".zip";
   }
   const item = document.createElement("li");
   item.className = "upload";
   item.dataset.name = name;
   $("uploads").prepend(item);
   try {
-    const body: Blob = files.length > 1 ? await storedZip(files) : files[0];
+    const body: Blob = files.length > 1 || folder !== "" ? await storedZip(files) : files[0].file;
     item.textContent = `${name}: uploading ${formatBytes(body.size)}…`;
     const response = await api(`/v1/scenes?name=${encodeURIComponent(name)}&async=true`, { method: "PUT", body });
     if (!response.ok) throw new Error(await errorText(response));
@@ -192,6 +199,42 @@ async function uploadFiles(files: File[]): Promise<void> {
   }
 }
 
+// Every file below a dropped folder, with its path below that folder (readEntries answers in
+// batches until it answers none).
+async function folderFiles(folder: FileSystemDirectoryEntry, prefix = ""): Promise<ModelFile[]> {
+  const reader = folder.createReader();
+  const entries: FileSystemEntry[] = [];
+  for (;;) {
+    const batch = await new Promise<FileSystemEntry[]>((resolve, reject) => reader.readEntries(resolve, reject));
+    if (batch.length === 0) break;
+    entries.push(...batch);
+  }
+  const files: ModelFile[] = [];
+  for (const entry of entries) {
+    const path = prefix + entry.name;
+    if (entry.isDirectory) {
+      files.push(...(await folderFiles(entry as FileSystemDirectoryEntry, path + "/")));
+    } else if (entry.isFile) {
+      const file = await new Promise<File>((resolve, reject) => (entry as FileSystemFileEntry).file(resolve, reject));
+      files.push({ path, file });
+    }
+  }
+  return files;
+}
+
+// A drop: each dropped folder is one model; the dropped files together are another.
+async function dropped(transfer: DataTransfer): Promise<void> {
+  const files: ModelFile[] = [];
+  const folders: FileSystemDirectoryEntry[] = [];
+  for (const item of Array.from(transfer.items)) {
+    const entry = item.kind === "file" ? item.webkitGetAsEntry() : null;
+    if (entry?.isDirectory) folders.push(entry as FileSystemDirectoryEntry);
+    else if (item.kind === "file") { const file = item.getAsFile(); if (file) files.push({ path: file.name, file }); }
+  }
+  await uploadFiles(files);
+  for (const folder of folders) await uploadFiles(await folderFiles(folder), folder.name);
+}
+
 function setupUpload(): void {
   const zone = $("drop-zone");
   zone.addEventListener("dragover", (event) => { event.preventDefault(); zone.classList.add("over"); });
@@ -199,12 +242,21 @@ function setupUpload(): void {
   zone.addEventListener("drop", (event) => {
     event.preventDefault();
     zone.classList.remove("over");
-    void uploadFiles(Array.from(event.dataTransfer?.files ?? []));
+    if (event.dataTransfer) void dropped(event.dataTransfer);
   });
   input("file-input").addEventListener("change", () => {
-    const files = Array.from(input("file-input").files ?? []);
+    const files = Array.from(input("file-input").files ?? []).map((file) => ({ path: file.name, file }));
     input("file-input").value = "";
     void uploadFiles(files);
+  });
+  // A chosen folder: webkitRelativePath is "folder/sub/file"; the zip holds "sub/file".
+  input("folder-input").addEventListener("change", () => {
+    const chosen = Array.from(input("folder-input").files ?? []);
+    input("folder-input").value = "";
+    if (chosen.length === 0) return;
+    const folder = chosen[0].webkitRelativePath.split("/")[0];
+    const files = chosen.map((file) => ({ path: file.webkitRelativePath.split("/").slice(1).join("/"), file }));
+    void uploadFiles(files, folder);
   });
 }
 

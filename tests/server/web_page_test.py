@@ -22,6 +22,7 @@ import os
 import re
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import tempfile
@@ -162,9 +163,9 @@ class PageTest:
         if self.js("return sessionStorage.getItem('vastray.token')") != TOKEN:
             fail("the token is not kept in sessionStorage")
 
-    def upload(self, paths, name, drop_text=None):
+    def upload(self, paths, name, drop_text=None, chooser="file-input"):
         if drop_text is None:
-            self.driver.find_element(By.ID, "file-input").send_keys("\n".join(paths))
+            self.driver.find_element(By.ID, chooser).send_keys("\n".join(paths))
         else:
             # Drag and drop: a drop event on the drop zone carrying one file made in the page.
             self.js("""const transfer = new DataTransfer();
@@ -203,6 +204,22 @@ class PageTest:
                                           "quad.zip")
         if quad_cells[1] != "2" or quad_cells[3] != "zip":
             fail(f"the zipped OBJ + MTL should be 2 triangles in a zip scene: {quad_cells}")
+        # A folder (the folder chooser): its files keep their paths in the page's zip; the glTF's
+        # buffer lies in a subfolder, and its import fails if that path is lost.
+        folder = os.path.join(self.work, "trifolder")
+        os.makedirs(os.path.join(folder, "buffers"), exist_ok=True)
+        with open(os.path.join(folder, "buffers", "tri.bin"), "wb") as f:
+            f.write(struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0))
+        with open(os.path.join(folder, "tri.gltf"), "w") as f:
+            json.dump({"asset": {"version": "2.0"}, "buffers": [{"uri": "buffers/tri.bin", "byteLength": 36}],
+                       "bufferViews": [{"buffer": 0, "byteLength": 36}],
+                       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                                      "min": [0, 0, 0], "max": [1, 1, 0]}],
+                       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+                       "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}, f)
+        _, folder_cells = self.upload([folder], "trifolder.zip", chooser="folder-input")
+        if folder_cells[1] != "1" or folder_cells[3] != "zip":
+            fail(f"the folder's glTF should be 1 triangle in a zip scene: {folder_cells}")
         _, dropped = self.upload([], "dropped.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
         if dropped[1] != "1" or dropped[3] != "obj":
             fail(f"the dropped OBJ should be 1 triangle: {dropped}")
