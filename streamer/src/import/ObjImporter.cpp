@@ -244,7 +244,8 @@ private:
 
 };
 
-// A library next to the model is optional: exporters often reference one they never wrote.
+// A library next to the model is optional: exporters often reference one they never wrote (a
+// warning says so: an upload that left its .mtl behind renders grey, and the user should know).
 // Like glTF URIs, names stay inside the model's folder: the service imports uploaded OBJ
 // files, and a client must not make it read (and render the colours of) files elsewhere.
 Status ObjParser::applyMaterialLibraries() {
@@ -255,7 +256,11 @@ Status ObjParser::applyMaterialLibraries() {
         if (!import::isSafeRelativeUri(name, why)) return import::errorIn(name_, "mtllib '" + name + "' " + why);
         const std::filesystem::path file = folder / name;
         std::error_code ec;
-        if (!std::filesystem::is_regular_file(file, ec)) continue;
+        if (!std::filesystem::is_regular_file(file, ec)) {
+            out_.report.warnings.push_back("mtllib '" + name + "' is not in the model's folder: its materials stay " +
+                                           "the default grey");
+            continue;
+        }
         if (!import::insideFolder(folder, file))
             return import::errorIn(name_, "mtllib '" + name + "' resolves outside the model folder (a link)");
         if (Status s = import::parseMtlFile(file.string(), library); !s.isOk()) return s;

@@ -154,6 +154,16 @@ TEST_F(ObjMaterialConfinement, LibraryInsideTheFolderIsRead) {
     EXPECT_EQ(imported->mesh.materials[0].baseColor[1], 0.0f);
 }
 
+TEST_F(ObjMaterialConfinement, MissingLibraryIsAWarning) {
+    auto imported = importWithLibrary("never-written.mtl");
+    ASSERT_TRUE(imported.isOk()) << imported.message();
+    ASSERT_EQ(imported->report.warnings.size(), 1u);
+    EXPECT_NE(imported->report.warnings[0].find("mtllib 'never-written.mtl' is not in the model's folder"),
+              std::string::npos)
+        << imported->report.warnings[0];
+    EXPECT_EQ(imported->mesh.materials[0].baseColor[0], Material{}.baseColor[0]);
+}
+
 // glTF URIs were confined by name only; a link inside the folder led out of it.
 TEST(HostileInput, GltfBufferLinkOutOfTheFolderIsRefused) {
     const std::filesystem::path folder = std::filesystem::path(tmpPath("gltf-link")) / "model";
