@@ -2,7 +2,7 @@
 
 usage: python3 mitsuba_envmap.py MESH.ply ENVMAP WIDTH HEIGHT SPP MAX_DEPTH EYE TARGET ALBEDO [VARIANT]
 Mitsuba's `envmap` emitter (importance sampled, MIS in its `path` integrator) and a diffuse mesh of
-reflectance ALBEDO; no sun. max_depth is vastray's --max-depth + 1. Prints one JSON line: load
+reflectance ALBEDO with face normals (as vastray shades a mesh without normals); no sun. max_depth is vastray's --max-depth + 1. Prints one JSON line: load
 time, the first and the later renders' times, and the image's mean (RGB). With a constant map the
 image does not depend on how either program orients the map, so the means compare the light
 transport; with another map they compare only the time (Mitsuba's envmap turns the map its own
@@ -32,7 +32,9 @@ scene = mi.load_dict({
         "sampler": {"type": "independent", "sample_count": spp},
     },
     "sky": {"type": "envmap", "filename": envmap},
-    "mesh": {"type": "ply", "filename": mesh,
+    # face_normals: Mitsuba would otherwise smooth the normals of a PLY without any over shared
+    # vertices (a generated city's box corners), which vastray does not do.
+    "mesh": {"type": "ply", "filename": mesh, "face_normals": True,
              "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [albedo] * 3}}},
 })
 load_s = time.perf_counter() - t0
