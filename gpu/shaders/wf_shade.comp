@@ -2,7 +2,8 @@
 // (cpu/src/Integrators.cpp's tracePath and ambientOcclusion, step for step): first the shadow
 // ray of the previous event (the sun's light, or the occlusion test), then the closest hit of
 // this one: sky (or environment map) on a miss; emission, next-event estimation to the sun or
-// the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. New rays are queued on pc.queue for walking.
+// the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. New
+// rays are queued on pc.queue for walking.
 // Each path carries its own bounce, so paths of one wave may be at different bounces.
 #version 460
 #extension GL_EXT_buffer_reference : require

@@ -323,13 +323,13 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     return plan;
 }
 
-// DMA where the slots can live in memory the host does not map and the staging in system
-// memory (a discrete GPU: PERF_NOTES 44); elsewhere (lavapipe, integrated GPUs: one memory) a
-// copy through staging would only add one.
 uint64_t environmentBytes(const Environment& environment) {
     return environment.map ? granules(environment.map->deviceBytes()) : 0;
 }
 
+// DMA where the slots can live in memory the host does not map and the staging in system
+// memory (a discrete GPU: PERF_NOTES 44); elsewhere (lavapipe, integrated GPUs: one memory) a
+// copy through staging would only add one.
 ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode) {
     if (mode != ChunkUploadMode::Auto) return mode;
     return device.hasSeparateMemory() ? ChunkUploadMode::Dma : ChunkUploadMode::Mapped;
