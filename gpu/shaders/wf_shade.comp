@@ -84,19 +84,16 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                 const vec3 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
                 if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
                 if (bounce < p.maxDepth) {
-                    const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
-                    const float cosine = dot(ns, sun);
-                    vec3 light, toLight;
-                    if (kEnvironmentMap) {
-                        if (environmentDirectLight(p, n, ns, base, pixel, sampleIndex, bounce, light, toLight)) {
-                            Vec4Array(p.pendingSun).v[j] = vec4(throughput * light, 0.0);
-                            startRay(p, shadow, origin, toLight, kInfinity);
-                            flags |= kPathShadowPending | kPathWalkShadow;
-                            first = shadow, count = 1u;
-                        }
-                    } else if (kSun && maxComponent(irradiance) > 0.0 && cosine > 0.0 && (!kShadingNormals || dot(n, sun) > 0.0)) {
-                        Vec4Array(p.pendingSun).v[j] = vec4(throughput * ((base * irradiance) * (cosine / kPi)), 0.0);
-                        startRay(p, shadow, origin, sun, kInfinity);
+                    // Next-event estimation: the sun, or with a map the sun or the map.
+                    vec3 light, toLight = vec3(p.sunX, p.sunY, p.sunZ);
+                    bool shoots = false;
+                    if (kEnvironmentMap)
+                        shoots = environmentDirectLight(p, n, ns, base, pixel, sampleIndex, bounce, light, toLight);
+                    else if (kSun)
+                        shoots = unshadowedSunLight(p, n, ns, base, light);
+                    if (shoots) {
+                        Vec4Array(p.pendingSun).v[j] = vec4(throughput * light, 0.0);
+                        startRay(p, shadow, origin, toLight, kInfinity);
                         flags |= kPathShadowPending | kPathWalkShadow;
                         first = shadow, count = 1u;
                     }

@@ -17,7 +17,6 @@ using google::protobuf::DescriptorPool;
 using google::protobuf::FieldDescriptor;
 using google::protobuf::FileDescriptor;
 
-
 class ReflectionService final : public refl::ServerReflection::Service {
 public:
     explicit ReflectionService(std::vector<std::string> services) : services_(std::move(services)) {

@@ -83,19 +83,16 @@ float powerHeuristic(float chosen, float other) {
     return 1.0 / (1.0 + ratio * ratio);
 }
 
-// unshadowedDirectLight with a map: the light (base colour and the path's throughput not yet
-// applied: `reflected` is the Lambertian factor's light) and its direction; false: no shadow ray.
-// n: geometric normal on the ray's side, ns: shading normal; sun: unit, towards the sun.
+// unshadowedDirectLight with a map: the light reflected towards the ray (base colour applied,
+// the path's throughput not yet) and the shadow ray's direction; false: no shadow ray.
+// n: geometric normal on the ray's side, ns: shading normal.
 bool environmentDirectLight(WavefrontParams p, vec3 n, vec3 ns, vec3 base, uint pixel, uint sampleIndex, uint bounce,
                             out vec3 light, out vec3 direction) {
     const float pickSun = p.sunPick;
-    const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
     if (pickSun >= 1.0 || (pickSun > 0.0 && randomFloat(pixel, sampleIndex, bounce, kDimLightPick, p.seed) < pickSun)) {
-        const float cosine = dot(ns, sun);
-        if (maxComponent(irradiance) <= 0.0 || cosine <= 0.0 || dot(n, sun) <= 0.0) return false;
-        light = (base * irradiance) * (cosine / kPi);
+        if (!unshadowedSunLight(p, n, ns, base, light)) return false;
         if (pickSun < 1.0) light = light * (1.0 / pickSun);
-        direction = sun;
+        direction = vec3(p.sunX, p.sunY, p.sunZ);
         return true;
     }
     vec3 radiance;
