@@ -25,7 +25,7 @@ struct RandomKey {
 // Dimensions in use (docs/RENDERING.md): at bounce 0, 0 and 1 jitter the pixel; at every
 // bounce, 2 and 3 pick the scattered (or ambient occlusion) direction, 4 decides Russian
 // roulette; with an environment map, 5 picks the light of next-event estimation (sun or map,
-// when both shine) and 6 and 7 the map's direction.
+// when both shine) and 6 and 7 the map's direction; volumes draw from 16 up.
 enum RandomDimension : uint32_t {
     kDimPixelX = 0,
     kDimPixelY = 1,
@@ -35,6 +35,9 @@ enum RandomDimension : uint32_t {
     kDimLightPick = 5,
     kDimLightU = 6,
     kDimLightV = 7,
+    // Volumes: tracking takes dimensions kDimVolume, kDimVolume + 1, ... in the order it draws
+    // them (free flight along the ray, then transmittance towards the light).
+    kDimVolume = 16,
 };
 
 constexpr uint32_t randomBits(RandomKey key, uint32_t dimension, uint32_t seed) {

@@ -1,0 +1,109 @@
+#pragma once
+// A density volume (a fog, smoke or scanned-density grid) as vastray stores and renders it
+// (docs/RENDERING.md, "Volumes"): voxels of a sparse grid in its own index space, grouped in
+// bricks of kVolumeBrickSize^3 on a regular brick grid, each brick cell with a majorant (the
+// largest density its points can take), placed in the world by an affine map. The density at
+// an index-space point is the trilinear interpolation of the voxels around it (voxel ijk sits
+// at the point ijk; voxels in no stored brick are 0), times the material's densityScale: the
+// extinction coefficient per world unit.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Aabb.h"
+#include "vastray/core/Random.h"
+#include "vastray/core/Vec3.h"
+
+namespace vastray {
+
+constexpr uint32_t kVolumeBrickSize = 8;
+constexpr uint32_t kVolumeBrickVoxels = kVolumeBrickSize * kVolumeBrickSize * kVolumeBrickSize;
+constexpr uint32_t kNoBrick = 0xFFFFFFFFu;
+
+// Limits on a volume, checked at import and again by the package reader.
+constexpr uint64_t kMaxVolumeBrickCells = uint64_t(1) << 24;   // brick grid cells (x * y * z)
+constexpr uint64_t kMaxVolumeBricks = uint64_t(1) << 22;       // stored bricks (8 GiB of voxels)
+constexpr uint32_t kMaxVolumes = 64;                           // volumes per scene
+constexpr float kMaxVolumeDensity = 1e18f;                     // voxel values are in [0, this]
+
+// How a volume scatters: extinction = densityScale * density; of what is extinguished, the
+// fraction `albedo` (per channel) scatters with the Henyey-Greenstein phase function of
+// `anisotropy` g (0: isotropic; > 0 forward), the rest is absorbed.
+struct VolumeMaterial {
+    std::array<float, 3> albedo{0.8f, 0.8f, 0.8f};  // each in [0, 1]
+    float densityScale = 1.0f;                       // finite, >= 0
+    float anisotropy = 0.0f;                         // in (-1, 1)
+};
+
+struct Volume {
+    std::string name;  // the grid's name in its file (UTF-8)
+    // Affine maps, row-major 3 x 4 ([r][0..2] linear, [r][3] translation): index space to world
+    // and world to index space (its inverse).
+    std::array<float, 12> indexToWorld{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    std::array<float, 12> worldToIndex{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    // The index of brick cell (0, 0, 0)'s first voxel (each a multiple of kVolumeBrickSize) and
+    // the brick grid's size in cells. Brick cell c covers the index-space points p with
+    // floor((p - origin) / kVolumeBrickSize) == c; every point of nonzero density lies in a cell.
+    std::array<int32_t, 3> origin{0, 0, 0};
+    std::array<uint32_t, 3> brickCells{0, 0, 0};
+    // Per brick cell, x fastest: the stored brick holding its voxels (kNoBrick: all 0), and a
+    // bound on the density (unscaled) of any point in the cell: the largest voxel of its brick
+    // and of the 7 cells after it on some axes (trilinear interpolation reads one voxel past the
+    // cell's last on each axis); 0: the cell is empty and rays skip it.
+    std::vector<uint32_t> brickOf;
+    std::vector<float> majorant;
+    // kVolumeBrickVoxels per stored brick, x fastest then y then z.
+    std::vector<float> voxels;
+    VolumeMaterial material;
+    Aabb worldBounds;  // the brick grid's box mapped to the world
+
+    uint64_t cellCount() const { return uint64_t(brickCells[0]) * brickCells[1] * brickCells[2]; }
+    uint64_t brickCount() const { return voxels.size() / kVolumeBrickVoxels; }
+};
+
+// The voxel at index ijk (0 outside the stored bricks).
+float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k);
+// Trilinear density (unscaled) at an index-space point.
+float volumeDensity(const Volume& volume, Vec3f indexPoint);
+
+// The world box of the brick grid under indexToWorld, and worldToIndex from indexToWorld.
+// Returns false when the map is not invertible (or not finite).
+bool finishVolumeTransform(Volume& volume);
+// `bounds` grown by every volume's world box: what automatic framing frames (the mesh and its
+// volumes).
+Aabb boundsWithVolumes(Aabb bounds, const std::vector<Volume>* volumes);
+// Per-cell majorants from the voxels (brickOf and voxels set).
+void computeVolumeMajorants(Volume& volume);
+// Consistency of a volume read from a file: sizes, limits, brick indices, finite non-negative
+// voxels, a finite map, a valid material. Returns an empty string when sound, else what is
+// wrong. Majorants and worldToIndex are not checked: readers compute them
+// (computeVolumeMajorants, finishVolumeTransform, which refuses a map it cannot invert).
+std::string checkVolume(const Volume& volume);
+
+// A ray in the world (unit direction) against every volume: delta tracking (free-flight
+// sampling, Woodcock) with the brick cells' majorants, empty cells skipped. Random numbers come
+// from `key` at dimensions kDimVolumeBase + n, n counting up from *counter (advanced).
+struct VolumeCollision {
+    float t = 0.0f;          // world distance of the real collision
+    uint32_t volume = 0;     // which volume
+};
+// The first real collision before tMax, if any (the nearest among the volumes).
+bool sampleVolumeCollision(const std::vector<Volume>& volumes, Vec3f origin, Vec3f direction, float tMax,
+                           RandomKey key, uint32_t seed, uint32_t* counter, VolumeCollision* collision);
+// Transmittance along the ray up to tMax, estimated by ratio tracking (unbiased).
+float volumeTransmittance(const std::vector<Volume>& volumes, Vec3f origin, Vec3f direction, float tMax,
+                          RandomKey key, uint32_t seed, uint32_t* counter);
+
+// Henyey-Greenstein phase function of anisotropy g for light travelling along unit `travel`
+// (the ray's direction) and scattered towards unit `scattered`: its density (per steradian),
+// and a direction drawn from it with u1, u2 in [0, 1) (perfect importance sampling: the
+// phase function over the density is 1).
+float henyeyGreenstein(float g, Vec3f travel, Vec3f scattered);
+Vec3f sampleHenyeyGreenstein(float g, Vec3f travel, float u1, float u2);
+
+// Tentative collisions one tracking call takes at most: beyond, free flight stops (a
+// collision where it stands) and transmittance is 0, so a hostile density cannot hang a render.
+constexpr uint32_t kMaxVolumeSteps = 65536;
+
+}  // namespace vastray

@@ -1,0 +1,306 @@
+#include "vastray/core/Volume.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vastray/core/Sampling.h"
+#include "vastray/core/VecMath.h"
+
+namespace vastray {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+Vec3f affinePoint(const std::array<float, 12>& m, Vec3f p) {
+    return {m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+            m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]};
+}
+Vec3f linearPart(const std::array<float, 12>& m, Vec3f v) {
+    return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[4] * v.x + m[5] * v.y + m[6] * v.z,
+            m[8] * v.x + m[9] * v.y + m[10] * v.z};
+}
+
+// The voxel at `relative` index coordinates (from the brick grid's origin); 0 outside.
+float relativeVoxel(const Volume& v, int64_t x, int64_t y, int64_t z) {
+    const int64_t size = kVolumeBrickSize;
+    if (x < 0 || y < 0 || z < 0 || x >= size * v.brickCells[0] || y >= size * v.brickCells[1] ||
+        z >= size * v.brickCells[2])
+        return 0.0f;
+    const uint64_t cell = uint64_t(x / size) + v.brickCells[0] * (uint64_t(y / size) + v.brickCells[1] * uint64_t(z / size));
+    const uint32_t brick = v.brickOf[cell];
+    if (brick == kNoBrick) return 0.0f;
+    return v.voxels[uint64_t(brick) * kVolumeBrickVoxels + uint64_t(x % size) + size * (uint64_t(y % size) + size * uint64_t(z % size))];
+}
+
+// Trilinear density at relative index coordinates r (in voxels from the grid's origin).
+float relativeDensity(const Volume& v, Vec3f r) {
+    const float bx = std::floor(r.x), by = std::floor(r.y), bz = std::floor(r.z);
+    const float fx = r.x - bx, fy = r.y - by, fz = r.z - bz;
+    // Points outside the grid (by more than a voxel) have density 0; the bound keeps the
+    // conversion to integers defined.
+    const float limit = float(kVolumeBrickSize) * float(1u << 24);
+    if (!(bx >= -1.0f && by >= -1.0f && bz >= -1.0f && bx < limit && by < limit && bz < limit)) return 0.0f;
+    const int64_t x = int64_t(bx), y = int64_t(by), z = int64_t(bz);
+    const float c00 = relativeVoxel(v, x, y, z) * (1.0f - fx) + relativeVoxel(v, x + 1, y, z) * fx;
+    const float c10 = relativeVoxel(v, x, y + 1, z) * (1.0f - fx) + relativeVoxel(v, x + 1, y + 1, z) * fx;
+    const float c01 = relativeVoxel(v, x, y, z + 1) * (1.0f - fx) + relativeVoxel(v, x + 1, y, z + 1) * fx;
+    const float c11 = relativeVoxel(v, x, y + 1, z + 1) * (1.0f - fx) + relativeVoxel(v, x + 1, y + 1, z + 1) * fx;
+    const float c0 = c00 * (1.0f - fy) + c10 * fy;
+    const float c1 = c01 * (1.0f - fy) + c11 * fy;
+    return c0 * (1.0f - fz) + c1 * fz;
+}
+
+// The ray in the brick grid's cell units: cell c covers [c, c + 1) on each axis.
+struct CellRay {
+    Vec3f origin, direction;
+};
+CellRay cellRay(const Volume& v, Vec3f origin, Vec3f direction) {
+    const Vec3f p = affinePoint(v.worldToIndex, origin);
+    const Vec3f d = linearPart(v.worldToIndex, direction);
+    const float inverse = 1.0f / float(kVolumeBrickSize);
+    const Vec3f gridOrigin{float(v.origin[0]), float(v.origin[1]), float(v.origin[2])};
+    return {(p - gridOrigin) * inverse, d * inverse};
+}
+
+// Calls visit(cell, t0, t1) for each brick cell the ray crosses within [0, tMax), front to
+// back (a 3D DDA, Amanatides and Woo 1987), until visit returns false.
+template <typename Visit>
+void walkCells(const Volume& v, const CellRay& r, float tMax, Visit&& visit) {
+    float tEnter = 0.0f, tExit = tMax;
+    for (int a = 0; a < 3; ++a) {
+        const float size = float(v.brickCells[a]);
+        if (r.direction[a] == 0.0f) {
+            if (!(r.origin[a] >= 0.0f && r.origin[a] < size)) return;
+            continue;
+        }
+        float t0 = (0.0f - r.origin[a]) / r.direction[a], t1 = (size - r.origin[a]) / r.direction[a];
+        if (t0 > t1) std::swap(t0, t1);
+        tEnter = std::fmax(tEnter, t0);
+        tExit = std::fmin(tExit, t1);
+    }
+    if (!(tEnter < tExit)) return;
+    int64_t cell[3], step[3];
+    float tNext[3], tDelta[3];
+    for (int a = 0; a < 3; ++a) {
+        const float p = r.origin[a] + r.direction[a] * tEnter;
+        cell[a] = std::clamp<int64_t>(int64_t(std::floor(p)), 0, int64_t(v.brickCells[a]) - 1);
+        if (r.direction[a] > 0.0f) {
+            step[a] = 1, tDelta[a] = 1.0f / r.direction[a];
+            tNext[a] = (float(cell[a] + 1) - r.origin[a]) / r.direction[a];
+        } else if (r.direction[a] < 0.0f) {
+            step[a] = -1, tDelta[a] = -1.0f / r.direction[a];
+            tNext[a] = (float(cell[a]) - r.origin[a]) / r.direction[a];
+        } else {
+            step[a] = 0, tDelta[a] = kInfinity, tNext[a] = kInfinity;
+        }
+    }
+    float t = tEnter;
+    while (t < tExit) {
+        const int axis = tNext[0] <= tNext[1] ? (tNext[0] <= tNext[2] ? 0 : 2) : (tNext[1] <= tNext[2] ? 1 : 2);
+        const float end = std::fmin(tNext[axis], tExit);
+        const uint64_t index = uint64_t(cell[0]) + v.brickCells[0] * (uint64_t(cell[1]) + v.brickCells[1] * uint64_t(cell[2]));
+        if (end > t && !visit(index, t, end)) return;
+        t = std::fmax(t, end);
+        cell[axis] += step[axis];
+        if (cell[axis] < 0 || cell[axis] >= int64_t(v.brickCells[axis])) return;
+        tNext[axis] += tDelta[axis];
+    }
+}
+
+// Free flight through one volume up to tMax: the first real collision's t, or tMax.
+float freeFlight(const Volume& v, Vec3f origin, Vec3f direction, float tMax, RandomKey key, uint32_t seed,
+                 uint32_t* counter) {
+    const CellRay r = cellRay(v, origin, direction);
+    const float scale = v.material.densityScale;
+    float result = tMax;
+    uint32_t steps = 0;
+    walkCells(v, r, tMax, [&](uint64_t cell, float t0, float t1) {
+        const float majorant = v.majorant[cell] * scale;
+        if (!(majorant > 0.0f)) return true;
+        float t = t0;
+        for (;;) {
+            t -= std::log(1.0f - randomFloat(key, kDimVolume + (*counter)++, seed)) / majorant;
+            if (!(t < t1)) return true;
+            if (++steps > kMaxVolumeSteps) {
+                result = t;
+                return false;
+            }
+            const float density = relativeDensity(v, (r.origin + r.direction * t) * float(kVolumeBrickSize)) * scale;
+            if (randomFloat(key, kDimVolume + (*counter)++, seed) * majorant < density) {
+                result = t;
+                return false;
+            }
+        }
+    });
+    return result;
+}
+
+}  // namespace
+
+float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k) {
+    return relativeVoxel(volume, int64_t(i) - volume.origin[0], int64_t(j) - volume.origin[1],
+                         int64_t(k) - volume.origin[2]);
+}
+
+float volumeDensity(const Volume& volume, Vec3f p) {
+    const Vec3f gridOrigin{float(volume.origin[0]), float(volume.origin[1]), float(volume.origin[2])};
+    return relativeDensity(volume, p - gridOrigin);
+}
+
+bool finishVolumeTransform(Volume& v) {
+    const auto& m = v.indexToWorld;
+    for (float x : m)
+        if (!std::isfinite(x)) return false;
+    const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
+    const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    double scale = 0;
+    for (double x : {a, b, c, d, e, f, g, h, i}) scale = std::max(scale, std::fabs(x));
+    if (!(std::fabs(det) > 1e-12 * scale * scale * scale) || !std::isfinite(det)) return false;
+    const double inv[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
+                           (f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det,
+                           (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det};
+    for (int r = 0; r < 3; ++r) {
+        double t = 0;
+        for (int k = 0; k < 3; ++k) {
+            v.worldToIndex[4 * r + k] = float(inv[3 * r + k]);
+            t -= inv[3 * r + k] * m[4 * k + 3];
+        }
+        v.worldToIndex[4 * r + 3] = float(t);
+    }
+    v.worldBounds = Aabb();
+    for (int corner = 0; corner < 8; ++corner) {
+        Vec3f p;
+        for (int a = 0; a < 3; ++a)
+            p[a] = float(double(v.origin[a]) + ((corner >> a) & 1 ? double(kVolumeBrickSize) * v.brickCells[a] : 0.0));
+        v.worldBounds.extend(affinePoint(v.indexToWorld, p));
+    }
+    for (float x : v.worldToIndex)
+        if (!std::isfinite(x)) return false;
+    return isFinite(v.worldBounds.lo) && isFinite(v.worldBounds.hi);
+}
+
+Aabb boundsWithVolumes(Aabb bounds, const std::vector<Volume>* volumes) {
+    if (volumes)
+        for (const Volume& v : *volumes) bounds.extend(v.worldBounds);
+    return bounds;
+}
+
+void computeVolumeMajorants(Volume& v) {
+    const uint64_t cells = v.cellCount();
+    std::vector<float> brickMax(cells, 0.0f);
+    for (uint64_t c = 0; c < cells; ++c) {
+        if (v.brickOf[c] == kNoBrick) continue;
+        const float* voxels = &v.voxels[uint64_t(v.brickOf[c]) * kVolumeBrickVoxels];
+        brickMax[c] = *std::max_element(voxels, voxels + kVolumeBrickVoxels);
+    }
+    v.majorant.assign(cells, 0.0f);
+    const uint64_t nx = v.brickCells[0], ny = v.brickCells[1], nz = v.brickCells[2];
+    for (uint64_t z = 0; z < nz; ++z)
+        for (uint64_t y = 0; y < ny; ++y)
+            for (uint64_t x = 0; x < nx; ++x) {
+                float m = 0.0f;
+                for (uint64_t dz = 0; dz < 2 && z + dz < nz; ++dz)
+                    for (uint64_t dy = 0; dy < 2 && y + dy < ny; ++dy)
+                        for (uint64_t dx = 0; dx < 2 && x + dx < nx; ++dx)
+                            m = std::max(m, brickMax[(x + dx) + nx * ((y + dy) + ny * (z + dz))]);
+                v.majorant[x + nx * (y + ny * z)] = m;
+            }
+}
+
+std::string checkVolume(const Volume& v) {
+    for (int a = 0; a < 3; ++a) {
+        if (v.brickCells[a] == 0) return "the brick grid has no cells";
+        if (v.origin[a] % int32_t(kVolumeBrickSize) != 0) return "the brick grid's origin is not a multiple of 8";
+        if (int64_t(v.origin[a]) + int64_t(kVolumeBrickSize) * v.brickCells[a] > std::numeric_limits<int32_t>::max())
+            return "the brick grid reaches beyond the index range of 32-bit integers";
+    }
+    const double cells = double(v.brickCells[0]) * v.brickCells[1] * v.brickCells[2];
+    if (cells > double(kMaxVolumeBrickCells))
+        return "the brick grid has " + std::to_string(uint64_t(cells)) + " cells, more than the limit of " +
+               std::to_string(kMaxVolumeBrickCells);
+    if (v.brickOf.size() != v.cellCount()) return "the brick table does not have one entry per cell";
+    if (v.voxels.size() % kVolumeBrickVoxels != 0) return "the voxels are not whole bricks";
+    if (v.brickCount() > kMaxVolumeBricks)
+        return std::to_string(v.brickCount()) + " bricks, more than the limit of " + std::to_string(kMaxVolumeBricks);
+    for (uint64_t c = 0; c < v.brickOf.size(); ++c)
+        if (v.brickOf[c] != kNoBrick && v.brickOf[c] >= v.brickCount())
+            return "cell " + std::to_string(c) + " names brick " + std::to_string(v.brickOf[c]) + " of " +
+                   std::to_string(v.brickCount());
+    for (uint64_t i = 0; i < v.voxels.size(); ++i)
+        if (!(v.voxels[i] >= 0.0f && v.voxels[i] <= kMaxVolumeDensity))
+            return "brick " + std::to_string(i / kVolumeBrickVoxels) + " voxel " + std::to_string(i % kVolumeBrickVoxels) +
+                   " has density " + std::to_string(v.voxels[i]) + " (not in [0, 1e18])";
+    for (float x : v.indexToWorld)
+        if (!std::isfinite(x)) return "the index-to-world map is not finite";
+    const VolumeMaterial& m = v.material;
+    for (float a : m.albedo)
+        if (!(a >= 0.0f && a <= 1.0f)) return "the albedo " + std::to_string(a) + " is not in [0, 1]";
+    if (!(m.densityScale >= 0.0f && m.densityScale <= kMaxVolumeDensity))
+        return "the density scale " + std::to_string(m.densityScale) + " is not in [0, 1e18]";
+    if (!(m.anisotropy > -1.0f && m.anisotropy < 1.0f))
+        return "the anisotropy " + std::to_string(m.anisotropy) + " is not in (-1, 1)";
+    return {};
+}
+
+bool sampleVolumeCollision(const std::vector<Volume>& volumes, Vec3f origin, Vec3f direction, float tMax,
+                           RandomKey key, uint32_t seed, uint32_t* counter, VolumeCollision* collision) {
+    // The nearest of independent free flights, one per volume, samples the sum of their
+    // extinctions: each later volume only needs to look before the nearest so far.
+    bool found = false;
+    for (uint32_t i = 0; i < volumes.size(); ++i) {
+        const float t = freeFlight(volumes[i], origin, direction, tMax, key, seed, counter);
+        if (t < tMax) {
+            tMax = t, found = true;
+            *collision = {t, i};
+        }
+    }
+    return found;
+}
+
+float volumeTransmittance(const std::vector<Volume>& volumes, Vec3f origin, Vec3f direction, float tMax,
+                          RandomKey key, uint32_t seed, uint32_t* counter) {
+    float transmittance = 1.0f;
+    for (const Volume& v : volumes) {
+        const CellRay r = cellRay(v, origin, direction);
+        const float scale = v.material.densityScale;
+        uint32_t steps = 0;
+        walkCells(v, r, tMax, [&](uint64_t cell, float t0, float t1) {
+            const float majorant = v.majorant[cell] * scale;
+            if (!(majorant > 0.0f)) return true;
+            float t = t0;
+            for (;;) {
+                t -= std::log(1.0f - randomFloat(key, kDimVolume + (*counter)++, seed)) / majorant;
+                if (!(t < t1)) return true;
+                const float density = relativeDensity(v, (r.origin + r.direction * t) * float(kVolumeBrickSize)) * scale;
+                transmittance *= std::fmax(0.0f, 1.0f - density / majorant);
+                if (++steps > kMaxVolumeSteps) transmittance = 0.0f;
+                if (!(transmittance > 0.0f)) return false;
+            }
+        });
+        if (!(transmittance > 0.0f)) return 0.0f;
+    }
+    return transmittance;
+}
+
+float henyeyGreenstein(float g, Vec3f travel, Vec3f scattered) {
+    const float cosine = dot(travel, scattered);
+    const float denominator = 1.0f + g * g - 2.0f * g * cosine;
+    return (1.0f - g * g) / (4.0f * kPi * denominator * std::sqrt(std::fmax(denominator, 0.0f)));
+}
+
+Vec3f sampleHenyeyGreenstein(float g, Vec3f travel, float u1, float u2) {
+    float cosine;
+    if (std::fabs(g) < 1e-3f) {
+        cosine = 1.0f - 2.0f * u1;
+    } else {
+        const float s = (1.0f - g * g) / (1.0f - g + 2.0f * g * u1);
+        cosine = (1.0f + g * g - s * s) / (2.0f * g);
+    }
+    cosine = std::clamp(cosine, -1.0f, 1.0f);
+    const float sine = std::sqrt(std::fmax(0.0f, 1.0f - cosine * cosine));
+    const float phi = 2.0f * kPi * u2;
+    return normalize(frameAround(travel).toWorld({sine * std::cos(phi), sine * std::sin(phi), cosine}));
+}
+
+}  // namespace vastray
