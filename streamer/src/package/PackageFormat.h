@@ -6,7 +6,9 @@
 //   top tree   topNodeCount × 8 (KdNode)
 //   directory  chunkCount × kDirectoryEntryBytes
 //   cameras    cameraCount × kCameraBytes (version 3)
+//   volumes    volumeCount × kVolumeRecordBytes (version 4)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
+//   volume data  one per volume (brick table, voxels), at the offsets its record gives
 #include <cstdint>
 
 namespace vastray::format {
@@ -14,13 +16,17 @@ namespace vastray::format {
 constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 2: chunk trees are 4-wide BVHs (Bvh4Node), triangles in leaf order (was: KD nodes and references).
 // 3: chunks may carry per-vertex shading normals and colours (chunk flags, header flags).
-constexpr uint32_t kVersion = 3;
+// 4: volumes (density grids in bricks; a version 3 package, which has none, is still read).
+constexpr uint32_t kVersion = 4;
+constexpr uint32_t kOldestReadableVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
 constexpr uint32_t kMaterialBytes = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
 constexpr uint32_t kDirectoryEntryBytes = 4 * 8 + 4 * 4 + 6 * 4;
 constexpr uint32_t kCameraNameBytes = 64;
 constexpr uint32_t kCameraBytes = kCameraNameBytes + 10 * 4;  // name, eye, target, up, fov (degrees)
+constexpr uint32_t kVolumeNameBytes = 64;
+constexpr uint32_t kVolumeRecordBytes = 256;
 
 // Upper bounds a reader enforces before allocating anything.
 constexpr uint32_t kMaxMaterials = 1u << 20;

@@ -80,7 +80,7 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
     out.put(layout.materialCount);
     out.put(layout.topNodeCount);
     out.put(layout.chunkCount);
-    out.put(uint32_t(0));
+    out.put(layout.volumeCount);
     out.put(info.bounds.lo);
     out.put(info.bounds.hi);
     for (double v : info.grid.origin) out.put(v);
@@ -89,6 +89,7 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
                        layout.materialsChecksum, layout.treeChecksum, layout.directoryChecksum})
         out.put(v);
     out.put(layout.camerasOffset), out.put(layout.camerasChecksum), out.put(layout.cameraCount), out.put(uint32_t(0));
+    out.put(layout.volumesOffset), out.put(layout.volumesChecksum);
     out.padTo(format::kHeaderBytes - 8);
     out.put(checksum64(out.bytes().data(), out.size()));
     return std::move(out.bytes());
@@ -98,12 +99,13 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     if (size < format::kHeaderBytes) return Status::error("file is too short to be a package");
     if (std::memcmp(bytes, format::kMagic, 8) != 0) return Status::error("not a vastray package (bad magic)");
     ByteReader in(bytes + 8, format::kHeaderBytes - 8);
-    uint32_t headerBytes = 0, flags = 0, reserved = 0;
+    uint32_t headerBytes = 0, flags = 0;
     in.get(info.formatVersion);
     in.get(headerBytes);
-    if (info.formatVersion != format::kVersion)
-        return Status::error("package format version " + std::to_string(info.formatVersion) + " is not supported (expected " +
-                             std::to_string(format::kVersion) + "): re-import the mesh with this vastray");
+    if (info.formatVersion < format::kOldestReadableVersion || info.formatVersion > format::kVersion)
+        return Status::error("package format version " + std::to_string(info.formatVersion) +
+                             " is not supported (this vastray reads " + std::to_string(format::kOldestReadableVersion) +
+                             " to " + std::to_string(format::kVersion) + "): re-import the mesh with this vastray");
     uint64_t stored = 0;
     std::memcpy(&stored, bytes + format::kHeaderBytes - 8, 8);
     if (headerBytes != format::kHeaderBytes) return Status::error("header size " + std::to_string(headerBytes) +
@@ -119,7 +121,7 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     in.get(layout.materialCount);
     in.get(layout.topNodeCount);
     in.get(layout.chunkCount);
-    in.get(reserved);
+    in.get(layout.volumeCount);  // version 3: a reserved 0
     in.get(info.bounds.lo);
     in.get(info.bounds.hi);
     for (double& v : info.grid.origin) in.get(v);
@@ -129,6 +131,12 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
         in.get(*v);
     uint32_t reservedAfterCameras = 0;
     in.get(layout.camerasOffset), in.get(layout.camerasChecksum), in.get(layout.cameraCount), in.get(reservedAfterCameras);
+    in.get(layout.volumesOffset), in.get(layout.volumesChecksum);  // version 3: zero padding
+    if (info.formatVersion < 4 && (layout.volumeCount != 0 || layout.volumesOffset != 0 || layout.volumesChecksum != 0))
+        return Status::error("header: a version 3 package with volume fields");
+    if (layout.volumeCount > kMaxVolumes)
+        return Status::error("header: volume count " + std::to_string(layout.volumeCount) + " exceeds the limit of " +
+                             std::to_string(kMaxVolumes));
     if (layout.cameraCount > format::kMaxCameras)
         return Status::error("header: camera count " + std::to_string(layout.cameraCount) + " exceeds the limit of " +
                              std::to_string(format::kMaxCameras));
@@ -202,6 +210,70 @@ Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes,
         VASTRAY_TRY(validateCamera(c.camera).withContext("camera " + std::to_string(i) + " '" + c.name + "': "));
     }
     return cameras;
+}
+
+std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes) {
+    ByteWriter out;
+    for (const PackageVolume& p : volumes) {
+        const size_t start = out.size();
+        const Volume& v = p.volume;
+        out.putFixedString(cutUtf8(v.name, format::kVolumeNameBytes), format::kVolumeNameBytes);
+        out.put(v.indexToWorld);
+        out.put(v.origin);
+        out.put(v.brickCells);
+        out.put(p.brickCount);
+        out.put(v.material.albedo);
+        out.put(v.material.densityScale);
+        out.put(v.material.anisotropy);
+        out.put(uint32_t(0));
+        out.put(p.offset), out.put(p.size), out.put(p.checksum);
+        out.padTo(start + format::kVolumeRecordBytes);
+    }
+    return std::move(out.bytes());
+}
+
+Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>& bytes, uint32_t count) {
+    std::vector<PackageVolume> volumes(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        if (bytes.size() < uint64_t(i + 1) * format::kVolumeRecordBytes) return Status::error("truncated volume records");
+        ByteReader in(bytes.data() + uint64_t(i) * format::kVolumeRecordBytes, format::kVolumeRecordBytes);
+        PackageVolume& p = volumes[i];
+        Volume& v = p.volume;
+        uint32_t reserved = 0;
+        in.getFixedString(v.name, format::kVolumeNameBytes);
+        v.name = validUtf8(v.name);
+        in.get(v.indexToWorld);
+        in.get(v.origin);
+        in.get(v.brickCells);
+        in.get(p.brickCount);
+        in.get(v.material.albedo);
+        in.get(v.material.densityScale);
+        in.get(v.material.anisotropy);
+        in.get(reserved);
+        in.get(p.offset), in.get(p.size), in.get(p.checksum);
+        const std::string name = "volume " + std::to_string(i) + " '" + v.name + "': ";
+        if (!in.ok()) return Status::error(name + "truncated record");
+        if (reserved != 0) return Status::error(name + "reserved field is not 0");
+        if (p.brickCount > kMaxVolumeBricks)
+            return Status::error(name + std::to_string(p.brickCount) + " bricks exceed the limit of " +
+                                 std::to_string(kMaxVolumeBricks));
+        // checkVolume on the record alone: an empty table stands for the cells until the data is read.
+        Volume shape = v;
+        shape.brickOf.assign(0, 0);
+        const double cells = double(v.brickCells[0]) * v.brickCells[1] * v.brickCells[2];
+        if (cells > double(kMaxVolumeBrickCells))
+            return Status::error(name + "brick grid of " + std::to_string(v.brickCells[0]) + " x " +
+                                 std::to_string(v.brickCells[1]) + " x " + std::to_string(v.brickCells[2]) +
+                                 " cells exceeds the limit of " + std::to_string(kMaxVolumeBrickCells));
+        shape.brickOf.assign(shape.cellCount(), kNoBrick);
+        if (const std::string problem = checkVolume(shape); !problem.empty()) return Status::error(name + problem);
+        if (p.size != 4 * v.cellCount() + uint64_t(p.brickCount) * kVolumeBrickVoxels * 4)
+            return Status::error(name + "data of " + std::to_string(p.size) + " bytes does not match its " +
+                                 std::to_string(v.cellCount()) + " cells and " + std::to_string(p.brickCount) + " bricks");
+        if (!finishVolumeTransform(v)) return Status::error(name + "the index-to-world map is not invertible");
+        VASTRAY_TRY(checkStoredBox(name + "bounds", v.worldBounds));
+    }
+    return volumes;
 }
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks) {

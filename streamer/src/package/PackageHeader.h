@@ -16,6 +16,9 @@ struct SectionLayout {
     uint32_t materialCount = 0, topNodeCount = 0, chunkCount = 0;
     uint64_t camerasOffset = 0, camerasChecksum = 0;  // the cameras lie between directory and blobs
     uint32_t cameraCount = 0;
+    // The volume records lie between cameras and blobs; their data after the blobs.
+    uint64_t volumesOffset = 0, volumesChecksum = 0;
+    uint32_t volumeCount = 0;
 };
 
 // "NAME checksum mismatch (stored 0x..., computed 0x...)": what a reader says of a section,
@@ -35,6 +38,10 @@ std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras);
 // Each camera valid (validateCamera): "camera 2 'Orbit': ..." otherwise.
 Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes, uint32_t count);
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count);
+
+std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes);
+// Each record's fields checked (limits, map, material); data offsets are checked by the reader.
+Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>& bytes, uint32_t count);
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks);
 Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count);

@@ -65,8 +65,10 @@ Status validateTopTree(const std::vector<KdNode>& nodes, uint32_t chunkCount) {
     return Status::ok();
 }
 
-// Blobs lie after the directory, in order, without overlap, inside the file.
-Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOffset, uint64_t fileBytes) {
+// Blobs lie after the directory, in order, without overlap, inside the file; the volumes' data
+// after them, in order, up to the end of the file.
+Status validateDirectory(const std::vector<ChunkInfo>& chunks, const std::vector<PackageVolume>& volumes,
+                         uint64_t blobsOffset, uint64_t fileBytes) {
     uint64_t next = blobsOffset;
     for (const ChunkInfo& c : chunks) {
         const std::string name = "chunk " + std::to_string(c.id) + ": ";
@@ -79,7 +81,13 @@ Status validateDirectory(const std::vector<ChunkInfo>& chunks, uint64_t blobsOff
         VASTRAY_TRY(checkStoredBox(name + "cell bounds", c.cell));
         next = c.offset + c.size;
     }
-    if (next != fileBytes) return Status::error("file size disagrees with the chunk directory");
+    for (size_t i = 0; i < volumes.size(); ++i) {
+        const PackageVolume& v = volumes[i];
+        if (v.offset != next || v.size > fileBytes - v.offset)
+            return Status::error("volume " + std::to_string(i) + ": data outside the file");
+        next = v.offset + v.size;
+    }
+    if (next != fileBytes) return Status::error("file size disagrees with the chunk directory and volume records");
     return Status::ok();
 }
 
@@ -116,9 +124,13 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     const uint64_t treeBytes = uint64_t(l.topNodeCount) * sizeof(KdNode);
     const uint64_t directoryBytes = uint64_t(l.chunkCount) * format::kDirectoryEntryBytes;
     const uint64_t cameraBytes = uint64_t(l.cameraCount) * format::kCameraBytes;
+    const uint64_t volumeBytes = uint64_t(l.volumeCount) * format::kVolumeRecordBytes;
+    // Version 3 has no volume records: they would start where the blobs do.
+    const uint64_t volumesOffset = info.formatVersion >= 4 ? l.volumesOffset : l.camerasOffset + cameraBytes;
     if (l.materialsOffset != format::kHeaderBytes || l.treeOffset != l.materialsOffset + materialsBytes ||
         l.directoryOffset != l.treeOffset + treeBytes || l.camerasOffset != l.directoryOffset + directoryBytes ||
-        l.blobsOffset != l.camerasOffset + cameraBytes || l.blobsOffset > fileSize)
+        volumesOffset != l.camerasOffset + cameraBytes || l.blobsOffset != volumesOffset + volumeBytes ||
+        l.blobsOffset > fileSize)
         return fail(Status::error("section offsets are inconsistent"));
 
     auto readSection = [&](uint64_t offset, uint64_t size, uint64_t checksum, const char* name) -> Status {
@@ -138,11 +150,17 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     auto chunks = parseDirectory(bytes, l.chunkCount);
     if (!chunks) return fail(chunks.status());
     info.chunks = std::move(*chunks);
-    if (auto s = validateDirectory(info.chunks, l.blobsOffset, fileSize); !s) return fail(s);
     if (auto s = readSection(l.camerasOffset, cameraBytes, l.camerasChecksum, "cameras"); !s) return fail(s);
     auto cameras = parseCameras(bytes, l.cameraCount);
     if (!cameras) return fail(cameras.status());
     info.cameras = std::move(*cameras);
+    if (info.formatVersion >= 4) {
+        if (auto s = readSection(volumesOffset, volumeBytes, l.volumesChecksum, "volume records"); !s) return fail(s);
+        auto volumes = parseVolumeRecords(bytes, l.volumeCount);
+        if (!volumes) return fail(volumes.status());
+        info.volumes = std::move(*volumes);
+    }
+    if (auto s = validateDirectory(info.chunks, info.volumes, l.blobsOffset, fileSize); !s) return fail(s);
     if (auto s = validateTopTree(info.topTree, l.chunkCount); !s) return fail(s);
     uint64_t references = 0;
     for (const ChunkInfo& c : info.chunks) references += c.triangleCount;
@@ -173,12 +191,34 @@ Result<DecodedChunk> PackageReader::readChunk(uint32_t id) const {
     return chunk;
 }
 
+Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() const {
+    auto volumes = std::make_shared<std::vector<Volume>>();
+    std::vector<uint8_t> data;
+    for (size_t i = 0; i < info_.volumes.size(); ++i) {
+        const PackageVolume& p = info_.volumes[i];
+        const std::string name = path_ + ": volume " + std::to_string(i) + " '" + p.volume.name + "': ";
+        if (!file_->read(p.offset, p.size, data)) return Status::error(name + "read failed");
+        if (const uint64_t computed = checksum64(data.data(), data.size()); computed != p.checksum)
+            return checksumMismatch(name + "data", p.checksum, computed);
+        Volume& v = volumes->emplace_back(p.volume);
+        const uint64_t tableBytes = 4 * v.cellCount();
+        v.brickOf.resize(v.cellCount());
+        v.voxels.resize(uint64_t(p.brickCount) * kVolumeBrickVoxels);
+        std::memcpy(v.brickOf.data(), data.data(), tableBytes);
+        std::memcpy(v.voxels.data(), data.data() + tableBytes, v.voxels.size() * 4);
+        if (const std::string problem = checkVolume(v); !problem.empty()) return Status::error(name + problem);
+        computeVolumeMajorants(v);
+    }
+    return std::shared_ptr<const std::vector<Volume>>(std::move(volumes));
+}
+
 std::vector<std::string> PackageReader::verify() const {
     std::vector<std::string> problems;
     for (const ChunkInfo& chunk : info_.chunks) {
         auto decoded = readChunk(chunk.id);
         if (!decoded) problems.push_back(decoded.message());
     }
+    if (auto volumes = readVolumes(); !volumes) problems.push_back(volumes.message());
     return problems;
 }
 

@@ -60,7 +60,9 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     layout.cameraCount = uint32_t(info.cameras.size());
     layout.camerasOffset = layout.directoryOffset + uint64_t(info.chunks.size()) * format::kDirectoryEntryBytes;
     layout.camerasChecksum = checksum64(cameras.data(), cameras.size());
-    layout.blobsOffset = layout.camerasOffset + cameras.size();
+    layout.volumeCount = uint32_t(info.volumes.size());
+    layout.volumesOffset = layout.camerasOffset + cameras.size();
+    layout.blobsOffset = layout.volumesOffset + uint64_t(layout.volumeCount) * format::kVolumeRecordBytes;
     uint64_t offset = layout.blobsOffset;
     for (size_t i = 0; i < info.chunks.size(); ++i) {
         info.chunks[i].offset = offset;
@@ -68,6 +70,19 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
         info.chunks[i].checksum = checksum64(blobs[i].data(), blobs[i].size());
         offset += blobs[i].size();
     }
+    // Each volume's data: its brick table, then its voxels.
+    std::vector<std::vector<uint8_t>> volumeData;
+    for (PackageVolume& p : info.volumes) {
+        const Volume& v = p.volume;
+        std::vector<uint8_t>& data = volumeData.emplace_back(v.brickOf.size() * 4 + v.voxels.size() * 4);
+        std::memcpy(data.data(), v.brickOf.data(), v.brickOf.size() * 4);
+        std::memcpy(data.data() + v.brickOf.size() * 4, v.voxels.data(), v.voxels.size() * 4);
+        p.brickCount = uint32_t(v.brickCount());
+        p.offset = offset, p.size = data.size(), p.checksum = checksum64(data.data(), data.size());
+        offset += data.size();
+    }
+    const std::vector<uint8_t> volumes = serializeVolumeRecords(info.volumes);
+    layout.volumesChecksum = checksum64(volumes.data(), volumes.size());
     info.fileBytes = offset;
     info.formatVersion = format::kVersion;
     const std::vector<uint8_t> directory = serializeDirectory(info.chunks);
@@ -78,8 +93,9 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     TempFile file(path + ".tmp");
     if (!file.isOpen()) return Status::error(path + ": cannot create: " + std::strerror(errno));
     bool ok = file.write(serializeHeader(info, layout)) && file.write(materials) && file.write(tree) &&
-              file.write(directory) && file.write(cameras);
+              file.write(directory) && file.write(cameras) && file.write(volumes);
     for (size_t i = 0; ok && i < blobs.size(); ++i) ok = file.write(blobs[i]);
+    for (size_t i = 0; ok && i < volumeData.size(); ++i) ok = file.write(volumeData[i]);
     if (!ok) return Status::error(path + ": write failed: " + std::strerror(errno));
     return file.commit(path);
 }

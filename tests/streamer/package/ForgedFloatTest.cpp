@@ -180,8 +180,31 @@ TEST_F(ForgedFloats, OlderFormatVersionsAskForAReimport) {
         std::vector<uint8_t> bytes = *bytes_;
         put(bytes, 8, version);
         expectRefused(bytes, "package format version " + std::to_string(version) +
-                                 " is not supported (expected 3): re-import the mesh");
+                                 " is not supported (this vastray reads 3 to 4): re-import the mesh");
     }
+}
+
+// Version 3 is version 4 without volumes: its header has zeros where version 4 keeps the volume
+// records' offset and checksum (and the volume count). Such a package still reads; version 3 bytes
+// that claim volumes do not.
+TEST_F(ForgedFloats, VersionThreeWithoutVolumesStillReads) {
+    constexpr size_t kVolumeCountAt = 8 + 4 + 4 + 7 * 8 + 4 + 4 + 3 * 4;
+    constexpr size_t kVolumesOffsetAt = format::kHeaderBytes - 8 - 16;
+    std::vector<uint8_t> bytes = *bytes_;
+    put(bytes, 8, uint32_t(3));
+    std::memset(&bytes[kVolumesOffsetAt], 0, 16);
+    reseal(bytes);
+    auto reader = PackageReader::open(write(bytes));
+    ASSERT_TRUE(reader) << reader.message();
+    EXPECT_EQ(reader.value()->info().formatVersion, 3u);
+    EXPECT_TRUE(reader.value()->info().volumes.empty());
+    EXPECT_TRUE(reader.value()->verify().empty());
+    put(bytes, kVolumeCountAt, uint32_t(1));
+    expectRefused(bytes, "a version 3 package with volume fields");
+    put(bytes, kVolumeCountAt, uint32_t(0));
+    put(bytes, 8, uint32_t(4));
+    put(bytes, kVolumeCountAt, uint32_t(65));
+    expectRefused(bytes, "volume count 65 exceeds the limit of 64");
 }
 
 TEST(PackageReaderInputs, FifoIsRefusedWithoutBlocking) {

@@ -28,6 +28,7 @@ struct PackageBuildOptions {
     Progress::Mode progress = Progress::Mode::Auto;
     Progress::Observer observer;            // told the triangles placed, from worker threads
     uint64_t degenerateDropped = 0;         // from the importer's report, recorded in the header
+    std::vector<Volume> volumes;            // density grids stored beside the mesh (VolumeImport.h)
 };
 
 // Smallest chunk size accepted: below it the per-chunk overheads dominate.

@@ -12,6 +12,7 @@
 #include "vastray/core/KdTree.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
+#include "vastray/core/Volume.h"
 
 namespace vastray {
 
@@ -54,6 +55,21 @@ struct ChunkInfo {
     uint32_t bvhNodeCount = 0;  // Bvh4Node
 };
 
+// A volume as the package records it: everything but its voxels (`volume`'s brick table,
+// majorants and voxels are empty until PackageReader::readVolumes), and where its data lies.
+// When writing, `volume` holds the whole volume and the writer fills the rest.
+struct PackageVolume {
+    Volume volume;
+    uint32_t brickCount = 0;
+    uint64_t offset = 0, size = 0, checksum = 0;  // of its data (brick table, voxels) in the file
+
+    // What a render keeps of it in device memory: brick table and majorants (4 bytes each per
+    // cell) and the voxels.
+    uint64_t deviceBytes() const {
+        return 8 * volume.cellCount() + uint64_t(brickCount) * kVolumeBrickVoxels * 4;
+    }
+};
+
 struct PackageInfo {
     uint32_t formatVersion = 0;
     uint64_t fileBytes = 0;
@@ -73,6 +89,7 @@ struct PackageInfo {
     std::vector<SceneCamera> cameras;  // the imported file's cameras (glTF), in its order
     std::vector<KdNode> topTree;
     std::vector<ChunkInfo> chunks;
+    std::vector<PackageVolume> volumes;  // density grids (version 4), in import order
 
     uint64_t duplicatedReferences() const { return referenceCount - triangleCount; }
     // The decoded size of every chunk together: what a host cache holding the scene needs.
@@ -124,6 +141,9 @@ public:
     Result<DecodedChunk> readChunk(uint32_t id) const;
     // Every chunk's checksum and structure; one message per damaged chunk, empty when sound.
     std::vector<std::string> verify() const;
+    // Every volume's data, checked (checksum, checkVolume) and with its majorants computed;
+    // empty when the package has none. ("scene.vast: volume 0 'density': ...")
+    Result<std::shared_ptr<const std::vector<Volume>>> readVolumes() const;
 
 private:
     PackageReader() = default;
