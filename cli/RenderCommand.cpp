@@ -459,6 +459,11 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
+    if (!(*reader)->info().volumes.empty()) {
+        auto volumes = (*reader)->readVolumes();
+        if (!volumes) return volumes.status();
+        options.volumes = std::move(volumes).value();
+    }
     StreamingOptions streamingOptions;
     streamingOptions.hostCacheBytes = sizes.hostCache;
     streamingOptions.decodeThreads = options.threads;  // 0: all cores
@@ -469,7 +474,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
         if (!device) device.emplace(starting.get());
         if (!*device) return device->status();
         return gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
-                                             gpu::environmentBytes(options.environment));
+                                             gpu::environmentBytes(options.environment) + gpu::volumeBytes(info));
     };
     return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
@@ -509,6 +514,7 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
         if (!scene) return progress.fail(scene.message(), 1);
         if (Status camera = applySceneCamera(scene->mesh.cameras, args.camera, *options); !camera)
             return progress.fail(camera.message(), 2);
+        options->volumes = scene->volumes;
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }
     if (!image) return progress.fail(image.message(), 1);

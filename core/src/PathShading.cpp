@@ -5,6 +5,7 @@
 #include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
+#include "vastray/core/Volume.h"
 
 namespace vastray {
 namespace {
@@ -85,6 +86,26 @@ bool unshadowedDirectLight(const Environment& env, Vec3f sunDirection, const Sur
     const float lightPdf = (1.0f - pickSun) * s.pdf;
     const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
     *light = mul(point.albedo, s.radiance) * ((cosine / kPi) * weight);
+    *direction = s.direction;
+    return true;
+}
+
+bool unshadowedMediumLight(const Environment& env, Vec3f sunDirection, Vec3f travel, float g, RandomKey key,
+                           uint32_t seed, Vec3f* light, Vec3f* direction) {
+    const float pickSun = sunPickProbability(env);
+    if (pickSun >= 1.0f || (pickSun > 0.0f && randomFloat(key, kDimLightPick, seed) < pickSun)) {
+        const Vec3f irradiance = toVec(env.sunIrradiance);
+        if (!(maxComponent(irradiance) > 0.0f)) return false;
+        *light = irradiance * (henyeyGreenstein(g, travel, sunDirection) / pickSun);
+        *direction = sunDirection;
+        return true;
+    }
+    const EnvironmentSample s = sampleEnvironment(*env.map, environmentFrame(env.up, env.mapRotationDegrees),
+                                                  randomFloat(key, kDimLightU, seed), randomFloat(key, kDimLightV, seed));
+    if (!(s.pdf > 0.0f)) return false;
+    const float phase = henyeyGreenstein(g, travel, s.direction);
+    const float lightPdf = (1.0f - pickSun) * s.pdf;
+    *light = s.radiance * (phase * powerHeuristic(lightPdf, phase) / lightPdf);
     *direction = s.direction;
     return true;
 }

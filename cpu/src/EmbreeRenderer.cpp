@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "Integrators.h"
+#include "vastray/core/Volume.h"
 #include "vastray/core/VecMath.h"
 
 namespace vastray {
@@ -112,7 +113,9 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
     if (!embree) return embree.status();
     const double buildSeconds = secondsSince(buildStart);
 
-    const Camera camera = options.frameScene ? frameBounds(scene.bounds.isEmpty() ? scene.mesh.bounds() : scene.bounds, options.camera.fovYDegrees,
+    // Automatic framing frames the mesh and its volumes.
+    const Aabb framed = boundsWithVolumes(scene.bounds.isEmpty() ? scene.mesh.bounds() : scene.bounds, options.volumes.get());
+    const Camera camera = options.frameScene ? frameBounds(framed, options.camera.fovYDegrees,
                                                            float(options.width) / float(options.height), options.camera.up)
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));

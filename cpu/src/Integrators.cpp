@@ -6,23 +6,34 @@
 #include "vastray/core/RayOffset.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
+#include "vastray/core/Volume.h"
 
 namespace vastray {
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
+// The light towards `direction` from `origin`, zero when the shadow ray is blocked, times the
+// volumes' transmittance (random numbers after *counter's).
+Vec3f shadowedLight(const ShadingContext& context, Vec3f light, Vec3f origin, Vec3f direction, RandomKey key,
+                    uint32_t* counter, uint64_t& rays) {
+    ++rays;
+    if (context.scene.occluded({origin, direction}, kInfinity)) return {};
+    if (context.options.volumes)
+        light = light * volumeTransmittance(*context.options.volumes, origin, direction, kInfinity, key,
+                                            context.options.seed, counter);
+    return light;
+}
+
 // Next-event estimation's light at `point` (the sun's or the environment map's), zero when the
 // shadow ray from `origin` is blocked.
 Vec3f directLight(const ShadingContext& context, const SurfacePoint& point, Vec3f origin, RandomKey key,
-                  uint64_t& rays) {
+                  uint32_t* counter, uint64_t& rays) {
     Vec3f light, direction;
     if (!unshadowedDirectLight(context.options.environment, context.sunDirection, point, key, context.options.seed,
                                &light, &direction))
         return {};
-    ++rays;
-    if (context.scene.occluded({origin, direction}, kInfinity)) return {};
-    return light;
+    return shadowedLight(context, light, origin, direction, key, counter, rays);
 }
 
 }  // namespace
@@ -46,7 +57,35 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         key.bounce = bounce;
         SceneHit hit;
         ++rays;
-        if (!context.scene.intersect(ray, kInfinity, &hit)) {
+        const bool surface = context.scene.intersect(ray, kInfinity, &hit);
+        // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
+        // a real collision before it is this event's scattering point instead.
+        uint32_t counter = 0;
+        VolumeCollision collision;
+        if (options.volumes && sampleVolumeCollision(*options.volumes, ray.origin, ray.direction,
+                                                     surface ? hit.t : kInfinity, key, options.seed, &counter,
+                                                     &collision)) {
+            if (bounce == 0) result.cameraRayHit = true;
+            const VolumeMaterial& m = (*options.volumes)[collision.volume].material;
+            const Vec3f albedo{m.albedo[0], m.albedo[1], m.albedo[2]};
+            if (bounce == options.maxDepth) break;
+            const Vec3f position = ray.origin + ray.direction * collision.t;
+            Vec3f light, toLight;
+            if (unshadowedMediumLight(options.environment, context.sunDirection, ray.direction, m.anisotropy, key,
+                                      options.seed, &light, &toLight))
+                result.radiance = result.radiance +
+                                  mul(mul(throughput, albedo),
+                                      shadowedLight(context, light, position, toLight, key, &counter, rays));
+            throughput = mul(throughput, albedo);
+            if (!surviveRoulette(throughput, bounce, key, options.seed)) break;
+            const Vec3f direction = sampleHenyeyGreenstein(m.anisotropy, ray.direction,
+                                                           randomFloat(key, kDimDirectionU, options.seed),
+                                                           randomFloat(key, kDimDirectionV, options.seed));
+            bouncePdf = henyeyGreenstein(m.anisotropy, ray.direction, direction);
+            ray = {position, direction};
+            continue;
+        }
+        if (!surface) {
             const Environment& environment = options.environment;
             result.radiance = result.radiance + mul(throughput, skyRadiance(environment, ray.direction)) *
                                                     environmentHitWeight(environment, ray.direction, bouncePdf);
@@ -57,7 +96,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         result.radiance = result.radiance + mul(throughput, emission(*point.material));
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
-        result.radiance = result.radiance + mul(throughput, directLight(context, point, origin, key, rays));
+        result.radiance = result.radiance + mul(throughput, directLight(context, point, origin, key, &counter, rays));
         // Cosine sampling of a Lambertian BRDF: f * cos / pdf = base colour (times the vertex colour).
         throughput = mul(throughput, point.albedo);
         if (!surviveRoulette(throughput, bounce, key, options.seed)) break;

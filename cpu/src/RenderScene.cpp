@@ -51,6 +51,11 @@ Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
         if (!chunk) return chunk.status();
         VASTRAY_TRY(appendChunk(*chunk, info, reader.path(), seen, scene));
     }
+    if (!info.volumes.empty()) {
+        auto volumes = reader.readVolumes();
+        if (!volumes) return volumes.status();
+        scene.volumes = std::move(volumes).value();
+    }
     return scene;
 }
 

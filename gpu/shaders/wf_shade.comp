@@ -2,8 +2,10 @@
 // (cpu/src/Integrators.cpp's tracePath and ambientOcclusion, step for step): first the shadow
 // ray of the previous event (the sun's light, or the occlusion test), then the closest hit of
 // this one: sky (or environment map) on a miss; emission, next-event estimation to the sun or
-// the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. New
-// rays are queued on pc.queue for walking.
+// the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. With
+// volumes, free flight along the ray first: a real collision before the hit scatters there
+// instead (next-event estimation through the volumes, the phase function's bounce). New rays
+// are queued on pc.queue for walking.
 // Each path carries its own bounce, so paths of one wave may be at different bounces.
 #version 460
 #extension GL_EXT_buffer_reference : require
@@ -15,6 +17,7 @@
 #include "common/Shading.glsl"
 #include "common/Attributes.glsl"
 #include "common/Environment.glsl"
+#include "common/Volume.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -25,11 +28,21 @@ layout(constant_id = 2) const bool kEmission = true;           // some material 
 layout(constant_id = 3) const bool kShadingNormals = false;    // the scene has per-vertex normals
 layout(constant_id = 4) const bool kVertexColors = false;      // the scene has per-vertex colours
 layout(constant_id = 5) const bool kEnvironmentMap = false;    // an environment map replaces the sky
+layout(constant_id = 6) const bool kVolumes = false;           // the scene has density volumes
 
-void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax) {
+void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax, bool fromSurface) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
     Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
-    UVec2Array(p.rayState).v[ray] = uvec2(kRayPending | kRayFromSurface, 0u);
+    UVec2Array(p.rayState).v[ray] = uvec2(kRayPending | (fromSurface ? kRayFromSurface : 0u), 0u);
+}
+
+// surviveRoulette (core/PathShading.h): after scattering event `bounce`.
+bool surviveRoulette(inout vec3 throughput, uint pixel, uint sampleIndex, uint bounce, uint seed) {
+    if (bounce + 1u < kRouletteStartBounce) return true;
+    const float survival = min(kMaxSurvival, maxComponent(throughput));
+    if (!(randomFloat(pixel, sampleIndex, bounce, kDimRoulette, seed) < survival)) return false;
+    throughput *= 1.0 / survival;
+    return true;
 }
 
 // Shades path j; count, first and second: the rays it started (at most two), to be queued.
@@ -57,7 +70,30 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
         const vec4 carried = Vec4Array(p.throughput).v[j];
         vec3 throughput = carried.xyz;
         const uint bounce = info.w, pixel = info.x, sampleIndex = info.y;
-        if ((UVec2Array(p.rayState).v[j].x & kHitFound) == 0u) {
+        const bool hitFound = (UVec2Array(p.rayState).v[j].x & kHitFound) != 0u;
+        // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
+        // a real collision before it is this event's scattering point instead.
+        VolumeRandom rnd = VolumeRandom(pixel, sampleIndex, bounce, p.seed, 0u);
+        bool scattered = false;
+        float tCollision = 0.0;
+        uint which = 0u;
+        if (kVolumes && !ao)
+            scattered = sampleVolumeCollision(p, Vec4Array(p.rayOrigin).v[j].xyz, direction,
+                                              hitFound ? Vec4Array(p.hitPosition).v[j].w : kInfinity, rnd, tCollision,
+                                              which);
+        // The scattering event's point, and what it does with the path (albedo, phase or bounce).
+        vec3 origin, albedo, light, toLight = vec3(p.sunX, p.sunY, p.sunZ), n = vec3(0.0), ns = vec3(0.0);
+        float g = 0.0;
+        bool event = false, shoots = false;
+        if (scattered) {
+            const WavefrontVolume v = VolumeArray(p.volumes).v[which];
+            origin = Vec4Array(p.rayOrigin).v[j].xyz + direction * tCollision;
+            albedo = vec3(v.albedoR, v.albedoG, v.albedoB);
+            g = v.anisotropy;
+            if (bounce == 0u) flags |= kPathCameraHit;
+            event = bounce < p.maxDepth;
+            if (event) shoots = mediumDirectLight(p, kEnvironmentMap, direction, g, pixel, sampleIndex, bounce, light, toLight);
+        } else if (!hitFound) {
             if (ao)
                 radiance = vec3(1.0);
             else if (kEnvironmentMap)
@@ -66,12 +102,12 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
             else
                 radiance += throughput * skyRadiance(p, direction);
         } else {
-            const vec3 n = facingNormal(uintBitsToFloat(hitNormal.xyz), direction);
-            const vec3 origin = offsetRayOrigin(Vec4Array(p.hitPosition).v[j].xyz, n);
+            n = facingNormal(uintBitsToFloat(hitNormal.xyz), direction);
+            origin = offsetRayOrigin(Vec4Array(p.hitPosition).v[j].xyz, n);
             if (bounce == 0u) flags |= kPathCameraHit;
             if (ao) {
                 const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
-                startRay(p, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range);
+                startRay(p, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range, true);
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             } else {
@@ -80,41 +116,49 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                 // Vertex colour and shading normal (docs/RENDERING.md, "Vertex attributes"): the
                 // colour scales the base colour; the shading normal takes the Lambertian cosines,
                 // and light or a bounce below the geometric surface is cut.
-                const vec3 base = vec3(m.baseR, m.baseG, m.baseB) * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
-                const vec3 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
+                albedo = vec3(m.baseR, m.baseG, m.baseB) * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
+                ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
                 if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
-                if (bounce < p.maxDepth) {
-                    // Next-event estimation: the sun, or with a map the sun or the map.
-                    vec3 light, toLight = vec3(p.sunX, p.sunY, p.sunZ);
-                    bool shoots = false;
-                    if (kEnvironmentMap)
-                        shoots = environmentDirectLight(p, n, ns, base, pixel, sampleIndex, bounce, light, toLight);
-                    else if (kSun)
-                        shoots = unshadowedSunLight(p, n, ns, base, light);
-                    if (shoots) {
-                        Vec4Array(p.pendingSun).v[j] = vec4(throughput * light, 0.0);
-                        startRay(p, shadow, origin, toLight, kInfinity);
-                        flags |= kPathShadowPending | kPathWalkShadow;
-                        first = shadow, count = 1u;
-                    }
-                    throughput *= base;
-                    bool survives = true;
-                    if (bounce + 1u >= kRouletteStartBounce) {
-                        const float survival = min(kMaxSurvival, maxComponent(throughput));
-                        survives = randomFloat(pixel, sampleIndex, bounce, kDimRoulette, p.seed) < survival;
-                        if (survives) throughput *= 1.0 / survival;
-                    }
-                    const vec3 bounced = survives ? cosineDirection(ns, pixel, sampleIndex, bounce, p.seed) : vec3(0.0);
-                    if (kShadingNormals && dot(bounced, n) <= 0.0) survives = false;
-                    if (survives) {
-                        Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? dot(ns, bounced) / kPi : 0.0);
-                        startRay(p, j, origin, bounced, kInfinity);
-                        flags |= kPathAlive | kPathWalkClosest;
-                        info.w = bounce + 1u;
-                        if (count == 0u) first = j; else second = j;
-                        ++count;
-                    }
-                }
+                event = bounce < p.maxDepth;
+                // Next-event estimation: the sun, or with a map the sun or the map.
+                if (event && kEnvironmentMap)
+                    shoots = environmentDirectLight(p, n, ns, albedo, pixel, sampleIndex, bounce, light, toLight);
+                else if (event && kSun)
+                    shoots = unshadowedSunLight(p, n, ns, albedo, light);
+            }
+        }
+        if (event) {
+            // A volume's light arrives through the volumes; the surface's light has its albedo.
+            if (kVolumes && shoots) {
+                light *= volumeTransmittance(p, origin, toLight, kInfinity, rnd);
+                shoots = maxComponent(light) > 0.0;
+            }
+            if (shoots) {
+                Vec4Array(p.pendingSun).v[j] = vec4(scattered ? (throughput * albedo) * light : throughput * light, 0.0);
+                startRay(p, shadow, origin, toLight, kInfinity, !scattered);
+                flags |= kPathShadowPending | kPathWalkShadow;
+                first = shadow, count = 1u;
+            }
+            throughput *= albedo;
+            bool survives = surviveRoulette(throughput, pixel, sampleIndex, bounce, p.seed);
+            vec3 bounced = vec3(0.0);
+            float bouncePdf = 0.0;
+            if (survives && scattered) {
+                bounced = sampleHenyeyGreenstein(g, direction, randomFloat(pixel, sampleIndex, bounce, kDimDirectionU, p.seed),
+                                                 randomFloat(pixel, sampleIndex, bounce, kDimDirectionV, p.seed));
+                bouncePdf = henyeyGreenstein(g, direction, bounced);
+            } else if (survives) {
+                bounced = cosineDirection(ns, pixel, sampleIndex, bounce, p.seed);
+                bouncePdf = dot(ns, bounced) / kPi;
+                if (kShadingNormals && dot(bounced, n) <= 0.0) survives = false;
+            }
+            if (survives) {
+                Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? bouncePdf : 0.0);
+                startRay(p, j, origin, bounced, kInfinity, !scattered);
+                flags |= kPathAlive | kPathWalkClosest;
+                info.w = bounce + 1u;
+                if (count == 0u) first = j; else second = j;
+                ++count;
             }
         }
     }

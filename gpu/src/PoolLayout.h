@@ -3,6 +3,8 @@
 // package's top-level tree, per chunk its slot, touched flag, demand and look-ahead counters, the
 // wavefront's parameters and the material table (byte offsets, 16-byte aligned).
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "shared/StreamTypes.h"
 #include "shared/WavefrontTypes.h"
@@ -71,6 +73,25 @@ inline EnvironmentLayout environmentLayout(uint64_t width, uint64_t height) {
     e.totalBytes = e.conditional + 4 * height * (width + 1);
     return e;
 }
+// The volumes' buffer: WavefrontVolume per volume, then per volume its brick table, majorants
+// and voxels (16-byte aligned). Volumes are given as (brick cells, stored bricks).
+struct VolumeLayout {
+    std::vector<uint64_t> brickOf, majorant, voxels;
+    uint64_t totalBytes = 0;
+};
+inline VolumeLayout volumeLayout(std::span<const std::pair<uint64_t, uint64_t>> volumes) {
+    auto align = [](uint64_t x) { return (x + 15) / 16 * 16; };
+    VolumeLayout l;
+    uint64_t at = align(volumes.size() * sizeof(WavefrontVolume));
+    for (const auto& [cells, bricks] : volumes) {
+        l.brickOf.push_back(at), at = align(at + 4 * cells);
+        l.majorant.push_back(at), at = align(at + 4 * cells);
+        l.voxels.push_back(at), at = align(at + 4 * uint64_t(kVolumeBrickVoxels) * bricks);
+    }
+    l.totalBytes = at;
+    return l;
+}
+
 static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 4 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

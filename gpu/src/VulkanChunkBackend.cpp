@@ -12,6 +12,7 @@
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/Volume.h"
 #include "shared/TraceTypes.h"
 #include "PoolLayout.h"
 #include "Wavefront.h"
@@ -35,6 +36,14 @@ uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllo
 // outputs the host reads when they are in device memory.
 uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory) {
     return granules(stateLayout(paths).totalBytes) + (outputInDeviceMemory ? granules(outputLayout(paths).totalBytes) : 0);
+}
+
+// The device bytes of the volumes' buffer (VolumeLayout), each volume's shape given by `shape`.
+template <typename Range, typename Shape>
+uint64_t volumeBufferBytes(const Range& volumes, Shape shape) {
+    std::vector<std::pair<uint64_t, uint64_t>> shapes;
+    for (const auto& v : volumes) shapes.push_back(shape(v));
+    return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
 }
 
 class VulkanChunkBackend final : public ChunkBackend {
@@ -191,15 +200,18 @@ public:
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors;
         b.uploader = uploader_.get();
-        VASTRAY_TRY(prepareEnvironment(job.options->environment, stats));
+        VASTRAY_TRY(prepareEnvironment(job.options->environment, job.options->volumes, stats));
+        VASTRAY_TRY(prepareVolumes(job.options->volumes, stats));
         b.environment = environment_ ? &environmentBuffer_ : nullptr;
+        b.volumes = volumes_ ? &volumeBuffer_ : nullptr;
         return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 
 private:
     // The environment map's arrays in their own buffer (EnvironmentLayout), in the bytes the plan
     // kept for it; kept while the next render uses the same map.
-    Status prepareEnvironment(const Environment& environment, StreamingStats& stats) {
+    Status prepareEnvironment(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes,
+                              StreamingStats& stats) {
         if (environment.map == environment_) return Status::ok();
         if (environment_) {
             allocated_ -= environmentBuffer_.allocatedBytes();
@@ -208,10 +220,7 @@ private:
         }
         if (!environment.map) return Status::ok();
         const EnvironmentMap& map = *environment.map;
-        if (environmentBytes(environment) > plan_.reservedBytes)
-            return Status::error("the environment map needs " + formatBytes(environmentBytes(environment)) +
-                                 " of device memory; the pool kept " + formatBytes(plan_.reservedBytes) +
-                                 " for it (createVulkanChunkBackend's reservedBytes)");
+        VASTRAY_TRY(checkReserve(environment, volumes));
         const EnvironmentLayout layout = environmentLayout(map.width, map.height);
         auto buffer = device_.createBuffer(layout.totalBytes);
         if (!buffer) return buffer.status().withContext("environment map: ");
@@ -225,6 +234,65 @@ private:
         allocated_ += environmentBuffer_.allocatedBytes();
         peak_ = std::max(peak_, allocated_);
         environment_ = environment.map;
+        return Status::ok();
+    }
+
+    // The map and the volumes fit the bytes the plan kept for them.
+    Status checkReserve(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes) const {
+        const uint64_t map = environmentBytes(environment), grids = volumes ? volumeBytes(*volumes) : 0;
+        if (map + grids <= plan_.reservedBytes) return Status::ok();
+        return Status::error((map ? "the environment map needs " + formatBytes(map) + (grids ? " and " : "") : std::string("")) +
+                             (grids ? "the volumes need " + formatBytes(grids) : std::string()) +
+                             " of device memory; the pool kept " + formatBytes(plan_.reservedBytes) +
+                             " for them (createVulkanChunkBackend's reservedBytes)");
+    }
+
+    static uint64_t volumeBytes(const std::vector<Volume>& volumes) {
+        return volumeBufferBytes(volumes, [](const Volume& v) {
+            return std::pair<uint64_t, uint64_t>(v.cellCount(), v.brickCount());
+        });
+    }
+
+    // The volumes in their own buffer (VolumeLayout), in the bytes the plan kept; kept while the
+    // next render uses the same ones.
+    Status prepareVolumes(const std::shared_ptr<const std::vector<Volume>>& volumes, StreamingStats& stats) {
+        const bool none = !volumes || volumes->empty();
+        if (volumes == volumes_ || (none && !volumes_)) return Status::ok();
+        if (volumes_) {
+            allocated_ -= volumeBuffer_.allocatedBytes();
+            volumeBuffer_ = GpuBuffer();
+            volumes_.reset();
+        }
+        if (none) return Status::ok();
+        VASTRAY_TRY(checkReserve(Environment{}, volumes));
+        std::vector<std::pair<uint64_t, uint64_t>> shapes;
+        for (const Volume& v : *volumes) shapes.emplace_back(v.cellCount(), v.brickCount());
+        const VolumeLayout layout = volumeLayout(shapes);
+        auto buffer = device_.createBuffer(layout.totalBytes);
+        if (!buffer) return buffer.status().withContext("volumes: ");
+        volumeBuffer_ = std::move(buffer).value();
+        const uint64_t base = volumeBuffer_.address();
+        std::vector<WavefrontVolume> records;
+        for (size_t i = 0; i < volumes->size(); ++i) {
+            const Volume& v = (*volumes)[i];
+            if (v.majorant.size() != v.cellCount() || v.brickOf.size() != v.cellCount())
+                return Status::error("volume " + std::to_string(i) + " has no majorants or brick table");
+            WavefrontVolume& r = records.emplace_back();
+            r.brickOf = base + layout.brickOf[i], r.majorant = base + layout.majorant[i], r.voxels = base + layout.voxels[i];
+            std::copy(v.worldToIndex.begin(), v.worldToIndex.end(), r.worldToIndex);
+            r.originX = v.origin[0], r.originY = v.origin[1], r.originZ = v.origin[2];
+            r.cellsX = v.brickCells[0], r.cellsY = v.brickCells[1], r.cellsZ = v.brickCells[2];
+            r.albedoR = v.material.albedo[0], r.albedoG = v.material.albedo[1], r.albedoB = v.material.albedo[2];
+            r.densityScale = v.material.densityScale, r.anisotropy = v.material.anisotropy;
+            VASTRAY_TRY(volumeBuffer_.upload(v.brickOf.data(), v.brickOf.size() * 4, layout.brickOf[i]));
+            VASTRAY_TRY(volumeBuffer_.upload(v.majorant.data(), v.majorant.size() * 4, layout.majorant[i]));
+            VASTRAY_TRY(volumeBuffer_.upload(v.voxels.data(), v.voxels.size() * 4, layout.voxels[i]));
+            stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size() + v.voxels.size()) * 4;
+        }
+        VASTRAY_TRY(volumeBuffer_.upload(records.data(), records.size() * sizeof(WavefrontVolume), 0));
+        allocated_ += volumeBuffer_.allocatedBytes();
+        peak_ = std::max(peak_, allocated_);
+        volumes_ = volumes;
         return Status::ok();
     }
 
@@ -255,6 +323,8 @@ private:
     GpuBuffer table_, state_, output_;
     std::shared_ptr<const EnvironmentMap> environment_;  // the map in environmentBuffer_
     GpuBuffer environmentBuffer_;
+    std::shared_ptr<const std::vector<Volume>> volumes_;  // the volumes in volumeBuffer_
+    GpuBuffer volumeBuffer_;
     std::unique_ptr<ChunkUploader> uploader_;  // Dma; destroyed first: its copies write the slots
     ChunkUploadFigures figures_;
     uint64_t allocated_ = 0, peak_ = 0, uploaded_ = 0;
@@ -292,7 +362,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                              std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
                              " plus tables of " + formatBytes(tableBytes(1)) +
                              (staging ? " plus a staging area of " + formatBytes(staging) : std::string()) +
-                             (reserved ? " plus the environment map's " + formatBytes(reserved) : std::string()) + ")");
+                             (reserved ? " plus the environment map's and volumes' " + formatBytes(reserved) : std::string()) + ")");
     budget -= staging + reserved;  // the rest is split between the wave and the slots
     // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for
     // slots; slots beyond the chunk count are useless, so what they would take goes back to the
@@ -325,6 +395,12 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
 
 uint64_t environmentBytes(const Environment& environment) {
     return environment.map ? granules(environment.map->deviceBytes()) : 0;
+}
+
+uint64_t volumeBytes(const PackageInfo& package) {
+    return volumeBufferBytes(package.volumes, [](const PackageVolume& v) {
+        return std::pair<uint64_t, uint64_t>(v.volume.cellCount(), v.brickCount);
+    });
 }
 
 // DMA where the slots can live in memory the host does not map and the staging in system

@@ -168,9 +168,11 @@ public:
         const std::array<float, 3>& sun = options_.environment.sunIrradiance;
         const bool environmentMap = options_.environment.map != nullptr;
         if (environmentMap && !b_.environment) return Status::error("device render: the environment map has no buffer");
+        const bool volumes = options_.volumes && !options_.volumes->empty();
+        if (volumes && !b_.volumes) return Status::error("device render: the volumes have no buffer");
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
                                         sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
-                                        environmentMap});
+                                        environmentMap, volumes});
         if (!shade) return shade.status();
         shade_ = *shade;
         VASTRAY_TRY(uploadParams());
@@ -436,6 +438,10 @@ private:
             const EnvironmentLayout e = environmentLayout(p.envWidth, p.envHeight);
             p.envRgb = base + e.rgb, p.envDensity = base + e.density;
             p.envMarginal = base + e.marginal, p.envConditional = base + e.conditional;
+        }
+        if (b_.volumes && options_.volumes) {
+            p.volumes = b_.volumes->address();  // the WavefrontVolume records come first
+            p.volumeCount = uint32_t(options_.volumes->size());
         }
         p.aoDistance = options_.aoDistance;
         p.boundsLoX = b_.bounds.lo.x, p.boundsLoY = b_.bounds.lo.y, p.boundsLoZ = b_.bounds.lo.z;

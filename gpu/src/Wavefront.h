@@ -30,6 +30,7 @@ struct WavefrontBuffers {
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
     GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
+    GpuBuffer* volumes = nullptr;       // VolumeLayout of the render's volumes (RenderOptions::volumes); none without
 };
 
 class Wavefront {

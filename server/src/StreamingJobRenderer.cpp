@@ -120,6 +120,7 @@ public:
         streaming.memoryBudgetBytes = request.memoryBudgetBytes;
         RenderOptions options = request.options;
         VASTRAY_TRY(applySceneCamera(scene.reader->info().cameras, request.sceneCamera, options));
+        options.volumes = scene.volumes;
         RenderProgressReporter reporter(progress, *scene.backend, *scene.scene);
         auto image = scene.scene->render(options, stats ? &stats->render : nullptr, &streaming,
                                           reporter.passReporter(), &cancel);
@@ -143,6 +144,7 @@ private:
         std::unique_ptr<PackageReader> reader;
         std::unique_ptr<StreamingScene> scene;
         LoadCountingBackend* backend = nullptr;  // owned by scene
+        std::shared_ptr<const std::vector<Volume>> volumes;  // the package's; null: none
     };
 
     uint64_t deviceInUse() const {
@@ -182,7 +184,14 @@ private:
         // Open with primitive ids whenever a scene is opened, so that a later job asking for
         // the primid AOV does not force a reload.
         needed.primitiveIds = true;
-        auto plan = gpu::planPool(info, needed, budget);
+        // The volumes stay on the device with the scene: their bytes are kept from the budget.
+        const uint64_t volumeBytes = gpu::volumeBytes(info);
+        if (!info.volumes.empty()) {
+            auto volumes = entry.reader->readVolumes();
+            if (!volumes) return volumes.status();
+            entry.volumes = std::move(volumes).value();
+        }
+        auto plan = gpu::planPool(info, needed, budget, true, gpu::kWaveShareOutOfCore, 0, volumeBytes);
         if (!plan) return plan.status();
         entry.hostBytes = std::min(hostCacheBytes_, info.decodedBytes());
         while ((deviceInUse() + plan->totalBytes > devicePoolBytes_ || hostInUse() + entry.hostBytes > hostCacheBytes_) &&
@@ -194,7 +203,8 @@ private:
                                           [&](const PackageInfo& p, const ChunkAttributes& attributes)
                                               -> Result<std::unique_ptr<ChunkBackend>> {
                                               auto backend =
-                                                  gpu::createVulkanChunkBackend(*device_, p, attributes, budget);
+                                                  gpu::createVulkanChunkBackend(*device_, p, attributes, budget,
+                                                                                gpu::kWaveShareOutOfCore, {}, volumeBytes);
                                               if (!backend) return backend.status();
                                               auto counting = std::make_unique<LoadCountingBackend>(
                                                   std::move(backend).value());

@@ -54,6 +54,22 @@ struct WavefrontMaterial {
     uint padding;
 };
 
+// A density volume as the shading kernel reads it (core/Volume.h): its brick table (uint per
+// cell), majorants (float per cell) and voxels (kVolumeBrickVoxels floats per brick), its map
+// from world to index space (row-major 3 x 4), brick grid and material.
+struct WavefrontVolume {
+    uint64_t brickOf;
+    uint64_t majorant;
+    uint64_t voxels;
+    float worldToIndex[12];
+    int originX, originY, originZ;
+    uint cellsX, cellsY, cellsZ;
+    float albedoR, albedoG, albedoB;
+    float densityScale;
+    float anisotropy;
+    uint padding;
+};
+
 // Everything a render's kernels read, written by the host once per render. Addresses are
 // buffer device addresses. Rays and their walk states are arrays of 2 * pathCapacity entries:
 // path j's closest-hit ray at j, its shadow ray at pathCapacity + j; the hit records (closest-hit
@@ -103,6 +119,7 @@ struct WavefrontParams {
     uint64_t envDensity;   // float[3] per texel, its density, the rows' CDF (envHeight + 1) and
     uint64_t envMarginal;  // each row's CDF (envWidth + 1 per row)
     uint64_t envConditional;
+    uint64_t volumes;      // WavefrontVolume per volume (volumeCount)
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -131,7 +148,7 @@ struct WavefrontParams {
                                // (sunPickProbability; 1: never the environment map)
     float envTangentX, envTangentY, envTangentZ;        // the map's frame (environmentFrame; its
     float envBitangentX, envBitangentY, envBitangentZ;  // normal is skyUp)
-    uint envPadding;
+    uint volumeCount;
 };
 
 // One block for every wavefront kernel. A wave is the tile's pixels times samples [firstSample,
@@ -156,7 +173,8 @@ struct WavefrontPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 32 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 33 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(WavefrontVolume) == 3 * 8 + 12 * 4 + 6 * 4 + 6 * 4);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu
 #endif

@@ -13,6 +13,7 @@
 #include "render/ChunkCache.h"
 #include "render/DemandPager.h"
 #include "vastray/core/Camera.h"
+#include "vastray/core/Volume.h"
 #include "vastray/streamer/StreamingRenderer.h"
 
 namespace vastray {
@@ -124,7 +125,9 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
 
-    const Camera camera = options.frameScene ? frameBounds(info.bounds, options.camera.fovYDegrees,
+    // Automatic framing frames the mesh and its volumes.
+    const Aabb framed = boundsWithVolumes(info.bounds, options.volumes.get());
+    const Camera camera = options.frameScene ? frameBounds(framed, options.camera.fovYDegrees,
                                                            float(options.width) / float(options.height), options.camera.up)
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));

@@ -72,6 +72,12 @@ float sunPickProbability(const Environment& environment);
 // no shadow ray (no light, or the direction lies below the surface). sunDirection: unit.
 bool unshadowedDirectLight(const Environment& environment, Vec3f sunDirection, const SurfacePoint& point,
                            RandomKey key, uint32_t seed, Vec3f* light, Vec3f* direction);
+// Next-event estimation at a point inside a volume, for light arriving along unit `travel` and
+// scattered by a Henyey-Greenstein phase function of anisotropy g: as unshadowedDirectLight,
+// with the phase function in place of the Lambertian reflection (and its density in the power
+// heuristic). The volume's albedo is not applied. false: no light to send a shadow ray for.
+bool unshadowedMediumLight(const Environment& environment, Vec3f sunDirection, Vec3f travel, float g, RandomKey key,
+                           uint32_t seed, Vec3f* light, Vec3f* direction);
 // The weight of the environment's radiance reached by a bounce of solid-angle density
 // `bouncePdf` (0: a camera ray, weight 1): with a map that next-event estimation samples, the
 // power heuristic against it; else 1.

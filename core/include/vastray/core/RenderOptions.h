@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/Result.h"
@@ -35,6 +36,7 @@ constexpr uint32_t kAovStreamingOnly = kAovChunkId | kAovCost;
 Result<uint32_t> parseAovList(std::string_view list);
 
 struct EnvironmentMap;  // vastray/core/EnvironmentMap.h
+struct Volume;          // vastray/core/Volume.h
 
 // The environment of the `path` integrator. With h = dot(d, up), the sky's radiance for unit
 // direction d is `ground` when h < 0, else horizon + (zenith - horizon) * h; with a `map`, the
@@ -87,6 +89,9 @@ struct RenderOptions {
     std::optional<PixelBounds> region;
     Camera camera;
     Environment environment;
+    // The scene's density volumes (the package's, PackageReader::readVolumes); none: no volume
+    // code runs. The `path` integrator scatters in them; `ao` and the AOVs see surfaces only.
+    std::shared_ptr<const std::vector<Volume>> volumes;
 };
 
 // Turns the world's up to the unit vector `up` (+Y or +Z from --up-axis): the sky's zenith,

@@ -3,11 +3,13 @@
 // no partitioning. From a mesh file the triangles are the imported mesh's; from a .vast
 // package every chunk is decoded and a triangle referenced by several cells is kept once.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
+#include "vastray/core/Volume.h"
 
 namespace vastray {
 
@@ -20,6 +22,9 @@ struct RenderScene {
     // What a render without --eye frames: the mesh's bounds, or a package's recorded bounds
     // (so that every backend rendering the package frames it identically).
     Aabb bounds;
+    // A package's density volumes (PackageReader::readVolumes); null: none. A render uses them
+    // when its RenderOptions::volumes is set to them.
+    std::shared_ptr<const std::vector<Volume>> volumes;
 
     uint32_t primitiveId(uint32_t triangle) const {
         return primitiveIds.empty() ? triangle : primitiveIds[triangle];

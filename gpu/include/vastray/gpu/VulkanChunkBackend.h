@@ -27,8 +27,8 @@ struct PoolPlan {
     // DMA uploads with the staging area in device memory (lavapipe): the staging taken from the
     // budget (counted in totalBytes; two slots at least, a slot per chunk at most); 0 otherwise.
     uint64_t stagingBytes = 0;
-    // Device bytes kept from the budget for the render's environment map (counted in totalBytes
-    // and minimumBytes, allocated by the render that uses it); 0: none.
+    // Device bytes kept from the budget for the render's environment map and the scene's volumes
+    // (counted in totalBytes and minimumBytes, allocated by the render that uses them); 0: none.
     uint64_t reservedBytes = 0;
 };
 
@@ -99,10 +99,13 @@ ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mo
 // The device bytes an environment map takes (environmentBytes(options.environment) is what a
 // render with those options needs kept: reservedBytes below); 0 without a map.
 uint64_t environmentBytes(const Environment& environment);
+// The device bytes the package's volumes take (volumeBytes(package) is what a render of it
+// needs kept besides the map's); 0 without volumes.
+uint64_t volumeBytes(const PackageInfo& package);
 
 // device must outlive the backend. Every buffer is allocated here, once, but the environment
-// map's: reservedBytes of the budget are kept for it (environmentBytes), and a render whose map
-// needs more is refused.
+// map's and the volumes': reservedBytes of the budget are kept for them (environmentBytes plus
+// volumeBytes), and a render whose map and volumes need more is refused.
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore = kWaveShareOutOfCore,

@@ -1,0 +1,249 @@
+// Volumes (issue "Volumes"): density grids stored in the package beside the mesh and traced by
+// the path integrator on the device and in the Embree reference. Checked against Beer-Lambert
+// (an absorbing slab in front of the ground), the two backends against each other, a streamed
+// render against the in-core one, the package round trip and the device bytes against the budget.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "../VolumeTestSupport.h"
+#include "StreamTestSupport.h"
+#include "vastray/core/Checksum.h"
+#include "TestTmp.h"
+#include "vastray/streamer/Generate.h"
+#include "vastray/streamer/PackageBuilder.h"
+
+namespace vastray {
+namespace {
+
+std::string writePackage(const std::string& name, TriangleMesh mesh, std::vector<Volume> volumes) {
+    const std::filesystem::path dir = test::testTmpDir("volumes");
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / (name + ".vast")).string();
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.progress = Progress::Mode::None;
+    options.volumes = std::move(volumes);
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
+
+std::shared_ptr<const std::vector<Volume>> volumesOf(const std::string& path) {
+    auto reader = PackageReader::open(path);
+    EXPECT_TRUE(reader) << reader.message();
+    auto volumes = (*reader)->readVolumes();
+    EXPECT_TRUE(volumes) << volumes.message();
+    return *volumes;
+}
+
+// A 20k-triangle city with a fog bank of rising density over part of it.
+const std::string& foggyCity() {
+    static const std::string path = [] {
+        auto mesh = generateMesh({GeneratorKind::City, 20000, 1});
+        EXPECT_TRUE(mesh) << mesh.message();
+        const Aabb b = mesh->bounds();
+        const Vec3f e = b.extent();
+        VolumeMaterial fog;
+        fog.albedo = {0.9f, 0.85f, 0.8f};
+        fog.anisotropy = 0.4f;
+        // 48 x 16 x 48 voxels over the middle of the city, densest at the bottom.
+        const float voxel = e.x / 64.0f;
+        fog.densityScale = 2.0f / (16.0f * voxel);
+        Volume v = test::makeVolume({0, 0, 0}, {47, 15, 47},
+                                    [](int32_t i, int32_t j, int32_t k) {
+                                        return (1.0f - float(j) / 16.0f) * (0.5f + 0.5f * float((i / 8 + k / 8) % 2));
+                                    },
+                                    voxel, b.lo + Vec3f{e.x / 8, 0, e.z / 8}, fog);
+        return writePackage("foggy-city", std::move(mesh).value(), {std::move(v)});
+    }();
+    return path;
+}
+
+TEST(VolumeRender, PackageKeepsTheVolume) {
+    const std::string& path = foggyCity();
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageInfo& info = (*reader)->info();
+    EXPECT_EQ(info.formatVersion, 4u);
+    ASSERT_EQ(info.volumes.size(), 1u);
+    EXPECT_EQ(info.volumes[0].volume.name, "test");
+    EXPECT_EQ(info.volumes[0].volume.material.anisotropy, 0.4f);
+    auto volumes = (*reader)->readVolumes();
+    ASSERT_TRUE(volumes) << volumes.message();
+    const Volume& v = (**volumes)[0];
+    EXPECT_EQ(volumeVoxel(v, 12, 4, 0), (1.0f - 4.0f / 16.0f) * 1.0f);
+    EXPECT_EQ(volumeVoxel(v, 0, 0, 0), 0.5f);
+    EXPECT_EQ(volumeVoxel(v, 48, 0, 0), 0.0f);
+    EXPECT_EQ(v.majorant.size(), v.cellCount());
+    EXPECT_TRUE((*reader)->verify().empty());
+    EXPECT_GE(gpu::volumeBytes(info), v.voxels.size() * 4);
+
+    // A flipped byte in the voxels: the volume's checksum names it.
+    const std::string damaged = path + ".damaged.vast";
+    std::filesystem::copy_file(path, damaged, std::filesystem::copy_options::overwrite_existing);
+    {
+        std::fstream f(damaged, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(std::streamoff(info.volumes[0].offset + info.volumes[0].size - 5));
+        f.put(char(0x7F));
+    }
+    auto reopened = PackageReader::open(damaged);
+    ASSERT_TRUE(reopened) << reopened.message();  // the records are sound; the data is read later
+    auto bad = (*reopened)->readVolumes();
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("volume 0 'test': data checksum mismatch"), std::string::npos) << bad.message();
+    EXPECT_EQ((*reopened)->verify().size(), 1u);
+
+    // Forged with every checksum recomputed: a brick index past the bricks, then a NaN voxel,
+    // then an albedo above 1 in the record. Each is refused by name.
+    const std::vector<uint8_t> original = [&] {
+        std::ifstream in(path, std::ios::binary);
+        return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+    }();
+    const PackageVolume& p = info.volumes[0];
+    uint64_t recordAt = 0;
+    std::memcpy(&recordAt, original.data() + 256 - 24, 8);
+    auto forge = [&](const std::function<void(std::vector<uint8_t>&)>& change) {
+        std::vector<uint8_t> bytes = original;
+        change(bytes);
+        const uint64_t data = checksum64(bytes.data() + p.offset, p.size);
+        std::memcpy(bytes.data() + recordAt + 180, &data, 8);
+        const uint64_t records = checksum64(bytes.data() + recordAt, 256);
+        std::memcpy(bytes.data() + 256 - 16, &records, 8);
+        const uint64_t header = checksum64(bytes.data(), 248);
+        std::memcpy(bytes.data() + 248, &header, 8);
+        const std::string forged = path + ".forged.vast";
+        std::ofstream(forged, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        return forged;
+    };
+    auto firstStored = [&] {  // the brick table entry of the first cell with a brick
+        for (uint64_t c = 0; c < v.brickOf.size(); ++c)
+            if (v.brickOf[c] != kNoBrick) return c;
+        return uint64_t(0);
+    }();
+    const std::string badIndex = forge([&](std::vector<uint8_t>& b) {
+        const uint32_t past = p.brickCount;
+        std::memcpy(b.data() + p.offset + 4 * firstStored, &past, 4);
+    });
+    auto opened = PackageReader::open(badIndex);
+    ASSERT_TRUE(opened) << opened.message();
+    auto refused = (*opened)->readVolumes();
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("names brick " + std::to_string(p.brickCount)), std::string::npos) << refused.message();
+    const std::string nanVoxel = forge([&](std::vector<uint8_t>& b) {
+        const float nan = std::nanf("");
+        std::memcpy(b.data() + p.offset + 4 * v.cellCount() + 4 * 9, &nan, 4);
+    });
+    opened = PackageReader::open(nanVoxel);
+    ASSERT_TRUE(opened) << opened.message();
+    refused = (*opened)->readVolumes();
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("brick 0 voxel 9 has density nan"), std::string::npos) << refused.message();
+    const std::string badAlbedo = forge([&](std::vector<uint8_t>& b) {
+        const float two = 2.0f;
+        std::memcpy(b.data() + recordAt + 140 + 4, &two, 4);
+    });
+    opened = PackageReader::open(badAlbedo);
+    ASSERT_FALSE(opened);
+    EXPECT_NE(opened.message().find("volume 0 'test': the albedo 2.000000 is not in [0, 1]"), std::string::npos)
+        << opened.message();
+}
+
+// Looking straight down through a horizontal slab that only absorbs (albedo 0) onto the sky's
+// ground colour: every pixel is ground x exp(-tau), on both backends.
+TEST(VolumeRender, AbsorbingSlabFollowsBeerLambert) {
+    TriangleMesh mesh;  // one small triangle far outside the view
+    mesh.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
+    mesh.indices = {0, 1, 2};
+    mesh.materials.push_back(Material{"far"});
+    VolumeMaterial absorber;
+    absorber.albedo = {0, 0, 0};
+    absorber.densityScale = 1.0f;  // 4 voxels of 0.25 along the ray: tau = 1
+    Volume slab = test::makeVolume({0, 0, 0}, {63, 3, 63}, [](int32_t, int32_t, int32_t) { return 1.0f; }, 0.25f,
+                                   {-8, 0, -8}, absorber);
+    const std::string path = writePackage("slab", std::move(mesh), {std::move(slab)});
+    RenderOptions o;
+    o.width = o.height = 24;
+    o.samplesPerPixel = 64;
+    o.frameScene = false;
+    o.camera.eye = {0.01f, 5, 0.02f};
+    o.camera.target = {0.01f, -5, 0.02f};
+    o.camera.up = {0, 0, 1};
+    o.camera.fovYDegrees = 1.0f;
+    o.volumes = volumesOf(path);
+    const double expected = double(o.environment.ground[0]) * std::exp(-1.0);
+    for (const char* backend : {"vulkan", "embree"}) {
+        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
+        ASSERT_TRUE(image) << backend << ": " << image.message();
+        double sum = 0;
+        for (size_t p = 0; p < image->alpha.size(); ++p) sum += image->rgb[3 * p];
+        const double mean = sum / double(image->alpha.size());
+        // Each sample passes (ground) or not (0): a binomial mean over every sample of the image.
+        const double samples = double(image->alpha.size()) * o.samplesPerPixel;
+        const double sigma = o.environment.ground[0] * std::sqrt(std::exp(-1.0) * (1 - std::exp(-1.0)) / samples);
+        std::printf("%s: mean %.5f, expected %.5f (+-%.5f)\n", backend, mean, expected, sigma);
+        EXPECT_NEAR(mean, expected, 4 * sigma) << backend;
+    }
+}
+
+RenderOptions foggyRender(uint32_t spp) {
+    RenderOptions o;
+    o.width = 48, o.height = 36;
+    o.samplesPerPixel = spp;
+    o.maxDepth = 4;
+    o.volumes = volumesOf(foggyCity());
+    return o;
+}
+
+TEST(VolumeRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
+    const std::string& path = foggyCity();
+    const RenderOptions o = foggyRender(8);
+    auto reference = test::renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    StreamingStats stats;
+    auto device = test::renderVulkan(path, o, 256ull << 20, &stats);
+    ASSERT_TRUE(device) << device.message();
+    EXPECT_GT(stats.chunksTotal, 4u);
+    const double rmse = test::relativeRmse(device->rgb, reference->rgb);
+    std::printf("device vs Embree beauty relative RMSE %.2e\n", rmse);
+    EXPECT_LE(rmse, 5e-3);
+    // The fog is in the picture: without it the image is another.
+    RenderOptions clear = o;
+    clear.volumes.reset();
+    auto unfogged = test::renderVulkan(path, clear, 256ull << 20);
+    ASSERT_TRUE(unfogged) << unfogged.message();
+    const double difference = test::relativeRmse(unfogged->rgb, device->rgb);
+    std::printf("with and without the fog: relative RMSE %.2e\n", difference);
+    EXPECT_GT(difference, 0.03);
+
+    // Out of core (two chunk slots): the same image bit for bit; the volume's bytes are kept.
+    const uint64_t tight = test::budgetForSlots(path, 2, o.aovs, 0, gpu::volumeBytes(PackageReader::open(path).value()->info()));
+    ASSERT_GT(tight, 0u);
+    StreamingStats streamedStats;
+    auto streamed = test::renderVulkan(path, o, tight, &streamedStats);
+    ASSERT_TRUE(streamed) << streamed.message();
+    EXPECT_GT(streamedStats.chunkLoads, stats.chunksTotal) << "two slots page chunks in more than once";
+    EXPECT_LE(streamedStats.peakDeviceBytes, tight);
+    EXPECT_EQ(std::memcmp(streamed->rgb.data(), device->rgb.data(), device->rgb.size() * 4), 0);
+}
+
+// A backend that kept no bytes for the volumes refuses to render them, naming them.
+TEST(VolumeRender, VolumesOutsideTheReserveAreRefused) {
+    const std::string& path = foggyCity();
+    const RenderOptions o = foggyRender(1);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    auto refused = renderStreaming(**reader, o, StreamingOptions{}, [&](const PackageInfo& info, const ChunkAttributes& a) {
+        return gpu::createVulkanChunkBackend(test::sharedVulkanDevice(), info, a, 256ull << 20);
+    });
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("the volumes need"), std::string::npos) << refused.message();
+}
+
+}  // namespace
+}  // namespace vastray
