@@ -1,7 +1,9 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -11,6 +13,7 @@
 #include "vastray/core/ByteSize.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/PackageBuilder.h"
+#include "vastray/streamer/VolumeImport.h"
 
 namespace vastray::cli {
 namespace {
@@ -27,7 +30,80 @@ struct ImportArgs {
     std::string codec = "draco";
     bool doubleSided = false, singleSided = false;
     std::string progress = "auto";
+    // --volume FILE.vdb[:GRID], and each material option once (every volume) or once per volume.
+    std::vector<std::string> volumes, volumeAlbedo;
+    std::vector<float> volumeDensity, volumeAnisotropy;
 };
+
+// One value per volume from an option given never (the default), once (every volume) or once
+// per --volume, in their order.
+template <typename T>
+Result<T> perVolume(const std::vector<T>& values, size_t volume, size_t volumes, const char* flag, T fallback) {
+    if (values.empty()) return fallback;
+    if (values.size() == 1) return values[0];
+    if (values.size() != volumes)
+        return Status::error(std::string(flag) + " is given " + std::to_string(values.size()) + " times for " +
+                             std::to_string(volumes) + " volumes: give it once (every volume) or once per --volume");
+    return values[volume];
+}
+
+Result<std::array<float, 3>> parseAlbedo(const std::string& text) {
+    std::array<float, 3> albedo{};
+    const char* at = text.c_str();
+    const std::string expected = "--volume-albedo '" + text + "': expected R,G,B or one value, each in [0, 1]";
+    for (int c = 0; c < 3; ++c) {
+        char* end = nullptr;
+        albedo[c] = std::strtof(at, &end);
+        if (end == at || !(albedo[c] >= 0.0f && albedo[c] <= 1.0f)) return Status::error(expected);
+        at = end;
+        if (c == 0 && *at == '\0') return std::array<float, 3>{albedo[0], albedo[0], albedo[0]};
+        if (c < 2 && *at++ != ',') return Status::error(expected);
+    }
+    if (*at != '\0') return Status::error(expected);
+    return albedo;
+}
+
+// Reads every --volume with its material (VolumeImport.h); errors name the file and the grid.
+Result<std::vector<Volume>> readVolumes(const ImportArgs& args) {
+    std::vector<Volume> volumes;
+    const size_t count = args.volumes.size();
+    if (count > kMaxVolumes)
+        return Status::error(std::to_string(count) + " volumes exceed the limit of " + std::to_string(kMaxVolumes));
+    for (size_t i = 0; i < count; ++i) {
+        // FILE.vdb, or FILE.vdb:GRID (the grid named GRID; without one, the file's first float grid).
+        std::string path = args.volumes[i], grid;
+        auto endsWithVdb = [](const std::string& s) {
+            return s.size() >= 4 && (s.compare(s.size() - 4, 4, ".vdb") == 0 || s.compare(s.size() - 4, 4, ".VDB") == 0);
+        };
+        if (!endsWithVdb(path)) {
+            const size_t colon = path.rfind(':');
+            if (colon == std::string::npos || !endsWithVdb(path.substr(0, colon)))
+                return Status::error("--volume '" + path + "': expected FILE.vdb or FILE.vdb:GRID");
+            grid = path.substr(colon + 1);
+            path.resize(colon);
+        }
+        VolumeMaterial material;
+        auto albedo = perVolume(args.volumeAlbedo, i, count, "--volume-albedo", std::string("0.8"));
+        if (!albedo) return albedo.status();
+        auto parsed = parseAlbedo(*albedo);
+        if (!parsed) return parsed.status();
+        material.albedo = *parsed;
+        auto density = perVolume(args.volumeDensity, i, count, "--volume-density", 1.0f);
+        if (!density) return density.status();
+        if (!(*density >= 0.0f && *density <= kMaxVolumeDensity))
+            return Status::error("--volume-density " + std::to_string(*density) + " is outside [0, 1e18]");
+        material.densityScale = *density;
+        auto g = perVolume(args.volumeAnisotropy, i, count, "--volume-anisotropy", 0.0f);
+        if (!g) return g.status();
+        if (!(*g > -1.0f && *g < 1.0f))
+            return Status::error("--volume-anisotropy " + std::to_string(*g) + " is outside (-1, 1)");
+        material.anisotropy = *g;
+        auto volume = readVdbVolume(path, grid, material);
+        if (!volume) return volume.status();
+        volumes.push_back(std::move(volume).value());
+    }
+    return volumes;
+}
 
 Result<PackageBuildOptions> buildOptions(const ImportArgs& args) {
     PackageBuildOptions options;
@@ -119,6 +195,16 @@ CommandRun addImportCommand(CLI::App& app) {
                     "keeps them): less memory, more triangle tests per ray, same hits; 0 = no cap")
         ->capture_default_str();
     cmd->add_option("--threads", args->threads, "worker threads, 0..4096 (0 = all cores)")->capture_default_str();
+    cmd->add_option("--volume", args->volumes,
+                    "FILE.vdb[:GRID]: add an OpenVDB float grid (GRID, else the file's first float grid) as a "
+                    "density volume, placed by the grid's transform; repeatable (at most 64)");
+    cmd->add_option("--volume-albedo", args->volumeAlbedo,
+                    "R,G,B (or one value) in [0, 1]: the fraction of extinction that scatters (default 0.8); "
+                    "once for every volume or once per --volume");
+    cmd->add_option("--volume-density", args->volumeDensity,
+                    "extinction per unit of grid density per world unit, [0, 1e18] (default 1); once or per --volume");
+    cmd->add_option("--volume-anisotropy", args->volumeAnisotropy,
+                    "Henyey-Greenstein g in (-1, 1): 0 isotropic, > 0 forward scattering (default 0); once or per --volume");
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")
         ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
         ->capture_default_str();
@@ -128,6 +214,16 @@ CommandRun addImportCommand(CLI::App& app) {
             std::fprintf(stderr, "vastray import: %s\n", options.message().c_str());
             return 2;
         }
+        auto volumes = readVolumes(*args);
+        if (!volumes) {
+            std::fprintf(stderr, "vastray import: %s\n", volumes.message().c_str());
+            return 1;
+        }
+        for (const Volume& v : *volumes)
+            std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels)\n", v.name.c_str(),
+                        v.brickCells[0], v.brickCells[1], v.brickCells[2], (unsigned long long)v.brickCount(),
+                        formatBytes(v.voxels.size() * 4).c_str());
+        options->volumes = std::move(volumes).value();
         ImportOptions importOptions;
         if (args->doubleSided) importOptions.sidedness = ImportOptions::Sidedness::ForceDoubleSided;
         if (args->singleSided) importOptions.sidedness = ImportOptions::Sidedness::ForceSingleSided;

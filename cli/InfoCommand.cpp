@@ -37,6 +37,18 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"base_color", m.baseColor},
                              {"emissive", m.emissive},
                              {"double_sided", m.doubleSided}});
+    nlohmann::json volumes = nlohmann::json::array();
+    for (const PackageVolume& p : info.volumes) {
+        const Volume& v = p.volume;
+        volumes.push_back({{"name", v.name},
+                           {"brick_cells", {v.brickCells[0], v.brickCells[1], v.brickCells[2]}},
+                           {"bricks", p.brickCount},
+                           {"bounds", boundsJson(v.worldBounds)},
+                           {"albedo", {v.material.albedo[0], v.material.albedo[1], v.material.albedo[2]}},
+                           {"density_scale", v.material.densityScale},
+                           {"anisotropy", v.material.anisotropy},
+                           {"data_bytes", p.size}});
+    }
     nlohmann::json cameras = nlohmann::json::array();
     for (const SceneCamera& c : info.cameras)
         cameras.push_back({{"name", c.name},
@@ -60,6 +72,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"vertex_normals", info.hasNormals},
             {"vertex_colors", info.hasColors},
             {"cameras", cameras},
+            {"volumes", volumes},
             {"degenerate_dropped", info.degenerateDropped},
             {"collapsed_dropped", info.collapsedDropped},
             {"materials", materials},
@@ -89,6 +102,15 @@ void printHuman(const std::string& path, const PackageInfo& info) {
         std::printf("  camera %-13zu '%s': eye (%g, %g, %g), looking at (%g, %g, %g), fov %g degrees\n", i,
                     info.cameras[i].name.c_str(), c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z,
                     c.fovYDegrees);
+    }
+    for (size_t i = 0; i < info.volumes.size(); ++i) {
+        const PackageVolume& p = info.volumes[i];
+        const Volume& v = p.volume;
+        std::printf("  volume %-13zu '%s': %u x %u x %u brick cells, %u bricks (%s), albedo (%g, %g, %g), density x%g, "
+                    "anisotropy %g\n",
+                    i, v.name.c_str(), v.brickCells[0], v.brickCells[1], v.brickCells[2], p.brickCount,
+                    formatBytes(p.size).c_str(), v.material.albedo[0], v.material.albedo[1], v.material.albedo[2],
+                    v.material.densityScale, v.material.anisotropy);
     }
     std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",
                 (unsigned long long)info.degenerateDropped, (unsigned long long)info.collapsedDropped);
@@ -132,7 +154,8 @@ CommandRun addInfoCommand(CLI::App& app) {
             printHuman(args->path, info);
             if (!args->exportCells.empty()) std::printf("  cells written to     %s\n", args->exportCells.c_str());
             if (args->verify && problems.empty())
-                std::printf("  verify               all %zu chunks intact\n", info.chunks.size());
+                std::printf("  verify               all %zu chunks%s intact\n", info.chunks.size(),
+                            info.volumes.empty() ? "" : (" and " + std::to_string(info.volumes.size()) + " volumes").c_str());
         }
         for (const std::string& p : problems) std::fprintf(stderr, "%s\n", p.c_str());
         if (!problems.empty())

@@ -53,8 +53,9 @@ TEST(FuzzSeeds, AssimpSeedsImport) {
     }
 }
 
-// The package and chunk seeds of fuzz_package and fuzz_chunk are of the current format (a seed
-// of an older format stops at the version check, and the fuzzer never reaches the decoders):
+// The package and chunk seeds of fuzz_package and fuzz_chunk are of a format this reader reads
+// (a seed of an older format stops at the version check, and the fuzzer never reaches the
+// decoders; version 3 seeds still read, volume.vast is version 4 with a volume):
 // each package opens and verifies, and each chunk seed is its package's chunk 0 plus the byte
 // fuzz_chunk reads as the grid selector. Regenerate them as docs/HARDENING.md says.
 TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
@@ -73,7 +74,7 @@ TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
         EXPECT_EQ(0, std::memcmp(bytes.data(), blob->data(), blob->size())) << chunkSeed << " is not chunk 0 of " << entry.path();
         ++seeds;
     }
-    EXPECT_EQ(seeds, 6u);  // small, coloured (normals and colours), cameras; Draco and meshopt
+    EXPECT_EQ(seeds, 7u);  // small, coloured (normals and colours), cameras; Draco and meshopt; a volume
 }
 
 // Every chunk seed through the decoder as fuzz_chunk feeds it (the directory entry from the

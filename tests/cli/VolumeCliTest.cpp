@@ -1,0 +1,100 @@
+// `vastray import --volume` as a user drives it: a .vdb (the fBm cloud bench/volume_cloud.cpp
+// writes with OpenVDB, over [-1, 1]^3) goes into a package above a floor; `info` lists it, both
+// backends render it (and agree), and bad volume options are errors that name the option, the
+// file or the grid.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "CommandRunner.h"
+#include "TestTmp.h"
+
+namespace {
+
+using vastray::test::CommandResult;
+
+CommandResult run(const std::string& arguments) { return vastray::test::runVastray(arguments); }
+
+std::string tmp(const std::string& name) {
+    const std::filesystem::path dir = vastray::test::testTmpDir("volume-cli");
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+// The beauty RMSE `vastray diff` prints.
+double beautyRmse(const std::string& a, const std::string& b) {
+    CommandResult d = run("diff " + a + " " + b + " --json");
+    const size_t at = d.output.find("\"rmse\":");
+    EXPECT_NE(at, std::string::npos) << d.output;
+    return at == std::string::npos ? -1.0 : std::atof(d.output.c_str() + at + 7);
+}
+
+class VolumeCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        // One large floor triangle under the cloud (a package needs a mesh).
+        std::ofstream(tmp("floor.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                           "end_header\n-3 -1.2 -3\n3 -1.2 -3\n0 -1.2 4\n3 0 2 1\n";
+        CommandResult plain = run("import " + tmp("floor.ply") + " -o " + tmp("plain.vast") + " --chunk-size 64KiB");
+        ASSERT_EQ(plain.exitCode, 0) << plain.output;
+        // 32^3 voxels of cloud over [-1, 1]^3 (and Mitsuba's .vol of it, unused here).
+        CommandResult cloud = vastray::test::runShell(std::string(VASTRAY_VOLUME_CLOUD) + " 32 " + tmp("fog.vdb") + " " +
+                                                      tmp("fog.vol"));
+        ASSERT_EQ(cloud.exitCode, 0) << cloud.output;
+    }
+};
+
+TEST_F(VolumeCli, ImportInfoAndRenderOnBothBackends) {
+    CommandResult i = run("import " + tmp("floor.ply") + " -o " + tmp("fog.vast") + " --chunk-size 64KiB --volume " +
+                          tmp("fog.vdb") + ":density --volume-density 4 --volume-albedo 0.9,0.8,0.7 --volume-anisotropy 0.3");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("read volume 'density'"), std::string::npos) << i.output;
+    CommandResult info = run("info " + tmp("fog.vast") + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    for (const char* key : {"\"volumes\"", "\"name\": \"density\"", "\"anisotropy\"", "\"brick_cells\""})
+        EXPECT_NE(info.output.find(key), std::string::npos) << key << " in " << info.output;
+    CommandResult verify = run("info " + tmp("fog.vast") + " --verify");
+    EXPECT_EQ(verify.exitCode, 0) << verify.output;
+    EXPECT_NE(verify.output.find("volume 0"), std::string::npos) << verify.output;
+    EXPECT_NE(verify.output.find("chunks and 1 volumes intact"), std::string::npos) << verify.output;
+
+    const std::string common = " --resolution 40x30 --spp 8 --max-depth 4 --eye 0,1,5 --target 0,0,0";
+    for (const char* backend : {"vulkan", "embree"}) {
+        CommandResult r = run("render " + tmp("fog.vast") + " -o " + tmp(std::string(backend) + ".exr") + common +
+                              " --backend " + backend);
+        ASSERT_EQ(r.exitCode, 0) << backend << ": " << r.output;
+    }
+    CommandResult clear = run("render " + tmp("plain.vast") + " -o " + tmp("clear.exr") + common);
+    ASSERT_EQ(clear.exitCode, 0) << clear.output;
+    const double agree = beautyRmse(tmp("vulkan.exr"), tmp("embree.exr"));
+    const double fogged = beautyRmse(tmp("vulkan.exr"), tmp("clear.exr"));
+    std::printf("device vs Embree RMSE %.4g; with and without the fog %.4g\n", agree, fogged);
+    EXPECT_GE(agree, 0.0);
+    EXPECT_LT(agree * 10, fogged);
+}
+
+TEST_F(VolumeCli, BadVolumeOptionsAreNamed) {
+    const std::string base = "import " + tmp("floor.ply") + " -o " + tmp("bad.vast") + " --volume ";
+    struct Case {
+        std::string arguments, words;
+    };
+    for (const Case& c : std::initializer_list<Case>{
+             {tmp("missing.vdb"), "missing.vdb"},
+             {tmp("fog.vdb") + ":smoke", "smoke"},
+             {tmp("floor.ply"), "expected FILE.vdb or FILE.vdb:GRID"},
+             {tmp("fog.vdb") + " --volume-albedo 0.5 --volume-albedo 0.6", "--volume-albedo is given 2 times for 1 volumes"},
+             {tmp("fog.vdb") + " --volume-albedo 0.5,2,0.5", "--volume-albedo '0.5,2,0.5'"},
+             {tmp("fog.vdb") + " --volume-anisotropy 1", "--volume-anisotropy"},
+             {tmp("fog.vdb") + " --volume-density -1", "--volume-density"}}) {
+        CommandResult r = run(base + c.arguments);
+        EXPECT_NE(r.exitCode, 0) << c.arguments;
+        EXPECT_NE(r.output.find(c.words), std::string::npos) << c.arguments << ": " << r.output;
+        EXPECT_FALSE(std::filesystem::exists(tmp("bad.vast"))) << c.arguments;
+    }
+}
+
+}  // namespace
