@@ -1,0 +1,66 @@
+"""Mitsuba 3's `volpath` on the cloud of bench/volume_cloud.cpp, for `vastray render` of the same
+grid imported with `--volume` (docs/PERFORMANCE.md, "Volumes").
+
+usage: python3 mitsuba_volume.py CLOUD.vol N WIDTH HEIGHT SPP MAX_DEPTH EYE TARGET FOV DENSITY ALBEDO G [VARIANT]
+A `heterogeneous` medium (sigma_t: a trilinear `gridvolume` of the .vol scaled by DENSITY, albedo
+ALBEDO, Henyey-Greenstein G) inside a `cube` with a `null` BSDF, lit by a `constant` emitter of
+radiance 1 (vastray: a constant --environment map of 1, no sun). vastray's voxel ijk sits at the
+world point ijk * 2/N - 1; Mitsuba's voxel i at the grid's local (i + 0.5) / N, so the grid's
+to_world is scale 2 then translate -1 - 1/N. max_depth is vastray's --max-depth + 1. Prints one
+JSON line: load time, the first and the later renders' times, and the image's mean (RGB).
+"""
+import json, sys, time
+
+vol, n = sys.argv[1], int(sys.argv[2])
+w, h, spp, depth = int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6])
+eye = [float(x) for x in sys.argv[7].split(",")]
+target = [float(x) for x in sys.argv[8].split(",")]
+fov, density, albedo, g = float(sys.argv[9]), float(sys.argv[10]), float(sys.argv[11]), float(sys.argv[12])
+variant = sys.argv[13] if len(sys.argv) > 13 else "cuda_ad_rgb"
+
+import mitsuba as mi
+import drjit as dr
+
+mi.set_variant(variant)
+T = mi.ScalarTransform4f
+offset = -1.0 - 1.0 / n
+t0 = time.perf_counter()
+scene = mi.load_dict({
+    "type": "scene",
+    "integrator": {"type": "volpath", "max_depth": depth + 1},
+    "sensor": {
+        "type": "perspective", "fov": fov, "fov_axis": "y",
+        "to_world": T().look_at(origin=eye, target=target, up=[0, 1, 0]),
+        "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+        "sampler": {"type": "independent", "sample_count": spp},
+    },
+    "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
+    "cloud": {
+        "type": "cube",
+        "to_world": T().translate([offset + 1.0] * 3).scale(1.0),
+        "bsdf": {"type": "null"},
+        "interior": {
+            "type": "heterogeneous",
+            "sigma_t": {"type": "gridvolume", "filename": vol, "filter_type": "trilinear",
+                        "to_world": T().translate([offset] * 3).scale(2.0)},
+            "albedo": {"type": "rgb", "value": [albedo] * 3},
+            "scale": density,
+            "phase": {"type": "hg", "g": g},
+        },
+    },
+})
+load_s = time.perf_counter() - t0
+times, img = [], None
+for i in range(4):
+    t = time.perf_counter()
+    img = mi.render(scene, spp=spp, seed=i)
+    dr.eval(img)
+    dr.sync_thread()
+    times.append(time.perf_counter() - t)
+later = sorted(times[1:])
+pixels = mi.TensorXf(img).numpy()
+mi.util.write_bitmap(sys.argv[1] + ".mitsuba.exr", img)
+print(json.dumps({"program": "mitsuba volpath " + variant, "load_s": round(load_s, 3),
+                  "first_render_s": round(times[0], 3), "render_s_min": round(later[0], 4),
+                  "render_s_median": round(later[len(later) // 2], 4),
+                  "mean_rgb": [float(pixels[..., c].mean()) for c in range(3)]}), flush=True)

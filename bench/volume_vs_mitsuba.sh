@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# A volume's render time and mean beside Mitsuba 3's `volpath` on the same grid, camera,
+# resolution, spp and depth (docs/PERFORMANCE.md, "Volumes"): the fBm cloud of
+# bench/volume_cloud.cpp (N^3 voxels over [-1, 1]^3) imported with `--volume` beside one small
+# triangle far out of view (a package needs a mesh), lit by a constant environment of 1 and no
+# sun (Mitsuba: a `constant` emitter), so that the two images' means compare the light transport.
+# Each vastray render runs three times (the first builds its pipelines); the figures are
+# `render_seconds` of --stats-json.
+#
+#   usage (on the device machine, vastray and volume_cloud on PATH, Mitsuba on PYTHONPATH):
+#     bench/volume_vs_mitsuba.sh MITSUBA_VOLUME.py OUT_DIR
+#   Environment: N (512), SPP (64), DEPTH (8), DENSITY (40), ALBEDO (0.8), G (0.3),
+#   RESOLUTION (1024x1024).
+set -uo pipefail
+[ $# -eq 2 ] || { echo "usage: $0 MITSUBA_VOLUME.py OUT_DIR" >&2; exit 2; }
+mitsuba=$1 out=$2
+mkdir -p "$out"
+n=${N:-512} spp=${SPP:-64} depth=${DEPTH:-8} density=${DENSITY:-40} albedo=${ALBEDO:-0.8} g=${G:-0.3}
+resolution=${RESOLUTION:-1024x1024} w=${resolution%x*} h=${resolution#*x}
+eye=0,0.6,3.4 target=0,0,0 fov=40
+start=$(date +%s.%N)
+volume_cloud "$n" "$out/cloud.vdb" "$out/cloud.vol" || exit 1
+echo "cloud written in $(python3 -c "import sys; print(round(float(sys.argv[1]) - float(sys.argv[2]), 2))" "$(date +%s.%N)" "$start") s"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n50 50 50\n51 50 50\n50 51 50\n3 0 1 2\n' > "$out/far.ply"
+python3 - "$out/const.pfm" <<'PY'
+import struct, sys
+with open(sys.argv[1], "wb") as o:
+    o.write(b"PF\n8 4\n-1.0\n" + struct.pack("<96f", *([1.0] * 96)))
+PY
+start=$(date +%s.%N)
+vastray import "$out/far.ply" -o "$out/cloud.vast" --progress none --volume "$out/cloud.vdb" --volume-density "$density" \
+  --volume-albedo "$albedo" --volume-anisotropy "$g" > "$out/import.log" 2>&1 || { cat "$out/import.log"; exit 1; }
+echo "imported in $(python3 -c "import sys; print(round(float(sys.argv[1]) - float(sys.argv[2]), 2))" "$(date +%s.%N)" "$start") s: $(grep 'read volume' "$out/import.log")"
+meanOf() {  # the mean R,G,B of a .pfm
+  python3 - "$1" <<'PY'
+import array, sys
+data = open(sys.argv[1], "rb").read()
+header_end = 0
+for _ in range(3): header_end = data.index(b"\n", header_end) + 1
+values = array.array("f"); values.frombytes(data[header_end:])
+n = len(values) // 3
+print(",".join("%.5f" % (sum(values[c::3]) / n) for c in range(3)))
+PY
+}
+for round in 1 2 3; do
+  vastray render "$out/cloud.vast" -o "$out/vastray.pfm" --resolution "$resolution" --eye "$eye" --target "$target" \
+    --fov "$fov" --spp "$spp" --max-depth "$depth" --environment "$out/const.pfm" --progress none \
+    --stats-json "$out/vastray.json" > "$out/render.log" 2>&1 || { echo "render failed: $(tail -2 "$out/render.log")"; exit 1; }
+  echo "vastray r$round: render_seconds $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["render_seconds"])' "$out/vastray.json")"
+done
+echo "vastray mean_rgb $(meanOf "$out/vastray.pfm")"
+timeout 400 python3 "$mitsuba" "$out/cloud.vol" "$n" "$w" "$h" "$spp" "$depth" "$eye" "$target" "$fov" "$density" \
+  "$albedo" "$g" 2>&1 | tail -1
+rm -f "$out/cloud.vdb" "$out/cloud.vol" "$out/cloud.vast"
