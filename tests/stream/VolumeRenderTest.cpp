@@ -14,6 +14,7 @@
 #include "../VolumeTestSupport.h"
 #include "StreamTestSupport.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/Sampling.h"
 #include "TestTmp.h"
 #include "vastray/streamer/Generate.h"
 #include "vastray/streamer/PackageBuilder.h"
@@ -188,6 +189,67 @@ TEST(VolumeRender, AbsorbingSlabFollowsBeerLambert) {
         const double sigma = o.environment.ground[0] * std::sqrt(std::exp(-1.0) * (1 - std::exp(-1.0)) / samples);
         std::printf("%s: mean %.5f, expected %.5f (+-%.5f)\n", backend, mean, expected, sigma);
         EXPECT_NEAR(mean, expected, 4 * sigma) << backend;
+    }
+}
+
+// Single scattering of the sun in a homogeneous box, seen along a ray through its middle with
+// the sun across it (one scattering event: --max-depth 1, a black sky): the pixel is
+// E x albedo x phase(90 degrees) x the integral over the ray of sigma(s) e^-tau_camera(s)
+// e^-tau_sun(s), computed here by quadrature of the box's trilinear density, on both backends.
+TEST(VolumeRender, SingleScatteringMatchesTheQuadrature) {
+    TriangleMesh mesh;  // one small triangle far outside the view and the light's way
+    mesh.positions = {{-100, -100, -100}, {-99, -100, -100}, {-100, -99, -100}};
+    mesh.indices = {0, 1, 2};
+    mesh.materials.push_back(Material{"far"});
+    VolumeMaterial m;
+    m.albedo = {0.8f, 0.8f, 0.8f};
+    m.densityScale = 1.0f;
+    m.anisotropy = 0.5f;
+    const float voxel = 1.0f / 32.0f;
+    Volume box = test::makeVolume({0, 0, 0}, {63, 63, 63}, [](int32_t, int32_t, int32_t) { return 1.0f; }, voxel, {0, 0, 0}, m);
+    const Volume reference = box;
+    const std::string path = writePackage("single-scattering", std::move(mesh), {std::move(box)});
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.samplesPerPixel = 256;
+    o.maxDepth = 1;
+    o.frameScene = false;
+    o.camera.eye = {-3, 1, 1};
+    o.camera.target = {0, 1, 1};
+    o.camera.fovYDegrees = 0.1f;
+    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
+    o.environment.sunDirection = {0, 1, 0};
+    o.environment.sunIrradiance = {2, 2, 2};
+    o.volumes = volumesOf(path);
+    // The quadrature: density along the ray (x from -1 to 3 at y = z = 1) and up to the sun.
+    auto sigma = [&](float x, float y, float z) { return volumeDensity(reference, {x / voxel, y / voxel, z / voxel}); };
+    const int steps = 4000, sunSteps = 1000;
+    const double dx = 4.0 / steps, dy = 2.0 / sunSteps;
+    double integral = 0, tauCamera = 0;
+    for (int i = 0; i < steps; ++i) {
+        const float x = float(-1.0 + (i + 0.5) * dx);
+        const double s = sigma(x, 1, 1);
+        if (s > 0) {
+            double tauSun = 0;
+            for (int j = 0; j < sunSteps; ++j) tauSun += sigma(x, float(1.0 + (j + 0.5) * dy), 1) * dy;
+            // The camera's transmittance to the middle of this step.
+            integral += s * std::exp(-(tauCamera + 0.5 * s * dx)) * std::exp(-tauSun) * dx;
+        }
+        tauCamera += s * dx;
+    }
+    const double g = 0.5, phase = (1 - g * g) / (4 * kPi * std::pow(1 + g * g, 1.5));
+    const double expected = 2.0 * 0.8 * phase * integral;
+    for (const char* backend : {"vulkan", "embree"}) {
+        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
+        ASSERT_TRUE(image) << backend << ": " << image.message();
+        double sum = 0, squares = 0;
+        const size_t pixels = image->alpha.size();
+        for (size_t p = 0; p < pixels; ++p) sum += image->rgb[3 * p], squares += double(image->rgb[3 * p]) * image->rgb[3 * p];
+        const double mean = sum / double(pixels);
+        const double standardError = std::sqrt(std::max(0.0, squares / double(pixels) - mean * mean) / double(pixels));
+        std::printf("%s: mean %.6f, quadrature %.6f, standard error %.6f\n", backend, mean, expected, standardError);
+        EXPECT_LT(standardError, 0.01 * expected);
+        EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected) << backend;
     }
 }
 
