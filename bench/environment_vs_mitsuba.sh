@@ -34,17 +34,7 @@ def sky(x, y, w=512, h=256):
 pfm(sys.argv[1] + "/const.pfm", 64, 32, lambda x, y: (1.0, 1.0, 1.0))
 pfm(sys.argv[1] + "/sky.pfm", 512, 256, sky)
 PY
-meanOf() {  # the mean R,G,B of a .pfm
-  python3 - "$1" <<'PY'
-import array, sys
-data = open(sys.argv[1], "rb").read()
-header_end = 0
-for _ in range(3): header_end = data.index(b"\n", header_end) + 1
-values = array.array("f"); values.frombytes(data[header_end:])
-n = len(values) // 3
-print(",".join("%.5f" % (sum(values[c::3]) / n) for c in range(3)))
-PY
-}
+meanOf() { python3 "$(dirname "$0")/pfm_mean.py" "$1"; }  # the mean R,G,B of a .pfm
 render() {  # NAME BUDGET FLAGS...
   local name=$1 budget=$2; shift 2
   for round in 1 2 3; do

@@ -19,6 +19,7 @@ variant = sys.argv[10] if len(sys.argv) > 10 else "cuda_ad_rgb"
 
 import mitsuba as mi
 import drjit as dr
+from mitsuba_timing import time_renders
 
 mi.set_variant(variant)
 t0 = time.perf_counter()
@@ -38,16 +39,7 @@ scene = mi.load_dict({
              "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [albedo] * 3}}},
 })
 load_s = time.perf_counter() - t0
-times, img = [], None
-for i in range(4):
-    t = time.perf_counter()
-    img = mi.render(scene, spp=spp, seed=i)
-    dr.eval(img)
-    dr.sync_thread()
-    times.append(time.perf_counter() - t)
-later = sorted(times[1:])
+figures, img = time_renders(mi, dr, scene, spp)
 pixels = mi.TensorXf(img).numpy()
-print(json.dumps({"program": "mitsuba " + variant, "envmap": envmap, "load_and_bvh_s": round(load_s, 3),
-                  "first_render_s": round(times[0], 3), "render_s_min": round(later[0], 4),
-                  "render_s_median": round(later[len(later) // 2], 4),
+print(json.dumps({"program": "mitsuba " + variant, "envmap": envmap, "load_and_bvh_s": round(load_s, 3), **figures,
                   "mean_rgb": [float(pixels[..., c].mean()) for c in range(3)]}), flush=True)

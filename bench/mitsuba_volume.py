@@ -20,6 +20,7 @@ variant = sys.argv[13] if len(sys.argv) > 13 else "cuda_ad_rgb"
 
 import mitsuba as mi
 import drjit as dr
+from mitsuba_timing import time_renders
 
 mi.set_variant(variant)
 T = mi.ScalarTransform4f
@@ -50,17 +51,8 @@ scene = mi.load_dict({
     },
 })
 load_s = time.perf_counter() - t0
-times, img = [], None
-for i in range(4):
-    t = time.perf_counter()
-    img = mi.render(scene, spp=spp, seed=i)
-    dr.eval(img)
-    dr.sync_thread()
-    times.append(time.perf_counter() - t)
-later = sorted(times[1:])
+figures, img = time_renders(mi, dr, scene, spp)
 pixels = mi.TensorXf(img).numpy()
 mi.util.write_bitmap(sys.argv[1] + ".mitsuba.exr", img)
-print(json.dumps({"program": "mitsuba volpath " + variant, "load_s": round(load_s, 3),
-                  "first_render_s": round(times[0], 3), "render_s_min": round(later[0], 4),
-                  "render_s_median": round(later[len(later) // 2], 4),
+print(json.dumps({"program": "mitsuba volpath " + variant, "load_s": round(load_s, 3), **figures,
                   "mean_rgb": [float(pixels[..., c].mean()) for c in range(3)]}), flush=True)

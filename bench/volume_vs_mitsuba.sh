@@ -31,17 +31,7 @@ start=$(date +%s.%N)
 vastray import "$out/far.ply" -o "$out/cloud.vast" --progress none --volume "$out/cloud.vdb" --volume-density "$density" \
   --volume-albedo "$albedo" --volume-anisotropy "$g" > "$out/import.log" 2>&1 || { cat "$out/import.log"; exit 1; }
 echo "imported in $(python3 -c "import sys; print(round(float(sys.argv[1]) - float(sys.argv[2]), 2))" "$(date +%s.%N)" "$start") s: $(grep 'read volume' "$out/import.log")"
-meanOf() {  # the mean R,G,B of a .pfm
-  python3 - "$1" <<'PY'
-import array, sys
-data = open(sys.argv[1], "rb").read()
-header_end = 0
-for _ in range(3): header_end = data.index(b"\n", header_end) + 1
-values = array.array("f"); values.frombytes(data[header_end:])
-n = len(values) // 3
-print(",".join("%.5f" % (sum(values[c::3]) / n) for c in range(3)))
-PY
-}
+meanOf() { python3 "$(dirname "$0")/pfm_mean.py" "$1"; }  # the mean R,G,B of a .pfm
 for round in 1 2 3; do
   vastray render "$out/cloud.vast" -o "$out/vastray.pfm" --resolution "$resolution" --eye "$eye" --target "$target" \
     --fov "$fov" --spp "$spp" --max-depth "$depth" --environment "$out/const.pfm" --progress none \

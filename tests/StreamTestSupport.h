@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -116,6 +117,21 @@ inline uint64_t budgetForSlots(const std::string& path, uint32_t slots, uint32_t
                                   reservedBytes);
         if (plan && plan->slots >= slots) return plan->slots == slots ? budget : 0;
     }
+}
+
+// Renders again with exactly two chunk slots (and `reservedBytes` kept for a map or volumes):
+// the image must equal `inCore` bit for bit, with more chunk loads than the package's
+// `chunks` and the device bytes within the budget.
+inline void expectTwoSlotRenderEquals(const std::string& path, const RenderOptions& options, uint64_t reservedBytes,
+                                      const RenderImage& inCore, uint64_t chunks) {
+    const uint64_t tight = budgetForSlots(path, 2, options.aovs, 0, reservedBytes);
+    ASSERT_GT(tight, 0u);
+    StreamingStats stats;
+    auto streamed = renderVulkan(path, options, tight, &stats);
+    ASSERT_TRUE(streamed) << streamed.message();
+    EXPECT_GT(stats.chunkLoads, chunks) << "two slots page chunks in more than once";
+    EXPECT_LE(stats.peakDeviceBytes, tight);
+    EXPECT_EQ(std::memcmp(streamed->rgb.data(), inCore.rgb.data(), inCore.rgb.size() * 4), 0);
 }
 
 }  // namespace vastray::test

@@ -108,9 +108,12 @@ void walkCells(const Volume& v, const CellRay& r, float tMax, Visit&& visit) {
     }
 }
 
-// Free flight through one volume up to tMax: the first real collision's t, or tMax.
-float freeFlight(const Volume& v, Vec3f origin, Vec3f direction, float tMax, RandomKey key, uint32_t seed,
-                 uint32_t* counter) {
+// Tracks one volume along the ray within [0, tMax), cell by cell with the cells' majorants:
+// without `transmittance`, delta tracking (returns the first real collision's t, or tMax); with
+// it, ratio tracking (multiplies *transmittance, returns tMax). Each tentative collision draws
+// the step, then (delta tracking) the acceptance.
+float trackVolume(const Volume& v, Vec3f origin, Vec3f direction, float tMax, RandomKey key, uint32_t seed,
+                  uint32_t* counter, float* transmittance) {
     const CellRay r = cellRay(v, origin, direction);
     const float scale = v.material.densityScale;
     float result = tMax;
@@ -122,12 +125,16 @@ float freeFlight(const Volume& v, Vec3f origin, Vec3f direction, float tMax, Ran
         for (;;) {
             t -= std::log(1.0f - randomFloat(key, kDimVolume + (*counter)++, seed)) / majorant;
             if (!(t < t1)) return true;
-            if (++steps > kMaxVolumeSteps) {
+            if (!transmittance && ++steps > kMaxVolumeSteps) {
                 result = t;
                 return false;
             }
             const float density = relativeDensity(v, (r.origin + r.direction * t) * float(kVolumeBrickSize)) * scale;
-            if (randomFloat(key, kDimVolume + (*counter)++, seed) * majorant < density) {
+            if (transmittance) {
+                *transmittance *= std::fmax(0.0f, 1.0f - density / majorant);
+                if (++steps > kMaxVolumeSteps) *transmittance = 0.0f;
+                if (!(*transmittance > 0.0f)) return false;
+            } else if (randomFloat(key, kDimVolume + (*counter)++, seed) * majorant < density) {
                 result = t;
                 return false;
             }
@@ -249,7 +256,7 @@ bool sampleVolumeCollision(const std::vector<Volume>& volumes, Vec3f origin, Vec
     // extinctions: each later volume only needs to look before the nearest so far.
     bool found = false;
     for (uint32_t i = 0; i < volumes.size(); ++i) {
-        const float t = freeFlight(volumes[i], origin, direction, tMax, key, seed, counter);
+        const float t = trackVolume(volumes[i], origin, direction, tMax, key, seed, counter, nullptr);
         if (t < tMax) {
             tMax = t, found = true;
             *collision = {t, i};
@@ -262,22 +269,7 @@ float volumeTransmittance(const std::vector<Volume>& volumes, Vec3f origin, Vec3
                           RandomKey key, uint32_t seed, uint32_t* counter) {
     float transmittance = 1.0f;
     for (const Volume& v : volumes) {
-        const CellRay r = cellRay(v, origin, direction);
-        const float scale = v.material.densityScale;
-        uint32_t steps = 0;
-        walkCells(v, r, tMax, [&](uint64_t cell, float t0, float t1) {
-            const float majorant = v.majorant[cell] * scale;
-            if (!(majorant > 0.0f)) return true;
-            float t = t0;
-            for (;;) {
-                t -= std::log(1.0f - randomFloat(key, kDimVolume + (*counter)++, seed)) / majorant;
-                if (!(t < t1)) return true;
-                const float density = relativeDensity(v, (r.origin + r.direction * t) * float(kVolumeBrickSize)) * scale;
-                transmittance *= std::fmax(0.0f, 1.0f - density / majorant);
-                if (++steps > kMaxVolumeSteps) transmittance = 0.0f;
-                if (!(transmittance > 0.0f)) return false;
-            }
-        });
+        trackVolume(v, origin, direction, tMax, key, seed, counter, &transmittance);
         if (!(transmittance > 0.0f)) return 0.0f;
     }
     return transmittance;

@@ -142,14 +142,7 @@ TEST(EnvironmentMapRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
 
     const uint64_t reserved = gpu::environmentBytes(o.environment);
     EXPECT_GE(reserved, o.environment.map->deviceBytes());
-    const uint64_t tight = test::budgetForSlots(path, 2, o.aovs, 0, reserved);
-    ASSERT_GT(tight, 0u);
-    StreamingStats streamedStats;
-    auto streamed = test::renderVulkan(path, o, tight, &streamedStats);
-    ASSERT_TRUE(streamed) << streamed.message();
-    EXPECT_GT(streamedStats.chunkLoads, stats.chunksTotal) << "two slots page chunks in more than once";
-    EXPECT_LE(streamedStats.peakDeviceBytes, tight);
-    EXPECT_EQ(std::memcmp(streamed->rgb.data(), device->rgb.data(), device->rgb.size() * 4), 0);
+    test::expectTwoSlotRenderEquals(path, o, reserved, *device, stats.chunksTotal);
 }
 
 // A map of the analytic sky (core/PathShading.h's skyRadiance, which depends on the height of a

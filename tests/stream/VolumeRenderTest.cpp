@@ -284,14 +284,8 @@ TEST(VolumeRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
     EXPECT_GT(difference, 0.03);
 
     // Out of core (two chunk slots): the same image bit for bit; the volume's bytes are kept.
-    const uint64_t tight = test::budgetForSlots(path, 2, o.aovs, 0, gpu::volumeBytes(PackageReader::open(path).value()->info()));
-    ASSERT_GT(tight, 0u);
-    StreamingStats streamedStats;
-    auto streamed = test::renderVulkan(path, o, tight, &streamedStats);
-    ASSERT_TRUE(streamed) << streamed.message();
-    EXPECT_GT(streamedStats.chunkLoads, stats.chunksTotal) << "two slots page chunks in more than once";
-    EXPECT_LE(streamedStats.peakDeviceBytes, tight);
-    EXPECT_EQ(std::memcmp(streamed->rgb.data(), device->rgb.data(), device->rgb.size() * 4), 0);
+    test::expectTwoSlotRenderEquals(path, o, gpu::volumeBytes(PackageReader::open(path).value()->info()), *device,
+                                    stats.chunksTotal);
 }
 
 // A backend that kept no bytes for the volumes refuses to render them, naming them.
