@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <new>
 #include <string>
 
 #include "package/PackageFormat.h"
@@ -197,13 +198,25 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() 
     for (size_t i = 0; i < info_.volumes.size(); ++i) {
         const PackageVolume& p = info_.volumes[i];
         const std::string name = path_ + ": volume " + std::to_string(i) + " '" + p.volume.name + "': ";
+        // The data and the volume's arrays: twice its size in host memory while it is read.
+        try {
+            data.reserve(p.size);
+            volumes->reserve(info_.volumes.size());
+        } catch (const std::bad_alloc&) {
+            return Status::error(name + "out of host memory for its " + std::to_string(p.size) + " bytes");
+        }
         if (!file_->read(p.offset, p.size, data)) return Status::error(name + "read failed");
         if (const uint64_t computed = checksum64(data.data(), data.size()); computed != p.checksum)
             return checksumMismatch(name + "data", p.checksum, computed);
         Volume& v = volumes->emplace_back(p.volume);
         const uint64_t tableBytes = 4 * v.cellCount();
-        v.brickOf.resize(v.cellCount());
-        v.voxels.resize(uint64_t(p.brickCount) * kVolumeBrickVoxels);
+        try {
+            v.brickOf.resize(v.cellCount());
+            v.voxels.resize(uint64_t(p.brickCount) * kVolumeBrickVoxels);
+            v.majorant.reserve(v.cellCount());
+        } catch (const std::bad_alloc&) {
+            return Status::error(name + "out of host memory for its " + std::to_string(p.size) + " bytes");
+        }
         std::memcpy(v.brickOf.data(), data.data(), tableBytes);
         std::memcpy(v.voxels.data(), data.data() + tableBytes, v.voxels.size() * 4);
         if (const std::string problem = checkVolume(v); !problem.empty()) return Status::error(name + problem);
