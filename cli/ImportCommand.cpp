@@ -31,7 +31,7 @@ struct ImportArgs {
     bool doubleSided = false, singleSided = false;
     std::string progress = "auto";
     // --volume FILE.vdb[:GRID], and each material option once (every volume) or once per volume.
-    std::vector<std::string> volumes, volumeAlbedo;
+    std::vector<std::string> volumes, volumeAlbedo, volumeEmission, volumeEmissionScale;
     std::vector<float> volumeDensity, volumeAnisotropy;
 };
 
@@ -47,20 +47,21 @@ Result<T> perVolume(const std::vector<T>& values, size_t volume, size_t volumes,
     return values[volume];
 }
 
-Result<std::array<float, 3>> parseAlbedo(const std::string& text) {
-    std::array<float, 3> albedo{};
+// R,G,B or one value (grey), each in [0, max].
+Result<std::array<float, 3>> parseColor(const char* flag, const std::string& text, float max, const char* range) {
+    std::array<float, 3> color{};
     const char* at = text.c_str();
-    const std::string expected = "--volume-albedo '" + text + "': expected R,G,B or one value, each in [0, 1]";
+    const std::string expected = std::string(flag) + " '" + text + "': expected R,G,B or one value, each in " + range;
     for (int c = 0; c < 3; ++c) {
         char* end = nullptr;
-        albedo[c] = std::strtof(at, &end);
-        if (end == at || !(albedo[c] >= 0.0f && albedo[c] <= 1.0f)) return Status::error(expected);
+        color[c] = std::strtof(at, &end);
+        if (end == at || !(color[c] >= 0.0f && color[c] <= max)) return Status::error(expected);
         at = end;
-        if (c == 0 && *at == '\0') return std::array<float, 3>{albedo[0], albedo[0], albedo[0]};
+        if (c == 0 && *at == '\0') return std::array<float, 3>{color[0], color[0], color[0]};
         if (c < 2 && *at++ != ',') return Status::error(expected);
     }
     if (*at != '\0') return Status::error(expected);
-    return albedo;
+    return color;
 }
 
 // Reads every --volume with its material (VolumeImport.h); errors name the file and the grid.
@@ -85,9 +86,16 @@ Result<std::vector<Volume>> readVolumes(const ImportArgs& args) {
         VolumeMaterial material;
         auto albedo = perVolume(args.volumeAlbedo, i, count, "--volume-albedo", std::string("0.8"));
         if (!albedo) return albedo.status();
-        auto parsed = parseAlbedo(*albedo);
+        auto parsed = parseColor("--volume-albedo", *albedo, 1.0f, "[0, 1]");
         if (!parsed) return parsed.status();
         material.albedo = *parsed;
+        auto emissionScale = perVolume(args.volumeEmissionScale, i, count, "--volume-emission-scale", std::string("1"));
+        if (!emissionScale) return emissionScale.status();
+        auto emission = parseColor("--volume-emission-scale", *emissionScale, kMaxVolumeDensity, "[0, 1e18]");
+        if (!emission) return emission.status();
+        material.emission = *emission;
+        auto emissionGrid = perVolume(args.volumeEmission, i, count, "--volume-emission", std::string("-"));
+        if (!emissionGrid) return emissionGrid.status();
         auto density = perVolume(args.volumeDensity, i, count, "--volume-density", 1.0f);
         if (!density) return density.status();
         if (!(*density >= 0.0f && *density <= kMaxVolumeDensity))
@@ -98,7 +106,7 @@ Result<std::vector<Volume>> readVolumes(const ImportArgs& args) {
         if (!(*g > -1.0f && *g < 1.0f))
             return Status::error("--volume-anisotropy " + std::to_string(*g) + " is outside (-1, 1)");
         material.anisotropy = *g;
-        auto volume = readVdbVolume(path, grid, material);
+        auto volume = readVdbVolume(path, grid, material, *emissionGrid == "-" ? std::string() : *emissionGrid);
         if (!volume) return volume.status();
         volumes.push_back(std::move(volume).value());
     }
@@ -205,6 +213,13 @@ CommandRun addImportCommand(CLI::App& app) {
                     "extinction per unit of grid density per world unit, [0, 1e18] (default 1); once or per --volume");
     cmd->add_option("--volume-anisotropy", args->volumeAnisotropy,
                     "Henyey-Greenstein g in (-1, 1): 0 isotropic, > 0 forward scattering (default 0); once or per --volume");
+    cmd->add_option("--volume-emission", args->volumeEmission,
+                    "GRID: a float grid of the volume's file (same transform) whose values, times "
+                    "--volume-emission-scale, are the radiance the volume's absorbing part emits; '-': none "
+                    "(default); once or per --volume");
+    cmd->add_option("--volume-emission-scale", args->volumeEmissionScale,
+                    "R,G,B (or one value) in [0, 1e18]: radiance per unit of the emission grid (default 1); once or "
+                    "per --volume");
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")
         ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
         ->capture_default_str();
@@ -220,9 +235,9 @@ CommandRun addImportCommand(CLI::App& app) {
             return 1;
         }
         for (const Volume& v : *volumes)
-            std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels)\n", v.name.c_str(),
+            std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels)%s\n", v.name.c_str(),
                         v.brickCells[0], v.brickCells[1], v.brickCells[2], (unsigned long long)v.brickCount(),
-                        formatBytes(v.voxels.size() * 4).c_str());
+                        formatBytes(v.voxels.size() * 4).c_str(), v.emissionVoxels.empty() ? "" : ", with emission");
         options->volumes = std::move(volumes).value();
         ImportOptions importOptions;
         if (args->doubleSided) importOptions.sidedness = ImportOptions::Sidedness::ForceDoubleSided;

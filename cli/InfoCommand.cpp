@@ -47,6 +47,9 @@ nlohmann::json infoJson(const PackageInfo& info) {
                            {"albedo", {v.material.albedo[0], v.material.albedo[1], v.material.albedo[2]}},
                            {"density_scale", v.material.densityScale},
                            {"anisotropy", v.material.anisotropy},
+                           {"emission", p.hasEmission ? nlohmann::json{v.material.emission[0], v.material.emission[1],
+                                                                        v.material.emission[2]}
+                                                      : nlohmann::json()},
                            {"data_bytes", p.size}});
     }
     nlohmann::json cameras = nlohmann::json::array();
@@ -107,10 +110,13 @@ void printHuman(const std::string& path, const PackageInfo& info) {
         const PackageVolume& p = info.volumes[i];
         const Volume& v = p.volume;
         std::printf("  volume %-13zu '%s': %u x %u x %u brick cells, %u bricks (%s), albedo (%g, %g, %g), density x%g, "
-                    "anisotropy %g\n",
+                    "anisotropy %g",
                     i, v.name.c_str(), v.brickCells[0], v.brickCells[1], v.brickCells[2], p.brickCount,
                     formatBytes(p.size).c_str(), v.material.albedo[0], v.material.albedo[1], v.material.albedo[2],
                     v.material.densityScale, v.material.anisotropy);
+        if (p.hasEmission)
+            std::printf(", emission x(%g, %g, %g)", v.material.emission[0], v.material.emission[1], v.material.emission[2]);
+        std::printf("\n");
     }
     std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",
                 (unsigned long long)info.degenerateDropped, (unsigned long long)info.collapsedDropped);

@@ -21,8 +21,9 @@ Vec3f linearPart(const std::array<float, 12>& m, Vec3f v) {
             m[8] * v.x + m[9] * v.y + m[10] * v.z};
 }
 
-// The voxel at `relative` index coordinates (from the brick grid's origin); 0 outside.
-float relativeVoxel(const Volume& v, int64_t x, int64_t y, int64_t z) {
+// The voxel of `voxels` (the density's, or the emission grid's, in the same bricks) at
+// `relative` index coordinates (from the brick grid's origin); 0 outside.
+float relativeVoxel(const Volume& v, const std::vector<float>& voxels, int64_t x, int64_t y, int64_t z) {
     const int64_t size = kVolumeBrickSize;
     if (x < 0 || y < 0 || z < 0 || x >= size * v.brickCells[0] || y >= size * v.brickCells[1] ||
         z >= size * v.brickCells[2])
@@ -30,11 +31,12 @@ float relativeVoxel(const Volume& v, int64_t x, int64_t y, int64_t z) {
     const uint64_t cell = uint64_t(x / size) + v.brickCells[0] * (uint64_t(y / size) + v.brickCells[1] * uint64_t(z / size));
     const uint32_t brick = v.brickOf[cell];
     if (brick == kNoBrick) return 0.0f;
-    return v.voxels[uint64_t(brick) * kVolumeBrickVoxels + uint64_t(x % size) + size * (uint64_t(y % size) + size * uint64_t(z % size))];
+    return voxels[uint64_t(brick) * kVolumeBrickVoxels + uint64_t(x % size) + size * (uint64_t(y % size) + size * uint64_t(z % size))];
 }
 
-// Trilinear density at relative index coordinates r (in voxels from the grid's origin).
-float relativeDensity(const Volume& v, Vec3f r) {
+// Trilinear interpolation of `voxels` at relative index coordinates r (in voxels from the
+// grid's origin).
+float relativeValue(const Volume& v, const std::vector<float>& voxels, Vec3f r) {
     const float bx = std::floor(r.x), by = std::floor(r.y), bz = std::floor(r.z);
     const float fx = r.x - bx, fy = r.y - by, fz = r.z - bz;
     // Points outside the grid (by more than a voxel) have density 0; the bound keeps the
@@ -42,14 +44,16 @@ float relativeDensity(const Volume& v, Vec3f r) {
     const float limit = float(kVolumeBrickSize) * float(1u << 24);
     if (!(bx >= -1.0f && by >= -1.0f && bz >= -1.0f && bx < limit && by < limit && bz < limit)) return 0.0f;
     const int64_t x = int64_t(bx), y = int64_t(by), z = int64_t(bz);
-    const float c00 = relativeVoxel(v, x, y, z) * (1.0f - fx) + relativeVoxel(v, x + 1, y, z) * fx;
-    const float c10 = relativeVoxel(v, x, y + 1, z) * (1.0f - fx) + relativeVoxel(v, x + 1, y + 1, z) * fx;
-    const float c01 = relativeVoxel(v, x, y, z + 1) * (1.0f - fx) + relativeVoxel(v, x + 1, y, z + 1) * fx;
-    const float c11 = relativeVoxel(v, x, y + 1, z + 1) * (1.0f - fx) + relativeVoxel(v, x + 1, y + 1, z + 1) * fx;
+    const float c00 = relativeVoxel(v, voxels, x, y, z) * (1.0f - fx) + relativeVoxel(v, voxels, x + 1, y, z) * fx;
+    const float c10 = relativeVoxel(v, voxels, x, y + 1, z) * (1.0f - fx) + relativeVoxel(v, voxels, x + 1, y + 1, z) * fx;
+    const float c01 = relativeVoxel(v, voxels, x, y, z + 1) * (1.0f - fx) + relativeVoxel(v, voxels, x + 1, y, z + 1) * fx;
+    const float c11 = relativeVoxel(v, voxels, x, y + 1, z + 1) * (1.0f - fx) + relativeVoxel(v, voxels, x + 1, y + 1, z + 1) * fx;
     const float c0 = c00 * (1.0f - fy) + c10 * fy;
     const float c1 = c01 * (1.0f - fy) + c11 * fy;
     return c0 * (1.0f - fz) + c1 * fz;
 }
+
+float relativeDensity(const Volume& v, Vec3f r) { return relativeValue(v, v.voxels, r); }
 
 // The ray in the brick grid's cell units: cell c covers [c, c + 1) on each axis.
 struct CellRay {
@@ -146,13 +150,21 @@ float trackVolume(const Volume& v, Vec3f origin, Vec3f direction, float tMax, Ra
 }  // namespace
 
 float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k) {
-    return relativeVoxel(volume, int64_t(i) - volume.origin[0], int64_t(j) - volume.origin[1],
+    return relativeVoxel(volume, volume.voxels, int64_t(i) - volume.origin[0], int64_t(j) - volume.origin[1],
                          int64_t(k) - volume.origin[2]);
 }
 
 float volumeDensity(const Volume& volume, Vec3f p) {
     const Vec3f gridOrigin{float(volume.origin[0]), float(volume.origin[1]), float(volume.origin[2])};
     return relativeDensity(volume, p - gridOrigin);
+}
+
+Vec3f volumeEmission(const Volume& volume, Vec3f worldPoint) {
+    if (volume.emissionVoxels.empty()) return {};
+    const Vec3f gridOrigin{float(volume.origin[0]), float(volume.origin[1]), float(volume.origin[2])};
+    const float value = relativeValue(volume, volume.emissionVoxels, affinePoint(volume.worldToIndex, worldPoint) - gridOrigin);
+    const auto& e = volume.material.emission;
+    return Vec3f{e[0], e[1], e[2]} * value;
 }
 
 bool finishVolumeTransform(Volume& v) {
@@ -238,6 +250,13 @@ std::string checkVolume(const Volume& v) {
         if (!(v.voxels[i] >= 0.0f && v.voxels[i] <= kMaxVolumeDensity))
             return "brick " + std::to_string(i / kVolumeBrickVoxels) + " voxel " + std::to_string(i % kVolumeBrickVoxels) +
                    " has density " + std::to_string(v.voxels[i]) + " (not in [0, 1e18])";
+    if (!v.emissionVoxels.empty() && v.emissionVoxels.size() != v.voxels.size())
+        return "the emission grid does not have one voxel per density voxel";
+    for (uint64_t i = 0; i < v.emissionVoxels.size(); ++i)
+        if (!(v.emissionVoxels[i] >= 0.0f && v.emissionVoxels[i] <= kMaxVolumeDensity))
+            return "brick " + std::to_string(i / kVolumeBrickVoxels) + " emission voxel " +
+                   std::to_string(i % kVolumeBrickVoxels) + " has the value " + std::to_string(v.emissionVoxels[i]) +
+                   " (not in [0, 1e18])";
     for (float x : v.indexToWorld)
         if (!std::isfinite(x)) return "the index-to-world map is not finite";
     const VolumeMaterial& m = v.material;
@@ -247,6 +266,8 @@ std::string checkVolume(const Volume& v) {
         return "the density scale " + std::to_string(m.densityScale) + " is not in [0, 1e18]";
     if (!(m.anisotropy > -1.0f && m.anisotropy < 1.0f))
         return "the anisotropy " + std::to_string(m.anisotropy) + " is not in (-1, 1)";
+    for (float e : m.emission)
+        if (!(e >= 0.0f && e <= kMaxVolumeDensity)) return "the emission " + std::to_string(e) + " is not in [0, 1e18]";
     return {};
 }
 

@@ -66,10 +66,15 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
                                                      surface ? hit.t : kInfinity, key, options.seed, &counter,
                                                      &collision)) {
             if (bounce == 0) result.cameraRayHit = true;
-            const VolumeMaterial& m = (*options.volumes)[collision.volume].material;
+            const Volume& volume = (*options.volumes)[collision.volume];
+            const VolumeMaterial& m = volume.material;
             const Vec3f albedo{m.albedo[0], m.albedo[1], m.albedo[2]};
-            if (bounce == options.maxDepth) break;
             const Vec3f position = ray.origin + ray.direction * collision.t;
+            // The absorbed share glows (an emission grid): sigma_a / sigma_t = 1 - albedo.
+            if (!volume.emissionVoxels.empty())
+                result.radiance = result.radiance +
+                                  mul(mul(throughput, Vec3f{1, 1, 1} - albedo), volumeEmission(volume, position));
+            if (bounce == options.maxDepth) break;
             Vec3f light, toLight;
             if (unshadowedMediumLight(options.environment, context.sunDirection, ray.direction, m.anisotropy, key,
                                       options.seed, &light, &toLight))

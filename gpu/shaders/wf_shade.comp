@@ -91,6 +91,8 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
             albedo = vec3(v.albedoR, v.albedoG, v.albedoB);
             g = v.anisotropy;
             if (bounce == 0u) flags |= kPathCameraHit;
+            // The absorbed share glows (an emission grid): sigma_a / sigma_t = 1 - albedo.
+            radiance += (throughput * (vec3(1.0) - albedo)) * volumeEmission(v, origin);
             event = bounce < p.maxDepth;
             if (event) shoots = mediumDirectLight(p, kEnvironmentMap, direction, g, pixel, sampleIndex, bounce, light, toLight);
         } else if (!hitFound) {

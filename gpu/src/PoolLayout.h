@@ -73,20 +73,26 @@ inline EnvironmentLayout environmentLayout(uint64_t width, uint64_t height) {
     e.totalBytes = e.conditional + 4 * height * (width + 1);
     return e;
 }
-// The volumes' buffer: WavefrontVolume per volume, then per volume its brick table, majorants
-// and voxels (16-byte aligned). Volumes are given as (brick cells, stored bricks).
+// The volumes' buffer: WavefrontVolume per volume, then per volume its brick table, majorants,
+// voxels and emission voxels (16-byte aligned; emission 0 when it has no emission grid).
+struct VolumeShape {
+    uint64_t cells = 0, bricks = 0;
+    bool emission = false;
+};
 struct VolumeLayout {
-    std::vector<uint64_t> brickOf, majorant, voxels;
+    std::vector<uint64_t> brickOf, majorant, voxels, emission;
     uint64_t totalBytes = 0;
 };
-inline VolumeLayout volumeLayout(std::span<const std::pair<uint64_t, uint64_t>> volumes) {
+inline VolumeLayout volumeLayout(std::span<const VolumeShape> volumes) {
     auto align = [](uint64_t x) { return (x + 15) / 16 * 16; };
     VolumeLayout l;
     uint64_t at = align(volumes.size() * sizeof(WavefrontVolume));
-    for (const auto& [cells, bricks] : volumes) {
-        l.brickOf.push_back(at), at = align(at + 4 * cells);
-        l.majorant.push_back(at), at = align(at + 4 * cells);
-        l.voxels.push_back(at), at = align(at + 4 * uint64_t(kVolumeBrickVoxels) * bricks);
+    for (const VolumeShape& v : volumes) {
+        const uint64_t voxelBytes = 4 * uint64_t(kVolumeBrickVoxels) * v.bricks;
+        l.brickOf.push_back(at), at = align(at + 4 * v.cells);
+        l.majorant.push_back(at), at = align(at + 4 * v.cells);
+        l.voxels.push_back(at), at = align(at + voxelBytes);
+        l.emission.push_back(v.emission ? at : 0), at = v.emission ? align(at + voxelBytes) : at;
     }
     l.totalBytes = at;
     return l;

@@ -41,7 +41,7 @@ uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory) {
 // The device bytes of the volumes' buffer (VolumeLayout), each volume's shape given by `shape`.
 template <typename Range, typename Shape>
 uint64_t volumeBufferBytes(const Range& volumes, Shape shape) {
-    std::vector<std::pair<uint64_t, uint64_t>> shapes;
+    std::vector<VolumeShape> shapes;
     for (const auto& v : volumes) shapes.push_back(shape(v));
     return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
 }
@@ -249,7 +249,7 @@ private:
 
     static uint64_t volumeBytes(const std::vector<Volume>& volumes) {
         return volumeBufferBytes(volumes, [](const Volume& v) {
-            return std::pair<uint64_t, uint64_t>(v.cellCount(), v.brickCount());
+            return VolumeShape{v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()};
         });
     }
 
@@ -265,8 +265,8 @@ private:
         }
         if (none) return Status::ok();
         VASTRAY_TRY(checkReserve(Environment{}, volumes));
-        std::vector<std::pair<uint64_t, uint64_t>> shapes;
-        for (const Volume& v : *volumes) shapes.emplace_back(v.cellCount(), v.brickCount());
+        std::vector<VolumeShape> shapes;
+        for (const Volume& v : *volumes) shapes.push_back({v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()});
         const VolumeLayout layout = volumeLayout(shapes);
         auto buffer = device_.createBuffer(layout.totalBytes);
         if (!buffer) return buffer.status().withContext("volumes: ");
@@ -284,10 +284,14 @@ private:
             r.cellsX = v.brickCells[0], r.cellsY = v.brickCells[1], r.cellsZ = v.brickCells[2];
             r.albedoR = v.material.albedo[0], r.albedoG = v.material.albedo[1], r.albedoB = v.material.albedo[2];
             r.densityScale = v.material.densityScale, r.anisotropy = v.material.anisotropy;
+            r.emissionVoxels = v.emissionVoxels.empty() ? 0 : base + layout.emission[i];
+            r.emitR = v.material.emission[0], r.emitG = v.material.emission[1], r.emitB = v.material.emission[2];
+            if (!v.emissionVoxels.empty())
+                VASTRAY_TRY(volumeBuffer_.upload(v.emissionVoxels.data(), v.emissionVoxels.size() * 4, layout.emission[i]));
             VASTRAY_TRY(volumeBuffer_.upload(v.brickOf.data(), v.brickOf.size() * 4, layout.brickOf[i]));
             VASTRAY_TRY(volumeBuffer_.upload(v.majorant.data(), v.majorant.size() * 4, layout.majorant[i]));
             VASTRAY_TRY(volumeBuffer_.upload(v.voxels.data(), v.voxels.size() * 4, layout.voxels[i]));
-            stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size() + v.voxels.size()) * 4;
+            stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size() + v.voxels.size() + v.emissionVoxels.size()) * 4;
         }
         VASTRAY_TRY(volumeBuffer_.upload(records.data(), records.size() * sizeof(WavefrontVolume), 0));
         allocated_ += volumeBuffer_.allocatedBytes();
@@ -399,7 +403,7 @@ uint64_t environmentBytes(const Environment& environment) {
 
 uint64_t volumeBytes(const PackageInfo& package) {
     return volumeBufferBytes(package.volumes, [](const PackageVolume& v) {
-        return std::pair<uint64_t, uint64_t>(v.volume.cellCount(), v.brickCount);
+        return VolumeShape{v.volume.cellCount(), v.brickCount, v.hasEmission};
     });
 }
 

@@ -50,12 +50,14 @@ protected:
 
 TEST_F(VolumeCli, ImportInfoAndRenderOnBothBackends) {
     CommandResult i = run("import " + tmp("floor.ply") + " -o " + tmp("fog.vast") + " --chunk-size 64KiB --volume " +
-                          tmp("fog.vdb") + ":density --volume-density 4 --volume-albedo 0.9,0.8,0.7 --volume-anisotropy 0.3");
+                          tmp("fog.vdb") + ":density --volume-density 4 --volume-albedo 0.9,0.8,0.7 --volume-anisotropy 0.3 "
+                          "--volume-emission density --volume-emission-scale 0.5,0.2,0.1");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_NE(i.output.find("read volume 'density'"), std::string::npos) << i.output;
+    EXPECT_NE(i.output.find("with emission"), std::string::npos) << i.output;
     CommandResult info = run("info " + tmp("fog.vast") + " --json");
     ASSERT_EQ(info.exitCode, 0) << info.output;
-    for (const char* key : {"\"volumes\"", "\"name\": \"density\"", "\"anisotropy\"", "\"brick_cells\""})
+    for (const char* key : {"\"volumes\"", "\"name\": \"density\"", "\"anisotropy\"", "\"brick_cells\"", "\"emission\": ["})
         EXPECT_NE(info.output.find(key), std::string::npos) << key << " in " << info.output;
     CommandResult verify = run("info " + tmp("fog.vast") + " --verify");
     EXPECT_EQ(verify.exitCode, 0) << verify.output;
@@ -89,7 +91,9 @@ TEST_F(VolumeCli, BadVolumeOptionsAreNamed) {
              {tmp("fog.vdb") + " --volume-albedo 0.5 --volume-albedo 0.6", "--volume-albedo is given 2 times for 1 volumes"},
              {tmp("fog.vdb") + " --volume-albedo 0.5,2,0.5", "--volume-albedo '0.5,2,0.5'"},
              {tmp("fog.vdb") + " --volume-anisotropy 1", "--volume-anisotropy"},
-             {tmp("fog.vdb") + " --volume-density -1", "--volume-density"}}) {
+             {tmp("fog.vdb") + " --volume-density -1", "--volume-density"},
+             {tmp("fog.vdb") + " --volume-emission heat", "no grid named 'heat'"},
+             {tmp("fog.vdb") + " --volume-emission density --volume-emission-scale -2", "--volume-emission-scale '-2'"}}) {
         CommandResult r = run(base + c.arguments);
         EXPECT_NE(r.exitCode, 0) << c.arguments;
         EXPECT_NE(r.output.find(c.words), std::string::npos) << c.arguments << ": " << r.output;

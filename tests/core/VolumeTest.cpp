@@ -48,6 +48,30 @@ TEST(Volume, TrilinearDensityOverBricks) {
 
 // Transmittance through a homogeneous slab is exp(-sigma * length): ratio tracking's mean, and the
 // share of free flights that pass, over 20,000 paths.
+// An emission grid in the density's bricks: trilinear like the density, times the material's
+// emission, at world points; none without a grid.
+TEST(Volume, EmissionIsTrilinearInTheDensitysBricks) {
+    VolumeMaterial m;
+    m.emission = {2.0f, 1.0f, 0.5f};
+    Volume v = test::makeVolume({0, 0, 0}, {15, 7, 7}, [](int32_t, int32_t, int32_t) { return 1.0f; }, 0.5f, {1, 0, 0}, m);
+    EXPECT_EQ(volumeEmission(v, {3, 1, 1}).x, 0.0f);
+    v.emissionVoxels.assign(v.voxels.size(), 0.0f);
+    for (int32_t i = 0; i <= 15; ++i) {  // the emission grid rises along x: voxel i has i
+        const uint32_t brick = v.brickOf[uint64_t((i - v.origin[0]) / 8) + v.brickCells[0] * (uint64_t(-v.origin[1] / 8) + v.brickCells[1] * uint64_t(-v.origin[2] / 8))];
+        v.emissionVoxels[uint64_t(brick) * kVolumeBrickVoxels + uint64_t(i % 8) + 8 * (2 + 8 * 3)] = float(i);
+    }
+    EXPECT_EQ(checkVolume(v), "");
+    // Index (7.5, 2, 3) is world (1 + 3.75, 1, 1.5): halfway between voxels 7 and 8.
+    const Vec3f e = volumeEmission(v, {4.75f, 1.0f, 1.5f});
+    EXPECT_NEAR(e.x, 2.0f * 7.5f, 1e-4);
+    EXPECT_NEAR(e.y, 1.0f * 7.5f, 1e-4);
+    EXPECT_NEAR(e.z, 0.5f * 7.5f, 1e-4);
+    v.emissionVoxels[5] = std::nanf("");
+    EXPECT_NE(checkVolume(v).find("emission voxel 5"), std::string::npos);
+    v.emissionVoxels.pop_back();
+    EXPECT_NE(checkVolume(v).find("one voxel per density voxel"), std::string::npos);
+}
+
 TEST(Volume, HomogeneousSlabFollowsBeerLambert) {
     const float sigma = 1.5f / 16.0f;  // optical depth 1.5 across the box
     const std::vector<Volume> volumes{box(sigma)};

@@ -192,6 +192,61 @@ TEST(VolumeRender, AbsorbingSlabFollowsBeerLambert) {
     }
 }
 
+// A slab that absorbs and glows (albedo 0, an emission grid of 1 times 2) over a black world,
+// seen from above: each pixel is the integral of sigma(s) Le(s) e^-tau(s) along the ray (below
+// 2 (1 - e^-1): the emission ramps down with the density at the faces), computed by quadrature of the slab's trilinear density and emission; both
+// backends, and the package keeps the emission grid.
+TEST(VolumeRender, GlowingSlabMatchesTheQuadrature) {
+    TriangleMesh mesh;
+    mesh.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
+    mesh.indices = {0, 1, 2};
+    mesh.materials.push_back(Material{"far"});
+    VolumeMaterial glow;
+    glow.albedo = {0, 0, 0};
+    glow.emission = {2, 2, 2};
+    Volume slab = test::makeVolume({0, 0, 0}, {63, 3, 63}, [](int32_t, int32_t, int32_t) { return 1.0f; }, 0.25f,
+                                   {-8, 0, -8}, glow);
+    slab.emissionVoxels = slab.voxels;
+    const Volume reference = slab;
+    const std::string path = writePackage("glowing-slab", std::move(mesh), {std::move(slab)});
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.samplesPerPixel = 128;
+    o.frameScene = false;
+    o.camera.eye = {0.01f, 5, 0.02f};
+    o.camera.target = {0.01f, -5, 0.02f};
+    o.camera.up = {0, 0, 1};
+    o.camera.fovYDegrees = 1.0f;
+    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
+    o.environment.sunIrradiance = {0, 0, 0};
+    o.volumes = volumesOf(path);
+    ASSERT_EQ(o.volumes->at(0).emissionVoxels.size(), reference.voxels.size());
+    EXPECT_EQ(std::memcmp(o.volumes->at(0).emissionVoxels.data(), reference.voxels.data(), reference.voxels.size() * 4), 0);
+    double integral = 0, tau = 0;
+    const int steps = 20000;
+    const double dy = 2.0 / steps;  // from y = 1.5 down to -0.5
+    for (int i = 0; i < steps; ++i) {
+        const Vec3f p{0.01f, float(1.5 - (i + 0.5) * dy), 0.02f};
+        const Vec3f index{(p.x + 8) / 0.25f, p.y / 0.25f, (p.z + 8) / 0.25f};
+        const double sigma = volumeDensity(reference, index);
+        integral += sigma * volumeEmission(reference, p).x * std::exp(-(tau + 0.5 * sigma * dy)) * dy;
+        tau += sigma * dy;
+    }
+    std::printf("quadrature %.5f (2 (1 - e^-tau) = %.5f, tau %.4f)\n", integral, 2 * (1 - std::exp(-tau)), tau);
+    for (const char* backend : {"vulkan", "embree"}) {
+        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
+        ASSERT_TRUE(image) << backend << ": " << image.message();
+        double sum = 0, squares = 0;
+        const size_t pixels = image->alpha.size();
+        for (size_t p = 0; p < pixels; ++p) sum += image->rgb[3 * p], squares += double(image->rgb[3 * p]) * image->rgb[3 * p];
+        const double mean = sum / double(pixels);
+        const double standardError = std::sqrt(std::max(0.0, squares / double(pixels) - mean * mean) / double(pixels));
+        std::printf("%s: mean %.5f, standard error %.5f\n", backend, mean, standardError);
+        EXPECT_LT(standardError, 0.01 * integral);
+        EXPECT_NEAR(mean, integral, 4 * standardError + 1e-3 * integral) << backend;
+    }
+}
+
 // Single scattering of the sun in a homogeneous box, seen along a ray through its middle with
 // the sun across it (one scattering event: --max-depth 1, a black sky): the pixel is
 // E x albedo x phase(90 degrees) x the integral over the ray of sigma(s) e^-tau_camera(s)

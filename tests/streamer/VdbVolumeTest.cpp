@@ -217,6 +217,46 @@ TEST(VdbVolume, StreamWrittenFileIsRead) {
     EXPECT_EQ(r->brickCount(), 1u);
 }
 
+// An emission grid ("temperature") beside the density: its values land in the density's bricks
+// (a value where the density has no brick is dropped, an inactive one counts as 0); another
+// transform, a bad value and a missing grid are refused by name.
+TEST(VdbVolume, EmissionGridLandsInTheDensitysBricks) {
+    FloatGrid::Ptr density = densityGrid();
+    density->denseFill(CoordBBox(Coord(0, 0, 0), Coord(9, 3, 3)), 1.0f, /*active=*/true);
+    density->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    FloatGrid::Ptr temperature = FloatGrid::create(0.0f);
+    temperature->setName("temperature");
+    temperature->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    temperature->tree().setValue(Coord(2, 1, 1), 3.0f);
+    temperature->tree().setValue(Coord(9, 3, 3), 4.0f);
+    temperature->tree().setValue(Coord(100, 0, 0), 5.0f);  // no density brick there: dropped
+    temperature->tree().setValueOff(Coord(3, 1, 1), 7.0f);  // inactive: 0
+    VolumeMaterial material;
+    material.emission = {1.0f, 0.5f, 0.25f};
+    const std::string path = writeVdb("fire.vdb", {density, temperature});
+    auto r = readVdbVolume(path, "density", material, "temperature");
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->emissionVoxels.size(), r->voxels.size());
+    double sum = 0;
+    for (float x : r->emissionVoxels) sum += x;
+    EXPECT_EQ(sum, 7.0);
+    // Voxel (2, 1, 1) is the world point (1, 0.5, 0.5): emission (3, 1.5, 0.75).
+    const Vec3f e = volumeEmission(*r, {1.0f, 0.5f, 0.5f});
+    EXPECT_NEAR(e.x, 3.0f, 1e-5);
+    EXPECT_NEAR(e.y, 1.5f, 1e-5);
+    EXPECT_NEAR(e.z, 0.75f, 1e-5);
+    EXPECT_TRUE(readVdbVolume(path, "density", material)->emissionVoxels.empty());
+
+    temperature->setTransform(openvdb::math::Transform::createLinearTransform(0.25));
+    EXPECT_TRUE(refusedWith(readVdbVolume(writeVdb("moved.vdb", {density, temperature}), "density", material, "temperature"),
+                            {"moved.vdb", "emission grid 'temperature'", "not the density grid 'density'"}));
+    temperature->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    temperature->tree().setValue(Coord(5, 2, 2), -1.0f);
+    EXPECT_TRUE(refusedWith(readVdbVolume(writeVdb("cold.vdb", {density, temperature}), "density", material, "temperature"),
+                            {"cold.vdb", "emission grid 'temperature'", "voxel (5, 2, 2)", "-1"}));
+    EXPECT_TRUE(refusedWith(readVdbVolume(path, "density", material, "heat"), {"fire.vdb", "no grid named 'heat'"}));
+}
+
 TEST(VdbVolume, NonFiniteAndNegativeValuesAreRefusedByIndex) {
     EXPECT_TRUE(refusedWith(read(oneVoxelFile("nan.vdb", Coord(1, 2, 3), std::nanf(""))),
                             {"nan.vdb: grid 'density': voxel (1, 2, 3) has density nan"}));

@@ -25,29 +25,42 @@ float nextVolumeRandom(inout VolumeRandom r) {
 
 uvec3 volumeCells(WavefrontVolume v) { return uvec3(v.cellsX, v.cellsY, v.cellsZ); }
 
-// relativeVoxel: the voxel at index coordinates from the brick grid's origin; 0 outside.
-float relativeVoxel(WavefrontVolume v, ivec3 r) {
+// relativeVoxel: the voxel of `voxels` (the density's or the emission grid's) at index
+// coordinates from the brick grid's origin; 0 outside.
+float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
     const uvec3 cells = volumeCells(v);
     if (any(lessThan(r, ivec3(0))) || any(greaterThanEqual(uvec3(r), cells * kVolumeBrickSize))) return 0.0;
     const uvec3 c = uvec3(r) / kVolumeBrickSize, o = uvec3(r) % kVolumeBrickSize;
     const uint brick = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
     if (brick == kNoBrick) return 0.0;
-    return VolumeFloats(v.voxels).v[brick * 512u + o.x + kVolumeBrickSize * (o.y + kVolumeBrickSize * o.z)];
+    return VolumeFloats(voxels).v[brick * 512u + o.x + kVolumeBrickSize * (o.y + kVolumeBrickSize * o.z)];
 }
 
-// relativeDensity: trilinear, the same order of operations.
-float relativeDensity(WavefrontVolume v, vec3 r) {
+// relativeValue: trilinear, the same order of operations.
+float relativeValue(WavefrontVolume v, uint64_t voxels, vec3 r) {
     const vec3 b = floor(r), f = r - b;
     const float limit = float(kVolumeBrickSize) * 16777216.0;
     if (!(all(greaterThanEqual(b, vec3(-1.0))) && all(lessThan(b, vec3(limit))))) return 0.0;
     const ivec3 i = ivec3(b);
-    const float c00 = relativeVoxel(v, i) * (1.0 - f.x) + relativeVoxel(v, i + ivec3(1, 0, 0)) * f.x;
-    const float c10 = relativeVoxel(v, i + ivec3(0, 1, 0)) * (1.0 - f.x) + relativeVoxel(v, i + ivec3(1, 1, 0)) * f.x;
-    const float c01 = relativeVoxel(v, i + ivec3(0, 0, 1)) * (1.0 - f.x) + relativeVoxel(v, i + ivec3(1, 0, 1)) * f.x;
-    const float c11 = relativeVoxel(v, i + ivec3(0, 1, 1)) * (1.0 - f.x) + relativeVoxel(v, i + ivec3(1, 1, 1)) * f.x;
+    const float c00 = relativeVoxel(v, voxels, i) * (1.0 - f.x) + relativeVoxel(v, voxels, i + ivec3(1, 0, 0)) * f.x;
+    const float c10 = relativeVoxel(v, voxels, i + ivec3(0, 1, 0)) * (1.0 - f.x) + relativeVoxel(v, voxels, i + ivec3(1, 1, 0)) * f.x;
+    const float c01 = relativeVoxel(v, voxels, i + ivec3(0, 0, 1)) * (1.0 - f.x) + relativeVoxel(v, voxels, i + ivec3(1, 0, 1)) * f.x;
+    const float c11 = relativeVoxel(v, voxels, i + ivec3(0, 1, 1)) * (1.0 - f.x) + relativeVoxel(v, voxels, i + ivec3(1, 1, 1)) * f.x;
     const float c0 = c00 * (1.0 - f.y) + c10 * f.y;
     const float c1 = c01 * (1.0 - f.y) + c11 * f.y;
     return c0 * (1.0 - f.z) + c1 * f.z;
+}
+
+float relativeDensity(WavefrontVolume v, vec3 r) { return relativeValue(v, v.voxels, r); }
+
+// volumeEmission: the emitted radiance at a world point (an emission grid; else 0).
+vec3 volumeEmission(WavefrontVolume v, vec3 p) {
+    if (v.emissionVoxels == 0ul) return vec3(0.0);
+    const float w[12] = v.worldToIndex;
+    const vec3 i = vec3(w[0] * p.x + w[1] * p.y + w[2] * p.z + w[3], w[4] * p.x + w[5] * p.y + w[6] * p.z + w[7],
+                        w[8] * p.x + w[9] * p.y + w[10] * p.z + w[11]);
+    const float value = relativeValue(v, v.emissionVoxels, i - vec3(float(v.originX), float(v.originY), float(v.originZ)));
+    return vec3(v.emitR, v.emitG, v.emitB) * value;
 }
 
 // Tracks one volume along the world ray within [0, tMax): with `ratio` false, delta tracking;

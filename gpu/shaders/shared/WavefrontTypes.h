@@ -55,19 +55,21 @@ struct WavefrontMaterial {
 };
 
 // A density volume as the shading kernel reads it (core/Volume.h): its brick table (uint per
-// cell), majorants (float per cell) and voxels (kVolumeBrickVoxels floats per brick), its map
-// from world to index space (row-major 3 x 4), brick grid and material.
+// cell), majorants (float per cell), voxels (kVolumeBrickVoxels floats per brick) and emission
+// grid's voxels in the same bricks (0: none), its map from world to index space (row-major
+// 3 x 4), brick grid and material.
 struct WavefrontVolume {
     uint64_t brickOf;
     uint64_t majorant;
     uint64_t voxels;
+    uint64_t emissionVoxels;
     float worldToIndex[12];
     int originX, originY, originZ;
     uint cellsX, cellsY, cellsZ;
     float albedoR, albedoG, albedoB;
     float densityScale;
     float anisotropy;
-    uint padding;
+    float emitR, emitG, emitB;
 };
 
 // Everything a render's kernels read, written by the host once per render. Addresses are
@@ -174,7 +176,7 @@ struct WavefrontPush {
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
 static_assert(offsetof(WavefrontParams, eyeX) == 33 * 8 && sizeof(WavefrontParams) % 8 == 0);
-static_assert(sizeof(WavefrontVolume) == 3 * 8 + 12 * 4 + 6 * 4 + 6 * 4);
+static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu
 #endif

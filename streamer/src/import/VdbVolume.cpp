@@ -377,8 +377,43 @@ Result<Volume> volumeOf(const std::string& where, const FloatGrid& grid, const V
     return volume;
 }
 
+// The emission grid's voxels in the density's bricks (its inactive values count as 0): the same
+// transform as the density's, values finite and in [0, kMaxVolumeDensity].
+Status readEmission(const std::string& where, const FloatGrid& grid, const std::string& densityName, Volume& volume) {
+    Volume placed;
+    VASTRAY_TRY(setTransform(where, grid.transform(), placed));
+    if (placed.indexToWorld != volume.indexToWorld)
+        return Status::error(where + "its transform is not the density grid " + quoted(densityName) +
+                             "'s; an emission grid must share the density's voxels");
+    volume.emissionVoxels.assign(volume.voxels.size(), 0.0f);
+    FloatGrid::ConstAccessor access = grid.getConstAccessor();
+    const int32_t size = int32_t(kVolumeBrickSize);
+    for (uint32_t z = 0; z < volume.brickCells[2]; ++z)
+        for (uint32_t y = 0; y < volume.brickCells[1]; ++y)
+            for (uint32_t x = 0; x < volume.brickCells[0]; ++x) {
+                const uint32_t brick = volume.brickOf[x + volume.brickCells[0] * (y + uint64_t(volume.brickCells[1]) * z)];
+                if (brick == kNoBrick) continue;
+                float* voxels = &volume.emissionVoxels[uint64_t(brick) * kVolumeBrickVoxels];
+                const Coord first(volume.origin[0] + size * int32_t(x), volume.origin[1] + size * int32_t(y),
+                                  volume.origin[2] + size * int32_t(z));
+                for (int32_t k = 0; k < size; ++k)
+                    for (int32_t j = 0; j < size; ++j)
+                        for (int32_t i = 0; i < size; ++i) {
+                            const Coord c = first.offsetBy(i, j, k);
+                            float value = 0.0f;
+                            if (!access.probeValue(c, value)) continue;
+                            if (!isDensity(value))
+                                return Status::error(where + "voxel " + coordText(c) + " has the value " +
+                                                     numberText(value) + "; emission values are finite and in [0, " +
+                                                     numberText(kMaxVolumeDensity) + "]");
+                            voxels[i + size * (j + size * k)] = value;
+                        }
+            }
+    return Status::ok();
+}
+
 Result<Volume> readVolume(const std::string& path, const std::string& fileName, uint64_t fileSize,
-                          const std::string& gridName, const VolumeMaterial& material) {
+                          const std::string& gridName, const VolumeMaterial& material, const std::string& emissionName) {
     VdbArchive archive(path, fileSize);
     std::vector<VdbEntry> entries;
     VASTRAY_TRY(archive.scan(fileName, entries));
@@ -389,20 +424,31 @@ Result<Volume> readVolume(const std::string& path, const std::string& fileName, 
     const std::string name = (*entry)->name();
     auto volume = volumeOf(fileName + ": grid " + quoted(name) + ": ",
                            *openvdb::gridPtrCast<FloatGrid>(*grid), material);
-    if (volume) volume->name = validUtf8(name);
+    if (!volume) return volume;
+    volume->name = validUtf8(name);
+    if (!emissionName.empty()) {
+        auto emissionEntry = selectGrid(fileName, entries, emissionName);
+        if (!emissionEntry) return emissionEntry.status();
+        auto emission = archive.read(fileName, entries, **emissionEntry);
+        if (!emission) return emission.status();
+        VASTRAY_TRY(readEmission(fileName + ": emission grid " + quoted((*emissionEntry)->name()) + ": ",
+                                 *openvdb::gridPtrCast<FloatGrid>(*emission), name, *volume));
+        if (const std::string problem = checkVolume(*volume); !problem.empty())
+            return errorIn(fileName, "the volume read is not sound: " + problem);
+    }
     return volume;
 }
 
 }  // namespace
 
 Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
-                             const VolumeMaterial& material) {
+                             const VolumeMaterial& material, const std::string& emissionGrid) {
     const std::string fileName = import::fileNameOf(path);
     auto size = checkedFileSize(path, fileName);
     if (!size) return size.status();
     try {
         initializeOpenVdb();
-        return readVolume(path, fileName, *size, gridName, material);
+        return readVolume(path, fileName, *size, gridName, material, emissionGrid);
     } catch (const std::ios_base::failure&) {
         return errorIn(fileName, "ends before the data it describes (truncated or corrupt OpenVDB file)");
     } catch (const std::bad_alloc&) {

@@ -225,8 +225,9 @@ std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& vo
         out.put(v.material.albedo);
         out.put(v.material.densityScale);
         out.put(v.material.anisotropy);
-        out.put(uint32_t(0));
+        out.put(uint32_t(p.hasEmission ? 1 : 0));
         out.put(p.offset), out.put(p.size), out.put(p.checksum);
+        out.put(v.material.emission);
         out.padTo(start + format::kVolumeRecordBytes);
     }
     return std::move(out.bytes());
@@ -239,7 +240,7 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
         ByteReader in(bytes.data() + uint64_t(i) * format::kVolumeRecordBytes, format::kVolumeRecordBytes);
         PackageVolume& p = volumes[i];
         Volume& v = p.volume;
-        uint32_t reserved = 0;
+        uint32_t flags = 0;
         in.getFixedString(v.name, format::kVolumeNameBytes);
         v.name = validUtf8(v.name);
         in.get(v.indexToWorld);
@@ -249,11 +250,13 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
         in.get(v.material.albedo);
         in.get(v.material.densityScale);
         in.get(v.material.anisotropy);
-        in.get(reserved);
+        in.get(flags);
         in.get(p.offset), in.get(p.size), in.get(p.checksum);
+        in.get(v.material.emission);
         const std::string name = "volume " + std::to_string(i) + " '" + v.name + "': ";
         if (!in.ok()) return Status::error(name + "truncated record");
-        if (reserved != 0) return Status::error(name + "reserved field is not 0");
+        if (flags > 1) return Status::error(name + "unknown flags " + std::to_string(flags));
+        p.hasEmission = flags == 1;
         if (p.brickCount > kMaxVolumeBricks)
             return Status::error(name + std::to_string(p.brickCount) + " bricks exceed the limit of " +
                                  std::to_string(kMaxVolumeBricks));
@@ -267,7 +270,7 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
                                  " cells exceeds the limit of " + std::to_string(kMaxVolumeBrickCells));
         shape.brickOf.assign(shape.cellCount(), kNoBrick);
         if (const std::string problem = checkVolume(shape); !problem.empty()) return Status::error(name + problem);
-        if (p.size != 4 * v.cellCount() + uint64_t(p.brickCount) * kVolumeBrickVoxels * 4)
+        if (p.size != 4 * v.cellCount() + uint64_t(p.brickCount) * kVolumeBrickVoxels * 4 * (p.hasEmission ? 2 : 1))
             return Status::error(name + "data of " + std::to_string(p.size) + " bytes does not match its " +
                                  std::to_string(v.cellCount()) + " cells and " + std::to_string(p.brickCount) + " bricks");
         if (!finishVolumeTransform(v)) return Status::error(name + "the index-to-world map is not invertible");

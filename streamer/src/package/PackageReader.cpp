@@ -213,12 +213,14 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() 
         try {
             v.brickOf.resize(v.cellCount());
             v.voxels.resize(uint64_t(p.brickCount) * kVolumeBrickVoxels);
+            v.emissionVoxels.resize(p.hasEmission ? v.voxels.size() : 0);
             v.majorant.reserve(v.cellCount());
         } catch (const std::bad_alloc&) {
             return Status::error(name + "out of host memory for its " + std::to_string(p.size) + " bytes");
         }
         std::memcpy(v.brickOf.data(), data.data(), tableBytes);
         std::memcpy(v.voxels.data(), data.data() + tableBytes, v.voxels.size() * 4);
+        std::memcpy(v.emissionVoxels.data(), data.data() + tableBytes + v.voxels.size() * 4, v.emissionVoxels.size() * 4);
         if (const std::string problem = checkVolume(v); !problem.empty()) return Status::error(name + problem);
         computeVolumeMajorants(v);
     }

@@ -74,10 +74,14 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     std::vector<std::vector<uint8_t>> volumeData;
     for (PackageVolume& p : info.volumes) {
         const Volume& v = p.volume;
-        std::vector<uint8_t>& data = volumeData.emplace_back(v.brickOf.size() * 4 + v.voxels.size() * 4);
+        std::vector<uint8_t>& data =
+            volumeData.emplace_back((v.brickOf.size() + v.voxels.size() + v.emissionVoxels.size()) * 4);
         std::memcpy(data.data(), v.brickOf.data(), v.brickOf.size() * 4);
         std::memcpy(data.data() + v.brickOf.size() * 4, v.voxels.data(), v.voxels.size() * 4);
+        std::memcpy(data.data() + (v.brickOf.size() + v.voxels.size()) * 4, v.emissionVoxels.data(),
+                    v.emissionVoxels.size() * 4);
         p.brickCount = uint32_t(v.brickCount());
+        p.hasEmission = !v.emissionVoxels.empty();
         p.offset = offset, p.size = data.size(), p.checksum = checksum64(data.data(), data.size());
         offset += data.size();
     }

@@ -29,11 +29,13 @@ constexpr float kMaxVolumeDensity = 1e18f;                     // voxel values a
 
 // How a volume scatters: extinction = densityScale * density; of what is extinguished, the
 // fraction `albedo` (per channel) scatters with the Henyey-Greenstein phase function of
-// `anisotropy` g (0: isotropic; > 0 forward), the rest is absorbed.
+// `anisotropy` g (0: isotropic; > 0 forward), the rest is absorbed. With an emission grid, the
+// absorbing part glows: emitted radiance = emission (per channel) * the emission grid's value.
 struct VolumeMaterial {
     std::array<float, 3> albedo{0.8f, 0.8f, 0.8f};  // each in [0, 1]
     float densityScale = 1.0f;                       // finite, >= 0
     float anisotropy = 0.0f;                         // in (-1, 1)
+    std::array<float, 3> emission{1.0f, 1.0f, 1.0f};  // each in [0, 1e18]; used with an emission grid
 };
 
 struct Volume {
@@ -55,6 +57,9 @@ struct Volume {
     std::vector<float> majorant;
     // kVolumeBrickVoxels per stored brick, x fastest then y then z.
     std::vector<float> voxels;
+    // An emission grid's voxels in the same bricks (its values where the density has no brick
+    // are dropped: nothing absorbs there, so nothing glows), or empty: no emission.
+    std::vector<float> emissionVoxels;
     VolumeMaterial material;
     Aabb worldBounds;  // the brick grid's box mapped to the world
 
@@ -66,6 +71,9 @@ struct Volume {
 float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k);
 // Trilinear density (unscaled) at an index-space point.
 float volumeDensity(const Volume& volume, Vec3f indexPoint);
+// The radiance the volume emits at a world point: material.emission times the emission grid's
+// trilinear value; 0 without an emission grid.
+Vec3f volumeEmission(const Volume& volume, Vec3f worldPoint);
 
 // The world box of the brick grid under indexToWorld, and worldToIndex from indexToWorld.
 // Returns false when the map is not invertible (or not finite).

@@ -61,12 +61,13 @@ struct ChunkInfo {
 struct PackageVolume {
     Volume volume;
     uint32_t brickCount = 0;
+    bool hasEmission = false;  // its data carries an emission grid's voxels
     uint64_t offset = 0, size = 0, checksum = 0;  // of its data (brick table, voxels) in the file
 
     // What a render keeps of it in device memory: brick table and majorants (4 bytes each per
-    // cell) and the voxels.
+    // cell) and the voxels (twice with an emission grid).
     uint64_t deviceBytes() const {
-        return 8 * volume.cellCount() + uint64_t(brickCount) * kVolumeBrickVoxels * 4;
+        return 8 * volume.cellCount() + uint64_t(brickCount) * kVolumeBrickVoxels * 4 * (hasEmission ? 2 : 1);
     }
 };
 

@@ -23,7 +23,10 @@ constexpr int64_t kMaxVdbIndex = int64_t(1) << 24;
 // grid). Active voxels and active tiles are read, inactive values count as 0; the grid must be
 // a fog volume (background 0) with values in [0, kMaxVolumeDensity] and a linear (affine)
 // transform. Volume::name is the grid's name; `material` is stored as given (checked).
+// `emissionGrid` (empty: none) names a float grid of the same file with the density's transform
+// whose values, times material.emission, are the radiance the volume emits (Volume::
+// emissionVoxels: read in the density's bricks only).
 Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
-                             const VolumeMaterial& material);
+                             const VolumeMaterial& material, const std::string& emissionGrid = {});
 
 }  // namespace vastray
