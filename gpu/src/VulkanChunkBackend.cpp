@@ -290,7 +290,8 @@ private:
                 VASTRAY_TRY(volumeBuffer_.upload(v.emissionVoxels.data(), v.emissionVoxels.size() * 4, layout.emission[i]));
             VASTRAY_TRY(volumeBuffer_.upload(v.brickOf.data(), v.brickOf.size() * 4, layout.brickOf[i]));
             VASTRAY_TRY(volumeBuffer_.upload(v.majorant.data(), v.majorant.size() * 4, layout.majorant[i]));
-            VASTRAY_TRY(volumeBuffer_.upload(v.voxels.data(), v.voxels.size() * 4, layout.voxels[i]));
+            if (!v.voxels.empty())  // a grid whose active values are all 0 has no bricks
+                VASTRAY_TRY(volumeBuffer_.upload(v.voxels.data(), v.voxels.size() * 4, layout.voxels[i]));
             stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size() + v.voxels.size() + v.emissionVoxels.size()) * 4;
         }
         VASTRAY_TRY(volumeBuffer_.upload(records.data(), records.size() * sizeof(WavefrontVolume), 0));

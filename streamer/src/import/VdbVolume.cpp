@@ -386,7 +386,9 @@ Status readEmission(const std::string& where, const FloatGrid& grid, const std::
         return Status::error(where + "its transform is not the density grid " + quoted(densityName) +
                              "'s; an emission grid must share the density's voxels");
     volume.emissionVoxels.assign(volume.voxels.size(), 0.0f);
-    FloatGrid::ConstAccessor access = grid.getConstAccessor();
+    // Unregistered: a registered accessor enters the tree's TBB hash map, whose header UBSan
+    // reports (a misaligned downcast inside TBB); the grid is not written while it is read.
+    FloatGrid::ConstUnsafeAccessor access = grid.getConstUnsafeAccessor();
     const int32_t size = int32_t(kVolumeBrickSize);
     for (uint32_t z = 0; z < volume.brickCells[2]; ++z)
         for (uint32_t y = 0; y < volume.brickCells[1]; ++y)

@@ -219,8 +219,10 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() 
             return Status::error(name + "out of host memory for its " + std::to_string(p.size) + " bytes");
         }
         std::memcpy(v.brickOf.data(), data.data(), tableBytes);
-        std::memcpy(v.voxels.data(), data.data() + tableBytes, v.voxels.size() * 4);
-        std::memcpy(v.emissionVoxels.data(), data.data() + tableBytes + v.voxels.size() * 4, v.emissionVoxels.size() * 4);
+        if (!v.voxels.empty()) std::memcpy(v.voxels.data(), data.data() + tableBytes, v.voxels.size() * 4);
+        if (!v.emissionVoxels.empty())  // (memcpy of an empty vector's null data is undefined)
+            std::memcpy(v.emissionVoxels.data(), data.data() + tableBytes + v.voxels.size() * 4,
+                        v.emissionVoxels.size() * 4);
         if (const std::string problem = checkVolume(v); !problem.empty()) return Status::error(name + problem);
         computeVolumeMajorants(v);
     }

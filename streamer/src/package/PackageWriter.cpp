@@ -77,9 +77,10 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
         std::vector<uint8_t>& data =
             volumeData.emplace_back((v.brickOf.size() + v.voxels.size() + v.emissionVoxels.size()) * 4);
         std::memcpy(data.data(), v.brickOf.data(), v.brickOf.size() * 4);
-        std::memcpy(data.data() + v.brickOf.size() * 4, v.voxels.data(), v.voxels.size() * 4);
-        std::memcpy(data.data() + (v.brickOf.size() + v.voxels.size()) * 4, v.emissionVoxels.data(),
-                    v.emissionVoxels.size() * 4);
+        if (!v.voxels.empty()) std::memcpy(data.data() + v.brickOf.size() * 4, v.voxels.data(), v.voxels.size() * 4);
+        if (!v.emissionVoxels.empty())  // (memcpy of an empty vector's null data is undefined)
+            std::memcpy(data.data() + (v.brickOf.size() + v.voxels.size()) * 4, v.emissionVoxels.data(),
+                        v.emissionVoxels.size() * 4);
         p.brickCount = uint32_t(v.brickCount());
         p.hasEmission = !v.emissionVoxels.empty();
         p.offset = offset, p.size = data.size(), p.checksum = checksum64(data.data(), data.size());
