@@ -5,7 +5,9 @@
 # triangle far out of view (a package needs a mesh), lit by a constant environment of 1 and no
 # sun (Mitsuba: a `constant` emitter), so that the two images' means compare the light transport.
 # Each vastray render runs three times (the first builds its pipelines); the figures are
-# `render_seconds` of --stats-json.
+# `render_seconds` of --stats-json. Then twice out of core: --memory-budget at half the volume's
+# device bytes, so that the volume's half of it (a pool of brick slots) holds a quarter of the
+# bricks (docs/RENDERING.md, "Volumes out of core"); its image must equal the in-core one.
 #
 #   usage (on the device machine, vastray and volume_cloud on PATH, Mitsuba on PYTHONPATH):
 #     bench/volume_vs_mitsuba.sh MITSUBA_VOLUME.py OUT_DIR
@@ -39,6 +41,22 @@ for round in 1 2 3; do
   echo "vastray r$round: render_seconds $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["render_seconds"])' "$out/vastray.json")"
 done
 echo "vastray mean_rgb $(meanOf "$out/vastray.pfm")"
+volumeBytes=$(vastray info "$out/cloud.vast" --json | python3 -c 'import json,sys; print(sum(v["device_bytes"] for v in json.load(sys.stdin)["volumes"]))')
+budget=$((volumeBytes / 2 / 1024))KiB
+for round in 1 2; do
+  vastray render "$out/cloud.vast" -o "$out/vastray-ooc.pfm" --resolution "$resolution" --eye "$eye" --target "$target" \
+    --fov "$fov" --spp "$spp" --max-depth "$depth" --environment "$out/const.pfm" --progress none --memory-budget "$budget" \
+    --stats-json "$out/vastray-ooc.json" > "$out/render-ooc.log" 2>&1 || { echo "render failed: $(tail -2 "$out/render-ooc.log")"; exit 1; }
+  python3 - "$out/vastray-ooc.json" "$budget" "$volumeBytes" "$round" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print(f"vastray out of core r{sys.argv[4]} (--memory-budget {sys.argv[2]}, volume {int(sys.argv[3]) / 2**20:.1f} MiB): "
+      f"render_seconds {s['render_seconds']}, volume_brick_slots {s['volume_brick_slots']}, "
+      f"volume_brick_loads {s['volume_brick_loads']}, submits {s['submits']}, peak_device_bytes {s['peak_device_bytes']}")
+PY
+done
+cmp -s "$out/vastray.pfm" "$out/vastray-ooc.pfm" && echo "out-of-core image equals the in-core one bit for bit" \
+  || echo "out-of-core image DIFFERS from the in-core one"
 timeout 400 python3 "$mitsuba" "$out/cloud.vol" "$n" "$w" "$h" "$spp" "$depth" "$eye" "$target" "$fov" "$density" \
   "$albedo" "$g" 2>&1 | tail -1
 rm -f "$out/cloud.vdb" "$out/cloud.vol" "$out/cloud.vast"

@@ -43,6 +43,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
         volumes.push_back({{"name", v.name},
                            {"brick_cells", {v.brickCells[0], v.brickCells[1], v.brickCells[2]}},
                            {"bricks", p.brickCount},
+                           {"device_bytes", p.deviceBytes()},
                            {"bounds", boundsJson(v.worldBounds)},
                            {"albedo", {v.material.albedo[0], v.material.albedo[1], v.material.albedo[2]}},
                            {"density_scale", v.material.densityScale},

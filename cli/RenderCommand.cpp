@@ -375,6 +375,9 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
     std::printf("  device               %llu submits, %llu walk passes, %s up, %s down (besides chunks)\n",
                 (unsigned long long)st->submits, (unsigned long long)st->walkPasses,
                 formatBytes(st->hostToDeviceBytes).c_str(), formatBytes(st->deviceToHostBytes).c_str());
+    if (st->volumeBrickSlots > 0)
+        std::printf("  volume bricks        %llu slots, %llu loads\n", (unsigned long long)st->volumeBrickSlots,
+                    (unsigned long long)st->volumeBrickLoads);
 }
 
 Status writeStatsJson(const std::string& path, const RenderStats& s, const StreamingStats* st) {
@@ -401,6 +404,8 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["walked_rays"] = st->walkedRays;
         j["submits"] = st->submits;
         j["walk_passes"] = st->walkPasses;
+        j["volume_brick_slots"] = st->volumeBrickSlots;
+        j["volume_brick_loads"] = st->volumeBrickLoads;
         j["host_to_device_bytes"] = st->hostToDeviceBytes;
         j["device_to_host_bytes"] = st->deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k)
@@ -474,7 +479,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
         if (!device) device.emplace(starting.get());
         if (!*device) return device->status();
         return gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
-                                             gpu::environmentBytes(options.environment) + gpu::volumeBytes(info));
+                                             gpu::environmentBytes(options.environment) + gpu::volumeReserveBytes(info, budget));
     };
     return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
 }
@@ -556,7 +561,8 @@ CommandRun addRenderCommand(CLI::App& app) {
                     "embree (CPU reference, whole scene in core)")
         ->capture_default_str();
     cmd->add_option("--memory-budget", args->memoryBudget,
-                    "vulkan: device memory for chunk slots, the path state of a wave and tables, all of it (KiB/MiB/GiB)")
+                    "vulkan: device memory for chunk slots, the path state of a wave, tables and volumes, all of it (KiB/MiB/GiB); "
+                    "volumes bigger than half of it page their bricks through a pool of that half")
         ->capture_default_str();
     cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (KiB/MiB/GiB; 0 = none; auto = the whole decoded scene, up to a quarter of this machine's memory)")
         ->capture_default_str();

@@ -53,7 +53,7 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
         **reader, options, streaming,
         [&](const PackageInfo& info, const ChunkAttributes& a) {
             return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget, gpu::kWaveShareOutOfCore,
-                                                 upload, gpu::environmentBytes(options.environment) + gpu::volumeBytes(info));
+                                                 upload, gpu::environmentBytes(options.environment) + gpu::volumeReserveBytes(info, budget));
         },
         nullptr, &s);
 }

@@ -5,7 +5,9 @@
 // the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. With
 // volumes, free flight along the ray first: a real collision before the hit scatters there
 // instead (next-event estimation through the volumes, the phase function's bounce). New rays
-// are queued on pc.queue for walking.
+// are queued on pc.queue for walking. A path whose volume tracking read a brick that was not
+// resident (paged volumes) writes nothing: it joins kVolumeWaitQueue and shades again, from the
+// same state, once its bricks are resident.
 // Each path carries its own bounce, so paths of one wave may be at different bounces.
 #version 460
 #extension GL_EXT_buffer_reference : require
@@ -46,22 +48,24 @@ bool surviveRoulette(inout vec3 throughput, uint pixel, uint sampleIndex, uint b
 }
 
 // Shades path j; count, first and second: the rays it started (at most two), to be queued.
-void shade(uint j, inout uint count, inout uint first, inout uint second) {
+// Returns false when it must wait for volume bricks (it wrote nothing then).
+bool shade(uint j, inout uint count, inout uint first, inout uint second) {
     const WavefrontParams p = ParamsRef(pc.params).p;
     uvec4 info = UVec4Array(p.pathInfo).v[j];
     uint flags = info.z;
-    if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return;
+    if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return true;
     const bool ao = kAmbientOcclusion;
     const uint shadow = shadowRayIndex(p, j);
+    volumePath = j;
     vec3 radiance = Vec4Array(p.radiance).v[j].xyz;
-    if ((flags & kPathShadowPending) != 0u) {
+    const bool shadowDone = (flags & kPathShadowPending) != 0u;  // its walk state is cleared at the end
+    if (shadowDone) {
         const bool blocked = (UVec2Array(p.rayState).v[shadow].x & kHitFound) != 0u;
         if (ao)
             radiance = blocked ? vec3(0.0) : vec3(1.0);
         else if (!blocked)
             radiance += Vec4Array(p.pendingSun).v[j].xyz;
         flags &= ~kPathShadowPending;
-        UVec2Array(p.rayState).v[shadow] = uvec2(0u);
     }
     if ((flags & kPathAlive) != 0u) {
         flags &= ~kPathAlive;
@@ -129,10 +133,12 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
                     shoots = unshadowedSunLight(p, n, ns, albedo, light);
             }
         }
+        if (kVolumes && volumeMissed) return false;
         if (event) {
             // A volume's light arrives through the volumes; the surface's light has its albedo.
             if (kVolumes && shoots) {
                 light *= volumeTransmittance(p, origin, toLight, kInfinity, rnd);
+                if (volumeMissed) return false;
                 shoots = maxComponent(light) > 0.0;
             }
             if (shoots) {
@@ -164,15 +170,22 @@ void shade(uint j, inout uint count, inout uint first, inout uint second) {
             }
         }
     }
+    if (shadowDone && (flags & kPathShadowPending) == 0u) UVec2Array(p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);
     info.z = flags;
     UVec4Array(p.pathInfo).v[j] = info;
+    return true;
 }
 
 void main() {
     const uint k = gl_GlobalInvocationID.x;
     ParamsRef params = ParamsRef(pc.params);
-    uint count = 0u, first = 0u, second = 0u;
-    if (k < queueCount(params, kShadeQueue)) shade(queueOf(params, kShadeQueue).v[k], count, first, second);
+    uint count = 0u, first = 0u, second = 0u, path = 0u;
+    bool waits = false;
+    if (k < queueCount(params, kShadeQueue)) {
+        path = queueOf(params, kShadeQueue).v[k];
+        waits = !shade(path, count, first, second);
+    }
     appendToQueue(params, pc.queue, true, count, first, second);
+    if (kVolumes) appendToQueue(params, kVolumeWaitQueue, false, waits ? 1u : 0u, path, 0u);
 }

@@ -2,6 +2,7 @@
 // Where the Vulkan backend's small tables lie in its one table buffer: the slot table, the
 // package's top-level tree, per chunk its slot, touched flag, demand and look-ahead counters, the
 // wavefront's parameters and the material table (byte offsets, 16-byte aligned).
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -12,6 +13,13 @@
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray::gpu {
+
+// Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
+// granularity keeps the allocated total under the budget.
+constexpr uint64_t kAllocationGranule = 64 * 1024;
+inline uint64_t granules(uint64_t bytes) {
+    return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule;
+}
 
 struct TableLayout {
     uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, queueArgs = 0, params = 0,
@@ -29,8 +37,8 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.demand = t.touched + align(chunks * 4);
     t.ahead = t.demand + align((chunks + 2) * 4);
     t.queueCounts = t.ahead + align(chunks * 4);
-    t.queueArgs = t.queueCounts + align(3 * 4);
-    t.params = t.queueArgs + align(3 * 12);
+    t.queueArgs = t.queueCounts + align(kQueueCount * 4);
+    t.params = t.queueArgs + align(kQueueCount * 12);
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.totalBytes = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
     return t;
@@ -49,7 +57,7 @@ inline StateLayout stateLayout(uint64_t paths) {
     s.hitNormal = s.hitPosition + perPath, s.hitIds = s.hitNormal + perPath;
     s.throughput = s.hitIds + perPath, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
     s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.queues = s.accum + perPath;
-    s.totalBytes = s.queues + 2 * (2 * paths * 4) + paths * 4;
+    s.totalBytes = s.queues + 2 * (2 * paths * 4) + 2 * paths * 4;  // kQueueCount queues
     return s;
 }
 struct OutputLayout {
@@ -97,7 +105,33 @@ inline VolumeLayout volumeLayout(std::span<const VolumeShape> volumes) {
     l.totalBytes = at;
     return l;
 }
+// Paged volumes (gpu/src/DeviceVolumes.h): WavefrontVolume per volume, per volume its cell table
+// (a slot or kBrickAbsent | brick per cell) and majorants, then the pools of `slots` bricks
+// (density, and emission when a volume has an emission grid; a slot holds the same brick in
+// both), per brick of all volumes its demand counter, and per slot its used flag.
+struct PagedVolumeLayout {
+    std::vector<uint64_t> brickOf, majorant;
+    uint64_t density = 0, emission = 0, demand = 0, used = 0, totalBytes = 0;
+};
+inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes, uint64_t slots) {
+    auto align = [](uint64_t x) { return (x + 15) / 16 * 16; };
+    PagedVolumeLayout l;
+    uint64_t at = align(volumes.size() * sizeof(WavefrontVolume)), bricks = 0;
+    bool emission = false;
+    for (const VolumeShape& v : volumes) {
+        l.brickOf.push_back(at), at = align(at + 4 * v.cells);
+        l.majorant.push_back(at), at = align(at + 4 * v.cells);
+        bricks += v.bricks, emission = emission || v.emission;
+    }
+    const uint64_t poolBytes = 4 * uint64_t(kVolumeBrickVoxels) * slots;
+    l.density = at, at = align(at + poolBytes);
+    l.emission = emission ? at : 0, at = emission ? align(at + poolBytes) : at;
+    l.demand = at, at = align(at + 4 * bricks);
+    l.used = at, at = align(at + 4 * slots);
+    l.totalBytes = at;
+    return l;
+}
 
-static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 4 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 8 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

@@ -9,6 +9,7 @@
 
 #include "ChunkUploader.h"
 #include "ChunkValidation.h"
+#include "DeviceVolumes.h"
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/EnvironmentMap.h"
@@ -24,26 +25,14 @@ static_assert(kTraceStackSize == kMaxKdDepth, "the walk's stack must hold the de
 static_assert(kBvh4StackSize == 3 * (kBvh4MaxDepth + 1), "the chunk traversal's stack must hold the deepest BVH");
 static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 
-// Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
-// granularity keeps the allocated total under the budget.
-constexpr uint64_t kAllocationGranule = 64 * 1024;
 // Device bytes of one path of a wave: its state, and at most one tile pixel's sum and outputs
 // when those are in device memory.
 uint64_t rayBytes(bool outputInDeviceMemory) { return kBytesPerPath + (outputInDeviceMemory ? kBytesPerTilePixel : 0); }
 
-uint64_t granules(uint64_t bytes) { return (std::max<uint64_t>(bytes, 1) + kAllocationGranule - 1) / kAllocationGranule * kAllocationGranule; }
 // Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile
 // outputs the host reads when they are in device memory.
 uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory) {
     return granules(stateLayout(paths).totalBytes) + (outputInDeviceMemory ? granules(outputLayout(paths).totalBytes) : 0);
-}
-
-// The device bytes of the volumes' buffer (VolumeLayout), each volume's shape given by `shape`.
-template <typename Range, typename Shape>
-uint64_t volumeBufferBytes(const Range& volumes, Shape shape) {
-    std::vector<VolumeShape> shapes;
-    for (const auto& v : volumes) shapes.push_back(shape(v));
-    return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
 }
 
 class VulkanChunkBackend final : public ChunkBackend {
@@ -52,7 +41,8 @@ public:
                        const ChunkAttributes& attributes, const ChunkUploadOptions& upload, ChunkUploadMode mode)
         : device_(device), plan_(plan), attributes_(attributes), upload_(upload), mode_(mode),
           tables_(tableLayout(plan.slots, package)), bounds_(package.bounds),
-          topNodeCount_(uint32_t(package.topTree.size())), chunkCount_(uint32_t(package.chunks.size())) {}
+          topNodeCount_(uint32_t(package.topTree.size())), chunkCount_(uint32_t(package.chunks.size())),
+          volumes_(device) {}
 
     ~VulkanChunkBackend() override {
         if (uploader_) {
@@ -203,7 +193,7 @@ public:
         VASTRAY_TRY(prepareEnvironment(job.options->environment, job.options->volumes, stats));
         VASTRAY_TRY(prepareVolumes(job.options->volumes, stats));
         b.environment = environment_ ? &environmentBuffer_ : nullptr;
-        b.volumes = volumes_ ? &volumeBuffer_ : nullptr;
+        b.volumes = volumes_.buffer() ? &volumes_ : nullptr;
         return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 
@@ -237,68 +227,27 @@ private:
         return Status::ok();
     }
 
-    // The map and the volumes fit the bytes the plan kept for them.
+    // The map and the volumes (paged through the fewest brick slots when that is less) fit the
+    // bytes the plan kept for them.
     Status checkReserve(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes) const {
-        const uint64_t map = environmentBytes(environment), grids = volumes ? volumeBytes(*volumes) : 0;
+        const uint64_t map = environmentBytes(environment), grids = volumes ? volumesMinimumBytes(*volumes) : 0;
         if (map + grids <= plan_.reservedBytes) return Status::ok();
         return Status::error((map ? "the environment map needs " + formatBytes(map) + (grids ? " and " : "") : std::string("")) +
-                             (grids ? "the volumes need " + formatBytes(grids) : std::string()) +
+                             (grids ? "the volumes need at least " + formatBytes(grids) : std::string()) +
                              " of device memory; the pool kept " + formatBytes(plan_.reservedBytes) +
                              " for them (createVulkanChunkBackend's reservedBytes)");
     }
 
-    static uint64_t volumeBytes(const std::vector<Volume>& volumes) {
-        return volumeBufferBytes(volumes, [](const Volume& v) {
-            return VolumeShape{v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()};
-        });
-    }
-
-    // The volumes in their own buffer (VolumeLayout), in the bytes the plan kept; kept while the
-    // next render uses the same ones.
+    // The volumes in the bytes the plan kept besides the map's: in core when they fit, else paged
+    // (DeviceVolumes); kept while the next render uses the same ones.
     Status prepareVolumes(const std::shared_ptr<const std::vector<Volume>>& volumes, StreamingStats& stats) {
-        const bool none = !volumes || volumes->empty();
-        if (volumes == volumes_ || (none && !volumes_)) return Status::ok();
-        if (volumes_) {
-            allocated_ -= volumeBuffer_.allocatedBytes();
-            volumeBuffer_ = GpuBuffer();
-            volumes_.reset();
-        }
-        if (none) return Status::ok();
         VASTRAY_TRY(checkReserve(Environment{}, volumes));
-        std::vector<VolumeShape> shapes;
-        for (const Volume& v : *volumes) shapes.push_back({v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()});
-        const VolumeLayout layout = volumeLayout(shapes);
-        auto buffer = device_.createBuffer(layout.totalBytes);
-        if (!buffer) return buffer.status().withContext("volumes: ");
-        volumeBuffer_ = std::move(buffer).value();
-        const uint64_t base = volumeBuffer_.address();
-        std::vector<WavefrontVolume> records;
-        for (size_t i = 0; i < volumes->size(); ++i) {
-            const Volume& v = (*volumes)[i];
-            if (v.majorant.size() != v.cellCount() || v.brickOf.size() != v.cellCount())
-                return Status::error("volume " + std::to_string(i) + " has no majorants or brick table");
-            WavefrontVolume& r = records.emplace_back();
-            r.brickOf = base + layout.brickOf[i], r.majorant = base + layout.majorant[i], r.voxels = base + layout.voxels[i];
-            std::copy(v.worldToIndex.begin(), v.worldToIndex.end(), r.worldToIndex);
-            r.originX = v.origin[0], r.originY = v.origin[1], r.originZ = v.origin[2];
-            r.cellsX = v.brickCells[0], r.cellsY = v.brickCells[1], r.cellsZ = v.brickCells[2];
-            r.albedoR = v.material.albedo[0], r.albedoG = v.material.albedo[1], r.albedoB = v.material.albedo[2];
-            r.densityScale = v.material.densityScale, r.anisotropy = v.material.anisotropy;
-            r.emissionVoxels = v.emissionVoxels.empty() ? 0 : base + layout.emission[i];
-            r.emitR = v.material.emission[0], r.emitG = v.material.emission[1], r.emitB = v.material.emission[2];
-            if (!v.emissionVoxels.empty())
-                VASTRAY_TRY(volumeBuffer_.upload(v.emissionVoxels.data(), v.emissionVoxels.size() * 4, layout.emission[i]));
-            VASTRAY_TRY(volumeBuffer_.upload(v.brickOf.data(), v.brickOf.size() * 4, layout.brickOf[i]));
-            VASTRAY_TRY(volumeBuffer_.upload(v.majorant.data(), v.majorant.size() * 4, layout.majorant[i]));
-            if (!v.voxels.empty())  // a grid whose active values are all 0 has no bricks
-                VASTRAY_TRY(volumeBuffer_.upload(v.voxels.data(), v.voxels.size() * 4, layout.voxels[i]));
-            stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size() + v.voxels.size() + v.emissionVoxels.size()) * 4;
-        }
-        VASTRAY_TRY(volumeBuffer_.upload(records.data(), records.size() * sizeof(WavefrontVolume), 0));
-        allocated_ += volumeBuffer_.allocatedBytes();
+        const uint64_t map = environment_ ? environmentBuffer_.allocatedBytes() : 0;
+        allocated_ -= volumes_.allocatedBytes();
+        const Status s = volumes_.prepare(volumes, plan_.reservedBytes - std::min(map, plan_.reservedBytes), stats);
+        allocated_ += volumes_.allocatedBytes();
         peak_ = std::max(peak_, allocated_);
-        volumes_ = volumes;
-        return Status::ok();
+        return s;
     }
 
     // Out-of-range references would read outside the slot on the device: reject them here.
@@ -328,8 +277,7 @@ private:
     GpuBuffer table_, state_, output_;
     std::shared_ptr<const EnvironmentMap> environment_;  // the map in environmentBuffer_
     GpuBuffer environmentBuffer_;
-    std::shared_ptr<const std::vector<Volume>> volumes_;  // the volumes in volumeBuffer_
-    GpuBuffer volumeBuffer_;
+    DeviceVolumes volumes_;  // the render's volumes, in core or paged
     std::unique_ptr<ChunkUploader> uploader_;  // Dma; destroyed first: its copies write the slots
     ChunkUploadFigures figures_;
     uint64_t allocated_ = 0, peak_ = 0, uploaded_ = 0;
@@ -402,10 +350,24 @@ uint64_t environmentBytes(const Environment& environment) {
     return environment.map ? granules(environment.map->deviceBytes()) : 0;
 }
 
+namespace {
+std::vector<VolumeShape> volumeShapes(const PackageInfo& package) {
+    std::vector<VolumeShape> shapes;
+    for (const PackageVolume& v : package.volumes) shapes.push_back({v.volume.cellCount(), v.brickCount, v.hasEmission});
+    return shapes;
+}
+}  // namespace
+
 uint64_t volumeBytes(const PackageInfo& package) {
-    return volumeBufferBytes(package.volumes, [](const PackageVolume& v) {
-        return VolumeShape{v.volume.cellCount(), v.brickCount, v.hasEmission};
-    });
+    const std::vector<VolumeShape> shapes = volumeShapes(package);
+    return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
+}
+
+uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget) {
+    const uint64_t whole = volumeBytes(package);
+    const uint64_t share = uint64_t(double(budget) * kVolumeShareOutOfCore) / kAllocationGranule * kAllocationGranule;
+    if (whole <= share) return whole;
+    return std::max(share, granules(pagedVolumeLayout(volumeShapes(package), kMinVolumeSlots).totalBytes));
 }
 
 // DMA where the slots can live in memory the host does not map and the staging in system

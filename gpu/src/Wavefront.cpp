@@ -51,6 +51,10 @@ enum Kernel : int {
 // Walk passes per paging step out of core (with shading between them): enough for paths that
 // stay in resident chunks to go on for a few bounces before the host pages again.
 constexpr uint32_t kPassesPerPagingStep = 3;
+// Paging steps in a row in which the same path is the lowest waiting for volume bricks before a
+// render gives up: the pool's slots cannot hold what that path reads (DeviceVolumes::page serves
+// the lowest path first; a path waits a few steps per scattering event at most otherwise).
+constexpr uint64_t kMaxStalledSteps = 1000;
 // Timestamps one submission takes at most; commands beyond them go untimed.
 constexpr uint32_t kMaxQueries = 16384;
 
@@ -178,7 +182,9 @@ public:
         VASTRAY_TRY(uploadParams());
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount + 2, 0), b_.tables.demand));
-        VASTRAY_TRY(upload(std::vector<uint32_t>{0, 1, 1, 0, 1, 1, 0, 1, 1}, b_.tables.queueArgs));
+        std::vector<uint32_t> args;
+        for (uint32_t q = 0; q < kQueueCount; ++q) args.insert(args.end(), {0u, 1u, 1u});
+        VASTRAY_TRY(upload(args, b_.tables.queueArgs));
         VASTRAY_TRY(uploadResidency());
         const uint32_t spp = options_.samplesPerPixel;
         const uint32_t samplesPerWave = std::min(spp, b_.pathCapacity);
@@ -286,6 +292,44 @@ private:
         dispatchQueue(*shade_, kShade, push, kShadeQueue);
         clearQueue(kShadeQueue);
     }
+    // Paged volumes: the paths of the volume wait queue move to the (empty) shade queue and
+    // shade again; those that still miss a brick join the wait queue again. The whole queue is
+    // copied: the shading just before may have added paths the host has not counted.
+    void retryWaiting(const WavefrontPush& push) {
+        record([this](VkCommandBuffer cmd) {
+            const uint64_t queues = stateLayout(b_.pathCapacity).queues, capacity = b_.pathCapacity;
+            const VkBufferCopy paths{queues + 20 * capacity, queues + 16 * capacity, 4 * capacity};
+            vkCmdCopyBuffer(cmd, b_.state->handle(), b_.state->handle(), 1, &paths);
+            const VkBufferCopy counters[] = {
+                {b_.tables.queueCounts + 4ull * kVolumeWaitQueue, b_.tables.queueCounts + 4ull * kShadeQueue, 4},
+                {b_.tables.queueArgs + 12ull * kVolumeWaitQueue, b_.tables.queueArgs + 12ull * kShadeQueue, 12}};
+            vkCmdCopyBuffer(cmd, b_.table->handle(), b_.table->handle(), 2, counters);
+            barrier(cmd);
+        });
+        clearQueue(kVolumeWaitQueue);
+        shadeReady(push);
+    }
+    // Paged volumes: the step's demand counters and used flags into host-cached memory.
+    void copyVolumeCounters(const DeviceVolumes& volumes) {
+        record([&volumes](VkCommandBuffer cmd) {
+            const uint64_t bricks = volumes.brickCount() * 4;
+            VkBufferCopy regions[2] = {{volumes.demandOffset(), 0, bricks},
+                                       {volumes.usedOffset(), bricks, uint64_t(volumes.slotCount()) * 4}};
+            const uint32_t first = bricks > 0 ? 0 : 1;
+            vkCmdCopyBuffer(cmd, volumes.buffer()->handle(), volumes.readback()->handle(), 2 - first, regions + first);
+            barrier(cmd);
+        });
+    }
+    // Paged volumes: no brick is asked for and no slot used yet (the lowest path: none).
+    void clearVolumeCounters(const DeviceVolumes& volumes) {
+        record([&volumes](VkCommandBuffer cmd) {
+            const VkBuffer buffer = volumes.buffer()->handle();
+            if (volumes.brickCount() > 0)
+                vkCmdFillBuffer(cmd, buffer, volumes.demandOffset(), volumes.brickCount() * 4, kNoBrick);
+            vkCmdFillBuffer(cmd, buffer, volumes.usedOffset(), uint64_t(volumes.slotCount()) * 4, kNoBrick);
+            barrier(cmd);
+        });
+    }
 
     // Runs the wave's rays (and, when shading, its paths to their ends) from queue push.queue.
     // In core: one walk pass and one shading per scattering event, recorded behind the previous
@@ -303,21 +347,28 @@ private:
         const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
         const uint32_t events = !shade ? 1u : ao ? 2u : options_.maxDepth + 1u;
         clearQueue(kShadeQueue);
+        clearQueue(kVolumeWaitQueue);
         // In core no ray parks: the walk without the paging code.
         auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, !pager_.allResident()});
         if (!walk) return walk.status();
         walk_ = *walk;
-        if (pager_.allResident()) {
+        DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
+        if (pager_.allResident() && !volumes) {
             for (uint32_t e = 0; e < events; ++e) walkRound(push, shade, false, false);
             return Status::ok();
         }
         pager_.beginStream();
         std::vector<uint32_t> waveTouched(b_.chunkCount, 0), touched(b_.chunkCount);
-        std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(3);
+        std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(kQueueCount);
+        std::vector<uint32_t> brickDemand(volumes ? volumes->brickCount() : 0), slotsUsed(volumes ? volumes->slotCount() : 0);
         bool planned = false;  // loads planned for the step about to run
+        uint64_t stalled = 0;  // steps in a row whose lowest waiting path (volume bricks) was the same
+        uint32_t lowestWaiting = kNoBrick;
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
+            if (volumes) clearVolumeCounters(*volumes);
             if (step > 0 && shade) shadeReady(push);  // the paths the last step's final pass finished
+            if (volumes && counts[kVolumeWaitQueue] > 0) retryWaiting(push);
             record([this](VkCommandBuffer cmd) {
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
                 barrier(cmd);
@@ -326,6 +377,7 @@ private:
                 const bool last = r + 1 == kPassesPerPagingStep;
                 walkRound(push, shade && !last, last, r == 0);
             }
+            if (volumes) copyVolumeCounters(*volumes);
             VASTRAY_TRY(beginSubmit());
             size_t loaded = 0;
             if (planned) {
@@ -340,7 +392,25 @@ private:
             VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
             for (size_t c = 0; c < touched.size(); ++c) waveTouched[c] |= touched[c];
             pager_.markUsed(touched);
-            const bool finished = counts[push.queue] == 0 && counts[kShadeQueue] == 0;
+            const uint32_t waiting = counts[kVolumeWaitQueue];
+            if (volumes && waiting > 0) {
+                // Paths wait for bricks: page them in.
+                const GpuBuffer& counters = *volumes->readback();
+                VASTRAY_TRY(download(brickDemand.data(), brickDemand.size() * 4, counters, 0));
+                VASTRAY_TRY(download(slotsUsed.data(), slotsUsed.size() * 4, counters, brickDemand.size() * 4));
+                auto paged = volumes->page(brickDemand, slotsUsed, stats_);
+                if (!paged) return paged.status();
+                // The pool serves the lowest waiting path first: if it waits step after step, what
+                // it reads does not fit the pool.
+                const uint32_t lowest = *std::min_element(brickDemand.begin(), brickDemand.end());
+                stalled = lowest == lowestWaiting ? stalled + 1 : 0;
+                lowestWaiting = lowest;
+                if (stalled > kMaxStalledSteps)
+                    return Status::error("a path has waited for volume bricks for " + std::to_string(kMaxStalledSteps) +
+                                         " paging steps: what it reads does not fit the pool of " +
+                                         std::to_string(volumes->slotCount()) + " brick slots (raise --memory-budget)");
+            }
+            const bool finished = counts[push.queue] == 0 && counts[kShadeQueue] == 0 && waiting == 0;
             if (finished || demand[b_.chunkCount] == 0) {  // done, or nobody waits: the finished paths go on
                 if (loaded > 0) VASTRAY_TRY(uploadResidency());
                 if (finished) break;
@@ -440,8 +510,11 @@ private:
             p.envMarginal = base + e.marginal, p.envConditional = base + e.conditional;
         }
         if (b_.volumes && options_.volumes) {
-            p.volumes = b_.volumes->address();  // the WavefrontVolume records come first
+            const uint64_t base = b_.volumes->buffer()->address();
+            p.volumes = base;  // the WavefrontVolume records come first
             p.volumeCount = uint32_t(options_.volumes->size());
+            if (b_.volumes->paged())
+                p.volumeDemand = base + b_.volumes->demandOffset(), p.volumeUsed = base + b_.volumes->usedOffset();
         }
         p.aoDistance = options_.aoDistance;
         p.boundsLoX = b_.bounds.lo.x, p.boundsLoY = b_.bounds.lo.y, p.boundsLoZ = b_.bounds.lo.z;

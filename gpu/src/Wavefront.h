@@ -3,12 +3,14 @@
 // (wf_generate, wf_walk, wf_shade, wf_accumulate, wf_aov). The host records one command buffer
 // per tile when every chunk is resident; otherwise it submits paging steps (a few walk passes
 // with shading between them), reads the per-chunk demand counters of the parked rays, and lets
-// the pager page chunks in before the next step. Only the counters and the finished tile's
-// pixels come back.
+// the pager page chunks in before the next step; paged volumes page their bricks at the same
+// points (paths that read an absent brick wait and shade again). Only the counters and the
+// finished tile's pixels come back.
 #include <initializer_list>
 #include <map>
 #include <memory>
 
+#include "DeviceVolumes.h"
 #include "PoolLayout.h"
 #include "vastray/gpu/ComputePipeline.h"
 #include "vastray/gpu/VulkanDevice.h"
@@ -30,7 +32,7 @@ struct WavefrontBuffers {
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
     GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
-    GpuBuffer* volumes = nullptr;       // VolumeLayout of the render's volumes (RenderOptions::volumes); none without
+    DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without
 };
 
 class Wavefront {

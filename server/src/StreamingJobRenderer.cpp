@@ -184,8 +184,9 @@ private:
         // Open with primitive ids whenever a scene is opened, so that a later job asking for
         // the primid AOV does not force a reload.
         needed.primitiveIds = true;
-        // The volumes stay on the device with the scene: their bytes are kept from the budget.
-        const uint64_t volumeBytes = gpu::volumeBytes(info);
+        // The volumes stay on the device with the scene: their bytes (or a pool their bricks are
+        // paged through) are kept from the budget.
+        const uint64_t volumeBytes = gpu::volumeReserveBytes(info, budget);
         if (!info.volumes.empty()) {
             auto volumes = entry.reader->readVolumes();
             if (!volumes) return volumes.status();

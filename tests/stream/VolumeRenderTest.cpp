@@ -343,6 +343,66 @@ TEST(VolumeRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
                                     stats.chunksTotal);
 }
 
+// A 2,000-triangle town under a cloud of 128 x 64 x 128 voxels (2,048 bricks, every one stored).
+const std::string& cloudedTown() {
+    static const std::string path = [] {
+        auto mesh = generateMesh({GeneratorKind::City, 2000, 3});
+        EXPECT_TRUE(mesh) << mesh.message();
+        const Aabb b = mesh->bounds();
+        const Vec3f e = b.extent();
+        VolumeMaterial cloud;
+        cloud.albedo = {0.95f, 0.95f, 0.9f};
+        cloud.anisotropy = 0.3f;
+        const float voxel = e.x / 128.0f;
+        cloud.densityScale = 3.0f / (64.0f * voxel);  // an optical depth of ~1.5 from top to bottom
+        Volume v = test::makeVolume({0, 0, 0}, {127, 63, 127},
+                                    [](int32_t i, int32_t j, int32_t k) {
+                                        return 0.2f + 0.4f * (1.0f + std::sin(0.21f * float(i)) * std::cos(0.17f * float(k))) *
+                                                          (1.0f - float(j) / 80.0f);
+                                    },
+                                    voxel, b.lo, cloud);
+        return writePackage("clouded-town", std::move(mesh).value(), {std::move(v)});
+    }();
+    return path;
+}
+
+// Bricks paged through a pool a quarter of their size (--memory-budget at half the volume's
+// bytes keeps half of it for the volume): the image equals the in-core one bit for bit, the
+// bricks are loaded (some more than once) and the device bytes stay within the budget.
+TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
+    const std::string& path = cloudedTown();
+    RenderOptions o;
+    o.width = 32, o.height = 24;
+    o.samplesPerPixel = 4;
+    o.maxDepth = 3;
+    o.volumes = volumesOf(path);
+    ASSERT_EQ(o.volumes->size(), 1u);
+    const uint64_t bricks = (*o.volumes)[0].brickCount();
+    ASSERT_EQ(bricks, 2048u);
+    StreamingStats inCoreStats;
+    auto inCore = test::renderVulkan(path, o, 256ull << 20, &inCoreStats);
+    ASSERT_TRUE(inCore) << inCore.message();
+    EXPECT_EQ(inCoreStats.volumeBrickSlots, 0u);
+    EXPECT_EQ(inCoreStats.volumeBrickLoads, 0u);
+
+    const PackageInfo info = PackageReader::open(path).value()->info();
+    const uint64_t budget = gpu::volumeBytes(info) / 2;
+    EXPECT_LT(gpu::volumeReserveBytes(info, budget), gpu::volumeBytes(info));
+    StreamingStats stats;
+    auto paged = test::renderVulkan(path, o, budget, &stats);
+    ASSERT_TRUE(paged) << paged.message();
+    std::printf("paged: %llu brick slots for %llu bricks, %llu loads, %llu submits, peak device %llu of %llu bytes\n",
+                (unsigned long long)stats.volumeBrickSlots, (unsigned long long)bricks,
+                (unsigned long long)stats.volumeBrickLoads, (unsigned long long)stats.submits,
+                (unsigned long long)stats.peakDeviceBytes, (unsigned long long)budget);
+    EXPECT_GT(stats.volumeBrickSlots, 0u);
+    EXPECT_LE(stats.volumeBrickSlots * 4, bricks + 64) << "the bricks are about 4x the pool";
+    EXPECT_GT(stats.volumeBrickLoads, stats.volumeBrickSlots) << "slots were reused";
+    EXPECT_LE(stats.peakDeviceBytes, budget);
+    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(paged->alpha.data(), inCore->alpha.data(), inCore->alpha.size() * 4), 0);
+}
+
 // A backend that kept no bytes for the volumes refuses to render them, naming them.
 TEST(VolumeRender, VolumesOutsideTheReserveAreRefused) {
     const std::string& path = foggyCity();

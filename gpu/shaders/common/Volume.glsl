@@ -3,6 +3,12 @@
 // tracking (transmittance) with the cells' majorants, and the Henyey-Greenstein phase function.
 // docs/RENDERING.md, "Volumes", specifies them. Needs WavefrontState.glsl, Random.glsl and
 // Shading.glsl before it.
+// Paged volumes (a pool of brick slots, docs/RENDERING.md "Volumes out of core"): a read whose
+// brick is absent asks for it (WavefrontParams::volumeDemand), sets volumeMissed and reads 0;
+// the tracking then only walks on, asking for the absent bricks of the cells the ray crosses,
+// and the caller drops the whole shading of the path, which waits and shades again from the
+// start once the bricks are resident. A shading that finishes has read only resident bricks,
+// the same values as in core: paged and in-core renders are equal bit for bit.
 #ifndef VASTRAY_VOLUME_GLSL
 #define VASTRAY_VOLUME_GLSL
 
@@ -25,6 +31,16 @@ float nextVolumeRandom(inout VolumeRandom r) {
 
 uvec3 volumeCells(WavefrontVolume v) { return uvec3(v.cellsX, v.cellsY, v.cellsZ); }
 
+bool volumeMissed = false;  // this invocation read an absent brick (paged volumes)
+uint volumePath = 0u;       // the path this invocation shades: its bricks' priority (lower first)
+
+// requestBrick: asks the pager for an absent brick (its cell table entry), at the priority of
+// the lowest path that asks.
+void requestBrick(WavefrontVolume v, uint entry) {
+    atomicMin(RwUintArray(ParamsRef(pc.params).p.volumeDemand).v[v.brickBase + (entry & ~kBrickAbsent)], volumePath);
+    volumeMissed = true;
+}
+
 // relativeVoxel: the voxel of `voxels` (the density's or the emission grid's) at index
 // coordinates from the brick grid's origin; 0 outside.
 float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
@@ -33,6 +49,10 @@ float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
     const uvec3 c = uvec3(r) / kVolumeBrickSize, o = uvec3(r) % kVolumeBrickSize;
     const uint brick = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
     if (brick == kNoBrick) return 0.0;
+    if ((brick & kBrickAbsent) != 0u) {
+        requestBrick(v, brick);
+        return 0.0;
+    }
     return VolumeFloats(voxels).v[brick * 512u + o.x + kVolumeBrickSize * (o.y + kVolumeBrickSize * o.z)];
 }
 
@@ -63,9 +83,28 @@ vec3 volumeEmission(WavefrontVolume v, vec3 p) {
     return vec3(v.emitR, v.emitG, v.emitB) * value;
 }
 
+// pageCell (paged volumes): the bricks that sampling in `cell` may read (its own and those of the
+// cells after it along each axis, for the trilinear reads) are asked for when absent, and their
+// slots marked used (by the lowest path) when resident and nothing was missed.
+void pageCell(WavefrontVolume v, ivec3 cell, uint64_t used) {
+    const uvec3 cells = volumeCells(v);
+    for (uint n = 0u; n < 8u; ++n) {
+        const uvec3 c = uvec3(cell) + uvec3(n & 1u, (n >> 1) & 1u, n >> 2);
+        if (any(greaterThanEqual(c, cells))) continue;
+        const uint entry = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
+        if (entry == kNoBrick) continue;
+        if ((entry & kBrickAbsent) != 0u)
+            requestBrick(v, entry);
+        else if (!volumeMissed && RwUintArray(used).v[entry] > volumePath)
+            atomicMin(RwUintArray(used).v[entry], volumePath);
+    }
+}
+
 // Tracks one volume along the world ray within [0, tMax): with `ratio` false, delta tracking;
 // returns the first real collision's t, or tMax. With `ratio` true, ratio tracking: multiplies
 // `transmittance` and returns tMax. Cells are walked front to back (cellRay and walkCells).
+// Paged: a cell it samples marks its brick's slot used; once volumeMissed is set it samples no
+// more, asks for the absent bricks of the cells with density it crosses, and returns tMax.
 float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bool ratio, inout VolumeRandom rnd,
                   inout float transmittance) {
     const float w[12] = v.worldToIndex;
@@ -108,20 +147,24 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
     }
     const float scale = v.densityScale;
     VolumeFloats majorants = VolumeFloats(v.majorant);
+    const uint64_t used = ParamsRef(pc.params).p.volumeUsed;  // 0: in core
     uint steps = 0u;
     float t = tEnter;
     while (t < tExit) {
         const int axis = tNext.x <= tNext.y ? (tNext.x <= tNext.z ? 0 : 2) : (tNext.y <= tNext.z ? 1 : 2);
         const float end = min(tNext[axis], tExit);
         if (end > t) {
-            const float majorant = majorants.v[uint(cell.x) + cells.x * (uint(cell.y) + cells.y * uint(cell.z))] * scale;
-            if (majorant > 0.0) {
+            const uint index = uint(cell.x) + cells.x * (uint(cell.y) + cells.y * uint(cell.z));
+            const float majorant = majorants.v[index] * scale;
+            if (majorant > 0.0 && used != 0ul) pageCell(v, cell, used);
+            if (majorant > 0.0 && !volumeMissed) {
                 float s = t;
                 for (;;) {
                     s -= log(1.0 - nextVolumeRandom(rnd)) / majorant;
                     if (!(s < end)) break;
                     if (!ratio && ++steps > kMaxVolumeSteps) return s;
                     const float density = relativeDensity(v, (ro + rd * s) * float(kVolumeBrickSize)) * scale;
+                    if (volumeMissed) break;
                     if (ratio) {
                         transmittance *= max(0.0, 1.0 - density / majorant);
                         if (++steps > kMaxVolumeSteps) transmittance = 0.0;

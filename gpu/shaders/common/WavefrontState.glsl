@@ -18,10 +18,14 @@ layout(push_constant, std430) uniform PushBlock { WavefrontPush pc; };
 uint shadowRayIndex(WavefrontParams p, uint j) { return p.pathCapacity + j; }
 
 // Queue q: ray queues 0 and 1 (the ray indices a walk pass walks, and the ones the next pass
-// walks), or kShadeQueue (the paths whose rays are all walked); dense, in no particular order
+// walks), kShadeQueue (the paths whose rays are all walked) or kVolumeWaitQueue (paths waiting
+// for volume bricks; pathCapacity entries each after the ray queues); dense, in no particular order
 // (each ray's walk and each path's shading is independent of the others', so the order changes
 // nothing but the schedule).
-RwUintArray queueOf(ParamsRef params, uint q) { return RwUintArray(params.p.queues + uint64_t(q) * 8ul * params.p.pathCapacity); }
+RwUintArray queueOf(ParamsRef params, uint q) {
+    const uint64_t capacity = params.p.pathCapacity;
+    return RwUintArray(params.p.queues + (q < kShadeQueue ? uint64_t(q) * 8ul * capacity : (16ul + uint64_t(q - kShadeQueue) * 4ul) * capacity));
+}
 uint queueCount(ParamsRef params, uint q) { return RwUintArray(params.p.queueCounts).v[q]; }
 
 // Appends up to two entries per invocation to queue q: one atomic per workgroup reserves the

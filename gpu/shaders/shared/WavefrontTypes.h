@@ -32,8 +32,16 @@ const uint kRayDoneShift = 8u;
 const uint kRayDoneBits = 24u;
 
 
-// The queue of paths ready to shade (WavefrontParams::queues, queueCounts).
+// The queue of paths ready to shade (WavefrontParams::queues, queueCounts), and the queue of
+// paths whose shading read a volume brick that was not resident (volumes paged through a pool
+// of brick slots): they shade again once the pager has loaded the bricks they asked for.
 const uint kShadeQueue = 2u;
+const uint kVolumeWaitQueue = 3u;
+const uint kQueueCount = 4u;
+
+// A paged volume's cell table entry (WavefrontVolume::brickOf) for a brick that is not resident:
+// the brick's index within the volume with this bit set (kNoBrick, all ones, has no brick).
+const uint kBrickAbsent = 0x80000000u;
 
 // WavefrontPush::mode of wf_generate.comp.
 const uint kGeneratePaths = 0u;  // jittered camera rays of (pixel, sample) paths
@@ -41,9 +49,9 @@ const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
 
 // Device bytes per path of the state arrays (two rays with their walk states, the closest hit's
 // record, four path vectors, a slot in each of the two ray queues for each ray, a slot in the
-// shade queue) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
+// shade queue and one in the volume wait queue) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
 // waves from the budget with these.
-const uint kBytesPerPath = 2u * (16u + 16u + 8u) + 3u * 16u + 4u * 16u + 2u * 2u * 4u + 4u;
+const uint kBytesPerPath = 2u * (16u + 16u + 8u) + 3u * 16u + 4u * 16u + 2u * 2u * 4u + 2u * 4u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
@@ -57,7 +65,9 @@ struct WavefrontMaterial {
 // A density volume as the shading kernel reads it (core/Volume.h): its brick table (uint per
 // cell), majorants (float per cell), voxels (kVolumeBrickVoxels floats per brick) and emission
 // grid's voxels in the same bricks (0: none), its map from world to index space (row-major
-// 3 x 4), brick grid and material.
+// 3 x 4), brick grid and material. Paged (a pool of brick slots): the table holds each cell's
+// slot (or kBrickAbsent | brick), voxels and emissionVoxels are the pools' slot arrays, and
+// brickBase is the volume's first brick among all volumes' (WavefrontParams::volumeDemand).
 struct WavefrontVolume {
     uint64_t brickOf;
     uint64_t majorant;
@@ -70,6 +80,8 @@ struct WavefrontVolume {
     float densityScale;
     float anisotropy;
     float emitR, emitG, emitB;
+    uint brickBase;
+    uint padding;
 };
 
 // Everything a render's kernels read, written by the host once per render. Addresses are
@@ -122,6 +134,10 @@ struct WavefrontParams {
     uint64_t envMarginal;  // each row's CDF (envWidth + 1 per row)
     uint64_t envConditional;
     uint64_t volumes;      // WavefrontVolume per volume (volumeCount)
+    uint64_t volumeDemand; // paged volumes: per brick (brickBase + brick), the lowest path whose read
+                           // found it absent (all ones: none)
+    uint64_t volumeUsed;   // paged volumes: per brick slot, the lowest path whose tracking entered a
+                           // cell of its brick (all ones: none)
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -175,8 +191,8 @@ struct WavefrontPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 33 * 8 && sizeof(WavefrontParams) % 8 == 0);
-static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4);
+static_assert(offsetof(WavefrontParams, eyeX) == 35 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu
 #endif

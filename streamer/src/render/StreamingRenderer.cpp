@@ -187,6 +187,8 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.walkedRays = t.walkedRays - before.walkedRays;
         s.submits = t.submits - before.submits;
         s.walkPasses = t.walkPasses - before.walkPasses;
+        s.volumeBrickSlots = t.volumeBrickSlots;
+        s.volumeBrickLoads = t.volumeBrickLoads - before.volumeBrickLoads;
         s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;
         s.deviceToHostBytes = t.deviceToHostBytes - before.deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k) s.kernelSeconds[k] = t.kernelSeconds[k] - before.kernelSeconds[k];

@@ -99,13 +99,19 @@ ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mo
 // The device bytes an environment map takes (environmentBytes(options.environment) is what a
 // render with those options needs kept: reservedBytes below); 0 without a map.
 uint64_t environmentBytes(const Environment& environment);
-// The device bytes the package's volumes take (volumeBytes(package) is what a render of it
-// needs kept besides the map's); 0 without volumes.
+// The device bytes the package's volumes take in core; 0 without volumes.
 uint64_t volumeBytes(const PackageInfo& package);
+// What a render of the package at this budget keeps for its volumes (reservedBytes below,
+// besides the map's): all of volumeBytes when that is at most kVolumeShareOutOfCore of the
+// budget; else that share (at least the tables and the fewest brick slots), through which the
+// bricks are paged (docs/RENDERING.md, "Volumes out of core").
+constexpr double kVolumeShareOutOfCore = 0.5;
+uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget);
 
 // device must outlive the backend. Every buffer is allocated here, once, but the environment
 // map's and the volumes': reservedBytes of the budget are kept for them (environmentBytes plus
-// volumeBytes), and a render whose map and volumes need more is refused.
+// volumeReserveBytes); the volumes are paged when they do not fit what the map leaves, and a
+// render whose map and minimal volume pool need more is refused.
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore = kWaveShareOutOfCore,

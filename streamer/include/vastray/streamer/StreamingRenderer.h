@@ -174,6 +174,8 @@ struct StreamingStats {
     // its AOVs down.
     uint64_t submits = 0;           // submits
     uint64_t walkPasses = 0;        // walk_passes
+    uint64_t volumeBrickSlots = 0;  // volume_brick_slots: the pool's brick slots (0: volumes in core or none)
+    uint64_t volumeBrickLoads = 0;  // volume_brick_loads: bricks loaded into those slots
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
     uint64_t deviceToHostBytes = 0; // device_to_host_bytes
     // Device time per kernel of the device wavefront, from timestamp queries (kernel_seconds,

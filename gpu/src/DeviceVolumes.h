@@ -1,0 +1,75 @@
+#pragma once
+// A render's density volumes on the device (core/Volume.h; the shading kernel reads them through
+// WavefrontVolume records, common/Volume.glsl). In core every brick is in one buffer
+// (VolumeLayout). When the bytes the budget kept for them cannot hold every brick, the volumes
+// are paged (PagedVolumeLayout): the cell tables and majorants stay resident, the bricks go into
+// a pool of slots, and between the wavefront's paging steps page() turns the kernels' per-brick
+// demand counters into loads, evicting the least recently used slots. docs/RENDERING.md,
+// "Volumes out of core".
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "vastray/core/Result.h"
+#include "vastray/core/Volume.h"
+#include "vastray/gpu/VulkanDevice.h"
+#include "vastray/streamer/StreamingRenderer.h"
+
+namespace vastray::gpu {
+
+// A pool holds at least this many bricks: a trilinear read needs 8, a ray through a cloud more.
+constexpr uint64_t kMinVolumeSlots = 64;
+
+// The device bytes of the volumes in core, and paged with the fewest slots (in core when that
+// is less); 0 without volumes.
+uint64_t volumesInCoreBytes(std::span<const Volume> volumes);
+uint64_t volumesMinimumBytes(std::span<const Volume> volumes);
+
+class DeviceVolumes {
+public:
+    explicit DeviceVolumes(VulkanDevice& device) : device_(device) {}
+
+    // Puts `volumes` (none: empty or null) on the device in at most `bytes`: every brick when they
+    // fit, else a pool of as many brick slots as fit (an error below kMinVolumeSlots). Kept while
+    // the next render uses the same volumes and they still fit.
+    Status prepare(const std::shared_ptr<const std::vector<Volume>>& volumes, uint64_t bytes, StreamingStats& stats);
+
+    const GpuBuffer* buffer() const { return volumes_ ? &buffer_ : nullptr; }
+    // Paged: host-cached memory the demand counters and then the used flags are copied into
+    // after each paging step (the host reads device memory through its mapping slowly).
+    const GpuBuffer* readback() const { return paged() ? &readback_ : nullptr; }
+    uint64_t allocatedBytes() const { return buffer_.allocatedBytes() + readback_.allocatedBytes(); }
+    bool paged() const { return volumes_ && slots_ > 0; }
+    uint32_t slotCount() const { return slots_; }        // 0: in core
+    uint64_t brickCount() const { return brickVolume_.size(); }  // all volumes' bricks
+    uint64_t demandOffset() const { return demandOffset_; }      // in buffer(): uint per brick (paged)
+    uint64_t usedOffset() const { return usedOffset_; }          // in buffer(): uint per slot (paged)
+
+    // Paged, between steps while the device is idle: loads the absent bricks the demand counters
+    // ask for (uint per brick), most asked-for first, into empty slots or the slots least recently
+    // used (`used`: uint per slot, nonzero when this step read it; such slots go last). Returns
+    // the bricks loaded.
+    Result<uint64_t> page(std::span<const uint32_t> demand, std::span<const uint32_t> used, StreamingStats& stats);
+
+private:
+    Status buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats);
+    Status buildPaged(const std::vector<Volume>& volumes, uint32_t slots, StreamingStats& stats);
+    Status allocate(const std::vector<Volume>& volumes, uint64_t bytes);
+    // The WavefrontVolume records, each volume's arrays at these offsets in buffer_.
+    Status writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
+                        std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
+                        std::span<const uint64_t> emission);
+
+    VulkanDevice& device_;
+    std::shared_ptr<const std::vector<Volume>> volumes_;  // the volumes in buffer_
+    GpuBuffer buffer_, readback_;
+    uint32_t slots_ = 0;
+    // Paged: per brick of all volumes its volume, its cell, and its slot (kNoBrick: absent); per
+    // volume its first brick and where its cell table lies; per slot its brick and last use.
+    std::vector<uint32_t> brickVolume_, brickCell_, brickSlot_, volumeFirstBrick_, slotBrick_;
+    std::vector<uint64_t> tableOffset_, slotLastUse_;
+    uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, usedOffset_ = 0, tick_ = 0;
+};
+
+}  // namespace vastray::gpu
