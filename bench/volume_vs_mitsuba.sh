@@ -12,7 +12,7 @@
 #   usage (on the device machine, vastray and volume_cloud on PATH, Mitsuba on PYTHONPATH):
 #     bench/volume_vs_mitsuba.sh MITSUBA_VOLUME.py OUT_DIR
 #   Environment: N (512), SPP (64), DEPTH (8), DENSITY (40), ALBEDO (0.8), G (0.3),
-#   RESOLUTION (1024x1024).
+#   RESOLUTION (1024x1024), OOC_ROUNDS (2: out-of-core renders).
 set -uo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 MITSUBA_VOLUME.py OUT_DIR" >&2; exit 2; }
 mitsuba=$1 out=$2
@@ -43,7 +43,7 @@ done
 echo "vastray mean_rgb $(meanOf "$out/vastray.pfm")"
 volumeBytes=$(vastray info "$out/cloud.vast" --json | python3 -c 'import json,sys; print(sum(v["device_bytes"] for v in json.load(sys.stdin)["volumes"]))')
 budget=$((volumeBytes / 2 / 1024))KiB
-for round in 1 2; do
+for round in $(seq 1 "${OOC_ROUNDS:-2}"); do
   vastray render "$out/cloud.vast" -o "$out/vastray-ooc.pfm" --resolution "$resolution" --eye "$eye" --target "$target" \
     --fov "$fov" --spp "$spp" --max-depth "$depth" --environment "$out/const.pfm" --progress none --memory-budget "$budget" \
     --stats-json "$out/vastray-ooc.json" > "$out/render-ooc.log" 2>&1 || { echo "render failed: $(tail -2 "$out/render-ooc.log")"; exit 1; }

@@ -5,9 +5,10 @@
 // the environment map (a shadow ray), the Lambertian bounce and Russian roulette on a hit. With
 // volumes, free flight along the ray first: a real collision before the hit scatters there
 // instead (next-event estimation through the volumes, the phase function's bounce). New rays
-// are queued on pc.queue for walking. A path whose volume tracking read a brick that was not
-// resident (paged volumes) writes nothing: it joins kVolumeWaitQueue and shades again, from the
-// same state, once its bricks are resident.
+// are queued on pc.queue for walking. A path whose volume tracking parks at a brick that is not
+// resident (paged volumes) writes its park record and nothing else: it joins kVolumeWaitQueue
+// and shades again from the same state once the bricks are resident, its tracking resuming
+// where it parked.
 // Each path carries its own bounce, so paths of one wave may be at different bounces.
 #version 460
 #extension GL_EXT_buffer_reference : require
@@ -48,7 +49,7 @@ bool surviveRoulette(inout vec3 throughput, uint pixel, uint sampleIndex, uint b
 }
 
 // Shades path j; count, first and second: the rays it started (at most two), to be queued.
-// Returns false when it must wait for volume bricks (it wrote nothing then).
+// Returns false when it must wait for volume bricks (it wrote only its park record then).
 bool shade(uint j, inout uint count, inout uint first, inout uint second) {
     const WavefrontParams p = ParamsRef(pc.params).p;
     uvec4 info = UVec4Array(p.pathInfo).v[j];
@@ -77,14 +78,19 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
         const bool hitFound = (UVec2Array(p.rayState).v[j].x & kHitFound) != 0u;
         // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
         // a real collision before it is this event's scattering point instead.
+        // Paged: a tracking parked in the transmittance has its free flight's result in the park.
         VolumeRandom rnd = VolumeRandom(pixel, sampleIndex, bounce, p.seed, 0u);
+        VolumePark park = kVolumes ? loadPark(p, j) : noPark();
+        const bool resumed = park.phase != kParkNone;
         bool scattered = false;
         float tCollision = 0.0;
         uint which = 0u;
-        if (kVolumes && !ao)
+        if (kVolumes && park.phase == kParkTransmittance)
+            scattered = park.found, tCollision = park.tCollision, which = park.which;
+        else if (kVolumes && !ao)
             scattered = sampleVolumeCollision(p, Vec4Array(p.rayOrigin).v[j].xyz, direction,
                                               hitFound ? Vec4Array(p.hitPosition).v[j].w : kInfinity, rnd, tCollision,
-                                              which);
+                                              which, park);
         // The scattering event's point, and what it does with the path (albedo, phase or bounce).
         vec3 origin, albedo, light, toLight = vec3(p.sunX, p.sunY, p.sunZ), n = vec3(0.0), ns = vec3(0.0);
         float g = 0.0;
@@ -133,12 +139,19 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
                     shoots = unshadowedSunLight(p, n, ns, albedo, light);
             }
         }
-        if (kVolumes && volumeMissed) return false;
+        if (kVolumes && volumeMissed) {
+            storePark(p, j, park);
+            return false;
+        }
         if (event) {
             // A volume's light arrives through the volumes; the surface's light has its albedo.
             if (kVolumes && shoots) {
-                light *= volumeTransmittance(p, origin, toLight, kInfinity, rnd);
-                if (volumeMissed) return false;
+                light *= volumeTransmittance(p, origin, toLight, kInfinity, rnd, park);
+                if (volumeMissed) {
+                    park.found = scattered, park.tCollision = tCollision, park.which = which;
+                    storePark(p, j, park);
+                    return false;
+                }
                 shoots = maxComponent(light) > 0.0;
             }
             if (shoots) {
@@ -169,6 +182,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
                 ++count;
             }
         }
+        if (kVolumes && resumed) storePark(p, j, noPark());
     }
     if (shadowDone && (flags & kPathShadowPending) == 0u) UVec2Array(p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);

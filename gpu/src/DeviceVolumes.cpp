@@ -1,6 +1,7 @@
 #include "DeviceVolumes.h"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <string>
 
@@ -17,21 +18,21 @@ std::vector<VolumeShape> shapesOf(std::span<const Volume> volumes) {
 }
 
 // The paged buffer and the readback of its counters (DeviceVolumes::readback).
-uint64_t pagedBytes(std::span<const VolumeShape> shapes, uint64_t slots) {
+uint64_t pagedBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths) {
     uint64_t bricks = 0;
     for (const VolumeShape& s : shapes) bricks += s.bricks;
-    return granules(pagedVolumeLayout(shapes, slots).totalBytes) + granules(4 * (bricks + slots));
+    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(4 * (2 * bricks + slots));
 }
 
 // The most slots whose paged layout fits `bytes` (0 when not even the tables do).
-uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes) {
-    const uint64_t base = pagedBytes(shapes, 0);
+uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint64_t paths) {
+    const uint64_t base = pagedBytes(shapes, 0, paths);
     if (bytes < base) return 0;
     bool emission = false;
     for (const VolumeShape& s : shapes) emission = emission || s.emission;
     const uint64_t perSlot = 4ull * kVolumeBrickVoxels * (emission ? 2 : 1) + 8;
     uint64_t slots = (bytes - base) / perSlot;
-    while (slots > 0 && pagedBytes(shapes, slots) > bytes) slots -= std::max<uint64_t>(1, slots / 1024);
+    while (slots > 0 && pagedBytes(shapes, slots, paths) > bytes) slots -= std::max<uint64_t>(1, slots / 1024);
     return slots;
 }
 
@@ -42,13 +43,13 @@ uint64_t volumesInCoreBytes(std::span<const Volume> volumes) {
     return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
 }
 
-uint64_t volumesMinimumBytes(std::span<const Volume> volumes) {
+uint64_t volumesMinimumBytes(std::span<const Volume> volumes, uint64_t paths) {
     const std::vector<VolumeShape> shapes = shapesOf(volumes);
-    return shapes.empty() ? 0 : std::min(volumesInCoreBytes(volumes), pagedBytes(shapes, kMinVolumeSlots));
+    return shapes.empty() ? 0 : std::min(volumesInCoreBytes(volumes), pagedBytes(shapes, kMinVolumeSlots, paths));
 }
 
 Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& volumes, uint64_t bytes,
-                              StreamingStats& stats) {
+                              uint64_t paths, StreamingStats& stats) {
     const bool none = !volumes || volumes->empty();
     if (none || volumes != volumes_ || buffer_.allocatedBytes() > bytes) {
         buffer_ = GpuBuffer();
@@ -60,13 +61,13 @@ Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& 
             Status built = Status::ok();
             if (volumesInCoreBytes(*volumes) <= bytes) {
                 built = buildInCore(*volumes, stats);
-            } else if (const uint64_t slots = std::min<uint64_t>(slotsFitting(shapes, bytes), kNoBrick - 1);
+            } else if (const uint64_t slots = std::min<uint64_t>(slotsFitting(shapes, bytes, paths), kNoBrick - 1);
                        slots >= kMinVolumeSlots) {
-                built = buildPaged(*volumes, uint32_t(slots), stats);
+                built = buildPaged(*volumes, uint32_t(slots), paths, stats);
             } else {
                 built = Status::error("the volumes need " + formatBytes(volumesInCoreBytes(*volumes)) +
                                       " of device memory in core, or " +
-                                      formatBytes(pagedBytes(shapes, kMinVolumeSlots)) +
+                                      formatBytes(pagedBytes(shapes, kMinVolumeSlots, paths)) +
                                       " paged through the fewest brick slots (" + std::to_string(kMinVolumeSlots) +
                                       "); the pool kept " + formatBytes(bytes) + " for them");
             }
@@ -132,12 +133,13 @@ Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingS
     return writeRecords(volumes, layout.brickOf, layout.majorant, layout.voxels, layout.emission);
 }
 
-Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t slots, StreamingStats& stats) {
-    const PagedVolumeLayout layout = pagedVolumeLayout(shapesOf(volumes), slots);
+Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths,
+                                 StreamingStats& stats) {
+    const PagedVolumeLayout layout = pagedVolumeLayout(shapesOf(volumes), slots, paths);
     VASTRAY_TRY(allocate(volumes, layout.totalBytes));
     uint64_t bricks = 0;
     for (const Volume& v : volumes) bricks += v.brickCount();
-    auto readback = device_.createBuffer(4 * (bricks + slots), VulkanDevice::MemoryUse::Readback);
+    auto readback = device_.createBuffer(4 * (2 * bricks + slots), VulkanDevice::MemoryUse::Readback);
     if (!readback) return readback.status().withContext("volume brick counters: ");
     readback_ = std::move(readback).value();
     slots_ = slots;
@@ -162,68 +164,84 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     }
     brickSlot_.assign(brickVolume_.size(), kNoBrick);
     slotBrick_.assign(slots, kNoBrick);
-    slotLastUse_.assign(slots, 0);
     densityOffset_ = layout.density, emissionOffset_ = layout.emission;
-    demandOffset_ = layout.demand, usedOffset_ = layout.used;
+    demandOffset_ = layout.demand, parkOffset_ = layout.park, parkBytes_ = kVolumeParkBytes * paths;
     const std::vector<uint32_t> none(std::max<uint64_t>(brickVolume_.size(), slots), kNoBrick);
+    const std::vector<uint32_t> zeros(brickVolume_.size(), 0);
     VASTRAY_TRY(buffer_.upload(none.data(), brickVolume_.size() * 4, demandOffset_));
-    VASTRAY_TRY(buffer_.upload(none.data(), uint64_t(slots) * 4, usedOffset_));
+    VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_ + brickVolume_.size() * 4));
     const std::vector<uint64_t> density(volumes.size(), layout.density), emission(volumes.size(), layout.emission);
     return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission);
 }
 
-// Priorities: the lowest path that asked for a brick or read a slot's brick this step (kNoBrick:
-// none). The pool keeps the bricks of the lowest paths: an absent brick replaces a slot only
-// when its path is lower than every path that read the slot, so the lowest waiting path gets
-// every brick it reads (when they fit the pool at all) and finishes; the render cannot stall.
-// Among slots no path read, empty ones go first, then the least recently used.
-Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, std::span<const uint32_t> used,
-                                     StreamingStats& stats) {
-    if (!paged() || demand.size() != brickVolume_.size() || used.size() != slots_)
-        return Status::error("volume paging: demand or used counters of the wrong size");
-    ++tick_;
-    for (uint32_t s = 0; s < slots_; ++s)
-        if (used[s] != kNoBrick) slotLastUse_[s] = tick_;
-    std::vector<uint32_t> wanted;
-    for (uint32_t b = 0; b < demand.size(); ++b)
-        if (demand[b] != kNoBrick && brickSlot_[b] == kNoBrick) wanted.push_back(b);
-    std::sort(wanted.begin(), wanted.end(), [&](uint32_t a, uint32_t b) {
-        return demand[a] != demand[b] ? demand[a] < demand[b] : a < b;
-    });
-    // Victims in order: empty, unread (least recently used first), then read by the highest paths.
-    std::vector<uint32_t> victims(slots_);
-    std::iota(victims.begin(), victims.end(), 0u);
-    auto rank = [&](uint32_t s) {
-        if (slotBrick_[s] == kNoBrick) return std::pair<uint64_t, uint64_t>(0, 0);
-        if (used[s] == kNoBrick) return std::pair<uint64_t, uint64_t>(1, slotLastUse_[s]);
-        return std::pair<uint64_t, uint64_t>(2, uint64_t(kNoBrick) - used[s]);
-    };
-    std::sort(victims.begin(), victims.end(), [&](uint32_t a, uint32_t b) {
-        const auto ra = rank(a), rb = rank(b);
-        return ra != rb ? ra < rb : a < b;
-    });
+Status DeviceVolumes::loadBrick(uint32_t brick, uint32_t slot, StreamingStats& stats) {
     const uint64_t brickBytes = 4ull * kVolumeBrickVoxels;
-    auto setCell = [&](uint32_t brick, uint32_t entry) {
-        return buffer_.upload(&entry, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]);
+    const Volume& v = (*volumes_)[brickVolume_[brick]];
+    const uint64_t local = brick - volumeFirstBrick_[brickVolume_[brick]];
+    VASTRAY_TRY(buffer_.upload(v.voxels.data() + local * kVolumeBrickVoxels, brickBytes, densityOffset_ + slot * brickBytes));
+    if (!v.emissionVoxels.empty())
+        VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data() + local * kVolumeBrickVoxels, brickBytes,
+                                   emissionOffset_ + slot * brickBytes));
+    stats.hostToDeviceBytes += brickBytes * (v.emissionVoxels.empty() ? 1 : 2) + 4;
+    brickSlot_[brick] = slot, slotBrick_[slot] = brick;
+    const uint32_t entry = slot;
+    return buffer_.upload(&entry, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]);
+}
+
+// The region policy: the pool's worth of bricks nearest (in brick cells, Chebyshev distance,
+// same volume) to the absent brick the most parked walks wait for (the highest weight; ties:
+// the lowest asking path, then the lowest brick) become resident, nearest first, in the slots of
+// bricks outside that region. Walks then cross the whole region before they park again, and
+// every step loads the brick most waited for, so the walks parked at it go on: a render cannot
+// stall. (Loading the most asked-for bricks one by one instead turned the pool over every step
+// with little progress: PERF_NOTES 52.)
+Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, StreamingStats& stats) {
+    const uint64_t bricks = brickVolume_.size();
+    if (!paged() || demand.size() != 2 * bricks) return Status::error("volume paging: demand counters of the wrong size");
+    const std::span<const uint32_t> lowestPath = demand.first(bricks), weight = demand.subspan(bricks);
+    uint32_t center = kNoBrick;
+    for (uint32_t b = 0; b < bricks; ++b) {
+        if (lowestPath[b] == kNoBrick || brickSlot_[b] != kNoBrick) continue;
+        if (center == kNoBrick || weight[b] > weight[center] ||
+            (weight[b] == weight[center] && lowestPath[b] < lowestPath[center]))
+            center = b;
+    }
+    if (center == kNoBrick) return uint64_t(0);
+    const uint32_t volume = brickVolume_[center];
+    const std::array<uint32_t, 3> cells = (*volumes_)[volume].brickCells;
+    auto xyz = [&](uint32_t b) {
+        const uint64_t c = brickCell_[b];
+        return std::array<int64_t, 3>{int64_t(c % cells[0]), int64_t(c / cells[0] % cells[1]),
+                                      int64_t(c / (uint64_t(cells[0]) * cells[1]))};
     };
+    const auto at = xyz(center);
+    std::vector<std::pair<uint64_t, uint32_t>> region;  // (distance, brick)
+    const uint32_t first = volumeFirstBrick_[volume];
+    region.reserve((*volumes_)[volume].brickCount());
+    for (uint32_t b = first; b < first + (*volumes_)[volume].brickCount(); ++b) {
+        const auto p = xyz(b);
+        region.push_back({uint64_t(std::max({std::abs(p[0] - at[0]), std::abs(p[1] - at[1]), std::abs(p[2] - at[2])})), b});
+    }
+    const size_t keep = std::min<size_t>(region.size(), slots_);
+    std::nth_element(region.begin(), region.begin() + (keep - 1), region.end());
+    region.resize(keep);
+    std::sort(region.begin(), region.end());
+    std::vector<uint8_t> inRegion(bricks, 0);
+    for (const auto& entry : region) inRegion[entry.second] = 1;
+    std::vector<uint32_t> free;
+    for (uint32_t s = 0; s < slots_; ++s)
+        if (slotBrick_[s] == kNoBrick || !inRegion[slotBrick_[s]]) free.push_back(s);
     uint64_t loads = 0;
-    for (size_t i = 0; i < wanted.size() && i < victims.size(); ++i) {
-        const uint32_t slot = victims[i], brick = wanted[i];
-        if (slotBrick_[slot] != kNoBrick && used[slot] != kNoBrick && used[slot] <= demand[brick]) break;
+    for (const auto& [distance, brick] : region) {
+        if (brickSlot_[brick] != kNoBrick) continue;
+        if (loads == free.size()) break;
+        const uint32_t slot = free[loads++];
         if (const uint32_t old = slotBrick_[slot]; old != kNoBrick) {
             brickSlot_[old] = kNoBrick;
-            VASTRAY_TRY(setCell(old, kBrickAbsent | (old - volumeFirstBrick_[brickVolume_[old]])));
+            const uint32_t absent = kBrickAbsent | (old - volumeFirstBrick_[brickVolume_[old]]);
+            VASTRAY_TRY(buffer_.upload(&absent, 4, tableOffset_[brickVolume_[old]] + 4ull * brickCell_[old]));
         }
-        const Volume& v = (*volumes_)[brickVolume_[brick]];
-        const uint64_t local = brick - volumeFirstBrick_[brickVolume_[brick]];
-        VASTRAY_TRY(buffer_.upload(v.voxels.data() + local * kVolumeBrickVoxels, brickBytes, densityOffset_ + slot * brickBytes));
-        if (!v.emissionVoxels.empty())
-            VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data() + local * kVolumeBrickVoxels, brickBytes,
-                                       emissionOffset_ + slot * brickBytes));
-        stats.hostToDeviceBytes += brickBytes * (v.emissionVoxels.empty() ? 1 : 2) + 4;
-        brickSlot_[brick] = slot, slotBrick_[slot] = brick, slotLastUse_[slot] = tick_;
-        VASTRAY_TRY(setCell(brick, slot));
-        ++loads;
+        VASTRAY_TRY(loadBrick(brick, slot, stats));
     }
     stats.volumeBrickLoads += loads;
     return loads;

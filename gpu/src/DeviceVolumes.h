@@ -4,7 +4,7 @@
 // (VolumeLayout). When the bytes the budget kept for them cannot hold every brick, the volumes
 // are paged (PagedVolumeLayout): the cell tables and majorants stay resident, the bricks go into
 // a pool of slots, and between the wavefront's paging steps page() turns the kernels' per-brick
-// demand counters into loads, evicting the least recently used slots. docs/RENDERING.md,
+// demand counters into loads of the region around the brick most waited for. docs/RENDERING.md,
 // "Volumes out of core".
 #include <cstdint>
 #include <memory>
@@ -23,39 +23,44 @@ constexpr uint64_t kMinVolumeSlots = 64;
 
 // The device bytes of the volumes in core, and paged with the fewest slots (in core when that
 // is less); 0 without volumes.
+// Paged, a wave of `paths` paths needs room for where each path's tracking parked.
 uint64_t volumesInCoreBytes(std::span<const Volume> volumes);
-uint64_t volumesMinimumBytes(std::span<const Volume> volumes);
+uint64_t volumesMinimumBytes(std::span<const Volume> volumes, uint64_t paths);
 
 class DeviceVolumes {
 public:
     explicit DeviceVolumes(VulkanDevice& device) : device_(device) {}
 
     // Puts `volumes` (none: empty or null) on the device in at most `bytes`: every brick when they
-    // fit, else a pool of as many brick slots as fit (an error below kMinVolumeSlots). Kept while
-    // the next render uses the same volumes and they still fit.
-    Status prepare(const std::shared_ptr<const std::vector<Volume>>& volumes, uint64_t bytes, StreamingStats& stats);
+    // fit, else a pool of as many brick slots as fit besides the park records of waves of up to
+    // `paths` paths (an error below kMinVolumeSlots). Kept while the next render uses the same
+    // volumes and they still fit.
+    Status prepare(const std::shared_ptr<const std::vector<Volume>>& volumes, uint64_t bytes, uint64_t paths,
+                   StreamingStats& stats);
 
     const GpuBuffer* buffer() const { return volumes_ ? &buffer_ : nullptr; }
-    // Paged: host-cached memory the demand counters and then the used flags are copied into
-    // after each paging step (the host reads device memory through its mapping slowly).
+    // Paged: host-cached memory the demand counters are copied into after each paging step (the
+    // host reads device memory through its mapping slowly).
     const GpuBuffer* readback() const { return paged() ? &readback_ : nullptr; }
     uint64_t allocatedBytes() const { return buffer_.allocatedBytes() + readback_.allocatedBytes(); }
     bool paged() const { return volumes_ && slots_ > 0; }
     uint32_t slotCount() const { return slots_; }        // 0: in core
     uint64_t brickCount() const { return brickVolume_.size(); }  // all volumes' bricks
-    uint64_t demandOffset() const { return demandOffset_; }      // in buffer(): uint per brick (paged)
-    uint64_t usedOffset() const { return usedOffset_; }          // in buffer(): uint per slot (paged)
+    uint64_t demandOffset() const { return demandOffset_; }      // in buffer(): 2 uint per brick (paged)
+    uint64_t parkOffset() const { return parkOffset_; }          // in buffer(): VolumePark per path (paged)
+    uint64_t parkBytes() const { return parkBytes_; }
 
-    // Paged, between steps while the device is idle: loads the absent bricks the demand counters
-    // ask for (uint per brick), most asked-for first, into empty slots or the slots least recently
-    // used (`used`: uint per slot, nonzero when this step read it; such slots go last). Returns
-    // the bricks loaded.
-    Result<uint64_t> page(std::span<const uint32_t> demand, std::span<const uint32_t> used, StreamingStats& stats);
+    // Paged, between steps while the device is idle: makes the pool's worth of bricks around the
+    // absent brick parked walks wait for most resident (`demand`: per brick the lowest asking
+    // path, kNoBrick: none, then per brick the asks' weights; DeviceVolumes.cpp). Returns the loads.
+    Result<uint64_t> page(std::span<const uint32_t> demand, StreamingStats& stats);
 
 private:
     Status buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats);
-    Status buildPaged(const std::vector<Volume>& volumes, uint32_t slots, StreamingStats& stats);
+    Status buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths, StreamingStats& stats);
     Status allocate(const std::vector<Volume>& volumes, uint64_t bytes);
+    // Copies a brick's voxels into a slot and points its cell at it.
+    Status loadBrick(uint32_t brick, uint32_t slot, StreamingStats& stats);
     // The WavefrontVolume records, each volume's arrays at these offsets in buffer_.
     Status writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                         std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
@@ -66,10 +71,10 @@ private:
     GpuBuffer buffer_, readback_;
     uint32_t slots_ = 0;
     // Paged: per brick of all volumes its volume, its cell, and its slot (kNoBrick: absent); per
-    // volume its first brick and where its cell table lies; per slot its brick and last use.
+    // volume its first brick and where its cell table lies; per slot its brick.
     std::vector<uint32_t> brickVolume_, brickCell_, brickSlot_, volumeFirstBrick_, slotBrick_;
-    std::vector<uint64_t> tableOffset_, slotLastUse_;
-    uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, usedOffset_ = 0, tick_ = 0;
+    std::vector<uint64_t> tableOffset_;
+    uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, parkOffset_ = 0, parkBytes_ = 0;
 };
 
 }  // namespace vastray::gpu

@@ -108,12 +108,14 @@ inline VolumeLayout volumeLayout(std::span<const VolumeShape> volumes) {
 // Paged volumes (gpu/src/DeviceVolumes.h): WavefrontVolume per volume, per volume its cell table
 // (a slot or kBrickAbsent | brick per cell) and majorants, then the pools of `slots` bricks
 // (density, and emission when a volume has an emission grid; a slot holds the same brick in
-// both), per brick of all volumes its demand counter, and per slot its used flag.
+// both), per brick of all volumes its lowest asking path, then its asks' weights, and per path of
+// a wave where its tracking parked (four uvec4, common/Volume.glsl's VolumePark).
 struct PagedVolumeLayout {
     std::vector<uint64_t> brickOf, majorant;
-    uint64_t density = 0, emission = 0, demand = 0, used = 0, totalBytes = 0;
+    uint64_t density = 0, emission = 0, demand = 0, park = 0, totalBytes = 0;
 };
-inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes, uint64_t slots) {
+constexpr uint64_t kVolumeParkBytes = 64;
+inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes, uint64_t slots, uint64_t paths) {
     auto align = [](uint64_t x) { return (x + 15) / 16 * 16; };
     PagedVolumeLayout l;
     uint64_t at = align(volumes.size() * sizeof(WavefrontVolume)), bricks = 0;
@@ -126,8 +128,8 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
     const uint64_t poolBytes = 4 * uint64_t(kVolumeBrickVoxels) * slots;
     l.density = at, at = align(at + poolBytes);
     l.emission = emission ? at : 0, at = emission ? align(at + poolBytes) : at;
-    l.demand = at, at = align(at + 4 * bricks);
-    l.used = at, at = align(at + 4 * slots);
+    l.demand = at, at = align(at + 8 * bricks);
+    l.park = at, at = align(at + kVolumeParkBytes * paths);
     l.totalBytes = at;
     return l;
 }

@@ -230,7 +230,8 @@ private:
     // The map and the volumes (paged through the fewest brick slots when that is less) fit the
     // bytes the plan kept for them.
     Status checkReserve(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes) const {
-        const uint64_t map = environmentBytes(environment), grids = volumes ? volumesMinimumBytes(*volumes) : 0;
+        const uint64_t map = environmentBytes(environment),
+                       grids = volumes ? volumesMinimumBytes(*volumes, plan_.batchRays) : 0;
         if (map + grids <= plan_.reservedBytes) return Status::ok();
         return Status::error((map ? "the environment map needs " + formatBytes(map) + (grids ? " and " : "") : std::string("")) +
                              (grids ? "the volumes need at least " + formatBytes(grids) : std::string()) +
@@ -244,7 +245,8 @@ private:
         VASTRAY_TRY(checkReserve(Environment{}, volumes));
         const uint64_t map = environment_ ? environmentBuffer_.allocatedBytes() : 0;
         allocated_ -= volumes_.allocatedBytes();
-        const Status s = volumes_.prepare(volumes, plan_.reservedBytes - std::min(map, plan_.reservedBytes), stats);
+        const Status s =
+            volumes_.prepare(volumes, plan_.reservedBytes - std::min(map, plan_.reservedBytes), plan_.batchRays, stats);
         allocated_ += volumes_.allocatedBytes();
         peak_ = std::max(peak_, allocated_);
         return s;
@@ -367,7 +369,8 @@ uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget) {
     const uint64_t whole = volumeBytes(package);
     const uint64_t share = uint64_t(double(budget) * kVolumeShareOutOfCore) / kAllocationGranule * kAllocationGranule;
     if (whole <= share) return whole;
-    return std::max(share, granules(pagedVolumeLayout(volumeShapes(package), kMinVolumeSlots).totalBytes));
+    // The fewest slots, and the park records of a minimal wave (a larger wave takes slots).
+    return std::max(share, granules(pagedVolumeLayout(volumeShapes(package), kMinVolumeSlots, kMinBatchRays).totalBytes));
 }
 
 // DMA where the slots can live in memory the host does not map and the staging in system

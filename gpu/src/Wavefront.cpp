@@ -51,10 +51,6 @@ enum Kernel : int {
 // Walk passes per paging step out of core (with shading between them): enough for paths that
 // stay in resident chunks to go on for a few bounces before the host pages again.
 constexpr uint32_t kPassesPerPagingStep = 3;
-// Paging steps in a row in which the same path is the lowest waiting for volume bricks before a
-// render gives up: the pool's slots cannot hold what that path reads (DeviceVolumes::page serves
-// the lowest path first; a path waits a few steps per scattering event at most otherwise).
-constexpr uint64_t kMaxStalledSteps = 1000;
 // Timestamps one submission takes at most; commands beyond them go untimed.
 constexpr uint32_t kMaxQueries = 16384;
 
@@ -186,6 +182,11 @@ public:
         for (uint32_t q = 0; q < kQueueCount; ++q) args.insert(args.end(), {0u, 1u, 1u});
         VASTRAY_TRY(upload(args, b_.tables.queueArgs));
         VASTRAY_TRY(uploadResidency());
+        if (volumes && b_.volumes->paged())  // no path's tracking is parked (a failed render may have left some)
+            record([this](VkCommandBuffer cmd) {
+                vkCmdFillBuffer(cmd, b_.volumes->buffer()->handle(), b_.volumes->parkOffset(), b_.volumes->parkBytes(), 0);
+                barrier(cmd);
+            });
         const uint32_t spp = options_.samplesPerPixel;
         const uint32_t samplesPerWave = std::min(spp, b_.pathCapacity);
         // Tiles of the image (the frame, or a region of it); the device sees frame pixels.
@@ -309,24 +310,23 @@ private:
         clearQueue(kVolumeWaitQueue);
         shadeReady(push);
     }
-    // Paged volumes: the step's demand counters and used flags into host-cached memory.
+    // Paged volumes: the step's demand counters into host-cached memory.
     void copyVolumeCounters(const DeviceVolumes& volumes) {
+        if (volumes.brickCount() == 0) return;
         record([&volumes](VkCommandBuffer cmd) {
-            const uint64_t bricks = volumes.brickCount() * 4;
-            VkBufferCopy regions[2] = {{volumes.demandOffset(), 0, bricks},
-                                       {volumes.usedOffset(), bricks, uint64_t(volumes.slotCount()) * 4}};
-            const uint32_t first = bricks > 0 ? 0 : 1;
-            vkCmdCopyBuffer(cmd, volumes.buffer()->handle(), volumes.readback()->handle(), 2 - first, regions + first);
+            const VkBufferCopy region{volumes.demandOffset(), 0, volumes.brickCount() * 8};
+            vkCmdCopyBuffer(cmd, volumes.buffer()->handle(), volumes.readback()->handle(), 1, &region);
             barrier(cmd);
         });
     }
-    // Paged volumes: no brick is asked for and no slot used yet (the lowest path: none).
+    // Paged volumes: no brick is asked for yet (the lowest path: none, the weights: 0).
     void clearVolumeCounters(const DeviceVolumes& volumes) {
         record([&volumes](VkCommandBuffer cmd) {
             const VkBuffer buffer = volumes.buffer()->handle();
-            if (volumes.brickCount() > 0)
+            if (volumes.brickCount() > 0) {
                 vkCmdFillBuffer(cmd, buffer, volumes.demandOffset(), volumes.brickCount() * 4, kNoBrick);
-            vkCmdFillBuffer(cmd, buffer, volumes.usedOffset(), uint64_t(volumes.slotCount()) * 4, kNoBrick);
+                vkCmdFillBuffer(cmd, buffer, volumes.demandOffset() + volumes.brickCount() * 4, volumes.brickCount() * 4, 0);
+            }
             barrier(cmd);
         });
     }
@@ -360,10 +360,8 @@ private:
         pager_.beginStream();
         std::vector<uint32_t> waveTouched(b_.chunkCount, 0), touched(b_.chunkCount);
         std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(kQueueCount);
-        std::vector<uint32_t> brickDemand(volumes ? volumes->brickCount() : 0), slotsUsed(volumes ? volumes->slotCount() : 0);
+        std::vector<uint32_t> brickDemand(volumes ? 2 * volumes->brickCount() : 0);
         bool planned = false;  // loads planned for the step about to run
-        uint64_t stalled = 0;  // steps in a row whose lowest waiting path (volume bricks) was the same
-        uint32_t lowestWaiting = kNoBrick;
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             if (volumes) clearVolumeCounters(*volumes);
@@ -394,21 +392,15 @@ private:
             pager_.markUsed(touched);
             const uint32_t waiting = counts[kVolumeWaitQueue];
             if (volumes && waiting > 0) {
-                // Paths wait for bricks: page them in.
+                // Paths wait for bricks: page in the region around the one most waited for (it
+                // is absent, so every step loads it and lets the walks waiting at it go on).
                 const GpuBuffer& counters = *volumes->readback();
                 VASTRAY_TRY(download(brickDemand.data(), brickDemand.size() * 4, counters, 0));
-                VASTRAY_TRY(download(slotsUsed.data(), slotsUsed.size() * 4, counters, brickDemand.size() * 4));
-                auto paged = volumes->page(brickDemand, slotsUsed, stats_);
+                auto paged = volumes->page(brickDemand, stats_);
                 if (!paged) return paged.status();
-                // The pool serves the lowest waiting path first: if it waits step after step, what
-                // it reads does not fit the pool.
-                const uint32_t lowest = *std::min_element(brickDemand.begin(), brickDemand.end());
-                stalled = lowest == lowestWaiting ? stalled + 1 : 0;
-                lowestWaiting = lowest;
-                if (stalled > kMaxStalledSteps)
-                    return Status::error("a path has waited for volume bricks for " + std::to_string(kMaxStalledSteps) +
-                                         " paging steps: what it reads does not fit the pool of " +
-                                         std::to_string(volumes->slotCount()) + " brick slots (raise --memory-budget)");
+                if (*paged == 0)
+                    return Status::error(std::to_string(waiting) + " paths wait for volume bricks, but the pool of " +
+                                         std::to_string(volumes->slotCount()) + " brick slots loaded none");
             }
             const bool finished = counts[push.queue] == 0 && counts[kShadeQueue] == 0 && waiting == 0;
             if (finished || demand[b_.chunkCount] == 0) {  // done, or nobody waits: the finished paths go on
@@ -513,8 +505,11 @@ private:
             const uint64_t base = b_.volumes->buffer()->address();
             p.volumes = base;  // the WavefrontVolume records come first
             p.volumeCount = uint32_t(options_.volumes->size());
-            if (b_.volumes->paged())
-                p.volumeDemand = base + b_.volumes->demandOffset(), p.volumeUsed = base + b_.volumes->usedOffset();
+            if (b_.volumes->paged()) {
+                p.volumeDemand = base + b_.volumes->demandOffset();
+                p.volumePark = base + b_.volumes->parkOffset();
+                p.volumeBrickCount = uint32_t(b_.volumes->brickCount());
+            }
         }
         p.aoDistance = options_.aoDistance;
         p.boundsLoX = b_.bounds.lo.x, p.boundsLoY = b_.bounds.lo.y, p.boundsLoZ = b_.bounds.lo.z;

@@ -3,12 +3,14 @@
 // tracking (transmittance) with the cells' majorants, and the Henyey-Greenstein phase function.
 // docs/RENDERING.md, "Volumes", specifies them. Needs WavefrontState.glsl, Random.glsl and
 // Shading.glsl before it.
-// Paged volumes (a pool of brick slots, docs/RENDERING.md "Volumes out of core"): a read whose
-// brick is absent asks for it (WavefrontParams::volumeDemand), sets volumeMissed and reads 0;
-// the tracking then only walks on, asking for the absent bricks of the cells the ray crosses,
-// and the caller drops the whole shading of the path, which waits and shades again from the
-// start once the bricks are resident. A shading that finishes has read only resident bricks,
-// the same values as in core: paged and in-core renders are equal bit for bit.
+// Paged volumes (a pool of brick slots, docs/RENDERING.md "Volumes out of core"): before a cell
+// is sampled its bricks must be resident; when one is not, the tracking parks there (a
+// VolumePark: the cell, the walk's state and the random counter at the cell's start), asks
+// for the bricks of that cell and of the next few along the ray (WavefrontParams::volumeDemand)
+// and sets volumeMissed; the shading writes the park record and nothing else, and when the
+// path shades again it resumes the tracking at that cell. Every value the tracking reads is a
+// resident brick's, the same as in core, and a resumed walk continues with the same numbers:
+// paged and in-core renders are equal bit for bit.
 #ifndef VASTRAY_VOLUME_GLSL
 #define VASTRAY_VOLUME_GLSL
 
@@ -31,13 +33,19 @@ float nextVolumeRandom(inout VolumeRandom r) {
 
 uvec3 volumeCells(WavefrontVolume v) { return uvec3(v.cellsX, v.cellsY, v.cellsZ); }
 
-bool volumeMissed = false;  // this invocation read an absent brick (paged volumes)
+bool volumeMissed = false;  // this invocation's tracking parked (paged volumes)
 uint volumePath = 0u;       // the path this invocation shades: its bricks' priority (lower first)
 
-// requestBrick: asks the pager for an absent brick (its cell table entry), at the priority of
-// the lowest path that asks.
-void requestBrick(WavefrontVolume v, uint entry) {
-    atomicMin(RwUintArray(ParamsRef(pc.params).p.volumeDemand).v[v.brickBase + (entry & ~kBrickAbsent)], volumePath);
+// Weights of a request for a brick: one a parked walk waits for, one it asks for ahead.
+const uint kWaitWeight = 4u, kAheadWeight = 1u;
+
+// requestBrick: asks the pager for an absent brick (its cell table entry): the lowest path that
+// asks for it, and the asks' weights summed.
+void requestBrick(WavefrontVolume v, uint entry, uint weight) {
+    const uint brick = v.brickBase + (entry & ~kBrickAbsent);
+    RwUintArray demand = RwUintArray(ParamsRef(pc.params).p.volumeDemand);
+    atomicMin(demand.v[brick], volumePath);
+    atomicAdd(demand.v[ParamsRef(pc.params).p.volumeBrickCount + brick], weight);
     volumeMissed = true;
 }
 
@@ -50,7 +58,7 @@ float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
     const uint brick = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
     if (brick == kNoBrick) return 0.0;
     if ((brick & kBrickAbsent) != 0u) {
-        requestBrick(v, brick);
+        requestBrick(v, brick, kWaitWeight);
         return 0.0;
     }
     return VolumeFloats(voxels).v[brick * 512u + o.x + kVolumeBrickSize * (o.y + kVolumeBrickSize * o.z)];
@@ -84,29 +92,62 @@ vec3 volumeEmission(WavefrontVolume v, vec3 p) {
 }
 
 // pageCell (paged volumes): the bricks that sampling in `cell` may read (its own and those of the
-// cells after it along each axis, for the trilinear reads) are asked for when absent, and their
-// slots marked used (by the lowest path) when resident and nothing was missed.
-void pageCell(WavefrontVolume v, ivec3 cell, uint64_t used) {
+// cells after it along each axis, for the trilinear reads) are asked for when absent.
+void pageCell(WavefrontVolume v, ivec3 cell, uint weight) {
     const uvec3 cells = volumeCells(v);
     for (uint n = 0u; n < 8u; ++n) {
         const uvec3 c = uvec3(cell) + uvec3(n & 1u, (n >> 1) & 1u, n >> 2);
         if (any(greaterThanEqual(c, cells))) continue;
         const uint entry = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
-        if (entry == kNoBrick) continue;
-        if ((entry & kBrickAbsent) != 0u)
-            requestBrick(v, entry);
-        else if (!volumeMissed && RwUintArray(used).v[entry] > volumePath)
-            atomicMin(RwUintArray(used).v[entry], volumePath);
+        if (entry != kNoBrick && (entry & kBrickAbsent) != 0u) requestBrick(v, entry, weight);
     }
+}
+
+// Where a paged volume's tracking parked (per path, WavefrontParams::volumePark: four uvec4).
+// phase: kParkNone, or the tracking it parked in: free flight (value: the nearest collision so
+// far, found/which/tCollision: its volume and t) or transmittance (value: the transmittance so
+// far, found/which/tCollision: the free flight's result); volume: the volume being tracked;
+// counter, steps, cell, tNext, t: the walk's state at the start of the cell it waits at.
+const uint kParkNone = 0u, kParkFreeFlight = 1u, kParkTransmittance = 2u;
+// Cells along the ray past the one a tracking parks at whose bricks it asks for too.
+const uint kPrefetchCells = 4u;
+struct VolumePark {
+    uint phase, volume, counter, steps;
+    ivec3 cell;
+    float t;
+    vec3 tNext;
+    float value, tCollision;
+    uint which;
+    bool found;
+};
+
+VolumePark noPark() { return VolumePark(kParkNone, 0u, 0u, 0u, ivec3(0), 0.0, vec3(0.0), 0.0, 0.0, 0u, false); }
+
+VolumePark loadPark(WavefrontParams p, uint j) {
+    if (p.volumePark == 0ul) return noPark();
+    UVec4Array a = UVec4Array(p.volumePark);
+    const uvec4 w0 = a.v[4u * j], w1 = a.v[4u * j + 1u], w2 = a.v[4u * j + 2u], w3 = a.v[4u * j + 3u];
+    return VolumePark(w0.x, w0.y, w0.z, w0.w, ivec3(w1.xyz), uintBitsToFloat(w1.w), uintBitsToFloat(w2.xyz),
+                      uintBitsToFloat(w2.w), uintBitsToFloat(w3.x), w3.y, w3.z != 0u);
+}
+
+void storePark(WavefrontParams p, uint j, VolumePark k) {
+    UVec4Array a = UVec4Array(p.volumePark);
+    a.v[4u * j] = uvec4(k.phase, k.volume, k.counter, k.steps);
+    a.v[4u * j + 1u] = uvec4(uvec3(k.cell), floatBitsToUint(k.t));
+    a.v[4u * j + 2u] = uvec4(floatBitsToUint(k.tNext), floatBitsToUint(k.value));
+    a.v[4u * j + 3u] = uvec4(floatBitsToUint(k.tCollision), k.which, k.found ? 1u : 0u, 0u);
 }
 
 // Tracks one volume along the world ray within [0, tMax): with `ratio` false, delta tracking;
 // returns the first real collision's t, or tMax. With `ratio` true, ratio tracking: multiplies
 // `transmittance` and returns tMax. Cells are walked front to back (cellRay and walkCells).
-// Paged: a cell it samples marks its brick's slot used; once volumeMissed is set it samples no
-// more, asks for the absent bricks of the cells with density it crosses, and returns tMax.
+// Paged: with `resume` the walk starts at park's cell and state instead of the ray's entry; a
+// at a cell with an absent brick it parks (fills
+// park's walk state, rnd's counter and transmittance back at the cell's start), asks for the
+// bricks of the next kPrefetchCells cells too, and returns tMax with volumeMissed set.
 float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bool ratio, inout VolumeRandom rnd,
-                  inout float transmittance) {
+                  inout float transmittance, bool resume, inout VolumePark park) {
     const float w[12] = v.worldToIndex;
     const vec3 p = vec3(w[0] * origin.x + w[1] * origin.y + w[2] * origin.z + w[3],
                         w[4] * origin.x + w[5] * origin.y + w[6] * origin.z + w[7],
@@ -147,19 +188,29 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
     }
     const float scale = v.densityScale;
     VolumeFloats majorants = VolumeFloats(v.majorant);
-    const uint64_t used = ParamsRef(pc.params).p.volumeUsed;  // 0: in core
+    const bool paged = ParamsRef(pc.params).p.volumeDemand != 0ul;
     uint steps = 0u;
     float t = tEnter;
+    if (resume) cell = park.cell, tNext = park.tNext, t = park.t, steps = park.steps;
+    uint prefetch = 0u;  // parked: cells with density whose bricks were asked for since
     while (t < tExit) {
         const int axis = tNext.x <= tNext.y ? (tNext.x <= tNext.z ? 0 : 2) : (tNext.y <= tNext.z ? 1 : 2);
         const float end = min(tNext[axis], tExit);
         if (end > t) {
             const uint index = uint(cell.x) + cells.x * (uint(cell.y) + cells.y * uint(cell.z));
             const float majorant = majorants.v[index] * scale;
-            if (majorant > 0.0 && used != 0ul) pageCell(v, cell, used);
-            if (majorant > 0.0 && !volumeMissed) {
+            if (volumeMissed) {
+                if (majorant > 0.0) {
+                    pageCell(v, cell, kAheadWeight);
+                    if (++prefetch >= kPrefetchCells) return tMax;
+                }
+            } else if (majorant > 0.0) {
+                // The cell's start: where a walk that misses a brick in it parks.
+                const uint startCounter = rnd.counter, startSteps = steps;
+                const float startTransmittance = transmittance;
+                if (paged) pageCell(v, cell, kWaitWeight);
                 float s = t;
-                for (;;) {
+                while (!volumeMissed) {
                     s -= log(1.0 - nextVolumeRandom(rnd)) / majorant;
                     if (!(s < end)) break;
                     if (!ratio && ++steps > kMaxVolumeSteps) return s;
@@ -173,6 +224,10 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
                         return s;
                     }
                 }
+                if (volumeMissed) {
+                    rnd.counter = startCounter, steps = startSteps, transmittance = startTransmittance;
+                    park.cell = cell, park.tNext = tNext, park.t = t, park.steps = steps, park.counter = rnd.counter;
+                }
             }
         }
         t = max(t, end);
@@ -183,24 +238,50 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
     return tMax;
 }
 
-// sampleVolumeCollision: the nearest real collision among the volumes before tMax.
+// sampleVolumeCollision: the nearest real collision among the volumes before tMax. Paged: a
+// park in free flight resumes there; a tracking that parks fills park (phase kParkFreeFlight)
+// and returns false with volumeMissed set.
 bool sampleVolumeCollision(WavefrontParams p, vec3 origin, vec3 direction, float tMax, inout VolumeRandom rnd,
-                           out float tCollision, out uint which) {
+                           out float tCollision, out uint which, inout VolumePark park) {
     bool found = false;
     tCollision = tMax, which = 0u;
     float unused = 1.0;
-    for (uint i = 0u; i < p.volumeCount; ++i) {
-        const float t = trackVolume(VolumeArray(p.volumes).v[i], origin, direction, tMax, false, rnd, unused);
+    const bool resume = park.phase == kParkFreeFlight;
+    uint first = 0u;
+    if (resume) {
+        first = park.volume, tMax = park.value, found = park.found, tCollision = park.tCollision, which = park.which;
+        rnd.counter = park.counter;
+    }
+    for (uint i = first; i < p.volumeCount; ++i) {
+        const float t = trackVolume(VolumeArray(p.volumes).v[i], origin, direction, tMax, false, rnd, unused,
+                                    resume && i == first, park);
+        if (volumeMissed) {
+            park.phase = kParkFreeFlight, park.volume = i, park.value = tMax;
+            park.found = found, park.tCollision = tCollision, park.which = which;
+            return false;
+        }
         if (t < tMax) tMax = t, found = true, tCollision = t, which = i;
     }
     return found;
 }
 
-// volumeTransmittance: ratio tracking through every volume up to tMax.
-float volumeTransmittance(WavefrontParams p, vec3 origin, vec3 direction, float tMax, inout VolumeRandom rnd) {
+// volumeTransmittance: ratio tracking through every volume up to tMax. Paged: a park in
+// transmittance resumes there; a tracking that parks fills park (phase kParkTransmittance; the
+// caller keeps the free flight's result in it) and returns 0 with volumeMissed set.
+float volumeTransmittance(WavefrontParams p, vec3 origin, vec3 direction, float tMax, inout VolumeRandom rnd,
+                          inout VolumePark park) {
     float transmittance = 1.0;
-    for (uint i = 0u; i < p.volumeCount && transmittance > 0.0; ++i)
-        trackVolume(VolumeArray(p.volumes).v[i], origin, direction, tMax, true, rnd, transmittance);
+    const bool resume = park.phase == kParkTransmittance;
+    uint first = 0u;
+    if (resume) first = park.volume, transmittance = park.value, rnd.counter = park.counter;
+    for (uint i = first; i < p.volumeCount && transmittance > 0.0; ++i) {
+        trackVolume(VolumeArray(p.volumes).v[i], origin, direction, tMax, true, rnd, transmittance, resume && i == first,
+                    park);
+        if (volumeMissed) {
+            park.phase = kParkTransmittance, park.volume = i, park.value = transmittance;
+            return 0.0;
+        }
+    }
     return transmittance > 0.0 ? transmittance : 0.0;
 }
 

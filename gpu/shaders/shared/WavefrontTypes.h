@@ -134,10 +134,10 @@ struct WavefrontParams {
     uint64_t envMarginal;  // each row's CDF (envWidth + 1 per row)
     uint64_t envConditional;
     uint64_t volumes;      // WavefrontVolume per volume (volumeCount)
-    uint64_t volumeDemand; // paged volumes: per brick (brickBase + brick), the lowest path whose read
-                           // found it absent (all ones: none)
-    uint64_t volumeUsed;   // paged volumes: per brick slot, the lowest path whose tracking entered a
-                           // cell of its brick (all ones: none)
+    uint64_t volumeDemand; // paged volumes (0: in core): per brick (brickBase + brick), the lowest path
+                           // that asked for it (all ones: none); then per brick the asks' weights summed
+    uint64_t volumePark;   // paged volumes: per path four uvec4, where its volume tracking parked
+                           // (common/Volume.glsl, VolumePark; zero: nowhere)
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -167,6 +167,7 @@ struct WavefrontParams {
     float envTangentX, envTangentY, envTangentZ;        // the map's frame (environmentFrame; its
     float envBitangentX, envBitangentY, envBitangentZ;  // normal is skyUp)
     uint volumeCount;
+    uint volumeBrickCount;  // paged volumes: all volumes' bricks
 };
 
 // One block for every wavefront kernel. A wave is the tile's pixels times samples [firstSample,
