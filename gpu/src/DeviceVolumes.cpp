@@ -21,7 +21,7 @@ std::vector<VolumeShape> shapesOf(std::span<const Volume> volumes) {
 uint64_t pagedBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths) {
     uint64_t bricks = 0;
     for (const VolumeShape& s : shapes) bricks += s.bricks;
-    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(4 * (2 * bricks + slots));
+    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(8 * bricks);
 }
 
 // The most slots whose paged layout fits `bytes` (0 when not even the tables do).
@@ -30,7 +30,7 @@ uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint6
     if (bytes < base) return 0;
     bool emission = false;
     for (const VolumeShape& s : shapes) emission = emission || s.emission;
-    const uint64_t perSlot = 4ull * kVolumeBrickVoxels * (emission ? 2 : 1) + 8;
+    const uint64_t perSlot = 4ull * kVolumeBrickVoxels * (emission ? 2 : 1);
     uint64_t slots = (bytes - base) / perSlot;
     while (slots > 0 && pagedBytes(shapes, slots, paths) > bytes) slots -= std::max<uint64_t>(1, slots / 1024);
     return slots;
@@ -139,7 +139,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     VASTRAY_TRY(allocate(volumes, layout.totalBytes));
     uint64_t bricks = 0;
     for (const Volume& v : volumes) bricks += v.brickCount();
-    auto readback = device_.createBuffer(4 * (2 * bricks + slots), VulkanDevice::MemoryUse::Readback);
+    auto readback = device_.createBuffer(8 * bricks, VulkanDevice::MemoryUse::Readback);
     if (!readback) return readback.status().withContext("volume brick counters: ");
     readback_ = std::move(readback).value();
     slots_ = slots;

@@ -43,12 +43,19 @@ std::shared_ptr<const std::vector<Volume>> volumesOf(const std::string& path) {
     return *volumes;
 }
 
+// A package of a generated city of `triangles` triangles and one volume over it, which `make`
+// builds from the city's bounds.
+std::string cityUnder(const std::string& name, uint32_t triangles, uint32_t seed,
+                      const std::function<Volume(const Aabb&)>& make) {
+    auto mesh = generateMesh({GeneratorKind::City, triangles, seed});
+    EXPECT_TRUE(mesh) << mesh.message();
+    Volume v = make(mesh->bounds());
+    return writePackage(name, std::move(mesh).value(), {std::move(v)});
+}
+
 // A 20k-triangle city with a fog bank of rising density over part of it.
 const std::string& foggyCity() {
-    static const std::string path = [] {
-        auto mesh = generateMesh({GeneratorKind::City, 20000, 1});
-        EXPECT_TRUE(mesh) << mesh.message();
-        const Aabb b = mesh->bounds();
+    static const std::string path = cityUnder("foggy-city", 20000, 1, [](const Aabb& b) {
         const Vec3f e = b.extent();
         VolumeMaterial fog;
         fog.albedo = {0.9f, 0.85f, 0.8f};
@@ -56,13 +63,12 @@ const std::string& foggyCity() {
         // 48 x 16 x 48 voxels over the middle of the city, densest at the bottom.
         const float voxel = e.x / 64.0f;
         fog.densityScale = 2.0f / (16.0f * voxel);
-        Volume v = test::makeVolume({0, 0, 0}, {47, 15, 47},
-                                    [](int32_t i, int32_t j, int32_t k) {
-                                        return (1.0f - float(j) / 16.0f) * (0.5f + 0.5f * float((i / 8 + k / 8) % 2));
-                                    },
-                                    voxel, b.lo + Vec3f{e.x / 8, 0, e.z / 8}, fog);
-        return writePackage("foggy-city", std::move(mesh).value(), {std::move(v)});
-    }();
+        return test::makeVolume({0, 0, 0}, {47, 15, 47},
+                                [](int32_t i, int32_t j, int32_t k) {
+                                    return (1.0f - float(j) / 16.0f) * (0.5f + 0.5f * float((i / 8 + k / 8) % 2));
+                                },
+                                voxel, b.lo + Vec3f{e.x / 8, 0, e.z / 8}, fog);
+    });
     return path;
 }
 
@@ -345,29 +351,24 @@ TEST(VolumeRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
 
 // A 2,000-triangle town under a cloud of 128 x 64 x 128 voxels (2,048 bricks, every one stored).
 const std::string& cloudedTown() {
-    static const std::string path = [] {
-        auto mesh = generateMesh({GeneratorKind::City, 2000, 3});
-        EXPECT_TRUE(mesh) << mesh.message();
-        const Aabb b = mesh->bounds();
-        const Vec3f e = b.extent();
+    static const std::string path = cityUnder("clouded-town", 2000, 3, [](const Aabb& b) {
         VolumeMaterial cloud;
         cloud.albedo = {0.95f, 0.95f, 0.9f};
         cloud.anisotropy = 0.3f;
-        const float voxel = e.x / 128.0f;
+        const float voxel = b.extent().x / 128.0f;
         cloud.densityScale = 3.0f / (64.0f * voxel);  // an optical depth of ~1.5 from top to bottom
-        Volume v = test::makeVolume({0, 0, 0}, {127, 63, 127},
-                                    [](int32_t i, int32_t j, int32_t k) {
-                                        return 0.2f + 0.4f * (1.0f + std::sin(0.21f * float(i)) * std::cos(0.17f * float(k))) *
-                                                          (1.0f - float(j) / 80.0f);
-                                    },
-                                    voxel, b.lo, cloud);
-        return writePackage("clouded-town", std::move(mesh).value(), {std::move(v)});
-    }();
+        return test::makeVolume({0, 0, 0}, {127, 63, 127},
+                                [](int32_t i, int32_t j, int32_t k) {
+                                    return 0.2f + 0.4f * (1.0f + std::sin(0.21f * float(i)) * std::cos(0.17f * float(k))) *
+                                                      (1.0f - float(j) / 80.0f);
+                                },
+                                voxel, b.lo, cloud);
+    });
     return path;
 }
 
-// Bricks paged through a pool a quarter of their size (--memory-budget at half the volume's
-// bytes keeps half of it for the volume): the image equals the in-core one bit for bit, the
+// Bricks paged through a pool about a fifth of their size (--memory-budget at half the volume's
+// bytes keeps half of it for the volume, its tables and park records): the image equals the in-core one bit for bit, the
 // bricks are loaded (some more than once) and the device bytes stay within the budget.
 TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
     const std::string& path = cloudedTown();
@@ -396,7 +397,7 @@ TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
                 (unsigned long long)stats.volumeBrickLoads, (unsigned long long)stats.submits,
                 (unsigned long long)stats.peakDeviceBytes, (unsigned long long)budget);
     EXPECT_GT(stats.volumeBrickSlots, 0u);
-    EXPECT_LE(stats.volumeBrickSlots * 4, bricks + 64) << "the bricks are about 4x the pool";
+    EXPECT_LE(stats.volumeBrickSlots * 4, bricks + 64) << "the bricks are 4x the pool or more";
     EXPECT_GT(stats.volumeBrickLoads, stats.volumeBrickSlots) << "slots were reused";
     EXPECT_LE(stats.peakDeviceBytes, budget);
     EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
