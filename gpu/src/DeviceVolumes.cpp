@@ -1,6 +1,10 @@
 #include "DeviceVolumes.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <numeric>
 #include <string>
@@ -174,7 +178,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission);
 }
 
-Status DeviceVolumes::loadBrick(uint32_t brick, uint32_t slot, StreamingStats& stats) {
+Status DeviceVolumes::copyBrick(uint32_t brick, uint32_t slot) {
     const uint64_t brickBytes = 4ull * kVolumeBrickVoxels;
     const Volume& v = (*volumes_)[brickVolume_[brick]];
     const uint64_t local = brick - volumeFirstBrick_[brickVolume_[brick]];
@@ -182,10 +186,7 @@ Status DeviceVolumes::loadBrick(uint32_t brick, uint32_t slot, StreamingStats& s
     if (!v.emissionVoxels.empty())
         VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data() + local * kVolumeBrickVoxels, brickBytes,
                                    emissionOffset_ + slot * brickBytes));
-    stats.hostToDeviceBytes += brickBytes * (v.emissionVoxels.empty() ? 1 : 2) + 4;
-    brickSlot_[brick] = slot, slotBrick_[slot] = brick;
-    const uint32_t entry = slot;
-    return buffer_.upload(&entry, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]);
+    return Status::ok();
 }
 
 // The region policy: the pool's worth of bricks nearest (in brick cells, Chebyshev distance,
@@ -231,20 +232,31 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
     std::vector<uint32_t> free;
     for (uint32_t s = 0; s < slots_; ++s)
         if (slotBrick_[s] == kNoBrick || !inRegion[slotBrick_[s]]) free.push_back(s);
-    uint64_t loads = 0;
+    // Which brick goes to which slot, and the cell tables, first; then the voxels on all cores
+    // (one core's writes through the device mapping were most of a step's time).
+    std::vector<std::pair<uint32_t, uint32_t>> moves;  // (brick, slot)
     for (const auto& [distance, brick] : region) {
         if (brickSlot_[brick] != kNoBrick) continue;
-        if (loads == free.size()) break;
-        const uint32_t slot = free[loads++];
+        if (moves.size() == free.size()) break;
+        const uint32_t slot = free[moves.size()];
         if (const uint32_t old = slotBrick_[slot]; old != kNoBrick) {
             brickSlot_[old] = kNoBrick;
             const uint32_t absent = kBrickAbsent | (old - volumeFirstBrick_[brickVolume_[old]]);
             VASTRAY_TRY(buffer_.upload(&absent, 4, tableOffset_[brickVolume_[old]] + 4ull * brickCell_[old]));
         }
-        VASTRAY_TRY(loadBrick(brick, slot, stats));
+        brickSlot_[brick] = slot, slotBrick_[slot] = brick;
+        VASTRAY_TRY(buffer_.upload(&slot, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]));
+        moves.push_back({brick, slot});
+        stats.hostToDeviceBytes += 4ull * kVolumeBrickVoxels * ((*volumes_)[brickVolume_[brick]].emissionVoxels.empty() ? 1 : 2) + 4;
     }
-    stats.volumeBrickLoads += loads;
-    return loads;
+    std::atomic<bool> failed{false};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, moves.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i)
+            if (!copyBrick(moves[i].first, moves[i].second)) failed = true;
+    });
+    if (failed) return Status::error("volume paging: copying bricks into their slots failed");
+    stats.volumeBrickLoads += moves.size();
+    return uint64_t(moves.size());
 }
 
 }  // namespace vastray::gpu

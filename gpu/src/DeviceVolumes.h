@@ -59,8 +59,8 @@ private:
     Status buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats);
     Status buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths, StreamingStats& stats);
     Status allocate(const std::vector<Volume>& volumes, uint64_t bytes);
-    // Copies a brick's voxels into a slot and points its cell at it.
-    Status loadBrick(uint32_t brick, uint32_t slot, StreamingStats& stats);
+    // Copies a brick's voxels (and emission) into a slot.
+    Status copyBrick(uint32_t brick, uint32_t slot);
     // The WavefrontVolume records, each volume's arrays at these offsets in buffer_.
     Status writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                         std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
