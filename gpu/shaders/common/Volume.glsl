@@ -34,7 +34,7 @@ float nextVolumeRandom(inout VolumeRandom r) {
 uvec3 volumeCells(WavefrontVolume v) { return uvec3(v.cellsX, v.cellsY, v.cellsZ); }
 
 bool volumeMissed = false;  // this invocation's tracking parked (paged volumes)
-uint volumePath = 0u;       // the path this invocation shades: its bricks' priority (lower first)
+uint volumePath = 0u;       // the path this invocation shades (ties between bricks as much waited for go to the lower)
 
 // Weights of a request for a brick: one a parked walk waits for, one it asks for ahead.
 const uint kWaitWeight = 4u, kAheadWeight = 1u;
