@@ -55,7 +55,7 @@ uint64_t volumesMinimumBytes(std::span<const Volume> volumes, uint64_t paths) {
 Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& volumes, uint64_t bytes,
                               uint64_t paths, StreamingStats& stats) {
     const bool none = !volumes || volumes->empty();
-    if (none || volumes != volumes_ || buffer_.allocatedBytes() > bytes) {
+    if (none || volumes != volumes_ || allocatedBytes() > bytes) {
         buffer_ = GpuBuffer();
         readback_ = GpuBuffer();
         volumes_.reset();
@@ -170,7 +170,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     slotBrick_.assign(slots, kNoBrick);
     densityOffset_ = layout.density, emissionOffset_ = layout.emission;
     demandOffset_ = layout.demand, parkOffset_ = layout.park, parkBytes_ = kVolumeParkBytes * paths;
-    const std::vector<uint32_t> none(std::max<uint64_t>(brickVolume_.size(), slots), kNoBrick);
+    const std::vector<uint32_t> none(brickVolume_.size(), kNoBrick);
     const std::vector<uint32_t> zeros(brickVolume_.size(), 0);
     VASTRAY_TRY(buffer_.upload(none.data(), brickVolume_.size() * 4, demandOffset_));
     VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_ + brickVolume_.size() * 4));
