@@ -15,41 +15,38 @@
 namespace vastray::gpu {
 namespace {
 
-std::vector<VolumeShape> shapesOf(std::span<const Volume> volumes) {
-    std::vector<VolumeShape> shapes;
-    for (const Volume& v : volumes) shapes.push_back({v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()});
-    return shapes;
-}
-
-// The paged buffer and the readback of its counters (DeviceVolumes::readback).
-uint64_t pagedBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths) {
-    uint64_t bricks = 0;
-    for (const VolumeShape& s : shapes) bricks += s.bricks;
-    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(8 * bricks);
-}
-
 // The most slots whose paged layout fits `bytes` (0 when not even the tables do).
 uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint64_t paths) {
-    const uint64_t base = pagedBytes(shapes, 0, paths);
+    const uint64_t base = pagedVolumeBytes(shapes, 0, paths);
     if (bytes < base) return 0;
     bool emission = false;
     for (const VolumeShape& s : shapes) emission = emission || s.emission;
     const uint64_t perSlot = 4ull * kVolumeBrickVoxels * (emission ? 2 : 1);
     uint64_t slots = (bytes - base) / perSlot;
-    while (slots > 0 && pagedBytes(shapes, slots, paths) > bytes) slots -= std::max<uint64_t>(1, slots / 1024);
+    while (slots > 0 && pagedVolumeBytes(shapes, slots, paths) > bytes) slots -= std::max<uint64_t>(1, slots / 1024);
     return slots;
 }
 
 }  // namespace
 
-uint64_t volumesInCoreBytes(std::span<const Volume> volumes) {
-    const std::vector<VolumeShape> shapes = shapesOf(volumes);
+std::vector<VolumeShape> volumeShapes(std::span<const Volume> volumes) {
+    std::vector<VolumeShape> shapes;
+    for (const Volume& v : volumes) shapes.push_back({v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()});
+    return shapes;
+}
+
+uint64_t inCoreVolumeBytes(std::span<const VolumeShape> shapes) {
     return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
 }
 
-uint64_t volumesMinimumBytes(std::span<const Volume> volumes, uint64_t paths) {
-    const std::vector<VolumeShape> shapes = shapesOf(volumes);
-    return shapes.empty() ? 0 : std::min(volumesInCoreBytes(volumes), pagedBytes(shapes, kMinVolumeSlots, paths));
+uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths) {
+    uint64_t bricks = 0;
+    for (const VolumeShape& s : shapes) bricks += s.bricks;
+    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(8 * bricks);
+}
+
+uint64_t minimumVolumeBytes(std::span<const VolumeShape> shapes, uint64_t paths) {
+    return shapes.empty() ? 0 : std::min(inCoreVolumeBytes(shapes), pagedVolumeBytes(shapes, kMinVolumeSlots, paths));
 }
 
 Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& volumes, uint64_t bytes,
@@ -61,17 +58,17 @@ Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& 
         volumes_.reset();
         slots_ = 0;
         if (!none) {
-            const std::vector<VolumeShape> shapes = shapesOf(*volumes);
+            const std::vector<VolumeShape> shapes = volumeShapes(*volumes);
             Status built = Status::ok();
-            if (volumesInCoreBytes(*volumes) <= bytes) {
+            if (inCoreVolumeBytes(shapes) <= bytes) {
                 built = buildInCore(*volumes, stats);
             } else if (const uint64_t slots = std::min<uint64_t>(slotsFitting(shapes, bytes, paths), kNoBrick - 1);
                        slots >= kMinVolumeSlots) {
                 built = buildPaged(*volumes, uint32_t(slots), paths, stats);
             } else {
-                built = Status::error("the volumes need " + formatBytes(volumesInCoreBytes(*volumes)) +
+                built = Status::error("the volumes need " + formatBytes(inCoreVolumeBytes(shapes)) +
                                       " of device memory in core, or " +
-                                      formatBytes(pagedBytes(shapes, kMinVolumeSlots, paths)) +
+                                      formatBytes(pagedVolumeBytes(shapes, kMinVolumeSlots, paths)) +
                                       " paged through the fewest brick slots (" + std::to_string(kMinVolumeSlots) +
                                       "); the pool kept " + formatBytes(bytes) + " for them");
             }
@@ -122,7 +119,7 @@ Status DeviceVolumes::allocate(const std::vector<Volume>& volumes, uint64_t byte
 }
 
 Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats) {
-    const VolumeLayout layout = volumeLayout(shapesOf(volumes));
+    const VolumeLayout layout = volumeLayout(volumeShapes(volumes));
     VASTRAY_TRY(allocate(volumes, layout.totalBytes));
     for (size_t i = 0; i < volumes.size(); ++i) {
         const Volume& v = volumes[i];
@@ -139,7 +136,7 @@ Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingS
 
 Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths,
                                  StreamingStats& stats) {
-    const PagedVolumeLayout layout = pagedVolumeLayout(shapesOf(volumes), slots, paths);
+    const PagedVolumeLayout layout = pagedVolumeLayout(volumeShapes(volumes), slots, paths);
     VASTRAY_TRY(allocate(volumes, layout.totalBytes));
     uint64_t bricks = 0;
     for (const Volume& v : volumes) bricks += v.brickCount();

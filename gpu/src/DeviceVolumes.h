@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "PoolLayout.h"
 #include "vastray/core/Result.h"
 #include "vastray/core/Volume.h"
 #include "vastray/gpu/VulkanDevice.h"
@@ -21,11 +22,14 @@ namespace vastray::gpu {
 // A pool holds at least this many bricks: a trilinear read needs 8, a ray through a cloud more.
 constexpr uint64_t kMinVolumeSlots = 64;
 
-// The device bytes of the volumes in core, and paged with the fewest slots (in core when that
-// is less); 0 without volumes.
-// Paged, a wave of `paths` paths needs room for where each path's tracking parked.
-uint64_t volumesInCoreBytes(std::span<const Volume> volumes);
-uint64_t volumesMinimumBytes(std::span<const Volume> volumes, uint64_t paths);
+// The one place the volumes' device bytes are counted (the backend's reserve and DeviceVolumes
+// alike): in core (VolumeLayout); paged through `slots` brick slots with the park records of
+// waves of `paths` paths and the counters' readback; the least of in core and paged through
+// kMinVolumeSlots. 0 without volumes.
+std::vector<VolumeShape> volumeShapes(std::span<const Volume> volumes);
+uint64_t inCoreVolumeBytes(std::span<const VolumeShape> shapes);
+uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths);
+uint64_t minimumVolumeBytes(std::span<const VolumeShape> shapes, uint64_t paths);
 
 class DeviceVolumes {
 public:

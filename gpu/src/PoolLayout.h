@@ -46,6 +46,11 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
 
 // The wavefront's state buffer (device-local) and output buffer (host-readable), per path and
 // per tile pixel: sections in the order of WavefrontParams' addresses.
+// Queue q's byte offset from StateLayout::queues (common/WavefrontState.glsl's queueOf): the two
+// ray queues hold 2 * paths entries, the shade and volume wait queues paths entries.
+inline uint64_t queueOffset(uint32_t q, uint64_t paths) {
+    return q < kShadeQueue ? uint64_t(q) * 8 * paths : (16 + uint64_t(q - kShadeQueue) * 4) * paths;
+}
 struct StateLayout {
     uint64_t rayOrigin, rayDirection, rayState, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
         accum, queues, totalBytes;
@@ -57,7 +62,7 @@ inline StateLayout stateLayout(uint64_t paths) {
     s.hitNormal = s.hitPosition + perPath, s.hitIds = s.hitNormal + perPath;
     s.throughput = s.hitIds + perPath, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
     s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.queues = s.accum + perPath;
-    s.totalBytes = s.queues + 2 * (2 * paths * 4) + 2 * paths * 4;  // kQueueCount queues
+    s.totalBytes = s.queues + queueOffset(kQueueCount, paths);
     return s;
 }
 struct OutputLayout {

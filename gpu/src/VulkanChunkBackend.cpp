@@ -231,7 +231,7 @@ private:
     // bytes the plan kept for them.
     Status checkReserve(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes) const {
         const uint64_t map = environmentBytes(environment),
-                       grids = volumes ? volumesMinimumBytes(*volumes, plan_.batchRays) : 0;
+                       grids = volumes ? minimumVolumeBytes(volumeShapes(*volumes), plan_.batchRays) : 0;
         if (map + grids <= plan_.reservedBytes) return Status::ok();
         return Status::error((map ? "the environment map needs " + formatBytes(map) + (grids ? " and " : "") : std::string("")) +
                              (grids ? "the volumes need at least " + formatBytes(grids) : std::string()) +
@@ -360,17 +360,14 @@ std::vector<VolumeShape> volumeShapes(const PackageInfo& package) {
 }
 }  // namespace
 
-uint64_t volumeBytes(const PackageInfo& package) {
-    const std::vector<VolumeShape> shapes = volumeShapes(package);
-    return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
-}
+uint64_t volumeBytes(const PackageInfo& package) { return inCoreVolumeBytes(volumeShapes(package)); }
 
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget) {
     const uint64_t whole = volumeBytes(package);
     const uint64_t share = uint64_t(double(budget) * kVolumeShareOutOfCore) / kAllocationGranule * kAllocationGranule;
     if (whole <= share) return whole;
     // The fewest slots, and the park records of a minimal wave (a larger wave takes slots).
-    return std::max(share, granules(pagedVolumeLayout(volumeShapes(package), kMinVolumeSlots, kMinBatchRays).totalBytes));
+    return std::max(share, pagedVolumeBytes(volumeShapes(package), kMinVolumeSlots, kMinBatchRays));
 }
 
 // DMA where the slots can live in memory the host does not map and the staging in system

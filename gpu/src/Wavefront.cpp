@@ -299,7 +299,8 @@ private:
     void retryWaiting(const WavefrontPush& push) {
         record([this](VkCommandBuffer cmd) {
             const uint64_t queues = stateLayout(b_.pathCapacity).queues, capacity = b_.pathCapacity;
-            const VkBufferCopy paths{queues + 20 * capacity, queues + 16 * capacity, 4 * capacity};
+            const VkBufferCopy paths{queues + queueOffset(kVolumeWaitQueue, capacity),
+                                     queues + queueOffset(kShadeQueue, capacity), 4 * capacity};
             vkCmdCopyBuffer(cmd, b_.state->handle(), b_.state->handle(), 1, &paths);
             const VkBufferCopy counters[] = {
                 {b_.tables.queueCounts + 4ull * kVolumeWaitQueue, b_.tables.queueCounts + 4ull * kShadeQueue, 4},

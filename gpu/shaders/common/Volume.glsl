@@ -142,9 +142,9 @@ void storePark(WavefrontParams p, uint j, VolumePark k) {
 // Tracks one volume along the world ray within [0, tMax): with `ratio` false, delta tracking;
 // returns the first real collision's t, or tMax. With `ratio` true, ratio tracking: multiplies
 // `transmittance` and returns tMax. Cells are walked front to back (cellRay and walkCells).
-// Paged: with `resume` the walk starts at park's cell and state instead of the ray's entry; a
-// at a cell with an absent brick it parks (fills
-// park's walk state, rnd's counter and transmittance back at the cell's start), asks for the
+// Paged: with `resume` the walk starts at park's cell and state instead of the ray's entry; at
+// a cell with an absent brick it parks (fills park's walk state, rnd's counter and
+// transmittance back at the cell's start), asks for the
 // bricks of the next kPrefetchCells cells too, and returns tMax with volumeMissed set.
 float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bool ratio, inout VolumeRandom rnd,
                   inout float transmittance, bool resume, inout VolumePark park) {
