@@ -64,26 +64,30 @@ Result<std::array<float, 3>> parseColor(const char* flag, const std::string& tex
     return color;
 }
 
-// Reads every --volume with its material (VolumeImport.h); errors name the file and the grid.
-Result<std::vector<Volume>> readVolumes(const ImportArgs& args) {
-    std::vector<Volume> volumes;
+// Every --volume with its material options, as readVolumes (VolumeImport.h) takes them; it
+// checks the count and the materials' ranges and reads the files (errors name the option, or
+// the file and the grid).
+Result<std::vector<VolumeSource>> volumeSources(const ImportArgs& args) {
+    std::vector<VolumeSource> sources;
     const size_t count = args.volumes.size();
-    if (count > kMaxVolumes)
+    if (count > kMaxVolumes)  // before any option is parsed, as readVolumes would say it
         return Status::error(std::to_string(count) + " volumes exceed the limit of " + std::to_string(kMaxVolumes));
     for (size_t i = 0; i < count; ++i) {
+        VolumeSource source;
+        source.names = {"--volume-albedo", "--volume-density", "--volume-anisotropy", "--volume-emission-scale"};
         // FILE.vdb, or FILE.vdb:GRID (the grid named GRID; without one, the file's first float grid).
-        std::string path = args.volumes[i], grid;
+        source.path = args.volumes[i];
         auto endsWithVdb = [](const std::string& s) {
             return s.size() >= 4 && (s.compare(s.size() - 4, 4, ".vdb") == 0 || s.compare(s.size() - 4, 4, ".VDB") == 0);
         };
-        if (!endsWithVdb(path)) {
-            const size_t colon = path.rfind(':');
-            if (colon == std::string::npos || !endsWithVdb(path.substr(0, colon)))
-                return Status::error("--volume '" + path + "': expected FILE.vdb or FILE.vdb:GRID");
-            grid = path.substr(colon + 1);
-            path.resize(colon);
+        if (!endsWithVdb(source.path)) {
+            const size_t colon = source.path.rfind(':');
+            if (colon == std::string::npos || !endsWithVdb(source.path.substr(0, colon)))
+                return Status::error("--volume '" + source.path + "': expected FILE.vdb or FILE.vdb:GRID");
+            source.grid = source.path.substr(colon + 1);
+            source.path.resize(colon);
         }
-        VolumeMaterial material;
+        VolumeMaterial& material = source.material;
         auto albedo = perVolume(args.volumeAlbedo, i, count, "--volume-albedo", std::string("0.8"));
         if (!albedo) return albedo.status();
         auto parsed = parseColor("--volume-albedo", *albedo, 1.0f, "[0, 1]");
@@ -96,21 +100,16 @@ Result<std::vector<Volume>> readVolumes(const ImportArgs& args) {
         material.emission = *emission;
         auto emissionGrid = perVolume(args.volumeEmission, i, count, "--volume-emission", std::string("-"));
         if (!emissionGrid) return emissionGrid.status();
+        if (*emissionGrid != "-") source.emissionGrid = *emissionGrid;
         auto density = perVolume(args.volumeDensity, i, count, "--volume-density", 1.0f);
         if (!density) return density.status();
-        if (!(*density >= 0.0f && *density <= kMaxVolumeDensity))
-            return Status::error("--volume-density " + std::to_string(*density) + " is outside [0, 1e18]");
         material.densityScale = *density;
         auto g = perVolume(args.volumeAnisotropy, i, count, "--volume-anisotropy", 0.0f);
         if (!g) return g.status();
-        if (!(*g > -1.0f && *g < 1.0f))
-            return Status::error("--volume-anisotropy " + std::to_string(*g) + " is outside (-1, 1)");
         material.anisotropy = *g;
-        auto volume = readVdbVolume(path, grid, material, *emissionGrid == "-" ? std::string() : *emissionGrid);
-        if (!volume) return volume.status();
-        volumes.push_back(std::move(volume).value());
+        sources.push_back(std::move(source));
     }
-    return volumes;
+    return sources;
 }
 
 Result<PackageBuildOptions> buildOptions(const ImportArgs& args) {
@@ -229,7 +228,8 @@ CommandRun addImportCommand(CLI::App& app) {
             std::fprintf(stderr, "vastray import: %s\n", options.message().c_str());
             return 2;
         }
-        auto volumes = readVolumes(*args);
+        auto sources = volumeSources(*args);
+        auto volumes = sources ? readVolumes(*sources) : Result<std::vector<Volume>>(sources.status());
         if (!volumes) {
             std::fprintf(stderr, "vastray import: %s\n", volumes.message().c_str());
             return 1;

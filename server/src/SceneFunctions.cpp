@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "JobRequest.h"
+#include "VolumeManifest.h"
 #include "ZipArchive.h"
 #include "vastray/core/FilePath.h"
 #include "vastray/server/Service.h"
@@ -55,17 +56,19 @@ bool isModelFile(const fs::path& path) {
 }
 
 
-// Imports the mesh file `mesh` into the scene package `package`, adding the importer's
-// warnings to `warnings`. Importer messages name scratch paths: each `renames` pair (scratch
-// path or prefix, what the client calls it) is replaced in turn.
+// Imports the mesh file `mesh` into the scene package `package` with `volumes` beside it,
+// adding the importer's warnings to `warnings`. Importer messages name scratch paths: each
+// `renames` pair (scratch path or prefix, what the client calls it) is replaced in turn.
 ServiceStatus importMeshFile(const fs::path& mesh, const fs::path& package,
                              const std::vector<std::pair<std::string, std::string>>& renames,
-                             std::vector<std::string>& warnings, const ImportProgress& progress) {
+                             std::vector<std::string>& warnings, const ImportProgress& progress,
+                             std::vector<Volume> volumes = {}) {
     auto imported = importMesh(mesh.string());
     if (imported) {
         if (progress) progress(10);
-        warnings = imported->report.warnings;
+        warnings.insert(warnings.end(), imported->report.warnings.begin(), imported->report.warnings.end());
         PackageBuildOptions build;
+        build.volumes = std::move(volumes);
         build.progress = Progress::Mode::None;
         build.degenerateDropped = imported->report.degenerateDropped;
         if (progress)
@@ -108,9 +111,25 @@ std::string inZip(const std::string& zipName, const fs::path& model, const std::
 
 }  // namespace
 
+// The volumes vastray-volumes.json lists (VolumeManifest.h), each .vdb read in a child process
+// (VolumeReadOptions); .vdb files it does not list become warnings. Refusals name the zip and
+// the manifest's element or the file in the zip ("cars.zip:fog.vdb: grid 'x': ...").
+ServiceResult<std::vector<Volume>> zipVolumes(const fs::path& folder, const std::vector<fs::path>& files,
+                                              const std::string& zipName, std::vector<std::string>& warnings) {
+    auto manifest = readVolumeManifest(folder, files, zipName);
+    if (!manifest) return manifest.status();
+    warnings.insert(warnings.end(), manifest->warnings.begin(), manifest->warnings.end());
+    VolumeReadOptions options;
+    options.childProcess = true;
+    auto volumes = readVolumes(manifest->sources, options);
+    if (!volumes) return invalidArgument("data", volumes.message());
+    return std::move(volumes).value();
+}
+
 // A zip: extracted into a scratch folder within the limits of ZipArchive.h (its uncompressed
-// size within --max-upload and the free disk), and its one model imported from there. The
-// importers keep every file the model names (.bin, images, .mtl) inside the model's folder.
+// size within --max-upload and the free disk), its volumes read (zipVolumes) and its one model
+// imported from there. The importers keep every file the model names (.bin, images, .mtl)
+// inside the model's folder.
 ServiceStatus Service::importZip(const std::string& name, const fs::path& file, const fs::path& package,
                                  std::vector<std::string>& warnings, const ImportProgress& progress) {
     const fs::path folder = objects_->scratchDir() / ("zip-" + randomHex(8));
@@ -125,9 +144,14 @@ ServiceStatus Service::importZip(const std::string& name, const fs::path& file, 
     if (!files) status = files.status();
     auto model = files ? zipModel(*files, name) : ServiceResult<fs::path>(status);
     if (status && !model) status = model.status();
-    if (status) status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}}, warnings, progress);
-    if (!status && model && status.code() == StatusCode::InvalidArgument)
-        status = invalidArgument("data", inZip(name, *model, status.message().substr(std::strlen("data: "))));
+    auto volumes = status ? zipVolumes(folder, *files, name, warnings) : ServiceResult<std::vector<Volume>>(status);
+    if (status && !volumes) status = volumes.status();
+    if (status) {
+        status = importMeshFile(folder / *model, package, {{folder.string() + "/", ""}}, warnings, progress,
+                                std::move(*volumes));
+        if (!status && status.code() == StatusCode::InvalidArgument)
+            status = invalidArgument("data", inZip(name, *model, status.message().substr(std::strlen("data: "))));
+    }
     fs::remove_all(folder, error);
     return status;
 }

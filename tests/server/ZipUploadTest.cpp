@@ -1,15 +1,14 @@
 // Multi-file uploads: a zip holding a glTF with its .bin and images, or an OBJ with its .mtl,
 // imported with every path kept inside the upload; hostile archives (zip-slip, absolute paths,
 // symbolic links, too many entries, too many bytes, zip bombs) refused by name, leaving nothing
-// behind. The archives are written here with libzip.
+// behind. The archives are written with libzip (ZipWriter.h).
 #include <grpcpp/grpcpp.h>
-#include <sys/stat.h>
-#include <zip.h>
 
 #include <random>
 
 #include "GrpcUpload.h"
 #include "ServerTestSupport.h"
+#include "ZipWriter.h"
 #include "vastray/streamer/ScenePackage.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
 
@@ -17,34 +16,6 @@ namespace vastray::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Entries (name, bytes) written in order; `links` become Unix symbolic links to their bytes.
-struct ZipEntry {
-    std::string name, bytes;
-    bool link = false;
-};
-
-void writeZip(const fs::path& path, const std::vector<ZipEntry>& entries) {
-    int error = 0;
-    zip_t* zip = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
-    ASSERT_NE(zip, nullptr) << path << ": libzip error " << error;
-    for (const ZipEntry& e : entries) {
-        zip_int64_t index = -1;
-        if (!e.name.empty() && e.name.back() == '/') {
-            index = zip_dir_add(zip, e.name.c_str(), ZIP_FL_ENC_UTF_8);
-        } else {
-            zip_source_t* source = zip_source_buffer(zip, e.bytes.data(), e.bytes.size(), 0);
-            index = zip_file_add(zip, e.name.c_str(), source, ZIP_FL_ENC_UTF_8);
-        }
-        ASSERT_GE(index, 0) << e.name << ": " << zip_strerror(zip);
-        if (e.link) {
-            ASSERT_EQ(zip_file_set_external_attributes(zip, zip_uint64_t(index), 0, ZIP_OPSYS_UNIX,
-                                                       zip_uint32_t(S_IFLNK | 0777) << 16),
-                      0);
-        }
-    }
-    ASSERT_EQ(zip_close(zip), 0) << zip_strerror(zip);
-}
 
 // A glTF quad (2 triangles) whose buffer and texture live in sub-folders of the archive.
 std::string quadBin() {

@@ -6,6 +6,7 @@
 // lists what it refuses.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vastray/core/Result.h"
 #include "vastray/core/Volume.h"
@@ -28,5 +29,49 @@ constexpr int64_t kMaxVdbIndex = int64_t(1) << 24;
 // emissionVoxels: read in the density's bricks only).
 Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
                              const VolumeMaterial& material, const std::string& emissionGrid = {});
+
+// What messages call a volume's material fields: a front end's own names for them, e.g. the
+// CLI's options ("--volume-density") or an upload manifest's keys ("vastray-volumes.json:
+// volumes[1].density").
+struct VolumeFieldNames {
+    std::string albedo, density, anisotropy, emissionScale;
+};
+
+// One volume to import, as a front end read it from its own syntax (`vastray import --volume
+// FILE.vdb[:GRID] --volume-...`, an upload's vastray-volumes.json).
+struct VolumeSource {
+    std::string path;          // the .vdb file
+    std::string grid;          // empty: the file's first float grid
+    std::string emissionGrid;  // empty: no emission
+    VolumeMaterial material;   // checked by readVolumes (checkVolumeMaterial)
+    VolumeFieldNames names;
+    // What the file's messages call it, in place of its file name (an upload's scratch file is
+    // "cars.zip:smoke/fog.vdb" to its client); empty: the file name.
+    std::string label;
+};
+
+// The material's ranges: albedo in [0, 1], density scale in [0, kMaxVolumeDensity], anisotropy
+// in (-1, 1), emission in [0, kMaxVolumeDensity]. A message begins with the field's name
+// ("--volume-density -1.000000 is outside [0, 1e18]").
+Status checkVolumeMaterial(const VolumeMaterial& material, const VolumeFieldNames& names);
+
+struct VolumeReadOptions {
+    // Read each .vdb in a child process (fork), as assimp's formats are read: a crash or a hang
+    // of OpenVDB on a hostile file (past kVdbReadSecondsLimit) fails the import by the file's
+    // name instead of ending the caller, and the child, not the caller, is the kernel's first
+    // choice when memory runs out (OpenVDB allocates what a file's length fields say). The
+    // volume comes back through a pipe and is checked again (checkVolume). The render service
+    // sets it; the CLI reads in its own process.
+    bool childProcess = false;
+};
+
+// How long one .vdb may take in a child process before it is killed and the import fails.
+constexpr int kVdbReadSecondsLimit = 600;
+
+// Every source in order, at most kMaxVolumes: its material checked, then its grid read
+// (readVdbVolume). Returns the first error ("65 volumes exceed the limit of 64", a material's
+// field by its name, or readVdbVolume's message naming the file and the grid).
+Result<std::vector<Volume>> readVolumes(const std::vector<VolumeSource>& sources,
+                                        const VolumeReadOptions& options = {});
 
 }  // namespace vastray
