@@ -57,7 +57,6 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
     if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return true;
     const bool ao = kAmbientOcclusion;
     const uint shadow = shadowRayIndex(p, j);
-    volumePath = j;
     vec3 radiance = Vec4Array(p.radiance).v[j].xyz;
     const bool shadowDone = (flags & kPathShadowPending) != 0u;  // its walk state is cleared at the end
     if (shadowDone) {

@@ -45,6 +45,73 @@ uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, u
     return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(8 * bricks);
 }
 
+VolumeRegions volumeRegions(const Volume& volume, uint32_t slots) {
+    const std::array<int64_t, 3> n{volume.brickCells[0], volume.brickCells[1], volume.brickCells[2]};
+    // Stored bricks in a box of cells in O(1): a summed-volume table, (n + 1)^3 entries.
+    const int64_t sx = n[0] + 1, sy = n[1] + 1;
+    std::vector<uint32_t> sum(uint64_t(sx) * sy * (n[2] + 1), 0);
+    auto at = [&](int64_t x, int64_t y, int64_t z) -> uint32_t& { return sum[uint64_t(x + sx * (y + sy * z))]; };
+    for (int64_t z = 0; z < n[2]; ++z)
+        for (int64_t y = 0; y < n[1]; ++y)
+            for (int64_t x = 0; x < n[0]; ++x)
+                at(x + 1, y + 1, z + 1) = (volume.brickOf[uint64_t(x + n[0] * (y + n[1] * z))] != kNoBrick ? 1u : 0u) +
+                                          at(x, y + 1, z + 1) + at(x + 1, y, z + 1) + at(x + 1, y + 1, z) -
+                                          at(x, y, z + 1) - at(x, y + 1, z) - at(x + 1, y, z) + at(x, y, z);
+    using Box = std::array<std::array<int64_t, 3>, 2>;  // [lo, hi) per axis
+    auto count = [&](const Box& b) -> uint64_t {
+        const auto& [l, h] = b;
+        return uint64_t(at(h[0], h[1], h[2])) - at(l[0], h[1], h[2]) - at(h[0], l[1], h[2]) - at(h[0], h[1], l[2]) +
+               at(l[0], l[1], h[2]) + at(l[0], h[1], l[2]) + at(h[0], l[1], l[2]) - at(l[0], l[1], l[2]);
+    };
+    auto grown = [&](Box b) {
+        for (int a = 0; a < 3; ++a) b[0][a] = std::max<int64_t>(0, b[0][a] - 1), b[1][a] = std::min(n[a], b[1][a] + 1);
+        return b;
+    };
+    VolumeRegions regions;
+    regions.home.assign(volume.brickCount(), kNoBrick);
+    std::vector<Box> boxes{Box{std::array<int64_t, 3>{0, 0, 0}, n}};
+    while (!boxes.empty()) {
+        const Box box = boxes.back();
+        boxes.pop_back();
+        const uint64_t inside = count(box);
+        if (inside == 0) continue;
+        const Box outer = grown(box);
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (box[1][a] - box[0][a] > box[1][axis] - box[0][axis]) axis = a;
+        if (count(outer) > slots && box[1][axis] - box[0][axis] > 1) {
+            // The first plane with at least half the box's bricks before it (kept inside the box).
+            int64_t lo = box[0][axis] + 1, hi = box[1][axis] - 1;
+            while (lo < hi) {
+                const int64_t mid = (lo + hi) / 2;
+                Box before = box;
+                before[1][axis] = mid;
+                if (2 * count(before) >= inside) hi = mid;
+                else lo = mid + 1;
+            }
+            Box first = box, second = box;
+            first[1][axis] = lo, second[0][axis] = lo;
+            boxes.push_back(second);
+            boxes.push_back(first);
+            continue;
+        }
+        // A box of one cell grows to at most 27: slots >= 27 always ends here.
+        const uint32_t region = uint32_t(regions.bricks.size());
+        std::vector<uint32_t>& bricks = regions.bricks.emplace_back();
+        for (int64_t z = outer[0][2]; z < outer[1][2]; ++z)
+            for (int64_t y = outer[0][1]; y < outer[1][1]; ++y)
+                for (int64_t x = outer[0][0]; x < outer[1][0]; ++x) {
+                    const uint32_t brick = volume.brickOf[uint64_t(x + n[0] * (y + n[1] * z))];
+                    if (brick == kNoBrick) continue;
+                    bricks.push_back(brick);
+                    if (x >= box[0][0] && x < box[1][0] && y >= box[0][1] && y < box[1][1] && z >= box[0][2] &&
+                        z < box[1][2])
+                        regions.home[brick] = region;
+                }
+    }
+    return regions;
+}
+
 uint64_t minimumVolumeBytes(std::span<const VolumeShape> shapes, uint64_t paths) {
     return shapes.empty() ? 0 : std::min(inCoreVolumeBytes(shapes), pagedVolumeBytes(shapes, kMinVolumeSlots, paths));
 }
@@ -165,12 +232,21 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     }
     brickSlot_.assign(brickVolume_.size(), kNoBrick);
     slotBrick_.assign(slots, kNoBrick);
+    brickRegion_.assign(brickVolume_.size(), kNoBrick);
+    regionBricks_.clear();
+    for (size_t i = 0; i < volumes.size(); ++i) {
+        VolumeRegions regions = volumeRegions(volumes[i], slots);
+        const uint32_t first = volumeFirstBrick_[i], base = uint32_t(regionBricks_.size());
+        for (uint64_t b = 0; b < regions.home.size(); ++b) brickRegion_[first + b] = base + regions.home[b];
+        for (std::vector<uint32_t>& bricks : regions.bricks) {
+            for (uint32_t& brick : bricks) brick += first;
+            regionBricks_.push_back(std::move(bricks));
+        }
+    }
     densityOffset_ = layout.density, emissionOffset_ = layout.emission;
     demandOffset_ = layout.demand, parkOffset_ = layout.park, parkBytes_ = kVolumeParkBytes * paths;
-    const std::vector<uint32_t> none(brickVolume_.size(), kNoBrick);
-    const std::vector<uint32_t> zeros(brickVolume_.size(), 0);
-    VASTRAY_TRY(buffer_.upload(none.data(), brickVolume_.size() * 4, demandOffset_));
-    VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_ + brickVolume_.size() * 4));
+    const std::vector<uint32_t> zeros(2 * brickVolume_.size(), 0);  // no brick asked for
+    VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_));
     const std::vector<uint64_t> density(volumes.size(), layout.density), emission(volumes.size(), layout.emission);
     return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission);
 }
@@ -186,55 +262,44 @@ Status DeviceVolumes::copyBrick(uint32_t brick, uint32_t slot) {
     return Status::ok();
 }
 
-// The region policy: the pool's worth of bricks nearest (in brick cells, Chebyshev distance,
-// same volume) to the absent brick the most parked walks wait for (the highest weight; ties:
-// the lowest asking path, then the lowest brick) become resident, nearest first, in the slots of
-// bricks outside that region. Walks then cross the whole region before they park again, and
-// every step loads the brick most waited for, so the walks parked at it go on: a render cannot
-// stall. (Loading the most asked-for bricks one by one instead turned the pool over every step
-// with little progress: PERF_NOTES 52.)
+// The region policy: each step makes resident the region (volumeRegions) whose absent bricks
+// parked walks ask for most (a walk waiting for a brick counts kWaitScore, one asking for it
+// ahead 1; among the regions some walk waits in; ties: the lowest region), in the slots of
+// bricks outside it. Every walk parked at a cell whose bricks it waits for have their home there
+// can then sample that cell, and the step's passes take it on until it ends or parks in another
+// region: a render cannot stall, and no walk needs this region again before another is loaded.
+// (Loading the most asked-for bricks one by one turned the pool over every step with little
+// progress; the pool's worth of bricks nearest the most asked-for brick served few walks per
+// step: PERF_NOTES 52.)
 Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, StreamingStats& stats) {
+    constexpr uint64_t kWaitScore = 4;
     const uint64_t bricks = brickVolume_.size();
     if (!paged() || demand.size() != 2 * bricks) return Status::error("volume paging: demand counters of the wrong size");
-    const std::span<const uint32_t> lowestPath = demand.first(bricks), weight = demand.subspan(bricks);
-    uint32_t center = kNoBrick;
+    const std::span<const uint32_t> waits = demand.first(bricks), ahead = demand.subspan(bricks);
+    std::vector<uint64_t> score(regionBricks_.size(), 0);
+    std::vector<uint8_t> waited(regionBricks_.size(), 0);
     for (uint32_t b = 0; b < bricks; ++b) {
-        if (lowestPath[b] == kNoBrick || brickSlot_[b] != kNoBrick) continue;
-        if (center == kNoBrick || weight[b] > weight[center] ||
-            (weight[b] == weight[center] && lowestPath[b] < lowestPath[center]))
-            center = b;
+        if (brickSlot_[b] != kNoBrick || (waits[b] == 0 && ahead[b] == 0)) continue;
+        score[brickRegion_[b]] += kWaitScore * waits[b] + ahead[b];
+        if (waits[b] > 0) waited[brickRegion_[b]] = 1;
     }
-    if (center == kNoBrick) return uint64_t(0);
-    const uint32_t volume = brickVolume_[center];
-    const std::array<uint32_t, 3> cells = (*volumes_)[volume].brickCells;
-    auto xyz = [&](uint32_t b) {
-        const uint64_t c = brickCell_[b];
-        return std::array<int64_t, 3>{int64_t(c % cells[0]), int64_t(c / cells[0] % cells[1]),
-                                      int64_t(c / (uint64_t(cells[0]) * cells[1]))};
-    };
-    const auto at = xyz(center);
-    std::vector<std::pair<uint64_t, uint32_t>> region;  // (distance, brick)
-    const uint32_t first = volumeFirstBrick_[volume];
-    region.reserve((*volumes_)[volume].brickCount());
-    for (uint32_t b = first; b < first + (*volumes_)[volume].brickCount(); ++b) {
-        const auto p = xyz(b);
-        region.push_back({uint64_t(std::max({std::abs(p[0] - at[0]), std::abs(p[1] - at[1]), std::abs(p[2] - at[2])})), b});
-    }
-    const size_t keep = std::min<size_t>(region.size(), slots_);
-    std::nth_element(region.begin(), region.begin() + (keep - 1), region.end());
-    region.resize(keep);
-    std::sort(region.begin(), region.end());
+    uint32_t chosen = kNoBrick;
+    for (uint32_t r = 0; r < score.size(); ++r)
+        if (waited[r] && (chosen == kNoBrick || score[r] > score[chosen])) chosen = r;
+    if (chosen == kNoBrick) return uint64_t(0);
+    const std::vector<uint32_t>& region = regionBricks_[chosen];
     std::vector<uint8_t> inRegion(bricks, 0);
-    for (const auto& entry : region) inRegion[entry.second] = 1;
+    for (const uint32_t brick : region) inRegion[brick] = 1;
     std::vector<uint32_t> free;
     for (uint32_t s = 0; s < slots_; ++s)
         if (slotBrick_[s] == kNoBrick || !inRegion[slotBrick_[s]]) free.push_back(s);
     // Which brick goes to which slot, and the cell tables, first; then the voxels on all cores
-    // (one core's writes through the device mapping were most of a step's time).
+    // (one core's writes through the device mapping were most of a step's time). A region holds
+    // at most a pool's worth of bricks, so every absent one finds a slot.
     std::vector<std::pair<uint32_t, uint32_t>> moves;  // (brick, slot)
-    for (const auto& [distance, brick] : region) {
+    for (const uint32_t brick : region) {
         if (brickSlot_[brick] != kNoBrick) continue;
-        if (moves.size() == free.size()) break;
+        if (moves.size() == free.size()) return Status::error("volume paging: a region holds more bricks than the pool");
         const uint32_t slot = free[moves.size()];
         if (const uint32_t old = slotBrick_[slot]; old != kNoBrick) {
             brickSlot_[old] = kNoBrick;

@@ -4,8 +4,8 @@
 // (VolumeLayout). When the bytes the budget kept for them cannot hold every brick, the volumes
 // are paged (PagedVolumeLayout): the cell tables and majorants stay resident, the bricks go into
 // a pool of slots, and between the wavefront's paging steps page() turns the kernels' per-brick
-// demand counters into loads of the region around the brick most waited for. docs/RENDERING.md,
-// "Volumes out of core".
+// demand counters into loads of the region most waited in. docs/RENDERING.md, "Volumes out of
+// core".
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -31,6 +31,20 @@ uint64_t inCoreVolumeBytes(std::span<const VolumeShape> shapes);
 uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths);
 uint64_t minimumVolumeBytes(std::span<const VolumeShape> shapes, uint64_t paths);
 
+// The paging regions of one volume for a pool of `slots` brick slots (at least 27): boxes of
+// brick cells cut in two (across the longest axis, where half the box's stored bricks lie on
+// either side) until the box grown by one cell on every side holds at most `slots` stored
+// bricks. Every stored brick lies in one box, its home (home: per brick of the volume, its
+// region); a region's `bricks` are the stored bricks of its grown box (the volume's brick
+// numbers): with them resident, a walk parked at a cell whose bricks have their home there can
+// sample that cell (its trilinear reads touch the cell and the cells after it, all within one
+// cell of any of them).
+struct VolumeRegions {
+    std::vector<uint32_t> home;
+    std::vector<std::vector<uint32_t>> bricks;
+};
+VolumeRegions volumeRegions(const Volume& volume, uint32_t slots);
+
 class DeviceVolumes {
 public:
     explicit DeviceVolumes(VulkanDevice& device) : device_(device) {}
@@ -54,9 +68,9 @@ public:
     uint64_t parkOffset() const { return parkOffset_; }          // in buffer(): VolumePark per path (paged)
     uint64_t parkBytes() const { return parkBytes_; }
 
-    // Paged, between steps while the device is idle: makes the pool's worth of bricks around the
-    // absent brick parked walks wait for most resident (`demand`: per brick the lowest asking
-    // path, kNoBrick: none, then per brick the asks' weights; DeviceVolumes.cpp). Returns the loads.
+    // Paged, between steps while the device is idle: makes the region parked walks wait in most
+    // resident (`demand`: per brick the walks waiting for it, then per brick the walks asking for
+    // it ahead; DeviceVolumes.cpp). Returns the loads.
     Result<uint64_t> page(std::span<const uint32_t> demand, StreamingStats& stats);
 
 private:
@@ -74,9 +88,11 @@ private:
     std::shared_ptr<const std::vector<Volume>> volumes_;  // the volumes in buffer_
     GpuBuffer buffer_, readback_;
     uint32_t slots_ = 0;
-    // Paged: per brick of all volumes its volume, its cell, and its slot (kNoBrick: absent); per
-    // volume its first brick and where its cell table lies; per slot its brick.
-    std::vector<uint32_t> brickVolume_, brickCell_, brickSlot_, volumeFirstBrick_, slotBrick_;
+    // Paged: per brick of all volumes its volume, its cell, its slot (kNoBrick: absent) and its
+    // home region; per volume its first brick and where its cell table lies; per slot its brick;
+    // per region (all volumes') the bricks it makes resident (numbered among all volumes').
+    std::vector<uint32_t> brickVolume_, brickCell_, brickSlot_, brickRegion_, volumeFirstBrick_, slotBrick_;
+    std::vector<std::vector<uint32_t>> regionBricks_;
     std::vector<uint64_t> tableOffset_;
     uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, parkOffset_ = 0, parkBytes_ = 0;
 };

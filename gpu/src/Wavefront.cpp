@@ -320,14 +320,11 @@ private:
             barrier(cmd);
         });
     }
-    // Paged volumes: no brick is asked for yet (the lowest path: none, the weights: 0).
+    // Paged volumes: no brick is asked for yet.
     void clearVolumeCounters(const DeviceVolumes& volumes) {
         record([&volumes](VkCommandBuffer cmd) {
-            const VkBuffer buffer = volumes.buffer()->handle();
-            if (volumes.brickCount() > 0) {
-                vkCmdFillBuffer(cmd, buffer, volumes.demandOffset(), volumes.brickCount() * 4, kNoBrick);
-                vkCmdFillBuffer(cmd, buffer, volumes.demandOffset() + volumes.brickCount() * 4, volumes.brickCount() * 4, 0);
-            }
+            if (volumes.brickCount() > 0)
+                vkCmdFillBuffer(cmd, volumes.buffer()->handle(), volumes.demandOffset(), volumes.brickCount() * 8, 0);
             barrier(cmd);
         });
     }
@@ -363,6 +360,11 @@ private:
         std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(kQueueCount);
         std::vector<uint32_t> brickDemand(volumes ? 2 * volumes->brickCount() : 0);
         bool planned = false;  // loads planned for the step about to run
+        // Paging bricks: a step's passes take every path it resumes to its end or its next park
+        // (for bricks or chunks; a pass over an empty queue costs an empty dispatch), so that no
+        // path needs the step's region in a later step. Paging chunks only: a few passes, then
+        // the host pages again.
+        const uint32_t passes = volumes ? events : kPassesPerPagingStep;
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             if (volumes) clearVolumeCounters(*volumes);
@@ -372,8 +374,8 @@ private:
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
                 barrier(cmd);
             });
-            for (uint32_t r = 0; r < kPassesPerPagingStep; ++r) {
-                const bool last = r + 1 == kPassesPerPagingStep;
+            for (uint32_t r = 0; r < passes; ++r) {
+                const bool last = r + 1 == passes;
                 walkRound(push, shade && !last, last, r == 0);
             }
             if (volumes) copyVolumeCounters(*volumes);

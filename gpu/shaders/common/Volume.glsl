@@ -34,18 +34,16 @@ float nextVolumeRandom(inout VolumeRandom r) {
 uvec3 volumeCells(WavefrontVolume v) { return uvec3(v.cellsX, v.cellsY, v.cellsZ); }
 
 bool volumeMissed = false;  // this invocation's tracking parked (paged volumes)
-uint volumePath = 0u;       // the path this invocation shades (ties between bricks as much waited for go to the lower)
 
-// Weights of a request for a brick: one a parked walk waits for, one it asks for ahead.
-const uint kWaitWeight = 4u, kAheadWeight = 1u;
+// Kinds of request for a brick: one a parked walk waits for, one it asks for ahead.
+const uint kWaitAsk = 0u, kAheadAsk = 1u;
 
-// requestBrick: asks the pager for an absent brick (its cell table entry): the lowest path that
-// asks for it, and the asks' weights summed.
-void requestBrick(WavefrontVolume v, uint entry, uint weight) {
+// requestBrick: asks the pager for an absent brick (its cell table entry): counts a walk that
+// waits for it (kWaitAsk) or asks for it ahead (kAheadAsk).
+void requestBrick(WavefrontVolume v, uint entry, uint kind) {
     const uint brick = v.brickBase + (entry & ~kBrickAbsent);
     RwUintArray demand = RwUintArray(ParamsRef(pc.params).p.volumeDemand);
-    atomicMin(demand.v[brick], volumePath);
-    atomicAdd(demand.v[ParamsRef(pc.params).p.volumeBrickCount + brick], weight);
+    atomicAdd(demand.v[kind * ParamsRef(pc.params).p.volumeBrickCount + brick], 1u);
     volumeMissed = true;
 }
 
@@ -58,7 +56,7 @@ float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
     const uint brick = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
     if (brick == kNoBrick) return 0.0;
     if ((brick & kBrickAbsent) != 0u) {
-        requestBrick(v, brick, kWaitWeight);
+        requestBrick(v, brick, kWaitAsk);
         return 0.0;
     }
     return VolumeFloats(voxels).v[brick * 512u + o.x + kVolumeBrickSize * (o.y + kVolumeBrickSize * o.z)];
@@ -93,13 +91,13 @@ vec3 volumeEmission(WavefrontVolume v, vec3 p) {
 
 // pageCell (paged volumes): the bricks that sampling in `cell` may read (its own and those of the
 // cells after it along each axis, for the trilinear reads) are asked for when absent.
-void pageCell(WavefrontVolume v, ivec3 cell, uint weight) {
+void pageCell(WavefrontVolume v, ivec3 cell, uint kind) {
     const uvec3 cells = volumeCells(v);
     for (uint n = 0u; n < 8u; ++n) {
         const uvec3 c = uvec3(cell) + uvec3(n & 1u, (n >> 1) & 1u, n >> 2);
         if (any(greaterThanEqual(c, cells))) continue;
         const uint entry = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
-        if (entry != kNoBrick && (entry & kBrickAbsent) != 0u) requestBrick(v, entry, weight);
+        if (entry != kNoBrick && (entry & kBrickAbsent) != 0u) requestBrick(v, entry, kind);
     }
 }
 
@@ -201,14 +199,14 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
             const float majorant = majorants.v[index] * scale;
             if (volumeMissed) {
                 if (majorant > 0.0) {
-                    pageCell(v, cell, kAheadWeight);
+                    pageCell(v, cell, kAheadAsk);
                     if (++prefetch >= kPrefetchCells) return tMax;
                 }
             } else if (majorant > 0.0) {
                 // The cell's start: where a walk that misses a brick in it parks.
                 const uint startCounter = rnd.counter, startSteps = steps;
                 const float startTransmittance = transmittance;
-                if (paged) pageCell(v, cell, kWaitWeight);
+                if (paged) pageCell(v, cell, kWaitAsk);
                 float s = t;
                 while (!volumeMissed) {
                     s -= log(1.0 - nextVolumeRandom(rnd)) / majorant;

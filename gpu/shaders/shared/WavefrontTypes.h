@@ -134,8 +134,8 @@ struct WavefrontParams {
     uint64_t envMarginal;  // each row's CDF (envWidth + 1 per row)
     uint64_t envConditional;
     uint64_t volumes;      // WavefrontVolume per volume (volumeCount)
-    uint64_t volumeDemand; // paged volumes (0: in core): per brick (brickBase + brick), the lowest path
-                           // that asked for it (all ones: none); then per brick the asks' weights summed
+    uint64_t volumeDemand; // paged volumes (0: in core): per brick (brickBase + brick), the parked walks
+                           // that wait for it; then per brick the walks that ask for it ahead
     uint64_t volumePark;   // paged volumes: per path four uvec4, where its volume tracking parked
                            // (common/Volume.glsl, VolumePark; zero: nowhere)
     float eyeX, eyeY, eyeZ;
