@@ -10,8 +10,7 @@
 #include <random>
 
 #include "GrpcUpload.h"
-#include "ServerTestSupport.h"
-#include "ZipWriter.h"
+#include "ZipUploadSupport.h"
 #include "vastray/streamer/ScenePackage.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
 
@@ -33,7 +32,7 @@ const char* kCliOptions = ":density --volume-density 4 --volume-albedo 0.9,0.8,0
 
 fs::path cloudDir() { return testTmpDir("server") / "volume-upload"; }
 
-class VolumeUploadTest : public ServerTest {
+class VolumeUploadTest : public ZipUploadServerTest {
 protected:
     static void SetUpTestSuite() {
         fs::create_directories(cloudDir());
@@ -45,29 +44,13 @@ protected:
 
     static std::string cloud() { return readBytes(cloudDir() / "fog.vdb"); }
 
-    httplib::Result put(const fs::path& zip, const std::string& name, bool async = false) {
-        return http().Put(("/v1/scenes?name=" + name + (async ? "&async=true" : "")).c_str(), readBytes(zip),
-                          "application/zip");
-    }
-
-    // Uploads floor.ply, fog.vdb and `manifest` as NAME.zip (or `entries` when given); expects
-    // 400 whose message begins with the zip's name and holds each of `phrases`; nothing may
-    // remain in the scratch folder or among the scenes.
+    // Uploads floor.ply, fog.vdb and `manifest` as NAME.zip (or `entries` when given) and
+    // expects it refused (expectZipRefused).
     void expectRefused(const std::string& name, const std::string& manifest, const std::vector<std::string>& phrases,
                        std::vector<ZipEntry> entries = {}) {
-        SCOPED_TRACE(name);
         if (entries.empty())
             entries = {{"floor.ply", kFloor}, {"fog.vdb", cloud()}, {"vastray-volumes.json", manifest}};
-        const fs::path zip = dir_ / (name + ".zip");
-        writeZip(zip, entries);
-        auto res = put(zip, name + ".zip");
-        ASSERT_TRUE(res);
-        EXPECT_EQ(res->status, 400) << res->body;
-        const std::string message = json::parse(res->body)["error"]["message"];
-        EXPECT_EQ(message.rfind("data: " + name + ".zip:", 0), 0u) << message;
-        for (const std::string& phrase : phrases) EXPECT_NE(message.find(phrase), std::string::npos) << message;
-        EXPECT_TRUE(fs::is_empty(dataDir() / "tmp")) << "scratch files left by " << name;
-        EXPECT_TRUE(!fs::exists(dataDir() / "scenes") || fs::is_empty(dataDir() / "scenes")) << "a scene stored by " << name;
+        expectZipRefused(name, entries, phrases);
     }
 
     std::vector<PackageVolume> packageVolumes(const fs::path& package) {

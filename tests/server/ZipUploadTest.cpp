@@ -7,8 +7,7 @@
 #include <random>
 
 #include "GrpcUpload.h"
-#include "ServerTestSupport.h"
-#include "ZipWriter.h"
+#include "ZipUploadSupport.h"
 #include "vastray/streamer/ScenePackage.h"
 #include "vastray/v1/scene_service.grpc.pb.h"
 
@@ -42,28 +41,8 @@ std::string quadGltf(const std::string& bufferUri) {
 const char* kObj = "mtllib materials/red.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3\nf 1 3 4\n";
 const char* kMtl = "newmtl red\nKd 0.9 0.1 0.05\n";
 
-class ZipUploadTest : public ServerTest {
+class ZipUploadTest : public ZipUploadServerTest {
 protected:
-    httplib::Result put(const fs::path& zip, const std::string& name) {
-        return http().Put(("/v1/scenes?name=" + name).c_str(), readBytes(zip), "application/zip");
-    }
-
-    // Uploads `entries` as NAME.zip; expects 400 whose message names the upload and contains
-    // each of `phrases`; nothing may remain in the scratch folder or among the scenes.
-    void expectRefused(const std::string& name, const std::vector<ZipEntry>& entries,
-                       const std::vector<std::string>& phrases) {
-        SCOPED_TRACE(name);
-        const fs::path zip = dir_ / (name + ".zip");
-        writeZip(zip, entries);
-        auto res = put(zip, name + ".zip");
-        ASSERT_TRUE(res);
-        EXPECT_EQ(res->status, 400) << res->body;
-        const std::string message = json::parse(res->body)["error"]["message"];
-        EXPECT_EQ(message.rfind("data: " + name + ".zip", 0), 0u) << message;
-        for (const std::string& phrase : phrases) EXPECT_NE(message.find(phrase), std::string::npos) << message;
-        EXPECT_TRUE(fs::is_empty(dataDir() / "tmp")) << "scratch files left by " << name;
-    }
-
     std::vector<Material> storedMaterials(const std::string& sceneId) {
         auto reader = PackageReader::open((dataDir() / "scenes" / (sceneId + ".vast")).string());
         EXPECT_TRUE(reader) << reader.message();
@@ -140,16 +119,16 @@ TEST_F(ZipUploadTest, ObjWithItsMtl) {
 
 TEST_F(ZipUploadTest, PathsThatLeaveTheUploadAreRefusedByName) {
     startServer();
-    expectRefused("slip", {{"../evil.obj", kObj}}, {"entry '../evil.obj'", "'..'"});
-    expectRefused("deepslip", {{"a/b/../../../evil.obj", kObj}}, {"entry 'a/b/../../../evil.obj'", "'..'"});
-    expectRefused("absolute", {{"/tmp/evil.obj", kObj}}, {"entry '/tmp/evil.obj'", "absolute path"});
-    expectRefused("drive", {{"C:/evil.obj", kObj}}, {"entry 'C:/evil.obj'", "drive letter"});
-    expectRefused("backslash", {{"..\\evil.obj", kObj}}, {"backslash"});
-    expectRefused("link", {{"red.obj", kObj}, {"materials/red.mtl", "/etc/passwd", true}},
-                  {"entry 'materials/red.mtl'", "symbolic link"});
+    expectZipRefused("slip", {{"../evil.obj", kObj}}, {"entry '../evil.obj'", "'..'"});
+    expectZipRefused("deepslip", {{"a/b/../../../evil.obj", kObj}}, {"entry 'a/b/../../../evil.obj'", "'..'"});
+    expectZipRefused("absolute", {{"/tmp/evil.obj", kObj}}, {"entry '/tmp/evil.obj'", "absolute path"});
+    expectZipRefused("drive", {{"C:/evil.obj", kObj}}, {"entry 'C:/evil.obj'", "drive letter"});
+    expectZipRefused("backslash", {{"..\\evil.obj", kObj}}, {"backslash"});
+    expectZipRefused("link", {{"red.obj", kObj}, {"materials/red.mtl", "/etc/passwd", true}},
+                     {"entry 'materials/red.mtl'", "symbolic link"});
     // A model that names a file outside its folder: refused by the importer, named by path.
-    expectRefused("mtlslip", {{"m/red.obj", "mtllib ../../../../etc/passwd\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}},
-                  {"m/red.obj", "mtllib '../../../../etc/passwd'"});
+    expectZipRefused("mtlslip", {{"m/red.obj", "mtllib ../../../../etc/passwd\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}},
+                     {"m/red.obj", "mtllib '../../../../etc/passwd'"});
     EXPECT_FALSE(fs::exists(dataDir() / "evil.obj"));
     EXPECT_FALSE(fs::exists(dataDir().parent_path() / "evil.obj"));
     EXPECT_FALSE(fs::exists("/tmp/evil.obj"));
@@ -157,8 +136,8 @@ TEST_F(ZipUploadTest, PathsThatLeaveTheUploadAreRefusedByName) {
 
 TEST_F(ZipUploadTest, ArchivesWithoutExactlyOneModelAreRefused) {
     startServer();
-    expectRefused("empty", {{"readme.txt", "no model here"}}, {"holds no model"});
-    expectRefused("two", {{"a.obj", kObj}, {"b/c.gltf", quadGltf("c.bin")}}, {"holds 2 models", "a.obj", "b/c.gltf"});
+    expectZipRefused("empty", {{"readme.txt", "no model here"}}, {"holds no model"});
+    expectZipRefused("two", {{"a.obj", kObj}, {"b/c.gltf", quadGltf("c.bin")}}, {"holds 2 models", "a.obj", "b/c.gltf"});
     // Not a zip at all, though named one.
     auto res = http().Put("/v1/scenes?name=broken.zip", std::string("PK\x03\x04 garbage"), "application/zip");
     ASSERT_TRUE(res);
@@ -169,16 +148,16 @@ TEST_F(ZipUploadTest, ArchivesWithoutExactlyOneModelAreRefused) {
 TEST_F(ZipUploadTest, BombsAndOversizedArchivesAreRefusedByTheirLimit) {
     startServer({"--max-upload", "2MiB"});
     // 8 MiB of zeros compress ~1000:1: refused while expanding, by ratio.
-    expectRefused("bomb", {{"bomb.obj", std::string(8u << 20, '\0')}}, {"entry 'bomb.obj'", "expands more than 200 times"});
+    expectZipRefused("bomb", {{"bomb.obj", std::string(8u << 20, '\0')}}, {"entry 'bomb.obj'", "expands more than 200 times"});
     // Random digits compress ~2:1, within the ratio, but 3 MiB exceed --max-upload (2 MiB).
     std::mt19937 random(17);
     std::string digits(3u << 20, '0');
     for (char& c : digits) c = char('0' + random() % 10);
-    expectRefused("large", {{"large.obj", digits}}, {"expands to more than the limit of 2097152 bytes", "large.obj"});
+    expectZipRefused("large", {{"large.obj", digits}}, {"expands to more than the limit of 2097152 bytes", "large.obj"});
     // More entries than the limit (10000).
     std::vector<ZipEntry> many;
     for (int i = 0; i <= 10000; ++i) many.push_back({"f" + std::to_string(i) + ".txt", ""});
-    expectRefused("many", many, {"holds 10001 entries; the limit is 10000"});
+    expectZipRefused("many", many, {"holds 10001 entries; the limit is 10000"});
 }
 
 }  // namespace

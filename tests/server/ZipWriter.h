@@ -1,5 +1,5 @@
 #pragma once
-// Zip archives written with libzip for the upload tests (ZipUploadTest, VolumeUploadTest).
+// Zip archives written with libzip for the upload tests (ZipUploadSupport.h and its users).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <zip.h>
