@@ -7,7 +7,8 @@
 // assimp runs in a child process (fork): its readers crash on hostile files (the fuzzer found a
 // 794-byte Collada file that segfaults assimp 5.2.5), and a crash or a hang there must fail the
 // import, not the CLI or the server that called it. The child sends the triangles back through
-// a pipe; finalizeMesh's validation runs in the caller, as for every other importer.
+// a pipe (ChildProcess.h); finalizeMesh's validation runs in the caller, as for every other
+// importer.
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/camera.h>
 #include <assimp/Importer.hpp>
@@ -15,20 +16,12 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <chrono>
-#include <cstring>
 #include <filesystem>
 #include <limits>
 
+#include "import/ChildProcess.h"
 #include "import/ImportCommon.h"
 #include "package/ByteIo.h"
 #include "vastray/core/Camera.h"
@@ -355,86 +348,36 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
 // How long assimp may take on one file before its process is killed and the import fails.
 constexpr int kAssimpSecondsLimit = 600;
 
+// In the child: readWithAssimp's answer, encoded, to the parent. Only this thread exists
+// here: no locks of other threads' making are taken (assimp logs nothing without a logger;
+// malloc is fork-safe in glibc).
+void childReads(int fd, const std::string& path) {
+    std::vector<uint8_t> answer;
+    try {
+        answer = encodeAnswer(readWithAssimp(path));
+    } catch (const std::exception& e) {
+        answer = encodeAnswer(import::errorIn(import::fileNameOf(path), std::string("assimp: ") + e.what()));
+    } catch (...) {
+        answer = encodeAnswer(import::errorIn(import::fileNameOf(path), "assimp: unknown exception"));
+    }
+    import::writeToParent(fd, answer.data(), answer.size());
+}
+
 // Runs readWithAssimp in a child process and returns its answer; a child that crashes, is
 // killed, or outlives kAssimpSecondsLimit fails the import by the file's name.
 Result<ImportedMesh> readInChildProcess(const std::string& path) {
     const std::string name = import::fileNameOf(path);
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) return import::errorIn(name, std::string("pipe: ") + std::strerror(errno));
-    const pid_t child = ::fork();
-    if (child < 0) {
-        ::close(fds[0]), ::close(fds[1]);
-        return import::errorIn(name, std::string("fork: ") + std::strerror(errno));
-    }
-    if (child == 0) {
-        // Only this thread exists here: no locks of other threads' making are taken below
-        // (assimp logs nothing without a logger; malloc is fork-safe in glibc).
-        ::close(fds[0]);
-        // A fault ends the child by its signal, whatever handlers the parent installed (the
-        // sanitizers' own would turn it into an exit status).
-        for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) ::signal(sig, SIG_DFL);
-        std::vector<uint8_t> answer;
-        try {
-            answer = encodeAnswer(readWithAssimp(path));
-        } catch (const std::exception& e) {
-            answer = encodeAnswer(import::errorIn(name, std::string("assimp: ") + e.what()));
-        } catch (...) {
-            answer = encodeAnswer(import::errorIn(name, "assimp: unknown exception"));
-        }
-        for (size_t at = 0; at < answer.size();) {
-            const ssize_t n = ::write(fds[1], answer.data() + at, answer.size() - at);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) ::_exit(2);
-            at += size_t(n);
-        }
-        ::_exit(0);  // no destructors or atexit handlers of the parent's state
-    }
-    ::close(fds[1]);
-    std::vector<uint8_t> answer;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kAssimpSecondsLimit);
-    bool timedOut = false;
-    std::string readError;
-    for (;;) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
-            timedOut = true;
-            break;
-        }
-        pollfd p{fds[0], POLLIN, 0};
-        const int ready = ::poll(&p, 1, int(std::min<int64_t>(left.count(), 1000)));
-        if (ready < 0 && errno != EINTR) {
-            readError = std::string("poll: ") + std::strerror(errno);
-            break;
-        }
-        if (ready <= 0) continue;
-        uint8_t block[1 << 16];
-        const ssize_t n = ::read(fds[0], block, sizeof block);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) {
-            readError = std::string("read: ") + std::strerror(errno);
-            break;
-        }
-        if (n == 0) break;  // the child closed its end: done, or died
-        answer.insert(answer.end(), block, block + n);
-    }
-    ::close(fds[0]);
-    if (timedOut || !readError.empty()) ::kill(child, SIGKILL);
-    int status = 0;
-    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (timedOut)
-        return import::errorIn(name, "assimp did not finish reading the file within " +
-                                         std::to_string(kAssimpSecondsLimit) + " s; refused");
-    if (!readError.empty()) return import::errorIn(name, "reading the assimp process's answer: " + readError);
-    if (WIFSIGNALED(status)) {
-        const int sig = WTERMSIG(status);
-        return import::errorIn(name, "assimp crashed reading the file (signal " + std::to_string(sig) + ", " +
-                                         std::string(::strsignal(sig)) + "); refused");
-    }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        return import::errorIn(name, "the assimp reader process failed (exit status " +
-                                         std::to_string(WEXITSTATUS(status)) + ")");
-    return decodeAnswer(name, answer);
+    Result<ImportedMesh> imported = Status::error("no answer");
+    const Status status = import::runInChildProcess(
+        name, {"assimp", "assimp", kAssimpSecondsLimit}, [&](int fd) { childReads(fd, path); },
+        [&](import::ChildAnswer& in) {
+            std::vector<uint8_t> answer;
+            if (!in.readToEnd(answer)) return import::errorIn(name, "reading the assimp process's answer: " + in.error());
+            imported = decodeAnswer(name, answer);
+            return imported.status();
+        });
+    if (!status.isOk()) return status;
+    return imported;
 }
 
 Result<ImportedMesh> importWithAssimpUnguarded(const std::string& path, const ImportOptions& options) {

@@ -1,19 +1,12 @@
 // The volumes of an import (VolumeImport.h): materials checked, each .vdb read in this process
 // or in a child process that sends the volume back through a pipe. No OpenVDB here: the child
 // calls readVdbVolume (VdbVolume.cpp) like the caller would.
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <tbb/task_arena.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <charconv>
-#include <chrono>
-#include <cstring>
 #include <type_traits>
 
+#include "import/ChildProcess.h"
 #include "import/ImportCommon.h"
 #include "vastray/streamer/VolumeImport.h"
 
@@ -22,7 +15,6 @@ namespace {
 
 // A grid name sent back by the child is at most this long (readVdbVolume's are a file's strings).
 constexpr uint64_t kMaxSentNameBytes = 1 << 20;
-constexpr const char* kAnswerEndsEarly = "the answer ends early";
 
 std::string colorText(const std::array<float, 3>& c) {
     std::string text;
@@ -39,27 +31,16 @@ bool colorWithin(const std::array<float, 3>& c, float max) {
     return true;
 }
 
-// The child's end: writes all of `size` bytes or ends the child (the parent then reports it).
-void writeAll(int fd, const void* data, uint64_t size) {
-    const char* at = static_cast<const char*>(data);
-    while (size > 0) {
-        const ssize_t n = ::write(fd, at, size_t(std::min<uint64_t>(size, uint64_t(1) << 30)));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) ::_exit(2);
-        at += n, size -= uint64_t(n);
-    }
-}
-
 template <typename T>
 void writeValue(int fd, const T& value) {
     static_assert(std::is_trivially_copyable_v<T>);
-    writeAll(fd, &value, sizeof value);
+    import::writeToParent(fd, &value, sizeof value);
 }
 
 template <typename T>
 void writeVector(int fd, const std::vector<T>& values) {
     writeValue(fd, uint64_t(values.size()));
-    writeAll(fd, values.data(), values.size() * sizeof(T));
+    import::writeToParent(fd, values.data(), values.size() * sizeof(T));
 }
 
 // In the child: the answer is a byte 0 and the message, or a byte 1 and the volume less what
@@ -68,74 +49,20 @@ void sendAnswer(int fd, const Result<Volume>& volume) {
     writeValue(fd, uint8_t(volume ? 1 : 0));
     if (!volume) {
         writeValue(fd, uint64_t(volume.message().size()));
-        writeAll(fd, volume.message().data(), volume.message().size());
+        import::writeToParent(fd, volume.message().data(), volume.message().size());
         return;
     }
     const Volume& v = *volume;
     writeValue(fd, uint64_t(v.name.size()));
-    writeAll(fd, v.name.data(), v.name.size());
+    import::writeToParent(fd, v.name.data(), v.name.size());
     writeValue(fd, v.indexToWorld), writeValue(fd, v.origin), writeValue(fd, v.brickCells);
     writeValue(fd, v.material);
     writeVector(fd, v.brickOf), writeVector(fd, v.voxels), writeVector(fd, v.emissionVoxels);
 }
 
-// The parent's end of the pipe: exact reads until a deadline; false (with `error` set) when the
-// child closed early, the deadline passed or the read failed.
-class AnswerReader {
-public:
-    AnswerReader(int fd, std::chrono::steady_clock::time_point deadline) : fd_(fd), deadline_(deadline) {}
-
-    bool read(void* data, uint64_t size) {
-        char* at = static_cast<char*>(data);
-        while (size > 0) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - std::chrono::steady_clock::now());
-            if (left.count() <= 0) return fail(true, "");
-            pollfd p{fd_, POLLIN, 0};
-            const int ready = ::poll(&p, 1, int(std::min<int64_t>(left.count(), 1000)));
-            if (ready < 0 && errno != EINTR) return fail(false, std::string("poll: ") + std::strerror(errno));
-            if (ready <= 0) continue;
-            const ssize_t n = ::read(fd_, at, size_t(std::min<uint64_t>(size, uint64_t(1) << 30)));
-            if (n < 0 && errno == EINTR) continue;
-            if (n < 0) return fail(false, std::string("read: ") + std::strerror(errno));
-            if (n == 0) return fail(false, kAnswerEndsEarly);
-            at += n, size -= uint64_t(n);
-        }
-        return true;
-    }
-
-    template <typename T>
-    bool value(T& out) {
-        return read(&out, sizeof out);
-    }
-
-    // A vector of at most `max` elements.
-    template <typename T>
-    bool vector(std::vector<T>& out, uint64_t max) {
-        uint64_t count = 0;
-        if (!value(count)) return false;
-        if (count > max) return fail(false, "the answer holds " + std::to_string(count) + " elements, above " + std::to_string(max));
-        out.resize(count);
-        return read(out.data(), count * sizeof(T));
-    }
-
-    bool timedOut() const { return timedOut_; }
-    const std::string& error() const { return error_; }
-
-private:
-    bool fail(bool timedOut, std::string error) {
-        timedOut_ = timedOut, error_ = std::move(error);
-        return false;
-    }
-
-    int fd_;
-    std::chrono::steady_clock::time_point deadline_;
-    bool timedOut_ = false;
-    std::string error_;
-};
-
 // The volume (or the child's error) from the pipe; the checks it passed in the child are made
 // again here, for a child whose memory a hostile file corrupted could send anything.
-Result<Volume> receiveAnswer(AnswerReader& in, const std::string& name) {
+Result<Volume> receiveAnswer(import::ChildAnswer& in, const std::string& name) {
     const Status malformed = import::errorIn(name, "the OpenVDB reader process sent a malformed answer: ");
     uint8_t ok = 0;
     uint64_t textBytes = 0;
@@ -158,58 +85,27 @@ Result<Volume> receiveAnswer(AnswerReader& in, const std::string& name) {
     return v;
 }
 
-// Runs in the child: reads the volume and sends it, then ends without the parent's destructors.
-[[noreturn]] void childReads(int fd, const VolumeSource& source) {
-    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGPIPE}) ::signal(sig, SIG_DFL);
-    // The kernel's OOM killer takes this process before any other (raising one's own score
-    // needs no privilege).
-    if (const int fd = ::open("/proc/self/oom_score_adj", O_WRONLY | O_CLOEXEC); fd >= 0) {
-        const ssize_t written = ::write(fd, "1000", 4);
-        (void)written;  // without it the child is only as likely a choice as its size makes it
-        ::close(fd);
-    }
+// Runs in the child: reads the volume and sends it.
+void childReads(int fd, const VolumeSource& source) {
     // One thread: the parent's TBB workers do not exist here, so OpenVDB's parallel loops
     // run in an arena that asks for none.
     tbb::task_arena arena(1);
     Result<Volume> volume = Status::error("not read");
     arena.execute([&] { volume = readVdbVolume(source.path, source.grid, source.material, source.emissionGrid); });
     sendAnswer(fd, volume);
-    ::_exit(0);
 }
 
 Result<Volume> readInChildProcess(const VolumeSource& source) {
     const std::string name = import::fileNameOf(source.path);
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) return import::errorIn(name, std::string("pipe: ") + std::strerror(errno));
-    const pid_t child = ::fork();
-    if (child < 0) {
-        ::close(fds[0]), ::close(fds[1]);
-        return import::errorIn(name, std::string("fork: ") + std::strerror(errno));
-    }
-    if (child == 0) {
-        ::close(fds[0]);
-        childReads(fds[1], source);
-    }
-    ::close(fds[1]);
-    AnswerReader in(fds[0], std::chrono::steady_clock::now() + std::chrono::seconds(kVdbReadSecondsLimit));
-    Result<Volume> volume = receiveAnswer(in, name);
-    ::close(fds[0]);
-    if (!volume) ::kill(child, SIGKILL);  // a child stuck or still writing ends here
-    int status = 0;
-    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (in.timedOut())
-        return import::errorIn(name, "OpenVDB did not finish reading the file within " +
-                                         std::to_string(kVdbReadSecondsLimit) + " s; refused");
-    // A child that died before its answer was whole: by its own fault, or killed from outside
-    // (the OOM killer sends SIGKILL).
-    if (WIFSIGNALED(status) && in.error() == kAnswerEndsEarly) {
-        const int sig = WTERMSIG(status);
-        return import::errorIn(name, "the OpenVDB reader process " +
-                                         std::string(sig == SIGKILL ? "was killed" : "crashed") + " reading the file (signal " +
-                                         std::to_string(sig) + ", " + std::string(::strsignal(sig)) +
-                                         (sig == SIGKILL ? "; out of memory?" : "") + "); refused");
-    }
+    Result<Volume> volume = Status::error("no answer");
+    const Status status = import::runInChildProcess(
+        name, {"OpenVDB", "the OpenVDB reader process", kVdbReadSecondsLimit},
+        [&](int fd) { childReads(fd, source); },
+        [&](import::ChildAnswer& in) {
+            volume = receiveAnswer(in, name);
+            return volume.status();
+        });
+    if (!status.isOk()) return status;
     return volume;
 }
 

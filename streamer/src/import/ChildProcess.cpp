@@ -1,0 +1,145 @@
+#include "import/ChildProcess.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "import/ImportCommon.h"
+
+namespace vastray::import {
+namespace {
+
+// One read or write moves at most this much (a pipe takes far less at a time anyway).
+constexpr uint64_t kMaxTransfer = uint64_t(1) << 30;
+
+// Runs in the child: `child` writes the answer, then the child ends without the parent's
+// destructors or atexit handlers.
+[[noreturn]] void runChild(int fd, const std::function<void(int)>& child) {
+    // A fault ends the child by its signal, whatever handlers the parent installed (the
+    // sanitizers' own would turn it into an exit status).
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGPIPE}) ::signal(sig, SIG_DFL);
+    // The kernel's OOM killer takes this process before any other (raising one's own score
+    // needs no privilege).
+    if (const int score = ::open("/proc/self/oom_score_adj", O_WRONLY | O_CLOEXEC); score >= 0) {
+        const ssize_t written = ::write(score, "1000", 4);
+        (void)written;  // without it the child is only as likely a choice as its size makes it
+        ::close(score);
+    }
+    try {
+        child(fd);
+    } catch (...) {
+        ::_exit(3);  // never unwind into the parent's code
+    }
+    ::_exit(0);
+}
+
+int reap(pid_t child) {
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    return status;
+}
+
+// Why the child failed, when it ended before its answer was whole; empty when it did not.
+std::string childFailure(const ChildReader& reader, const ChildAnswer& answer, int status) {
+    if (answer.timedOut())
+        return reader.library + " did not finish reading the file within " + std::to_string(reader.secondsLimit) +
+               " s; refused";
+    if (!answer.sawEnd()) return "";  // a whole answer, or one `parent` refused before the end
+    // By its own fault, or killed from outside (the OOM killer sends SIGKILL).
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        return reader.process + (sig == SIGKILL ? " was killed" : " crashed") + " reading the file (signal " +
+               std::to_string(sig) + ", " + std::string(::strsignal(sig)) + (sig == SIGKILL ? "; out of memory?" : "") +
+               "); refused";
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return "the " + reader.library + " reader process failed (exit status " + std::to_string(WEXITSTATUS(status)) +
+               ")";
+    return "";
+}
+
+}  // namespace
+
+void writeToParent(int fd, const void* data, uint64_t size) {
+    const char* at = static_cast<const char*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd, at, size_t(std::min(size, kMaxTransfer)));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) ::_exit(2);
+        at += n, size -= uint64_t(n);
+    }
+}
+
+bool ChildAnswer::waitForBytes() {
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - std::chrono::steady_clock::now());
+        if (left.count() <= 0) return fail(true, "");
+        pollfd p{fd_, POLLIN, 0};
+        const int ready = ::poll(&p, 1, int(std::min<int64_t>(left.count(), 1000)));
+        if (ready < 0 && errno != EINTR) return fail(false, std::string("poll: ") + std::strerror(errno));
+        if (ready > 0) return true;
+    }
+}
+
+bool ChildAnswer::read(void* data, uint64_t size) {
+    char* at = static_cast<char*>(data);
+    while (size > 0) {
+        if (!waitForBytes()) return false;
+        const ssize_t n = ::read(fd_, at, size_t(std::min(size, kMaxTransfer)));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return fail(false, std::string("read: ") + std::strerror(errno));
+        if (n == 0) {
+            sawEnd_ = true;
+            return fail(false, "the answer ends early");
+        }
+        at += n, size -= uint64_t(n);
+    }
+    return true;
+}
+
+bool ChildAnswer::readToEnd(std::vector<uint8_t>& out) {
+    for (;;) {
+        if (!waitForBytes()) return false;
+        uint8_t block[1 << 16];
+        const ssize_t n = ::read(fd_, block, sizeof block);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return fail(false, std::string("read: ") + std::strerror(errno));
+        if (n == 0) {
+            sawEnd_ = true;
+            return true;
+        }
+        out.insert(out.end(), block, block + n);
+    }
+}
+
+Status runInChildProcess(const std::string& fileName, const ChildReader& reader,
+                         const std::function<void(int fd)>& child,
+                         const std::function<Status(ChildAnswer& answer)>& parent) {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return errorIn(fileName, std::string("pipe: ") + std::strerror(errno));
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]), ::close(fds[1]);
+        return errorIn(fileName, std::string("fork: ") + std::strerror(errno));
+    }
+    if (pid == 0) {
+        ::close(fds[0]);
+        runChild(fds[1], child);
+    }
+    ::close(fds[1]);
+    ChildAnswer answer(fds[0], std::chrono::steady_clock::now() + std::chrono::seconds(reader.secondsLimit));
+    const Status received = parent(answer);
+    ::close(fds[0]);
+    if (!received.isOk()) ::kill(pid, SIGKILL);  // a child stuck or still writing ends here
+    const std::string failure = childFailure(reader, answer, reap(pid));
+    return failure.empty() ? received : errorIn(fileName, failure);
+}
+
+}  // namespace vastray::import
