@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# libFuzzer runs of the importers, the package reader and the HTTP JSON bodies (issue 16), with
-# ASan and UBSan.
+# libFuzzer runs of the importers, the package reader, the HTTP JSON bodies and the upload
+# volume manifest (issue 16), with ASan and UBSan.
 #
 #   scripts/fuzz.sh                 # smoke: every target for FUZZ_SECONDS (30) from the seed corpus
 #   FUZZ_SECONDS=3600 scripts/fuzz.sh fuzz_import_obj   # the documented long run, one target
@@ -16,10 +16,10 @@ SECONDS_PER_TARGET=${FUZZ_SECONDS:-30}
 JOBS=${JOBS:-$(nproc)}
 declare -A SEEDS=([fuzz_import_obj]=obj [fuzz_import_ply]=ply [fuzz_import_gltf]=gltf
                   [fuzz_import_glb]=glb [fuzz_import_assimp]=assimp [fuzz_package]=vast [fuzz_chunk]=chunk
-                  [fuzz_http_json]=json [fuzz_environment_map]=envmap [fuzz_pfm]=pfm)
+                  [fuzz_http_json]=json [fuzz_volume_manifest]=volumes [fuzz_environment_map]=envmap [fuzz_pfm]=pfm)
 TARGETS=("$@")
 [ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_import_obj fuzz_import_ply fuzz_import_gltf fuzz_import_glb fuzz_import_assimp fuzz_package fuzz_chunk
-                                    fuzz_http_json fuzz_environment_map fuzz_pfm)
+                                    fuzz_http_json fuzz_volume_manifest fuzz_environment_map fuzz_pfm)
 
 if [ ! -f "$BUILD/build.ninja" ]; then
   cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 -DVASTRAY_FUZZ=ON
