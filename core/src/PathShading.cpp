@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/Microfacet.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
 #include "vastray/core/Volume.h"
@@ -10,6 +11,19 @@
 namespace vastray {
 namespace {
 Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
+
+Bsdf bsdfOf(const SurfacePoint& point) {
+    const Material& m = *point.material;
+    return {point.albedo, m.metallic, m.roughness, m.specular};
+}
+
+// wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it
+// below the surface.
+Vec3f localOutgoing(const Frame& frame, Vec3f wo) {
+    Vec3f local{dot(frame.tangent, wo), dot(frame.bitangent, wo), dot(frame.normal, wo)};
+    if (local.z < 1e-4f) local = normalize(Vec3f{local.x, local.y, 1e-4f});
+    return local;
+}
 }  // namespace
 
 Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v) {
@@ -42,6 +56,8 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
         point.shadingNormal = dot(n, point.normal) < 0.0f ? n * -1.0f : n;
     }
     point.albedo = mul(baseColor(material), unpackHitColor(attributes.color));
+    point.outgoing = rayDirection * -1.0f;
+    point.glossy = !isLambertian(material);
     point.material = &material;
     return point;
 }
@@ -61,6 +77,11 @@ bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const Surfac
     const Vec3f irradiance = toVec(env.sunIrradiance);
     const float cosine = dot(point.shadingNormal, sunDirection);
     if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f || dot(point.normal, sunDirection) <= 0.0f) return false;
+    if (point.glossy) {
+        float pdf;
+        *light = mul(glossyReflection(point, sunDirection, &pdf), irradiance);
+        return maxComponent(*light) > 0.0f;
+    }
     *light = mul(point.albedo, irradiance) * (cosine / kPi);
     return true;
 }
@@ -84,9 +105,15 @@ bool unshadowedDirectLight(const Environment& env, Vec3f sunDirection, const Sur
     const float cosine = dot(point.shadingNormal, s.direction);
     if (!(s.pdf > 0.0f) || cosine <= 0.0f || dot(point.normal, s.direction) <= 0.0f) return false;
     const float lightPdf = (1.0f - pickSun) * s.pdf;
+    *direction = s.direction;
+    if (point.glossy) {
+        float bsdfPdf;
+        const Vec3f reflection = glossyReflection(point, s.direction, &bsdfPdf);
+        *light = mul(reflection, s.radiance) * (powerHeuristic(lightPdf, bsdfPdf) / lightPdf);
+        return maxComponent(*light) > 0.0f;
+    }
     const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
     *light = mul(point.albedo, s.radiance) * ((cosine / kPi) * weight);
-    *direction = s.direction;
     return true;
 }
 
@@ -124,6 +151,30 @@ Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed) {
 
 bool bounceDirection(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction) {
     *direction = cosineDirection(point.shadingNormal, key, seed);
+    return dot(*direction, point.normal) > 0.0f;
+}
+
+Vec3f glossyReflection(const SurfacePoint& point, Vec3f wi, float* pdf) {
+    *pdf = 0.0f;
+    if (dot(point.shadingNormal, wi) <= 0.0f || dot(point.normal, wi) <= 0.0f) return {0, 0, 0};
+    const Frame frame = frameAround(point.shadingNormal);
+    const Vec3f wo = localOutgoing(frame, point.outgoing);
+    const Vec3f local{dot(frame.tangent, wi), dot(frame.bitangent, wi), dot(frame.normal, wi)};
+    const float* tables = microfacetTables().data();
+    const Bsdf bsdf = bsdfOf(point);
+    *pdf = bsdfPdf(bsdf, wo, local, tables);
+    return evalBsdf(bsdf, wo, local, tables) * local.z;
+}
+
+bool scatterSurface(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction, Vec3f* weight,
+                    float* pdf) {
+    const Frame frame = frameAround(point.shadingNormal);
+    Vec3f local;
+    if (!sampleBsdf(bsdfOf(point), localOutgoing(frame, point.outgoing), randomFloat(key, kDimLobe, seed),
+                    randomFloat(key, kDimDirectionU, seed), randomFloat(key, kDimDirectionV, seed),
+                    microfacetTables().data(), &local, weight, pdf))
+        return false;
+    *direction = normalize(frame.toWorld(local));
     return dot(*direction, point.normal) > 0.0f;
 }
 

@@ -102,6 +102,15 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
         result.radiance = result.radiance + mul(throughput, directLight(context, point, origin, key, &counter, rays));
+        if (point.glossy) {
+            // The metallic-roughness bounce: throughput times f cos / pdf, then roulette.
+            Vec3f direction, weight;
+            if (!scatterSurface(point, key, options.seed, &direction, &weight, &bouncePdf)) break;
+            throughput = mul(throughput, weight);
+            if (!surviveRoulette(throughput, bounce, key, options.seed)) break;
+            ray = {origin, direction};
+            continue;
+        }
         // Cosine sampling of a Lambertian BRDF: f * cos / pdf = base colour (times the vertex colour).
         throughput = mul(throughput, point.albedo);
         if (!surviveRoulette(throughput, bounce, key, options.seed)) break;

@@ -32,6 +32,7 @@ layout(constant_id = 3) const bool kShadingNormals = false;    // the scene has 
 layout(constant_id = 4) const bool kVertexColors = false;      // the scene has per-vertex colours
 layout(constant_id = 5) const bool kEnvironmentMap = false;    // an environment map replaces the sky
 layout(constant_id = 6) const bool kVolumes = false;           // the scene has density volumes
+layout(constant_id = 7) const bool kMicrofacet = false;        // some material is glossy (not Lambertian)
 
 void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax, bool fromSurface) {
     Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
@@ -94,6 +95,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
         vec3 origin, albedo, light, toLight = vec3(p.sunX, p.sunY, p.sunZ), n = vec3(0.0), ns = vec3(0.0);
         float g = 0.0;
         bool event = false, shoots = false;
+        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0);
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
             origin = Vec4Array(p.rayOrigin).v[j].xyz + direction * tCollision;
@@ -131,11 +133,13 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
                 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
                 if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
                 event = bounce < p.maxDepth;
+                surface = Surface(n, ns, albedo, -direction, kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0),
+                                  m.metallic, m.roughness, m.specular);
                 // Next-event estimation: the sun, or with a map the sun or the map.
                 if (event && kEnvironmentMap)
-                    shoots = environmentDirectLight(p, n, ns, albedo, pixel, sampleIndex, bounce, light, toLight);
+                    shoots = environmentDirectLight(p, surface, pixel, sampleIndex, bounce, light, toLight);
                 else if (event && kSun)
-                    shoots = unshadowedSunLight(p, n, ns, albedo, light);
+                    shoots = unshadowedSunLight(p, surface, light);
             }
         }
         if (kVolumes && volumeMissed) {
@@ -159,15 +163,27 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             }
-            throughput *= albedo;
-            bool survives = surviveRoulette(throughput, pixel, sampleIndex, bounce, p.seed);
+            bool survives = false;
             vec3 bounced = vec3(0.0);
             float bouncePdf = 0.0;
-            if (survives && scattered) {
+            const bool glossy = kMicrofacet && surface.glossy;
+            if (glossy) {
+                // The metallic-roughness bounce: throughput times f cos / pdf, then roulette.
+                vec3 weight;
+                survives = scatterSurface(p, surface, pixel, sampleIndex, bounce, bounced, weight, bouncePdf);
+                if (survives) {
+                    throughput *= weight;
+                    survives = surviveRoulette(throughput, pixel, sampleIndex, bounce, p.seed);
+                }
+            } else {
+                throughput *= albedo;
+                survives = surviveRoulette(throughput, pixel, sampleIndex, bounce, p.seed);
+            }
+            if (!glossy && survives && scattered) {
                 bounced = sampleHenyeyGreenstein(g, direction, randomFloat(pixel, sampleIndex, bounce, kDimDirectionU, p.seed),
                                                  randomFloat(pixel, sampleIndex, bounce, kDimDirectionV, p.seed));
                 bouncePdf = henyeyGreenstein(g, direction, bounced);
-            } else if (survives) {
+            } else if (!glossy && survives) {
                 bounced = cosineDirection(ns, pixel, sampleIndex, bounce, p.seed);
                 bouncePdf = dot(ns, bounced) / kPi;
                 if (kShadingNormals && dot(bounced, n) <= 0.0) survives = false;

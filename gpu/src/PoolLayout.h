@@ -1,7 +1,8 @@
 #pragma once
 // Where the Vulkan backend's small tables lie in its one table buffer: the slot table, the
 // package's top-level tree, per chunk its slot, touched flag, demand and look-ahead counters, the
-// wavefront's parameters and the material table (byte offsets, 16-byte aligned).
+// wavefront's parameters, the material table and the metallic-roughness BSDF's albedo tables
+// (byte offsets, 16-byte aligned).
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -10,9 +11,12 @@
 #include "shared/StreamTypes.h"
 #include "shared/WavefrontTypes.h"
 #include "vastray/core/KdTree.h"
+#include "vastray/core/Microfacet.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray::gpu {
+
+static_assert(kMicrofacetSide == kMicrofacetTableSide);
 
 // Devices round allocations up (to 64 KiB at most on the devices we know); planning with that
 // granularity keeps the allocated total under the budget.
@@ -23,7 +27,7 @@ inline uint64_t granules(uint64_t bytes) {
 
 struct TableLayout {
     uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, queueArgs = 0, params = 0,
-             materials = 0;
+             materials = 0, microfacet = 0;
     uint64_t totalBytes = 0;
 };
 
@@ -40,7 +44,8 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.queueArgs = t.queueCounts + align(kQueueCount * 4);
     t.params = t.queueArgs + align(kQueueCount * 12);
     t.materials = t.params + align(sizeof(WavefrontParams));
-    t.totalBytes = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
+    t.microfacet = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
+    t.totalBytes = t.microfacet + align(kMicrofacetTableFloats * sizeof(float));
     return t;
 }
 

@@ -13,6 +13,7 @@
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/Microfacet.h"
 #include "vastray/core/PathShading.h"
 #include "vastray/core/VecMath.h"
 #include "ChunkUploader.h"
@@ -162,9 +163,11 @@ public:
 
     Status execute() {
         // What this render does not need is not compiled into its kernels (specialization).
-        bool emission = false;
-        for (const Material& m : job_.materials)
+        bool emission = false, glossy = false;
+        for (const Material& m : job_.materials) {
             emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
+            glossy = glossy || !isLambertian(m);
+        }
         const std::array<float, 3>& sun = options_.environment.sunIrradiance;
         const bool environmentMap = options_.environment.map != nullptr;
         if (environmentMap && !b_.environment) return Status::error("device render: the environment map has no buffer");
@@ -172,10 +175,11 @@ public:
         if (volumes && !b_.volumes) return Status::error("device render: the volumes have no buffer");
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
                                         sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
-                                        environmentMap, volumes});
+                                        environmentMap, volumes, glossy});
         if (!shade) return shade.status();
         shade_ = *shade;
         VASTRAY_TRY(uploadParams());
+        if (glossy) VASTRAY_TRY(upload(microfacetTables(), b_.tables.microfacet));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount + 2, 0), b_.tables.demand));
         std::vector<uint32_t> args;
@@ -484,7 +488,7 @@ private:
         const TableLayout& t = b_.tables;
         p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
         p.touched = table + t.touched, p.demand = table + t.demand, p.ahead = table + t.ahead;
-        p.materials = table + t.materials;
+        p.materials = table + t.materials, p.microfacet = table + t.microfacet;
         const StateLayout s = stateLayout(b_.pathCapacity);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
         p.rayState = state + s.rayState;
@@ -525,7 +529,7 @@ private:
         std::vector<WavefrontMaterial> materials;
         for (const Material& m : job_.materials)
             materials.push_back({m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1],
-                                 m.emissive[2], m.doubleSided ? 1u : 0u, 0u});
+                                 m.emissive[2], m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular, 0u, 0u});
         VASTRAY_TRY(upload(materials, b_.tables.materials));
         return uploadBytes(&p, sizeof(p), b_.tables.params);
     }

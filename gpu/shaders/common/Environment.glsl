@@ -5,7 +5,6 @@
 #ifndef VASTRAY_ENVIRONMENT_GLSL
 #define VASTRAY_ENVIRONMENT_GLSL
 
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
 
 vec3 skyUp(WavefrontParams p) { return vec3(p.skyUpX, p.skyUpY, p.skyUpZ); }
 // The map's frame (environmentFrame, computed on the host): tangent, bitangent and skyUp.
@@ -85,12 +84,11 @@ float powerHeuristic(float chosen, float other) {
 
 // unshadowedDirectLight with a map: the light reflected towards the ray (base colour applied,
 // the path's throughput not yet) and the shadow ray's direction; false: no shadow ray.
-// n: geometric normal on the ray's side, ns: shading normal.
-bool environmentDirectLight(WavefrontParams p, vec3 n, vec3 ns, vec3 base, uint pixel, uint sampleIndex, uint bounce,
-                            out vec3 light, out vec3 direction) {
+bool environmentDirectLight(WavefrontParams p, Surface s, uint pixel, uint sampleIndex, uint bounce, out vec3 light,
+                            out vec3 direction) {
     const float pickSun = p.sunPick;
     if (pickSun >= 1.0 || (pickSun > 0.0 && randomFloat(pixel, sampleIndex, bounce, kDimLightPick, p.seed) < pickSun)) {
-        if (!unshadowedSunLight(p, n, ns, base, light)) return false;
+        if (!unshadowedSunLight(p, s, light)) return false;
         if (pickSun < 1.0) light = light * (1.0 / pickSun);
         direction = vec3(p.sunX, p.sunY, p.sunZ);
         return true;
@@ -99,11 +97,17 @@ bool environmentDirectLight(WavefrontParams p, vec3 n, vec3 ns, vec3 base, uint 
     float pdf;
     direction = sampleEnvironment(p, randomFloat(pixel, sampleIndex, bounce, kDimLightU, p.seed),
                                   randomFloat(pixel, sampleIndex, bounce, kDimLightV, p.seed), radiance, pdf);
-    const float cosine = dot(ns, direction);
-    if (!(pdf > 0.0) || cosine <= 0.0 || dot(n, direction) <= 0.0) return false;
+    const float cosine = dot(s.ns, direction);
+    if (!(pdf > 0.0) || cosine <= 0.0 || dot(s.n, direction) <= 0.0) return false;
     const float lightPdf = (1.0 - pickSun) * pdf;
+    if (s.glossy) {
+        float bsdfDensity;
+        const vec3 reflection = glossyReflection(p, s, direction, bsdfDensity);
+        light = (reflection * radiance) * (powerHeuristic(lightPdf, bsdfDensity) / lightPdf);
+        return maxComponent(light) > 0.0;
+    }
     const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
-    light = (base * radiance) * ((cosine / kPi) * weight);
+    light = (s.base * radiance) * ((cosine / kPi) * weight);
     return true;
 }
 

@@ -11,7 +11,10 @@
 #include "common/Watertight.glsl"
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
+#ifndef VASTRAY_FLOAT_ARRAY  // common/WavefrontState.glsl declares it for the wavefront kernels
+#define VASTRAY_FLOAT_ARRAY
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
+#endif
 
 // Same values as KdTreeTraversal.cpp's kRelativeMargin / kAbsoluteMargin.
 const float kRelativeMargin = 1e-5;

@@ -11,6 +11,7 @@ const uint kDimRoulette = 4u;
 const uint kDimLightPick = 5u;
 const uint kDimLightU = 6u;
 const uint kDimLightV = 7u;
+const uint kDimLobe = 8u;
 
 uint pcgHash(uint v) {
     const uint state = v * 747796405u + 2891336453u;

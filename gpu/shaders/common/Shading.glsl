@@ -55,14 +55,21 @@ vec3 cosineDirection(vec3 n, uint pixel, uint sampleIndex, uint bounce, uint see
 
 float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
 
-// unshadowedSunLight (core/src/PathShading.cpp): the sun's Lambertian light at a point of
-// geometric normal n, shading normal ns (both on the ray's side) and base colour `base`, before
-// the path's throughput; false (no shadow ray) without a sun or when it lies below either normal.
-bool unshadowedSunLight(WavefrontParams p, vec3 n, vec3 ns, vec3 base, out vec3 light) {
+#include "common/Microfacet.glsl"
+
+// unshadowedSunLight (core/src/PathShading.cpp): the sun's light reflected at surface point s
+// (Lambertian, or its metallic-roughness BSDF), before the path's throughput; false (no shadow
+// ray) without a sun or when it lies below either normal.
+bool unshadowedSunLight(WavefrontParams p, Surface s, out vec3 light) {
     const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
-    const float cosine = dot(ns, sun);
-    if (maxComponent(irradiance) <= 0.0 || cosine <= 0.0 || dot(n, sun) <= 0.0) return false;
-    light = (base * irradiance) * (cosine / kPi);
+    const float cosine = dot(s.ns, sun);
+    if (maxComponent(irradiance) <= 0.0 || cosine <= 0.0 || dot(s.n, sun) <= 0.0) return false;
+    if (s.glossy) {
+        float pdf;
+        light = glossyReflection(p, s, sun, pdf) * irradiance;
+        return maxComponent(light) > 0.0;
+    }
+    light = (s.base * irradiance) * (cosine / kPi);
     return true;
 }
 

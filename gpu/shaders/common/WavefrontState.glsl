@@ -10,6 +10,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) buffer UVec4Array 
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer UVec2Array { uvec2 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer RwUintArray { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer RwFloatArray { float v[]; };
+#define VASTRAY_FLOAT_ARRAY
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer MaterialArray { WavefrontMaterial v[]; };
 
 layout(push_constant, std430) uniform PushBlock { WavefrontPush pc; };

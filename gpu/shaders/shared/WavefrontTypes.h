@@ -59,8 +59,15 @@ struct WavefrontMaterial {
     float baseR, baseG, baseB;
     float emitR, emitG, emitB;
     uint doubleSided;
-    uint padding;
+    float metallic;
+    float roughness;
+    float specular;
+    uint padding0, padding1;
 };
+
+// The metallic-roughness albedo tables' side (core/Microfacet.h's kMicrofacetTableSide; the
+// tables: two of side x side floats, then side floats).
+const uint kMicrofacetSide = 32u;
 
 // A density volume as the shading kernel reads it (core/Volume.h): its brick table (uint per
 // cell), majorants (float per cell), voxels (kVolumeBrickVoxels floats per brick) and emission
@@ -138,6 +145,8 @@ struct WavefrontParams {
                            // that wait for it; then per brick the walks that ask for it ahead
     uint64_t volumePark;   // paged volumes: per path four uvec4, where its volume tracking parked
                            // (common/Volume.glsl, VolumePark; zero: nowhere)
+    uint64_t microfacet;   // the metallic-roughness BSDF's albedo tables (core/Microfacet.h,
+                           // kMicrofacetTableFloats floats) when some material is glossy
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -191,8 +200,8 @@ struct WavefrontPush {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(WavefrontMaterial) == 32);
-static_assert(offsetof(WavefrontParams, eyeX) == 35 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(WavefrontMaterial) == 48);
+static_assert(offsetof(WavefrontParams, eyeX) == 36 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu

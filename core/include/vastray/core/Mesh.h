@@ -17,6 +17,11 @@ struct Material {
     std::string name;
     std::array<float, 4> baseColor{0.8f, 0.8f, 0.8f, 1.0f};  // linear RGBA
     std::array<float, 3> emissive{0.0f, 0.0f, 0.0f};         // linear RGB radiance
+    // glTF 2.0 metallic-roughness (core/Microfacet.h): metallic and specular 0 is the Lambertian
+    // base alone (every importer's default but glTF's, which follows the glTF defaults).
+    float metallic = 0.0f;   // [0, 1]
+    float roughness = 1.0f;  // [0, 1], perceptual (GGX alpha = roughness^2)
+    float specular = 0.0f;   // [0, 1], the dielectric specular layer's weight (KHR_materials_specular)
     bool doubleSided = true;
 };
 

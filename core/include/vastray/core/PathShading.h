@@ -25,6 +25,10 @@ struct SurfacePoint {
     // Lambertian cosines and the bounce use it; light and bounces below `normal` are cut.
     Vec3f shadingNormal;
     Vec3f albedo;    // base colour times the vertex colour
+    Vec3f outgoing;  // unit, towards where the ray came from
+    // Not the Lambertian base alone (core/Microfacet.h): the metallic-roughness BSDF's steps
+    // replace the Lambertian ones (docs/RENDERING.md, "Materials").
+    bool glossy = false;
     const Material* material = nullptr;
 };
 
@@ -88,6 +92,15 @@ Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed);
 // The Lambertian bounce at `point`: cosine-distributed about the shading normal; false (the
 // path ends) when that direction lies below the geometric surface.
 bool bounceDirection(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction);
+
+// The metallic-roughness BSDF's reflection of light arriving along unit wi at a glossy point:
+// f(wo, wi) cos(shading normal, wi), and in *pdf the density with which scatterSurface draws wi
+// (0 and 0 below either normal).
+Vec3f glossyReflection(const SurfacePoint& point, Vec3f wi, float* pdf);
+// The metallic-roughness bounce at a glossy point (kDimLobe, kDimDirectionU/V): *weight =
+// f cos / pdf; false (the path ends) when the drawn direction lies below either normal.
+bool scatterSurface(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction, Vec3f* weight,
+                    float* pdf);
 
 // After scattering event `bounce` (throughput already multiplied by the base colour): from
 // kRouletteStartBounce on, ends the path with probability 1 - min(0.95, max throughput) and

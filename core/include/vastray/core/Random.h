@@ -35,6 +35,7 @@ enum RandomDimension : uint32_t {
     kDimLightPick = 5,
     kDimLightU = 6,
     kDimLightV = 7,
+    kDimLobe = 8,  // the metallic-roughness BSDF's choice of lobe
     // Volumes: tracking takes dimensions kDimVolume, kDimVolume + 1, ... in the order it draws
     // them (free flight along the ray, then transmittance towards the light).
     kDimVolume = 16,

@@ -1,0 +1,71 @@
+#pragma once
+// The glTF 2.0 metallic-roughness BSDF (docs/RENDERING.md, "Materials"), shared by every
+// backend (gpu/shaders/common/Microfacet.glsl does the same steps): a GGX microfacet lobe
+// (Trowbridge-Reitz distribution, height-correlated Smith masking, Schlick's Fresnel), made
+// energy conserving in two ways, both from tables of directional albedo computed once:
+// - the lost multiple scattering is added back as a scale of the single-scattering lobe,
+//   1 + F0 (1 / E(mu_o) - 1) (Turquin 2019), so a white metal reflects all it receives;
+// - the Lambertian base of a dielectric gets what its specular layer does not reflect,
+//   base (1 - s Ed(mu_o)) (1 - s Ed(mu_i)) / (pi (1 - s Ed_avg)) (Kulla and Conty 2017's
+//   form), so a white dielectric reflects all it receives whatever its roughness.
+// f = (1 - metallic) (s Fresnel(0.04) specular + diffuse) + metallic Fresnel(base) specular,
+// where s is KHR_materials_specular's factor (0: no specular layer, a Lambertian surface).
+// Directions are local: +z is the shading normal, wo points away from the surface (towards
+// the viewer), both unit.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Mesh.h"
+#include "vastray/core/Vec3.h"
+
+namespace vastray {
+
+// Entries per side of the albedo tables: cosines 0, 1/31, ..., 1 by roughness 0, 1/31, ..., 1.
+constexpr uint32_t kMicrofacetTableSide = 32;
+// The tables as one array (what the device reads too): E(mu, roughness), the single-scattering
+// lobe's albedo with Fresnel 1; Ed(mu, roughness), the compensated dielectric lobe's albedo
+// (F0 0.04, s 1); and per roughness Ed_avg = 2 * integral of Ed(mu) mu dmu over the lookup's
+// piecewise-linear Ed, so the diffuse share integrates exactly to what the layer leaves.
+constexpr uint32_t kMicrofacetMetalTable = 0;
+constexpr uint32_t kMicrofacetDielectricTable = kMicrofacetTableSide * kMicrofacetTableSide;
+constexpr uint32_t kMicrofacetAverageTable = 2 * kMicrofacetTableSide * kMicrofacetTableSide;
+constexpr uint32_t kMicrofacetTableFloats = kMicrofacetAverageTable + kMicrofacetTableSide;
+// The dielectric layer's normal-incidence reflectance (index of refraction 1.5).
+constexpr float kDielectricF0 = 0.04f;
+// GGX alpha = roughness^2, at least this (a mirror would need a delta lobe).
+constexpr float kMinMicrofacetAlpha = 1e-3f;
+
+// Computed on first use (deterministic quadrature, ~0.1 s), shared by all callers.
+const std::vector<float>& microfacetTables();
+
+// Bilinear lookup of a table at cosine mu and roughness, both clamped to [0, 1].
+float microfacetTableLookup(const float* table, float mu, float roughness);
+// Ed_avg at roughness, linear between the table's rows (exact for the bilinear Ed).
+float microfacetAverageLookup(const float* tables, float roughness);
+
+struct Bsdf {
+    Vec3f base;          // base colour times the vertex colour
+    float metallic = 0;  // [0, 1]
+    float roughness = 1; // [0, 1], perceptual (alpha = roughness^2)
+    float specular = 0;  // [0, 1], the dielectric layer's weight
+};
+
+// "metallic 1.5 is outside [0, 1]" for the first factor that is not a fraction; empty when all are.
+std::string materialFactorProblem(const Material& m);
+
+// Whether the material is the Lambertian base alone (no specular layer, not metallic): such
+// surfaces take the cosine-sampled Lambertian steps of core/PathShading.h unchanged.
+inline bool isLambertian(const Material& m) { return m.metallic <= 0.0f && m.specular <= 0.0f; }
+
+// The BSDF value f(wo, wi) (without the cosine); 0 when either direction lies below the surface.
+Vec3f evalBsdf(const Bsdf& bsdf, Vec3f wo, Vec3f wi, const float* tables);
+// The solid-angle density with which sampleBsdf draws wi.
+float bsdfPdf(const Bsdf& bsdf, Vec3f wo, Vec3f wi, const float* tables);
+// Draws wi: the specular lobe (GGX visible normals, Dupuy and Benyoub 2023's spherical caps)
+// with a probability from the lobes' albedos (uLobe), else the cosine-weighted diffuse one;
+// *weight = f cos / pdf, *pdf the mixture's density. false: no direction (below the surface).
+bool sampleBsdf(const Bsdf& bsdf, Vec3f wo, float uLobe, float u1, float u2, const float* tables, Vec3f* wi,
+                Vec3f* weight, float* pdf);
+
+}  // namespace vastray

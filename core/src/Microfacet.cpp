@@ -1,0 +1,206 @@
+#include "vastray/core/Microfacet.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "vastray/core/Sampling.h"
+#include "vastray/core/VecMath.h"
+
+namespace vastray {
+namespace {
+
+constexpr float kMinCosine = 1e-6f;
+
+float alphaOf(float roughness) { return std::fmax(roughness * roughness, kMinMicrofacetAlpha); }
+
+// Smith's Lambda for the GGX distribution: tan^2 from the components, no 1 - cos^2.
+float smithLambda(Vec3f w, float alpha) {
+    const float z = std::fmax(w.z, kMinCosine);
+    const float tan2 = (w.x * w.x + w.y * w.y) / (z * z);
+    return 0.5f * (std::sqrt(1.0f + alpha * alpha * tan2) - 1.0f);
+}
+
+// GGX D(h) with 1 - cos^2 theta taken as h.x^2 + h.y^2 (exact near the peak in fp32).
+float ggxD(Vec3f h, float alpha) {
+    const float a2 = alpha * alpha;
+    const float t = h.x * h.x + h.y * h.y + a2 * h.z * h.z;
+    return a2 / (kPi * t * t);
+}
+
+float schlickWeight(float cosine) {
+    const float c = 1.0f - std::clamp(cosine, 0.0f, 1.0f);
+    const float c2 = c * c;
+    return c2 * c2 * c;
+}
+
+// Dupuy and Benyoub 2023: a visible normal of the GGX distribution seen from wo (wo.z > 0).
+Vec3f sampleVisibleNormal(Vec3f wo, float alpha, float u1, float u2) {
+    const Vec3f stretched = normalize(Vec3f{wo.x * alpha, wo.y * alpha, wo.z});
+    const float phi = 2.0f * kPi * u1;
+    const float z = (1.0f - u2) * (1.0f + stretched.z) - stretched.z;
+    const float sinTheta = std::sqrt(std::clamp(1.0f - z * z, 0.0f, 1.0f));
+    const Vec3f h = Vec3f{sinTheta * std::cos(phi), sinTheta * std::sin(phi), z} + stretched;
+    return normalize(Vec3f{h.x * alpha, h.y * alpha, std::fmax(h.z, 0.0f)});
+}
+
+// The lobe's single-scattering terms: D G2 / (4 mu_o mu_i), the half vector's cosine to wo, and
+// the visible-normal density of wi (G1(wo) D / (4 mu_o)).
+struct Lobe {
+    float specular = 0, cosineOH = 0, pdf = 0;
+};
+Lobe lobeAt(Vec3f wo, Vec3f wi, float alpha) {
+    Lobe l;
+    if (wo.z <= 0 || wi.z <= 0) return l;
+    const Vec3f h = normalize(wo + wi);
+    const float d = ggxD(h, alpha);
+    const float lambdaO = smithLambda(wo, alpha), lambdaI = smithLambda(wi, alpha);
+    l.specular = d / (4.0f * wo.z * wi.z * (1.0f + lambdaO + lambdaI));
+    l.cosineOH = dot(wo, h);
+    l.pdf = d / (4.0f * wo.z * (1.0f + lambdaO));
+    return l;
+}
+
+// The probability of drawing the specular lobe: its albedo's share of the two lobes'.
+float specularPick(const Bsdf& b, float dielectricAlbedo) {
+    const float base = (b.base.x + b.base.y + b.base.z) / 3.0f;
+    const float spec = (1.0f - b.metallic) * b.specular * dielectricAlbedo + b.metallic * base;
+    const float diffuse = (1.0f - b.metallic) * base * (1.0f - b.specular * dielectricAlbedo);
+    return spec + diffuse > 0.0f ? spec / (spec + diffuse) : 0.5f;
+}
+
+// A Hammersley point set of n points: (i + 1/2) / n and the base-2 radical inverse of i.
+float radicalInverse(uint32_t i) {
+    i = (i << 16u) | (i >> 16u);
+    i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
+    i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
+    i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
+    i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
+    return float(double(i) * 0x1p-32);
+}
+
+// A row per roughness, in parallel (2,048 samples per entry: within ~0.2 % of 4,096's; the whole
+// table took 0.35 s on one core with 4,096, render time a glossy render paid in every process).
+std::vector<float> computeTables() {
+    constexpr uint32_t n = kMicrofacetTableSide, kSamples = 2048;
+    std::vector<float> t(kMicrofacetTableFloats, 0.0f);
+    tbb::parallel_for(uint32_t(0), n, [&](uint32_t r) {
+        const float alpha = alphaOf(float(r) / float(n - 1));
+        for (uint32_t m = 0; m < n; ++m) {
+            const float mu = std::fmax(float(m) / float(n - 1), 1e-3f);
+            const Vec3f wo{std::sqrt(1.0f - mu * mu), 0.0f, mu};
+            // Visible-normal sampling: f cos / pdf = G2 / G1(wo) times the Fresnel term.
+            double plain = 0, fresnel = 0;
+            for (uint32_t i = 0; i < kSamples; ++i) {
+                const Vec3f h = sampleVisibleNormal(wo, alpha, (float(i) + 0.5f) / float(kSamples), radicalInverse(i));
+                const Vec3f wi = h * (2.0f * dot(wo, h)) - wo;
+                if (wi.z <= 0) continue;
+                const float g = (1.0f + smithLambda(wo, alpha)) /
+                                (1.0f + smithLambda(wo, alpha) + smithLambda(wi, alpha));
+                plain += g;
+                fresnel += g * (kDielectricF0 + (1.0f - kDielectricF0) * schlickWeight(dot(wo, h)));
+            }
+            const float e = float(plain / kSamples);
+            t[kMicrofacetMetalTable + r * n + m] = e;
+            t[kMicrofacetDielectricTable + r * n + m] =
+                float(fresnel / kSamples) * (1.0f + kDielectricF0 * (1.0f / e - 1.0f));
+        }
+        // 2 * integral of the piecewise-linear Ed(mu) mu: on [a, b], h/6 (ya (2a + b) + yb (a + 2b)).
+        double average = 0;
+        for (uint32_t m = 0; m + 1 < n; ++m) {
+            const double a = double(m) / (n - 1), b = double(m + 1) / (n - 1);
+            const double ya = t[kMicrofacetDielectricTable + r * n + m], yb = t[kMicrofacetDielectricTable + r * n + m + 1];
+            average += (b - a) / 6.0 * (ya * (2 * a + b) + yb * (a + 2 * b));
+        }
+        t[kMicrofacetAverageTable + r] = float(2.0 * average);
+    });
+    return t;
+}
+
+}  // namespace
+
+std::string materialFactorProblem(const Material& m) {
+    const std::pair<const char*, float> factors[] = {{"metallic", m.metallic}, {"roughness", m.roughness},
+                                                     {"specular", m.specular}};
+    for (const auto& [what, v] : factors)
+        if (!(v >= 0.0f && v <= 1.0f)) {
+            char text[64];
+            std::snprintf(text, sizeof text, "%s %g is outside [0, 1]", what, double(v));
+            return text;
+        }
+    return {};
+}
+
+const std::vector<float>& microfacetTables() {
+    static const std::vector<float> tables = computeTables();
+    return tables;
+}
+
+float microfacetTableLookup(const float* table, float mu, float roughness) {
+    constexpr float last = float(kMicrofacetTableSide - 1);
+    const float x = std::clamp(mu, 0.0f, 1.0f) * last, y = std::clamp(roughness, 0.0f, 1.0f) * last;
+    const uint32_t x0 = std::min(uint32_t(x), kMicrofacetTableSide - 2), y0 = std::min(uint32_t(y), kMicrofacetTableSide - 2);
+    const float fx = x - float(x0), fy = y - float(y0);
+    const float* row0 = table + y0 * kMicrofacetTableSide + x0;
+    const float* row1 = row0 + kMicrofacetTableSide;
+    const float low = row0[0] + (row0[1] - row0[0]) * fx, high = row1[0] + (row1[1] - row1[0]) * fx;
+    return low + (high - low) * fy;
+}
+
+float microfacetAverageLookup(const float* tables, float roughness) {
+    constexpr float last = float(kMicrofacetTableSide - 1);
+    const float y = std::clamp(roughness, 0.0f, 1.0f) * last;
+    const uint32_t y0 = std::min(uint32_t(y), kMicrofacetTableSide - 2);
+    const float* row = tables + kMicrofacetAverageTable + y0;
+    return row[0] + (row[1] - row[0]) * (y - float(y0));
+}
+
+Vec3f evalBsdf(const Bsdf& b, Vec3f wo, Vec3f wi, const float* tables) {
+    if (wo.z <= 0 || wi.z <= 0) return {0, 0, 0};
+    const float alpha = alphaOf(b.roughness);
+    const Lobe lobe = lobeAt(wo, wi, alpha);
+    const float e = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.roughness);
+    const float fresnel = schlickWeight(lobe.cosineOH);
+    // Metal: Fresnel(base) specular (1 + base (1 / E - 1)), per channel.
+    Vec3f metal;
+    for (int c = 0; c < 3; ++c) {
+        const float f0 = b.base[c];
+        metal[c] = (f0 + (1.0f - f0) * fresnel) * lobe.specular * (1.0f + f0 * (1.0f / e - 1.0f));
+    }
+    // Dielectric: s Fresnel(0.04) specular, compensated, plus the diffuse base of what it leaves.
+    const float layer = b.specular * (kDielectricF0 + (1.0f - kDielectricF0) * fresnel) * lobe.specular *
+                        (1.0f + kDielectricF0 * (1.0f / e - 1.0f));
+    const float* dielectric = tables + kMicrofacetDielectricTable;
+    const float left = (1.0f - b.specular * microfacetTableLookup(dielectric, wo.z, b.roughness)) *
+                       (1.0f - b.specular * microfacetTableLookup(dielectric, wi.z, b.roughness)) /
+                       (kPi * (1.0f - b.specular * microfacetAverageLookup(tables, b.roughness)));
+    const Vec3f dielectricPart = Vec3f{layer, layer, layer} + b.base * left;
+    return dielectricPart * (1.0f - b.metallic) + metal * b.metallic;
+}
+
+float bsdfPdf(const Bsdf& b, Vec3f wo, Vec3f wi, const float* tables) {
+    if (wo.z <= 0 || wi.z <= 0) return 0;
+    const float pick = specularPick(b, microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness));
+    return pick * lobeAt(wo, wi, alphaOf(b.roughness)).pdf + (1.0f - pick) * wi.z / kPi;
+}
+
+bool sampleBsdf(const Bsdf& b, Vec3f wo, float uLobe, float u1, float u2, const float* tables, Vec3f* wi, Vec3f* weight,
+                float* pdf) {
+    if (wo.z <= 0) return false;
+    const float pick = specularPick(b, microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness));
+    if (uLobe < pick) {
+        const Vec3f h = sampleVisibleNormal(wo, alphaOf(b.roughness), u1, u2);
+        *wi = normalize(h * (2.0f * dot(wo, h)) - wo);
+    } else {
+        *wi = cosineHemisphere(u1, u2);
+    }
+    if (wi->z <= 0) return false;
+    *pdf = bsdfPdf(b, wo, *wi, tables);
+    if (!(*pdf > 0)) return false;
+    *weight = evalBsdf(b, wo, *wi, tables) * (wi->z / *pdf);
+    return isFinite(*weight);
+}
+
+}  // namespace vastray
