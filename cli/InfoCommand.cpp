@@ -36,6 +36,9 @@ nlohmann::json infoJson(const PackageInfo& info) {
         materials.push_back({{"name", m.name},
                              {"base_color", m.baseColor},
                              {"emissive", m.emissive},
+                             {"metallic", m.metallic},
+                             {"roughness", m.roughness},
+                             {"specular", m.specular},
                              {"double_sided", m.doubleSided}});
     nlohmann::json volumes = nlohmann::json::array();
     for (const PackageVolume& p : info.volumes) {

@@ -81,6 +81,17 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
         strength = ext->second.Get("emissiveStrength").GetNumberAsDouble();
     for (size_t i = 0; i < 3 && i < g.emissiveFactor.size(); ++i) m.emissive[i] = float(g.emissiveFactor[i] * strength);
     m.doubleSided = g.doubleSided;
+    // Metallic-roughness (tinygltf fills the spec's defaults, 1 and 1); KHR_materials_specular's
+    // factor weights the dielectric layer (1 without it). Out-of-range factors are refused by
+    // finalizeMesh; textures are not rendered yet (GltfLoader warns).
+    m.metallic = float(g.pbrMetallicRoughness.metallicFactor);
+    m.roughness = float(g.pbrMetallicRoughness.roughnessFactor);
+    m.specular = 1.0f;
+    const auto specular = g.extensions.find("KHR_materials_specular");
+    if (specular != g.extensions.end() && specular->second.Has("specularFactor")) {
+        const tinygltf::Value& factor = specular->second.Get("specularFactor");
+        m.specular = factor.IsNumber() ? float(factor.GetNumberAsDouble()) : std::numeric_limits<float>::quiet_NaN();
+    }
     return m;
 }
 
@@ -280,7 +291,8 @@ private:
         if (material >= 0 && size_t(material) < model_.materials.size()) return uint32_t(material);
         if (defaultMaterial_ < 0) {
             Material m{"default"};
-            m.baseColor = {1, 1, 1, 1};  // glTF default material (spec 3.9.6)
+            m.baseColor = {1, 1, 1, 1};  // glTF default material (spec 3.9.6): metallic and rough
+            m.metallic = m.roughness = m.specular = 1.0f;
             m.doubleSided = false;
             defaultMaterial_ = int64_t(out_.mesh.materials.size());
             out_.mesh.materials.push_back(m);

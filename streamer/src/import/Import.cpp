@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "import/ImportCommon.h"
+#include "vastray/core/Microfacet.h"
 
 namespace vastray {
 namespace {
@@ -53,6 +54,14 @@ Status checkIndices(const TriangleMesh& mesh) {
                                  std::to_string(mesh.materialIds[t]) + " >= material count " +
                                  std::to_string(mesh.materials.size()));
     }
+    return Status::ok();
+}
+
+// The metallic-roughness factors are fractions (glTF 2.0 spec 3.9.2; core/Microfacet.h).
+Status checkMaterials(const TriangleMesh& mesh) {
+    for (size_t i = 0; i < mesh.materials.size(); ++i)
+        if (const std::string problem = materialFactorProblem(mesh.materials[i]); !problem.empty())
+            return Status::error("material " + std::to_string(i) + " ('" + mesh.materials[i].name + "'): " + problem);
     return Status::ok();
 }
 
@@ -115,6 +124,7 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     if (mesh.materials.empty()) mesh.materials.push_back(Material{"default"});
     if (Status s = checkPositions(mesh); !s.isOk()) return s.withContext(prefix);
     if (Status s = checkIndices(mesh); !s.isOk()) return s.withContext(prefix);
+    if (Status s = checkMaterials(mesh); !s.isOk()) return s.withContext(prefix);
     if ((!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) ||
         (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()))
         return Status::error(prefix + "per-vertex normals or colours are not one per vertex (" +

@@ -8,11 +8,14 @@
 namespace vastray::import {
 namespace {
 
+// "r g b", or "r" alone for grey (the MTL spec: g and b default to r; Blender writes "Ks 0").
 bool parseColor(const char* p, const char* end, std::array<float, 3>& out) {
-    for (float& c : out) {
-        if (!parseField(p, end, c)) return false;
+    if (!parseField(p, end, out[0])) return false;
+    if (trimmed(p, end).empty()) {
+        out[1] = out[2] = out[0];
+        return true;
     }
-    return true;
+    return parseField(p, end, out[1]) && parseField(p, end, out[2]);
 }
 
 }  // namespace
@@ -30,11 +33,18 @@ Status parseMtlFile(const std::string& path, MtlLibrary& library) {
         const std::string_view keyword = nextToken(p, eol);
         if (keyword == "newmtl") {
             current = &library[std::string(trimmed(p, eol))];
-        } else if ((keyword == "Kd" || keyword == "Ke") && current) {
-            std::array<float, 3>& target = keyword == "Kd" ? current->diffuse : current->emissive;
+        } else if ((keyword == "Kd" || keyword == "Ke" || keyword == "Ks") && current) {
+            std::array<float, 3>& target =
+                keyword == "Kd" ? current->diffuse : (keyword == "Ke" ? current->emissive : current->specular);
             if (!parseColor(p, eol, target))
                 return errorIn(name, "line " + std::to_string(line) + ": malformed " +
                                          std::string(keyword) + " colour");
+        } else if (keyword == "illum" && current) {
+            if (!parseField(p, eol, current->illumination) || current->illumination < 0 || current->illumination > 10)
+                return errorIn(name, "line " + std::to_string(line) + ": illum must be an integer in [0, 10]");
+        } else if (keyword == "Ns" && current) {
+            if (!parseField(p, eol, current->exponent) || !(current->exponent >= 0.0f && current->exponent <= 1e6f))
+                return errorIn(name, "line " + std::to_string(line) + ": Ns must be a number in [0, 1e6]");
         }
         p = eol + (eol < end ? 1 : 0);
     }

@@ -17,11 +17,15 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 2: chunk trees are 4-wide BVHs (Bvh4Node), triangles in leaf order (was: KD nodes and references).
 // 3: chunks may carry per-vertex shading normals and colours (chunk flags, header flags).
 // 4: volumes (density grids in bricks; a version 3 package, which has none, is still read).
-constexpr uint32_t kVersion = 4;
+// 5: materials carry metallic, roughness and specular (16 bytes more each; a version 3 or 4
+//    package is still read, its materials Lambertian as they were imported).
+constexpr uint32_t kVersion = 5;
 constexpr uint32_t kOldestReadableVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
-constexpr uint32_t kMaterialBytes = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
+constexpr uint32_t kMaterialBytesBefore5 = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
+constexpr uint32_t kMaterialBytes = kMaterialBytesBefore5 + 4 * 4;
+constexpr uint32_t materialBytes(uint32_t version) { return version >= 5 ? kMaterialBytes : kMaterialBytesBefore5; }
 constexpr uint32_t kDirectoryEntryBytes = 4 * 8 + 4 * 4 + 6 * 4;
 constexpr uint32_t kCameraNameBytes = 64;
 constexpr uint32_t kCameraBytes = kCameraNameBytes + 10 * 4;  // name, eye, target, up, fov (degrees)

@@ -7,6 +7,7 @@
 
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/Microfacet.h"
 #include "vastray/core/Utf8.h"
 #include "vastray/streamer/Import.h"
 
@@ -161,12 +162,13 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.put(m.baseColor);
         out.put(m.emissive);
         out.put(uint32_t(m.doubleSided ? 1 : 0));
+        out.put(m.metallic), out.put(m.roughness), out.put(m.specular), out.put(uint32_t(0));
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
     }
     return std::move(out.bytes());
 }
 
-Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count) {
+Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version) {
     ByteReader in(bytes.data(), bytes.size());
     std::vector<Material> materials(count);
     for (uint32_t i = 0; i < count; ++i) {
@@ -175,6 +177,14 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         in.get(m.baseColor);
         in.get(m.emissive);
         in.get(doubleSided);
+        if (version >= 5) {
+            uint32_t reserved = 0;
+            in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(reserved);
+            if (const std::string problem = materialFactorProblem(m); in.ok() && !problem.empty())
+                return Status::error("material " + std::to_string(i) + ": " + problem);
+            if (in.ok() && reserved != 0)
+                return Status::error("material " + std::to_string(i) + " has a non-zero reserved field");
+        }
         in.getFixedString(m.name, format::kMaterialNameBytes);
         m.name = validUtf8(m.name);  // a forged or older package may hold a split character
         m.doubleSided = doubleSided != 0;

@@ -37,7 +37,9 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials);
 std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras);
 // Each camera valid (validateCamera): "camera 2 'Orbit': ..." otherwise.
 Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes, uint32_t count);
-Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count);
+// Version 5 records (format::materialBytes) carry the metallic-roughness factors, each in [0, 1];
+// older ones are read as Lambertian (metallic 0, roughness 1, specular 0).
+Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
 
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes);
 // Each record's fields checked (limits, map, material); data offsets are checked by the reader.

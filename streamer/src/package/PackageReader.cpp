@@ -121,7 +121,7 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
         return fail(Status::error("file is " + std::to_string(fileSize) + " bytes, header says " +
                                   std::to_string(info.fileBytes) + " (truncated or appended to)"));
     const SectionLayout& l = *layout;
-    const uint64_t materialsBytes = uint64_t(l.materialCount) * format::kMaterialBytes;
+    const uint64_t materialsBytes = uint64_t(l.materialCount) * format::materialBytes(info.formatVersion);
     const uint64_t treeBytes = uint64_t(l.topNodeCount) * sizeof(KdNode);
     const uint64_t directoryBytes = uint64_t(l.chunkCount) * format::kDirectoryEntryBytes;
     const uint64_t cameraBytes = uint64_t(l.cameraCount) * format::kCameraBytes;
@@ -141,7 +141,7 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
         return Status::ok();
     };
     if (auto s = readSection(l.materialsOffset, materialsBytes, l.materialsChecksum, "materials"); !s) return fail(s);
-    auto materials = parseMaterials(bytes, l.materialCount);
+    auto materials = parseMaterials(bytes, l.materialCount, info.formatVersion);
     if (!materials) return fail(materials.status());
     info.materials = std::move(*materials);
     if (auto s = readSection(l.treeOffset, treeBytes, l.treeChecksum, "top-level tree"); !s) return fail(s);

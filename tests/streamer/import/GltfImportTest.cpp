@@ -89,6 +89,46 @@ TEST(GltfImport, MaterialsFromFile) {
     EXPECT_EQ(r->mesh.materialIds, (std::vector<uint32_t>{0, 1}));
 }
 
+// Metallic-roughness factors (tinygltf's defaults 1 and 1 where absent), KHR_materials_specular's
+// factor, the default material's metallic 1 and roughness 1 (spec 3.9.6); out of range refused.
+TEST(GltfImport, MetallicRoughnessFactors) {
+    GltfBuilder b;
+    b.addPositions(kTriangle);
+    const std::string json = b.json(
+        R"("extensionsUsed":["KHR_materials_specular"],
+           "materials":[{"pbrMetallicRoughness":{"metallicFactor":0.25,"roughnessFactor":0.5},
+                         "extensions":{"KHR_materials_specular":{"specularFactor":0.75}}},
+                        {"pbrMetallicRoughness":{"baseColorFactor":[1,0,0,1]}}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1},
+                                    {"attributes":{"POSITION":0}}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+    auto r = importGltf(writeFile("metallic.gltf", json));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.materials.size(), 3u);
+    const Material& m = r->mesh.materials[0];
+    EXPECT_EQ(m.metallic, 0.25f);
+    EXPECT_EQ(m.roughness, 0.5f);
+    EXPECT_EQ(m.specular, 0.75f);
+    for (const Material& d : {r->mesh.materials[1], r->mesh.materials[2]}) {
+        EXPECT_EQ(d.metallic, 1.0f) << d.name;
+        EXPECT_EQ(d.roughness, 1.0f) << d.name;
+        EXPECT_EQ(d.specular, 1.0f) << d.name;
+    }
+    for (const auto& [field, expected] :
+         {std::pair{R"("pbrMetallicRoughness":{"metallicFactor":1.5})", "metallic 1.5 is outside [0, 1]"},
+          std::pair{R"("pbrMetallicRoughness":{"roughnessFactor":-1})", "roughness -1 is outside [0, 1]"},
+          std::pair{R"("extensions":{"KHR_materials_specular":{"specularFactor":"high"}})", "specular nan is outside [0, 1]"}}) {
+        GltfBuilder bad;
+        bad.addPositions(kTriangle);
+        const std::string text = bad.json(std::string(R"("materials":[{"name":"shiny",)") + field + R"(}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+        auto refused = importGltf(writeFile("badfactor.gltf", text));
+        ASSERT_FALSE(refused.isOk()) << field;
+        EXPECT_NE(refused.message().find(std::string("material 0 ('shiny'): ") + expected), std::string::npos)
+            << refused.message();
+    }
+}
+
 TEST(GltfImport, GlbWithBinChunk) {
     std::string bin;
     for (float f : kTriangle) appendRaw(bin, f);

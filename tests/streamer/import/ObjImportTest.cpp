@@ -1,4 +1,6 @@
 // OBJ importer features on hand-written files.
+#include <cmath>
+
 #include "ImportTestFiles.h"
 
 namespace vastray::test {
@@ -51,6 +53,33 @@ TEST(ObjImport, UsemtlGivesMaterialsInFirstUseOrderWithMtlColours) {
     EXPECT_EQ(m[2].baseColor, (std::array<float, 4>{1, 0, 0, 1}));  // d ignored: alpha stays 1
     EXPECT_EQ(m[1].emissive, (std::array<float, 3>{4, 3, 2}));
     EXPECT_TRUE(m[0].doubleSided);  // OBJ has no sidedness: Material's default
+}
+
+// Ks and Ns: a dielectric layer of weight max(Ks), roughness (2 / (Ns + 2))^(1/4); illum 0 and 1
+// have no highlight; "Ks 0" (one value) is grey; Ns outside [0, 1e6] is refused by line.
+TEST(ObjImport, MtlSpecularBecomesAMetallicRoughnessLayer) {
+    writeFile("shiny.mtl",
+              "newmtl gloss\nKd 0.5 0.5 0.5\nKs 0.5 0.25 0.1\nNs 98\nnewmtl matte\nKs 0\nNs 10\n"
+              "newmtl flat\nKs 1 1 1\nillum 1\nnewmtl strong\nKs 3\n");
+    const std::string obj = "mtllib shiny.mtl\n" + std::string(kSquareVertices) +
+                            "usemtl gloss\nf 1 2 3\nusemtl matte\nf 1 3 4\nusemtl flat\nf 1 2 4\nusemtl strong\nf 2 3 4\n";
+    auto r = importObj(writeFile("shiny.obj", obj));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    const auto& m = r->mesh.materials;
+    ASSERT_EQ(m.size(), 4u);
+    EXPECT_EQ(m[0].specular, 0.5f);
+    EXPECT_NEAR(m[0].roughness, std::sqrt(std::sqrt(2.0f / 100.0f)), 1e-6f);
+    EXPECT_EQ(m[0].metallic, 0.0f);
+    for (int i : {1, 2}) {
+        EXPECT_EQ(m[i].specular, 0.0f) << m[i].name;  // Lambertian
+        EXPECT_EQ(m[i].roughness, 1.0f) << m[i].name;
+    }
+    EXPECT_EQ(m[3].specular, 1.0f);  // clamped
+    EXPECT_EQ(m[3].roughness, 1.0f);  // no Ns: exponent 0, the roughest lobe
+    writeFile("badns.mtl", "newmtl x\nNs -3\n");
+    auto bad = importObj(writeFile("badns.obj", "mtllib badns.mtl\n" + std::string(kSquareVertices) + "usemtl x\nf 1 2 3\n"));
+    ASSERT_FALSE(bad.isOk());
+    EXPECT_NE(bad.message().find("badns.mtl: line 2: Ns must be a number in [0, 1e6]"), std::string::npos) << bad.message();
 }
 
 TEST(ObjImport, MissingMtlIsNotAnError) {

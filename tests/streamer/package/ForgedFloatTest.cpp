@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <tuple>
 
 #include "PackageTestUtil.h"
 #include "package/PackageFormat.h"
@@ -180,31 +181,52 @@ TEST_F(ForgedFloats, OlderFormatVersionsAskForAReimport) {
         std::vector<uint8_t> bytes = *bytes_;
         put(bytes, 8, version);
         expectRefused(bytes, "package format version " + std::to_string(version) +
-                                 " is not supported (this vastray reads 3 to 4): re-import the mesh");
+                                 " is not supported (this vastray reads 3 to 5): re-import the mesh");
     }
 }
 
 // Version 3 is version 4 without volumes: its header has zeros where version 4 keeps the volume
-// records' offset and checksum (and the volume count). Such a package still reads; version 3 bytes
-// that claim volumes do not.
+// records' offset and checksum (and the volume count), and versions 3 and 4 have no
+// metallic-roughness factors in their materials. The seed corpus keeps version 3 packages (and a
+// version 4 one): they still read, Lambertian; version 3 bytes that claim volumes do not.
 TEST_F(ForgedFloats, VersionThreeWithoutVolumesStillReads) {
     constexpr size_t kVolumeCountAt = 8 + 4 + 4 + 7 * 8 + 4 + 4 + 3 * 4;
-    constexpr size_t kVolumesOffsetAt = format::kHeaderBytes - 8 - 16;
-    std::vector<uint8_t> bytes = *bytes_;
-    put(bytes, 8, uint32_t(3));
-    std::memset(&bytes[kVolumesOffsetAt], 0, 16);
-    reseal(bytes);
+    std::vector<uint8_t> bytes = readFile(std::string(VASTRAY_FUZZ_CORPUS) + "/vast/small.vast");
     auto reader = PackageReader::open(write(bytes));
     ASSERT_TRUE(reader) << reader.message();
     EXPECT_EQ(reader.value()->info().formatVersion, 3u);
     EXPECT_TRUE(reader.value()->info().volumes.empty());
     EXPECT_TRUE(reader.value()->verify().empty());
+    for (const Material& m : reader.value()->info().materials) {
+        EXPECT_EQ(m.metallic, 0.0f);
+        EXPECT_EQ(m.specular, 0.0f);
+        EXPECT_EQ(m.roughness, 1.0f);
+    }
     put(bytes, kVolumeCountAt, uint32_t(1));
-    expectRefused(bytes, "a version 3 package with volume fields");
-    put(bytes, kVolumeCountAt, uint32_t(0));
-    put(bytes, 8, uint32_t(4));
+    put(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
+    reader = PackageReader::open(write(bytes));
+    ASSERT_FALSE(reader);
+    EXPECT_NE(reader.message().find("a version 3 package with volume fields"), std::string::npos) << reader.message();
+    bytes = *bytes_;
     put(bytes, kVolumeCountAt, uint32_t(65));
     expectRefused(bytes, "volume count 65 exceeds the limit of 64");
+}
+
+// A version 5 material's metallic-roughness factors are fractions; a forger who recomputes the
+// materials' checksum still meets the range check.
+TEST_F(ForgedFloats, MaterialFactorsOutsideTheUnitIntervalAreRefused) {
+    constexpr size_t kMaterialsChecksumAt = kDirectoryChecksumAt - 2 * 8;
+    constexpr size_t kMetallicAt = format::kHeaderBytes + 4 * 4 + 3 * 4 + 4;
+    for (const auto& [at, value, expected] :
+         {std::tuple{kMetallicAt, 2.0f, "material 0: metallic 2 is outside [0, 1]"},
+          std::tuple{kMetallicAt + 4, kNan, "material 0: roughness nan is outside [0, 1]"},
+          std::tuple{kMetallicAt + 8, -0.5f, "material 0: specular -0.5 is outside [0, 1]"}}) {
+        std::vector<uint8_t> bytes = *bytes_;
+        put(bytes, at, value);
+        const uint64_t materialsBytes = info_->materials.size() * format::kMaterialBytes;
+        put(bytes, kMaterialsChecksumAt, checksum64(bytes.data() + format::kHeaderBytes, materialsBytes));
+        expectRefused(bytes, expected);
+    }
 }
 
 TEST(PackageReaderInputs, FifoIsRefusedWithoutBlocking) {
