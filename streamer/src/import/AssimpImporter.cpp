@@ -78,6 +78,25 @@ Material convertMaterial(const aiMaterial& source, size_t index) {
     if (source.Get(AI_MATKEY_COLOR_EMISSIVE, emissive) == AI_SUCCESS) m.emissive = {emissive.r, emissive.g, emissive.b};
     int twoSided = 1;  // formats without the flag (STL, OFF) are drawn from both sides, as OBJ is
     if (source.Get(AI_MATKEY_TWOSIDED, twoSided) == AI_SUCCESS) m.doubleSided = twoSided != 0;
+    // Metallic-roughness where the file has it (assimp's PBR keys: FBX, glTF 1.0 through assimp,
+    // ...; out of range refused by finalizeMesh); else a Phong-style specular colour and
+    // shininess as a dielectric layer, unless the shading model has no highlight.
+    float metallic = 0.0f, roughness = 1.0f, shininess = 0.0f;
+    const bool hasMetallic = source.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS;
+    const bool hasRoughness = source.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness) == AI_SUCCESS;
+    // Diffuse-only models (Collada's lambert is Gouraud, with a default specular colour of 0.4
+    // that it does not use) have no layer; a file without a shading model is taken as Phong.
+    int shading = aiShadingMode_Phong;
+    source.Get(AI_MATKEY_SHADING_MODEL, shading);
+    const bool highlights = shading == aiShadingMode_Phong || shading == aiShadingMode_Blinn ||
+                            shading == aiShadingMode_CookTorrance || shading == aiShadingMode_Fresnel;
+    aiColor3D specular;
+    if (hasMetallic || hasRoughness) {
+        m.metallic = metallic, m.roughness = roughness, m.specular = 1.0f;
+    } else if (highlights && source.Get(AI_MATKEY_COLOR_SPECULAR, specular) == AI_SUCCESS) {
+        source.Get(AI_MATKEY_SHININESS, shininess);
+        import::setPhongSpecular(m, std::max({specular.r, specular.g, specular.b}), shininess);
+    }
     return m;
 }
 
@@ -293,6 +312,7 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
     for (const Material& material : m.mesh.materials) {
         putText(w, material.name);
         w.put(material.baseColor), w.put(material.emissive), w.put(uint8_t(material.doubleSided));
+        w.put(material.metallic), w.put(material.roughness), w.put(material.specular);
     }
     putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
     putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors);
@@ -328,7 +348,7 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
     for (Material& material : m.mesh.materials) {
         uint8_t doubleSided = 1;
         if (!getText(r, material.name) || !r.get(material.baseColor) || !r.get(material.emissive) ||
-            !r.get(doubleSided))
+            !r.get(doubleSided) || !r.get(material.metallic) || !r.get(material.roughness) || !r.get(material.specular))
             return malformed;
         material.doubleSided = doubleSided != 0;
     }

@@ -1,5 +1,7 @@
 #pragma once
 // Helpers shared by the importers (private to streamer/src/import).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <filesystem>
@@ -8,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
 
 namespace vastray::import {
@@ -57,6 +60,16 @@ auto guarded(const std::string& path, Fn&& body) -> decltype(body()) {
     } catch (const std::exception& e) {
         return Status::error(fileNameOf(path) + ": " + e.what());
     }
+}
+
+// A Phong-style specular colour and exponent (MTL Ks/Ns, assimp's specular colour and shininess)
+// as the metallic-roughness model's dielectric layer (docs/RENDERING.md, "Materials"): weight
+// the colour's largest component (clamped to 1), GGX alpha sqrt(2 / (exponent + 2)), about the
+// width of a Phong lobe of that exponent. No layer when the weight is not above 0.
+inline void setPhongSpecular(Material& m, float weight, float exponent) {
+    if (!(weight > 0.0f)) return;
+    m.specular = std::min(weight, 1.0f);
+    m.roughness = std::sqrt(std::sqrt(2.0f / (std::max(exponent, 0.0f) + 2.0f)));
 }
 
 inline Status errorIn(const std::string& fileName, const std::string& message) {

@@ -272,13 +272,8 @@ Status ObjParser::applyMaterialLibraries() {
         const import::MtlEntry& e = it->second;
         m.baseColor = {e.diffuse[0], e.diffuse[1], e.diffuse[2], 1.0f};
         m.emissive = e.emissive;
-        // Ks and Ns: a dielectric specular layer of weight max(Ks) (clamped to [0, 1]), GGX
-        // alpha sqrt(2 / (Ns + 2)) (the Phong lobe of exponent Ns has about that width).
-        const float weight = std::max({e.specular[0], e.specular[1], e.specular[2]});
-        if (weight > 0.0f && e.illumination >= 2) {
-            m.specular = std::min(weight, 1.0f);
-            m.roughness = std::sqrt(std::sqrt(2.0f / (e.exponent + 2.0f)));
-        }
+        // Ks and Ns: a dielectric specular layer (illum 0 and 1 have no highlight).
+        if (e.illumination >= 2) import::setPhongSpecular(m, std::max({e.specular[0], e.specular[1], e.specular[2]}), e.exponent);
     }
     return Status::ok();
 }
