@@ -74,7 +74,8 @@ TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
         EXPECT_EQ(0, std::memcmp(bytes.data(), blob->data(), blob->size())) << chunkSeed << " is not chunk 0 of " << entry.path();
         ++seeds;
     }
-    EXPECT_EQ(seeds, 7u);  // small, coloured (normals and colours), cameras; Draco and meshopt; a volume
+    EXPECT_EQ(seeds, 8u);  // small, coloured (normals and colours), cameras; Draco and meshopt; a volume;
+                           // glossy (version 5 materials)
 }
 
 // Every chunk seed through the decoder as fuzz_chunk feeds it (the directory entry from the
