@@ -68,16 +68,22 @@ std::shared_ptr<const EnvironmentMap> skyMap() {
     return *map;
 }
 
+// side x side pixels, 32 spp, depth 3, lit by a constant map of (r, g, b) alone.
+RenderOptions constantSkyRender(uint32_t side, float r, float g, float b) {
+    RenderOptions o;
+    o.width = o.height = side;
+    o.samplesPerPixel = 32;
+    o.maxDepth = 3;
+    o.environment.sunIrradiance = {0, 0, 0};
+    o.environment.map = constantMap(r, g, b);
+    return o;
+}
+
 // Under a constant sky L, every point of a convex Lambertian body of albedo a reflects a * L (its
 // whole hemisphere sees the sky); the background is L.
 TEST(EnvironmentMapRender, ConvexSphereUnderAConstantSkyReflectsAlbedoTimesSky) {
     const std::string path = package("sphere", GeneratorKind::Sphere, 20000);
-    RenderOptions o;
-    o.width = o.height = 48;
-    o.samplesPerPixel = 32;
-    o.maxDepth = 3;
-    o.environment.sunIrradiance = {0, 0, 0};
-    o.environment.map = constantMap(0.5f, 1.0f, 2.0f);
+    const RenderOptions o = constantSkyRender(48, 0.5f, 1.0f, 2.0f);
     const float sky[3] = {0.5f, 1.0f, 2.0f}, albedo = 0.8f;
     for (const char* backend : {"vulkan", "embree"}) {
         auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
@@ -111,12 +117,7 @@ TEST(EnvironmentMapRender, ConvexSphereUnderAConstantSkyReflectsAlbedoTimesSky) 
 // lost multiple scattering and the dielectric's diffuse share are compensated; the BSDF alone is
 // checked within 1 % by MicrofacetTest). Both backends, next-event estimation of the map with MIS.
 TEST(EnvironmentMapRender, GlossyWhiteSpheresInAWhiteFurnaceVanish) {
-    RenderOptions o;
-    o.width = o.height = 40;
-    o.samplesPerPixel = 32;
-    o.maxDepth = 3;
-    o.environment.sunIrradiance = {0, 0, 0};
-    o.environment.map = constantMap(1.0f, 1.0f, 1.0f);
+    const RenderOptions o = constantSkyRender(40, 1.0f, 1.0f, 1.0f);
     for (const auto& [metallic, roughness] : {std::pair{1.0f, 0.3f}, std::pair{0.0f, 0.6f}, std::pair{1.0f, 1.0f}}) {
         Material white;
         white.baseColor = {1, 1, 1, 1};
