@@ -1,6 +1,7 @@
 #include "vastray/core/Microfacet.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -133,8 +134,14 @@ std::string materialFactorProblem(const Material& m) {
     return {};
 }
 
+// Isolated: the first caller is often a render's TBB task (an Embree tile); while it waits for
+// the rows it must not pick up another tile, whose call would wait for this same initialization.
 const std::vector<float>& microfacetTables() {
-    static const std::vector<float> tables = computeTables();
+    static const std::vector<float> tables = [] {
+        std::vector<float> t;
+        tbb::this_task_arena::isolate([&] { t = computeTables(); });
+        return t;
+    }();
     return tables;
 }
 
