@@ -8,8 +8,10 @@ radiance 1 (vastray: a constant --environment map of 1, no sun). vastray's voxel
 world point ijk * 2/N - 1; Mitsuba's voxel i at the grid's local (i + 0.5) / N, so the grid's
 to_world is scale 2 then translate -1 - 1/N. max_depth is vastray's --max-depth + 1. Prints one
 JSON line: load time, the first and the later renders' times, and the image's mean (RGB).
+With MEDIUM=homogeneous in the environment, Mitsuba's own `homogeneous` medium of sigma_t DENSITY
+fills the cube that volume_cloud's `box` grid holds (an independent check: no grid on its side).
 """
-import json, sys, time
+import json, os, sys, time
 
 vol, n = sys.argv[1], int(sys.argv[2])
 w, h, spp, depth = int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6])
@@ -25,6 +27,17 @@ from mitsuba_timing import time_renders
 mi.set_variant(variant)
 T = mi.ScalarTransform4f
 offset = -1.0 - 1.0 / n
+# MEDIUM=homogeneous: Mitsuba's `homogeneous` medium (sigma_t = DENSITY) in the cube that
+# volume_cloud's `box` grid fills: half size midway between the last voxel centre inside |c| < 0.8
+# and the first outside (voxel centres at (i - n/2) 2/n).
+homogeneous = None
+cube = T().translate([offset + 1.0] * 3).scale(1.0)
+if os.environ.get("MEDIUM") == "homogeneous":
+    inside = max(k for k in range(n) if k * 2.0 / n < 0.8)
+    half = (inside + 0.5) * 2.0 / n
+    cube = T().scale(half)
+    homogeneous = {"type": "homogeneous", "sigma_t": density, "albedo": {"type": "rgb", "value": [albedo] * 3},
+                   "phase": {"type": "hg", "g": g}}
 t0 = time.perf_counter()
 scene = mi.load_dict({
     "type": "scene",
@@ -38,9 +51,9 @@ scene = mi.load_dict({
     "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
     "cloud": {
         "type": "cube",
-        "to_world": T().translate([offset + 1.0] * 3).scale(1.0),
+        "to_world": cube,
         "bsdf": {"type": "null"},
-        "interior": {
+        "interior": homogeneous if homogeneous else {
             "type": "heterogeneous",
             "sigma_t": {"type": "gridvolume", "filename": vol, "filter_type": "trilinear",
                         "to_world": T().translate([offset] * 3).scale(2.0)},

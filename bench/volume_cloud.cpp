@@ -3,7 +3,10 @@
 // voxels, written as an OpenVDB float grid `density` (for `vastray import --volume`) and as the
 // same voxels in Mitsuba 3's .vol format (for its `gridvolume`), so both renderers trace one grid.
 //
-//   usage: volume_cloud N OUT.vdb OUT.vol
+//   usage: volume_cloud N OUT.vdb OUT.vol [cloud|box]
+// box: density 1 at the voxels whose centre lies within |x|, |y|, |z| < 0.8, else 0 (a homogeneous
+// cube whose trilinear edge ramps integrate as a step midway between the last voxel centre inside
+// and the first outside: bench/mitsuba_volume.py's `homogeneous` medium fills that cube).
 // The .vdb maps voxel ijk to the world point (ijk - N/2) * 2/N (the cloud spans [-1, 1]^3); the
 // .vol is dense, x fastest, and Mitsuba places it with a `to_world` (bench/mitsuba_volume.py).
 #include <openvdb/openvdb.h>
@@ -53,10 +56,12 @@ float density(float x, float y, float z) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: %s N OUT.vdb OUT.vol\n", argv[0]);
+    const std::string kind = argc == 5 ? argv[4] : "cloud";
+    if ((argc != 4 && argc != 5) || (kind != "cloud" && kind != "box")) {
+        std::fprintf(stderr, "usage: %s N OUT.vdb OUT.vol [cloud|box]\n", argv[0]);
         return 2;
     }
+    const bool box = kind == "box";
     const int n = std::atoi(argv[1]);
     if (n < 8 || n > 2048) {
         std::fprintf(stderr, "N must be in [8, 2048]\n");
@@ -67,7 +72,11 @@ int main(int argc, char** argv) {
     tbb::parallel_for(0, n, [&](int k) {
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i)
-                voxels[(size_t(k) * n + j) * n + i] = density((i - n / 2) * scale, (j - n / 2) * scale, (k - n / 2) * scale);
+            {
+                const float x = (i - n / 2) * scale, y = (j - n / 2) * scale, z = (k - n / 2) * scale;
+                voxels[(size_t(k) * n + j) * n + i] =
+                    box ? (std::fabs(x) < 0.8f && std::fabs(y) < 0.8f && std::fabs(z) < 0.8f ? 1.0f : 0.0f) : density(x, y, z);
+            }
     });
     openvdb::initialize();
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
@@ -91,8 +100,8 @@ int main(int argc, char** argv) {
     vol.write(header, 4);
     const int32_t fields[5] = {1, n, n, n, 1};
     vol.write(reinterpret_cast<const char*>(fields), sizeof fields);
-    const float box[6] = {-1, -1, -1, 1, 1, 1};
-    vol.write(reinterpret_cast<const char*>(box), sizeof box);
+    const float bounds[6] = {-1, -1, -1, 1, 1, 1};
+    vol.write(reinterpret_cast<const char*>(bounds), sizeof bounds);
     vol.write(reinterpret_cast<const char*>(voxels.data()), std::streamsize(voxels.size() * 4));
     uint64_t active = 0;
     double sum = 0;

@@ -12,7 +12,8 @@
 #   usage (on the device machine, vastray and volume_cloud on PATH, Mitsuba on PYTHONPATH):
 #     bench/volume_vs_mitsuba.sh MITSUBA_VOLUME.py OUT_DIR
 #   Environment: N (512), SPP (64), DEPTH (8), DENSITY (40), ALBEDO (0.8), G (0.3),
-#   RESOLUTION (1024x1024), OOC_ROUNDS (2: out-of-core renders).
+#   RESOLUTION (1024x1024), OOC_ROUNDS (2: out-of-core renders), KIND (cloud; box: a homogeneous
+#   cube of density 1 times DENSITY, which Mitsuba renders with its own `homogeneous` medium).
 set -uo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 MITSUBA_VOLUME.py OUT_DIR" >&2; exit 2; }
 mitsuba=$1 out=$2
@@ -21,7 +22,8 @@ n=${N:-512} spp=${SPP:-64} depth=${DEPTH:-8} density=${DENSITY:-40} albedo=${ALB
 resolution=${RESOLUTION:-1024x1024} w=${resolution%x*} h=${resolution#*x}
 eye=0,0.6,3.4 target=0,0,0 fov=40
 start=$(date +%s.%N)
-volume_cloud "$n" "$out/cloud.vdb" "$out/cloud.vol" || exit 1
+kind=${KIND:-cloud}
+volume_cloud "$n" "$out/cloud.vdb" "$out/cloud.vol" "$kind" || exit 1
 echo "cloud written in $(python3 -c "import sys; print(round(float(sys.argv[1]) - float(sys.argv[2]), 2))" "$(date +%s.%N)" "$start") s"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n50 50 50\n51 50 50\n50 51 50\n3 0 1 2\n' > "$out/far.ply"
 python3 - "$out/const.pfm" <<'PY'
@@ -57,6 +59,7 @@ PY
 done
 cmp -s "$out/vastray.pfm" "$out/vastray-ooc.pfm" && echo "out-of-core image equals the in-core one bit for bit" \
   || echo "out-of-core image DIFFERS from the in-core one"
+[ "$kind" = box ] && export MEDIUM=homogeneous
 timeout 400 python3 "$mitsuba" "$out/cloud.vol" "$n" "$w" "$h" "$spp" "$depth" "$eye" "$target" "$fov" "$density" \
   "$albedo" "$g" 2>&1 | tail -1
 rm -f "$out/cloud.vdb" "$out/cloud.vol" "$out/cloud.vast"
