@@ -55,6 +55,15 @@ TEST(ObjImport, UsemtlGivesMaterialsInFirstUseOrderWithMtlColours) {
     EXPECT_TRUE(m[0].doubleSided);  // OBJ has no sidedness: Material's default
 }
 
+// The error of importing one face of material x from an OBJ whose library is `mtl` (written as
+// <stem>.mtl); empty if the import succeeds.
+std::string mtlRefusal(const std::string& stem, const std::string& mtl) {
+    writeFile(stem + ".mtl", mtl);
+    auto r = importObj(writeFile(stem + ".obj", "mtllib " + stem + ".mtl\n" + std::string(kSquareVertices) +
+                                                     "usemtl x\nf 1 2 3\n"));
+    return r.isOk() ? std::string() : r.message();
+}
+
 // Ks and Ns: a dielectric layer of weight max(Ks), roughness (2 / (Ns + 2))^(1/4); illum 0 and 1
 // have no highlight; "Ks 0" (one value) is grey; Ns outside [0, 1e6] is refused by line.
 TEST(ObjImport, MtlSpecularBecomesAMetallicRoughnessLayer) {
@@ -76,10 +85,18 @@ TEST(ObjImport, MtlSpecularBecomesAMetallicRoughnessLayer) {
     }
     EXPECT_EQ(m[3].specular, 1.0f);  // clamped
     EXPECT_EQ(m[3].roughness, 1.0f);  // no Ns: exponent 0, the roughest lobe
-    writeFile("badns.mtl", "newmtl x\nNs -3\n");
-    auto bad = importObj(writeFile("badns.obj", "mtllib badns.mtl\n" + std::string(kSquareVertices) + "usemtl x\nf 1 2 3\n"));
-    ASSERT_FALSE(bad.isOk());
-    EXPECT_NE(bad.message().find("badns.mtl: line 2: Ns must be a number in [0, 1e6]"), std::string::npos) << bad.message();
+    const std::string bad = mtlRefusal("badns", "newmtl x\nNs -3\n");
+    EXPECT_NE(bad.find("badns.mtl: line 2: Ns must be a number in [0, 1e6]"), std::string::npos) << bad;
+}
+
+// illum outside the MTL spec's models 0 to 10 is refused by file and line, above and below.
+TEST(ObjImport, MtlIllumOutsideZeroToTenIsRefusedByLine) {
+    for (const char* value : {"11", "-1"}) {
+        const std::string bad = mtlRefusal("badillum", std::string("newmtl x\nKs 1\nillum ") + value + "\n");
+        EXPECT_NE(bad.find("badillum.mtl: line 3: illum must be an integer in [0, 10]"), std::string::npos)
+            << "illum " << value << ": " << (bad.empty() ? "accepted" : bad);
+    }
+    EXPECT_EQ(mtlRefusal("illum10", "newmtl x\nKs 1\nillum 10\n"), "");  // the limit itself is a model
 }
 
 TEST(ObjImport, MissingMtlIsNotAnError) {
