@@ -106,15 +106,6 @@ float bsdfPdf(WavefrontParams p, Surface s, vec3 wo, vec3 wi) {
     return pick * microfacetLobe(wo, wi, microfacetAlpha(s.roughness)).z + (1.0 - pick) * wi.z / kPi;
 }
 
-// Duff et al.'s frame about n (toWorld in Shading.glsl): its tangent and bitangent.
-void frameAround(vec3 n, out vec3 tangent, out vec3 bitangent) {
-    const float sign = n.z >= 0.0 ? 1.0 : -1.0;
-    const float a = -1.0 / (sign + n.z);
-    const float b = n.x * n.y * a;
-    tangent = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    bitangent = vec3(b, sign + n.y * n.y * a, -n.y);
-}
-
 vec3 localOutgoing(vec3 tangent, vec3 bitangent, vec3 n, vec3 wo) {
     vec3 local = vec3(dot(tangent, wo), dot(bitangent, wo), dot(n, wo));
     if (local.z < 1e-4) local = normalize(vec3(local.x, local.y, 1e-4));

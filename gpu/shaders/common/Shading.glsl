@@ -35,13 +35,20 @@ vec3 offsetRayOrigin(vec3 p, vec3 n) {
     return result;
 }
 
-// Duff et al. 2017's branchless basis, sign from n.z >= 0 (see core/Sampling.h).
-vec3 toWorld(vec3 n, vec3 local) {
+// frameAround (core/Sampling.h): Duff et al. 2017's branchless basis about unit n, sign from
+// n.z >= 0; its tangent and bitangent.
+void frameAround(vec3 n, out vec3 tangent, out vec3 bitangent) {
     const float sign = n.z >= 0.0 ? 1.0 : -1.0;
     const float a = -1.0 / (sign + n.z);
     const float b = n.x * n.y * a;
-    const vec3 tangent = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    const vec3 bitangent = vec3(b, sign + n.y * n.y * a, -n.y);
+    tangent = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    bitangent = vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
+// Frame::toWorld of frameAround(n).
+vec3 toWorld(vec3 n, vec3 local) {
+    vec3 tangent, bitangent;
+    frameAround(n, tangent, bitangent);
     return tangent * local.x + bitangent * local.y + n * local.z;
 }
 
