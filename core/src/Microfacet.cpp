@@ -48,13 +48,12 @@ Vec3f sampleVisibleNormal(Vec3f wo, float alpha, float u1, float u2) {
 }
 
 // The lobe's single-scattering terms: D G2 / (4 mu_o mu_i), the half vector's cosine to wo, and
-// the visible-normal density of wi (G1(wo) D / (4 mu_o)).
+// the visible-normal density of wi (G1(wo) D / (4 mu_o)). wo.z and wi.z > 0.
 struct Lobe {
     float specular = 0, cosineOH = 0, pdf = 0;
 };
 Lobe lobeAt(Vec3f wo, Vec3f wi, float alpha) {
     Lobe l;
-    if (wo.z <= 0 || wi.z <= 0) return l;
     const Vec3f h = normalize(wo + wi);
     const float d = ggxD(h, alpha);
     const float lambdaO = smithLambda(wo, alpha), lambdaI = smithLambda(wi, alpha);
@@ -64,12 +63,44 @@ Lobe lobeAt(Vec3f wo, Vec3f wi, float alpha) {
     return l;
 }
 
-// The probability of drawing the specular lobe: its albedo's share of the two lobes'.
-float specularPick(const Bsdf& b, float dielectricAlbedo) {
+// What depends on wo alone, looked up once per shading event: alpha, E(mu_o), Ed(mu_o) and the
+// probability of drawing the specular lobe (its albedo's share of the two lobes').
+struct Outgoing {
+    float alpha = 0, metalAlbedo = 0, dielectricAlbedo = 0, pick = 0;
+};
+Outgoing outgoingTerms(const Bsdf& b, Vec3f wo, const float* tables) {
+    Outgoing o;
+    o.alpha = alphaOf(b.roughness);
+    o.metalAlbedo = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.roughness);
+    o.dielectricAlbedo = microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness);
     const float base = (b.base.x + b.base.y + b.base.z) / 3.0f;
-    const float spec = (1.0f - b.metallic) * b.specular * dielectricAlbedo + b.metallic * base;
-    const float diffuse = (1.0f - b.metallic) * base * (1.0f - b.specular * dielectricAlbedo);
-    return spec + diffuse > 0.0f ? spec / (spec + diffuse) : 0.5f;
+    const float spec = (1.0f - b.metallic) * b.specular * o.dielectricAlbedo + b.metallic * base;
+    const float diffuse = (1.0f - b.metallic) * base * (1.0f - b.specular * o.dielectricAlbedo);
+    o.pick = spec + diffuse > 0.0f ? spec / (spec + diffuse) : 0.5f;
+    return o;
+}
+
+// f and the mixture's density from one lobe evaluation; wo.z > 0.
+BsdfValue evalWith(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const float* tables) {
+    if (wi.z <= 0) return {};
+    const Lobe lobe = lobeAt(wo, wi, o.alpha);
+    const float fresnel = schlickWeight(lobe.cosineOH);
+    const float lost = 1.0f / o.metalAlbedo - 1.0f;
+    // Metal: Fresnel(base) specular (1 + base (1 / E - 1)), per channel.
+    Vec3f metal;
+    for (int c = 0; c < 3; ++c) {
+        const float f0 = b.base[c];
+        metal[c] = (f0 + (1.0f - f0) * fresnel) * lobe.specular * (1.0f + f0 * lost);
+    }
+    // Dielectric: s Fresnel(0.04) specular, compensated, plus the diffuse base of what it leaves.
+    const float layer = b.specular * (kDielectricF0 + (1.0f - kDielectricF0) * fresnel) * lobe.specular *
+                        (1.0f + kDielectricF0 * lost);
+    const float incoming = microfacetTableLookup(tables + kMicrofacetDielectricTable, wi.z, b.roughness);
+    const float left = (1.0f - b.specular * o.dielectricAlbedo) * (1.0f - b.specular * incoming) /
+                       (kPi * (1.0f - b.specular * microfacetAverageLookup(tables, b.roughness)));
+    const Vec3f dielectricPart = Vec3f{layer, layer, layer} + b.base * left;
+    return {dielectricPart * (1.0f - b.metallic) + metal * b.metallic,
+            o.pick * lobe.pdf + (1.0f - o.pick) * wi.z / kPi};
 }
 
 // A Hammersley point set of n points: (i + 1/2) / n and the base-2 radical inverse of i.
@@ -164,49 +195,26 @@ float microfacetAverageLookup(const float* tables, float roughness) {
     return row[0] + (row[1] - row[0]) * (y - float(y0));
 }
 
-Vec3f evalBsdf(const Bsdf& b, Vec3f wo, Vec3f wi, const float* tables) {
-    if (wo.z <= 0 || wi.z <= 0) return {0, 0, 0};
-    const float alpha = alphaOf(b.roughness);
-    const Lobe lobe = lobeAt(wo, wi, alpha);
-    const float e = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.roughness);
-    const float fresnel = schlickWeight(lobe.cosineOH);
-    // Metal: Fresnel(base) specular (1 + base (1 / E - 1)), per channel.
-    Vec3f metal;
-    for (int c = 0; c < 3; ++c) {
-        const float f0 = b.base[c];
-        metal[c] = (f0 + (1.0f - f0) * fresnel) * lobe.specular * (1.0f + f0 * (1.0f / e - 1.0f));
-    }
-    // Dielectric: s Fresnel(0.04) specular, compensated, plus the diffuse base of what it leaves.
-    const float layer = b.specular * (kDielectricF0 + (1.0f - kDielectricF0) * fresnel) * lobe.specular *
-                        (1.0f + kDielectricF0 * (1.0f / e - 1.0f));
-    const float* dielectric = tables + kMicrofacetDielectricTable;
-    const float left = (1.0f - b.specular * microfacetTableLookup(dielectric, wo.z, b.roughness)) *
-                       (1.0f - b.specular * microfacetTableLookup(dielectric, wi.z, b.roughness)) /
-                       (kPi * (1.0f - b.specular * microfacetAverageLookup(tables, b.roughness)));
-    const Vec3f dielectricPart = Vec3f{layer, layer, layer} + b.base * left;
-    return dielectricPart * (1.0f - b.metallic) + metal * b.metallic;
-}
-
-float bsdfPdf(const Bsdf& b, Vec3f wo, Vec3f wi, const float* tables) {
-    if (wo.z <= 0 || wi.z <= 0) return 0;
-    const float pick = specularPick(b, microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness));
-    return pick * lobeAt(wo, wi, alphaOf(b.roughness)).pdf + (1.0f - pick) * wi.z / kPi;
+BsdfValue evalBsdf(const Bsdf& b, Vec3f wo, Vec3f wi, const float* tables) {
+    if (wo.z <= 0) return {};
+    return evalWith(b, outgoingTerms(b, wo, tables), wo, wi, tables);
 }
 
 bool sampleBsdf(const Bsdf& b, Vec3f wo, float uLobe, float u1, float u2, const float* tables, Vec3f* wi, Vec3f* weight,
                 float* pdf) {
     if (wo.z <= 0) return false;
-    const float pick = specularPick(b, microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness));
-    if (uLobe < pick) {
-        const Vec3f h = sampleVisibleNormal(wo, alphaOf(b.roughness), u1, u2);
+    const Outgoing o = outgoingTerms(b, wo, tables);
+    if (uLobe < o.pick) {
+        const Vec3f h = sampleVisibleNormal(wo, o.alpha, u1, u2);
         *wi = normalize(h * (2.0f * dot(wo, h)) - wo);
     } else {
         *wi = cosineHemisphere(u1, u2);
     }
     if (wi->z <= 0) return false;
-    *pdf = bsdfPdf(b, wo, *wi, tables);
+    const BsdfValue v = evalWith(b, o, wo, *wi, tables);
+    *pdf = v.pdf;
     if (!(*pdf > 0)) return false;
-    *weight = evalBsdf(b, wo, *wi, tables) * (wi->z / *pdf);
+    *weight = v.f * (wi->z / *pdf);
     return isFinite(*weight);
 }
 

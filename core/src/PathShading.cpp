@@ -160,10 +160,9 @@ Vec3f glossyReflection(const SurfacePoint& point, Vec3f wi, float* pdf) {
     const Frame frame = frameAround(point.shadingNormal);
     const Vec3f wo = localOutgoing(frame, point.outgoing);
     const Vec3f local{dot(frame.tangent, wi), dot(frame.bitangent, wi), dot(frame.normal, wi)};
-    const float* tables = microfacetTables().data();
-    const Bsdf bsdf = bsdfOf(point);
-    *pdf = bsdfPdf(bsdf, wo, local, tables);
-    return evalBsdf(bsdf, wo, local, tables) * local.z;
+    const BsdfValue v = evalBsdf(bsdfOf(point), wo, local, microfacetTables().data());
+    *pdf = v.pdf;
+    return v.f * local.z;
 }
 
 bool scatterSurface(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec3f* direction, Vec3f* weight,

@@ -69,41 +69,50 @@ float microfacetAverage(WavefrontParams p, float roughness) {
     return t.v[i] + (t.v[i + 1u] - t.v[i]) * (y - float(y0));
 }
 
-// lobeAt: D G2 / (4 mu_o mu_i), cos(wo, h) and the visible-normal density, in x, y, z.
+// lobeAt: D G2 / (4 mu_o mu_i), cos(wo, h) and the visible-normal density, in x, y, z (wo.z and
+// wi.z > 0).
 vec3 microfacetLobe(vec3 wo, vec3 wi, float alpha) {
-    if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
     const vec3 h = normalize(wo + wi);
     const float d = ggxD(h, alpha);
     const float lambdaO = smithLambda(wo, alpha), lambdaI = smithLambda(wi, alpha);
     return vec3(d / (4.0 * wo.z * wi.z * (1.0 + lambdaO + lambdaI)), dot(wo, h), d / (4.0 * wo.z * (1.0 + lambdaO)));
 }
 
-float specularPick(Surface s, float dielectricAlbedo) {
+// outgoingTerms: alpha, E(mu_o), Ed(mu_o) and the specular lobe's pick, looked up once per event.
+struct BsdfOutgoing {
+    float alpha, metalAlbedo, dielectricAlbedo, pick;
+};
+BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
+    BsdfOutgoing o;
+    o.alpha = microfacetAlpha(s.roughness);
+    o.metalAlbedo = microfacetTable(p, 0u, wo.z, s.roughness);
+    o.dielectricAlbedo = microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness);
     const float base = (s.base.x + s.base.y + s.base.z) / 3.0;
-    const float spec = (1.0 - s.metallic) * s.specular * dielectricAlbedo + s.metallic * base;
-    const float diffuse = (1.0 - s.metallic) * base * (1.0 - s.specular * dielectricAlbedo);
-    return spec + diffuse > 0.0 ? spec / (spec + diffuse) : 0.5;
+    const float spec = (1.0 - s.metallic) * s.specular * o.dielectricAlbedo + s.metallic * base;
+    const float diffuse = (1.0 - s.metallic) * base * (1.0 - s.specular * o.dielectricAlbedo);
+    o.pick = spec + diffuse > 0.0 ? spec / (spec + diffuse) : 0.5;
+    return o;
 }
 
-vec3 evalBsdf(WavefrontParams p, Surface s, vec3 wo, vec3 wi) {
-    if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
-    const vec3 lobe = microfacetLobe(wo, wi, microfacetAlpha(s.roughness));
-    const float e = microfacetTable(p, 0u, wo.z, s.roughness);
+// evalWith: f and the mixture's density from one lobe evaluation; wo.z > 0.
+struct BsdfValue {
+    vec3 f;
+    float pdf;
+};
+BsdfValue evalWith(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 wi) {
+    if (wi.z <= 0.0) return BsdfValue(vec3(0.0), 0.0);
+    const vec3 lobe = microfacetLobe(wo, wi, o.alpha);
     const float fresnel = schlickWeight(lobe.y);
+    const float lost = 1.0 / o.metalAlbedo - 1.0;
     const vec3 f0 = s.base;
-    const vec3 metal = (f0 + (vec3(1.0) - f0) * fresnel) * lobe.x * (vec3(1.0) + f0 * (1.0 / e - 1.0));
+    const vec3 metal = (f0 + (vec3(1.0) - f0) * fresnel) * lobe.x * (vec3(1.0) + f0 * lost);
     const float layer = s.specular * (kDielectricF0 + (1.0 - kDielectricF0) * fresnel) * lobe.x *
-                        (1.0 + kDielectricF0 * (1.0 / e - 1.0));
-    const float left = (1.0 - s.specular * microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness)) *
-                       (1.0 - s.specular * microfacetTable(p, kMicrofacetDielectricTable, wi.z, s.roughness)) /
+                        (1.0 + kDielectricF0 * lost);
+    const float incoming = microfacetTable(p, kMicrofacetDielectricTable, wi.z, s.roughness);
+    const float left = (1.0 - s.specular * o.dielectricAlbedo) * (1.0 - s.specular * incoming) /
                        (kPi * (1.0 - s.specular * microfacetAverage(p, s.roughness)));
-    return (vec3(layer) + s.base * left) * (1.0 - s.metallic) + metal * s.metallic;
-}
-
-float bsdfPdf(WavefrontParams p, Surface s, vec3 wo, vec3 wi) {
-    if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
-    const float pick = specularPick(s, microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness));
-    return pick * microfacetLobe(wo, wi, microfacetAlpha(s.roughness)).z + (1.0 - pick) * wi.z / kPi;
+    return BsdfValue((vec3(layer) + s.base * left) * (1.0 - s.metallic) + metal * s.metallic,
+                     o.pick * lobe.z + (1.0 - o.pick) * wi.z / kPi);
 }
 
 vec3 localOutgoing(vec3 tangent, vec3 bitangent, vec3 n, vec3 wo) {
@@ -120,8 +129,9 @@ vec3 glossyReflection(WavefrontParams p, Surface s, vec3 wi, out float pdf) {
     frameAround(s.ns, tangent, bitangent);
     const vec3 wo = localOutgoing(tangent, bitangent, s.ns, s.wo);
     const vec3 local = vec3(dot(tangent, wi), dot(bitangent, wi), dot(s.ns, wi));
-    pdf = bsdfPdf(p, s, wo, local);
-    return evalBsdf(p, s, wo, local) * local.z;
+    const BsdfValue v = evalWith(p, s, outgoingTerms(p, s, wo), wo, local);
+    pdf = v.pdf;
+    return v.f * local.z;
 }
 
 // scatterSurface: the bounce's direction, f cos / pdf in weight and the density; false: none.
@@ -133,10 +143,10 @@ bool scatterSurface(WavefrontParams p, Surface s, uint pixel, uint sampleIndex, 
     const vec3 wo = localOutgoing(tangent, bitangent, s.ns, s.wo);
     const float u1 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionU, p.seed);
     const float u2 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionV, p.seed);
-    const float pick = specularPick(s, microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness));
+    const BsdfOutgoing o = outgoingTerms(p, s, wo);
     vec3 wi;
-    if (randomFloat(pixel, sampleIndex, bounce, kDimLobe, p.seed) < pick) {
-        const vec3 h = sampleVisibleNormal(wo, microfacetAlpha(s.roughness), u1, u2);
+    if (randomFloat(pixel, sampleIndex, bounce, kDimLobe, p.seed) < o.pick) {
+        const vec3 h = sampleVisibleNormal(wo, o.alpha, u1, u2);
         wi = normalize(h * (2.0 * dot(wo, h)) - wo);
     } else {
         const float r = sqrt(u1);
@@ -144,9 +154,10 @@ bool scatterSurface(WavefrontParams p, Surface s, uint pixel, uint sampleIndex, 
         wi = vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u1)));
     }
     if (wi.z <= 0.0) return false;
-    pdf = bsdfPdf(p, s, wo, wi);
+    const BsdfValue v = evalWith(p, s, o, wo, wi);
+    pdf = v.pdf;
     if (!(pdf > 0.0)) return false;
-    weight = evalBsdf(p, s, wo, wi) * (wi.z / pdf);
+    weight = v.f * (wi.z / pdf);
     if (any(isinf(weight)) || any(isnan(weight))) return false;
     direction = normalize(tangent * wi.x + bitangent * wi.y + s.ns * wi.z);
     return dot(direction, s.n) > 0.0;

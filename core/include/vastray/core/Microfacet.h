@@ -58,13 +58,18 @@ std::string materialFactorProblem(const Material& m);
 // surfaces take the cosine-sampled Lambertian steps of core/PathShading.h unchanged.
 inline bool isLambertian(const Material& m) { return m.metallic <= 0.0f && m.specular <= 0.0f; }
 
-// The BSDF value f(wo, wi) (without the cosine); 0 when either direction lies below the surface.
-Vec3f evalBsdf(const Bsdf& bsdf, Vec3f wo, Vec3f wi, const float* tables);
-// The solid-angle density with which sampleBsdf draws wi.
-float bsdfPdf(const Bsdf& bsdf, Vec3f wo, Vec3f wi, const float* tables);
+// f(wo, wi) (without the cosine) and the solid-angle density with which sampleBsdf draws wi.
+struct BsdfValue {
+    Vec3f f{0, 0, 0};
+    float pdf = 0;
+};
+// Both from one evaluation of the lobe and one lookup of each table (next-event estimation
+// needs both); 0 when either direction lies below the surface.
+BsdfValue evalBsdf(const Bsdf& bsdf, Vec3f wo, Vec3f wi, const float* tables);
 // Draws wi: the specular lobe (GGX visible normals, Dupuy and Benyoub 2023's spherical caps)
 // with a probability from the lobes' albedos (uLobe), else the cosine-weighted diffuse one;
-// *weight = f cos / pdf, *pdf the mixture's density. false: no direction (below the surface).
+// *weight = f cos / pdf, *pdf the mixture's density (evalBsdf's, from the same lookups).
+// false: no direction (below the surface).
 bool sampleBsdf(const Bsdf& bsdf, Vec3f wo, float uLobe, float u1, float u2, const float* tables, Vec3f* wi,
                 Vec3f* weight, float* pdf);
 
