@@ -14,6 +14,8 @@
 //                       [--attributes]  (the generated mesh gets per-vertex normals and colours)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
+//                       [--no-stream-waves]  (out of core, a tile's wave at a time: for comparisons)
+//                       [--window-tiles N]  (streamed waves: the most tiles open at once; default: all that fit)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
 //                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
 //                       [--upload auto|mapped|dma]  (how chunks reach the slots: gpu::ChunkUploadMode)
@@ -65,7 +67,7 @@ struct Args {
     Vec3f eye, target;
     std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
-    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-prefetch-scene
+    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-stream-waves, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
     gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
 };
@@ -120,6 +122,8 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--attributes") a.attributes = true;
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
+        else if (flag == "--no-stream-waves") a.streaming.streamWaves = false;
+        else if (flag == "--window-tiles") a.streaming.windowTiles = uint32_t(std::stoul(value()));
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
         else if (flag == "--upload") {
             const std::string v = value();

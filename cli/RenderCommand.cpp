@@ -404,6 +404,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["walked_rays"] = st->walkedRays;
         j["submits"] = st->submits;
         j["walk_passes"] = st->walkPasses;
+        j["streamed_tiles"] = st->streamedTiles;
         j["volume_brick_slots"] = st->volumeBrickSlots;
         j["volume_brick_loads"] = st->volumeBrickLoads;
         j["host_to_device_bytes"] = st->hostToDeviceBytes;

@@ -39,13 +39,14 @@ inline gpu::VulkanDevice& sharedVulkanDevice() {
 inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options, uint64_t budget,
                                         StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21,
                                         bool overlapLoads = true, bool prefetchScene = true,
-                                        const gpu::ChunkUploadOptions& upload = {}) {
+                                        const gpu::ChunkUploadOptions& upload = {}, bool streamWaves = true) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;
     streaming.maxPathsPerWave = maxPathsPerWave;
     streaming.overlapLoads = overlapLoads;
     streaming.prefetchScene = prefetchScene;
+    streaming.streamWaves = streamWaves;
     StreamingStats local;
     StreamingStats& s = stats ? *stats : local;
     s.memoryBudgetBytes = budget;

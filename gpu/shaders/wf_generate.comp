@@ -2,6 +2,11 @@
 // dimensions of the path's random numbers, or through the pixel centre for the AOVs. Resets
 // each path's state, marks its closest-hit ray for walking and its shadow ray as absent, and
 // queues the camera rays (queue pc.queue). An AOV ray belongs to no path to shade.
+// Streamed waves (kGenerateStream, out of core): a thread per group of pc.sampleCount paths
+// whose block of samples is done (or that has none): it adds the block's radiance to its
+// pixel's sum in sample order (as wf_accumulate.comp does), writes the pixel's mean when that
+// was its last block, and starts the pixel's next block, or the window's next pixel; a group
+// the window has no pixel for goes to the other group queue, idle.
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -12,17 +17,11 @@
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
-void main() {
-    const uint j = gl_GlobalInvocationID.x;
-    ParamsRef params = ParamsRef(pc.params);
-    appendToQueue(params, pc.queue, true, j < wavePaths() ? 1u : 0u, j, 0u);
-    if (j >= wavePaths()) return;
+// Path j starts at image pixel `pixel`, sample `sampleIndex` (jittered unless an AOV ray).
+void startPath(ParamsRef params, uint j, uint pixel, uint sampleIndex, bool jitter) {
     const uint seed = params.p.seed, width = params.p.imageWidth;
-    const uint local = j / pc.sampleCount;  // the tile's pixel
-    const uint pixel = pc.firstPixel + (local / pc.tileWidth) * width + local % pc.tileWidth;
-    const uint sampleIndex = pc.firstSample + j % pc.sampleCount;
     float jx = 0.5, jy = 0.5;
-    if (pc.mode == kGeneratePaths) {
+    if (jitter) {
         jx = randomFloat(pixel, sampleIndex, 0u, kDimPixelX, seed);
         jy = randomFloat(pixel, sampleIndex, 0u, kDimPixelY, seed);
     }
@@ -39,6 +38,72 @@ void main() {
     UVec2Array(params.p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
     Vec4Array(params.p.radiance).v[j] = vec4(0.0);
-    const uint walking = pc.mode == kGeneratePaths ? kPathWalkClosest : 0u;
-    UVec4Array(params.p.pathInfo).v[j] = uvec4(pixel, sampleIndex, kPathAlive | walking, 0u);
+    UVec4Array(params.p.pathInfo).v[j] = uvec4(pixel, sampleIndex, kPathAlive | (jitter ? kPathWalkClosest : 0u), 0u);
+}
+
+// Streamed waves: group g's next block (or pixel). Returns the paths it started (from g *
+// sampleCount); idle: the window had no pixel for it.
+uint continueGroup(ParamsRef params, uint g, out bool idle) {
+    idle = false;
+    const uint groupSize = pc.sampleCount, spp = params.p.samplesPerPixel, first = g * groupSize;
+    StreamRef window = StreamRef(params.p.stream);
+    UVec2Array states = UVec2Array(params.p.groupState);
+    Vec4Array accum = Vec4Array(params.p.accum);
+    uvec2 state = states.v[g];
+    uint pixel = 0u, next = 0u;
+    if (state.x == 0u) {  // its block is done: add it to the pixel's sum, one sample at a time
+        const uvec4 info = UVec4Array(params.p.pathInfo).v[first];
+        const uint samples = min(groupSize, spp - info.y);
+        vec4 sum = accum.v[g];
+        for (uint s = 0u; s < samples; ++s) {
+            sum.xyz += Vec4Array(params.p.radiance).v[first + s].xyz;
+            sum.w += (UVec4Array(params.p.pathInfo).v[first + s].z & kPathCameraHit) != 0u ? 1.0 : 0.0;
+        }
+        accum.v[g] = sum;
+        pixel = info.x, next = info.y + samples;
+        if (next >= spp) {  // the pixel is done
+            Vec4Array(params.p.outColor).v[state.y] = vec4(sum.xyz / float(spp), sum.w / float(spp));
+            atomicAdd(window.w.done[state.y / params.p.tilePixels], 1u);
+            state.x = kGroupIdle;
+        }
+    }
+    if (state.x == kGroupIdle) {  // the window's next pixel
+        const uint k = atomicAdd(window.w.cursor, 1u);
+        uint start = 0u, tile = 0u;
+        while (tile < window.w.tileCount && k >= start + window.w.tiles[4u * tile + 2u]) start += window.w.tiles[4u * tile + 2u], ++tile;
+        if (tile == window.w.tileCount) {  // none left now (the host rewinds the cursor to the window's end)
+            states.v[g] = uvec2(kGroupIdle);
+            idle = true;
+            return 0u;
+        }
+        const uint local = k - start, tileWidth = window.w.tiles[4u * tile + 1u];
+        pixel = window.w.tiles[4u * tile] + (local / tileWidth) * params.p.imageWidth + local % tileWidth;
+        state.y = window.w.tiles[4u * tile + 3u] * params.p.tilePixels + local;
+        next = 0u;
+        accum.v[g] = vec4(0.0);
+    }
+    const uint samples = min(groupSize, spp - next);
+    for (uint s = 0u; s < samples; ++s) startPath(params, first + s, pixel, next + s, true);
+    states.v[g] = uvec2(samples, state.y);
+    return samples;
+}
+
+void main() {
+    const uint j = gl_GlobalInvocationID.x;
+    ParamsRef params = ParamsRef(pc.params);
+    if (pc.mode == kGenerateStream) {
+        const bool all = pc.pixelCount > 0u;
+        const uint g = all ? j : j < queueCount(params, pc.groupQueue) ? queueOf(params, pc.groupQueue).v[j] : 0u;
+        uint started = 0u;
+        bool idle = false;
+        if (all ? j < pc.pixelCount : j < queueCount(params, pc.groupQueue)) started = continueGroup(params, g, idle);
+        appendRangeToQueue(params, pc.queue, true, started, g * pc.sampleCount);
+        appendToQueue(params, pc.groupQueue ^ 1u, false, idle ? 1u : 0u, g, 0u);
+        return;
+    }
+    appendToQueue(params, pc.queue, true, j < wavePaths() ? 1u : 0u, j, 0u);
+    if (j >= wavePaths()) return;
+    const uint local = j / pc.sampleCount;  // the tile's pixel
+    const uint pixel = pc.firstPixel + (local / pc.tileWidth) * params.p.imageWidth + local % pc.tileWidth;
+    startPath(params, j, pixel, pc.firstSample + j % pc.sampleCount, pc.mode == kGeneratePaths);
 }

@@ -9,7 +9,9 @@
 // resident (paged volumes) writes its park record and nothing else: it joins kVolumeWaitQueue
 // and shades again from the same state once the bricks are resident, its tracking resuming
 // where it parked.
-// Each path carries its own bounce, so paths of one wave may be at different bounces.
+// Each path carries its own bounce, so paths of one wave may be at different bounces. Streamed
+// waves (pc.mode kWaveStreamed): a path that starts no ray has ended; the last of its group's
+// block to end queues the group (pc.groupQueue) for wf_generate.comp.
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -49,7 +51,8 @@ bool surviveRoulette(inout vec3 throughput, uint pixel, uint sampleIndex, uint b
     return true;
 }
 
-// Shades path j; count, first and second: the rays it started (at most two), to be queued.
+// Shades path j; count, first and second: the rays it started (at most two), to be queued. A path
+// that starts none has ended (streamed waves: its group's block is done when its last path ends).
 // Returns false when it must wait for volume bricks (it wrote only its park record then).
 bool shade(uint j, inout uint count, inout uint first, inout uint second) {
     const WavefrontParams p = ParamsRef(pc.params).p;
@@ -210,11 +213,18 @@ void main() {
     const uint k = gl_GlobalInvocationID.x;
     ParamsRef params = ParamsRef(pc.params);
     uint count = 0u, first = 0u, second = 0u, path = 0u;
-    bool waits = false;
+    bool waits = false, ended = false;
     if (k < queueCount(params, kShadeQueue)) {
         path = queueOf(params, kShadeQueue).v[k];
+        const uint before = UVec4Array(params.p.pathInfo).v[path].z;
         waits = !shade(path, count, first, second);
+        ended = !waits && count == 0u && (before & (kPathAlive | kPathShadowPending)) != 0u;
     }
     appendToQueue(params, pc.queue, true, count, first, second);
     if (kVolumes) appendToQueue(params, kVolumeWaitQueue, false, waits ? 1u : 0u, path, 0u);
+    if (pc.mode == kWaveStreamed) {  // streamed waves: the last path of a group's block queues the group
+        const uint g = path / pc.sampleCount;
+        const bool blockDone = ended && atomicAdd(UVec2Array(params.p.groupState).v[g].x, 0xffffffffu) == 1u;
+        appendToQueue(params, pc.groupQueue, false, blockDone ? 1u : 0u, g, 0u);
+    }
 }

@@ -202,7 +202,9 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     if (newBest && !anyHit) writeHit(params, ray, slots.v[bestSlot], best, bestChunk);
     states.v[ray] = uvec2(flags, newParkWord);
     if (kCountCost && cells != 0u) {
-        const uint pixel = j / pc.sampleCount;
+        // The tile pixel of a tile's wave, or the window pixel of a streamed wave's group.
+        const uint pixel = pc.mode == kWaveStreamed ? UVec2Array(params.p.groupState).v[j / pc.sampleCount].y
+                                                  : j / pc.sampleCount;
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel], cells);
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel + 1u], triangles);
     }

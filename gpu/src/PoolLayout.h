@@ -1,8 +1,8 @@
 #pragma once
 // Where the Vulkan backend's small tables lie in its one table buffer: the slot table, the
 // package's top-level tree, per chunk its slot, touched flag, demand and look-ahead counters, the
-// wavefront's parameters, the material table and the metallic-roughness BSDF's albedo tables
-// (byte offsets, 16-byte aligned).
+// wavefront's parameters, the material table, the metallic-roughness BSDF's albedo tables and
+// the streamed waves' window (byte offsets, 16-byte aligned).
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -27,7 +27,7 @@ inline uint64_t granules(uint64_t bytes) {
 
 struct TableLayout {
     uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, queueArgs = 0, params = 0,
-             materials = 0, microfacet = 0;
+             materials = 0, microfacet = 0, stream = 0;
     uint64_t totalBytes = 0;
 };
 
@@ -45,20 +45,21 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.params = t.queueArgs + align(kQueueCount * 12);
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.microfacet = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
-    t.totalBytes = t.microfacet + align(kMicrofacetTableFloats * sizeof(float));
+    t.stream = t.microfacet + align(kMicrofacetTableFloats * sizeof(float));
+    t.totalBytes = t.stream + align(sizeof(StreamWindow));
     return t;
 }
 
 // The wavefront's state buffer (device-local) and output buffer (host-readable), per path and
 // per tile pixel: sections in the order of WavefrontParams' addresses.
 // Queue q's byte offset from StateLayout::queues (common/WavefrontState.glsl's queueOf): the two
-// ray queues hold 2 * paths entries, the shade and volume wait queues paths entries.
+// ray queues hold 2 * paths entries, the shade, volume wait and two group queues paths entries.
 inline uint64_t queueOffset(uint32_t q, uint64_t paths) {
     return q < kShadeQueue ? uint64_t(q) * 8 * paths : (16 + uint64_t(q - kShadeQueue) * 4) * paths;
 }
 struct StateLayout {
     uint64_t rayOrigin, rayDirection, rayState, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
-        accum, queues, totalBytes;
+        accum, groupState, queues, totalBytes;
 };
 inline StateLayout stateLayout(uint64_t paths) {
     StateLayout s{};
@@ -66,7 +67,8 @@ inline StateLayout stateLayout(uint64_t paths) {
     s.rayOrigin = 0, s.rayDirection = rays, s.rayState = 2 * rays, s.hitPosition = s.rayState + 2 * paths * 8;
     s.hitNormal = s.hitPosition + perPath, s.hitIds = s.hitNormal + perPath;
     s.throughput = s.hitIds + perPath, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
-    s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.queues = s.accum + perPath;
+    s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.groupState = s.accum + perPath;
+    s.queues = s.groupState + paths * 8;
     s.totalBytes = s.queues + queueOffset(kQueueCount, paths);
     return s;
 }
@@ -144,6 +146,6 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
     return l;
 }
 
-static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 8 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 8 + 8 + 8 && kBytesPerTilePixel == 76);
 
 }  // namespace vastray::gpu

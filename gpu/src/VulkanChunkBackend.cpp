@@ -186,6 +186,7 @@ public:
         WavefrontBuffers b;
         b.table = &table_, b.tables = tables_, b.state = &state_, b.output = &output_;
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
+        b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors;

@@ -39,6 +39,7 @@ const uint32_t kAovSpirv[] =
     ;
 
 static_assert(kWalkNoHit == kEmptyCell && kWavefrontWorkgroupSize == 64);
+static_assert(kGeneratePaths == kWaveTiled, "a tile's wave walks and shades with its generate push");
 
 // Indices into StreamingStats::kernelSeconds; kNoKernel: a command no kernel's time includes.
 enum Kernel : int {
@@ -196,14 +197,16 @@ public:
         // Tiles of the image (the frame, or a region of it); the device sees frame pixels.
         const uint32_t width = image_.width, height = image_.height;
         const TileGrid grid = planTiles(width, height, std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave));
-        for (uint64_t tile = 0; tile < grid.count(); ++tile) {
-            Tile t;
-            t.x = uint32_t(tile % grid.columns) * grid.tileWidth, t.y = uint32_t(tile / grid.columns) * grid.tileHeight;
-            t.width = std::min(grid.tileWidth, width - t.x), t.height = std::min(grid.tileHeight, height - t.y);
-            t.imageWidth = width;
-            t.originX = image_.originX, t.originY = image_.originY, t.frameWidth = options_.width;
-            VASTRAY_TRY(renderTile(t, samplesPerWave));
-            if (job_.progress) job_.progress(tile + 1, grid.count());
+        // Out of core (chunks or volume bricks paged), waves are streamed (renderStreamed) when a
+        // group of a pixel's samples leaves room for a window of two tiles or more.
+        const bool paged = b_.outOfCore || (volumes && b_.volumes->paged());
+        if (job_.streamWaves && paged && samplesPerWave >= 2) {
+            VASTRAY_TRY(renderStreamed(grid, samplesPerWave));
+        } else {
+            for (uint64_t tile = 0; tile < grid.count(); ++tile) {
+                VASTRAY_TRY(renderTile(tileAt(grid, tile), samplesPerWave));
+                if (job_.progress) job_.progress(tile + 1, grid.count());
+            }
         }
         std::vector<uint32_t> touched(b_.chunkCount);
         VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
@@ -224,22 +227,45 @@ private:
         uint64_t at(uint64_t i) const { return uint64_t(y + i / width) * imageWidth + x + i % width; }
     };
 
+    Tile tileAt(const TileGrid& grid, uint64_t index) const {
+        Tile t;
+        t.x = uint32_t(index % grid.columns) * grid.tileWidth, t.y = uint32_t(index / grid.columns) * grid.tileHeight;
+        t.width = std::min(grid.tileWidth, image_.width - t.x), t.height = std::min(grid.tileHeight, image_.height - t.y);
+        t.imageWidth = image_.width;
+        t.originX = image_.originX, t.originY = image_.originY, t.frameWidth = options_.width;
+        return t;
+    }
+
+    // Zeroes the cost AOV of `count` output pixels from `first` (a tile's, or a window slot's).
+    void clearCost(uint64_t first, uint64_t count) {
+        if (!(image_.aovs & kAovCost)) return;
+        const uint64_t at = outputLayout(b_.pathCapacity).cost + 8 * first;
+        record([=, this](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, b_.output->handle(), at, count * 8, 0);
+            barrier(cmd);
+        });
+    }
+
+    // The AOVs of a tile's pixels: one walk of pixel-centre rays, which belong to no path.
+    Status walkAovs(const Tile& tile) {
+        WavefrontPush push = makePush(tile, 0, 1, kGenerateAov);
+        clearQueue(push.queue);
+        dispatch(*kernels().generate, kGenerate, push, tile.count());
+        push.mode = kWaveTiled;  // for the walk
+        VASTRAY_TRY(walkWave(push, false));
+        dispatch(*kernels().aov, kAov, push, tile.count());
+        return Status::ok();
+    }
+
     Status renderTile(const Tile& tile, uint32_t samplesPerWave) {
         const uint32_t count = tile.count();
-        const OutputLayout out = outputLayout(b_.pathCapacity);
         const StateLayout state = stateLayout(b_.pathCapacity);
         record([=, this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.state->handle(), state.accum, uint64_t(count) * 16, 0);
-            if (image_.aovs & kAovCost) vkCmdFillBuffer(cmd, b_.output->handle(), out.cost, uint64_t(count) * 8, 0);
             barrier(cmd);
         });
-        if (image_.aovs & ~kAovCost) {
-            WavefrontPush push = makePush(tile, 0, 1, kGenerateAov);
-            clearQueue(push.queue);
-            dispatch(*kernels().generate, kGenerate, push, count);
-            VASTRAY_TRY(walkWave(push, false));
-            dispatch(*kernels().aov, kAov, push, count);
-        }
+        clearCost(0, count);
+        if (image_.aovs & ~kAovCost) VASTRAY_TRY(walkAovs(tile));
         for (uint32_t s0 = 0; s0 < options_.samplesPerPixel; s0 += samplesPerWave) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             const uint32_t samples = std::min(samplesPerWave, options_.samplesPerPixel - s0);
@@ -293,14 +319,28 @@ private:
         push.queue ^= 1u;
         if (shade) shadeReady(push);
     }
-    void shadeReady(const WavefrontPush& push) {
+    void shadeReady(WavefrontPush& push) {
         dispatchQueue(*shade_, kShade, push, kShadeQueue);
         clearQueue(kShadeQueue);
+        if (streamed_) regenerate(push, 0);
+    }
+    // Streamed waves: the groups of queue push.groupQueue (those whose block the shading just
+    // finished, and idle ones), or with allGroups > 0 the groups 0..allGroups-1, add their block
+    // to their pixel and start the next one (wf_generate.comp, kGenerateStream).
+    void regenerate(WavefrontPush& push, uint32_t allGroups) {
+        WavefrontPush g = push;
+        g.mode = kGenerateStream, g.pixelCount = allGroups;
+        if (allGroups > 0)
+            dispatch(*kernels().generate, kGenerate, g, allGroups);
+        else
+            dispatchQueue(*kernels().generate, kGenerate, g, push.groupQueue);
+        clearQueue(push.groupQueue);
+        push.groupQueue ^= 1u;
     }
     // Paged volumes: the paths of the volume wait queue move to the (empty) shade queue and
     // shade again; those that still miss a brick join the wait queue again. The whole queue is
     // copied: the shading just before may have added paths the host has not counted.
-    void retryWaiting(const WavefrontPush& push) {
+    void retryWaiting(WavefrontPush& push) {
         record([this](VkCommandBuffer cmd) {
             const uint64_t queues = stateLayout(b_.pathCapacity).queues, capacity = b_.pathCapacity;
             const VkBufferCopy paths{queues + queueOffset(kVolumeWaitQueue, capacity),
@@ -360,10 +400,8 @@ private:
             return Status::ok();
         }
         pager_.beginStream();
-        std::vector<uint32_t> waveTouched(b_.chunkCount, 0), touched(b_.chunkCount);
-        std::vector<uint32_t> demand(b_.chunkCount + 1), ahead(b_.chunkCount), counts(kQueueCount);
-        std::vector<uint32_t> brickDemand(volumes ? 2 * volumes->brickCount() : 0);
-        bool planned = false;  // loads planned for the step about to run
+        Paging st(b_.chunkCount, volumes);
+        const std::vector<uint32_t>& counts = st.counts;
         // Paging bricks: a step's passes take every path it resumes to its end or its next park
         // (for bricks or chunks; a pass over an empty queue costs an empty dispatch), so that no
         // path needs the step's region in a later step. Paging chunks only: a few passes, then
@@ -382,62 +420,224 @@ private:
                 const bool last = r + 1 == passes;
                 walkRound(push, shade && !last, last, r == 0);
             }
-            if (volumes) copyVolumeCounters(*volumes);
-            VASTRAY_TRY(beginSubmit());
-            size_t loaded = 0;
-            if (planned) {
-                auto done = pager_.loadPlanned();  // while the device walks
-                if (!done) return done.status();
-                loaded = done->size(), planned = false;
-            }
-            VASTRAY_TRY(finishSubmit());
-            VASTRAY_TRY(download(demand.data(), demand.size() * 4, *b_.table, b_.tables.demand));
-            VASTRAY_TRY(download(ahead.data(), ahead.size() * 4, *b_.table, b_.tables.ahead));
-            VASTRAY_TRY(download(counts.data(), counts.size() * 4, *b_.table, b_.tables.queueCounts));
-            VASTRAY_TRY(download(touched.data(), touched.size() * 4, *b_.table, b_.tables.touched));
-            for (size_t c = 0; c < touched.size(); ++c) waveTouched[c] |= touched[c];
-            pager_.markUsed(touched);
-            const uint32_t waiting = counts[kVolumeWaitQueue];
-            if (volumes && waiting > 0) {
-                // Paths wait for bricks: page in the region around the one most waited for (it
-                // is absent, so every step loads it and lets the walks waiting at it go on).
-                const GpuBuffer& counters = *volumes->readback();
-                VASTRAY_TRY(download(brickDemand.data(), brickDemand.size() * 4, counters, 0));
-                auto paged = volumes->page(brickDemand, stats_);
-                if (!paged) return paged.status();
-                if (*paged == 0)
-                    return Status::error(std::to_string(waiting) + " paths wait for volume bricks, but the pool of " +
-                                         std::to_string(volumes->slotCount()) + " brick slots loaded none");
-            }
-            const bool finished = counts[push.queue] == 0 && counts[kShadeQueue] == 0 && waiting == 0;
-            if (finished || demand[b_.chunkCount] == 0) {  // done, or nobody waits: the finished paths go on
-                if (loaded > 0) VASTRAY_TRY(uploadResidency());
-                if (finished) break;
-                continue;
-            }
-            const auto plan = pager_.planLoads(std::span<const uint32_t>(demand).first(b_.chunkCount), ahead);
-            planned = !plan.empty();
-            // Overlap only when the next step has work without the planned chunks: paths to
-            // shade, or parked rays that wait for chunks resident now (loaded during the step);
-            // else it would idle meanwhile.
-            uint64_t ready = counts[kShadeQueue];
-            const std::span<const uint32_t> slots = pager_.chunkSlots();
-            for (uint32_t c = 0; c < b_.chunkCount; ++c)
-                if (slots[c] != kEmptyCell) ready += demand[c] + ahead[c];
-            if (planned && (!job_.overlapLoads || ready == 0)) {
-                auto done = pager_.loadPlanned();
-                if (!done) return done.status();
-                loaded += done->size(), planned = false;
-            }
-            if (plan.empty() && loaded == 0)
-                return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");
-            VASTRAY_TRY(uploadResidency());
+            VASTRAY_TRY(runStep(st, volumes));
+            if (counts[push.queue] == 0 && counts[kShadeQueue] == 0 && counts[kVolumeWaitQueue] == 0)
+                return finishPaging(st);
+            VASTRAY_TRY(pageChunks(st, counts[kShadeQueue]));
         }
-        pager_.streamTouched(waveTouched);
+    }
+
+    // A paging step's counters, and the chunks planned for the next step.
+    struct Paging {
+        Paging(uint32_t chunks, const DeviceVolumes* volumes)
+            : demand(chunks + 2), ahead(chunks), counts(kQueueCount), touched(chunks), waveTouched(chunks, 0),
+              brickDemand(volumes ? 2 * volumes->brickCount() : 0) {}
+        std::vector<uint32_t> demand, ahead, counts, touched, waveTouched, brickDemand;
+        bool planned = false;  // loads planned for the step about to run
+        size_t loaded = 0;     // chunks loaded during the last step
+    };
+
+    // The last step: chunks it loaded become resident on the device too; the stream's chunks.
+    Status finishPaging(const Paging& st) {
+        if (st.loaded > 0) VASTRAY_TRY(uploadResidency());
+        pager_.streamTouched(st.waveTouched);
         return Status::ok();
     }
 
+    // Submits the step recorded, loads the chunks planned after the last one while the device
+    // works, waits, reads the counters (demand and look-ahead, queue sizes, touched flags) and,
+    // when paths wait for volume bricks, pages in the region around the one most waited for (it
+    // is absent, so every step loads it and lets the walks waiting at it go on).
+    Status runStep(Paging& st, DeviceVolumes* volumes) {
+        if (volumes) copyVolumeCounters(*volumes);
+        VASTRAY_TRY(beginSubmit());
+        st.loaded = 0;
+        if (st.planned) {
+            auto done = pager_.loadPlanned();  // while the device walks
+            if (!done) return done.status();
+            st.loaded = done->size(), st.planned = false;
+        }
+        VASTRAY_TRY(finishSubmit());
+        VASTRAY_TRY(download(st.demand.data(), st.demand.size() * 4, *b_.table, b_.tables.demand));
+        VASTRAY_TRY(download(st.ahead.data(), st.ahead.size() * 4, *b_.table, b_.tables.ahead));
+        VASTRAY_TRY(download(st.counts.data(), st.counts.size() * 4, *b_.table, b_.tables.queueCounts));
+        VASTRAY_TRY(download(st.touched.data(), st.touched.size() * 4, *b_.table, b_.tables.touched));
+        for (size_t c = 0; c < st.touched.size(); ++c) st.waveTouched[c] |= st.touched[c];
+        pager_.markUsed(st.touched);
+        const uint32_t waiting = st.counts[kVolumeWaitQueue];
+        if (volumes && waiting > 0) {
+            VASTRAY_TRY(download(st.brickDemand.data(), st.brickDemand.size() * 4, *volumes->readback(), 0));
+            auto paged = volumes->page(st.brickDemand, stats_);
+            if (!paged) return paged.status();
+            if (*paged == 0)
+                return Status::error(std::to_string(waiting) + " paths wait for volume bricks, but the pool of " +
+                                     std::to_string(volumes->slotCount()) + " brick slots loaded none");
+        }
+        return Status::ok();
+    }
+
+    // After a step that did not finish: plans the chunks the parked rays wait for. With overlap
+    // they load while the device walks the next step, when it has work without them (`ready`:
+    // paths to shade or groups to start, plus parked rays that wait for chunks resident now),
+    // else now.
+    Status pageChunks(Paging& st, uint64_t ready) {
+        if (st.demand[b_.chunkCount] == 0)  // nobody waits: the paths go on
+            return st.loaded > 0 ? uploadResidency() : Status::ok();
+        const auto plan = pager_.planLoads(std::span<const uint32_t>(st.demand).first(b_.chunkCount), st.ahead);
+        st.planned = !plan.empty();
+        const std::span<const uint32_t> slots = pager_.chunkSlots();
+        for (uint32_t c = 0; c < b_.chunkCount; ++c)
+            if (slots[c] != kEmptyCell) ready += st.demand[c] + st.ahead[c];
+        if (st.planned && (!job_.overlapLoads || ready == 0)) {
+            auto done = pager_.loadPlanned();
+            if (!done) return done.status();
+            st.loaded += done->size(), st.planned = false;
+        }
+        if (plan.empty() && st.loaded == 0)
+            return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");
+        return uploadResidency();
+    }
+
+    // Streamed waves (out of core; docs/RENDERING.md, "Streamed waves"). The wave's paths form
+    // groups of `groupSize` (a pixel's block of samples); a group whose block is done adds it to
+    // its pixel's sum and starts the pixel's next block, or the next pixel of a window of open
+    // tiles, at once (wf_generate.comp, after every shading), so the wave stays full while the
+    // last paths of a tile wait for their chunks, instead of a tile's wave running down to its
+    // last path before the next tile starts. A tile's outputs lie in a ring slot of the output
+    // buffer; the host closes a tile when the device has counted all its pixels done, reads it
+    // and opens the next. The AOVs come first, tile by tile, as in renderTile.
+    Status renderStreamed(const TileGrid& grid, uint32_t groupSize) {
+        const uint64_t tiles = grid.count();
+        const uint32_t tilePixels = grid.tileWidth * grid.tileHeight;
+        const uint32_t groupCount = b_.pathCapacity / groupSize;
+        uint32_t ringSlots = uint32_t(std::min<uint64_t>(kMaxWindowTiles, b_.pathCapacity / tilePixels));
+        if (job_.windowTiles > 0) ringSlots = std::min(ringSlots, job_.windowTiles);
+        if (image_.aovs & ~kAovCost)
+            for (uint64_t tile = 0; tile < tiles; ++tile) {
+                const Tile t = tileAt(grid, tile);
+                clearCost(0, t.count());
+                VASTRAY_TRY(walkAovs(t));
+                VASTRAY_TRY(flush());
+                VASTRAY_TRY(readAovs(t, 0, image_.aovs, false));
+            }
+        VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
+        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, 1u});
+        if (!walk) return walk.status();
+        walk_ = *walk;
+        streamed_ = true;
+        DeviceVolumes* volumes = b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
+        // Paging bricks: every path a step resumes runs to its end or its next park (walkWave).
+        const uint32_t passes = volumes ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u)
+                                        : kPassesPerPagingStep;
+        const StateLayout state = stateLayout(b_.pathCapacity);
+        record([=, this](VkCommandBuffer cmd) {  // every group idle
+            vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
+            barrier(cmd);
+        });
+        for (uint32_t q : {0u, 1u, kShadeQueue, kVolumeWaitQueue, kGroupQueue, kGroupQueue + 1}) clearQueue(q);
+        WavefrontPush push{};
+        push.params = b_.table->address() + b_.tables.params;
+        push.sampleCount = groupSize, push.mode = kWaveStreamed, push.queue = 0, push.groupQueue = kGroupQueue;
+
+        struct Open {
+            uint64_t tile;
+            uint32_t slot, pixels;
+        };
+        std::vector<Open> window;  // oldest first
+        std::vector<bool> slotBusy(ringSlots, false);
+        uint64_t nextTile = 0, closed = 0;
+        uint32_t cursor = 0;  // the device's window cursor, rewound to the window's end after a step
+        const uint64_t streamOffset = b_.tables.stream;
+        pager_.beginStream();
+        Paging st(b_.chunkCount, volumes);
+        const std::vector<uint32_t>& counts = st.counts;
+        std::vector<uint32_t> windowHead(4 + kMaxWindowTiles);  // cursor, tile count, padding, done[]
+        for (uint64_t step = 0;; ++step) {
+            if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
+            // Open tiles in the free slots, and write the window.
+            while (window.size() < ringSlots && nextTile < tiles) {
+                const uint32_t slot = uint32_t(std::find(slotBusy.begin(), slotBusy.end(), false) - slotBusy.begin());
+                slotBusy[slot] = true;
+                window.push_back({nextTile, slot, tileAt(grid, nextTile).count()});
+                ++nextTile;
+                clearCost(uint64_t(slot) * tilePixels, tilePixels);
+                record([this, streamOffset, slot](VkCommandBuffer cmd) {
+                    vkCmdFillBuffer(cmd, b_.table->handle(), streamOffset + offsetof(StreamWindow, done) + 4ull * slot, 4, 0);
+                    barrier(cmd);
+                });
+            }
+            std::vector<uint32_t> head(4 + 4 * kMaxWindowTiles, 0);
+            head[0] = cursor, head[1] = uint32_t(window.size());
+            for (size_t i = 0; i < window.size(); ++i) {
+                const Tile t = tileAt(grid, window[i].tile);
+                uint32_t* entry = &head[4 + 4 * i];
+                entry[0] = t.first(), entry[1] = t.width, entry[2] = window[i].pixels, entry[3] = window[i].slot;
+            }
+            stats_.hostToDeviceBytes += 16 + 16 * window.size();
+            record([this, streamOffset, head](VkCommandBuffer cmd) {
+                vkCmdUpdateBuffer(cmd, b_.table->handle(), streamOffset, 8, head.data());
+                vkCmdUpdateBuffer(cmd, b_.table->handle(), streamOffset + offsetof(StreamWindow, tiles),
+                                  16 * kMaxWindowTiles, head.data() + 4);
+                vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand + 4ull * (b_.chunkCount + 1), 4, 0);
+                vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
+                barrier(cmd);
+            });
+            if (volumes) clearVolumeCounters(*volumes);
+            if (step == 0)
+                regenerate(push, groupCount);
+            else
+                shadeReady(push);  // the paths the last step's final pass finished (and the groups after them)
+            if (volumes && counts[kVolumeWaitQueue] > 0) retryWaiting(push);
+            for (uint32_t r = 0; r < passes; ++r) {
+                const bool last = r + 1 == passes;
+                walkRound(push, !last, last, r == 0);
+            }
+            VASTRAY_TRY(runStep(st, volumes));
+            VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.table, streamOffset));
+            stats_.walkedRays += st.demand[b_.chunkCount + 1];
+            // Close the tiles whose pixels are all done (all started: they lie before the
+            // cursor), and rewind the cursor past them to the window's end at most.
+            uint32_t windowPixels = 0;
+            for (const Open& o : window) windowPixels += o.pixels;
+            cursor = std::min(windowHead[0], windowPixels);
+            for (size_t i = 0; i < window.size();) {
+                const Open o = window[i];
+                if (windowHead[4 + o.slot] < o.pixels) {
+                    ++i;
+                    continue;
+                }
+                const Tile t = tileAt(grid, o.tile);
+                VASTRAY_TRY(readColor(t, uint64_t(o.slot) * tilePixels));
+                if (image_.aovs & kAovCost)
+                    VASTRAY_TRY(readAovs(t, uint64_t(o.slot) * tilePixels, kAovCost, (image_.aovs & ~kAovCost) != 0));
+                cursor -= o.pixels;
+                slotBusy[o.slot] = false;
+                window.erase(window.begin() + long(i));
+                ++closed, ++stats_.streamedTiles;
+                pager_.streamTouched(st.waveTouched);  // a stream: the steps between two closed tiles
+                std::fill(st.waveTouched.begin(), st.waveTouched.end(), 0);
+                pager_.beginStream();
+                if (job_.progress) job_.progress(closed, tiles);
+            }
+            if (closed == tiles) break;
+            const bool groupsWork = cursor < windowPixels || nextTile < tiles;  // idle groups get pixels next step
+            VASTRAY_TRY(pageChunks(st, counts[kShadeQueue] + (groupsWork ? counts[push.groupQueue] : 0)));
+        }
+        streamed_ = false;
+        return finishPaging(st);
+    }
+
     Status readTile(const Tile& tile) {
+        VASTRAY_TRY(readColor(tile, 0));
+        VASTRAY_TRY(readAovs(tile, 0, image_.aovs, false));
+        uint32_t rays = 0;  // rays walked in this tile's streams; the counter restarts per tile
+        VASTRAY_TRY(download(&rays, 4, *b_.table, b_.tables.demand + 4ull * (b_.chunkCount + 1)));
+        stats_.walkedRays += rays;
+        return upload(std::vector<uint32_t>(1, 0), b_.tables.demand + 4ull * (b_.chunkCount + 1));
+    }
+
+    // The tile's colour and alpha from the output pixels at `first` on.
+    Status readColor(const Tile& tile, uint64_t first) {
         const OutputLayout o = outputLayout(b_.pathCapacity);
         const uint64_t count = tile.count();
         // RGBA in blocks on all cores: a 1080p tile is 33 MB, and one core copying and splitting
@@ -445,7 +645,7 @@ private:
         std::atomic<bool> failed{false};
         tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 1 << 15), [&](const tbb::blocked_range<uint64_t>& r) {
             std::vector<float> block(4 * (r.end() - r.begin()));
-            if (!b_.output->download(block.data(), block.size() * 4, o.color + 16 * r.begin())) {
+            if (!b_.output->download(block.data(), block.size() * 4, o.color + 16 * (first + r.begin()))) {
                 failed = true;
                 return;
             }
@@ -457,28 +657,37 @@ private:
         });
         if (failed) return Status::error("reading the rendered tile back from the device failed");
         stats_.deviceToHostBytes += 16ull * count;
-        const uint32_t aovs = image_.aovs;
-        if (aovs & kAovDepth) VASTRAY_TRY(readRows<float>(tile, 1, o.depth, image_.depth));
-        if (aovs & kAovNormal) VASTRAY_TRY(readRows<float>(tile, 3, o.normal, image_.normal));
-        if (aovs & kAovAlbedo) VASTRAY_TRY(readRows<float>(tile, 3, o.albedo, image_.albedo));
-        if (aovs & kAovPrimId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.primId, image_.primId));
-        if (aovs & kAovChunkId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.chunkId, image_.chunkId));
-        if (aovs & kAovCost) VASTRAY_TRY(readRows<uint32_t>(tile, 2, o.cost, image_.cost));
-        uint32_t rays = 0;  // rays walked in this tile's streams; the counter restarts per tile
-        VASTRAY_TRY(download(&rays, 4, *b_.table, b_.tables.demand + 4ull * (b_.chunkCount + 1)));
-        stats_.walkedRays += rays;
-        return upload(std::vector<uint32_t>(1, 0), b_.tables.demand + 4ull * (b_.chunkCount + 1));
+        return Status::ok();
+    }
+
+    // The tile's AOVs among `aovs` from the output pixels at `first` on; the cost AOV is added to
+    // the image's with addCost (streamed waves: the AOV walk's cost, then the paths').
+    Status readAovs(const Tile& tile, uint64_t first, uint32_t aovs, bool addCost) {
+        const OutputLayout o = outputLayout(b_.pathCapacity);
+        if (aovs & kAovDepth) VASTRAY_TRY(readRows<float>(tile, 1, o.depth + 4 * first, image_.depth, false));
+        if (aovs & kAovNormal) VASTRAY_TRY(readRows<float>(tile, 3, o.normal + 12 * first, image_.normal, false));
+        if (aovs & kAovAlbedo) VASTRAY_TRY(readRows<float>(tile, 3, o.albedo + 12 * first, image_.albedo, false));
+        if (aovs & kAovPrimId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.primId + 4 * first, image_.primId, false));
+        if (aovs & kAovChunkId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.chunkId + 4 * first, image_.chunkId, false));
+        if (aovs & kAovCost) VASTRAY_TRY(readRows<uint32_t>(tile, 2, o.cost + 8 * first, image_.cost, addCost));
+        return Status::ok();
     }
 
     // An output array of the tile (`channels` values of T per pixel, at `offset` in the output
-    // buffer) into the image's array `to` (element type To), row by row.
+    // buffer) into the image's array `to` (element type To), row by row; added to it with `add`.
     template <typename T, typename To>
-    Status readRows(const Tile& tile, uint32_t channels, uint64_t offset, std::vector<To>& to) {
+    Status readRows(const Tile& tile, uint32_t channels, uint64_t offset, std::vector<To>& to, bool add) {
         std::vector<T> rows(uint64_t(channels) * tile.count());
         VASTRAY_TRY(download(rows.data(), rows.size() * sizeof(T), *b_.output, offset));
         const uint64_t rowValues = uint64_t(channels) * tile.width;
-        for (uint32_t r = 0; r < tile.height; ++r)
-            std::copy_n(rows.begin() + r * rowValues, rowValues, to.begin() + tile.at(uint64_t(r) * tile.width) * channels);
+        for (uint32_t r = 0; r < tile.height; ++r) {
+            const auto from = rows.begin() + r * rowValues;
+            const auto at = to.begin() + tile.at(uint64_t(r) * tile.width) * channels;
+            if (add)
+                std::transform(from, from + rowValues, at, at, [](T a, To b) { return To(b + a); });
+            else
+                std::copy_n(from, rowValues, at);
+        }
         return Status::ok();
     }
 
@@ -495,6 +704,7 @@ private:
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
         p.throughput = state + s.throughput, p.radiance = state + s.radiance, p.pendingSun = state + s.pendingSun;
         p.pathInfo = state + s.pathInfo, p.accum = state + s.accum, p.queues = state + s.queues;
+        p.groupState = state + s.groupState, p.stream = table + t.stream;
         p.queueCounts = table + t.queueCounts, p.queueArgs = table + t.queueArgs;
         const OutputLayout o = outputLayout(b_.pathCapacity);
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
@@ -655,6 +865,7 @@ private:
     QueryPool queries_;
     const ComputePipeline* shade_ = nullptr;  // this render's specialization
     const ComputePipeline* walk_ = nullptr;   // this wave's (paging or not)
+    bool streamed_ = false;                   // renderStreamed runs: shading regenerates groups
 };
 
 Status Wavefront::render(const WavefrontBuffers& buffers, const DeviceRenderJob& job, ChunkPager& pager,

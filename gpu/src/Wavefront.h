@@ -27,6 +27,7 @@ struct WavefrontBuffers {
     GpuBuffer* state = nullptr;  // StateLayout for pathCapacity paths
     GpuBuffer* output = nullptr; // OutputLayout for pathCapacity pixels
     uint32_t pathCapacity = 0;
+    bool outOfCore = false;  // fewer slots than chunks: waves are streamed (Wavefront.cpp, renderStreamed)
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)

@@ -344,6 +344,42 @@ TEST(StreamingRender, SmallWavesEqualOneWave) {
     expectIdentical(*one, *many, false);
 }
 
+// Out of core, waves are streamed: a group of a pixel's samples that is done starts the next
+// pixel of the window at once. With small waves the window holds several tiles and turns over
+// many times; the image equals the in-core render and the tile-at-a-time schedule bit for bit.
+TEST(StreamingRender, StreamedWavesEqualTileWaves) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    RenderOptions o = smallRender(kAllAovs);
+    o.samplesPerPixel = 5;
+    const uint64_t tight = budgetForSlots(path, 2, o.aovs);
+    StreamingStats ample, streamed, tiled;
+    auto a = renderVulkan(path, o, 256ull << 20, &ample, 333);
+    ASSERT_TRUE(a) << a.message();
+    auto b = renderVulkan(path, o, tight, &streamed, 333);
+    ASSERT_TRUE(b) << b.message();
+    auto c = renderVulkan(path, o, tight, &tiled, 333, true, true, {}, false);
+    ASSERT_TRUE(c) << c.message();
+    expectIdentical(*a, *b, false);
+    expectIdentical(*a, *c, false);
+    // 333 paths: groups of 5 samples, tiles of at most 66 pixels, a window of 5 of the 20 tiles.
+    EXPECT_GE(streamed.streamedTiles, 20u);
+    EXPECT_EQ(tiled.streamedTiles, 0u);
+    EXPECT_EQ(ample.streamedTiles, 0u) << "in core, a tile's wave at a time";
+    EXPECT_GT(streamed.chunkLoads, streamed.chunksTouched);
+    EXPECT_LE(streamed.peakDeviceBytes, streamed.memoryBudgetBytes);
+
+    // More samples than a wave holds: a group renders its pixel in blocks (4 samples, then 2),
+    // adding each to the pixel's sum in sample order.
+    o.width = 16, o.height = 8, o.samplesPerPixel = 6;
+    auto d = renderVulkan(path, o, 256ull << 20, nullptr, 4);
+    ASSERT_TRUE(d) << d.message();
+    StreamingStats blocks;
+    auto e = renderVulkan(path, o, tight, &blocks, 4);
+    ASSERT_TRUE(e) << e.message();
+    expectIdentical(*d, *e, false);
+    EXPECT_EQ(blocks.streamedTiles, 128u) << "one pixel per tile";
+}
+
 TEST(StreamingRender, HostCacheAvoidsSecondDecodes) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     const RenderOptions o = smallRender();

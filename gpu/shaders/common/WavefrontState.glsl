@@ -30,12 +30,13 @@ RwUintArray queueOf(ParamsRef params, uint q) {
 }
 uint queueCount(ParamsRef params, uint q) { return RwUintArray(params.p.queueCounts).v[q]; }
 
-// Appends up to two entries per invocation to queue q: one atomic per workgroup reserves the
-// group's range (and raises the queue's indirect dispatch to cover it). With `started`, the entries are rays that begin their walk, counted in
-// demand[chunkCount + 1]. Every invocation of the workgroup must call it (it has barriers).
 shared uint groupAppendCount;
 shared uint groupAppendBase;
-void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint first, uint second) {
+// Reserves `count` entries of queue q for this invocation and returns where they start: one
+// atomic per workgroup reserves the group's range (and raises the queue's indirect dispatch to
+// cover it). With `started`, the entries are rays that begin their walk, counted in
+// demand[chunkCount + 1]. Every invocation of the workgroup must call it (it has barriers).
+uint reserveInQueue(ParamsRef params, uint q, bool started, uint count) {
     if (gl_LocalInvocationIndex == 0u) groupAppendCount = 0u;
     barrier();
     const uint local = count > 0u ? atomicAdd(groupAppendCount, count) : 0u;
@@ -47,9 +48,26 @@ void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint firs
         if (started) atomicAdd(RwUintArray(params.p.demand).v[params.p.chunkCount + 1u], groupAppendCount);
     }
     barrier();
+    return groupAppendBase + local;
+}
+// Appends up to two entries per invocation to queue q (every invocation of the workgroup must
+// call it).
+void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint first, uint second) {
+    const uint at = reserveInQueue(params, q, started, count);
     RwUintArray queue = queueOf(params, q);
-    if (count > 0u) queue.v[groupAppendBase + local] = first;
-    if (count > 1u) queue.v[groupAppendBase + local + 1u] = second;
+    if (count > 0u) queue.v[at] = first;
+    if (count > 1u) queue.v[at + 1u] = second;
+}
+
+// Streamed waves: the window of open tiles (shared/WavefrontTypes.h, StreamWindow).
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer StreamRef { StreamWindow w; };
+
+// Appends `count` consecutive entries first, first + 1, ... to queue q (every invocation of the
+// workgroup must call it).
+void appendRangeToQueue(ParamsRef params, uint q, bool started, uint count, uint first) {
+    const uint at = reserveInQueue(params, q, started, count);
+    RwUintArray queue = queueOf(params, q);
+    for (uint i = 0u; i < count; ++i) queue.v[at + i] = first + i;
 }
 
 #endif  // VASTRAY_WAVEFRONT_STATE_GLSL

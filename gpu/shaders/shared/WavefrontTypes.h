@@ -37,7 +37,16 @@ const uint kRayDoneBits = 24u;
 // of brick slots): they shade again once the pager has loaded the bricks they asked for.
 const uint kShadeQueue = 2u;
 const uint kVolumeWaitQueue = 3u;
-const uint kQueueCount = 4u;
+// Streamed waves (out of core): the two queues of path groups whose block of samples is done or
+// that have none (pathCapacity entries each): wf_generate takes one and appends those it could
+// not give a pixel to the other.
+const uint kGroupQueue = 4u;
+const uint kQueueCount = 6u;
+
+// Streamed waves: the most tiles open at once (the window), and a group's state
+// (WavefrontParams::groupState .x) between blocks.
+const uint kMaxWindowTiles = 16u;
+const uint kGroupIdle = 0xffffffffu;
 
 // A paged volume's cell table entry (WavefrontVolume::brickOf) for a brick that is not resident:
 // the brick's index within the volume with this bit set (kNoBrick, all ones, has no brick).
@@ -46,12 +55,22 @@ const uint kBrickAbsent = 0x80000000u;
 // WavefrontPush::mode of wf_generate.comp.
 const uint kGeneratePaths = 0u;  // jittered camera rays of (pixel, sample) paths
 const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
+const uint kGenerateStream = 2u; // streamed waves: the groups of queue pc.groupQueue add their finished
+                                 // block to their pixel's sum and start their next block or pixel;
+                                 // with pc.pixelCount = G > 0 every group 0..G-1 instead (all idle)
+
+// WavefrontPush::mode of wf_walk.comp and wf_shade.comp: a tile's wave (the cost AOV's pixel of
+// path j is j / sampleCount), or streamed waves (its group's window pixel; a group whose block's
+// last path ends is queued on pc.groupQueue).
+const uint kWaveTiled = 0u;
+const uint kWaveStreamed = 1u;
 
 // Device bytes per path of the state arrays (two rays with their walk states, the closest hit's
 // record, four path vectors, a slot in each of the two ray queues for each ray, a slot in the
-// shade queue and one in the volume wait queue) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
+// shade queue and one in the volume wait queue, a group's state and a slot in each of the two
+// group queues (streamed waves) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
 // waves from the budget with these.
-const uint kBytesPerPath = 2u * (16u + 16u + 8u) + 3u * 16u + 4u * 16u + 2u * 2u * 4u + 2u * 4u;
+const uint kBytesPerPath = 2u * (16u + 16u + 8u) + 3u * 16u + 4u * 16u + 2u * 2u * 4u + 2u * 4u + 8u + 2u * 4u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
@@ -147,6 +166,10 @@ struct WavefrontParams {
                            // (common/Volume.glsl, VolumePark; zero: nowhere)
     uint64_t microfacet;   // the metallic-roughness BSDF's albedo tables (core/Microfacet.h,
                            // kMicrofacetTableFloats floats) when some material is glossy
+    uint64_t groupState;   // streamed waves: uvec2 per group of sampleCount paths: paths of its block
+                           // still running (kGroupIdle: no block), its pixel's index in the window's
+                           // outputs (ring slot * tilePixels + pixel in the tile)
+    uint64_t stream;       // streamed waves (table buffer): StreamWindow
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -177,6 +200,21 @@ struct WavefrontParams {
     float envBitangentX, envBitangentY, envBitangentZ;  // normal is skyUp)
     uint volumeCount;
     uint volumeBrickCount;  // paged volumes: all volumes' bricks
+    uint tilePixels;        // streamed waves: a window tile's pixels at most (its outputs' stride)
+    uint padding;
+};
+
+// Streamed waves (out of core): the open tiles, oldest first, from which groups take pixels. The
+// host writes it before each paging step; the kernels take window pixels with `cursor` (window
+// pixel k lies in the first tile whose running pixel count exceeds k) and count each tile's
+// finished pixels in `done` (by ring slot). A tile (uvec4): first image pixel, width, pixels,
+// ring slot (its outputs start at slot * tilePixels).
+struct StreamWindow {
+    uint cursor;
+    uint tileCount;
+    uint padding0, padding1;
+    uint done[kMaxWindowTiles];
+    uint tiles[4 * kMaxWindowTiles];
 };
 
 // One block for every wavefront kernel. A wave is the tile's pixels times samples [firstSample,
@@ -196,12 +234,14 @@ struct WavefrontPush {
     uint queue;    // wf_walk.comp: the queue it walks (parked rays go to the other one);
                    // wf_generate.comp, wf_shade.comp: the queue their new rays are appended to
     uint tileWidth;
-    uint padding;
+    uint groupQueue;  // wf_generate.comp (kGenerateStream): the group queue it takes groups from
+                      // (kGroupQueue or kGroupQueue + 1; it appends idle ones to the other)
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 48);
-static_assert(offsetof(WavefrontParams, eyeX) == 36 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 38 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu

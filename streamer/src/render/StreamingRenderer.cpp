@@ -159,6 +159,8 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     if (job.materials.empty()) job.materials = std::span<const Material>(&fallback, 1);
     job.maxPathsPerWave = st.options.maxPathsPerWave;
     job.overlapLoads = st.options.overlapLoads;
+    job.streamWaves = st.options.streamWaves;
+    job.windowTiles = st.options.windowTiles;
     job.progress = progress;
     job.cancel = cancel;
     VASTRAY_TRY(st.backend->renderOnDevice(job, *st.pager, image, st.totals));
@@ -187,6 +189,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.walkedRays = t.walkedRays - before.walkedRays;
         s.submits = t.submits - before.submits;
         s.walkPasses = t.walkPasses - before.walkPasses;
+        s.streamedTiles = t.streamedTiles - before.streamedTiles;
         s.volumeBrickSlots = t.volumeBrickSlots;
         s.volumeBrickLoads = t.volumeBrickLoads - before.volumeBrickLoads;
         s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;

@@ -94,6 +94,8 @@ struct DeviceRenderJob {
     std::span<const Material> materials;  // at least one
     uint32_t maxPathsPerWave = 0;         // StreamingOptions::maxPathsPerWave (the budget may allow fewer)
     bool overlapLoads = true;             // StreamingOptions::overlapLoads
+    bool streamWaves = true;              // StreamingOptions::streamWaves
+    uint32_t windowTiles = 0;             // StreamingOptions::windowTiles
     std::function<void(uint64_t done, uint64_t total)> progress;  // optional
     const std::atomic<bool>* cancel = nullptr;                   // optional: set stops the render
 };
@@ -134,6 +136,13 @@ struct StreamingOptions {
     // Out of core, chunks are loaded while the device walks the next paging step (they serve the
     // step after it); false: between steps, the device idle meanwhile (for comparisons).
     bool overlapLoads = true;
+    // Out of core, waves are streamed: a group of a pixel's samples that is done starts the next
+    // pixel at once, so the wave stays full while a tile's last paths wait for chunks (false: a
+    // tile's wave at a time, for comparisons; docs/RENDERING.md, "Streamed waves").
+    bool streamWaves = true;
+    // Streamed waves: the most tiles open at once (0: as many as the output buffer holds, at
+    // most 16); for comparisons.
+    uint32_t windowTiles = 0;
     // Out of core, every chunk the host cache can hold is queued for decoding when a render
     // starts, nearest the camera first, behind the chunks rays wait for: a later load then
     // finds its chunk decoded instead of waiting for it (false: decode on demand only).
@@ -151,10 +160,11 @@ struct StreamingStats {
     uint64_t chunksTotal = 0;       // chunks_total
     uint64_t chunksTouched = 0;     // chunks_touched: distinct chunks this render traced rays against
     uint64_t chunkLoads = 0;        // chunk_loads: uploads into a slot
-    // Per ray stream (one bounce's closest or shadow rays), summed over streams: distinct chunks
-    // the stream traced (stream_chunks_touched), and loads of a chunk the same stream had
-    // already had resident (stream_reloads). (touched + reloads) / touched is the loads per
-    // bounce against chunks touched: 1.0 when no chunk is paged in twice within a stream.
+    // Per ray stream (a tile's wave, all bounces; for streamed waves, the paging steps between
+    // two closed tiles), summed over streams: distinct chunks the stream traced
+    // (stream_chunks_touched), and loads of a chunk the same stream had already had resident
+    // (stream_reloads). (touched + reloads) / touched is the loads per chunk a stream touches:
+    // 1.0 when no chunk is paged in twice within a stream.
     uint64_t streamChunksTouched = 0;
     uint64_t streamReloads = 0;
     uint64_t bytesRead = 0;         // bytes_read: chunk blobs read from the package
@@ -174,6 +184,7 @@ struct StreamingStats {
     // its AOVs down.
     uint64_t submits = 0;           // submits
     uint64_t walkPasses = 0;        // walk_passes
+    uint64_t streamedTiles = 0;     // streamed_tiles: tiles rendered by streamed waves (out of core)
     uint64_t volumeBrickSlots = 0;  // volume_brick_slots: the pool's brick slots (0: volumes in core or none)
     uint64_t volumeBrickLoads = 0;  // volume_brick_loads: bricks loaded into those slots
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
