@@ -19,7 +19,8 @@
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
 //                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
 //                       [--upload auto|mapped|dma]  (how chunks reach the slots: gpu::ChunkUploadMode)
-//                       [--staging-bytes 1GiB]  (--upload dma: the pinned staging area's size)
+//                       [--staging-bytes 4GiB]  (--upload dma: the pinned staging area's size; default:
+//                                                a sixteenth of the machine's memory, within 1-16 GiB)
 //                       [--dma-batch 0]  (--upload dma: bytes of chunk copies per transfer submission; 0: per chunk)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstring>
 #include <span>
+#include <unistd.h>
 #include <vector>
 
 #include "ChunkUploader.h"
@@ -349,6 +350,12 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     return plan;
 }
 
+uint64_t defaultStagingBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
+    const uint64_t machine = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
+    return std::clamp<uint64_t>(machine / 16, 1ull << 30, 16ull << 30);
+}
+
 uint64_t environmentBytes(const Environment& environment) {
     return environment.map ? granules(environment.map->deviceBytes()) : 0;
 }
@@ -382,9 +389,11 @@ ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mo
 Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& device, const PackageInfo& package,
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore,
-                                                               const ChunkUploadOptions& upload,
+                                                               const ChunkUploadOptions& given,
                                                                uint64_t reservedBytes) {
-    const ChunkUploadMode mode = resolveUploadMode(device, upload.mode);
+    const ChunkUploadMode mode = resolveUploadMode(device, given.mode);
+    ChunkUploadOptions upload = given;
+    if (upload.stagingBytes == ChunkUploadOptions::kStagingAuto) upload.stagingBytes = defaultStagingBytes();
     const bool dmaStagingInDevice =
         mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
     const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;

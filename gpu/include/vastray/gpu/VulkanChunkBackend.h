@@ -54,13 +54,21 @@ struct ChunkUploadFigures {
     uint64_t stagingBytes = 0;   // the staging ring (host memory on a discrete GPU)
 };
 
+// The staging area's size when ChunkUploadOptions asks for none in particular: a sixteenth of the
+// machine's memory, within [1 GiB, 16 GiB] (out of core a chunk still staged is copied by the DMA
+// engine alone: on the H200 a 1 GiB area, half of city 64M's chunks, left 0.48 s of host copies
+// where 4 GiB left 0.29 s; PERF_NOTES 56).
+uint64_t defaultStagingBytes();
+
 struct ChunkUploadOptions {
     ChunkUploadMode mode = ChunkUploadMode::Auto;
     // Dma: the staging area's size when it lies in host memory (pinned system memory: not
     // counted against the device budget; it is host memory besides the host chunk cache), cut
     // into blocks of one slot: at least two, at most one per chunk of the package. Where the
     // staging memory is device memory (lavapipe) it is taken from the budget (PoolPlan::stagingBytes).
-    uint64_t stagingBytes = 1ull << 30;
+    // kStagingAuto (the default): defaultStagingBytes().
+    static constexpr uint64_t kStagingAuto = 0;
+    uint64_t stagingBytes = kStagingAuto;
     // Dma: chunk copies are submitted to the transfer queue in batches of at least this many
     // bytes (0: one submission per chunk), and whatever is staged before each compute submission.
     uint64_t submitBytes = 0;
