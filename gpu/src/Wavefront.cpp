@@ -519,6 +519,7 @@ private:
                 VASTRAY_TRY(walkAovs(t));
                 VASTRAY_TRY(flush());
                 VASTRAY_TRY(readAovs(t, 0, image_.aovs, false));
+                VASTRAY_TRY(readWalkedRays());
             }
         VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
         auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, 1u});
@@ -630,7 +631,12 @@ private:
     Status readTile(const Tile& tile) {
         VASTRAY_TRY(readColor(tile, 0));
         VASTRAY_TRY(readAovs(tile, 0, image_.aovs, false));
-        uint32_t rays = 0;  // rays walked in this tile's streams; the counter restarts per tile
+        return readWalkedRays();
+    }
+
+    // The rays walked since the counter last restarted (a tile's streams), which restarts.
+    Status readWalkedRays() {
+        uint32_t rays = 0;
         VASTRAY_TRY(download(&rays, 4, *b_.table, b_.tables.demand + 4ull * (b_.chunkCount + 1)));
         stats_.walkedRays += rays;
         return upload(std::vector<uint32_t>(1, 0), b_.tables.demand + 4ull * (b_.chunkCount + 1));

@@ -367,6 +367,9 @@ TEST(StreamingRender, StreamedWavesEqualTileWaves) {
     EXPECT_EQ(ample.streamedTiles, 0u) << "in core, a tile's wave at a time";
     EXPECT_GT(streamed.chunkLoads, streamed.chunksTouched);
     EXPECT_LE(streamed.peakDeviceBytes, streamed.memoryBudgetBytes);
+    // The same rays (AOV, camera, bounce and shadow rays), whatever the schedule.
+    EXPECT_EQ(streamed.walkedRays, ample.walkedRays);
+    EXPECT_EQ(tiled.walkedRays, ample.walkedRays);
 
     // More samples than a wave holds: a group renders its pixel in blocks (4 samples, then 2),
     // adding each to the pixel's sum in sample order.
