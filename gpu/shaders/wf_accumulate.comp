@@ -15,15 +15,7 @@ void main() {
     if (i >= pc.pixelCount) return;
     ParamsRef params = ParamsRef(pc.params);
     Vec4Array accum = Vec4Array(params.p.accum);
-    vec4 sum = accum.v[i];
-    for (uint s = 0u; s < pc.sampleCount; ++s) {
-        const uint j = i * pc.sampleCount + s;
-        sum.xyz += Vec4Array(params.p.radiance).v[j].xyz;
-        sum.w += (UVec4Array(params.p.pathInfo).v[j].z & kPathCameraHit) != 0u ? 1.0 : 0.0;
-    }
+    const vec4 sum = addSamples(params, accum.v[i], i * pc.sampleCount, pc.sampleCount);
     accum.v[i] = sum;
-    if (pc.mode == 1u) {
-        const float spp = float(params.p.samplesPerPixel);
-        Vec4Array(params.p.outColor).v[i] = vec4(sum.xyz / spp, sum.w / spp);
-    }
+    if (pc.mode == 1u) Vec4Array(params.p.outColor).v[i] = pixelMean(params, sum);
 }

@@ -54,15 +54,11 @@ uint continueGroup(ParamsRef params, uint g, out bool idle) {
     if (state.x == 0u) {  // its block is done: add it to the pixel's sum, one sample at a time
         const uvec4 info = UVec4Array(params.p.pathInfo).v[first];
         const uint samples = min(groupSize, spp - info.y);
-        vec4 sum = accum.v[g];
-        for (uint s = 0u; s < samples; ++s) {
-            sum.xyz += Vec4Array(params.p.radiance).v[first + s].xyz;
-            sum.w += (UVec4Array(params.p.pathInfo).v[first + s].z & kPathCameraHit) != 0u ? 1.0 : 0.0;
-        }
+        const vec4 sum = addSamples(params, accum.v[g], first, samples);
         accum.v[g] = sum;
         pixel = info.x, next = info.y + samples;
         if (next >= spp) {  // the pixel is done
-            Vec4Array(params.p.outColor).v[state.y] = vec4(sum.xyz / float(spp), sum.w / float(spp));
+            Vec4Array(params.p.outColor).v[state.y] = pixelMean(params, sum);
             atomicAdd(window.w.done[state.y / params.p.tilePixels], 1u);
             state.x = kGroupIdle;
         }

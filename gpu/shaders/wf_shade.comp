@@ -52,9 +52,10 @@ bool surviveRoulette(inout vec3 throughput, uint pixel, uint sampleIndex, uint b
 }
 
 // Shades path j; count, first and second: the rays it started (at most two), to be queued. A path
-// that starts none has ended (streamed waves: its group's block is done when its last path ends).
-// Returns false when it must wait for volume bricks (it wrote only its park record then).
-bool shade(uint j, inout uint count, inout uint first, inout uint second) {
+// that starts none has ended (`ended`; streamed waves: its group's block is done when its last
+// path ends). Returns false when it must wait for volume bricks (it wrote only its park record then).
+bool shade(uint j, inout uint count, inout uint first, inout uint second, out bool ended) {
+    ended = false;
     const WavefrontParams p = ParamsRef(pc.params).p;
     uvec4 info = UVec4Array(p.pathInfo).v[j];
     uint flags = info.z;
@@ -206,6 +207,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second) {
     Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);
     info.z = flags;
     UVec4Array(p.pathInfo).v[j] = info;
+    ended = count == 0u;
     return true;
 }
 
@@ -216,9 +218,7 @@ void main() {
     bool waits = false, ended = false;
     if (k < queueCount(params, kShadeQueue)) {
         path = queueOf(params, kShadeQueue).v[k];
-        const uint before = UVec4Array(params.p.pathInfo).v[path].z;
-        waits = !shade(path, count, first, second);
-        ended = !waits && count == 0u && (before & (kPathAlive | kPathShadowPending)) != 0u;
+        waits = !shade(path, count, first, second, ended);
     }
     appendToQueue(params, pc.queue, true, count, first, second);
     if (kVolumes) appendToQueue(params, kVolumeWaitQueue, false, waits ? 1u : 0u, path, 0u);

@@ -59,6 +59,21 @@ void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint firs
     if (count > 1u) queue.v[at + 1u] = second;
 }
 
+// A pixel's sum (radiance, camera hits) with the samples of paths first .. first + samples - 1
+// added one at a time in sample order, and its mean over the pixel's samples: wf_accumulate.comp
+// and the streamed waves' groups (wf_generate.comp) add the same floats in the same order.
+vec4 addSamples(ParamsRef params, vec4 sum, uint first, uint samples) {
+    for (uint s = 0u; s < samples; ++s) {
+        sum.xyz += Vec4Array(params.p.radiance).v[first + s].xyz;
+        sum.w += (UVec4Array(params.p.pathInfo).v[first + s].z & kPathCameraHit) != 0u ? 1.0 : 0.0;
+    }
+    return sum;
+}
+vec4 pixelMean(ParamsRef params, vec4 sum) {
+    const float spp = float(params.p.samplesPerPixel);
+    return vec4(sum.xyz / spp, sum.w / spp);
+}
+
 // Streamed waves: the window of open tiles (shared/WavefrontTypes.h, StreamWindow).
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer StreamRef { StreamWindow w; };
 
