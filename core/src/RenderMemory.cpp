@@ -1,6 +1,7 @@
 #include "vastray/core/RenderMemory.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -66,6 +67,11 @@ RenderHostMemory estimateRenderHostBytes(const RenderOptions& options, bool exrO
     const uint64_t pixels = renderBounds(options).pixelCount();
     const uint64_t image = pixels * imageBytesPerPixel(options.aovs);
     return {image, exrOutput ? image : 4 * pixels};
+}
+
+uint64_t physicalHostBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
+    return pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
 }
 
 uint64_t availableHostBytes() {

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstring>
 #include <span>
-#include <unistd.h>
 #include <vector>
 
 #include "ChunkUploader.h"
@@ -14,6 +13,7 @@
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/RenderMemory.h"
 #include "vastray/core/Volume.h"
 #include "shared/TraceTypes.h"
 #include "PoolLayout.h"
@@ -351,9 +351,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
 }
 
 uint64_t defaultStagingBytes() {
-    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
-    const uint64_t machine = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
-    return std::clamp<uint64_t>(machine / 16, 1ull << 30, 16ull << 30);
+    return std::clamp<uint64_t>(physicalHostBytes() / 16, 1ull << 30, 16ull << 30);
 }
 
 uint64_t environmentBytes(const Environment& environment) {

@@ -1,7 +1,6 @@
 // A package opened for rendering on a backend that runs the whole path tracer on its device
 // (ChunkBackend::renderOnDevice): this file opens the backend, the host chunk cache and the
 // pager, hands renders to the device, and reports each render's figures.
-#include <unistd.h>
 
 #include <tbb/global_control.h>
 
@@ -13,6 +12,7 @@
 #include "render/ChunkCache.h"
 #include "render/DemandPager.h"
 #include "vastray/core/Camera.h"
+#include "vastray/core/RenderMemory.h"
 #include "vastray/core/Volume.h"
 #include "vastray/streamer/StreamingRenderer.h"
 
@@ -93,9 +93,8 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     uint64_t hostCache = options.hostCacheBytes;
     if (hostCache == StreamingOptions::kHostCacheAuto) {
         const uint64_t decoded = reader.info().decodedBytes();
-        const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
-        const uint64_t memory = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 4ull << 30;
-        hostCache = std::min(decoded, memory / 4);
+        const uint64_t machine = physicalHostBytes();
+        hostCache = std::min<uint64_t>(decoded, (machine > 0 ? machine : 4ull << 30) / 4);
     }
     s.cache = std::make_unique<ChunkCache>(reader, hostCache, workers);
     if (options.decodeOnOpen && reader.info().decodedBytes() <= s.cache->capacity())

@@ -20,6 +20,9 @@ struct RenderHostMemory {
 };
 RenderHostMemory estimateRenderHostBytes(const RenderOptions& options, bool exrOutput);
 
+// The machine's physical memory (sysconf); 0 when it cannot be read.
+uint64_t physicalHostBytes();
+
 // Memory this process may still take: the least of MemAvailable (/proc/meminfo), the cgroup
 // (v2) limit's headroom and the address-space limit's (ulimit -v) headroom, where each is
 // set. 0 when none can be read.
