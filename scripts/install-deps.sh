@@ -12,7 +12,9 @@
 # (tests/server/web_page_test.py). libpq-dev builds the PostgreSQL job store (`serve --database`);
 # postgresql (15, its initdb/pg_ctl/psql in /usr/lib/postgresql/15/bin) runs its tests, each of
 # which starts a throw-away cluster of its own (tests/server/PostgresCluster.h); the cluster
-# that Debian's package sets up is not used.
+# that Debian's package sets up is not used. scripts/install-openjd.sh (openjd-cli, PyPI) and
+# scripts/install-buf.sh (the buf CLI, npm's @bufbuild/buf, which the test Proto.BufLint runs)
+# install into folders of their own under /opt/vastray, idempotently too.
 set -euo pipefail
 
 # grpcurl v1.9.1 is the newest release whose go.mod (and whose dependencies' go.mod: grpc
@@ -77,6 +79,7 @@ else
 fi
 
 bash "$(dirname "$0")/install-openjd.sh"
+bash "$(dirname "$0")/install-buf.sh"
 # The module version grpcurl was built from (go-installed binaries call themselves "dev build").
 installed_grpcurl=""
 if [ -x "$GRPCURL_BIN" ]; then
