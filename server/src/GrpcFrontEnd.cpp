@@ -1,5 +1,7 @@
-// gRPC adapters: each handler checks the token, calls one Service function and converts
-// the ServiceStatus to a grpc::Status.
+// gRPC adapters: each handler checks the token, calls one Service function, puts what it
+// returns (a Job, a Scene, a JobEvent) into the method's own response message (buf's lint
+// rules: one request and one response type per RPC) and converts the ServiceStatus to a
+// grpc::Status.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 
@@ -71,7 +73,7 @@ public:
     explicit SceneServiceImpl(Adapter& adapter) : a_(adapter) {}
 
     grpc::Status UploadScene(grpc::ServerContext* context, grpc::ServerReader<v1::UploadSceneRequest>* reader,
-                             v1::Scene* response) override {
+                             v1::UploadSceneResponse* response) override {
         return a_.handle(context, [&]() -> ServiceStatus {
             v1::UploadSceneRequest message;
             if (!reader->Read(&message)) return invalidArgument("name", "the upload stream is empty");
@@ -84,7 +86,7 @@ public:
                 if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
             } while (reader->Read(&message));
             if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
-            return Adapter::assign((*upload)->finish(async), response);
+            return Adapter::assign((*upload)->finish(async), response->mutable_scene());
         });
     }
     grpc::Status FindMissing(grpc::ServerContext* context, const v1::FindMissingRequest* request,
@@ -93,8 +95,10 @@ public:
                          [&] { return Adapter::assign(a_.service_.findMissing(*request), response); });
     }
     grpc::Status GetScene(grpc::ServerContext* context, const v1::GetSceneRequest* request,
-                          v1::Scene* response) override {
-        return a_.handle(context, [&] { return Adapter::assign(a_.service_.getScene(*request), response); });
+                          v1::GetSceneResponse* response) override {
+        return a_.handle(context, [&] {
+            return Adapter::assign(a_.service_.getScene(*request), response->mutable_scene());
+        });
     }
     grpc::Status ListScenes(grpc::ServerContext* context, const v1::ListScenesRequest* request,
                             v1::ListScenesResponse* response) override {
@@ -116,42 +120,50 @@ public:
     explicit RenderServiceImpl(Adapter& adapter) : a_(adapter) {}
 
     grpc::Status SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
-                           v1::Job* response) override {
+                           v1::SubmitJobResponse* response) override {
         return a_.handle(context, [&]() -> ServiceStatus {
             auto outcome = a_.service_.submitJob(*request);
             if (!outcome) return outcome.status();
-            *response = outcome->job;
+            *response->mutable_job() = std::move(outcome->job);
             return {};
         });
     }
     grpc::Status GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
-                        v1::Job* response) override {
-        return a_.handle(context, [&] { return Adapter::assign(a_.service_.getJob(*request), response); });
+                        v1::GetJobResponse* response) override {
+        return a_.handle(
+            context, [&] { return Adapter::assign(a_.service_.getJob(*request), response->mutable_job()); });
     }
     grpc::Status ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
                           v1::ListJobsResponse* response) override {
         return a_.handle(context, [&] { return Adapter::assign(a_.service_.listJobs(*request), response); });
     }
     grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
-                           v1::Job* response) override {
-        return a_.handle(context, [&] { return Adapter::assign(a_.service_.cancelJob(*request), response); });
+                           v1::CancelJobResponse* response) override {
+        return a_.handle(context, [&] {
+            return Adapter::assign(a_.service_.cancelJob(*request), response->mutable_job());
+        });
     }
     grpc::Status WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
-                          grpc::ServerWriter<v1::JobEvent>* writer) override {
+                          grpc::ServerWriter<v1::WatchJobResponse>* writer) override {
         return a_.handle(context, [&] {
+            v1::WatchJobResponse response;
             return a_.service_.watchJob(
-                *request, [&](const v1::JobEvent& event) { return writer->Write(event); },
+                *request,
+                [&](const v1::JobEvent& event) {
+                    *response.mutable_event() = event;
+                    return writer->Write(response);
+                },
                 [&] { return context->IsCancelled(); });
         });
     }
     grpc::Status GetResult(grpc::ServerContext* context, const v1::GetResultRequest* request,
-                           grpc::ServerWriter<v1::ResultChunk>* writer) override {
+                           grpc::ServerWriter<v1::GetResultResponse>* writer) override {
         return a_.handle(context, [&]() -> ServiceStatus {
             // The bytes to send: a preview PNG made now, or the stored file.
             std::string png;
             std::ifstream in;
             uint64_t total = 0;
-            v1::ResultChunk chunk;
+            v1::GetResultResponse chunk;
             const bool preview = !request->aov().empty();
             if (preview) {
                 auto made = a_.service_.resultPreviewPng(request->job_id(), request->aov());

@@ -158,6 +158,19 @@ ServiceResult<int32_t> intParam(const httplib::Request& req, const char* name) {
     return int32_t(value);
 }
 
+// ?state=: a JobState's name (JOB_STATE_QUEUED), or the name without its prefix (QUEUED), as
+// the states were called before the protos followed buf's lint rules; absent: every state.
+ServiceResult<v1::JobState> stateParam(const httplib::Request& req) {
+    v1::JobState state = v1::JOB_STATE_UNSPECIFIED;
+    if (!req.has_param("state")) return state;
+    const std::string text = req.get_param_value("state");
+    if (v1::JobState_Parse(text, &state) || v1::JobState_Parse("JOB_STATE_" + text, &state)) return state;
+    return invalidArgument("state",
+                           "'" + text +
+                               "': expected JOB_STATE_QUEUED, JOB_STATE_RUNNING, JOB_STATE_SUCCEEDED, "
+                               "JOB_STATE_FAILED or JOB_STATE_CANCELLED (or the same without JOB_STATE_)");
+}
+
 uint64_t contentLength(const httplib::Request& req) {
     return req.has_header("Content-Length")
                ? std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10)
@@ -330,13 +343,9 @@ private:
             if (!size) return writeError(res, size.status());
             request.set_page_size(*size);
             request.set_page_token(req.get_param_value("page_token"));
-            v1::JobState state = v1::JOB_STATE_UNSPECIFIED;
-            if (req.has_param("state") && !v1::JobState_Parse(req.get_param_value("state"), &state))
-                return writeError(
-                    res, invalidArgument("state",
-                                         "'" + req.get_param_value("state") +
-                                             "': expected QUEUED, RUNNING, SUCCEEDED, FAILED or CANCELLED"));
-            request.set_state(state);
+            auto state = stateParam(req);
+            if (!state) return writeError(res, state.status());
+            request.set_state(*state);
             reply(res, service_.listJobs(request));
         });
         server.Get(R"(/v1/jobs/([^:/]+))", [this](const httplib::Request& req, httplib::Response& res) {
@@ -382,8 +391,9 @@ private:
         res.set_content(toJson(outcome->job), kJson);
     }
 
-    // Server-Sent Events: one "event: KIND" + "data: JSON" block per JobEvent; after a final
-    // state the stream ends. A failed watch ends with an "error" event.
+    // Server-Sent Events: one "event: KIND" + "data: JSON" block per JobEvent (KIND as its
+    // `kind` field: KIND_SNAPSHOT, KIND_STATE_CHANGED, KIND_PROGRESS); after a final state the
+    // stream ends. A failed watch ends with an "error" event.
     void events(const std::string& id, httplib::Response& res) {
         v1::GetJobRequest get;
         get.set_id(id);

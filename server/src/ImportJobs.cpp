@@ -39,7 +39,7 @@ ServiceResult<v1::Scene> Service::queueImport(const std::string& name, const fs:
                                                                 std::to_string(options_.maxQueue) + ")"};
     v1::Job job;
     job.set_id(newJobId());
-    job.set_state(v1::QUEUED);
+    job.set_state(v1::JOB_STATE_QUEUED);
     job.mutable_import()->set_name(name);
     job.mutable_import()->set_scene_id(digest);
     job.mutable_import()->set_upload_bytes(bytes);
@@ -86,7 +86,7 @@ void Service::runImport(const std::string& jobId, const fs::path& file) {
             return;
         }
         job = **stored;
-        job.set_state(v1::RUNNING);
+        job.set_state(v1::JOB_STATE_RUNNING);
         job.set_attempts(1);
         *job.mutable_start_time() = nowTimestamp();
         (void)stores_.jobs->updateJob(job);  // a lost update leaves QUEUED: failed at the next start
@@ -113,7 +113,7 @@ void Service::runImport(const std::string& jobId, const fs::path& file) {
     std::error_code error;
     fs::remove(file, error);
     std::lock_guard<std::mutex> lock(mutex_);
-    job.set_state(scene ? v1::SUCCEEDED : v1::FAILED);
+    job.set_state(scene ? v1::JOB_STATE_SUCCEEDED : v1::JOB_STATE_FAILED);
     job.set_progress(scene ? 100 : 0);
     job.set_error(scene ? "" : scene.status().message());
     if (scene) *job.mutable_import()->mutable_warnings() = scene->import_warnings();

@@ -105,7 +105,7 @@ Status Service::recoverJobs() {
     std::lock_guard<std::mutex> lock(mutex_);
     for (v1::Job& job : *jobs) {
         if (job.has_import()) {  // its upload was in tmp/, which open() emptied
-            job.set_state(v1::FAILED);
+            job.set_state(v1::JOB_STATE_FAILED);
             job.set_error("the server stopped before this import finished; upload " + job.import().name() + " again");
             *job.mutable_end_time() = nowTimestamp();
             VASTRAY_TRY(stores_.jobs->updateJob(job));
@@ -114,19 +114,19 @@ Status Service::recoverJobs() {
         // RUNNING here: the server stopped mid-render without handing the job back (a crash, a
         // kill, a lost machine). Each such attempt counts as failed; a job that crashes the
         // server every time fails after --max-attempts instead of crashing it at every start.
-        if (job.state() == v1::RUNNING) {
+        if (job.state() == v1::JOB_STATE_RUNNING) {
             job.add_attempt_errors(
                 "attempt " + std::to_string(job.attempts()) + " (started " + timestampText(job.start_time()) +
                 "): the server stopped while rendering it (a crash, a kill or a lost machine)");
             if (uint32_t(job.attempt_errors_size()) >= options_.maxAttempts) {
-                job.set_state(v1::FAILED);
+                job.set_state(v1::JOB_STATE_FAILED);
                 job.set_error(failedAttemptsMessage(job, options_.maxAttempts));
                 *job.mutable_end_time() = nowTimestamp();
                 VASTRAY_TRY(stores_.jobs->updateJob(job));
                 ++metrics_.jobsFailed;
                 continue;
             }
-            job.set_state(v1::QUEUED);
+            job.set_state(v1::JOB_STATE_QUEUED);
             job.set_progress(0);
             VASTRAY_TRY(stores_.jobs->updateJob(job));
         }
@@ -171,7 +171,7 @@ ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& requ
     }
     v1::Job job;
     job.set_id(newJobId());
-    job.set_state(v1::QUEUED);
+    job.set_state(v1::JOB_STATE_QUEUED);
     *job.mutable_request() = std::move(*normalized);
     *job.mutable_create_time() = nowTimestamp();
     job.set_result_content_type(resultContentType(job.request()));
@@ -228,8 +228,8 @@ ServiceResult<v1::Job> Service::cancelJob(const v1::CancelJobRequest& request) {
     if (isFinal(job.state()))
         return ServiceStatus{StatusCode::FailedPrecondition,
                              "job " + job.id() + " is " + jobStateName(job.state()) +
-                                 "; only QUEUED or RUNNING jobs can be cancelled"};
-    job.set_state(v1::CANCELLED);
+                                 "; only JOB_STATE_QUEUED or JOB_STATE_RUNNING jobs can be cancelled"};
+    job.set_state(v1::JOB_STATE_CANCELLED);
     job.set_error(request.reason().empty() ? "cancelled" : "cancelled: " + request.reason());
     *job.mutable_end_time() = nowTimestamp();
     if (Status updated = stores_.jobs->updateJob(job); !updated) return internalError(updated.message());
@@ -256,14 +256,15 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
     event.set_percent(job.progress());
     event.set_error(job.error());
     event.set_chunk_loads(job.stats().chunk_loads());
-    if (job.state() == v1::SUCCEEDED) {
+    if (job.state() == v1::JOB_STATE_SUCCEEDED) {
         event.set_passes_done(job.stats().passes());
         event.set_passes_total(job.stats().passes());
         event.set_rays(job.stats().rays());
         event.set_device_bytes(job.stats().peak_device_bytes());
     }
-    const Worker* worker =
-        job.state() == v1::RUNNING && !options_.sharedStorage ? runningWorkerLocked(job.id()) : nullptr;
+    const Worker* worker = job.state() == v1::JOB_STATE_RUNNING && !options_.sharedStorage
+                               ? runningWorkerLocked(job.id())
+                               : nullptr;
     if (worker) {
         event.set_passes_done(worker->published.passesDone);
         event.set_passes_total(worker->published.passesTotal);
@@ -277,7 +278,7 @@ v1::JobEvent Service::eventLocked(const v1::Job& job, v1::JobEvent::Kind kind) c
 
 void Service::overlayLiveLocked(v1::Job& job) const {
     // Replicas: the stored progress is the job's (tiles done); a worker's is one tile's.
-    if (job.state() != v1::RUNNING || options_.sharedStorage) return;
+    if (job.state() != v1::JOB_STATE_RUNNING || options_.sharedStorage) return;
     if (const Worker* worker = runningWorkerLocked(job.id())) job.set_progress(worker->livePercent);
 }
 
@@ -293,7 +294,7 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
     {
         std::lock_guard<std::mutex> lock(mutex_);
         seen = changeCounter_;
-        last = eventLocked(*job, v1::JobEvent::SNAPSHOT);
+        last = eventLocked(*job, v1::JobEvent::KIND_SNAPSHOT);
     }
     if (!emit(last)) return {StatusCode::Cancelled, "the client went away"};
     while (!isFinal(last.state())) {
@@ -314,11 +315,11 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
         v1::JobEvent event;
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            event = eventLocked(*current, v1::JobEvent::PROGRESS);
+            event = eventLocked(*current, v1::JobEvent::KIND_PROGRESS);
         }
         keepMonotone(last, event);
         if (event.state() != last.state())
-            event.set_kind(v1::JobEvent::STATE_CHANGED);
+            event.set_kind(v1::JobEvent::KIND_STATE_CHANGED);
         else if (event.percent() == last.percent() && event.passes_done() == last.passes_done() &&
                  event.passes_total() == last.passes_total() && event.chunk_loads() == last.chunk_loads() &&
                  event.rays() == last.rays() && event.device_bytes() == last.device_bytes())
@@ -337,10 +338,10 @@ ServiceResult<ResultFile> Service::resultFile(const std::string& jobId) {
     if (job->has_import())
         return ServiceStatus{StatusCode::FailedPrecondition, "job " + jobId + " is an import job; it has no result (its scene is " +
                                                                  job->import().scene_id() + ")"};
-    if (job->state() != v1::SUCCEEDED)
-        return ServiceStatus{
-            StatusCode::FailedPrecondition,
-            "job " + jobId + " is " + jobStateName(job->state()) + "; a result exists once it SUCCEEDED"};
+    if (job->state() != v1::JOB_STATE_SUCCEEDED)
+        return ServiceStatus{StatusCode::FailedPrecondition,
+                             "job " + jobId + " is " + jobStateName(job->state()) +
+                                 "; a result exists once it is JOB_STATE_SUCCEEDED"};
     auto path = objects_->localPath(resultKey(*job));
     if (!path) return internalError(path.message());
     std::error_code error;

@@ -240,7 +240,8 @@ ServiceResult<uint64_t> parsePageToken(const std::string& token) {
 }
 
 bool isFinal(v1::JobState state) {
-    return state == v1::SUCCEEDED || state == v1::FAILED || state == v1::CANCELLED;
+    return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED ||
+           state == v1::JOB_STATE_CANCELLED;
 }
 
 std::string timestampText(const google::protobuf::Timestamp& time) {

@@ -66,9 +66,9 @@ void Service::runJob(Worker& worker, const std::string& id) {
         std::lock_guard<std::mutex> lock(mutex_);
         auto stored = stores_.jobs->getJob(id);
         // A job cancelled while queued leaves the queue at once; this covers a lost race.
-        if (!stored || !*stored || (*stored)->state() != v1::QUEUED) return;
+        if (!stored || !*stored || (*stored)->state() != v1::JOB_STATE_QUEUED) return;
         job = **stored;
-        job.set_state(v1::RUNNING);
+        job.set_state(v1::JOB_STATE_RUNNING);
         job.set_attempts(job.attempts() + 1);
         job.set_progress(0);
         job.clear_error();
@@ -78,12 +78,12 @@ void Service::runJob(Worker& worker, const std::string& id) {
         job.mutable_stats()->set_device(worker.device);
         metrics_.queueWait.observe(secondsBetween(job.create_time(), job.start_time()));
         if (Status updated = stores_.jobs->updateJob(job); !updated) {
-            job.set_state(v1::FAILED);
+            job.set_state(v1::JOB_STATE_FAILED);
             job.set_error(updated.message());
         }
         notifyChangeLocked();
     }
-    if (job.state() == v1::FAILED) return finishJob(job, internalError(job.error()));
+    if (job.state() == v1::JOB_STATE_FAILED) return finishJob(job, internalError(job.error()));
     crashIfTestAsks(job);
     finishJob(job, renderAndStoreGuarded(worker, job));
 }
@@ -153,7 +153,7 @@ ServiceStatus Service::renderAndStore(Worker& worker, v1::Job& job) {
 void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
     std::lock_guard<std::mutex> lock(mutex_);
     auto stored = stores_.jobs->getJob(job.id());
-    const bool cancelled = stored && *stored && (*stored)->state() == v1::CANCELLED;
+    const bool cancelled = stored && *stored && (*stored)->state() == v1::JOB_STATE_CANCELLED;
     if (cancelled || (shutdownCancel_ && outcome.code() == StatusCode::Cancelled)) {
         // Cancelled by a client (already recorded) or stopped by shutdown: no result may
         // remain. A job stopped by shutdown is handed back QUEUED (not a failed attempt) and
@@ -162,7 +162,7 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
         objects_->remove(resultKey(job));
         if (cancelled) return;
         leftRunning_.push_back(job.id());
-        job.set_state(v1::QUEUED);
+        job.set_state(v1::JOB_STATE_QUEUED);
         job.set_progress(0);
         if (Status updated = stores_.jobs->updateJob(job); !updated)
             std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(), updated.message().c_str());
@@ -175,7 +175,7 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
         // until --max-attempts attempts failed. Any other error would recur: FAILED at once.
         if (outcome.code() == StatusCode::Internal &&
             uint32_t(job.attempt_errors_size()) < options_.maxAttempts) {
-            job.set_state(v1::QUEUED);
+            job.set_state(v1::JOB_STATE_QUEUED);
             job.set_progress(0);
             if (Status updated = stores_.jobs->updateJob(job); !updated) {
                 std::fprintf(stderr, "vastray serve: job %s: %s\n", job.id().c_str(),
@@ -190,7 +190,7 @@ void Service::finishJob(v1::Job job, const ServiceStatus& outcome) {
             return;
         }
     }
-    job.set_state(outcome.isOk() ? v1::SUCCEEDED : v1::FAILED);
+    job.set_state(outcome.isOk() ? v1::JOB_STATE_SUCCEEDED : v1::JOB_STATE_FAILED);
     job.set_error(job.attempt_errors_size() > 1 ? failedAttemptsMessage(job, options_.maxAttempts)
                                                 : outcome.message());
     if (outcome.isOk()) job.set_progress(100);

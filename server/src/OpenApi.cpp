@@ -177,10 +177,11 @@ void addJobPaths(json& p) {
                                     {{"400", "BadRequest"}, {"404", "NotFound"}, {"409", "Conflict"}});
     p["/v1/jobs/{id}:cancel"] = {{"parameters", {jobId}}, {"post", cancel}};
 
-    json watch = operation("watchJob", "jobs", "Watch a job (Server-Sent Events)", "RenderService.WatchJob",
-                           "Server-Sent Events: each block is `event: SNAPSHOT|STATE_CHANGED|PROGRESS` and "
-                           "`data:` a JobEvent as JSON; a failed watch ends with an `error` event whose data is "
-                           "the error body's `error` object.");
+    json watch =
+        operation("watchJob", "jobs", "Watch a job (Server-Sent Events)", "RenderService.WatchJob",
+                  "Server-Sent Events: each block is `event: KIND_SNAPSHOT|KIND_STATE_CHANGED|KIND_PROGRESS` "
+                  "(the event's `kind`) and `data:` a JobEvent as JSON; a failed watch ends with an `error` "
+                  "event whose data is the error body's `error` object.");
     watch["responses"] = responses(
         {{"200",
           {{"description", "A text/event-stream of JobEvent messages, ending after a final state."},
@@ -269,7 +270,10 @@ std::string openApiDocument(bool authRequired) {
           {"version", "v1"},
           {"description",
            "HTTP front end of `vastray serve`. Bodies are the vastray.v1 proto messages in their proto3 JSON "
-           "mapping (field names as in the .proto); every operation equals a gRPC method of the same service."}}},
+           "mapping (field names as in the .proto); every operation equals a gRPC method of the same "
+           "service. Where the gRPC method answers a response message that wraps one resource "
+           "(GetJobResponse's `job`, UploadSceneResponse's `scene`, WatchJobResponse's `event`), HTTP "
+           "answers the resource itself."}}},
         {"tags", tags()},
         {"paths", paths},
         {"components",

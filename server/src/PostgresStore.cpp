@@ -240,7 +240,7 @@ public:
     Result<std::vector<v1::Job>> unfinishedJobs() override {
         std::lock_guard<std::mutex> lock(mutex_);
         auto rows = run("SELECT record FROM jobs WHERE state IN ($1, $2) ORDER BY position",
-                        Params().integer(v1::QUEUED).integer(v1::RUNNING));
+                        Params().integer(v1::JOB_STATE_QUEUED).integer(v1::JOB_STATE_RUNNING));
         if (!rows) return rows.status();
         std::vector<v1::Job> jobs;
         for (int row = 0; row < PQntuples(rows->get()); ++row) {
@@ -254,7 +254,7 @@ public:
     Result<bool> sceneInUse(const std::string& sceneId) override {
         std::lock_guard<std::mutex> lock(mutex_);
         auto rows = run("SELECT 1 FROM jobs WHERE scene_id = $1 AND state IN ($2, $3) LIMIT 1",
-                        Params().text(sceneId).integer(v1::QUEUED).integer(v1::RUNNING));
+                        Params().text(sceneId).integer(v1::JOB_STATE_QUEUED).integer(v1::JOB_STATE_RUNNING));
         if (!rows) return rows.status();
         return PQntuples(rows->get()) > 0;
     }
@@ -305,7 +305,7 @@ public:
                 "AND (t.tile >= 0 OR NOT EXISTS (SELECT 1 FROM tasks u WHERE u.job_id = t.job_id "
                 "AND u.tile >= 0 AND u.state <> $5)) "
                 "ORDER BY t.priority DESC, t.job_position, t.tile LIMIT 1 FOR UPDATE OF t SKIP LOCKED",
-                Params().integer(v1::QUEUED).integer(v1::RUNNING).integer(kWaiting).integer(kLeased).integer(kDone));
+                Params().integer(v1::JOB_STATE_QUEUED).integer(v1::JOB_STATE_RUNNING).integer(kWaiting).integer(kLeased).integer(kDone));
             if (!found) return rollback(found.status());
             if (PQntuples(found->get()) == 0) {
                 VASTRAY_TRY(run("COMMIT", Params()));
@@ -343,8 +343,8 @@ public:
                     .integer(failures));
             if (!leased) return rollback(leased.status());
             lease.attempt = uint32_t(integerValue(leased->get(), 0, 0));
-            if (job->state() == v1::QUEUED) {
-                job->set_state(v1::RUNNING);
+            if (job->state() == v1::JOB_STATE_QUEUED) {
+                job->set_state(v1::JOB_STATE_RUNNING);
                 *job->mutable_start_time() = nowTimestamp();
             }
             job->set_attempts(std::max(job->attempts(), lease.attempt));
@@ -369,8 +369,8 @@ public:
                 .integer(lease.attempt)
                 .text(std::to_string(seconds))
                 .integer(kLeased)
-                .integer(v1::QUEUED)
-                .integer(v1::RUNNING));
+                .integer(v1::JOB_STATE_QUEUED)
+                .integer(v1::JOB_STATE_RUNNING));
         if (!renewed) return renewed.status();
         return std::string(PQcmdTuples(renewed->get())) == "1";
     }
@@ -475,7 +475,7 @@ public:
         auto rows = run(
             "SELECT count(*) FROM tasks t JOIN jobs j ON j.id = t.job_id "
             "WHERE j.state IN ($1, $2) AND t.tile >= 0 AND (t.state = $3 OR (t.state = $4 AND t.lease_until < now()))",
-            Params().integer(v1::QUEUED).integer(v1::RUNNING).integer(kWaiting).integer(kLeased));
+            Params().integer(v1::JOB_STATE_QUEUED).integer(v1::JOB_STATE_RUNNING).integer(kWaiting).integer(kLeased));
         if (!rows) return rows.status();
         return uint64_t(integerValue(rows->get(), 0, 0));
     }
@@ -523,7 +523,7 @@ private:
     // In the open transaction: the job FAILED after `failures` failed attempts of one task (its
     // task freed, so that nothing leases it: the job is final), committed.
     Status failJobLocked(v1::Job& job, const Lease& lease, int64_t failures, uint32_t maxAttempts) {
-        job.set_state(v1::FAILED);
+        job.set_state(v1::JOB_STATE_FAILED);
         job.set_error(failedAttemptsMessage(job, maxAttempts) + " (" + taskName(lease.tile) + " failed " +
                       std::to_string(failures) + " times)");
         *job.mutable_end_time() = nowTimestamp();

@@ -77,7 +77,8 @@ private:
             enumeration(m.enum_type(i), name + "." + m.enum_type(i).name(), child(path, kMessageEnum, i));
     }
 
-    // Enum values are scoped like C++: "vastray.v1.JobState.QUEUED" names QUEUED of JobState here.
+    // Enum values are scoped like C++: "vastray.v1.JobState.JOB_STATE_QUEUED" names JOB_STATE_QUEUED
+    // of JobState here.
     void enumeration(const EnumDescriptorProto& e, const std::string& name, const Path& path) {
         note(name, path);
         for (int i = 0; i < e.value_size(); ++i) note(name + "." + e.value(i).name(), child(path, kEnumValue, i));

@@ -331,8 +331,9 @@ ServiceResult<v1::DeleteSceneResponse> Service::deleteScene(const v1::DeleteScen
     auto inUse = stores_.jobs->sceneInUse(request.id());
     if (!inUse) return internalError(inUse.message());
     if (*inUse)
-        return ServiceStatus{StatusCode::FailedPrecondition,
-                             "scene " + request.id() + " is used by a QUEUED or RUNNING job"};
+        return ServiceStatus{
+            StatusCode::FailedPrecondition,
+            "scene " + request.id() + " is used by a JOB_STATE_QUEUED or JOB_STATE_RUNNING job"};
     if (Status removed = stores_.scenes->deleteScene(request.id()); !removed)
         return internalError(removed.message());
     if (Status removed = objects_->remove(sceneKey(request.id())); !removed)

@@ -201,8 +201,8 @@ public:
     Result<std::vector<v1::Job>> unfinishedJobs() override {
         std::lock_guard<std::mutex> lock(mutex_);
         Statement query(db_, "SELECT record FROM jobs WHERE state IN (?, ?) ORDER BY position");
-        query.bind(1, int64_t(v1::QUEUED));
-        query.bind(2, int64_t(v1::RUNNING));
+        query.bind(1, int64_t(v1::JOB_STATE_QUEUED));
+        query.bind(2, int64_t(v1::JOB_STATE_RUNNING));
         std::vector<v1::Job> jobs;
         int rc;
         while ((rc = query.step()) == SQLITE_ROW) {
@@ -218,8 +218,8 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         Statement query(db_, "SELECT 1 FROM jobs WHERE scene_id = ? AND state IN (?, ?) LIMIT 1");
         query.bind(1, sceneId);
-        query.bind(2, int64_t(v1::QUEUED));
-        query.bind(3, int64_t(v1::RUNNING));
+        query.bind(2, int64_t(v1::JOB_STATE_QUEUED));
+        query.bind(3, int64_t(v1::JOB_STATE_RUNNING));
         const int rc = query.step();
         if (rc != SQLITE_ROW && rc != SQLITE_DONE) return failure(query);
         return rc == SQLITE_ROW;

@@ -208,7 +208,7 @@ ServiceStatus Service::assembleResult(const TaskStore::Lease& lease) {
     std::error_code error;
     job.set_result_bytes(std::filesystem::file_size(scratch, error));
     if (Status stored = objects_->put(resultKey(job), scratch); !stored) return internalError(stored.message());
-    job.set_state(v1::SUCCEEDED);
+    job.set_state(v1::JOB_STATE_SUCCEEDED);
     job.set_progress(100);
     job.clear_error();
     *job.mutable_end_time() = nowTimestamp();

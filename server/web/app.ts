@@ -24,7 +24,12 @@ interface JobEvent {
   time: string;
 }
 
-const kFinal = new Set(["SUCCEEDED", "FAILED", "CANCELLED"]);
+// Job states as the API writes them (vastray.v1.JobState); the page shows them without the prefix.
+const kRunning = "JOB_STATE_RUNNING", kSucceeded = "JOB_STATE_SUCCEEDED", kFailed = "JOB_STATE_FAILED";
+const kFinal = new Set([kSucceeded, kFailed, "JOB_STATE_CANCELLED"]);
+function stateLabel(state: string): string {
+  return state.replace(/^JOB_STATE_/, "");
+}
 const kTokenKey = "vastray.token";
 
 function $(id: string): HTMLElement {
@@ -181,19 +186,19 @@ async function uploadFiles(files: ModelFile[], folder = ""): Promise<void> {
     const scene = (await response.json()) as Scene;
     if (!scene.import_job_id) {
       item.textContent = `${name}: stored (${formatCount(Number(scene.triangles))} triangles)`;
-      item.dataset.state = "SUCCEEDED";
+      item.dataset.state = kSucceeded;
       await refreshScenes(scene.id);
       return;
     }
     item.textContent = `${name}: importing (job ${scene.import_job_id})`;
     const final = await watch(scene.import_job_id, (event) => {
       item.dataset.state = event.state;
-      const percent = event.state === "RUNNING" ? ` ${event.percent} %` : "";
-      item.textContent = `${name}: import ${event.state}${percent}${event.error ? ": " + event.error : ""}`;
+      const percent = event.state === kRunning ? ` ${event.percent} %` : "";
+      item.textContent = `${name}: import ${stateLabel(event.state)}${percent}${event.error ? ": " + event.error : ""}`;
     });
-    if (final === "SUCCEEDED") await refreshScenes(scene.id);
+    if (final === kSucceeded) await refreshScenes(scene.id);
   } catch (error) {
-    item.dataset.state = "FAILED";
+    item.dataset.state = kFailed;
     item.textContent = `${name}: ${(error as Error).message}`;
     item.classList.add("message");
   }
@@ -376,11 +381,11 @@ function setFigure(card: JobCard, name: string, text: string): void {
 
 function updateState(card: JobCard, state: string, percent: number, error: string): void {
   card.root.dataset.state = state;
-  card.state.textContent = state;
-  card.state.className = `state state-${state}`;
+  card.state.textContent = stateLabel(state);
+  card.state.className = `state state-${stateLabel(state)}`;
   card.bar.value = percent;
   card.cancel.hidden = kFinal.has(state);
-  card.view.hidden = state !== "SUCCEEDED";
+  card.view.hidden = state !== kSucceeded;
   card.error.textContent = error;
 }
 
@@ -430,7 +435,7 @@ async function followJob(job: Job): Promise<void> {
       setFigure(card, "chunks", `${formatCount(Number(event.chunk_loads ?? 0))} chunk loads`);
       const device = Number(event.device_bytes ?? 0);
       if (device > 0) setFigure(card, "memory", memoryText(device, budget));
-      if (event.state !== "RUNNING") return;
+      if (event.state !== kRunning) return;
       const rays = Number(event.rays ?? 0), time = Date.parse(event.time);
       if (!first) first = { rays, time };
       else if (rays > first.rays && time > first.time)

@@ -27,7 +27,7 @@ TEST_F(ServerTest, InternalRenderErrorsAreRetriedUntilMaxAttempts) {
     auto res = submit(smallJob(sceneId));
     ASSERT_EQ(res->status, 202) << res->body;
     const std::string id = json::parse(res->body)["id"];
-    const json failed = waitForState(id, "FAILED");
+    const json failed = waitForState(id, "JOB_STATE_FAILED");
     EXPECT_EQ(failed["attempts"], 2) << failed.dump();
     ASSERT_EQ(failed["attempt_errors"].size(), 2u) << failed.dump();
     const std::string error = failed.value("error", "");

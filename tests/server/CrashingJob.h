@@ -47,7 +47,7 @@ protected:
         }
         // The next start fails the job instead of starting it (the hook is still set).
         startServer(flags);
-        const json failed = waitForState(crashId, "FAILED");
+        const json failed = waitForState(crashId, "JOB_STATE_FAILED");
         EXPECT_EQ(failed["attempts"], maxAttempts) << failed.dump();
         ASSERT_EQ(failed["attempt_errors"].size(), size_t(maxAttempts)) << failed.dump();
         const std::string error = failed.value("error", "");
@@ -63,12 +63,12 @@ protected:
         }
         EXPECT_EQ(server_.log().find("aborting"), std::string::npos) << server_.log();
         // The job queued behind it, and a new one, run as usual.
-        EXPECT_EQ(waitForState(behindId, "SUCCEEDED")["attempts"], 1);
+        EXPECT_EQ(waitForState(behindId, "JOB_STATE_SUCCEEDED")["attempts"], 1);
         EXPECT_EQ(result(behindId), cliRender(sceneId, "--resolution 32x32 --spp 2 --seed 7"));
         res = submit(smallJob(sceneId));
         ASSERT_EQ(res->status, 202) << res->body;
-        waitForState(json::parse(res->body)["id"], "SUCCEEDED");
-        EXPECT_EQ(getJob(crashId)["state"], "FAILED") << "never run again";
+        waitForState(json::parse(res->body)["id"], "JOB_STATE_SUCCEEDED");
+        EXPECT_EQ(getJob(crashId)["state"], "JOB_STATE_FAILED") << "never run again";
     }
 };
 

@@ -34,8 +34,8 @@ TEST_F(ServerTest, CurlDrivesTheHttpApi) {
     const std::string id = headers.substr(location + 19, 36);
 
     const std::string events = run("curl -sS -N " + base + "/v1/jobs/" + id + "/events");
-    EXPECT_NE(events.find("event: SNAPSHOT"), std::string::npos) << events;
-    EXPECT_NE(events.find("\"state\":\"SUCCEEDED\""), std::string::npos) << events;
+    EXPECT_NE(events.find("event: KIND_SNAPSHOT"), std::string::npos) << events;
+    EXPECT_NE(events.find("\"state\":\"JOB_STATE_SUCCEEDED\""), std::string::npos) << events;
 
     const std::string again =
         run("curl -sS -X POST -H 'Idempotency-Key: curl-1' -d '" + body + "' " + base + "/v1/jobs");

@@ -31,7 +31,7 @@ TEST_F(ServerTest, QueuedJobsRunAfterKillAndRestartInPriorityOrder) {
 
     startServer();
     std::vector<json> done;
-    for (const std::string& id : ids) done.push_back(waitForState(id, "SUCCEEDED"));
+    for (const std::string& id : ids) done.push_back(waitForState(id, "JOB_STATE_SUCCEEDED"));
     for (int i = 0; i < 3; ++i) {
         EXPECT_EQ(done[i]["attempts"], 1) << done[i].dump();
         EXPECT_EQ(result(ids[i]),
@@ -53,12 +53,12 @@ TEST_F(ServerTest, RunningJobIsRenderedAgainAfterKill) {
     auto res = submit(body);
     ASSERT_EQ(res->status, 202);
     const std::string id = json::parse(res->body)["id"];
-    waitForState(id, "RUNNING");
+    waitForState(id, "JOB_STATE_RUNNING");
     server_.kill(SIGKILL);
     EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "results")) << "no result of an interrupted render";
 
     startServer();
-    const json job = waitForState(id, "SUCCEEDED");
+    const json job = waitForState(id, "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(job["attempts"], 2) << "the interrupted render ran again";
     EXPECT_EQ(result(id), cliRender(sceneId, "--resolution 160x160 --spp 48"));
     EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "tmp"));
@@ -84,9 +84,9 @@ TEST_F(ServerTest, SecondJobOnAResidentSceneLoadsNoChunks) {
     EXPECT_EQ(metricValue(before->body, "vastray_device_memory_held_bytes", "gauge"), 0) << "no scene open yet";
     const std::string sceneId = uploadSphere()["id"];
     auto first = submit(smallJob(sceneId));
-    const json a = waitForState(json::parse(first->body)["id"], "SUCCEEDED");
+    const json a = waitForState(json::parse(first->body)["id"], "JOB_STATE_SUCCEEDED");
     auto second = submit(smallJob(sceneId));
-    const json b = waitForState(json::parse(second->body)["id"], "SUCCEEDED");
+    const json b = waitForState(json::parse(second->body)["id"], "JOB_STATE_SUCCEEDED");
     EXPECT_GT(std::stoull(a["stats"]["chunk_loads"].get<std::string>()), 0u) << a.dump();
     EXPECT_EQ(b["stats"]["chunk_loads"], "0") << "the host cache kept the decoded scene: " << b.dump();
 
@@ -133,7 +133,7 @@ TEST_F(ServerTest, ScenesShareThePoolAndStayOpenWhileTheyFit) {
     auto loads = [&](const std::string& sceneId) {
         auto res = submit(smallJob(sceneId));
         EXPECT_EQ(res->status, 202) << res->body;
-        const json job = waitForState(json::parse(res->body)["id"], "SUCCEEDED");
+        const json job = waitForState(json::parse(res->body)["id"], "JOB_STATE_SUCCEEDED");
         return std::stoull(job["stats"]["chunk_loads"].get<std::string>());
     };
     for (const char* pool : {"512MiB", "64MiB"}) {
@@ -170,14 +170,14 @@ TEST_F(ServerTest, SigtermFinishesOrHandsOverTheRunningJob) {
         auto res = submit(body);
         ASSERT_EQ(res->status, 202);
         const std::string id = json::parse(res->body)["id"];
-        waitForState(id, "RUNNING");
+        waitForState(id, "JOB_STATE_RUNNING");
         const int status = server_.kill(SIGTERM);
         EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << server_.log();
         const bool handedOver = std::string(grace) == "0";
         EXPECT_EQ(server_.log().find("runs again at the next start") != std::string::npos, handedOver)
             << server_.log();
         startServer();
-        const json job = waitForState(id, "SUCCEEDED");
+        const json job = waitForState(id, "JOB_STATE_SUCCEEDED");
         EXPECT_EQ(job["attempts"], handedOver ? 2 : 1) << job.dump();
         server_.kill(SIGTERM);
     }
@@ -189,16 +189,16 @@ TEST_F(ServerTest, CancellingARunningJobDiscardsItsImage) {
     auto res = submit({{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}});
     ASSERT_EQ(res->status, 202);
     const std::string id = json::parse(res->body)["id"];
-    waitForState(id, "RUNNING");
+    waitForState(id, "JOB_STATE_RUNNING");
     res = http().Post(("/v1/jobs/" + id + ":cancel").c_str(), R"({"reason": "changed my mind"})",
                       "application/json");
     ASSERT_EQ(res->status, 200) << res->body;
-    EXPECT_EQ(json::parse(res->body)["state"], "CANCELLED") << "cancelled at once";
+    EXPECT_EQ(json::parse(res->body)["state"], "JOB_STATE_CANCELLED") << "cancelled at once";
     // The next job runs once the cancelled render is out of the way; the cancelled job stays
     // CANCELLED and has no result.
     auto next = submit(smallJob(sceneId));
-    waitForState(json::parse(next->body)["id"], "SUCCEEDED");
-    EXPECT_EQ(getJob(id)["state"], "CANCELLED");
+    waitForState(json::parse(next->body)["id"], "JOB_STATE_SUCCEEDED");
+    EXPECT_EQ(getJob(id)["state"], "JOB_STATE_CANCELLED");
     EXPECT_EQ(getJob(id)["error"], "cancelled: changed my mind");
     EXPECT_EQ(http().Get(("/v1/jobs/" + id + "/result").c_str())->status, 409);
     EXPECT_FALSE(std::filesystem::exists(dataDir() / "results" / (id + ".png")));

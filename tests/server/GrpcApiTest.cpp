@@ -37,7 +37,7 @@ protected:
         auto c = context();
         auto chunks = renders_->GetResult(c.get(), request);
         std::string bytes;
-        for (v1::ResultChunk chunk; chunks->Read(&chunk);) {
+        for (v1::GetResultResponse chunk; chunks->Read(&chunk);) {
             EXPECT_EQ(chunk.offset(), request.offset() + bytes.size());
             if (!type.empty()) {
                 EXPECT_EQ(chunk.content_type(), type);
@@ -48,10 +48,11 @@ protected:
         return bytes;
     }
 
-    // Streams the sphere in 64 KiB messages.
+    // Streams the sphere in 64 KiB messages; `scene` is the response's scene.
     grpc::Status upload(v1::Scene* scene) {
         auto c = context();
-        auto writer = scenes_->UploadScene(c.get(), scene);
+        v1::UploadSceneResponse response;
+        auto writer = scenes_->UploadScene(c.get(), &response);
         const std::string bytes = readBytes(spherePath_);
         for (size_t at = 0; at < bytes.size(); at += 65536) {
             v1::UploadSceneRequest message;
@@ -60,7 +61,9 @@ protected:
             if (!writer->Write(message)) break;
         }
         writer->WritesDone();
-        return writer->Finish();
+        grpc::Status status = writer->Finish();
+        *scene = response.scene();
+        return status;
     }
 
     v1::SubmitJobRequest smallRequest(const std::string& sceneId) const {
@@ -108,20 +111,21 @@ TEST_F(GrpcTest, UploadSubmitWatchAndGetResult) {
     ASSERT_EQ(missing.missing_size(), 1);
     EXPECT_EQ(missing.missing(0), std::string(64, 'b'));
 
-    v1::Job job;
-    ASSERT_TRUE(renders_->SubmitJob(context().get(), smallRequest(scene.id()), &job).ok());
-    EXPECT_EQ(job.state(), v1::QUEUED);
+    v1::SubmitJobResponse submitted;
+    ASSERT_TRUE(renders_->SubmitJob(context().get(), smallRequest(scene.id()), &submitted).ok());
+    const v1::Job& job = submitted.job();
+    EXPECT_EQ(job.state(), v1::JOB_STATE_QUEUED);
 
     v1::WatchJobRequest watch;
     watch.set_id(job.id());
     auto c = context();
     auto events = renders_->WatchJob(c.get(), watch);
     std::vector<v1::JobEvent> seen;
-    for (v1::JobEvent event; events->Read(&event);) seen.push_back(event);
+    for (v1::WatchJobResponse response; events->Read(&response);) seen.push_back(response.event());
     ASSERT_TRUE(events->Finish().ok());
     ASSERT_FALSE(seen.empty());
-    EXPECT_EQ(seen.front().kind(), v1::JobEvent::SNAPSHOT);
-    EXPECT_EQ(seen.back().state(), v1::SUCCEEDED);
+    EXPECT_EQ(seen.front().kind(), v1::JobEvent::KIND_SNAPSHOT);
+    EXPECT_EQ(seen.back().state(), v1::JOB_STATE_SUCCEEDED);
 
     v1::GetResultRequest get;
     get.set_job_id(job.id());
@@ -156,10 +160,21 @@ TEST_F(GrpcTest, UploadSubmitWatchAndGetResult) {
 
     v1::SubmitJobRequest again = smallRequest(scene.id());
     again.set_request_id("grpc-1");
-    v1::Job first, second;
+    v1::SubmitJobResponse first, second;
     ASSERT_TRUE(renders_->SubmitJob(context().get(), again, &first).ok());
     ASSERT_TRUE(renders_->SubmitJob(context().get(), again, &second).ok());
-    EXPECT_EQ(first.id(), second.id()) << "request_id makes SubmitJob idempotent";
+    EXPECT_EQ(first.job().id(), second.job().id()) << "request_id makes SubmitJob idempotent";
+
+    v1::GetJobRequest getJob;
+    getJob.set_id(job.id());
+    v1::GetJobResponse got;
+    ASSERT_TRUE(renders_->GetJob(context().get(), getJob, &got).ok());
+    EXPECT_EQ(got.job().state(), v1::JOB_STATE_SUCCEEDED);
+    v1::GetSceneRequest getScene;
+    getScene.set_id(scene.id());
+    v1::GetSceneResponse stored;
+    ASSERT_TRUE(scenes_->GetScene(context().get(), getScene, &stored).ok());
+    EXPECT_EQ(stored.scene().id(), scene.id());
 }
 
 TEST_F(GrpcTest, ErrorCodes) {
@@ -167,18 +182,19 @@ TEST_F(GrpcTest, ErrorCodes) {
     connect();
     v1::Scene scene;
     ASSERT_TRUE(upload(&scene).ok());
-    v1::Job job;
+    v1::SubmitJobResponse submitted;
     v1::SubmitJobRequest bad = smallRequest(scene.id());
     bad.set_spp(0);
-    grpc::Status status = renders_->SubmitJob(context().get(), bad, &job);
+    grpc::Status status = renders_->SubmitJob(context().get(), bad, &submitted);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
     EXPECT_EQ(status.error_message().rfind("spp:", 0), 0u) << status.error_message();
 
-    status = renders_->SubmitJob(context().get(), smallRequest(std::string(64, 'c')), &job);
+    status = renders_->SubmitJob(context().get(), smallRequest(std::string(64, 'c')), &submitted);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
 
-    ASSERT_TRUE(renders_->SubmitJob(context().get(), smallRequest(scene.id()), &job).ok());
-    v1::Job refused;
+    ASSERT_TRUE(renders_->SubmitJob(context().get(), smallRequest(scene.id()), &submitted).ok());
+    const v1::Job job = submitted.job();
+    v1::SubmitJobResponse refused;
     status = renders_->SubmitJob(context().get(), smallRequest(scene.id()), &refused);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
 
@@ -186,24 +202,25 @@ TEST_F(GrpcTest, ErrorCodes) {
     get.set_job_id(job.id());
     auto c = context();
     auto reader = renders_->GetResult(c.get(), get);
-    v1::ResultChunk chunk;
+    v1::GetResultResponse chunk;
     EXPECT_FALSE(reader->Read(&chunk));
     EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::FAILED_PRECONDITION);
 
     v1::CancelJobRequest cancel;
     cancel.set_id(job.id());
-    v1::Job cancelled;
+    v1::CancelJobResponse cancelled;
     ASSERT_TRUE(renders_->CancelJob(context().get(), cancel, &cancelled).ok());
-    EXPECT_EQ(cancelled.state(), v1::CANCELLED);
+    EXPECT_EQ(cancelled.job().state(), v1::JOB_STATE_CANCELLED);
     EXPECT_EQ(renders_->CancelJob(context().get(), cancel, &cancelled).error_code(),
               grpc::StatusCode::FAILED_PRECONDITION);
 
     v1::GetJobRequest unknown;
     unknown.set_id("job-ffffffffffffffffffffffffffffffff");
-    EXPECT_EQ(renders_->GetJob(context().get(), unknown, &job).error_code(), grpc::StatusCode::NOT_FOUND);
+    v1::GetJobResponse got;
+    EXPECT_EQ(renders_->GetJob(context().get(), unknown, &got).error_code(), grpc::StatusCode::NOT_FOUND);
 
     // Over the 1 MiB message limit the server sets.
-    v1::Scene big;
+    v1::UploadSceneResponse big;
     auto c2 = context();
     auto writer = scenes_->UploadScene(c2.get(), &big);
     v1::UploadSceneRequest message;

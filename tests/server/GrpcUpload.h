@@ -1,6 +1,6 @@
 #pragma once
 // A scene upload through SceneService.UploadScene's client stream, as a client sends it: the
-// name (and async) in the first message, the bytes in pieces.
+// name (and async) in the first message, the bytes in pieces; `scene` is the response's scene.
 #include <grpcpp/grpcpp.h>
 
 #include <string>
@@ -12,7 +12,8 @@ namespace vastray::test {
 inline grpc::Status uploadSceneOverGrpc(v1::SceneService::Stub& stub, const std::string& name,
                                         const std::string& bytes, size_t piece, bool async, v1::Scene* scene) {
     grpc::ClientContext context;
-    auto writer = stub.UploadScene(&context, scene);
+    v1::UploadSceneResponse response;
+    auto writer = stub.UploadScene(&context, &response);
     for (size_t at = 0; at < bytes.size(); at += piece) {
         v1::UploadSceneRequest message;
         if (at == 0) {
@@ -23,7 +24,9 @@ inline grpc::Status uploadSceneOverGrpc(v1::SceneService::Stub& stub, const std:
         if (!writer->Write(message)) break;  // the server ended the stream: Finish says why
     }
     writer->WritesDone();
-    return writer->Finish();
+    grpc::Status status = writer->Finish();
+    *scene = response.scene();
+    return status;
 }
 
 }  // namespace vastray::test

@@ -160,8 +160,10 @@ TEST_F(GrpcurlTest, DrivesTheServiceThroughReflection) {
     EXPECT_EQ(method.exitCode, 0) << method.output;
     EXPECT_NE(method.output.find("vastray.v1.RenderService.SubmitJob is a method:"), std::string::npos)
         << method.output;
-    EXPECT_NE(method.output.find("rpc SubmitJob ( .vastray.v1.SubmitJobRequest ) returns ( .vastray.v1.Job );"),
-              std::string::npos)
+    EXPECT_NE(
+        method.output.find(
+            "rpc SubmitJob ( .vastray.v1.SubmitJobRequest ) returns ( .vastray.v1.SubmitJobResponse );"),
+        std::string::npos)
         << method.output;
     // The method's comment from render_service.proto (reflection sends the files with comments).
     EXPECT_NE(method.output.find("// Validates and queues a job."), std::string::npos) << method.output;
@@ -179,25 +181,30 @@ TEST_F(GrpcurlTest, DrivesTheServiceThroughReflection) {
     EXPECT_GE(uploadMessages, 2u) << "the upload should be a stream of several messages";
     const auto uploaded = messages(upload.output);
     ASSERT_EQ(uploaded.size(), 1u) << upload.output;
-    const std::string sceneId = uploaded[0].value("id", "");
+    const json scene = uploaded[0].value("scene", json::object());
+    const std::string sceneId = scene.value("id", "");
     // Content-addressed: the same bytes over HTTP name the same scene.
-    EXPECT_EQ(ServerTest::uploadSphere().value("id", ""), sceneId);
-    EXPECT_EQ(uploaded[0].value("format", ""), "ply") << uploaded[0].dump();
+    EXPECT_EQ(ServerTest::uploadSphere().value("id", ""), sceneId) << upload.output;
+    EXPECT_EQ(scene.value("format", ""), "ply") << uploaded[0].dump();
 
-    const json job = call("vastray.v1.RenderService/SubmitJob", smallJob(sceneId));
+    const json job =
+        call("vastray.v1.RenderService/SubmitJob", smallJob(sceneId)).value("job", json::object());
     const std::string id = job.value("id", "");
     ASSERT_FALSE(id.empty()) << job.dump();
     EXPECT_EQ(job["request"].value("scene_id", ""), sceneId) << job.dump();
 
     const GrpcurlRun watch = grpcurl({"-d", json{{"id", id}}.dump()}, {"vastray.v1.RenderService/WatchJob"});
     EXPECT_EQ(watch.exitCode, 0) << watch.output;
-    const auto events = messages(watch.output);
+    std::vector<json> events;
+    for (const json& response : messages(watch.output))
+        events.push_back(response.value("event", json::object()));
     ASSERT_FALSE(events.empty()) << watch.output;
-    EXPECT_EQ(events.front().value("kind", ""), "SNAPSHOT") << watch.output;
-    EXPECT_EQ(events.back().value("state", ""), "SUCCEEDED") << "the stream ends at the final state: " << watch.output;
+    EXPECT_EQ(events.front().value("kind", ""), "KIND_SNAPSHOT") << watch.output;
+    EXPECT_EQ(events.back().value("state", ""), "JOB_STATE_SUCCEEDED")
+        << "the stream ends at the final state: " << watch.output;
 
-    const json done = call("vastray.v1.RenderService/GetJob", {{"id", id}});
-    EXPECT_EQ(done.value("state", ""), "SUCCEEDED") << done.dump();
+    const json done = call("vastray.v1.RenderService/GetJob", {{"id", id}}).value("job", json::object());
+    EXPECT_EQ(done.value("state", ""), "JOB_STATE_SUCCEEDED") << done.dump();
     ASSERT_TRUE(done.contains("stats")) << done.dump();
     EXPECT_EQ(done["stats"].value("backend", ""), "vulkan") << done.dump();
     EXPECT_GT(std::stoull(done["stats"].value("peak_device_bytes", "0")), 0u) << done.dump();
@@ -255,7 +262,7 @@ TEST_F(GrpcurlTest, AuthTokenIsRequiredWhenConfigured) {
     EXPECT_EQ(upload.exitCode, 0) << upload.output;
     const auto scene = messages(upload.output);
     ASSERT_EQ(scene.size(), 1u) << upload.output;
-    EXPECT_EQ(scene[0].value("id", "").size(), 64u) << upload.output;
+    EXPECT_EQ(scene[0].value("scene", json::object()).value("id", "").size(), 64u) << upload.output;
 }
 
 }  // namespace

@@ -57,12 +57,12 @@ TEST_F(ServerTest, JobLargerThanHostMemoryFailsAndTheServerGoesOn) {
     const std::string sceneId = uploadSphere()["id"];
     auto res = submit({{"scene_id", sceneId}, {"width", 16384}, {"height", 16384}, {"spp", 1}});
     ASSERT_EQ(res->status, 202) << res->body;
-    const json failed = waitForState(json::parse(res->body)["id"], "FAILED");
+    const json failed = waitForState(json::parse(res->body)["id"], "JOB_STATE_FAILED");
     EXPECT_NE(failed.value("error", "").find("a 16384x16384 render needs 5.0 GiB of host memory"), std::string::npos)
         << failed.dump();
     res = submit(smallJob(sceneId));
     ASSERT_EQ(res->status, 202) << res->body;
-    waitForState(json::parse(res->body)["id"], "SUCCEEDED");
+    waitForState(json::parse(res->body)["id"], "JOB_STATE_SUCCEEDED");
 }
 
 // Before the memory estimate a 16384x16384 job crashed the server, and being RUNNING at the
@@ -75,12 +75,12 @@ TEST_F(ServerTest, JobInterruptedAtEveryStartFailsAfterThreeStarts) {
     ASSERT_EQ(res->status, 202) << res->body;
     const std::string id = json::parse(res->body)["id"];
     for (int start = 1; start <= 3; ++start) {
-        const json running = waitForState(id, "RUNNING");
+        const json running = waitForState(id, "JOB_STATE_RUNNING");
         EXPECT_EQ(running["attempts"], start);
         server_.kill(SIGKILL);
         startServer();
     }
-    const json job = waitForState(id, "FAILED");
+    const json job = waitForState(id, "JOB_STATE_FAILED");
     EXPECT_EQ(job["attempts"], 3);
     EXPECT_NE(job.value("error", "").find("failed 3 times (--max-attempts 3)"), std::string::npos) << job.dump();
     EXPECT_EQ(http().Get("/healthz")->status, 200);

@@ -198,7 +198,7 @@ protected:
         auto res = submit(smallJob(scene["id"]));
         EXPECT_TRUE(res && res->status == 202);
         const std::string id = json::parse(res->body)["id"];
-        waitForState(id, "SUCCEEDED");
+        waitForState(id, "JOB_STATE_SUCCEEDED");
         image_ = result(id);
         return "/v1/jobs/" + id + "/result";
     }

@@ -52,7 +52,8 @@ protected:
         json job;
         for (int i = 0; i < 3000; ++i) {
             job = getJob(id);
-            if (job.value("state", "") != "QUEUED" && job.value("state", "") != "RUNNING") return job;
+            if (job.value("state", "") != "JOB_STATE_QUEUED" && job.value("state", "") != "JOB_STATE_RUNNING")
+                return job;
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }
         ADD_FAILURE() << "import job " << id << " never ended: " << job.dump();
@@ -84,7 +85,7 @@ TEST_F(ImportJobTest, AsyncUploadReturnsAnImportJobAndTheSceneFollows) {
         events.append(data, size);
         return true;
     });
-    EXPECT_NE(events.find("\"state\":\"SUCCEEDED\""), std::string::npos) << events;
+    EXPECT_NE(events.find("\"state\":\"JOB_STATE_SUCCEEDED\""), std::string::npos) << events;
     // Its progress rises as the import goes (10 % read, up to 90 % built, 95 % written), never back.
     std::vector<int> progress;
     for (size_t at = events.find("\"percent\":"); at != std::string::npos; at = events.find("\"percent\":", at + 1))
@@ -93,7 +94,7 @@ TEST_F(ImportJobTest, AsyncUploadReturnsAnImportJobAndTheSceneFollows) {
     EXPECT_TRUE(std::any_of(progress.begin(), progress.end(), [](int p) { return p > 0 && p < 100; }))
         << "no step between 0 and 100: " << events;
     const json job = getJob(jobId);
-    EXPECT_EQ(job["state"], "SUCCEEDED") << job.dump();
+    EXPECT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
     EXPECT_EQ(job["progress"], 100);
     EXPECT_EQ(job["import"]["name"], "big.ply");
     EXPECT_EQ(job["import"]["scene_id"], sceneId);
@@ -110,7 +111,7 @@ TEST_F(ImportJobTest, AsyncUploadReturnsAnImportJobAndTheSceneFollows) {
     EXPECT_EQ(json::parse(again->body)["triangles"], scene["triangles"]);
     auto render = submit(smallJob(sceneId));
     ASSERT_EQ(render->status, 202) << render->body;
-    waitForState(json::parse(render->body)["id"], "SUCCEEDED");
+    waitForState(json::parse(render->body)["id"], "JOB_STATE_SUCCEEDED");
     EXPECT_TRUE(fs::is_empty(dataDir() / "tmp"));
 }
 
@@ -134,7 +135,7 @@ TEST_F(ImportJobTest, ImporterWarningsReachTheSceneAndTheImportJob) {
     ASSERT_EQ(res->status, 202) << res->body;
     const json queued = json::parse(res->body);
     const json job = waitForEnd(queued["import_job_id"]);
-    EXPECT_EQ(job["state"], "SUCCEEDED") << job.dump();
+    EXPECT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
     ASSERT_EQ(job["import"]["warnings"].size(), 1u) << job.dump();
     EXPECT_EQ(job["import"]["warnings"][0], "3 texture coordinates read but not used (textures are not rendered yet)");
     const json stored = json::parse(http().Get(("/v1/scenes/" + queued["id"].get<std::string>()).c_str())->body);
@@ -158,7 +159,7 @@ TEST_F(ImportJobTest, SeveralUploadsImportOneAfterAnother) {
     double previousEnd = 0;
     for (const std::string& id : jobs) {
         const json job = waitForEnd(id);
-        EXPECT_EQ(job["state"], "SUCCEEDED") << job.dump();
+        EXPECT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
         // Each starts after the one before ended.
         EXPECT_GE(epochSeconds(job["start_time"]), previousEnd) << job.dump();
         previousEnd = epochSeconds(job["end_time"]);
@@ -172,7 +173,7 @@ TEST_F(ImportJobTest, AFailedImportIsAFailedJobNamingTheFile) {
     ASSERT_EQ(res->status, 202) << res->body;
     const json queued = json::parse(res->body);
     const json job = waitForEnd(queued["import_job_id"]);
-    EXPECT_EQ(job["state"], "FAILED");
+    EXPECT_EQ(job["state"], "JOB_STATE_FAILED");
     const std::string error = job["error"];
     EXPECT_EQ(error.rfind("data: broken.obj: line 3", 0), 0u) << error;
     EXPECT_EQ(http().Get(("/v1/scenes/" + queued["id"].get<std::string>()).c_str())->status, 404);
@@ -193,16 +194,17 @@ TEST_F(ImportJobTest, GrpcAsyncUploadIsWatchedThroughRenderService) {
     v1::WatchJobRequest watch;
     watch.set_id(scene.import_job_id());
     auto reader = renders->WatchJob(&context, watch);
-    v1::JobEvent event, last;
-    while (reader->Read(&event)) last = event;
+    v1::WatchJobResponse response;
+    v1::JobEvent last;
+    while (reader->Read(&response)) last = response.event();
     EXPECT_TRUE(reader->Finish().ok());
-    EXPECT_EQ(last.state(), v1::SUCCEEDED);
+    EXPECT_EQ(last.state(), v1::JOB_STATE_SUCCEEDED);
     grpc::ClientContext getContext;
     v1::GetSceneRequest get;
     get.set_id(scene.id());
-    v1::Scene stored;
+    v1::GetSceneResponse stored;
     ASSERT_TRUE(scenes->GetScene(&getContext, get, &stored).ok());
-    EXPECT_EQ(stored.triangles(), 2000u);
+    EXPECT_EQ(stored.scene().triangles(), 2000u);
 }
 
 // Its upload lived in tmp/, which a start empties: an import cut off by a crash fails, by name.
@@ -214,7 +216,7 @@ TEST_F(ImportJobTest, AnImportCutOffByACrashFailsAtTheNextStart) {
     server_.kill(SIGKILL);
     startServer({"--backend", "embree"});
     const json job = getJob(jobId);
-    EXPECT_EQ(job["state"], "FAILED") << job.dump();
+    EXPECT_EQ(job["state"], "JOB_STATE_FAILED") << job.dump();
     EXPECT_NE(job["error"].get<std::string>().find("the server stopped before this import finished; upload big.ply again"),
               std::string::npos)
         << job.dump();

@@ -134,9 +134,19 @@ TEST_F(OpenApiTest, DescriptionsComeFromTheProtoComments) {
     EXPECT_EQ(schemas["Camera"]["description"],
               "A pinhole camera in world space. Absent from a request: the camera frames the whole scene.");
     const std::string jobState = schemas["JobState"].value("description", "");
-    EXPECT_NE(jobState.find("`QUEUED`: Accepted and stored, waiting for the renderer."), std::string::npos) << jobState;
+    EXPECT_NE(jobState.find("`JOB_STATE_QUEUED`: Accepted and stored, waiting for the renderer."),
+              std::string::npos)
+        << jobState;
+    // buf's lint rules: every value carries its enum's prefix (the JSON mapping writes the names).
+    EXPECT_EQ(schemas["JobState"]["enum"],
+              json({"JOB_STATE_UNSPECIFIED", "JOB_STATE_QUEUED", "JOB_STATE_RUNNING", "JOB_STATE_SUCCEEDED",
+                    "JOB_STATE_FAILED", "JOB_STATE_CANCELLED"}));
+    // HTTP answers the resource that gRPC's GetJobResponse wraps.
+    EXPECT_EQ(doc["paths"]["/v1/jobs/{id}"]["get"]["responses"]["200"]["content"]["application/json"]["schema"],
+              json({{"$ref", "#/components/schemas/Job"}}));
     const std::string kind = schemas["JobEvent_Kind"].value("description", "");
-    EXPECT_NE(kind.find("`SNAPSHOT`: The state at the time the watch began."), std::string::npos) << kind;
+    EXPECT_NE(kind.find("`KIND_SNAPSHOT`: The state at the time the watch began."), std::string::npos)
+        << kind;
     const std::string submit = doc["paths"]["/v1/jobs"]["post"].value("description", "");
     EXPECT_EQ(submit.rfind("Validates and queues a job.", 0), 0u) << submit;
     EXPECT_NE(submit.find("gRPC: `vastray.v1.RenderService.SubmitJob`"), std::string::npos) << submit;

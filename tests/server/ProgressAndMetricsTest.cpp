@@ -50,7 +50,7 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
 
     const std::vector<json> events = watchEvents(http(), id);
     ASSERT_GE(events.size(), 3u);
-    EXPECT_EQ(events.front()["state"], "QUEUED") << "the watch began behind the other job";
+    EXPECT_EQ(events.front()["state"], "JOB_STATE_QUEUED") << "the watch began behind the other job";
     const json job = getJob(id);
     const uint64_t passes = u64(job["stats"]["passes"]), loads = u64(job["stats"]["chunk_loads"]);
     EXPECT_GT(passes, 2u) << job.dump();
@@ -76,7 +76,7 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
             }
         }
         EXPECT_LE(u64(e["passes_done"]), u64(e["passes_total"]));
-        if (e["state"] == "RUNNING") {
+        if (e["state"] == "JOB_STATE_RUNNING") {
             passesSeen.insert(u64(e["passes_done"]));
             if (u64(e["chunk_loads"]) > 0 && u64(e["passes_done"]) < passes) loadsWhilePassesRemain = true;
             if (field(e, "rays") > 0 && u64(e["passes_done"]) < passes) {
@@ -91,7 +91,7 @@ TEST_P(ProgressTest, EventsAreMonotoneAndShowChunkLoadsWhileTheRenderRuns) {
     EXPECT_EQ(raysWhilePassesRemain, device) << "rays should show as passes finish on the device";
     EXPECT_GE(passesSeen.size(), 3u) << "passes should show as they finish";
     const json& last = events.back();
-    EXPECT_EQ(last["state"], "SUCCEEDED");
+    EXPECT_EQ(last["state"], "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(last["percent"], 100);
     EXPECT_EQ(u64(last["passes_done"]), passes);
     EXPECT_EQ(u64(last["passes_total"]), passes);
@@ -166,14 +166,14 @@ TEST_F(ServerTest, MetricsHaveHistogramsBuildInfoProcessMetricsAndOneCodeScheme)
     const std::string sceneId = uploadSphere()["id"];
     auto res = submit(smallJob(sceneId));
     ASSERT_EQ(res->status, 202);
-    const json job = waitForState(json::parse(res->body)["id"], "SUCCEEDED");
+    const json job = waitForState(json::parse(res->body)["id"], "JOB_STATE_SUCCEEDED");
     // A NOT_FOUND through each front end.
     EXPECT_EQ(http().Get("/v1/jobs/job-nope")->status, 404);
     auto channel = grpc::CreateChannel(server_.grpcAddress(), grpc::InsecureChannelCredentials());
     grpc::ClientContext context;
     v1::GetJobRequest get;
     get.set_id("job-nope");
-    v1::Job reply;
+    v1::GetJobResponse reply;
     EXPECT_EQ(v1::RenderService::NewStub(channel)->GetJob(&context, get, &reply).error_code(),
               grpc::StatusCode::NOT_FOUND);
 

@@ -32,7 +32,7 @@ TEST_F(ServerTest, SceneCameraOfAJobIsTheCliRendersCamera) {
         ASSERT_TRUE(res);
         ASSERT_EQ(res->status, 202) << res->body;
         const std::string id = json::parse(res->body)["id"];
-        EXPECT_EQ(waitForState(id, "SUCCEEDED")["state"], "SUCCEEDED");
+        EXPECT_EQ(waitForState(id, "JOB_STATE_SUCCEEDED")["state"], "JOB_STATE_SUCCEEDED");
         images[name] = result(id);
     }
     const std::string flags = "--resolution 32x32 --spp 2";
@@ -53,7 +53,7 @@ TEST_F(ServerTest, SceneCameraOfAJobIsTheCliRendersCamera) {
     unknown["scene_camera"] = "Top";
     auto res = submit(unknown);
     ASSERT_TRUE(res && res->status == 202);
-    const json failed = waitForState(json::parse(res->body)["id"], "FAILED");
+    const json failed = waitForState(json::parse(res->body)["id"], "JOB_STATE_FAILED");
     EXPECT_NE(failed.dump().find("scene camera 'Top': no camera of that name or index; the scene has 0 'Near', 1 'Far'"),
               std::string::npos)
         << failed.dump();
@@ -81,7 +81,7 @@ TEST_F(ServerTest, SceneCameraLongerThan64BytesIsRefusedAtSubmit) {
     auto accepted = submit(longest);
     ASSERT_TRUE(accepted);
     EXPECT_EQ(accepted->status, 202) << accepted->body;
-    const json failed = waitForState(json::parse(accepted->body)["id"], "FAILED");
+    const json failed = waitForState(json::parse(accepted->body)["id"], "JOB_STATE_FAILED");
     EXPECT_NE(failed.dump().find("no camera of that name or index; the scene has 0 'Near', 1 'Far'"), std::string::npos)
         << failed.dump();
 }

@@ -88,7 +88,7 @@ CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
 )sql");
     {
         // The previous server's rows, written through its statements.
-        const v1::Job job = makeJob("job-old", v1::QUEUED, "old-key");
+        const v1::Job job = makeJob("job-old", v1::JOB_STATE_QUEUED, "old-key");
         sqlite3* db = nullptr;
         ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
         sqlite3_stmt* insert = nullptr;
@@ -98,7 +98,7 @@ CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
         sqlite3_bind_text(insert, 1, "job-old", -1, SQLITE_STATIC);
         sqlite3_bind_text(insert, 2, "old-key", -1, SQLITE_STATIC);
         sqlite3_bind_text(insert, 3, job.request().scene_id().c_str(), -1, SQLITE_TRANSIENT);
-        sqlite3_bind_int64(insert, 4, v1::QUEUED);
+        sqlite3_bind_int64(insert, 4, v1::JOB_STATE_QUEUED);
         sqlite3_bind_blob(insert, 5, record.data(), int(record.size()), SQLITE_TRANSIENT);
         EXPECT_EQ(sqlite3_step(insert), SQLITE_DONE);
         sqlite3_finalize(insert);
@@ -111,7 +111,7 @@ CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
     ASSERT_TRUE(unfinished.isOk());
     ASSERT_EQ(unfinished->size(), 1u);
     EXPECT_EQ((*unfinished)[0].id(), "job-old");
-    auto again = stores->jobs->insertJob(makeJob("job-new", v1::QUEUED, "old-key"));
+    auto again = stores->jobs->insertJob(makeJob("job-new", v1::JOB_STATE_QUEUED, "old-key"));
     ASSERT_TRUE(again.isOk());
     EXPECT_FALSE(again->created) << "the old request id still maps to its job";
 }

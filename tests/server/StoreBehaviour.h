@@ -28,22 +28,23 @@ inline void checkStoreBehaviour(const std::function<Result<server::MetadataStore
         ASSERT_TRUE(stores.isOk()) << stores.message();
         auto& jobs = *stores->jobs;
         for (int i = 0; i < 5; ++i)
-            ASSERT_TRUE(jobs.insertJob(makeJob("job-" + std::to_string(i), v1::QUEUED)).isOk());
-        auto first = jobs.insertJob(makeJob("job-x", v1::QUEUED, "key"));
+            ASSERT_TRUE(jobs.insertJob(makeJob("job-" + std::to_string(i), v1::JOB_STATE_QUEUED)).isOk());
+        auto first = jobs.insertJob(makeJob("job-x", v1::JOB_STATE_QUEUED, "key"));
         ASSERT_TRUE(first.isOk() && first->created) << first.message();
-        auto again = jobs.insertJob(makeJob("job-y", v1::QUEUED, "key"));
+        auto again = jobs.insertJob(makeJob("job-y", v1::JOB_STATE_QUEUED, "key"));
         ASSERT_TRUE(again.isOk()) << again.message();
         EXPECT_FALSE(again->created);
         EXPECT_EQ(again->job.id(), "job-x") << "a request id maps to its first job";
         auto byRequest = jobs.findJobByRequestId("key");
         ASSERT_TRUE(byRequest.isOk() && *byRequest);
         EXPECT_EQ((*byRequest)->id(), "job-x");
-        v1::Job running = makeJob("job-1", v1::RUNNING);
+        v1::Job running = makeJob("job-1", v1::JOB_STATE_RUNNING);
         running.set_attempts(2);
         running.add_attempt_errors("attempt 1: why");
         ASSERT_TRUE(jobs.updateJob(running).isOk());
-        EXPECT_FALSE(jobs.updateJob(makeJob("job-missing", v1::FAILED)).isOk()) << "update of an unknown job";
-        ASSERT_TRUE(jobs.updateJob(makeJob("job-2", v1::SUCCEEDED)).isOk());
+        EXPECT_FALSE(jobs.updateJob(makeJob("job-missing", v1::JOB_STATE_FAILED)).isOk())
+            << "update of an unknown job";
+        ASSERT_TRUE(jobs.updateJob(makeJob("job-2", v1::JOB_STATE_SUCCEEDED)).isOk());
 
         auto& scenes = *stores->scenes;
         for (const char* id : {"scene-a", "scene-b", "scene-c"}) {
@@ -67,7 +68,7 @@ inline void checkStoreBehaviour(const std::function<Result<server::MetadataStore
     ASSERT_TRUE(unfinished.isOk());
     ASSERT_EQ(unfinished->size(), 5u) << "job-2 finished; the others are QUEUED or RUNNING";
     EXPECT_EQ((*unfinished)[1].id(), "job-1");
-    EXPECT_EQ((*unfinished)[1].state(), v1::RUNNING);
+    EXPECT_EQ((*unfinished)[1].state(), v1::JOB_STATE_RUNNING);
     EXPECT_EQ((*unfinished)[1].attempts(), 2u);
     ASSERT_EQ((*unfinished)[1].attempt_errors_size(), 1);
     EXPECT_EQ((*unfinished)[1].attempt_errors(0), "attempt 1: why");
@@ -83,7 +84,7 @@ inline void checkStoreBehaviour(const std::function<Result<server::MetadataStore
     }
     EXPECT_EQ(seen, (std::vector<std::string>{"job-x", "job-4", "job-3", "job-2", "job-1", "job-0"}))
         << "newest first";
-    auto succeeded = jobs.listJobs(v1::SUCCEEDED, 0, 10);
+    auto succeeded = jobs.listJobs(v1::JOB_STATE_SUCCEEDED, 0, 10);
     ASSERT_TRUE(succeeded.isOk());
     ASSERT_EQ(succeeded->jobs.size(), 1u);
     EXPECT_EQ(succeeded->jobs[0].id(), "job-2");

@@ -77,7 +77,7 @@ protected:
         EXPECT_TRUE(job && job->status == 202) << (job ? job->body : "no response");
         if (!job || job->status != 202) return {};
         const std::string id = json::parse(job->body)["id"];
-        waitForState(id, "SUCCEEDED");
+        waitForState(id, "JOB_STATE_SUCCEEDED");
         const fs::path out = dir_ / (sceneId.substr(0, 8) + "-" + std::to_string(seed) + ".exr");
         std::ofstream(out, std::ios::binary) << result(id);
         return out;
@@ -265,7 +265,7 @@ TEST_F(VolumeUploadTest, AsyncImportJobFailsWithTheMessage) {
     ASSERT_TRUE(res);
     ASSERT_EQ(res->status, 202) << res->body;
     const json scene = json::parse(res->body);
-    const json job = waitForState(scene["import_job_id"], "FAILED");
+    const json job = waitForState(scene["import_job_id"], "JOB_STATE_FAILED");
     EXPECT_EQ(job["error"], "data: bad.zip:vastray-volumes.json: volumes[0].anisotropy -1.000000 is outside (-1, 1)");
     EXPECT_EQ(http().Get(("/v1/scenes/" + scene["id"].get<std::string>()).c_str())->status, 404);
     EXPECT_TRUE(fs::is_empty(dataDir() / "tmp"));

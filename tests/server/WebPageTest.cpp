@@ -39,7 +39,7 @@ protected:
         auto submitted = submit(body);
         EXPECT_TRUE(submitted && submitted->status == 202) << (submitted ? submitted->body : "no response");
         const std::string id = json::parse(submitted->body)["id"];
-        waitForState(id, "SUCCEEDED");
+        waitForState(id, "JOB_STATE_SUCCEEDED");
         return id;
     }
 

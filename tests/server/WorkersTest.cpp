@@ -52,7 +52,7 @@ protected:
     bool waitUntilBothRunning(const std::string& a, const std::string& b) {
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
         while (std::chrono::steady_clock::now() < deadline) {
-            auto res = http().Get("/v1/jobs?state=RUNNING");
+            auto res = http().Get("/v1/jobs?state=JOB_STATE_RUNNING");
             if (!res || res->status != 200) return false;
             std::set<std::string> running;
             for (const json& job : json::parse(res->body).value("jobs", json::array()))
@@ -60,7 +60,7 @@ protected:
             if (running.count(a) && running.count(b)) return true;
             for (const std::string& id : {a, b}) {
                 const std::string state = getJob(id).value("state", "");
-                if (state != "QUEUED" && state != "RUNNING") {
+                if (state != "JOB_STATE_QUEUED" && state != "JOB_STATE_RUNNING") {
                     ADD_FAILURE() << "job " << id << " reached " << state << " before both ran at once";
                     return false;
                 }
@@ -82,7 +82,7 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
     std::thread watchA([&] { eventsA = watchEventsOn(server_.httpPort(), a); });
     std::thread watchB([&] { eventsB = watchEventsOn(server_.httpPort(), b); });
     const bool together = waitUntilBothRunning(a, b);
-    const json doneA = waitForState(a, "SUCCEEDED"), doneB = waitForState(b, "SUCCEEDED");
+    const json doneA = waitForState(a, "JOB_STATE_SUCCEEDED"), doneB = waitForState(b, "JOB_STATE_SUCCEEDED");
     watchA.join();
     watchB.join();
     EXPECT_TRUE(together) << "both jobs RUNNING at once";
@@ -103,10 +103,10 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
             dump += e.dump() + "\n";
             EXPECT_GE(u64(e["passes_done"]), passesDone) << "progress never goes back: " << e.dump();
             passesDone = u64(e["passes_done"]);
-            sawProgress |= e["state"] == "RUNNING" && passesDone > 0;
+            sawProgress |= e["state"] == "JOB_STATE_RUNNING" && passesDone > 0;
         }
         EXPECT_TRUE(sawProgress) << "passes reported while the job ran:\n" << dump;
-        EXPECT_EQ(events->back()["state"], "SUCCEEDED") << dump;
+        EXPECT_EQ(events->back()["state"], "JOB_STATE_SUCCEEDED") << dump;
         EXPECT_EQ(events->back()["percent"], 100) << dump;
         // The stream carries its own job's figures, not the other worker's.
         EXPECT_EQ(u64(events->back()["passes_done"]), u64((*job)["stats"]["passes"])) << dump;
@@ -119,8 +119,8 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
     // The same jobs on a one-worker server (the default --gpu-device): the same bytes.
     startServer({"--backend", "vulkan"});
     const std::string a1 = submitId(slowJob(sceneId, 1)), b1 = submitId(slowJob(sceneId, 2));
-    EXPECT_EQ(waitForState(a1, "SUCCEEDED")["stats"]["worker"], 0);
-    waitForState(b1, "SUCCEEDED");
+    EXPECT_EQ(waitForState(a1, "JOB_STATE_SUCCEEDED")["stats"]["worker"], 0);
+    waitForState(b1, "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(result(a1), imageA);
     EXPECT_EQ(result(b1), imageB);
 }
@@ -132,12 +132,12 @@ TEST_F(WorkersTest, CancellingOneOfTwoRunningJobsLeavesTheOther) {
     ASSERT_TRUE(waitUntilBothRunning(a, b));
     auto res = http().Post(("/v1/jobs/" + a + ":cancel").c_str(), "{}", "application/json");
     ASSERT_EQ(res->status, 200) << res->body;
-    EXPECT_EQ(json::parse(res->body)["state"], "CANCELLED");
+    EXPECT_EQ(json::parse(res->body)["state"], "JOB_STATE_CANCELLED");
     // The freed worker takes the next job while the other still renders, or after it.
     const std::string next = submitId(smallJob(sceneId));
-    waitForState(b, "SUCCEEDED");
-    waitForState(next, "SUCCEEDED");
-    EXPECT_EQ(getJob(a)["state"], "CANCELLED");
+    waitForState(b, "JOB_STATE_SUCCEEDED");
+    waitForState(next, "JOB_STATE_SUCCEEDED");
+    EXPECT_EQ(getJob(a)["state"], "JOB_STATE_CANCELLED");
     EXPECT_EQ(http().Get(("/v1/jobs/" + a + "/result").c_str())->status, 409);
     EXPECT_FALSE(std::filesystem::exists(dataDir() / "results" / (a + ".png")));
     EXPECT_EQ(result(b), cliRender(sceneId, "--resolution 160x160 --spp 48 --seed 2"))
@@ -165,7 +165,7 @@ TEST_F(WorkersTest, SigtermFinishesOrHandsOverBothRunningJobs) {
                 << server_.log();
         startServer(kTwoWorkers);
         for (const std::string& id : {a, b})
-            EXPECT_EQ(waitForState(id, "SUCCEEDED")["attempts"], handedOver ? 2 : 1) << id;
+            EXPECT_EQ(waitForState(id, "JOB_STATE_SUCCEEDED")["attempts"], handedOver ? 2 : 1) << id;
         server_.kill(SIGTERM);
     }
 }

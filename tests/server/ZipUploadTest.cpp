@@ -73,7 +73,7 @@ TEST_F(ZipUploadTest, GltfWithItsBinAndTextureInFolders) {
     // The scene renders like any other.
     auto job = submit(smallJob(scene["id"]));
     ASSERT_EQ(job->status, 202) << job->body;
-    waitForState(json::parse(job->body)["id"], "SUCCEEDED");
+    waitForState(json::parse(job->body)["id"], "JOB_STATE_SUCCEEDED");
 }
 
 // A zip through gRPC's client stream, in several messages (imported there: gRPC goes first);

@@ -36,7 +36,7 @@ def job(tiles):
     t0 = time.time(); jid = json.load(urllib.request.urlopen(r))["id"]
     while True:
         j = json.load(urllib.request.urlopen(base + "/v1/jobs/" + jid))
-        if j["state"] in ("SUCCEEDED", "FAILED"): break
+        if j["state"] in ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED"): break
         time.sleep(0.01)
     return time.time() - t0, j["state"]
 job([1, 1])  # warm: opens the scene

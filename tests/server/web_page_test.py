@@ -175,9 +175,9 @@ class PageTest:
                     name, drop_text)
         css = f'li.upload[data-name="{name}"]'
         self.wait(lambda: self.element(css) is not None and self.element(css).get_attribute("data-state") in
-                  ("SUCCEEDED", "FAILED"), f"the upload of {name} to end")
+                  ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED"), f"the upload of {name} to end")
         item = self.element(css)
-        if item.get_attribute("data-state") != "SUCCEEDED":
+        if item.get_attribute("data-state") != "JOB_STATE_SUCCEEDED":
             fail(f"upload of {name}: {item.text}")
         rows = [r for r in self.driver.find_elements(By.CSS_SELECTOR, "#scenes tbody tr")
                 if r.find_elements(By.TAG_NAME, "td")[0].text == name]
@@ -246,11 +246,15 @@ class PageTest:
 
     def render_and_watch(self, scene_id, aovs):
         job_id = self.submit(scene_id, 64, 64, 2, aovs)
-        self.wait(lambda: self.card(job_id).get_attribute("data-state") in ("SUCCEEDED", "FAILED", "CANCELLED"),
-                  "the render to end", 120)
+        final = ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED", "JOB_STATE_CANCELLED")
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") in final, "the render to end", 120)
         card = self.card(job_id)
-        if card.get_attribute("data-state") != "SUCCEEDED":
+        if card.get_attribute("data-state") != "JOB_STATE_SUCCEEDED":
             fail(f"the render did not succeed: {card.text}")
+        # data-state is the API's name; a person reads it without the enum's prefix.
+        shown = card.find_element(By.CLASS_NAME, "state").text
+        if shown != "SUCCEEDED":
+            fail(f"the card shows the state as {shown!r}, not 'SUCCEEDED'")
         if self.js("return arguments[0].querySelector('progress').value", card) != 100:
             fail("the progress bar is not full at SUCCEEDED")
         self.wait(lambda: "rays/s" in card.text and "device" in card.text, "rays/s and device memory on the card")
@@ -305,11 +309,11 @@ class PageTest:
 
     def cancel_long_job(self, scene_id):
         job_id = self.submit(scene_id, 512, 512, 4096)
-        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "RUNNING", "the long job to run", 60)
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "JOB_STATE_RUNNING", "the long job to run", 60)
         self.card(job_id).find_element(By.CSS_SELECTOR, "button.cancel").click()
-        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "CANCELLED", "CANCELLED on the card", 30)
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "JOB_STATE_CANCELLED", "CANCELLED on the card", 30)
         job = self.server.api(f"/v1/jobs/{job_id}")
-        if job["state"] != "CANCELLED" or "cancelled from the web page" not in job["error"]:
+        if job["state"] != "JOB_STATE_CANCELLED" or "cancelled from the web page" not in job["error"]:
             fail(f"the server does not say CANCELLED by the page: {job['state']} {job['error']}")
 
     def responsiveness(self, scene_id):
@@ -324,7 +328,7 @@ class PageTest:
             probe.raf = requestAnimationFrame(tick);""")
         start = time.monotonic()
         job_id = self.submit(scene_id, 128, 128, 128)
-        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "SUCCEEDED", "the streamed job to end", 120)
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "JOB_STATE_SUCCEEDED", "the streamed job to end", 120)
         seconds = time.monotonic() - start
         probe = self.js("""cancelAnimationFrame(probe.raf);
             return {gaps: probe.gaps, longTasks: probe.longTasks, events: vastrayPage.events - probe.events0}""")

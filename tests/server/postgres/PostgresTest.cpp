@@ -33,7 +33,7 @@ TEST_F(PostgresStoreTest, EmptyDatabaseIsMigratedOnceToTheCurrentVersion) {
     {
         auto stores = server::openPostgresStores(cluster_.url());
         ASSERT_TRUE(stores.isOk()) << stores.message();
-        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-kept", v1::QUEUED)).isOk());
+        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-kept", v1::JOB_STATE_QUEUED)).isOk());
     }
     EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kPostgresSchemaVersion));
     EXPECT_EQ(scalar("SELECT string_agg(tablename, ',' ORDER BY tablename) FROM pg_tables WHERE schemaname = "
@@ -52,7 +52,7 @@ TEST_F(PostgresStoreTest, DatabaseOfThePreviousVersionIsMigratedKeepingItsJobs) 
     {
         auto stores = server::openPostgresStores(cluster_.url());
         ASSERT_TRUE(stores.isOk()) << stores.message();
-        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-old", v1::QUEUED, "old-key")).isOk());
+        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-old", v1::JOB_STATE_QUEUED, "old-key")).isOk());
     }
     scalar("DROP TABLE tasks; UPDATE schema_version SET version = 1");
     auto stores = server::openPostgresStores(cluster_.url(), true);
@@ -63,7 +63,7 @@ TEST_F(PostgresStoreTest, DatabaseOfThePreviousVersionIsMigratedKeepingItsJobs) 
     ASSERT_EQ(unfinished->size(), 1u);
     EXPECT_EQ((*unfinished)[0].id(), "job-old");
     // The new table works: a tiled job's tasks are stored and leased.
-    v1::Job tiled = makeJob("job-tiled", v1::QUEUED);
+    v1::Job tiled = makeJob("job-tiled", v1::JOB_STATE_QUEUED);
     tiled.mutable_request()->add_tiles(2);
     tiled.mutable_request()->add_tiles(1);
     ASSERT_TRUE(stores->tasks->insertJobWithTasks(tiled, 2).isOk());
@@ -155,15 +155,15 @@ TEST_F(PostgresServeTest, JobsSurviveKillAndRestart) {
     res = submit(queued);
     ASSERT_EQ(res->status, 202) << res->body;
     const std::string queuedId = json::parse(res->body)["id"];
-    waitForState(running, "RUNNING");
+    waitForState(running, "JOB_STATE_RUNNING");
     server_.kill(SIGKILL);
     EXPECT_FALSE(std::filesystem::exists(dataDir() / "jobs.db")) << "no SQLite database beside PostgreSQL";
 
     startServer(database());
-    const json job = waitForState(running, "SUCCEEDED");
+    const json job = waitForState(running, "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(job["attempts"], 2) << "the interrupted render ran again";
     EXPECT_EQ(result(running), cliRender(sceneId, "--resolution 160x160 --spp 48"));
-    EXPECT_EQ(waitForState(queuedId, "SUCCEEDED")["attempts"], 1);
+    EXPECT_EQ(waitForState(queuedId, "JOB_STATE_SUCCEEDED")["attempts"], 1);
     res = submit(queued);
     ASSERT_EQ(res->status, 200) << "the request id is known after the restart: " << res->body;
     EXPECT_EQ(json::parse(res->body)["id"], queuedId);

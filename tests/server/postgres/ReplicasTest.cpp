@@ -123,10 +123,10 @@ TEST_F(ReplicasTest, ATiledJobSurvivesAReplicaKilledWhileItHoldsALease) {
         auto got = client(survivor).Get(("/v1/jobs/" + jobId).c_str());
         ASSERT_TRUE(got && got->status == 200);
         job = json::parse(got->body);
-        if (job["state"] != "QUEUED" && job["state"] != "RUNNING") break;
+        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    ASSERT_EQ(job["state"], "SUCCEEDED") << job.dump();
+    ASSERT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
     EXPECT_EQ(job["progress"], 100);
 
     // Every tile done, none by the killed replica's lost lease; the one it held was taken over
@@ -199,7 +199,7 @@ TEST_F(ReplicasTest, TilesNeedReplicasAndReplicasNeedADatabase) {
     request.set_spp(2);
     request.add_tiles(2);
     request.add_tiles(2);
-    v1::Job submitted;
+    v1::SubmitJobResponse submitted;
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
     const grpc::Status status = renders->SubmitJob(&context, request, &submitted);
@@ -207,17 +207,17 @@ TEST_F(ReplicasTest, TilesNeedReplicasAndReplicasNeedADatabase) {
     json job;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (std::chrono::steady_clock::now() < deadline) {
-        job = json::parse(client(0).Get(("/v1/jobs/" + submitted.id()).c_str())->body);
-        if (job["state"] != "QUEUED" && job["state"] != "RUNNING") break;
+        job = json::parse(client(0).Get(("/v1/jobs/" + submitted.job().id()).c_str())->body);
+        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    ASSERT_EQ(job["state"], "SUCCEEDED") << job.dump();
+    ASSERT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
     EXPECT_EQ(job["request"]["tiles"], json({2, 2})) << job.dump();
     const auto out = dir_ / "whole32.png";
     const auto run = runVastray("render " + (storage() / "scenes" / (sceneId + ".vast")).string() + " -o " +
                                 out.string() + " --backend vulkan --progress none --resolution 32x32 --spp 2");
     ASSERT_EQ(run.exitCode, 0) << run.output;
-    EXPECT_EQ(client(0).Get(("/v1/jobs/" + submitted.id() + "/result").c_str())->body, readBytes(out));
+    EXPECT_EQ(client(0).Get(("/v1/jobs/" + submitted.job().id() + "/result").c_str())->body, readBytes(out));
 
     body["tiles"] = {2, 200};
     res = client(0).Post("/v1/jobs", body.dump(), "application/json");
@@ -246,10 +246,10 @@ TEST_F(ReplicasTest, ATileThatKeepsFailingFailsTheJobAfterMaxAttempts) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (std::chrono::steady_clock::now() < deadline) {
         job = json::parse(client(0).Get(("/v1/jobs/" + jobId).c_str())->body);
-        if (job["state"] != "QUEUED" && job["state"] != "RUNNING") break;
+        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    ASSERT_EQ(job["state"], "FAILED") << job.dump();
+    ASSERT_EQ(job["state"], "JOB_STATE_FAILED") << job.dump();
     const std::string error = job.value("error", "");
     EXPECT_EQ(error.find("failed 2 times (--max-attempts 2); not run again: tile 0 attempt 1 (replica "), 0u) << error;
     EXPECT_NE(error.find("(tile 0 failed 2 times)"), std::string::npos) << error;

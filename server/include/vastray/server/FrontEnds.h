@@ -16,7 +16,7 @@ struct FrontEndOptions {
     std::string tlsCertFile, tlsKeyFile;  // both empty: plain text
 };
 
-// Largest `data` of one UploadSceneRequest and of one ResultChunk.
+// Largest `data` of one UploadSceneRequest and of one GetResultResponse.
 constexpr size_t kMaxStreamChunkBytes = 1u << 20;
 
 // gRPC: SceneService, RenderService, grpc.health.v1.Health and server reflection.
