@@ -196,7 +196,7 @@ small=$(submit_http "$job_size" "$job_size" 1)
 log "small job $small: waiting for it to finish"
 for _ in $(seq 3000); do
   state=$(job_state "$small")
-  case $state in SUCCEEDED | FAILED | CANCELLED) break ;; esac
+  case $state in JOB_STATE_SUCCEEDED | JOB_STATE_FAILED | JOB_STATE_CANCELLED) break ;; esac
   sleep 0.2
 done
 curl -sS "http://$http/v1/jobs/$small" > "$res/B.small.json"
@@ -205,7 +205,7 @@ metrics after_small
 
 busy=$(submit_http "$busy_size" "$busy_size" "$busy_spp")
 echo "$busy" > "$res/B.busy"
-for _ in $(seq 600); do [ "$(job_state "$busy")" != QUEUED ] && break; sleep 0.1; done
+for _ in $(seq 600); do [ "$(job_state "$busy")" != JOB_STATE_QUEUED ] && break; sleep 0.1; done
 job_state "$busy" > "$res/B.busy.state.before"
 log "busy job $busy: $(cat "$res/B.busy.state.before"); filling the queue"
 queued=()
@@ -241,7 +241,7 @@ t1=$(date +%s.%N)
 echo "$running $(python3 -c "print(f'{$t1 - $t0:.2f}')")" > "$res/B.cancel_to_idle"
 log "worker idle after the cancel: $(cat "$res/B.cancel_to_idle")"
 # Jobs accepted while the queue had room again (if the busy job ended during the phase).
-curl -sS "http://$http/v1/jobs?state=QUEUED&page_size=1000" > "$res/B.queued_left.json"
+curl -sS "http://$http/v1/jobs?state=JOB_STATE_QUEUED&page_size=1000" > "$res/B.queued_left.json"
 python3 -c 'import json,sys; [print(j["id"]) for j in json.load(open(sys.argv[1])).get("jobs", [])]' \
   "$res/B.queued_left.json" | while read -r id; do
   curl -sS -o /dev/null -H 'Content-Type: application/json' -d '{}' "http://$http/v1/jobs/$id:cancel" || true
