@@ -161,7 +161,7 @@ Args parseArgs(int argc, char** argv) {
 std::string makePackage(const Args& a, double* importSeconds) {
     const std::string path = (std::filesystem::temp_directory_path() /
                               ("stream-bench-" + a.kind + "-" + std::to_string(a.triangles) + "-" +
-                               geometryCodecName(a.codec) +
+                               geometryCodecName(a.codec) + "-chunk" + std::to_string(a.chunkSize) +
                                "-cap" + std::to_string(int(a.residentBytesPerTriangle)) +
                                (a.attributes ? "-attributes" : "") + ".vast"))
                                  .string();
