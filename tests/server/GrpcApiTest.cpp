@@ -8,6 +8,7 @@
 
 #include <google/protobuf/descriptor.pb.h>
 
+#include "GrpcUpload.h"
 #include "ServerTestSupport.h"
 #include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
 #include "vastray/v1/render_service.grpc.pb.h"
@@ -51,19 +52,7 @@ protected:
     // Streams the sphere in 64 KiB messages; `scene` is the response's scene.
     grpc::Status upload(v1::Scene* scene) {
         auto c = context();
-        v1::UploadSceneResponse response;
-        auto writer = scenes_->UploadScene(c.get(), &response);
-        const std::string bytes = readBytes(spherePath_);
-        for (size_t at = 0; at < bytes.size(); at += 65536) {
-            v1::UploadSceneRequest message;
-            if (at == 0) message.set_name("sphere.ply");
-            message.set_data(bytes.substr(at, 65536));
-            if (!writer->Write(message)) break;
-        }
-        writer->WritesDone();
-        grpc::Status status = writer->Finish();
-        *scene = response.scene();
-        return status;
+        return uploadSceneOverGrpc(*scenes_, *c, "sphere.ply", readBytes(spherePath_), 65536, false, scene);
     }
 
     v1::SubmitJobRequest smallRequest(const std::string& sceneId) const {
