@@ -32,13 +32,13 @@ void startPath(ParamsRef params, uint j, uint pixel, uint sampleIndex, bool jitt
     const vec3 up = vec3(params.p.upX, params.p.upY, params.p.upZ);
     const vec3 direction = normalize(forward + right * sx + up * sy);
     const uint shadow = shadowRayIndex(params.p, j);
-    Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, kInfinity);
-    Vec4Array(params.p.rayDirection).v[j] = vec4(direction, 0.0);
+    Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, 0.0);
+    Vec4Array(params.p.rayDirection).v[j] = vec4(direction, kInfinity);
     UVec2Array(params.p.rayState).v[j] = uvec2(kRayPending, 0u);
     UVec2Array(params.p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
     Vec4Array(params.p.radiance).v[j] = vec4(0.0);
-    UVec4Array(params.p.pathInfo).v[j] = uvec4(pixel, sampleIndex, kPathAlive | (jitter ? kPathWalkClosest : 0u), 0u);
+    UVec2Array(params.p.pathInfo).v[j] = uvec2(pixel, pathWord(kPathAlive | (jitter ? kPathWalkClosest : 0u), 0u, sampleIndex));
 }
 
 // Streamed waves: group g's next block (or pixel). Returns the paths it started (from g *
@@ -52,11 +52,12 @@ uint continueGroup(ParamsRef params, uint g, out bool idle) {
     uvec2 state = states.v[g];
     uint pixel = 0u, next = 0u;
     if (state.x == 0u) {  // its block is done: add it to the pixel's sum, one sample at a time
-        const uvec4 info = UVec4Array(params.p.pathInfo).v[first];
-        const uint samples = min(groupSize, spp - info.y);
+        const uvec2 info = UVec2Array(params.p.pathInfo).v[first];
+        const uint done = pathSample(info.y);
+        const uint samples = min(groupSize, spp - done);
         const vec4 sum = addSamples(params, accum.v[g], first, samples);
         accum.v[g] = sum;
-        pixel = info.x, next = info.y + samples;
+        pixel = info.x, next = done + samples;
         if (next >= spp) {  // the pixel is done
             Vec4Array(params.p.outColor).v[state.y] = pixelMean(params, sum);
             atomicAdd(window.w.done[state.y / params.p.tilePixels], 1u);

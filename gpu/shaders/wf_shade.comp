@@ -36,9 +36,11 @@ layout(constant_id = 5) const bool kEnvironmentMap = false;    // an environment
 layout(constant_id = 6) const bool kVolumes = false;           // the scene has density volumes
 layout(constant_id = 7) const bool kMicrofacet = false;        // some material is glossy (not Lambertian)
 
-void startRay(WavefrontParams p, uint ray, vec3 origin, vec3 direction, float tMax, bool fromSurface) {
-    Vec4Array(p.rayOrigin).v[ray] = vec4(origin, tMax);
-    Vec4Array(p.rayDirection).v[ray] = vec4(direction, 0.0);
+// Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
+// path's shadow ray and bounce leave the same point).
+void startRay(WavefrontParams p, uint j, uint ray, vec3 origin, vec3 direction, float tMax, bool fromSurface) {
+    Vec4Array(p.rayOrigin).v[j] = vec4(origin, 0.0);
+    Vec4Array(p.rayDirection).v[ray] = vec4(direction, tMax);
     UVec2Array(p.rayState).v[ray] = uvec2(kRayPending | (fromSurface ? kRayFromSurface : 0u), 0u);
 }
 
@@ -57,8 +59,8 @@ bool surviveRoulette(inout vec3 throughput, uint pixel, uint sampleIndex, uint b
 bool shade(uint j, inout uint count, inout uint first, inout uint second, out bool ended) {
     ended = false;
     const WavefrontParams p = ParamsRef(pc.params).p;
-    uvec4 info = UVec4Array(p.pathInfo).v[j];
-    uint flags = info.z;
+    const uvec2 info = UVec2Array(p.pathInfo).v[j];
+    uint flags = pathFlags(info.y), nextBounce = pathBounce(info.y);
     if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return true;
     const bool ao = kAmbientOcclusion;
     const uint shadow = shadowRayIndex(p, j);
@@ -78,7 +80,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         const vec3 direction = Vec4Array(p.rayDirection).v[j].xyz;
         const vec4 carried = Vec4Array(p.throughput).v[j];
         vec3 throughput = carried.xyz;
-        const uint bounce = info.w, pixel = info.x, sampleIndex = info.y;
+        const uint bounce = nextBounce, pixel = info.x, sampleIndex = pathSample(info.y);
         const bool hitFound = (UVec2Array(p.rayState).v[j].x & kHitFound) != 0u;
         // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
         // a real collision before it is this event's scattering point instead.
@@ -124,7 +126,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             if (bounce == 0u) flags |= kPathCameraHit;
             if (ao) {
                 const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
-                startRay(p, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range, true);
+                startRay(p, j, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range, true);
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             } else {
@@ -163,7 +165,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             }
             if (shoots) {
                 Vec4Array(p.pendingSun).v[j] = vec4(scattered ? (throughput * albedo) * light : throughput * light, 0.0);
-                startRay(p, shadow, origin, toLight, kInfinity, !scattered);
+                startRay(p, j, shadow, origin, toLight, kInfinity, !scattered);
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             }
@@ -194,9 +196,9 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             }
             if (survives) {
                 Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? bouncePdf : 0.0);
-                startRay(p, j, origin, bounced, kInfinity, !scattered);
+                startRay(p, j, j, origin, bounced, kInfinity, !scattered);
                 flags |= kPathAlive | kPathWalkClosest;
-                info.w = bounce + 1u;
+                nextBounce = bounce + 1u;
                 if (count == 0u) first = j; else second = j;
                 ++count;
             }
@@ -205,8 +207,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
     }
     if (shadowDone && (flags & kPathShadowPending) == 0u) UVec2Array(p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);
-    info.z = flags;
-    UVec4Array(p.pathInfo).v[j] = info;
+    UVec2Array(p.pathInfo).v[j].y = pathWord(flags, nextBounce, pathSample(info.y));
     ended = count == 0u;
     return true;
 }

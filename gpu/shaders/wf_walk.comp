@@ -105,9 +105,9 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     }
 
     gRayFromSurface = (flags & kRayFromSurface) != 0u;
-    const vec4 o = Vec4Array(params.p.rayOrigin).v[ray], d = Vec4Array(params.p.rayDirection).v[ray];
-    const vec3 origin = o.xyz, direction = d.xyz;
-    const float tMax = o.w;
+    const vec4 d = Vec4Array(params.p.rayDirection).v[ray];
+    const vec3 origin = Vec4Array(params.p.rayOrigin).v[j].xyz, direction = d.xyz;  // both rays' origin
+    const float tMax = d.w;
     bool found = (flags & kHitFound) != 0u;
     float bestT = found && !anyHit ? Vec4Array(params.p.hitPosition).v[ray].w : 0.0;
     bool bestFront = (flags & kHitFrontFacing) != 0u;
@@ -128,7 +128,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
                                     vec3(params.p.boundsHiX, params.p.boundsHiY, params.p.boundsHiZ));
     SlotTable slots = SlotTable(params.p.slotTable);
     TraversalRay r;
-    float t0 = d.w, t1 = tMax;
+    float t0 = 0.0, t1 = tMax;
     if (top.nodeCount != 0u && prepareTraversalRay(top, origin, direction, r) && clipToBounds(top, r, t0, t1)) {
         uint stackSize = 0u, index = 0u;
         for (;;) {
@@ -210,7 +210,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     }
     if (!parked) {
         const uint mine = anyHit ? kPathWalkShadow : kPathWalkClosest;
-        const uint before = atomicAnd(RwUintArray(params.p.pathInfo).v[4u * j + 2u], ~mine);
+        const uint before = atomicAnd(RwUintArray(params.p.pathInfo).v[2u * j + 1u], ~mine);
         pathReady = (before & mine) != 0u && (before & (kPathWalkClosest | kPathWalkShadow) & ~mine) == 0u;
     }
 }

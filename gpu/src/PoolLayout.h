@@ -12,6 +12,7 @@
 #include "shared/WavefrontTypes.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/core/Microfacet.h"
+#include "vastray/core/RenderOptions.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray::gpu {
@@ -52,23 +53,30 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
 
 // The wavefront's state buffer (device-local) and output buffer (host-readable), per path and
 // per tile pixel: sections in the order of WavefrontParams' addresses.
+// Streamed waves' groups (two paths or more each) of a wave of `paths` paths, at most.
+inline uint64_t groupCapacity(uint64_t paths) { return (paths + 1) / 2; }
 // Queue q's byte offset from StateLayout::queues (common/WavefrontState.glsl's queueOf): the two
-// ray queues hold 2 * paths entries, the shade, volume wait and two group queues paths entries.
+// ray queues hold 2 * paths entries, the shade and volume wait queues paths entries, the two
+// group queues groupCapacity entries.
 inline uint64_t queueOffset(uint32_t q, uint64_t paths) {
-    return q < kShadeQueue ? uint64_t(q) * 8 * paths : (16 + uint64_t(q - kShadeQueue) * 4) * paths;
+    if (q <= kGroupQueue) return q < kShadeQueue ? uint64_t(q) * 8 * paths : (16 + uint64_t(q - kShadeQueue) * 4) * paths;
+    return queueOffset(kGroupQueue, paths) + uint64_t(q - kGroupQueue) * 4 * groupCapacity(paths);
 }
+// The 16-byte vectors first (per path, rays' directions per ray), then the 8-byte ones, then
+// the queues, so that every array is aligned for any count of paths.
 struct StateLayout {
-    uint64_t rayOrigin, rayDirection, rayState, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, pathInfo,
-        accum, groupState, queues, totalBytes;
+    uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, accum, rayState,
+        pathInfo, groupState, queues, totalBytes;
 };
 inline StateLayout stateLayout(uint64_t paths) {
     StateLayout s{};
-    const uint64_t rays = 2 * paths * 16, perPath = paths * 16;
-    s.rayOrigin = 0, s.rayDirection = rays, s.rayState = 2 * rays, s.hitPosition = s.rayState + 2 * paths * 8;
+    const uint64_t perPath = paths * 16;
+    s.rayOrigin = 0, s.rayDirection = perPath, s.hitPosition = s.rayDirection + 2 * perPath;
     s.hitNormal = s.hitPosition + perPath, s.hitIds = s.hitNormal + perPath;
     s.throughput = s.hitIds + perPath, s.radiance = s.throughput + perPath, s.pendingSun = s.radiance + perPath;
-    s.pathInfo = s.pendingSun + perPath, s.accum = s.pathInfo + perPath, s.groupState = s.accum + perPath;
-    s.queues = s.groupState + paths * 8;
+    s.accum = s.pendingSun + perPath, s.rayState = s.accum + perPath, s.pathInfo = s.rayState + 2 * paths * 8;
+    s.groupState = s.pathInfo + paths * 8;
+    s.queues = s.groupState + groupCapacity(paths) * 8;
     s.totalBytes = s.queues + queueOffset(kQueueCount, paths);
     return s;
 }
@@ -146,6 +154,10 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
     return l;
 }
 
-static_assert(kBytesPerPath == 2 * (16 + 16 + 8) + 3 * 16 + 4 * 16 + 16 + 8 + 8 + 8 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 16 + 2 * (16 + 8) + 3 * 16 + 3 * 16 + 8 + 16 + 8 + 8 && kBytesPerTilePixel == 76);
+// A path's word (shared/WavefrontTypes.h): flags, bounce and sample index fit their fields.
+static_assert(kPathFlagBits == kPathBounceShift && kPathBounceShift + kPathBounceBits == kPathSampleShift);
+static_assert((kPathAlive | kPathShadowPending | kPathCameraHit | kPathWalkClosest | kPathWalkShadow) < (1u << kPathFlagBits));
+static_assert(kMaxDepthLimit + 1 < (1u << kPathBounceBits) && kMaxSamplesPerPixel <= (1u << (32 - kPathSampleShift)));
 
 }  // namespace vastray::gpu

@@ -19,14 +19,27 @@ layout(push_constant, std430) uniform PushBlock { WavefrontPush pc; };
 // Index of path j's shadow ray among the rays.
 uint shadowRayIndex(WavefrontParams p, uint j) { return p.pathCapacity + j; }
 
+// A path's word (WavefrontParams::pathInfo .y): its flags, the bounce of its closest-hit ray and
+// its sample index. The walk clears flags in it with atomics; the other fields stay.
+uint pathWord(uint flags, uint bounce, uint sampleIndex) {
+    return flags | (bounce << kPathBounceShift) | (sampleIndex << kPathSampleShift);
+}
+uint pathFlags(uint word) { return word & ((1u << kPathFlagBits) - 1u); }
+uint pathBounce(uint word) { return (word >> kPathBounceShift) & ((1u << kPathBounceBits) - 1u); }
+uint pathSample(uint word) { return word >> kPathSampleShift; }
+
 // Queue q: ray queues 0 and 1 (the ray indices a walk pass walks, and the ones the next pass
 // walks), kShadeQueue (the paths whose rays are all walked) or kVolumeWaitQueue (paths waiting
-// for volume bricks; pathCapacity entries each after the ray queues); dense, in no particular order
-// (each ray's walk and each path's shading is independent of the others', so the order changes
-// nothing but the schedule).
+// for volume bricks; pathCapacity entries each after the ray queues), and the group queues
+// (kGroupQueue, kGroupQueue + 1; (pathCapacity + 1) / 2 entries each, gpu/src/PoolLayout.h's
+// queueOffset); dense, in no particular order (each ray's walk and each path's shading is
+// independent of the others', so the order changes nothing but the schedule).
 RwUintArray queueOf(ParamsRef params, uint q) {
     const uint64_t capacity = params.p.pathCapacity;
-    return RwUintArray(params.p.queues + (q < kShadeQueue ? uint64_t(q) * 8ul * capacity : (16ul + uint64_t(q - kShadeQueue) * 4ul) * capacity));
+    const uint64_t at = q < kShadeQueue ? uint64_t(q) * 8ul * capacity
+                      : q <= kGroupQueue ? (16ul + uint64_t(q - kShadeQueue) * 4ul) * capacity
+                                         : 24ul * capacity + 4ul * ((capacity + 1ul) / 2ul);
+    return RwUintArray(params.p.queues + at);
 }
 uint queueCount(ParamsRef params, uint q) { return RwUintArray(params.p.queueCounts).v[q]; }
 
@@ -65,7 +78,7 @@ void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint firs
 vec4 addSamples(ParamsRef params, vec4 sum, uint first, uint samples) {
     for (uint s = 0u; s < samples; ++s) {
         sum.xyz += Vec4Array(params.p.radiance).v[first + s].xyz;
-        sum.w += (UVec4Array(params.p.pathInfo).v[first + s].z & kPathCameraHit) != 0u ? 1.0 : 0.0;
+        sum.w += (UVec2Array(params.p.pathInfo).v[first + s].y & kPathCameraHit) != 0u ? 1.0 : 0.0;
     }
     return sum;
 }

@@ -15,7 +15,13 @@ using uint = uint32_t;
 
 const uint kWavefrontWorkgroupSize = 64u;
 
-// Path flags (WavefrontParams::pathInfo .z).
+// Path flags: the low kPathFlagBits bits of a path's word (WavefrontParams::pathInfo .y), above
+// them its bounce (kPathBounceBits: the closest-hit ray's, at most kMaxDepthLimit + 1) and its
+// sample index (the high 16 bits: at most kMaxSamplesPerPixel - 1).
+const uint kPathFlagBits = 5u;
+const uint kPathBounceShift = 5u;
+const uint kPathBounceBits = 11u;
+const uint kPathSampleShift = 16u;
 const uint kPathAlive = 1u;          // has a closest-hit ray to trace at the next stream
 const uint kPathShadowPending = 2u;  // has a shadow ray in the current stream
 const uint kPathCameraHit = 4u;      // its camera ray hit geometry (alpha)
@@ -65,12 +71,13 @@ const uint kGenerateStream = 2u; // streamed waves: the groups of queue pc.group
 const uint kWaveTiled = 0u;
 const uint kWaveStreamed = 1u;
 
-// Device bytes per path of the state arrays (two rays with their walk states, the closest hit's
-// record, four path vectors, a slot in each of the two ray queues for each ray, a slot in the
-// shade queue and one in the volume wait queue, a group's state and a slot in each of the two
-// group queues (streamed waves) and per tile pixel (the sum, the colour and the AOVs at most). The host sizes
-// waves from the budget with these.
-const uint kBytesPerPath = 2u * (16u + 16u + 8u) + 3u * 16u + 4u * 16u + 2u * 2u * 4u + 2u * 4u + 8u + 2u * 4u;
+// Device bytes per path of the state arrays (one ray origin both its rays share, two rays'
+// directions and walk states, the closest hit's record, three path vectors and its pixel and
+// word, a slot in each of the two ray queues for each ray, a slot in the shade queue and one
+// in the volume wait queue, and per two paths a group's state and a slot in each of the two
+// group queues: streamed waves' groups have two paths or more) and per tile pixel (the sum, the
+// colour and the AOVs at most). The host sizes waves from the budget with these.
+const uint kBytesPerPath = 16u + 2u * (16u + 8u) + 3u * 16u + 3u * 16u + 8u + 2u * 2u * 4u + 2u * 4u + (8u + 2u * 4u) / 2u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
@@ -124,8 +131,9 @@ struct WavefrontParams {
     uint64_t ahead;        // per chunk: parked rays (of the last walk pass) that wait for one of its
                            // cells besides the first one they wait for
     uint64_t materials;    // WavefrontMaterial per material
-    uint64_t rayOrigin;    // vec4: origin, tMax
-    uint64_t rayDirection; // vec4: direction, tMin (0)
+    uint64_t rayOrigin;    // vec4 per path: the origin both its rays start from (w unused): a shadow
+                           // ray and the bounce start at the same scattering event
+    uint64_t rayDirection; // vec4 per ray: direction, tMax (the walk starts at t = 0)
     uint64_t rayState;     // uvec2: walk flags (kHitFound, kHitFrontFacing, kRayPending,
                            // kRayFromSurface) and the cells done beyond the first it waits for
                            // (kRayDoneShift), the top-level leaf of that first cell + 1 or 0
@@ -139,12 +147,14 @@ struct WavefrontParams {
     uint64_t radiance;     // vec4 per path
     uint64_t pendingSun;   // vec4 per path: next-event estimation's light (the sun's or the
                            // environment map's), added if the shadow ray is unblocked
-    uint64_t pathInfo;     // uvec4 per path: pixel, sample, flags, bounce of its closest-hit ray
+    uint64_t pathInfo;     // uvec2 per path: pixel, and its word: flags, the bounce of its closest-hit
+                           // ray and its sample (kPathFlagBits, kPathBounceShift, kPathSampleShift)
     uint64_t queues;       // two ray queues of 2 * pathCapacity ray indices each (queue q at
                            // queues + q * 8 * pathCapacity bytes): the rays a walk pass walks and
                            // the rays the next one walks; then the shade queue (kShadeQueue) of
-                           // pathCapacity path indices: the paths whose rays are all walked
-    uint64_t queueCounts;  // three uints: the entries of each queue
+                           // pathCapacity path indices: the paths whose rays are all walked; the
+                           // volume wait queue (pathCapacity); the two group queues (groupCapacity)
+    uint64_t queueCounts;  // kQueueCount uints: the entries of each queue
     uint64_t queueArgs;    // per queue a VkDispatchIndirectCommand (x, 1, 1): x = the workgroups of
                            // one thread per entry (the walk and shading are dispatched from them)
     uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
@@ -166,7 +176,8 @@ struct WavefrontParams {
                            // (common/Volume.glsl, VolumePark; zero: nowhere)
     uint64_t microfacet;   // the metallic-roughness BSDF's albedo tables (core/Microfacet.h,
                            // kMicrofacetTableFloats floats) when some material is glossy
-    uint64_t groupState;   // streamed waves: uvec2 per group of sampleCount paths: paths of its block
+    uint64_t groupState;   // streamed waves: uvec2 per group of sampleCount >= 2 paths (groupCapacity
+                           // entries, (pathCapacity + 1) / 2): paths of its block
                            // still running (kGroupIdle: no block), its pixel's index in the window's
                            // outputs (ring slot * tilePixels + pixel in the tile)
     uint64_t stream;       // streamed waves (table buffer): StreamWindow

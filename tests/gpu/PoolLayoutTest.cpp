@@ -1,0 +1,51 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+#include "PoolLayout.h"
+
+namespace vastray::gpu {
+namespace {
+
+// The wavefront's state arrays (shared/WavefrontTypes.h's WavefrontParams) for any count of
+// paths: each aligned for its element (vec4 16 bytes, uvec2 8, uint 4), none overlapping another,
+// all inside the buffer; and the per-path figure the planner sizes waves with is what they take.
+TEST(PoolLayout, StateArraysAreAlignedAndDisjointForAnyPathCount) {
+    for (const uint64_t paths : {1ull, 2ull, 3ull, 7ull, 64ull, 1001ull, 160001ull, 1ull << 20}) {
+        const StateLayout s = stateLayout(paths);
+        const uint64_t groups = groupCapacity(paths);
+        struct Array {
+            const char* name;
+            uint64_t at, bytes, align;
+        };
+        std::vector<Array> arrays = {
+            {"rayOrigin", s.rayOrigin, 16 * paths, 16},        {"rayDirection", s.rayDirection, 32 * paths, 16},
+            {"hitPosition", s.hitPosition, 16 * paths, 16},    {"hitNormal", s.hitNormal, 16 * paths, 16},
+            {"hitIds", s.hitIds, 16 * paths, 16},              {"throughput", s.throughput, 16 * paths, 16},
+            {"radiance", s.radiance, 16 * paths, 16},          {"pendingSun", s.pendingSun, 16 * paths, 16},
+            {"accum", s.accum, 16 * paths, 16},                {"rayState", s.rayState, 16 * paths, 8},
+            {"pathInfo", s.pathInfo, 8 * paths, 8},            {"groupState", s.groupState, 8 * groups, 8},
+        };
+        for (uint32_t q = 0; q < kQueueCount; ++q) {
+            const uint64_t entries = q < kShadeQueue ? 2 * paths : q < kGroupQueue ? paths : groups;
+            arrays.push_back({"queue", s.queues + queueOffset(q, paths), 4 * entries, 4});
+        }
+        std::sort(arrays.begin(), arrays.end(), [](const Array& a, const Array& b) { return a.at < b.at; });
+        uint64_t end = 0, sum = 0;
+        for (const Array& a : arrays) {
+            EXPECT_EQ(a.at % a.align, 0u) << a.name << " with " << paths << " paths";
+            EXPECT_GE(a.at, end) << a.name << " overlaps the array before it with " << paths << " paths";
+            end = a.at + a.bytes, sum += a.bytes;
+        }
+        EXPECT_LE(end, s.totalBytes) << paths << " paths";
+        EXPECT_EQ(sum, s.totalBytes) << "no gaps with " << paths << " paths";
+        // kBytesPerPath leaves out the accumulator (a tile pixel's, kBytesPerTilePixel) and counts
+        // the per-group arrays at half a group per path.
+        EXPECT_EQ(s.totalBytes - 16 * paths, kBytesPerPath * paths + (paths % 2 ? 8 : 0)) << paths << " paths";
+    }
+}
+
+}  // namespace
+}  // namespace vastray::gpu
