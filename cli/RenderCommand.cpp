@@ -375,9 +375,10 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
     std::printf("  device               %llu submits, %llu walk passes, %s up, %s down (besides chunks)\n",
                 (unsigned long long)st->submits, (unsigned long long)st->walkPasses,
                 formatBytes(st->hostToDeviceBytes).c_str(), formatBytes(st->deviceToHostBytes).c_str());
-    if (st->volumeBrickSlots > 0)
-        std::printf("  volume bricks        %llu slots, %llu loads\n", (unsigned long long)st->volumeBrickSlots,
-                    (unsigned long long)st->volumeBrickLoads);
+    if (st->volumeBrickSlots > 0 || st->volumeBricksRead > 0)
+        std::printf("  volume bricks        %llu slots, %llu loads, %llu read from the package\n",
+                    (unsigned long long)st->volumeBrickSlots, (unsigned long long)st->volumeBrickLoads,
+                    (unsigned long long)st->volumeBricksRead);
 }
 
 Status writeStatsJson(const std::string& path, const RenderStats& s, const StreamingStats* st) {
@@ -407,6 +408,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["streamed_tiles"] = st->streamedTiles;
         j["volume_brick_slots"] = st->volumeBrickSlots;
         j["volume_brick_loads"] = st->volumeBrickLoads;
+        j["volume_bricks_read"] = st->volumeBricksRead;
         j["host_to_device_bytes"] = st->hostToDeviceBytes;
         j["device_to_host_bytes"] = st->deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k)
@@ -465,8 +467,8 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
-    if (!(*reader)->info().volumes.empty()) {
-        auto volumes = (*reader)->readVolumes();
+    if (!(*reader)->info().volumes.empty()) {  // brick tables now, each brick when a ray needs it
+        auto volumes = (*reader)->openVolumes();
         if (!volumes) return volumes.status();
         options.volumes = std::move(volumes).value();
     }

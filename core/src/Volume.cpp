@@ -206,13 +206,17 @@ Aabb boundsWithVolumes(Aabb bounds, const std::vector<Volume>* volumes) {
 }
 
 void computeVolumeMajorants(Volume& v) {
-    const uint64_t cells = v.cellCount();
-    std::vector<float> brickMax(cells, 0.0f);
-    for (uint64_t c = 0; c < cells; ++c) {
-        if (v.brickOf[c] == kNoBrick) continue;
-        const float* voxels = &v.voxels[uint64_t(v.brickOf[c]) * kVolumeBrickVoxels];
-        brickMax[c] = *std::max_element(voxels, voxels + kVolumeBrickVoxels);
+    std::vector<float> brickMax(v.brickCount(), 0.0f);
+    for (uint64_t b = 0; b < brickMax.size(); ++b) {
+        const float* voxels = &v.voxels[b * kVolumeBrickVoxels];
+        brickMax[b] = *std::max_element(voxels, voxels + kVolumeBrickVoxels);
     }
+    computeVolumeMajorants(v, brickMax);
+}
+
+void computeVolumeMajorants(Volume& v, std::span<const float> brickMaximum) {
+    const uint64_t cells = v.cellCount();
+    auto brickMax = [&](uint64_t c) { return v.brickOf[c] == kNoBrick ? 0.0f : brickMaximum[v.brickOf[c]]; };
     v.majorant.assign(cells, 0.0f);
     const uint64_t nx = v.brickCells[0], ny = v.brickCells[1], nz = v.brickCells[2];
     for (uint64_t z = 0; z < nz; ++z)
@@ -222,9 +226,20 @@ void computeVolumeMajorants(Volume& v) {
                 for (uint64_t dz = 0; dz < 2 && z + dz < nz; ++dz)
                     for (uint64_t dy = 0; dy < 2 && y + dy < ny; ++dy)
                         for (uint64_t dx = 0; dx < 2 && x + dx < nx; ++dx)
-                            m = std::max(m, brickMax[(x + dx) + nx * ((y + dy) + ny * (z + dz))]);
+                            m = std::max(m, brickMax((x + dx) + nx * ((y + dy) + ny * (z + dz))));
                 v.majorant[x + nx * (y + ny * z)] = m;
             }
+}
+
+Status readVolumeBrick(const Volume& v, uint64_t brick, float* density, float* emission) {
+    if (brick >= v.brickCount())
+        return Status::error("volume '" + v.name + "': brick " + std::to_string(brick) + " does not exist (" +
+                             std::to_string(v.brickCount()) + " bricks)");
+    if (v.bricks.source) return v.bricks.source->readBrick(v.bricks.volume, uint32_t(brick), density, emission);
+    const uint64_t first = brick * kVolumeBrickVoxels;
+    std::copy_n(v.voxels.data() + first, kVolumeBrickVoxels, density);
+    if (!v.emissionVoxels.empty()) std::copy_n(v.emissionVoxels.data() + first, kVolumeBrickVoxels, emission);
+    return Status::ok();
 }
 
 std::string checkVolume(const Volume& v) {

@@ -31,7 +31,7 @@ uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint6
 
 std::vector<VolumeShape> volumeShapes(std::span<const Volume> volumes) {
     std::vector<VolumeShape> shapes;
-    for (const Volume& v : volumes) shapes.push_back({v.cellCount(), v.brickCount(), !v.emissionVoxels.empty()});
+    for (const Volume& v : volumes) shapes.push_back({v.cellCount(), v.brickCount(), v.hasEmission()});
     return shapes;
 }
 
@@ -162,7 +162,7 @@ Status DeviceVolumes::writeRecords(const std::vector<Volume>& volumes, std::span
         const Volume& v = volumes[i];
         WavefrontVolume& r = records.emplace_back();
         r.brickOf = base + brickOf[i], r.majorant = base + majorant[i], r.voxels = base + voxels[i];
-        r.emissionVoxels = v.emissionVoxels.empty() ? 0 : base + emission[i];
+        r.emissionVoxels = v.hasEmission() ? base + emission[i] : 0;
         std::copy(v.worldToIndex.begin(), v.worldToIndex.end(), r.worldToIndex);
         r.originX = v.origin[0], r.originY = v.origin[1], r.originZ = v.origin[2];
         r.cellsX = v.brickCells[0], r.cellsY = v.brickCells[1], r.cellsZ = v.brickCells[2];
@@ -185,18 +185,44 @@ Status DeviceVolumes::allocate(const std::vector<Volume>& volumes, uint64_t byte
     return Status::ok();
 }
 
+Status DeviceVolumes::uploadAllBricks(const Volume& v, uint64_t voxels, uint64_t emission, StreamingStats& stats) {
+    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels, bricks = v.brickCount();
+    if (!v.bricks.source) {
+        if (v.hasEmission()) VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data(), v.emissionVoxels.size() * 4, emission));
+        if (bricks > 0)  // a grid whose active values are all 0 has no bricks
+            VASTRAY_TRY(buffer_.upload(v.voxels.data(), v.voxels.size() * 4, voxels));
+        return Status::ok();
+    }
+    // Read from the package a batch at a time (16 MiB of host memory at most), on all cores.
+    constexpr uint64_t kBatch = 4096;
+    std::vector<float> density(std::min(bricks, kBatch) * kVolumeBrickVoxels);
+    std::vector<float> glow(v.hasEmission() ? density.size() : 0);
+    for (uint64_t first = 0; first < bricks; first += kBatch) {
+        const uint64_t count = std::min(kBatch, bricks - first);
+        std::vector<Status> failed(count);
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 64), [&](const tbb::blocked_range<uint64_t>& r) {
+            for (uint64_t i = r.begin(); i != r.end(); ++i)
+                failed[i] = readVolumeBrick(v, first + i, density.data() + i * kVolumeBrickVoxels,
+                                            glow.empty() ? nullptr : glow.data() + i * kVolumeBrickVoxels);
+        });
+        for (const Status& f : failed) VASTRAY_TRY(f);
+        stats.volumeBricksRead += count;
+        VASTRAY_TRY(buffer_.upload(density.data(), count * brickBytes, voxels + first * brickBytes));
+        if (!glow.empty()) VASTRAY_TRY(buffer_.upload(glow.data(), count * brickBytes, emission + first * brickBytes));
+    }
+    return Status::ok();
+}
+
 Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats) {
     const VolumeLayout layout = volumeLayout(volumeShapes(volumes));
     VASTRAY_TRY(allocate(volumes, layout.totalBytes));
     for (size_t i = 0; i < volumes.size(); ++i) {
         const Volume& v = volumes[i];
-        if (!v.emissionVoxels.empty())
-            VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data(), v.emissionVoxels.size() * 4, layout.emission[i]));
+        VASTRAY_TRY(uploadAllBricks(v, layout.voxels[i], layout.emission[i], stats));
         VASTRAY_TRY(buffer_.upload(v.brickOf.data(), v.brickOf.size() * 4, layout.brickOf[i]));
         VASTRAY_TRY(buffer_.upload(v.majorant.data(), v.majorant.size() * 4, layout.majorant[i]));
-        if (!v.voxels.empty())  // a grid whose active values are all 0 has no bricks
-            VASTRAY_TRY(buffer_.upload(v.voxels.data(), v.voxels.size() * 4, layout.voxels[i]));
-        stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size() + v.voxels.size() + v.emissionVoxels.size()) * 4;
+        stats.hostToDeviceBytes +=
+            (v.brickOf.size() + v.majorant.size() + v.brickCount() * kVolumeBrickVoxels * (v.hasEmission() ? 2 : 1)) * 4;
     }
     return writeRecords(volumes, layout.brickOf, layout.majorant, layout.voxels, layout.emission);
 }
@@ -243,6 +269,17 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
             regionBricks_.push_back(std::move(bricks));
         }
     }
+    // The host cache, for the bricks that stay in the package.
+    uint64_t stored = 0;
+    bool glows = false;
+    for (const Volume& v : volumes)
+        if (v.bricks.source) stored += v.brickCount(), glows = glows || v.hasEmission();
+    cacheStride_ = uint64_t(kVolumeBrickVoxels) * (glows ? 2 : 1);
+    const uint64_t entries = std::min(stored, std::max<uint64_t>(slots, kVolumeHostCacheBytes / (4 * cacheStride_)));
+    cache_.assign(entries * cacheStride_, 0.0f);
+    entryBrick_.assign(entries, kNoBrick), entryStep_.assign(entries, 0), entryReferenced_.assign(entries, 0);
+    brickEntry_.assign(entries > 0 ? brickVolume_.size() : 0, kNoBrick);
+    hand_ = 0, step_ = 0;
     densityOffset_ = layout.density, emissionOffset_ = layout.emission;
     demandOffset_ = layout.demand, parkOffset_ = layout.park, parkBytes_ = kVolumeParkBytes * paths;
     const std::vector<uint32_t> zeros(2 * brickVolume_.size(), 0);  // no brick asked for
@@ -251,14 +288,51 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission);
 }
 
-Status DeviceVolumes::copyBrick(uint32_t brick, uint32_t slot) {
+Status DeviceVolumes::copyBrick(const Move& move) {
     const uint64_t brickBytes = 4ull * kVolumeBrickVoxels;
-    const Volume& v = (*volumes_)[brickVolume_[brick]];
-    const uint64_t local = brick - volumeFirstBrick_[brickVolume_[brick]];
-    VASTRAY_TRY(buffer_.upload(v.voxels.data() + local * kVolumeBrickVoxels, brickBytes, densityOffset_ + slot * brickBytes));
-    if (!v.emissionVoxels.empty())
-        VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data() + local * kVolumeBrickVoxels, brickBytes,
-                                   emissionOffset_ + slot * brickBytes));
+    VASTRAY_TRY(buffer_.upload(move.density, brickBytes, densityOffset_ + move.slot * brickBytes));
+    if (move.emission) VASTRAY_TRY(buffer_.upload(move.emission, brickBytes, emissionOffset_ + move.slot * brickBytes));
+    return Status::ok();
+}
+
+// A cache entry for a brick read this step: a free one, else the next the clock finds that this
+// step does not copy from and that was not used since the hand last passed it.
+uint32_t DeviceVolumes::takeCacheEntry() {
+    const uint32_t entries = uint32_t(entryBrick_.size());
+    for (uint64_t tries = 0; tries < 3ull * entries; ++tries) {
+        const uint32_t e = hand_;
+        hand_ = (hand_ + 1) % entries;
+        if (entryBrick_[e] == kNoBrick) return e;
+        if (entryStep_[e] == step_) continue;
+        if (entryReferenced_[e]) {
+            entryReferenced_[e] = 0;
+            continue;
+        }
+        brickEntry_[entryBrick_[e]] = kNoBrick, entryBrick_[e] = kNoBrick;
+        return e;
+    }
+    return kNoBrick;
+}
+
+Status DeviceVolumes::placeInHost(Move& move, std::vector<Move>& reads) {
+    const Volume& v = (*volumes_)[brickVolume_[move.brick]];
+    const uint64_t local = move.brick - volumeFirstBrick_[brickVolume_[move.brick]];
+    if (!v.bricks.source) {
+        move.density = v.voxels.data() + local * kVolumeBrickVoxels;
+        move.emission = v.hasEmission() ? v.emissionVoxels.data() + local * kVolumeBrickVoxels : nullptr;
+        return Status::ok();
+    }
+    uint32_t e = brickEntry_[move.brick];
+    if (e == kNoBrick) {
+        e = takeCacheEntry();
+        if (e == kNoBrick) return Status::error("volume paging: the host brick cache has no entry free");
+        brickEntry_[move.brick] = e, entryBrick_[e] = move.brick;
+        reads.push_back(move);  // (its pointers are set below)
+    }
+    entryStep_[e] = step_, entryReferenced_[e] = 1;
+    move.density = cache_.data() + e * cacheStride_;
+    move.emission = v.hasEmission() ? move.density + kVolumeBrickVoxels : nullptr;
+    if (reads.size() > 0 && reads.back().brick == move.brick) reads.back() = move;
     return Status::ok();
 }
 
@@ -296,7 +370,8 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
     // Which brick goes to which slot, and the cell tables, first; then the voxels on all cores
     // (one core's writes through the device mapping were most of a step's time). A region holds
     // at most a pool's worth of bricks, so every absent one finds a slot.
-    std::vector<std::pair<uint32_t, uint32_t>> moves;  // (brick, slot)
+    ++step_;
+    std::vector<Move> moves, reads;  // reads: the moves whose bricks are read from the package first
     for (const uint32_t brick : region) {
         if (brickSlot_[brick] != kNoBrick) continue;
         if (moves.size() == free.size()) return Status::error("volume paging: a region holds more bricks than the pool");
@@ -308,13 +383,29 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
         }
         brickSlot_[brick] = slot, slotBrick_[slot] = brick;
         VASTRAY_TRY(buffer_.upload(&slot, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]));
-        moves.push_back({brick, slot});
-        stats.hostToDeviceBytes += 4ull * kVolumeBrickVoxels * ((*volumes_)[brickVolume_[brick]].emissionVoxels.empty() ? 1 : 2) + 4;
+        Move& move = moves.emplace_back(Move{brick, slot, nullptr, nullptr});
+        VASTRAY_TRY(placeInHost(move, reads));
+        stats.hostToDeviceBytes += 4ull * kVolumeBrickVoxels * (move.emission ? 2 : 1) + 4;
     }
+    // The bricks not in host memory, from their package (pread, checksum, voxel checks).
+    std::vector<Status> readFailed(reads.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, reads.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            const uint32_t volume = brickVolume_[reads[i].brick];
+            readFailed[i] = readVolumeBrick((*volumes_)[volume], reads[i].brick - volumeFirstBrick_[volume],
+                                            const_cast<float*>(reads[i].density), const_cast<float*>(reads[i].emission));
+        }
+    });
+    stats.volumeBricksRead += reads.size();
+    for (const Status& f : readFailed)
+        if (!f) {
+            volumes_.reset();  // slots and cache entries now name bricks they do not hold
+            return f;
+        }
     std::atomic<bool> failed{false};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, moves.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i != r.end(); ++i)
-            if (!copyBrick(moves[i].first, moves[i].second)) failed = true;
+            if (!copyBrick(moves[i])) failed = true;
     });
     if (failed) return Status::error("volume paging: copying bricks into their slots failed");
     stats.volumeBrickLoads += moves.size();

@@ -21,6 +21,10 @@ namespace vastray::gpu {
 
 // A pool holds at least this many bricks: a trilinear read needs 8, a ray through a cloud more.
 constexpr uint64_t kMinVolumeSlots = 64;
+// Paged volumes whose bricks stay in the package (Volume::bricks) keep the bricks they read in a
+// host cache of at most this many bytes (at least a pool's worth), so that a brick paged in again
+// is not read and checked again; least recently used first out (clock).
+constexpr uint64_t kVolumeHostCacheBytes = 1ull << 30;
 
 // The one place the volumes' device bytes are counted (the backend's reserve and DeviceVolumes
 // alike): in core (VolumeLayout); paged through `slots` brick slots with the park records of
@@ -70,15 +74,31 @@ public:
 
     // Paged, between steps while the device is idle: makes the region parked walks wait in most
     // resident (`demand`: per brick the walks waiting for it, then per brick the walks asking for
-    // it ahead; DeviceVolumes.cpp). Returns the loads.
+    // it ahead; DeviceVolumes.cpp). Bricks not in memory are read from their package on worker
+    // threads. Returns the loads. A brick that fails to read fails the step (naming the package,
+    // the volume and the brick) and drops the volumes: the next prepare builds them anew.
     Result<uint64_t> page(std::span<const uint32_t> demand, StreamingStats& stats);
+    uint64_t hostCacheBricks() const { return entryBrick_.size(); }
 
 private:
     Status buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats);
     Status buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths, StreamingStats& stats);
     Status allocate(const std::vector<Volume>& volumes, uint64_t bytes);
-    // Copies a brick's voxels (and emission) into a slot.
-    Status copyBrick(uint32_t brick, uint32_t slot);
+    // Uploads every brick of volume `i` (in memory, or read from its package in batches) to
+    // `voxels` and `emission` (0: none) in buffer_.
+    Status uploadAllBricks(const Volume& volume, uint64_t voxels, uint64_t emission, StreamingStats& stats);
+    // A brick paged into a slot this step, and where its voxels (and emission: null without) are
+    // in host memory.
+    struct Move {
+        uint32_t brick = 0, slot = 0;
+        const float* density = nullptr;
+        const float* emission = nullptr;
+    };
+    // Sets the move's host pointers: the volume's voxels, or a host cache entry (a new entry also
+    // goes to `reads`: its brick is read from the package before the copies).
+    Status placeInHost(Move& move, std::vector<Move>& reads);
+    uint32_t takeCacheEntry();
+    Status copyBrick(const Move& move);
     // The WavefrontVolume records, each volume's arrays at these offsets in buffer_.
     Status writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                         std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
@@ -95,6 +115,16 @@ private:
     std::vector<std::vector<uint32_t>> regionBricks_;
     std::vector<uint64_t> tableOffset_;
     uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, parkOffset_ = 0, parkBytes_ = 0;
+    // The host brick cache (paged, bricks left in the package): per entry cacheStride_ floats
+    // (densities, then emission), the brick it holds, the step that last used it and its clock
+    // bit; per brick its entry (kNoBrick: none).
+    std::vector<float> cache_;
+    uint64_t cacheStride_ = 0;
+    std::vector<uint32_t> entryBrick_, brickEntry_;
+    std::vector<uint64_t> entryStep_;
+    std::vector<uint8_t> entryReferenced_;
+    uint32_t hand_ = 0;
+    uint64_t step_ = 0;
 };
 
 }  // namespace vastray::gpu

@@ -188,7 +188,7 @@ private:
         // paged through) are kept from the budget.
         const uint64_t volumeBytes = gpu::volumeReserveBytes(info, budget);
         if (!info.volumes.empty()) {
-            auto volumes = entry.reader->readVolumes();
+            auto volumes = entry.reader->openVolumes();  // each brick read when a render needs it
             if (!volumes) return volumes.status();
             entry.volumes = std::move(volumes).value();
         }

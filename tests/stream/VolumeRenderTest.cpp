@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 
+#include "../VolumePackageForge.h"
 #include "../VolumeTestSupport.h"
 #include "StreamTestSupport.h"
 #include "vastray/core/Checksum.h"
@@ -77,7 +78,7 @@ TEST(VolumeRender, PackageKeepsTheVolume) {
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     const PackageInfo& info = (*reader)->info();
-    EXPECT_GE(info.formatVersion, 4u);  // volumes came with version 4
+    EXPECT_EQ(info.formatVersion, 6u);  // volumes came with version 4, brick by brick with 6
     ASSERT_EQ(info.volumes.size(), 1u);
     EXPECT_EQ(info.volumes[0].volume.name, "test");
     EXPECT_EQ(info.volumes[0].volume.material.anisotropy, 0.4f);
@@ -91,7 +92,7 @@ TEST(VolumeRender, PackageKeepsTheVolume) {
     EXPECT_TRUE((*reader)->verify().empty());
     EXPECT_GE(gpu::volumeBytes(info), v.voxels.size() * 4);
 
-    // A flipped byte in the voxels: the volume's checksum names it.
+    // A flipped byte in the last brick: its own checksum names it (the table still reads).
     const std::string damaged = path + ".damaged.vast";
     std::filesystem::copy_file(path, damaged, std::filesystem::copy_options::overwrite_existing);
     {
@@ -101,31 +102,22 @@ TEST(VolumeRender, PackageKeepsTheVolume) {
     }
     auto reopened = PackageReader::open(damaged);
     ASSERT_TRUE(reopened) << reopened.message();  // the records are sound; the data is read later
+    ASSERT_TRUE((*reopened)->openVolumes());
     auto bad = (*reopened)->readVolumes();
     ASSERT_FALSE(bad);
-    EXPECT_NE(bad.message().find("volume 0 'test': data checksum mismatch"), std::string::npos) << bad.message();
+    const std::string last = "brick " + std::to_string(info.volumes[0].brickCount - 1) + ": checksum mismatch";
+    EXPECT_NE(bad.message().find("volume 0 'test': " + last), std::string::npos) << bad.message();
     EXPECT_EQ((*reopened)->verify().size(), 1u);
 
     // Forged with every checksum recomputed: a brick index past the bricks, then a NaN voxel,
     // then an albedo above 1 in the record. Each is refused by name.
-    const std::vector<uint8_t> original = [&] {
-        std::ifstream in(path, std::ios::binary);
-        return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-    }();
+    const std::vector<uint8_t> original = test::fileBytes(path);
     const PackageVolume& p = info.volumes[0];
     uint64_t recordAt = 0;
     std::memcpy(&recordAt, original.data() + 256 - 24, 8);
     auto forge = [&](const std::function<void(std::vector<uint8_t>&)>& change) {
-        std::vector<uint8_t> bytes = original;
-        change(bytes);
-        const uint64_t data = checksum64(bytes.data() + p.offset, p.size);
-        std::memcpy(bytes.data() + recordAt + 180, &data, 8);
-        const uint64_t records = checksum64(bytes.data() + recordAt, 256);
-        std::memcpy(bytes.data() + 256 - 16, &records, 8);
-        const uint64_t header = checksum64(bytes.data(), 248);
-        std::memcpy(bytes.data() + 248, &header, 8);
         const std::string forged = path + ".forged.vast";
-        std::ofstream(forged, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        test::writeBytes(forged, test::forgeVolumeData(original, p, change));
         return forged;
     };
     auto firstStored = [&] {  // the brick table entry of the first cell with a brick
@@ -139,18 +131,22 @@ TEST(VolumeRender, PackageKeepsTheVolume) {
     });
     auto opened = PackageReader::open(badIndex);
     ASSERT_TRUE(opened) << opened.message();
-    auto refused = (*opened)->readVolumes();
+    auto refused = (*opened)->openVolumes();  // the table is checked before any brick is read
     ASSERT_FALSE(refused);
-    EXPECT_NE(refused.message().find("names brick " + std::to_string(p.brickCount)), std::string::npos) << refused.message();
+    EXPECT_NE(refused.message().find("volume 0 'test': cell " + std::to_string(firstStored) + " names brick " +
+                                     std::to_string(p.brickCount)),
+              std::string::npos)
+        << refused.message();
     const std::string nanVoxel = forge([&](std::vector<uint8_t>& b) {
         const float nan = std::nanf("");
-        std::memcpy(b.data() + p.offset + 4 * v.cellCount() + 4 * 9, &nan, 4);
+        std::memcpy(b.data() + test::brickOffset(p, 0) + 4 * 9, &nan, 4);
     });
     opened = PackageReader::open(nanVoxel);
     ASSERT_TRUE(opened) << opened.message();
     refused = (*opened)->readVolumes();
     ASSERT_FALSE(refused);
-    EXPECT_NE(refused.message().find("brick 0 voxel 9 has density nan"), std::string::npos) << refused.message();
+    EXPECT_NE(refused.message().find("volume 0 'test': brick 0 voxel 9 has density nan"), std::string::npos)
+        << refused.message();
     const std::string badAlbedo = forge([&](std::vector<uint8_t>& b) {
         const float two = 2.0f;
         std::memcpy(b.data() + recordAt + 140 + 4, &two, 4);
@@ -376,7 +372,8 @@ TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
     o.width = 32, o.height = 24;
     o.samplesPerPixel = 4;
     o.maxDepth = 3;
-    o.volumes = volumesOf(path);
+    // As `vastray render` opens them: brick tables now, each brick read when a render needs it.
+    o.volumes = PackageReader::open(path).value()->openVolumes().value();
     ASSERT_EQ(o.volumes->size(), 1u);
     const uint64_t bricks = (*o.volumes)[0].brickCount();
     ASSERT_EQ(bricks, 2048u);
@@ -385,6 +382,7 @@ TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
     ASSERT_TRUE(inCore) << inCore.message();
     EXPECT_EQ(inCoreStats.volumeBrickSlots, 0u);
     EXPECT_EQ(inCoreStats.volumeBrickLoads, 0u);
+    EXPECT_EQ(inCoreStats.volumeBricksRead, bricks);
 
     const PackageInfo info = PackageReader::open(path).value()->info();
     const uint64_t budget = gpu::volumeBytes(info) / 2;
@@ -399,6 +397,9 @@ TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
     EXPECT_GT(stats.volumeBrickSlots, 0u);
     EXPECT_LE(stats.volumeBrickSlots * 4, bricks + 64) << "the bricks are 4x the pool or more";
     EXPECT_GT(stats.volumeBrickLoads, stats.volumeBrickSlots) << "slots were reused";
+    // The host cache holds every brick of this cloud: each is read from the package at most once.
+    EXPECT_GT(stats.volumeBricksRead, 0u);
+    EXPECT_LE(stats.volumeBricksRead, bricks);
     EXPECT_LE(stats.peakDeviceBytes, budget);
     EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
     EXPECT_EQ(std::memcmp(paged->alpha.data(), inCore->alpha.data(), inCore->alpha.size() * 4), 0);

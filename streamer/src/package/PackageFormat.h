@@ -8,8 +8,11 @@
 //   cameras    cameraCount × kCameraBytes (version 3)
 //   volumes    volumeCount × kVolumeRecordBytes (version 4)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
-//   volume data  one per volume (brick table, voxels), at the offsets its record gives
+//   volume data  one per volume (brick table, voxels), at the offsets its record gives; from
+//                version 6: cell table and brick index (one checksum), then each brick alone
 #include <cstdint>
+
+#include "vastray/core/Volume.h"
 
 namespace vastray::format {
 
@@ -19,7 +22,10 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 4: volumes (density grids in bricks; a version 3 package, which has none, is still read).
 // 5: materials carry metallic, roughness and specular (16 bytes more each; a version 3 or 4
 //    package is still read, its materials Lambertian as they were imported).
-constexpr uint32_t kVersion = 5;
+// 6: a volume's data is read one brick at a time: its cell table and a brick index (per brick
+//    its own XXH64 and largest density) under the record's checksum, then the bricks (a version
+//    3, 4 or 5 package is still read, each volume's data whole).
+constexpr uint32_t kVersion = 6;
 constexpr uint32_t kOldestReadableVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
@@ -31,6 +37,18 @@ constexpr uint32_t kCameraNameBytes = 64;
 constexpr uint32_t kCameraBytes = kCameraNameBytes + 10 * 4;  // name, eye, target, up, fov (degrees)
 constexpr uint32_t kVolumeNameBytes = 64;
 constexpr uint32_t kVolumeRecordBytes = 256;
+constexpr uint32_t kFirstBrickwiseVersion = 6;
+constexpr uint32_t kVolumeBrickEntryBytes = 16;  // version 6 brick index: XXH64, largest density (f32), 0 (u32)
+// A stored brick's bytes: its densities, then (with an emission grid) its emission values.
+constexpr uint64_t volumeBrickBytes(bool emission) { return 4ull * kVolumeBrickVoxels * (emission ? 2 : 1); }
+// The part of a volume's data its record's checksum covers: the cell table, and from version 6
+// the brick index (before: the whole data).
+constexpr uint64_t volumeTableBytes(uint32_t version, uint64_t cells, uint64_t bricks) {
+    return 4 * cells + (version >= kFirstBrickwiseVersion ? kVolumeBrickEntryBytes * bricks : 0);
+}
+constexpr uint64_t volumeDataBytes(uint32_t version, uint64_t cells, uint64_t bricks, bool emission) {
+    return volumeTableBytes(version, cells, bricks) + bricks * volumeBrickBytes(emission);
+}
 
 // Upper bounds a reader enforces before allocating anything.
 constexpr uint32_t kMaxMaterials = 1u << 20;

@@ -243,7 +243,8 @@ std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& vo
     return std::move(out.bytes());
 }
 
-Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>& bytes, uint32_t count) {
+Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>& bytes, uint32_t count,
+                                                      uint32_t version) {
     std::vector<PackageVolume> volumes(count);
     for (uint32_t i = 0; i < count; ++i) {
         if (bytes.size() < uint64_t(i + 1) * format::kVolumeRecordBytes) return Status::error("truncated volume records");
@@ -280,7 +281,7 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
                                  " cells exceeds the limit of " + std::to_string(kMaxVolumeBrickCells));
         shape.brickOf.assign(shape.cellCount(), kNoBrick);
         if (const std::string problem = checkVolume(shape); !problem.empty()) return Status::error(name + problem);
-        if (p.size != 4 * v.cellCount() + uint64_t(p.brickCount) * kVolumeBrickVoxels * 4 * (p.hasEmission ? 2 : 1))
+        if (p.size != format::volumeDataBytes(version, v.cellCount(), p.brickCount, p.hasEmission))
             return Status::error(name + "data of " + std::to_string(p.size) + " bytes does not match its " +
                                  std::to_string(v.cellCount()) + " cells and " + std::to_string(p.brickCount) + " bricks");
         if (!finishVolumeTransform(v)) return Status::error(name + "the index-to-world map is not invertible");

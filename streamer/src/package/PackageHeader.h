@@ -42,8 +42,10 @@ Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes,
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
 
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes);
-// Each record's fields checked (limits, map, material); data offsets are checked by the reader.
-Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>& bytes, uint32_t count);
+// Each record's fields checked (limits, map, material, the data's size for the format `version`);
+// data offsets are checked by the reader.
+Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>& bytes, uint32_t count,
+                                                      uint32_t version);
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks);
 Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count);

@@ -11,29 +11,12 @@
 
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
+#include "package/VolumeBricks.h"
 #include "vastray/core/Checksum.h"
 #include "vastray/core/FilePath.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
-
-// pread() on one descriptor: safe to share between threads that read different chunks.
-struct PackageReader::File {
-    int fd = -1;
-    ~File() {
-        if (fd >= 0) ::close(fd);
-    }
-    bool read(uint64_t offset, uint64_t size, std::vector<uint8_t>& out) const {
-        out.resize(size);
-        uint64_t done = 0;
-        while (done < size) {
-            const ssize_t n = ::pread(fd, out.data() + done, size - done, off_t(offset + done));
-            if (n <= 0) return false;
-            done += uint64_t(n);
-        }
-        return true;
-    }
-};
 
 namespace {
 
@@ -101,7 +84,7 @@ bool isPackagePath(const std::string& path) { return lowerExtension(path) == ".v
 Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& path) {
     std::unique_ptr<PackageReader> reader(new PackageReader());
     reader->path_ = path;
-    reader->file_ = std::make_unique<File>();
+    reader->file_ = std::make_shared<PackageFile>();
     // O_NONBLOCK: a FIFO without a writer must not block the open; fstat then refuses it.
     reader->file_->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (reader->file_->fd < 0) return Status::error(path + ": cannot open: " + std::strerror(errno));
@@ -157,7 +140,7 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     info.cameras = std::move(*cameras);
     if (info.formatVersion >= 4) {
         if (auto s = readSection(volumesOffset, volumeBytes, l.volumesChecksum, "volume records"); !s) return fail(s);
-        auto volumes = parseVolumeRecords(bytes, l.volumeCount);
+        auto volumes = parseVolumeRecords(bytes, l.volumeCount, info.formatVersion);
         if (!volumes) return fail(volumes.status());
         info.volumes = std::move(*volumes);
     }
@@ -192,8 +175,8 @@ Result<DecodedChunk> PackageReader::readChunk(uint32_t id) const {
     return chunk;
 }
 
-Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() const {
-    auto volumes = std::make_shared<std::vector<Volume>>();
+Result<std::vector<Volume>> PackageReader::readWholeVolumes() const {
+    std::vector<Volume> volumes;
     std::vector<uint8_t> data;
     for (size_t i = 0; i < info_.volumes.size(); ++i) {
         const PackageVolume& p = info_.volumes[i];
@@ -201,14 +184,14 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() 
         // The data and the volume's arrays: twice its size in host memory while it is read.
         try {
             data.reserve(p.size);
-            volumes->reserve(info_.volumes.size());
+            volumes.reserve(info_.volumes.size());
         } catch (const std::bad_alloc&) {
             return Status::error(name + "out of host memory for its " + std::to_string(p.size) + " bytes");
         }
         if (!file_->read(p.offset, p.size, data)) return Status::error(name + "read failed");
         if (const uint64_t computed = checksum64(data.data(), data.size()); computed != p.checksum)
             return checksumMismatch(name + "data", p.checksum, computed);
-        Volume& v = volumes->emplace_back(p.volume);
+        Volume& v = volumes.emplace_back(p.volume);
         const uint64_t tableBytes = 4 * v.cellCount();
         try {
             v.brickOf.resize(v.cellCount());
@@ -225,6 +208,51 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() 
                         v.emissionVoxels.size() * 4);
         if (const std::string problem = checkVolume(v); !problem.empty()) return Status::error(name + problem);
         computeVolumeMajorants(v);
+    }
+    return volumes;
+}
+
+Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::openVolumes() const {
+    if (info_.formatVersion < format::kFirstBrickwiseVersion) {
+        auto whole = readWholeVolumes();
+        if (!whole) return whole.status();
+        return std::make_shared<const std::vector<Volume>>(std::move(whole).value());
+    }
+    auto volumes = std::make_shared<std::vector<Volume>>();
+    std::vector<StoredVolumeBricks> stored(info_.volumes.size());
+    for (size_t i = 0; i < info_.volumes.size(); ++i) {
+        const PackageVolume& p = info_.volumes[i];
+        Volume& v = volumes->emplace_back(p.volume);
+        VASTRAY_TRY(readVolumeTable(*file_, p, path_ + ": volume " + std::to_string(i) + " '" + p.volume.name + "': ",
+                                    v, stored[i]));
+    }
+    auto source = std::make_shared<const PackageVolumeBricks>(file_, std::move(stored));
+    for (size_t i = 0; i < volumes->size(); ++i) {
+        Volume& v = (*volumes)[i];
+        v.bricks = {source, uint32_t(i), info_.volumes[i].brickCount, info_.volumes[i].hasEmission};
+    }
+    return std::shared_ptr<const std::vector<Volume>>(std::move(volumes));
+}
+
+Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() const {
+    if (info_.formatVersion < format::kFirstBrickwiseVersion) return openVolumes();
+    auto opened = openVolumes();
+    if (!opened) return opened.status();
+    auto volumes = std::make_shared<std::vector<Volume>>(**opened);
+    for (size_t i = 0; i < volumes->size(); ++i) {
+        Volume& v = (*volumes)[i];
+        const uint64_t bricks = v.brickCount();
+        try {
+            v.voxels.resize(bricks * kVolumeBrickVoxels);
+            v.emissionVoxels.resize(v.hasEmission() ? v.voxels.size() : 0);
+        } catch (const std::bad_alloc&) {
+            return Status::error(path_ + ": volume " + std::to_string(i) + " '" + v.name + "': out of host memory for its " +
+                                 std::to_string(info_.volumes[i].size) + " bytes");
+        }
+        for (uint64_t b = 0; b < bricks; ++b)
+            VASTRAY_TRY(readVolumeBrick(v, b, v.voxels.data() + b * kVolumeBrickVoxels,
+                                        v.emissionVoxels.empty() ? nullptr : v.emissionVoxels.data() + b * kVolumeBrickVoxels));
+        v.bricks = {};  // in memory now
     }
     return std::shared_ptr<const std::vector<Volume>>(std::move(volumes));
 }

@@ -1,10 +1,12 @@
 #include "package/PackageWriter.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 
+#include "package/ByteIo.h"
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
 #include "vastray/core/Checksum.h"
@@ -42,6 +44,30 @@ private:
     bool committed_ = false;
 };
 
+// A volume's data (format version 6): its cell table; its brick index, per brick the XXH64 of
+// its bytes, its largest density and a reserved 0; then each brick's densities and emission.
+std::vector<uint8_t> serializeVolumeData(const Volume& v) {
+    const uint64_t bricks = v.brickCount(), brickBytes = format::volumeBrickBytes(v.hasEmission());
+    ByteWriter out;
+    out.putArray(v.brickOf);
+    std::vector<uint8_t> brick(brickBytes);
+    for (uint64_t b = 0; b < bricks; ++b) {
+        const float* density = v.voxels.data() + b * kVolumeBrickVoxels;
+        std::memcpy(brick.data(), density, 4 * kVolumeBrickVoxels);
+        if (v.hasEmission())
+            std::memcpy(brick.data() + 4 * kVolumeBrickVoxels, v.emissionVoxels.data() + b * kVolumeBrickVoxels,
+                        4 * kVolumeBrickVoxels);
+        out.put(checksum64(brick.data(), brick.size()));
+        out.put(*std::max_element(density, density + kVolumeBrickVoxels));
+        out.put(uint32_t(0));
+    }
+    for (uint64_t b = 0; b < bricks; ++b) {
+        out.putBytes(v.voxels.data() + b * kVolumeBrickVoxels, 4 * kVolumeBrickVoxels);
+        if (v.hasEmission()) out.putBytes(v.emissionVoxels.data() + b * kVolumeBrickVoxels, 4 * kVolumeBrickVoxels);
+    }
+    return std::move(out.bytes());
+}
+
 }  // namespace
 
 Status writePackage(const std::string& path, PackageInfo& info, const std::vector<std::vector<uint8_t>>& blobs) {
@@ -70,21 +96,15 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
         info.chunks[i].checksum = checksum64(blobs[i].data(), blobs[i].size());
         offset += blobs[i].size();
     }
-    // Each volume's data: its brick table, then its voxels.
     std::vector<std::vector<uint8_t>> volumeData;
     for (PackageVolume& p : info.volumes) {
-        const Volume& v = p.volume;
-        std::vector<uint8_t>& data =
-            volumeData.emplace_back((v.brickOf.size() + v.voxels.size() + v.emissionVoxels.size()) * 4);
-        std::memcpy(data.data(), v.brickOf.data(), v.brickOf.size() * 4);
-        if (!v.voxels.empty()) std::memcpy(data.data() + v.brickOf.size() * 4, v.voxels.data(), v.voxels.size() * 4);
-        if (!v.emissionVoxels.empty())  // (memcpy of an empty vector's null data is undefined)
-            std::memcpy(data.data() + (v.brickOf.size() + v.voxels.size()) * 4, v.emissionVoxels.data(),
-                        v.emissionVoxels.size() * 4);
-        p.brickCount = uint32_t(v.brickCount());
-        p.hasEmission = !v.emissionVoxels.empty();
-        p.offset = offset, p.size = data.size(), p.checksum = checksum64(data.data(), data.size());
-        offset += data.size();
+        volumeData.push_back(serializeVolumeData(p.volume));
+        p.brickCount = uint32_t(p.volume.brickCount());
+        p.hasEmission = p.volume.hasEmission();
+        p.offset = offset, p.size = volumeData.back().size();
+        p.checksum = checksum64(volumeData.back().data(),
+                                format::volumeTableBytes(format::kVersion, p.volume.cellCount(), p.brickCount));
+        offset += p.size;
     }
     const std::vector<uint8_t> volumes = serializeVolumeRecords(info.volumes);
     layout.volumesChecksum = checksum64(volumes.data(), volumes.size());

@@ -191,6 +191,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.streamedTiles = t.streamedTiles - before.streamedTiles;
         s.volumeBrickSlots = t.volumeBrickSlots;
         s.volumeBrickLoads = t.volumeBrickLoads - before.volumeBrickLoads;
+        s.volumeBricksRead = t.volumeBricksRead - before.volumeBricksRead;
         s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;
         s.deviceToHostBytes = t.deviceToHostBytes - before.deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k) s.kernelSeconds[k] = t.kernelSeconds[k] - before.kernelSeconds[k];

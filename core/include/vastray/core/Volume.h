@@ -8,11 +8,14 @@
 // extinction coefficient per world unit.
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "vastray/core/Aabb.h"
 #include "vastray/core/Random.h"
+#include "vastray/core/Result.h"
 #include "vastray/core/Vec3.h"
 
 namespace vastray {
@@ -38,6 +41,18 @@ struct VolumeMaterial {
     std::array<float, 3> emission{1.0f, 1.0f, 1.0f};  // each in [0, 1e18]; used with an emission grid
 };
 
+// Where the bricks of volumes whose voxels stay in their file come from: a package's volume
+// data, read one brick at a time (streamer/PackageReader::openVolumes). Called from any thread.
+class VolumeBrickSource {
+public:
+    virtual ~VolumeBrickSource() = default;
+    // Reads stored brick `brick` of the source's volume `volume`, checks it (checksum, every voxel
+    // finite in [0, 1e18], its largest density the one the brick table recorded) and writes its
+    // kVolumeBrickVoxels densities, and as many emission values when the volume has an emission
+    // grid (else `emission` is not written). Errors name the file, the volume and the brick.
+    virtual Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const = 0;
+};
+
 struct Volume {
     std::string name;  // the grid's name in its file (UTF-8)
     // Affine maps, row-major 3 x 4 ([r][0..2] linear, [r][3] translation): index space to world
@@ -55,17 +70,32 @@ struct Volume {
     // cell's last on each axis); 0: the cell is empty and rays skip it.
     std::vector<uint32_t> brickOf;
     std::vector<float> majorant;
-    // kVolumeBrickVoxels per stored brick, x fastest then y then z.
+    // kVolumeBrickVoxels per stored brick, x fastest then y then z; empty while the bricks stay in
+    // their file (`bricks` set).
     std::vector<float> voxels;
     // An emission grid's voxels in the same bricks (its values where the density has no brick
     // are dropped: nothing absorbs there, so nothing glows), or empty: no emission.
     std::vector<float> emissionVoxels;
     VolumeMaterial material;
     Aabb worldBounds;  // the brick grid's box mapped to the world
+    // Set when the voxels stay in their file: brickOf and majorant are here, `voxels` and
+    // `emissionVoxels` empty, and each brick is read on demand (readVolumeBrick). The CPU
+    // functions below (volumeVoxel, tracking) need the voxels in memory.
+    struct StoredBricks {
+        std::shared_ptr<const VolumeBrickSource> source;
+        uint32_t volume = 0;   // the volume's number in `source`
+        uint64_t count = 0;    // stored bricks
+        bool emission = false; // they carry an emission grid's voxels
+    } bricks;
 
     uint64_t cellCount() const { return uint64_t(brickCells[0]) * brickCells[1] * brickCells[2]; }
-    uint64_t brickCount() const { return voxels.size() / kVolumeBrickVoxels; }
+    uint64_t brickCount() const { return bricks.source ? bricks.count : voxels.size() / kVolumeBrickVoxels; }
+    bool hasEmission() const { return bricks.source ? bricks.emission : !emissionVoxels.empty(); }
 };
+
+// Stored brick `brick`'s densities (kVolumeBrickVoxels) and, with an emission grid, its emission
+// values: copied from the voxels in memory, or read through the volume's brick source.
+Status readVolumeBrick(const Volume& volume, uint64_t brick, float* density, float* emission);
 
 // The voxel at index ijk (0 outside the stored bricks).
 float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k);
@@ -83,6 +113,9 @@ bool finishVolumeTransform(Volume& volume);
 Aabb boundsWithVolumes(Aabb bounds, const std::vector<Volume>* volumes);
 // Per-cell majorants from the voxels (brickOf and voxels set).
 void computeVolumeMajorants(Volume& volume);
+// Per-cell majorants from each stored brick's largest voxel (brickOf set; `brickMaximum` holds one
+// value per stored brick): the same values computeVolumeMajorants finds from the voxels.
+void computeVolumeMajorants(Volume& volume, std::span<const float> brickMaximum);
 // Consistency of a volume read from a file: sizes, limits, brick indices, finite non-negative
 // voxels, a finite map, a valid material. Returns an empty string when sound, else what is
 // wrong. Majorants and worldToIndex are not checked: readers compute them

@@ -56,13 +56,16 @@ struct ChunkInfo {
 };
 
 // A volume as the package records it: everything but its voxels (`volume`'s brick table,
-// majorants and voxels are empty until PackageReader::readVolumes), and where its data lies.
+// majorants and voxels are empty until PackageReader::openVolumes or readVolumes), and where its
+// data lies.
 // When writing, `volume` holds the whole volume and the writer fills the rest.
 struct PackageVolume {
     Volume volume;
     uint32_t brickCount = 0;
     bool hasEmission = false;  // its data carries an emission grid's voxels
-    uint64_t offset = 0, size = 0, checksum = 0;  // of its data (brick table, voxels) in the file
+    // Its data (brick table, voxels) in the file, and the XXH64 of the table (version 6: cell table
+    // and brick index; before: of the whole data).
+    uint64_t offset = 0, size = 0, checksum = 0;
 
     // What a render keeps of it in device memory: brick table and majorants (4 bytes each per
     // cell) and the voxels (twice with an emission grid).
@@ -125,6 +128,8 @@ struct DecodedChunk {
     uint64_t residentBytes() const;
 };
 
+struct PackageFile;
+
 // Whether a path names a scene package by its extension (.vast, any case).
 bool isPackagePath(const std::string& path);
 
@@ -142,16 +147,21 @@ public:
     Result<DecodedChunk> readChunk(uint32_t id) const;
     // Every chunk's checksum and structure; one message per damaged chunk, empty when sound.
     std::vector<std::string> verify() const;
-    // Every volume's data, checked (checksum, checkVolume) and with its majorants computed;
+    // Every volume's brick table and majorants, checked, without its voxels: each brick is read
+    // and checked when a render asks for it (Volume::bricks, readVolumeBrick; the source keeps the
+    // file open). Packages before version 6 store no per-brick checksums: their volumes come whole,
+    // as readVolumes gives them. Empty when the package has none.
+    Result<std::shared_ptr<const std::vector<Volume>>> openVolumes() const;
+    // Every volume's data, checked (checksums, checkVolume) and with its majorants computed;
     // empty when the package has none. ("scene.vast: volume 0 'density': ...")
     Result<std::shared_ptr<const std::vector<Volume>>> readVolumes() const;
 
 private:
     PackageReader() = default;
+    Result<std::vector<Volume>> readWholeVolumes() const;  // before version 6
     std::string path_;
     PackageInfo info_;
-    struct File;
-    std::unique_ptr<File> file_;
+    std::shared_ptr<PackageFile> file_;
 };
 
 // Decodes a blob read from a package (checksum already checked) and validates every count

@@ -187,6 +187,10 @@ struct StreamingStats {
     uint64_t streamedTiles = 0;     // streamed_tiles: tiles rendered by streamed waves (out of core)
     uint64_t volumeBrickSlots = 0;  // volume_brick_slots: the pool's brick slots (0: volumes in core or none)
     uint64_t volumeBrickLoads = 0;  // volume_brick_loads: bricks loaded into those slots
+    // volume_bricks_read: bricks read from the package and checked (2 KiB each, 4 KiB with an
+    // emission grid; version 6 packages, in core or paged; a paged brick the host cache lost is
+    // read again). Older packages read their volumes whole when they open: 0.
+    uint64_t volumeBricksRead = 0;
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
     uint64_t deviceToHostBytes = 0; // device_to_host_bytes
     // Device time per kernel of the device wavefront, from timestamp queries (kernel_seconds,

@@ -1,0 +1,83 @@
+#pragma once
+// Forged volume data for tests of the package reader's checks (format 6, docs/PACKAGE_FORMAT.md,
+// "Volumes").
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "vastray/core/Checksum.h"
+#include "vastray/streamer/ScenePackage.h"
+
+namespace vastray::test {
+
+inline std::vector<uint8_t> fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// The file offset of brick `brick`'s first voxel in the data of volume `p`.
+inline uint64_t brickOffset(const PackageVolume& p, uint64_t brick) {
+    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels * (p.hasEmission ? 2 : 1);
+    return p.offset + 4 * p.volume.cellCount() + 16ull * p.brickCount + brick * brickBytes;
+}
+
+// The bytes of a format 6 package whose only volume is `p`, changed by `change`, then with every
+// checksum over the volume recomputed as a forger would: each brick's in the brick index, the
+// table's in the record, the records' and the header's. Offsets: the header keeps the records'
+// offset 24 bytes and their checksum 16 bytes before its own checksum (bytes 248..255); a record
+// keeps its data's checksum at byte 180.
+inline std::vector<uint8_t> forgeVolumeData(std::vector<uint8_t> bytes, const PackageVolume& p,
+                                            const std::function<void(std::vector<uint8_t>&)>& change) {
+    change(bytes);
+    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels * (p.hasEmission ? 2 : 1);
+    const uint64_t index = p.offset + 4 * p.volume.cellCount();
+    for (uint64_t b = 0; b < p.brickCount; ++b) {
+        const uint64_t sum = checksum64(bytes.data() + brickOffset(p, b), brickBytes);
+        std::memcpy(bytes.data() + index + 16 * b, &sum, 8);
+    }
+    uint64_t recordAt = 0;
+    std::memcpy(&recordAt, bytes.data() + 256 - 24, 8);
+    const uint64_t table = checksum64(bytes.data() + p.offset, brickOffset(p, 0) - p.offset);
+    std::memcpy(bytes.data() + recordAt + 180, &table, 8);
+    const uint64_t records = checksum64(bytes.data() + recordAt, 256);
+    std::memcpy(bytes.data() + 256 - 16, &records, 8);
+    const uint64_t header = checksum64(bytes.data(), 248);
+    std::memcpy(bytes.data() + 248, &header, 8);
+    return bytes;
+}
+
+// The same package in format version 5, whose only volume is `p` (the last bytes of the file): its
+// data whole (cell table, every brick's densities, then every brick's emission) under one checksum,
+// as versions 4 and 5 store it.
+inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& bytes, const PackageVolume& p) {
+    const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
+    std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
+    for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)
+        for (uint64_t b = 0; b < p.brickCount; ++b) {
+            const auto at = bytes.begin() + int64_t(brickOffset(p, b) + part * voxelBytes);
+            out.insert(out.end(), at, at + int64_t(voxelBytes));
+        }
+    const uint32_t five = 5;
+    const uint64_t fileBytes = out.size(), size = out.size() - p.offset;
+    const uint64_t data = checksum64(out.data() + p.offset, size);
+    uint64_t recordAt = 0;
+    std::memcpy(&recordAt, out.data() + 256 - 24, 8);
+    std::memcpy(out.data() + 8, &five, 4);
+    std::memcpy(out.data() + 16, &fileBytes, 8);
+    std::memcpy(out.data() + recordAt + 172, &size, 8);
+    std::memcpy(out.data() + recordAt + 180, &data, 8);
+    const uint64_t records = checksum64(out.data() + recordAt, 256);
+    std::memcpy(out.data() + 256 - 16, &records, 8);
+    const uint64_t header = checksum64(out.data(), 248);
+    std::memcpy(out.data() + 248, &header, 8);
+    return out;
+}
+
+}  // namespace vastray::test

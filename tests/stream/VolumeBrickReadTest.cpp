@@ -1,0 +1,251 @@
+// Volume bricks read from the package on demand (format 6, docs/PACKAGE_FORMAT.md "Volumes";
+// docs/RENDERING.md "Volumes out of core"): a paged render reads only the bricks its rays ask
+// for, and equals the in-core render bit for bit; a damaged brick fails the render naming the
+// package, the volume and the brick, unless no ray reaches it; a version 5 package (its volume
+// read whole) renders the same image.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "../StreamTestSupport.h"
+#include "../VolumePackageForge.h"
+#include "../VolumeTestSupport.h"
+#include "TestTmp.h"
+#include "vastray/streamer/PackageBuilder.h"
+
+namespace vastray {
+namespace {
+
+constexpr float kVoxel = 0.25f;  // world units per voxel
+
+std::string packagePath(const std::string& name) {
+    return (test::testTmpDir("volume-bricks") / (name + ".vast")).string();
+}
+
+// A thin absorbing slab of 512 x 16 x 128 voxels (64 x 2 x 16 = 2,048 bricks, every one
+// stored) at world [0, 128) x [0, 4) x [0, 32), and one small triangle far outside the view.
+const std::string& thinSlab() {
+    static const std::string path = [] {
+        TriangleMesh mesh;
+        mesh.positions = {{300, 300, 300}, {301, 300, 300}, {300, 301, 300}};
+        mesh.indices = {0, 1, 2};
+        mesh.materials.push_back(Material{"far"});
+        VolumeMaterial absorber;
+        absorber.albedo = {0, 0, 0};
+        absorber.densityScale = 0.5f;  // density 0.5 over 4 world units of depth: tau = 1
+        Volume slab = test::makeVolume({0, 0, 0}, {511, 15, 127}, [](int32_t, int32_t, int32_t) { return 0.5f; },
+                                       kVoxel, {0, 0, 0}, absorber);
+        slab.name = "slab";
+        const std::string path = packagePath("thin-slab");
+        PackageBuildOptions options;
+        options.chunkSizeBytes = 64 << 10;
+        options.progress = Progress::Mode::None;
+        options.volumes.push_back(std::move(slab));
+        auto report = buildPackage(std::move(mesh), path, options);
+        EXPECT_TRUE(report) << report.message();
+        return path;
+    }();
+    return path;
+}
+
+// Looking straight down onto a patch of about 4 x 4 world units near the slab's x = 0 end: the
+// rays cross 2 of the 64 brick columns along x.
+RenderOptions lookingDown(const std::shared_ptr<const std::vector<Volume>>& volumes) {
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.samplesPerPixel = 4;
+    o.maxDepth = 2;
+    o.frameScene = false;
+    o.camera.eye = {4.0f, 40.0f, 4.0f};
+    o.camera.target = {4.0f, 0.0f, 4.0f};
+    o.camera.up = {0, 0, 1};
+    o.camera.fovYDegrees = 6.0f;
+    o.volumes = volumes;
+    return o;
+}
+
+std::shared_ptr<const std::vector<Volume>> openVolumes(const PackageReader& reader) {
+    auto volumes = reader.openVolumes();
+    EXPECT_TRUE(volumes) << volumes.message();
+    return volumes ? *volumes : nullptr;
+}
+
+// A render through an open reader (renderVulkan opens its own, which a truncated file fails).
+Result<RenderImage> renderOpen(const PackageReader& reader, const RenderOptions& o, uint64_t budget,
+                               StreamingStats* stats) {
+    stats->memoryBudgetBytes = budget;
+    return renderStreaming(
+        reader, o, StreamingOptions{},
+        [&](const PackageInfo& info, const ChunkAttributes& a) {
+            return gpu::createVulkanChunkBackend(test::sharedVulkanDevice(), info, a, budget, gpu::kWaveShareOutOfCore, {},
+                                                 gpu::volumeReserveBytes(info, budget));
+        },
+        nullptr, stats);
+}
+
+// The budget that pages the slab's bricks through a pool of about a fifth of them.
+uint64_t pagedBudget(const PackageInfo& info) { return gpu::volumeBytes(info) / 2; }
+
+// The stored brick holding voxel ijk of the slab.
+uint32_t brickAt(const Volume& v, int32_t i, int32_t j, int32_t k) {
+    const int32_t b = int32_t(kVolumeBrickSize);
+    const uint64_t cx = uint64_t((i - v.origin[0]) / b), cy = uint64_t((j - v.origin[1]) / b),
+                   cz = uint64_t((k - v.origin[2]) / b);
+    return v.brickOf[cx + v.brickCells[0] * (cy + v.brickCells[1] * cz)];
+}
+
+TEST(VolumeBrickRead, PagedRenderReadsOnlyTheBricksItsRaysReach) {
+    auto reader = PackageReader::open(thinSlab());
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageInfo& info = (*reader)->info();
+    ASSERT_EQ(info.formatVersion, 6u);
+    const RenderOptions o = lookingDown(openVolumes(**reader));
+    ASSERT_TRUE(o.volumes);
+    const Volume& slab = (*o.volumes)[0];
+    ASSERT_TRUE(slab.voxels.empty()) << "the bricks stay in the package";
+    const uint64_t bricks = slab.brickCount();
+    ASSERT_EQ(bricks, 2048u);
+
+    StreamingStats inCoreStats;
+    auto inCore = renderOpen(**reader, o, 256ull << 20, &inCoreStats);
+    ASSERT_TRUE(inCore) << inCore.message();
+    EXPECT_EQ(inCoreStats.volumeBrickSlots, 0u);
+    EXPECT_EQ(inCoreStats.volumeBricksRead, bricks) << "in core, every brick is read once";
+
+    const uint64_t budget = pagedBudget(info);
+    StreamingStats stats;
+    auto paged = renderOpen(**reader, o, budget, &stats);
+    ASSERT_TRUE(paged) << paged.message();
+    std::printf("paged: %llu slots, %llu loads, %llu of %llu bricks read, peak device %llu of %llu bytes\n",
+                (unsigned long long)stats.volumeBrickSlots, (unsigned long long)stats.volumeBrickLoads,
+                (unsigned long long)stats.volumeBricksRead, (unsigned long long)bricks,
+                (unsigned long long)stats.peakDeviceBytes, (unsigned long long)budget);
+    EXPECT_GT(stats.volumeBrickSlots, 0u);
+    EXPECT_LT(stats.volumeBrickSlots, bricks / 2) << "the bricks are paged";
+    EXPECT_GT(stats.volumeBricksRead, 0u);
+    // The rays cross 2 of 64 brick columns along x; a step loads a region (about 8 columns,
+    // at most a pool's worth of bricks), and these columns lie in at most two.
+    EXPECT_LE(stats.volumeBricksRead, 2 * stats.volumeBrickSlots) << "bricks no ray reaches were read";
+    EXPECT_LT(stats.volumeBricksRead, bricks / 2) << "bricks no ray reaches were read";
+    EXPECT_LE(stats.volumeBricksRead, stats.volumeBrickLoads);
+    EXPECT_LE(stats.peakDeviceBytes, budget);
+    // The slab is in the picture (a clear sky would make any brick policy look equal).
+    float darkest = 1e30f, brightest = 0.0f;
+    for (size_t p = 0; p < paged->alpha.size(); ++p)
+        darkest = std::min(darkest, paged->rgb[3 * p]), brightest = std::max(brightest, paged->rgb[3 * p]);
+    EXPECT_LT(darkest, brightest);
+    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(paged->alpha.data(), inCore->alpha.data(), inCore->alpha.size() * 4), 0);
+}
+
+// Damaged bricks, each in a copy of the slab's package: the paged render that reaches one fails
+// naming it; a flipped byte in a brick no ray reaches costs nothing (it is never read).
+TEST(VolumeBrickRead, DamagedBricksFailTheRenderByNameUnlessNoRayReachesThem) {
+    auto clean = PackageReader::open(thinSlab());
+    ASSERT_TRUE(clean) << clean.message();
+    const PackageInfo info = (*clean)->info();
+    const PackageVolume& p = info.volumes[0];
+    const auto volumes = openVolumes(**clean);
+    ASSERT_TRUE(volumes);
+    const uint32_t reached = brickAt((*volumes)[0], 16, 8, 16), unreached = brickAt((*volumes)[0], 500, 8, 120);
+    ASSERT_NE(reached, kNoBrick);
+    ASSERT_NE(unreached, kNoBrick);
+    StreamingStats cleanStats;
+    auto expected = renderOpen(**clean, lookingDown(volumes), pagedBudget(info), &cleanStats);
+    ASSERT_TRUE(expected) << expected.message();
+
+    const std::vector<uint8_t> original = test::fileBytes(thinSlab());
+    auto render = [&](const std::vector<uint8_t>& bytes, StreamingStats* stats) -> Result<RenderImage> {
+        const std::string path = packagePath("damaged");
+        test::writeBytes(path, bytes);
+        auto reader = PackageReader::open(path);
+        if (!reader) return reader.status();
+        auto opened = (*reader)->openVolumes();
+        if (!opened) return opened.status();
+        return renderOpen(**reader, lookingDown(*opened), pagedBudget(info), stats);
+    };
+    auto flipped = [&](uint32_t brick) {
+        std::vector<uint8_t> bytes = original;
+        bytes[test::brickOffset(p, brick) + 100] ^= 0x40;
+        return bytes;
+    };
+    const std::string name = "volume 0 'slab': brick " + std::to_string(reached);
+
+    StreamingStats stats;
+    auto unharmed = render(flipped(unreached), &stats);
+    ASSERT_TRUE(unharmed) << unharmed.message();
+    EXPECT_EQ(std::memcmp(unharmed->rgb.data(), expected->rgb.data(), expected->rgb.size() * 4), 0);
+
+    auto refused = render(flipped(reached), &stats);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("damaged.vast: " + name + ": checksum mismatch"), std::string::npos)
+        << refused.message();
+
+    // Forged with the checksums recomputed: a NaN voxel, then a voxel above the largest density
+    // the brick index records (the majorants were computed from it).
+    auto withVoxel = [&](float value) {
+        return test::forgeVolumeData(original, p, [&](std::vector<uint8_t>& b) {
+            std::memcpy(b.data() + test::brickOffset(p, reached) + 4 * 9, &value, 4);
+        });
+    };
+    refused = render(withVoxel(std::nanf("")), &stats);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find(name + " voxel 9 has density nan"), std::string::npos) << refused.message();
+    refused = render(withVoxel(0.75f), &stats);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find(name + ": its largest density 0.750000 is not the one its brick index records "
+                                            "(0.500000)"),
+              std::string::npos)
+        << refused.message();
+}
+
+// The file loses its last bytes after the package opened (it was checked whole then): the brick
+// that is no longer there fails the render by name.
+TEST(VolumeBrickRead, TruncatedPackageFailsTheRenderNamingTheBrick) {
+    const std::string path = packagePath("truncated");
+    std::filesystem::copy_file(thinSlab(), path, std::filesystem::copy_options::overwrite_existing);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const PackageVolume& p = (*reader)->info().volumes[0];
+    const auto volumes = openVolumes(**reader);
+    ASSERT_TRUE(volumes);
+    std::filesystem::resize_file(path, test::brickOffset(p, 0) + 100);
+    StreamingStats stats;
+    auto refused = renderOpen(**reader, lookingDown(volumes), pagedBudget((*reader)->info()), &stats);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("truncated.vast: volume 0 'slab': brick "), std::string::npos) << refused.message();
+    EXPECT_NE(refused.message().find("cannot read its 2048 bytes"), std::string::npos) << refused.message();
+}
+
+// A version 5 package (the slab's data whole under one checksum) still opens and renders, paged,
+// the same image: its volume is read whole when it opens, so no brick is read during the render.
+TEST(VolumeBrickRead, VersionFivePackageRendersTheSame) {
+    auto current = PackageReader::open(thinSlab());
+    ASSERT_TRUE(current) << current.message();
+    const PackageInfo info = (*current)->info();
+    StreamingStats stats;
+    auto expected = renderOpen(**current, lookingDown(openVolumes(**current)), pagedBudget(info), &stats);
+    ASSERT_TRUE(expected) << expected.message();
+
+    const std::string path = packagePath("version5");
+    test::writeBytes(path, test::asVersion5(test::fileBytes(thinSlab()), info.volumes[0]));
+    auto old = PackageReader::open(path);
+    ASSERT_TRUE(old) << old.message();
+    EXPECT_EQ((*old)->info().formatVersion, 5u);
+    EXPECT_TRUE((*old)->verify().empty());
+    const auto volumes = openVolumes(**old);
+    ASSERT_TRUE(volumes);
+    EXPECT_EQ((*volumes)[0].voxels.size(), info.volumes[0].brickCount * kVolumeBrickVoxels);
+    EXPECT_EQ((*volumes)[0].majorant, (*openVolumes(**current))[0].majorant);
+    StreamingStats oldStats;
+    auto image = renderOpen(**old, lookingDown(volumes), pagedBudget(info), &oldStats);
+    ASSERT_TRUE(image) << image.message();
+    EXPECT_GT(oldStats.volumeBrickSlots, 0u);
+    EXPECT_EQ(oldStats.volumeBricksRead, 0u);
+    EXPECT_EQ(std::memcmp(image->rgb.data(), expected->rgb.data(), expected->rgb.size() * 4), 0);
+}
+
+}  // namespace
+}  // namespace vastray
