@@ -275,7 +275,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     for (const Volume& v : volumes)
         if (v.bricks.source) stored += v.brickCount(), glows = glows || v.hasEmission();
     cacheStride_ = uint64_t(kVolumeBrickVoxels) * (glows ? 2 : 1);
-    const uint64_t entries = std::min(stored, std::max<uint64_t>(slots, kVolumeHostCacheBytes / (4 * cacheStride_)));
+    const uint64_t entries = std::min(stored, std::max<uint64_t>(slots, hostCacheBytes_ / (4 * cacheStride_)));
     cache_.assign(entries * cacheStride_, 0.0f);
     entryBrick_.assign(entries, kNoBrick), entryStep_.assign(entries, 0), entryReferenced_.assign(entries, 0);
     brickEntry_.assign(entries > 0 ? brickVolume_.size() : 0, kNoBrick);

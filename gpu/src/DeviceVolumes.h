@@ -51,7 +51,10 @@ VolumeRegions volumeRegions(const Volume& volume, uint32_t slots);
 
 class DeviceVolumes {
 public:
-    explicit DeviceVolumes(VulkanDevice& device) : device_(device) {}
+    // hostCacheBytes: the host brick cache's bound (kVolumeHostCacheBytes; at least a pool's worth
+    // is kept whatever it says).
+    explicit DeviceVolumes(VulkanDevice& device, uint64_t hostCacheBytes = kVolumeHostCacheBytes)
+        : device_(device), hostCacheBytes_(hostCacheBytes) {}
 
     // Puts `volumes` (none: empty or null) on the device in at most `bytes`: every brick when they
     // fit, else a pool of as many brick slots as fit besides the park records of waves of up to
@@ -105,6 +108,7 @@ private:
                         std::span<const uint64_t> emission);
 
     VulkanDevice& device_;
+    uint64_t hostCacheBytes_;
     std::shared_ptr<const std::vector<Volume>> volumes_;  // the volumes in buffer_
     GpuBuffer buffer_, readback_;
     uint32_t slots_ = 0;
