@@ -1,5 +1,6 @@
 // Fuzzes the package reader: open (header, materials, top-level tree, directory) and, when
-// that succeeds, every chunk's read and decode (`info --verify`).
+// that succeeds, every chunk's read and decode and every volume's (`info --verify`: from format 6
+// the brick tables, then each brick through the source a render reads them with).
 #include "FuzzInput.h"
 #include "vastray/streamer/ScenePackage.h"
 

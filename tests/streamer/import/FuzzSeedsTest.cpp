@@ -55,7 +55,8 @@ TEST(FuzzSeeds, AssimpSeedsImport) {
 
 // The package and chunk seeds of fuzz_package and fuzz_chunk are of a format this reader reads
 // (a seed of an older format stops at the version check, and the fuzzer never reaches the
-// decoders; version 3 seeds still read, volume.vast is version 4 with a volume):
+// decoders; version 3 seeds still read, volume.vast is version 4 with a volume, volume-bricks.vast
+// version 6 with a volume and its emission):
 // each package opens and verifies, and each chunk seed is its package's chunk 0 plus the byte
 // fuzz_chunk reads as the grid selector. Regenerate them as docs/HARDENING.md says.
 TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
@@ -74,8 +75,9 @@ TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
         EXPECT_EQ(0, std::memcmp(bytes.data(), blob->data(), blob->size())) << chunkSeed << " is not chunk 0 of " << entry.path();
         ++seeds;
     }
-    EXPECT_EQ(seeds, 8u);  // small, coloured (normals and colours), cameras; Draco and meshopt; a volume;
-                           // glossy (version 5 materials)
+    EXPECT_EQ(seeds, 9u);  // small, coloured (normals and colours), cameras; Draco and meshopt; a volume
+                           // (version 4) and one read brick by brick with emission (version 6); glossy
+                           // (version 5 materials)
 }
 
 // Every chunk seed through the decoder as fuzz_chunk feeds it (the directory entry from the
