@@ -104,6 +104,11 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
     VASTRAY_TRY(validateRenderOptions(options));
     if (options.aovs & kAovStreamingOnly)
         return Status::error("the chunkid and cost AOVs need a streaming backend (--backend vulkan)");
+    if (options.volumes)  // the CPU tracking reads voxels in memory (PackageReader::readVolumes)
+        for (const Volume& v : *options.volumes)
+            if (v.voxels.size() != v.brickCount() * kVolumeBrickVoxels)
+                return Status::error("volume '" + v.name + "': the Embree renderer needs its voxels in memory "
+                                     "(PackageReader::readVolumes), not left in the package");
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);

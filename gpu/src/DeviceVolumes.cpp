@@ -314,7 +314,7 @@ uint32_t DeviceVolumes::takeCacheEntry() {
     return kNoBrick;
 }
 
-Status DeviceVolumes::placeInHost(Move& move, std::vector<Move>& reads) {
+Status DeviceVolumes::placeInHost(Move& move, std::vector<std::pair<uint32_t, uint32_t>>& reads) {
     const Volume& v = (*volumes_)[brickVolume_[move.brick]];
     const uint64_t local = move.brick - volumeFirstBrick_[brickVolume_[move.brick]];
     if (!v.bricks.source) {
@@ -327,12 +327,11 @@ Status DeviceVolumes::placeInHost(Move& move, std::vector<Move>& reads) {
         e = takeCacheEntry();
         if (e == kNoBrick) return Status::error("volume paging: the host brick cache has no entry free");
         brickEntry_[move.brick] = e, entryBrick_[e] = move.brick;
-        reads.push_back(move);  // (its pointers are set below)
+        reads.push_back({move.brick, e});
     }
     entryStep_[e] = step_, entryReferenced_[e] = 1;
     move.density = cache_.data() + e * cacheStride_;
     move.emission = v.hasEmission() ? move.density + kVolumeBrickVoxels : nullptr;
-    if (reads.size() > 0 && reads.back().brick == move.brick) reads.back() = move;
     return Status::ok();
 }
 
@@ -371,7 +370,8 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
     // (one core's writes through the device mapping were most of a step's time). A region holds
     // at most a pool's worth of bricks, so every absent one finds a slot.
     ++step_;
-    std::vector<Move> moves, reads;  // reads: the moves whose bricks are read from the package first
+    std::vector<Move> moves;
+    std::vector<std::pair<uint32_t, uint32_t>> reads;  // (brick, cache entry): read from the package first
     for (const uint32_t brick : region) {
         if (brickSlot_[brick] != kNoBrick) continue;
         if (moves.size() == free.size()) return Status::error("volume paging: a region holds more bricks than the pool");
@@ -384,22 +384,27 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
         brickSlot_[brick] = slot, slotBrick_[slot] = brick;
         VASTRAY_TRY(buffer_.upload(&slot, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]));
         Move& move = moves.emplace_back(Move{brick, slot, nullptr, nullptr});
-        VASTRAY_TRY(placeInHost(move, reads));
+        if (Status placed = placeInHost(move, reads); !placed) {
+            volumes_.reset();  // the cell tables name slots that will not be filled
+            return placed;
+        }
         stats.hostToDeviceBytes += 4ull * kVolumeBrickVoxels * (move.emission ? 2 : 1) + 4;
     }
     // The bricks not in host memory, from their package (pread, checksum, voxel checks).
     std::vector<Status> readFailed(reads.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, reads.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
-            const uint32_t volume = brickVolume_[reads[i].brick];
-            readFailed[i] = readVolumeBrick((*volumes_)[volume], reads[i].brick - volumeFirstBrick_[volume],
-                                            const_cast<float*>(reads[i].density), const_cast<float*>(reads[i].emission));
+            const auto [brick, entry] = reads[i];
+            const Volume& v = (*volumes_)[brickVolume_[brick]];
+            float* at = cache_.data() + uint64_t(entry) * cacheStride_;
+            readFailed[i] = readVolumeBrick(v, brick - volumeFirstBrick_[brickVolume_[brick]], at,
+                                            v.hasEmission() ? at + kVolumeBrickVoxels : nullptr);
         }
     });
     stats.volumeBricksRead += reads.size();
     for (const Status& f : readFailed)
         if (!f) {
-            volumes_.reset();  // slots and cache entries now name bricks they do not hold
+            volumes_.reset();  // slots and cache entries name bricks they do not hold: built anew next time
             return f;
         }
     std::atomic<bool> failed{false};

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "PoolLayout.h"
@@ -98,8 +99,8 @@ private:
         const float* emission = nullptr;
     };
     // Sets the move's host pointers: the volume's voxels, or a host cache entry (a new entry also
-    // goes to `reads`: its brick is read from the package before the copies).
-    Status placeInHost(Move& move, std::vector<Move>& reads);
+    // goes to `reads` as (brick, entry): its brick is read from the package before the copies).
+    Status placeInHost(Move& move, std::vector<std::pair<uint32_t, uint32_t>>& reads);
     uint32_t takeCacheEntry();
     Status copyBrick(const Move& move);
     // The WavefrontVolume records, each volume's arrays at these offsets in buffer_.

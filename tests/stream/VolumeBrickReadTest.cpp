@@ -193,6 +193,20 @@ TEST(VolumeBrickRead, DamagedBricksFailTheRenderByNameUnlessNoRayReachesThem) {
     refused = render(withVoxel(std::nanf("")), &stats);
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.message().find(name + " voxel 9 has density nan"), std::string::npos) << refused.message();
+    // The brick index itself is checked when the volumes open, before any brick is read.
+    refused = render(test::forgeVolumeData(original, p,
+                                           [&](std::vector<uint8_t>& b) {
+                                               const float nan = std::nanf("");
+                                               std::memcpy(b.data() + p.offset + 4 * p.volume.cellCount() +
+                                                               16ull * unreached + 8,
+                                                           &nan, 4);
+                                           }),
+                     &stats);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("volume 0 'slab': brick " + std::to_string(unreached) +
+                                     ": largest density nan is not in [0, 1e18]"),
+              std::string::npos)
+        << refused.message();
     refused = render(withVoxel(0.75f), &stats);
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.message().find(name + ": its largest density 0.750000 is not the one its brick index records "
@@ -245,6 +259,22 @@ TEST(VolumeBrickRead, VersionFivePackageRendersTheSame) {
     EXPECT_GT(oldStats.volumeBrickSlots, 0u);
     EXPECT_EQ(oldStats.volumeBricksRead, 0u);
     EXPECT_EQ(std::memcmp(image->rgb.data(), expected->rgb.data(), expected->rgb.size() * 4), 0);
+}
+
+// The Embree reference tracks volumes in host memory: it takes them read whole (readVolumes,
+// the same image as the device's within noise elsewhere) and refuses them left in the package.
+TEST(VolumeBrickRead, EmbreeNeedsTheVoxelsInMemory) {
+    auto reader = PackageReader::open(thinSlab());
+    ASSERT_TRUE(reader) << reader.message();
+    RenderOptions o = lookingDown(openVolumes(**reader));
+    o.width = o.height = 4;
+    auto refused = test::renderEmbree(thinSlab(), o);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("volume 'slab': the Embree renderer needs its voxels in memory"), std::string::npos)
+        << refused.message();
+    o.volumes = (*reader)->readVolumes().value();
+    auto image = test::renderEmbree(thinSlab(), o);
+    EXPECT_TRUE(image) << image.message();
 }
 
 }  // namespace
