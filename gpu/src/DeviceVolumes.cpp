@@ -276,7 +276,9 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
         if (v.bricks.source) stored += v.brickCount(), glows = glows || v.hasEmission();
     cacheStride_ = uint64_t(kVolumeBrickVoxels) * (glows ? 2 : 1);
     const uint64_t entries = std::min(stored, std::max<uint64_t>(slots, hostCacheBytes_ / (4 * cacheStride_)));
-    cache_.assign(entries * cacheStride_, 0.0f);
+    // Not value-initialized: the pages of entries never used are never touched (host memory grows
+    // with the bricks read, up to the bound).
+    cache_.reset(entries > 0 ? new float[entries * cacheStride_] : nullptr);
     entryBrick_.assign(entries, kNoBrick), entryStep_.assign(entries, 0), entryReferenced_.assign(entries, 0);
     brickEntry_.assign(entries > 0 ? brickVolume_.size() : 0, kNoBrick);
     hand_ = 0, step_ = 0;
@@ -330,7 +332,7 @@ Status DeviceVolumes::placeInHost(Move& move, std::vector<std::pair<uint32_t, ui
         reads.push_back({move.brick, e});
     }
     entryStep_[e] = step_, entryReferenced_[e] = 1;
-    move.density = cache_.data() + e * cacheStride_;
+    move.density = cache_.get() + uint64_t(e) * cacheStride_;
     move.emission = v.hasEmission() ? move.density + kVolumeBrickVoxels : nullptr;
     return Status::ok();
 }
@@ -396,7 +398,7 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
         for (size_t i = r.begin(); i != r.end(); ++i) {
             const auto [brick, entry] = reads[i];
             const Volume& v = (*volumes_)[brickVolume_[brick]];
-            float* at = cache_.data() + uint64_t(entry) * cacheStride_;
+            float* at = cache_.get() + uint64_t(entry) * cacheStride_;
             readFailed[i] = readVolumeBrick(v, brick - volumeFirstBrick_[brickVolume_[brick]], at,
                                             v.hasEmission() ? at + kVolumeBrickVoxels : nullptr);
         }

@@ -123,7 +123,7 @@ private:
     // The host brick cache (paged, bricks left in the package): per entry cacheStride_ floats
     // (densities, then emission), the brick it holds, the step that last used it and its clock
     // bit; per brick its entry (kNoBrick: none).
-    std::vector<float> cache_;
+    std::unique_ptr<float[]> cache_;
     uint64_t cacheStride_ = 0;
     std::vector<uint32_t> entryBrick_, brickEntry_;
     std::vector<uint64_t> entryStep_;
