@@ -242,6 +242,21 @@ Status readVolumeBrick(const Volume& v, uint64_t brick, float* density, float* e
     return Status::ok();
 }
 
+std::string checkBrickTable(std::span<const uint32_t> brickOf, uint64_t bricks) {
+    std::vector<uint32_t> owner(bricks, kNoBrick);  // the cell naming each brick (cells < 2^24)
+    for (uint64_t c = 0; c < brickOf.size(); ++c) {
+        const uint32_t b = brickOf[c];
+        if (b == kNoBrick) continue;
+        if (b >= bricks)
+            return "cell " + std::to_string(c) + " names brick " + std::to_string(b) + " of " + std::to_string(bricks);
+        if (owner[b] != kNoBrick)
+            return "cells " + std::to_string(owner[b]) + " and " + std::to_string(c) + " both name brick " +
+                   std::to_string(b) + " (a brick belongs to one cell)";
+        owner[b] = uint32_t(c);
+    }
+    return {};
+}
+
 std::string checkVolume(const Volume& v) {
     for (int a = 0; a < 3; ++a) {
         if (v.brickCells[a] == 0) return "the brick grid has no cells";
@@ -257,10 +272,7 @@ std::string checkVolume(const Volume& v) {
     if (v.voxels.size() % kVolumeBrickVoxels != 0) return "the voxels are not whole bricks";
     if (v.brickCount() > kMaxVolumeBricks)
         return std::to_string(v.brickCount()) + " bricks, more than the limit of " + std::to_string(kMaxVolumeBricks);
-    for (uint64_t c = 0; c < v.brickOf.size(); ++c)
-        if (v.brickOf[c] != kNoBrick && v.brickOf[c] >= v.brickCount())
-            return "cell " + std::to_string(c) + " names brick " + std::to_string(v.brickOf[c]) + " of " +
-                   std::to_string(v.brickCount());
+    if (std::string problem = checkBrickTable(v.brickOf, v.brickCount()); !problem.empty()) return problem;
     for (uint64_t i = 0; i < v.voxels.size(); ++i)
         if (!(v.voxels[i] >= 0.0f && v.voxels[i] <= kMaxVolumeDensity))
             return "brick " + std::to_string(i / kVolumeBrickVoxels) + " voxel " + std::to_string(i % kVolumeBrickVoxels) +

@@ -237,3 +237,21 @@ TEST(Volume, HostileDensityEndsTracking) {
 
 }  // namespace
 }  // namespace vastray
+
+namespace vastray {
+namespace {
+
+// A brick table names stored bricks or none, each brick for one cell only: checkVolume and the
+// package reader refuse a table where two cells share a brick (the paged pool keeps a brick where
+// its one cell is, so a second cell would stay absent) or a cell names a brick beyond the stored ones.
+TEST(Volume, BrickTableNamesEachBrickForOneCellOnly) {
+    const std::vector<uint32_t> sound = {kNoBrick, 1, 0, kNoBrick, 2};
+    EXPECT_EQ(checkBrickTable(sound, 3), "");
+    EXPECT_EQ(checkBrickTable(sound, 2), "cell 4 names brick 2 of 2");
+    const std::vector<uint32_t> shared = {kNoBrick, 1, 0, 1, 2};
+    EXPECT_EQ(checkBrickTable(shared, 3), "cells 1 and 3 both name brick 1 (a brick belongs to one cell)");
+    EXPECT_EQ(checkBrickTable({}, 0), "");
+}
+
+}  // namespace
+}  // namespace vastray

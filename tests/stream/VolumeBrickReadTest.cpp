@@ -215,6 +215,34 @@ TEST(VolumeBrickRead, DamagedBricksFailTheRenderByNameUnlessNoRayReachesThem) {
         << refused.message();
 }
 
+// A forged cell table where two cells name one brick (checksums recomputed) is refused when the
+// volumes open, naming both cells and the brick.
+TEST(VolumeBrickRead, TwoCellsNamingOneBrickAreRefusedWhenTheVolumesOpen) {
+    auto clean = PackageReader::open(thinSlab());
+    ASSERT_TRUE(clean) << clean.message();
+    const PackageVolume& p = (*clean)->info().volumes[0];
+    const auto volumes = openVolumes(**clean);
+    ASSERT_TRUE(volumes);
+    const std::vector<uint32_t>& brickOf = (*volumes)[0].brickOf;
+    std::vector<uint64_t> cells;  // the first two cells that hold a brick
+    for (uint64_t c = 0; c < brickOf.size() && cells.size() < 2; ++c)
+        if (brickOf[c] != kNoBrick) cells.push_back(c);
+    ASSERT_EQ(cells.size(), 2u);
+    const std::string path = packagePath("shared-brick");
+    test::writeBytes(path, test::forgeVolumeData(test::fileBytes(thinSlab()), p, [&](std::vector<uint8_t>& b) {
+        std::memcpy(b.data() + p.offset + 4 * cells[1], &brickOf[cells[0]], 4);  // the second names the first's brick
+    }));
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    auto refused = (*reader)->openVolumes();
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("shared-brick.vast: volume 0 'slab': cells " + std::to_string(cells[0]) + " and " +
+                                     std::to_string(cells[1]) + " both name brick " + std::to_string(brickOf[cells[0]]) +
+                                     " (a brick belongs to one cell)"),
+              std::string::npos)
+        << refused.message();
+}
+
 // The file loses its last bytes after the package opened (it was checked whole then): the brick
 // that is no longer there fails the render by name.
 TEST(VolumeBrickRead, TruncatedPackageFailsTheRenderNamingTheBrick) {

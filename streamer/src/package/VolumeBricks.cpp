@@ -88,10 +88,8 @@ Status readVolumeTable(const PackageFile& file, const PackageVolume& p, const st
             return Status::error(brick + "largest density " + std::to_string(bricks.maximum[b]) + " is not in [0, 1e18]");
     }
     if (!in.ok()) return Status::error(name + "truncated brick table");
-    for (uint64_t c = 0; c < cells; ++c)
-        if (volume.brickOf[c] != kNoBrick && volume.brickOf[c] >= count)
-            return Status::error(name + "cell " + std::to_string(c) + " names brick " + std::to_string(volume.brickOf[c]) +
-                                 " of " + std::to_string(count));
+    if (const std::string problem = checkBrickTable(volume.brickOf, count); !problem.empty())
+        return Status::error(name + problem);
     computeVolumeMajorants(volume, bricks.maximum);
     bricks.name = name;
     bricks.firstBrick = p.offset + tableBytes;

@@ -121,6 +121,10 @@ void computeVolumeMajorants(Volume& volume, std::span<const float> brickMaximum)
 // wrong. Majorants and worldToIndex are not checked: readers compute them
 // (computeVolumeMajorants, finishVolumeTransform, which refuses a map it cannot invert).
 std::string checkVolume(const Volume& volume);
+// A brick table's entries (brickOf, one per cell): each names one of `bricks` stored bricks or
+// none (kNoBrick), and no brick belongs to two cells (the paged pool keeps a brick where its one
+// cell is). Returns an empty string when sound, else the first cell that is wrong.
+std::string checkBrickTable(std::span<const uint32_t> brickOf, uint64_t bricks);
 
 // A ray in the world (unit direction) against every volume: delta tracking (free-flight
 // sampling, Woodcock) with the brick cells' majorants, empty cells skipped. Random numbers come
