@@ -4,6 +4,7 @@
 // wavefront's parameters, the material table, the metallic-roughness BSDF's albedo tables and
 // the streamed waves' window (byte offsets, 16-byte aligned).
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -80,14 +81,25 @@ inline StateLayout stateLayout(uint64_t paths) {
     s.totalBytes = s.queues + queueOffset(kQueueCount, paths);
     return s;
 }
+// What a paging step ends with and the host reads: the table's touched flags, demand and
+// look-ahead counters and queue counts (they follow one another there, from TableLayout::touched
+// to ::queueArgs), then the streamed waves' window head (StreamWindow up to its tiles). The
+// device copies them into the output buffer (host-cached memory) at the step's end: read across
+// the bus from the table, which is device memory the host maps uncached on a discrete GPU, they
+// cost the host a round trip per few bytes.
+constexpr uint64_t kWindowHeadBytes = offsetof(StreamWindow, tiles);
+inline uint64_t stepCounterBytes(const TableLayout& t) { return t.queueArgs - t.touched + kWindowHeadBytes; }
+// The output buffer (host-cached): per tile pixel the colour and the AOVs, then the step's
+// counters (stepCounterBytes).
 struct OutputLayout {
-    uint64_t color, depth, normal, albedo, primId, chunkId, cost, totalBytes;
+    uint64_t color, depth, normal, albedo, primId, chunkId, cost, counters, totalBytes;
 };
-inline OutputLayout outputLayout(uint64_t pixels) {
+inline OutputLayout outputLayout(uint64_t pixels, uint64_t counterBytes) {
     OutputLayout o{};
     o.color = 0, o.depth = 16 * pixels, o.normal = o.depth + 4 * pixels, o.albedo = o.normal + 12 * pixels;
     o.primId = o.albedo + 12 * pixels, o.chunkId = o.primId + 4 * pixels, o.cost = o.chunkId + 4 * pixels;
-    o.totalBytes = o.cost + 8 * pixels;
+    o.counters = (o.cost + 8 * pixels + 15) / 16 * 16;
+    o.totalBytes = o.counters + counterBytes;
     return o;
 }
 // The environment map's buffer (core/EnvironmentMap.h's arrays, in this order).

@@ -32,8 +32,9 @@ uint64_t rayBytes(bool outputInDeviceMemory) { return kBytesPerPath + (outputInD
 
 // Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile
 // outputs the host reads when they are in device memory.
-uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory) {
-    return granules(stateLayout(paths).totalBytes) + (outputInDeviceMemory ? granules(outputLayout(paths).totalBytes) : 0);
+uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory, uint64_t counterBytes) {
+    return granules(stateLayout(paths).totalBytes) +
+           (outputInDeviceMemory ? granules(outputLayout(paths, counterBytes).totalBytes) : 0);
 }
 
 class VulkanChunkBackend final : public ChunkBackend {
@@ -88,7 +89,8 @@ public:
         auto state = device_.createBuffer(stateLayout(plan_.batchRays).totalBytes);
         if (!state) return state.status();
         state_ = std::move(state).value();
-        auto output = device_.createBuffer(outputLayout(plan_.batchRays).totalBytes, VulkanDevice::MemoryUse::Readback);
+        auto output = device_.createBuffer(outputLayout(plan_.batchRays, stepCounterBytes(tables_)).totalBytes,
+                                           VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
         allocated_ += table_.allocatedBytes() + state_.allocatedBytes() +
@@ -298,7 +300,8 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                              std::to_string(waveShareOutOfCore));
     PoolPlan plan;
     plan.outputInDeviceMemory = outputInDeviceMemory;
-    auto batchBytes = [outputInDeviceMemory](uint64_t paths) { return gpu::batchBytes(paths, outputInDeviceMemory); };
+    const uint64_t counterBytes = stepCounterBytes(tableLayout(1, package));
+    auto batchBytes = [=](uint64_t paths) { return gpu::batchBytes(paths, outputInDeviceMemory, counterBytes); };
     const uint64_t kRayBytes = rayBytes(outputInDeviceMemory);
     uint64_t largest = 0;
     for (const ChunkInfo& c : package.chunks) largest = std::max(largest, chunkLayout(c, attributes).totalBytes);

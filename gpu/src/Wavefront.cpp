@@ -239,7 +239,7 @@ private:
     // Zeroes the cost AOV of `count` output pixels from `first` (a tile's, or a window slot's).
     void clearCost(uint64_t first, uint64_t count) {
         if (!(image_.aovs & kAovCost)) return;
-        const uint64_t at = outputLayout(b_.pathCapacity).cost + 8 * first;
+        const uint64_t at = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables)).cost + 8 * first;
         record([=, this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.output->handle(), at, count * 8, 0);
             barrier(cmd);
@@ -364,6 +364,23 @@ private:
             barrier(cmd);
         });
     }
+    // The step's counters and window head into the output buffer (stepCounterBytes), where the
+    // host reads them after the step from host-cached memory.
+    void copyStepCounters() {
+        record([this](VkCommandBuffer cmd) {
+            const TableLayout& t = b_.tables;
+            const uint64_t at = outputLayout(b_.pathCapacity, stepCounterBytes(t)).counters;
+            const VkBufferCopy regions[2] = {{t.touched, at, t.queueArgs - t.touched},
+                                             {t.stream, at + t.queueArgs - t.touched, kWindowHeadBytes}};
+            vkCmdCopyBuffer(cmd, b_.table->handle(), b_.output->handle(), 2, regions);
+            VkMemoryBarrier b{};
+            b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+            b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            b.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+            vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &b, 0, nullptr, 0,
+                                 nullptr);
+        });
+    }
     // Paged volumes: no brick is asked for yet.
     void clearVolumeCounters(const DeviceVolumes& volumes) {
         record([&volumes](VkCommandBuffer cmd) {
@@ -450,6 +467,7 @@ private:
     // is absent, so every step loads it and lets the walks waiting at it go on).
     Status runStep(Paging& st, DeviceVolumes* volumes) {
         if (volumes) copyVolumeCounters(*volumes);
+        copyStepCounters();
         VASTRAY_TRY(beginSubmit());
         st.loaded = 0;
         if (st.planned) {
@@ -458,10 +476,12 @@ private:
             st.loaded = done->size(), st.planned = false;
         }
         VASTRAY_TRY(finishSubmit());
-        VASTRAY_TRY(download(st.demand.data(), st.demand.size() * 4, *b_.table, b_.tables.demand));
-        VASTRAY_TRY(download(st.ahead.data(), st.ahead.size() * 4, *b_.table, b_.tables.ahead));
-        VASTRAY_TRY(download(st.counts.data(), st.counts.size() * 4, *b_.table, b_.tables.queueCounts));
-        VASTRAY_TRY(download(st.touched.data(), st.touched.size() * 4, *b_.table, b_.tables.touched));
+        const TableLayout& t = b_.tables;
+        const uint64_t counters = outputLayout(b_.pathCapacity, stepCounterBytes(t)).counters - t.touched;
+        VASTRAY_TRY(download(st.demand.data(), st.demand.size() * 4, *b_.output, counters + t.demand));
+        VASTRAY_TRY(download(st.ahead.data(), st.ahead.size() * 4, *b_.output, counters + t.ahead));
+        VASTRAY_TRY(download(st.counts.data(), st.counts.size() * 4, *b_.output, counters + t.queueCounts));
+        VASTRAY_TRY(download(st.touched.data(), st.touched.size() * 4, *b_.output, counters + t.touched));
         for (size_t c = 0; c < st.touched.size(); ++c) st.waveTouched[c] |= st.touched[c];
         pager_.markUsed(st.touched);
         const uint32_t waiting = st.counts[kVolumeWaitQueue];
@@ -552,7 +572,7 @@ private:
         pager_.beginStream();
         Paging st(b_.chunkCount, volumes);
         const std::vector<uint32_t>& counts = st.counts;
-        std::vector<uint32_t> windowHead(4 + kMaxWindowTiles);  // cursor, tile count, padding, done[]
+        std::vector<uint32_t> windowHead(kWindowHeadBytes / 4);  // cursor, tile count, padding, done[]
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             // Open tiles in the free slots, and write the window.
@@ -594,7 +614,10 @@ private:
                 walkRound(push, !last, last, r == 0);
             }
             VASTRAY_TRY(runStep(st, volumes));
-            VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.table, streamOffset));
+            // The head the step's end copied after the table's counters (copyStepCounters).
+            VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.output,
+                                 outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables)).counters +
+                                     (b_.tables.queueArgs - b_.tables.touched)));
             stats_.walkedRays += st.demand[b_.chunkCount + 1];
             // Close the tiles whose pixels are all done (all started: they lie before the
             // cursor), and rewind the cursor past them to the window's end at most.
@@ -644,7 +667,7 @@ private:
 
     // The tile's colour and alpha from the output pixels at `first` on.
     Status readColor(const Tile& tile, uint64_t first) {
-        const OutputLayout o = outputLayout(b_.pathCapacity);
+        const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
         const uint64_t count = tile.count();
         // RGBA in blocks on all cores: a 1080p tile is 33 MB, and one core copying and splitting
         // it (and faulting in the image's fresh pages) took longer than the device's 1 spp render.
@@ -669,7 +692,7 @@ private:
     // The tile's AOVs among `aovs` from the output pixels at `first` on; the cost AOV is added to
     // the image's with addCost (streamed waves: the AOV walk's cost, then the paths').
     Status readAovs(const Tile& tile, uint64_t first, uint32_t aovs, bool addCost) {
-        const OutputLayout o = outputLayout(b_.pathCapacity);
+        const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
         if (aovs & kAovDepth) VASTRAY_TRY(readRows<float>(tile, 1, o.depth + 4 * first, image_.depth, false));
         if (aovs & kAovNormal) VASTRAY_TRY(readRows<float>(tile, 3, o.normal + 12 * first, image_.normal, false));
         if (aovs & kAovAlbedo) VASTRAY_TRY(readRows<float>(tile, 3, o.albedo + 12 * first, image_.albedo, false));
@@ -712,7 +735,7 @@ private:
         p.pathInfo = state + s.pathInfo, p.accum = state + s.accum, p.queues = state + s.queues;
         p.groupState = state + s.groupState, p.stream = table + t.stream;
         p.queueCounts = table + t.queueCounts, p.queueArgs = table + t.queueArgs;
-        const OutputLayout o = outputLayout(b_.pathCapacity);
+        const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
         p.outCost = out + o.cost;
