@@ -22,6 +22,15 @@ inline void writeBytes(const std::string& path, const std::vector<uint8_t>& byte
     std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
 }
 
+// Recomputes the checksums over the volume records (their offset is at byte 232 of the header,
+// their XXH64 at 240) and the header's own (bytes 248..255), after a record was changed.
+inline void resealRecordsAndHeader(std::vector<uint8_t>& bytes, uint64_t recordAt) {
+    const uint64_t records = checksum64(bytes.data() + recordAt, 256);
+    std::memcpy(bytes.data() + 256 - 16, &records, 8);
+    const uint64_t header = checksum64(bytes.data(), 248);
+    std::memcpy(bytes.data() + 248, &header, 8);
+}
+
 // The file offset of brick `brick`'s first voxel in the data of volume `p`.
 inline uint64_t brickOffset(const PackageVolume& p, uint64_t brick) {
     const uint64_t brickBytes = 4ull * kVolumeBrickVoxels * (p.hasEmission ? 2 : 1);
@@ -46,10 +55,7 @@ inline std::vector<uint8_t> forgeVolumeData(std::vector<uint8_t> bytes, const Pa
     std::memcpy(&recordAt, bytes.data() + 256 - 24, 8);
     const uint64_t table = checksum64(bytes.data() + p.offset, brickOffset(p, 0) - p.offset);
     std::memcpy(bytes.data() + recordAt + 180, &table, 8);
-    const uint64_t records = checksum64(bytes.data() + recordAt, 256);
-    std::memcpy(bytes.data() + 256 - 16, &records, 8);
-    const uint64_t header = checksum64(bytes.data(), 248);
-    std::memcpy(bytes.data() + 248, &header, 8);
+    resealRecordsAndHeader(bytes, recordAt);
     return bytes;
 }
 
@@ -73,10 +79,7 @@ inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& bytes, const 
     std::memcpy(out.data() + 16, &fileBytes, 8);
     std::memcpy(out.data() + recordAt + 172, &size, 8);
     std::memcpy(out.data() + recordAt + 180, &data, 8);
-    const uint64_t records = checksum64(out.data() + recordAt, 256);
-    std::memcpy(out.data() + 256 - 16, &records, 8);
-    const uint64_t header = checksum64(out.data(), 248);
-    std::memcpy(out.data() + 248, &header, 8);
+    resealRecordsAndHeader(out, recordAt);
     return out;
 }
 
