@@ -31,7 +31,7 @@ struct ImportArgs {
     bool doubleSided = false, singleSided = false;
     std::string progress = "auto";
     // --volume FILE.vdb[:GRID], and each material option once (every volume) or once per volume.
-    std::vector<std::string> volumes, volumeAlbedo, volumeEmission, volumeEmissionScale;
+    std::vector<std::string> volumes, volumeAlbedo, volumeEmission, volumeTemperature, volumeEmissionScale;
     std::vector<float> volumeDensity, volumeAnisotropy;
 };
 
@@ -101,6 +101,13 @@ Result<std::vector<VolumeSource>> volumeSources(const ImportArgs& args) {
         auto emissionGrid = perVolume(args.volumeEmission, i, count, "--volume-emission", std::string("-"));
         if (!emissionGrid) return emissionGrid.status();
         if (*emissionGrid != "-") source.emissionGrid = *emissionGrid;
+        auto temperatureGrid = perVolume(args.volumeTemperature, i, count, "--volume-temperature", std::string("-"));
+        if (!temperatureGrid) return temperatureGrid.status();
+        if (*temperatureGrid != "-" && !source.emissionGrid.empty())
+            return Status::error("--volume '" + args.volumes[i] + "': --volume-emission '" + source.emissionGrid +
+                                 "' and --volume-temperature '" + *temperatureGrid +
+                                 "' both name its emission; give one of them");
+        if (*temperatureGrid != "-") source.emissionGrid = *temperatureGrid, material.temperature = true;
         auto density = perVolume(args.volumeDensity, i, count, "--volume-density", 1.0f);
         if (!density) return density.status();
         material.densityScale = *density;
@@ -216,9 +223,14 @@ CommandRun addImportCommand(CLI::App& app) {
                     "GRID: a float grid of the volume's file (same transform) whose values, times "
                     "--volume-emission-scale, are the radiance the volume's absorbing part emits; '-': none "
                     "(default); once or per --volume");
+    cmd->add_option("--volume-temperature", args->volumeTemperature,
+                    "GRID: a float grid of the volume's file (same transform) of temperatures in kelvin, [0, 1e5]: "
+                    "the volume's absorbing part glows as a blackbody (linear sRGB, luminance 1 at 6500 K), times "
+                    "--volume-emission-scale; not with --volume-emission for the same volume; '-': none (default); "
+                    "once or per --volume");
     cmd->add_option("--volume-emission-scale", args->volumeEmissionScale,
-                    "R,G,B (or one value) in [0, 1e18]: radiance per unit of the emission grid (default 1); once or "
-                    "per --volume");
+                    "R,G,B (or one value) in [0, 1e18]: radiance per unit of the emission grid, or the factor on a "
+                    "temperature grid's blackbody radiance (default 1); once or per --volume");
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")
         ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
         ->capture_default_str();
@@ -234,10 +246,12 @@ CommandRun addImportCommand(CLI::App& app) {
             std::fprintf(stderr, "vastray import: %s\n", volumes.message().c_str());
             return 1;
         }
-        for (const Volume& v : *volumes)
+        for (const Volume& v : *volumes) {
+            const char* glow = v.emissionVoxels.empty() ? "" : (v.material.temperature ? ", with temperature" : ", with emission");
             std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels)%s\n", v.name.c_str(),
                         v.brickCells[0], v.brickCells[1], v.brickCells[2], (unsigned long long)v.brickCount(),
-                        formatBytes(v.voxels.size() * 4).c_str(), v.emissionVoxels.empty() ? "" : ", with emission");
+                        formatBytes(v.voxels.size() * 4).c_str(), glow);
+        }
         options->volumes = std::move(volumes).value();
         ImportOptions importOptions;
         if (args->doubleSided) importOptions.sidedness = ImportOptions::Sidedness::ForceDoubleSided;

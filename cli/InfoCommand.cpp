@@ -54,6 +54,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
                            {"emission", p.hasEmission ? nlohmann::json{v.material.emission[0], v.material.emission[1],
                                                                         v.material.emission[2]}
                                                       : nlohmann::json()},
+                           {"temperature", p.hasEmission && v.material.temperature},
                            {"data_bytes", p.size}});
     }
     nlohmann::json cameras = nlohmann::json::array();
@@ -119,7 +120,8 @@ void printHuman(const std::string& path, const PackageInfo& info) {
                     formatBytes(p.size).c_str(), v.material.albedo[0], v.material.albedo[1], v.material.albedo[2],
                     v.material.densityScale, v.material.anisotropy);
         if (p.hasEmission)
-            std::printf(", emission x(%g, %g, %g)", v.material.emission[0], v.material.emission[1], v.material.emission[2]);
+            std::printf(", %s x(%g, %g, %g)", v.material.temperature ? "blackbody of a temperature grid" : "emission",
+                        v.material.emission[0], v.material.emission[1], v.material.emission[2]);
         std::printf("\n");
     }
     std::printf("  dropped              %llu degenerate at import, %llu collapsed by quantization\n",

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "vastray/core/Blackbody.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
 
@@ -164,6 +165,8 @@ Vec3f volumeEmission(const Volume& volume, Vec3f worldPoint) {
     const Vec3f gridOrigin{float(volume.origin[0]), float(volume.origin[1]), float(volume.origin[2])};
     const float value = relativeValue(volume, volume.emissionVoxels, affinePoint(volume.worldToIndex, worldPoint) - gridOrigin);
     const auto& e = volume.material.emission;
+    if (volume.material.temperature)
+        return mul(Vec3f{e[0], e[1], e[2]}, blackbodyRadiance(blackbodyTable().data(), value));
     return Vec3f{e[0], e[1], e[2]} * value;
 }
 
@@ -284,6 +287,12 @@ std::string checkVolume(const Volume& v) {
             return "brick " + std::to_string(i / kVolumeBrickVoxels) + " emission voxel " +
                    std::to_string(i % kVolumeBrickVoxels) + " has the value " + std::to_string(v.emissionVoxels[i]) +
                    " (not in [0, 1e18])";
+    if (v.material.temperature)
+        for (uint64_t i = 0; i < v.emissionVoxels.size(); ++i)
+            if (!(v.emissionVoxels[i] <= kMaxTemperature))
+                return "brick " + std::to_string(i / kVolumeBrickVoxels) + " temperature voxel " +
+                       std::to_string(i % kVolumeBrickVoxels) + " has the value " + std::to_string(v.emissionVoxels[i]) +
+                       " (not in [0, 1e5] K)";
     for (float x : v.indexToWorld)
         if (!std::isfinite(x)) return "the index-to-world map is not finite";
     const VolumeMaterial& m = v.material;

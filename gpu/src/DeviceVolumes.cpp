@@ -10,10 +10,20 @@
 #include <string>
 
 #include "PoolLayout.h"
+#include "vastray/core/Blackbody.h"
 #include "vastray/core/ByteSize.h"
 
 namespace vastray::gpu {
 namespace {
+
+// The blackbody table (core/Blackbody.h) after a layout's last byte, in a scene with an emission
+// grid: VolumeShape does not tell a temperature grid from a radiance one, so such a scene counts
+// the table's 48 KiB (12 bricks with emission) either way; a scene without one pays nothing.
+uint64_t blackbodyBytes(std::span<const VolumeShape> shapes) {
+    for (const VolumeShape& s : shapes)
+        if (s.emission) return 12ull * kBlackbodyTableSize;
+    return 0;
+}
 
 // The most slots whose paged layout fits `bytes` (0 when not even the tables do).
 uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint64_t paths) {
@@ -36,13 +46,13 @@ std::vector<VolumeShape> volumeShapes(std::span<const Volume> volumes) {
 }
 
 uint64_t inCoreVolumeBytes(std::span<const VolumeShape> shapes) {
-    return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes);
+    return shapes.empty() ? 0 : granules(volumeLayout(shapes).totalBytes + blackbodyBytes(shapes));
 }
 
 uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths) {
     uint64_t bricks = 0;
     for (const VolumeShape& s : shapes) bricks += s.bricks;
-    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes) + granules(8 * bricks);
+    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes + blackbodyBytes(shapes)) + granules(8 * bricks);
 }
 
 VolumeRegions volumeRegions(const Volume& volume, uint32_t slots) {
@@ -154,7 +164,7 @@ Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& 
 
 Status DeviceVolumes::writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                                    std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
-                                   std::span<const uint64_t> emission) {
+                                   std::span<const uint64_t> emission, uint64_t blackbody) {
     const uint64_t base = buffer_.address();
     std::vector<WavefrontVolume> records;
     uint32_t bricks = 0;
@@ -170,6 +180,7 @@ Status DeviceVolumes::writeRecords(const std::vector<Volume>& volumes, std::span
         r.densityScale = v.material.densityScale, r.anisotropy = v.material.anisotropy;
         r.emitR = v.material.emission[0], r.emitG = v.material.emission[1], r.emitB = v.material.emission[2];
         r.brickBase = bricks;
+        r.blackbody = v.hasEmission() && v.material.temperature ? base + blackbody : 0;
         bricks += uint32_t(v.brickCount());
     }
     return buffer_.upload(records.data(), records.size() * sizeof(WavefrontVolume), 0);
@@ -213,9 +224,21 @@ Status DeviceVolumes::uploadAllBricks(const Volume& v, uint64_t voxels, uint64_t
     return Status::ok();
 }
 
+Status DeviceVolumes::uploadBlackbody(const std::vector<Volume>& volumes, uint64_t offset, StreamingStats& stats) {
+    for (const Volume& v : volumes)
+        if (v.hasEmission() && v.material.temperature) {
+            const std::vector<float>& table = blackbodyTable();
+            stats.hostToDeviceBytes += table.size() * 4;
+            return buffer_.upload(table.data(), table.size() * 4, offset);
+        }
+    return Status::ok();
+}
+
 Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingStats& stats) {
-    const VolumeLayout layout = volumeLayout(volumeShapes(volumes));
-    VASTRAY_TRY(allocate(volumes, layout.totalBytes));
+    const std::vector<VolumeShape> shapes = volumeShapes(volumes);
+    const VolumeLayout layout = volumeLayout(shapes);
+    VASTRAY_TRY(allocate(volumes, layout.totalBytes + blackbodyBytes(shapes)));
+    VASTRAY_TRY(uploadBlackbody(volumes, layout.totalBytes, stats));
     for (size_t i = 0; i < volumes.size(); ++i) {
         const Volume& v = volumes[i];
         VASTRAY_TRY(uploadAllBricks(v, layout.voxels[i], layout.emission[i], stats));
@@ -224,13 +247,15 @@ Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingS
         stats.hostToDeviceBytes +=
             (v.brickOf.size() + v.majorant.size() + v.brickCount() * kVolumeBrickVoxels * (v.hasEmission() ? 2 : 1)) * 4;
     }
-    return writeRecords(volumes, layout.brickOf, layout.majorant, layout.voxels, layout.emission);
+    return writeRecords(volumes, layout.brickOf, layout.majorant, layout.voxels, layout.emission, layout.totalBytes);
 }
 
 Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths,
                                  StreamingStats& stats) {
-    const PagedVolumeLayout layout = pagedVolumeLayout(volumeShapes(volumes), slots, paths);
-    VASTRAY_TRY(allocate(volumes, layout.totalBytes));
+    const std::vector<VolumeShape> shapes = volumeShapes(volumes);
+    const PagedVolumeLayout layout = pagedVolumeLayout(shapes, slots, paths);
+    VASTRAY_TRY(allocate(volumes, layout.totalBytes + blackbodyBytes(shapes)));
+    VASTRAY_TRY(uploadBlackbody(volumes, layout.totalBytes, stats));
     uint64_t bricks = 0;
     for (const Volume& v : volumes) bricks += v.brickCount();
     auto readback = device_.createBuffer(8 * bricks, VulkanDevice::MemoryUse::Readback);
@@ -287,7 +312,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     const std::vector<uint32_t> zeros(2 * brickVolume_.size(), 0);  // no brick asked for
     VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_));
     const std::vector<uint64_t> density(volumes.size(), layout.density), emission(volumes.size(), layout.emission);
-    return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission);
+    return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission, layout.totalBytes);
 }
 
 Status DeviceVolumes::copyBrick(const Move& move) {

@@ -103,10 +103,14 @@ private:
     Status placeInHost(Move& move, std::vector<std::pair<uint32_t, uint32_t>>& reads);
     uint32_t takeCacheEntry();
     Status copyBrick(const Move& move);
-    // The WavefrontVolume records, each volume's arrays at these offsets in buffer_.
+    // The blackbody table (core/Blackbody.h) at `offset` in buffer_ when a volume has a
+    // temperature grid.
+    Status uploadBlackbody(const std::vector<Volume>& volumes, uint64_t offset, StreamingStats& stats);
+    // The WavefrontVolume records, each volume's arrays at these offsets in buffer_ (`blackbody`:
+    // the table's, for volumes with a temperature grid).
     Status writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                         std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
-                        std::span<const uint64_t> emission);
+                        std::span<const uint64_t> emission, uint64_t blackbody);
 
     VulkanDevice& device_;
     uint64_t hostCacheBytes_;

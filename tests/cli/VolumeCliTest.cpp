@@ -79,6 +79,17 @@ TEST_F(VolumeCli, ImportInfoAndRenderOnBothBackends) {
     EXPECT_LT(agree * 10, fogged);
 }
 
+// A temperature grid (here the density, 0 to 1 K: valid, if cold) is stored with its flag.
+TEST_F(VolumeCli, ImportsATemperatureGrid) {
+    CommandResult i = run("import " + tmp("floor.ply") + " -o " + tmp("hot.vast") + " --chunk-size 64KiB --volume " +
+                          tmp("fog.vdb") + " --volume-temperature density --volume-emission-scale 1e6");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("with temperature"), std::string::npos) << i.output;
+    CommandResult info = run("info " + tmp("hot.vast") + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("\"temperature\": true"), std::string::npos) << info.output;
+}
+
 TEST_F(VolumeCli, BadVolumeOptionsAreNamed) {
     const std::string base = "import " + tmp("floor.ply") + " -o " + tmp("bad.vast") + " --volume ";
     struct Case {
@@ -93,7 +104,10 @@ TEST_F(VolumeCli, BadVolumeOptionsAreNamed) {
              {tmp("fog.vdb") + " --volume-anisotropy 1", "--volume-anisotropy"},
              {tmp("fog.vdb") + " --volume-density -1", "--volume-density"},
              {tmp("fog.vdb") + " --volume-emission heat", "no grid named 'heat'"},
-             {tmp("fog.vdb") + " --volume-emission density --volume-emission-scale -2", "--volume-emission-scale '-2'"}}) {
+             {tmp("fog.vdb") + " --volume-emission density --volume-emission-scale -2", "--volume-emission-scale '-2'"},
+             {tmp("fog.vdb") + " --volume-emission density --volume-temperature density",
+              "--volume-emission 'density' and --volume-temperature 'density'"},
+             {tmp("fog.vdb") + " --volume-temperature heat", "no grid named 'heat'"}}) {
         CommandResult r = run(base + c.arguments);
         EXPECT_NE(r.exitCode, 0) << c.arguments;
         EXPECT_NE(r.output.find(c.words), std::string::npos) << c.arguments << ": " << r.output;

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "TestTmp.h"
+#include "vastray/core/Blackbody.h"
 #include "vastray/streamer/VolumeImport.h"
 
 namespace vastray::test {
@@ -255,6 +256,35 @@ TEST(VdbVolume, EmissionGridLandsInTheDensitysBricks) {
     EXPECT_TRUE(refusedWith(readVdbVolume(writeVdb("cold.vdb", {density, temperature}), "density", material, "temperature"),
                             {"cold.vdb", "emission grid 'temperature'", "voxel (5, 2, 2)", "-1"}));
     EXPECT_TRUE(refusedWith(readVdbVolume(path, "density", material, "heat"), {"fire.vdb", "no grid named 'heat'"}));
+}
+
+// A temperature grid (material.temperature): kelvin in the same bricks, glowing as the
+// blackbody table's colour times the emission scale; a voxel past 1e5 K is refused by file, grid
+// and voxel.
+TEST(VdbVolume, TemperatureGridGlowsAsABlackbody) {
+    FloatGrid::Ptr density = densityGrid();
+    density->denseFill(CoordBBox(Coord(0, 0, 0), Coord(9, 3, 3)), 1.0f, /*active=*/true);
+    FloatGrid::Ptr temperature = FloatGrid::create(0.0f);
+    temperature->setName("temperature");
+    temperature->tree().setValue(Coord(2, 1, 1), 3000.0f);
+    VolumeMaterial material;
+    material.emission = {2.0f, 1.0f, 0.5f};
+    material.temperature = true;
+    auto r = readVdbVolume(writeVdb("flame.vdb", {density, temperature}), "density", material, "temperature");
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_TRUE(r->material.temperature);
+    const Vec3f b = blackbodyRadiance(blackbodyTable().data(), 3000.0f);
+    const Vec3f e = volumeEmission(*r, {2.0f, 1.0f, 1.0f});
+    EXPECT_GT(b.x, b.z);  // 3000 K is orange
+    EXPECT_NEAR(e.x, 2.0f * b.x, 1e-6f * b.x);
+    EXPECT_NEAR(e.y, 1.0f * b.y, 1e-6f * b.y);
+    EXPECT_NEAR(e.z, 0.5f * b.z, 1e-6f * b.z);
+    temperature->tree().setValue(Coord(5, 2, 2), 2e5f);
+    EXPECT_TRUE(refusedWith(readVdbVolume(writeVdb("sun.vdb", {density, temperature}), "density", material, "temperature"),
+                            {"sun.vdb", "temperature grid 'temperature'", "voxel (5, 2, 2)", "temperature", "K"}));
+    // The same value is a valid radiance.
+    material.temperature = false;
+    EXPECT_TRUE(readVdbVolume(writeVdb("sun.vdb", {density, temperature}), "density", material, "temperature").isOk());
 }
 
 TEST(VdbVolume, NonFiniteAndNegativeValuesAreRefusedByIndex) {

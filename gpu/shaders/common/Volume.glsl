@@ -79,13 +79,33 @@ float relativeValue(WavefrontVolume v, uint64_t voxels, vec3 r) {
 
 float relativeDensity(WavefrontVolume v, vec3 r) { return relativeValue(v, v.voxels, r); }
 
-// volumeEmission: the emitted radiance at a world point (an emission grid; else 0).
+// The blackbody table's nodes (core/Blackbody.h's constants).
+const uint kBlackbodyTableSize = 4096u;
+const float kBlackbodyMinKelvin = 100.0;
+const float kMaxTemperature = 1e5;
+
+// blackbodyRadiance: core's blackbodyRadiance, step for step (linear in the node index between
+// log-spaced nodes).
+vec3 blackbodyRadiance(uint64_t table, float kelvin) {
+    const float last = float(kBlackbodyTableSize - 1u);
+    const float scale = last / log(kMaxTemperature / kBlackbodyMinKelvin);
+    const float x = kelvin > kBlackbodyMinKelvin ? min(log(kelvin / kBlackbodyMinKelvin) * scale, last) : 0.0;
+    const uint i = min(uint(x), kBlackbodyTableSize - 2u);
+    const float f = x - float(i);
+    VolumeFloats t = VolumeFloats(table);
+    const uint a = 3u * i;
+    return vec3(t.v[a], t.v[a + 1u], t.v[a + 2u]) * (1.0 - f) + vec3(t.v[a + 3u], t.v[a + 4u], t.v[a + 5u]) * f;
+}
+
+// volumeEmission: the emitted radiance at a world point (an emission grid, or a temperature
+// grid's blackbody radiance; else 0).
 vec3 volumeEmission(WavefrontVolume v, vec3 p) {
     if (v.emissionVoxels == 0ul) return vec3(0.0);
     const float w[12] = v.worldToIndex;
     const vec3 i = vec3(w[0] * p.x + w[1] * p.y + w[2] * p.z + w[3], w[4] * p.x + w[5] * p.y + w[6] * p.z + w[7],
                         w[8] * p.x + w[9] * p.y + w[10] * p.z + w[11]);
     const float value = relativeValue(v, v.emissionVoxels, i - vec3(float(v.originX), float(v.originY), float(v.originZ)));
+    if (v.blackbody != 0ul) return vec3(v.emitR, v.emitG, v.emitB) * blackbodyRadiance(v.blackbody, value);
     return vec3(v.emitR, v.emitG, v.emitB) * value;
 }
 

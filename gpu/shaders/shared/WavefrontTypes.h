@@ -115,6 +115,7 @@ struct WavefrontVolume {
     float emitR, emitG, emitB;
     uint brickBase;
     uint padding;
+    uint64_t blackbody;  // a temperature grid's table (core/Blackbody.h, vec3 per node); 0: radiance
 };
 
 // Everything a render's kernels read, written by the host once per render. Addresses are
@@ -253,7 +254,7 @@ struct WavefrontPush {
 static_assert(sizeof(WavefrontMaterial) == 48);
 static_assert(offsetof(WavefrontParams, eyeX) == 38 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
-static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4);
+static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
 }  // namespace vastray::gpu
 #endif

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "import/ImportCommon.h"
+#include "vastray/core/Blackbody.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/Utf8.h"
 #include "vastray/streamer/Import.h"
@@ -378,7 +379,8 @@ Result<Volume> volumeOf(const std::string& where, const FloatGrid& grid, const V
 }
 
 // The emission grid's voxels in the density's bricks (its inactive values count as 0): the same
-// transform as the density's, values finite and in [0, kMaxVolumeDensity].
+// transform as the density's, values finite and in [0, kMaxVolumeDensity] (a temperature grid's
+// in [0, kMaxTemperature]).
 Status readEmission(const std::string& where, const FloatGrid& grid, const std::string& densityName, Volume& volume) {
     Volume placed;
     VASTRAY_TRY(setTransform(where, grid.transform(), placed));
@@ -408,6 +410,10 @@ Status readEmission(const std::string& where, const FloatGrid& grid, const std::
                                 return Status::error(where + "voxel " + coordText(c) + " has the value " +
                                                      numberText(value) + "; emission values are finite and in [0, " +
                                                      numberText(kMaxVolumeDensity) + "]");
+                            if (volume.material.temperature && !(value <= kMaxTemperature))
+                                return Status::error(where + "voxel " + coordText(c) + " has the temperature " +
+                                                     numberText(value) + " K; temperatures are in [0, " +
+                                                     numberText(kMaxTemperature) + "] K");
                             voxels[i + size * (j + size * k)] = value;
                         }
             }
@@ -433,7 +439,8 @@ Result<Volume> readVolume(const std::string& path, const std::string& fileName, 
         if (!emissionEntry) return emissionEntry.status();
         auto emission = archive.read(fileName, entries, **emissionEntry);
         if (!emission) return emission.status();
-        VASTRAY_TRY(readEmission(fileName + ": emission grid " + quoted((*emissionEntry)->name()) + ": ",
+        const char* kind = material.temperature ? ": temperature grid " : ": emission grid ";
+        VASTRAY_TRY(readEmission(fileName + kind + quoted((*emissionEntry)->name()) + ": ",
                                  *openvdb::gridPtrCast<FloatGrid>(*emission), name, *volume));
         if (const std::string problem = checkVolume(*volume); !problem.empty())
             return errorIn(fileName, "the volume read is not sound: " + problem);

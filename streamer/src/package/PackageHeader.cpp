@@ -235,7 +235,7 @@ std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& vo
         out.put(v.material.albedo);
         out.put(v.material.densityScale);
         out.put(v.material.anisotropy);
-        out.put(uint32_t(p.hasEmission ? 1 : 0));
+        out.put(uint32_t((p.hasEmission ? 1 : 0) | (p.hasEmission && v.material.temperature ? 2 : 0)));
         out.put(p.offset), out.put(p.size), out.put(p.checksum);
         out.put(v.material.emission);
         out.padTo(start + format::kVolumeRecordBytes);
@@ -266,8 +266,12 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
         in.get(v.material.emission);
         const std::string name = "volume " + std::to_string(i) + " '" + v.name + "': ";
         if (!in.ok()) return Status::error(name + "truncated record");
-        if (flags > 1) return Status::error(name + "unknown flags " + std::to_string(flags));
-        p.hasEmission = flags == 1;
+        // Bit 0: an emission grid; bit 1: it is a temperature in kelvin (a reader before bit 1
+        // was defined refuses it as unknown, so format 6 carries it).
+        if (flags > 3) return Status::error(name + "unknown flags " + std::to_string(flags));
+        if (flags == 2) return Status::error(name + "flags 2: a temperature grid without an emission grid");
+        p.hasEmission = (flags & 1) != 0;
+        v.material.temperature = (flags & 2) != 0;
         if (p.brickCount > kMaxVolumeBricks)
             return Status::error(name + std::to_string(p.brickCount) + " bricks exceed the limit of " +
                                  std::to_string(kMaxVolumeBricks));

@@ -33,12 +33,15 @@ constexpr float kMaxVolumeDensity = 1e18f;                     // voxel values a
 // How a volume scatters: extinction = densityScale * density; of what is extinguished, the
 // fraction `albedo` (per channel) scatters with the Henyey-Greenstein phase function of
 // `anisotropy` g (0: isotropic; > 0 forward), the rest is absorbed. With an emission grid, the
-// absorbing part glows: emitted radiance = emission (per channel) * the emission grid's value.
+// absorbing part glows: emitted radiance = emission (per channel) * the emission grid's value;
+// with `temperature`, the grid holds kelvin in [0, kMaxTemperature] and the emitted radiance is
+// emission (per channel) * the blackbody's colour at the grid's value (core/Blackbody.h).
 struct VolumeMaterial {
     std::array<float, 3> albedo{0.8f, 0.8f, 0.8f};  // each in [0, 1]
     float densityScale = 1.0f;                       // finite, >= 0
     float anisotropy = 0.0f;                         // in (-1, 1)
     std::array<float, 3> emission{1.0f, 1.0f, 1.0f};  // each in [0, 1e18]; used with an emission grid
+    bool temperature = false;                          // the emission grid is a temperature in kelvin
 };
 
 // Where the bricks of volumes whose voxels stay in their file come from: a package's volume
@@ -102,7 +105,7 @@ float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k);
 // Trilinear density (unscaled) at an index-space point.
 float volumeDensity(const Volume& volume, Vec3f indexPoint);
 // The radiance the volume emits at a world point: material.emission times the emission grid's
-// trilinear value; 0 without an emission grid.
+// trilinear value (a temperature grid: times blackbodyRadiance of it); 0 without an emission grid.
 Vec3f volumeEmission(const Volume& volume, Vec3f worldPoint);
 
 // The world box of the brick grid under indexToWorld, and worldToIndex from indexToWorld.

@@ -26,7 +26,8 @@ constexpr int64_t kMaxVdbIndex = int64_t(1) << 24;
 // transform. Volume::name is the grid's name; `material` is stored as given (checked).
 // `emissionGrid` (empty: none) names a float grid of the same file with the density's transform
 // whose values, times material.emission, are the radiance the volume emits (Volume::
-// emissionVoxels: read in the density's bricks only).
+// emissionVoxels: read in the density's bricks only); with material.temperature, a temperature
+// grid in kelvin, each voxel in [0, kMaxTemperature] (core/Blackbody.h).
 Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
                              const VolumeMaterial& material, const std::string& emissionGrid = {});
 
@@ -42,7 +43,7 @@ struct VolumeFieldNames {
 struct VolumeSource {
     std::string path;          // the .vdb file
     std::string grid;          // empty: the file's first float grid
-    std::string emissionGrid;  // empty: no emission
+    std::string emissionGrid;  // empty: no emission; a temperature grid when material.temperature
     VolumeMaterial material;   // checked by readVolumes (checkVolumeMaterial)
     VolumeFieldNames names;
     // What the file's messages call it, in place of its file name (an upload's scratch file is
