@@ -71,6 +71,7 @@ VolumeSource volumeSource(const json& entry, const std::string& what, const fs::
     if (!entry.is_object()) refuse(what, "is " + typeName(entry) + "; expected an object");
     if (!entry.contains("file")) refuse(what, "has no \"file\" (the .vdb's path in the zip)");
     VolumeSource source;
+    std::string temperatureGrid;
     for (const auto& [key, value] : entry.items()) {
         const std::string field = what + "." + key;
         if (key == "file") source.path = (folder / volumeFile(value, field, files)).string();
@@ -79,11 +80,16 @@ VolumeSource volumeSource(const json& entry, const std::string& what, const fs::
         else if (key == "density") source.material.densityScale = number(value, field);
         else if (key == "anisotropy") source.material.anisotropy = number(value, field);
         else if (key == "emission_grid") source.emissionGrid = text(value, field);
+        else if (key == "temperature_grid") temperatureGrid = text(value, field);
         else if (key == "emission_scale") source.material.emission = color(value, field);
         else
             refuse(what, "has an unknown key '" + key.substr(0, 200) +
-                             "' (expected file, grid, albedo, density, anisotropy, emission_grid, emission_scale)");
+                             "' (expected file, grid, albedo, density, anisotropy, emission_grid, temperature_grid, "
+                             "emission_scale)");
     }
+    if (!temperatureGrid.empty() && !source.emissionGrid.empty())
+        refuse(what, "has both \"emission_grid\" and \"temperature_grid\"; give one of them");
+    if (!temperatureGrid.empty()) source.emissionGrid = temperatureGrid, source.material.temperature = true;
     source.label = label + ":" + entry["file"].get<std::string>();
     const std::string prefix = label + ":" + kVolumeManifestName + ": " + what + ".";
     source.names = {prefix + "albedo", prefix + "density", prefix + "anisotropy", prefix + "emission_scale"};

@@ -236,6 +236,8 @@ TEST_F(VolumeUploadTest, MaterialsOutOfRangeAreRefusedWithTheCliLimits) {
                   {m + "anisotropy 1.000000 is outside (-1, 1)"});
     expectRefused("emission", R"({"volumes": [{"file": "fog.vdb", "emission_grid": "density", "emission_scale": [1, 1, -2]}]})",
                   {m + "emission_scale 1,1,-2 is outside [0, 1e18]"});
+    expectRefused("bothglows", R"({"volumes": [{"file": "fog.vdb", "emission_grid": "density", "temperature_grid": "density"}]})",
+                  {"vastray-volumes.json: volumes[0] has both \"emission_grid\" and \"temperature_grid\""});
 }
 
 TEST_F(VolumeUploadTest, BadGridsAndCorruptFilesAreRefusedByTheFileInTheZip) {
@@ -244,6 +246,8 @@ TEST_F(VolumeUploadTest, BadGridsAndCorruptFilesAreRefusedByTheFileInTheZip) {
                   {"grid.zip:fog.vdb: no grid named 'smoke' (grids: density)"});
     expectRefused("emissiongrid", R"({"volumes": [{"file": "fog.vdb", "emission_grid": "heat"}]})",
                   {"emissiongrid.zip:fog.vdb: no grid named 'heat'"});
+    expectRefused("temperaturegrid", R"({"volumes": [{"file": "fog.vdb", "temperature_grid": "heat"}]})",
+                  {"temperaturegrid.zip:fog.vdb: no grid named 'heat'"});
     const std::string manifest = R"({"volumes": [{"file": "fog.vdb"}]})";
     const std::string bytes = cloud();
     expectRefused("truncated", manifest, {"truncated.zip:fog.vdb: "},
