@@ -285,6 +285,21 @@ TEST(VdbVolume, TemperatureGridGlowsAsABlackbody) {
     // The same value is a valid radiance.
     material.temperature = false;
     EXPECT_TRUE(readVdbVolume(writeVdb("sun.vdb", {density, temperature}), "density", material, "temperature").isOk());
+
+    // Read in a child process (as the service reads uploads), the flag comes back through the pipe.
+    VolumeSource source;
+    source.grid = "density";
+    source.emissionGrid = "temperature";
+    source.material = material;
+    source.material.temperature = true;
+    temperature->tree().setValue(Coord(5, 2, 2), 0.0f);
+    source.path = writeVdb("flame.vdb", {density, temperature});
+    VolumeReadOptions child;
+    child.childProcess = true;
+    auto read = readVolumes({source}, child);
+    ASSERT_TRUE(read.isOk()) << read.message();
+    EXPECT_TRUE((*read)[0].material.temperature);
+    EXPECT_NEAR(volumeEmission((*read)[0], {2.0f, 1.0f, 1.0f}).x, 2.0f * b.x, 1e-6f * b.x);
 }
 
 TEST(VdbVolume, NonFiniteAndNegativeValuesAreRefusedByIndex) {
