@@ -1,17 +1,47 @@
 #pragma once
 // Forged volume data for tests of the package reader's checks (format 6, docs/PACKAGE_FORMAT.md,
 // "Volumes").
+#include <gtest/gtest.h>
+
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "TestTmp.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/streamer/PackageBuilder.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray::test {
+
+// One small triangle with its corner at (c, c, c), out of the view: a package holds a mesh, and
+// these tests look at its volumes.
+inline TriangleMesh farTriangle(float c) {
+    TriangleMesh mesh;
+    mesh.positions = {{c, c, c}, {c + 1, c, c}, {c, c + 1, c}};
+    mesh.indices = {0, 1, 2};
+    mesh.materials.push_back(Material{"far"});
+    return mesh;
+}
+
+// A package of `mesh` and `volumes` (64 KiB chunks) named NAME.vast in the test folder `folder`.
+inline std::string writeVolumePackage(const std::string& folder, const std::string& name, TriangleMesh mesh,
+                                      std::vector<Volume> volumes) {
+    const std::filesystem::path dir = testTmpDir(folder);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / (name + ".vast")).string();
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.progress = Progress::Mode::None;
+    options.volumes = std::move(volumes);
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
 
 inline std::vector<uint8_t> fileBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

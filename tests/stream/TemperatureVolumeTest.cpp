@@ -36,20 +36,7 @@ Volume temperatureSlab() {
 }
 
 std::string writePackage(const std::string& name, std::vector<Volume> volumes) {
-    TriangleMesh mesh;  // one small triangle far outside the view
-    mesh.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
-    mesh.indices = {0, 1, 2};
-    mesh.materials.push_back(Material{"far"});
-    const std::filesystem::path dir = test::testTmpDir("temperature-volumes");
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.chunkSizeBytes = 64 << 10;
-    options.progress = Progress::Mode::None;
-    options.volumes = std::move(volumes);
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::writeVolumePackage("temperature-volumes", name, test::farTriangle(100), std::move(volumes));
 }
 
 // Seen from above, each sample either collides in the slab (probability 1 - e^-tau), where the

@@ -28,24 +28,15 @@ std::string packagePath(const std::string& name) {
 // stored) at world [0, 128) x [0, 4) x [0, 32), and one small triangle far outside the view.
 const std::string& thinSlab() {
     static const std::string path = [] {
-        TriangleMesh mesh;
-        mesh.positions = {{300, 300, 300}, {301, 300, 300}, {300, 301, 300}};
-        mesh.indices = {0, 1, 2};
-        mesh.materials.push_back(Material{"far"});
         VolumeMaterial absorber;
         absorber.albedo = {0, 0, 0};
         absorber.densityScale = 0.5f;  // density 0.5 over 4 world units of depth: tau = 1
         Volume slab = test::makeVolume({0, 0, 0}, {511, 15, 127}, [](int32_t, int32_t, int32_t) { return 0.5f; },
                                        kVoxel, {0, 0, 0}, absorber);
         slab.name = "slab";
-        const std::string path = packagePath("thin-slab");
-        PackageBuildOptions options;
-        options.chunkSizeBytes = 64 << 10;
-        options.progress = Progress::Mode::None;
-        options.volumes.push_back(std::move(slab));
-        auto report = buildPackage(std::move(mesh), path, options);
-        EXPECT_TRUE(report) << report.message();
-        return path;
+        std::vector<Volume> volumes;
+        volumes.push_back(std::move(slab));
+        return test::writeVolumePackage("volume-bricks", "thin-slab", test::farTriangle(300), std::move(volumes));
     }();
     return path;
 }

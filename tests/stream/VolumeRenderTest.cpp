@@ -24,16 +24,7 @@ namespace vastray {
 namespace {
 
 std::string writePackage(const std::string& name, TriangleMesh mesh, std::vector<Volume> volumes) {
-    const std::filesystem::path dir = test::testTmpDir("volumes");
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.chunkSizeBytes = 64 << 10;
-    options.progress = Progress::Mode::None;
-    options.volumes = std::move(volumes);
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::writeVolumePackage("volumes", name, std::move(mesh), std::move(volumes));
 }
 
 std::shared_ptr<const std::vector<Volume>> volumesOf(const std::string& path) {
@@ -160,10 +151,7 @@ TEST(VolumeRender, PackageKeepsTheVolume) {
 // Looking straight down through a horizontal slab that only absorbs (albedo 0) onto the sky's
 // ground colour: every pixel is ground x exp(-tau), on both backends.
 TEST(VolumeRender, AbsorbingSlabFollowsBeerLambert) {
-    TriangleMesh mesh;  // one small triangle far outside the view
-    mesh.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
-    mesh.indices = {0, 1, 2};
-    mesh.materials.push_back(Material{"far"});
+    TriangleMesh mesh = test::farTriangle(100);
     VolumeMaterial absorber;
     absorber.albedo = {0, 0, 0};
     absorber.densityScale = 1.0f;  // 4 voxels of 0.25 along the ray: tau = 1
@@ -199,10 +187,7 @@ TEST(VolumeRender, AbsorbingSlabFollowsBeerLambert) {
 // 2 (1 - e^-1): the emission ramps down with the density at the faces), computed by quadrature of the slab's trilinear density and emission; both
 // backends, and the package keeps the emission grid.
 TEST(VolumeRender, GlowingSlabMatchesTheQuadrature) {
-    TriangleMesh mesh;
-    mesh.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
-    mesh.indices = {0, 1, 2};
-    mesh.materials.push_back(Material{"far"});
+    TriangleMesh mesh = test::farTriangle(100);
     VolumeMaterial glow;
     glow.albedo = {0, 0, 0};
     glow.emission = {2, 2, 2};
@@ -254,10 +239,7 @@ TEST(VolumeRender, GlowingSlabMatchesTheQuadrature) {
 // E x albedo x phase(90 degrees) x the integral over the ray of sigma(s) e^-tau_camera(s)
 // e^-tau_sun(s), computed here by quadrature of the box's trilinear density, on both backends.
 TEST(VolumeRender, SingleScatteringMatchesTheQuadrature) {
-    TriangleMesh mesh;  // one small triangle far outside the view and the light's way
-    mesh.positions = {{-100, -100, -100}, {-99, -100, -100}, {-100, -99, -100}};
-    mesh.indices = {0, 1, 2};
-    mesh.materials.push_back(Material{"far"});
+    TriangleMesh mesh = test::farTriangle(-100);  // out of the light's way too
     VolumeMaterial m;
     m.albedo = {0.8f, 0.8f, 0.8f};
     m.densityScale = 1.0f;
