@@ -6,9 +6,26 @@
 #include <cmath>
 #include <functional>
 
+#include "vastray/core/RenderOptions.h"
 #include "vastray/core/Volume.h"
 
 namespace vastray::test {
+
+// A narrow view straight down (-y) at the origin over a black world without sun, 16 x 16 pixels
+// at 128 spp: what a glowing slab alone gives (the glowing-slab tests).
+inline RenderOptions glowingSlabView() {
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.samplesPerPixel = 128;
+    o.frameScene = false;
+    o.camera.eye = {0.01f, 5, 0.02f};
+    o.camera.target = {0.01f, -5, 0.02f};
+    o.camera.up = {0, 0, 1};
+    o.camera.fovYDegrees = 1.0f;
+    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
+    o.environment.sunIrradiance = {0, 0, 0};
+    return o;
+}
 
 // Voxels ijk in [lo, hi] (inclusive) take density(i, j, k); index space maps to the world by
 // scale * ijk + translation.

@@ -46,16 +46,7 @@ std::string writePackage(const std::string& name, std::vector<Volume> volumes) {
 // errors (plus 1e-3 of the value for the table and the float arithmetic).
 TEST(TemperatureVolume, GlowingSlabIsTheBlackbody) {
     const std::string path = writePackage("temperature-slab", {temperatureSlab()});
-    RenderOptions o;
-    o.width = o.height = 16;
-    o.samplesPerPixel = 128;
-    o.frameScene = false;
-    o.camera.eye = {0.01f, 5, 0.02f};
-    o.camera.target = {0.01f, -5, 0.02f};
-    o.camera.up = {0, 0, 1};
-    o.camera.fovYDegrees = 1.0f;
-    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
-    o.environment.sunIrradiance = {0, 0, 0};
+    RenderOptions o = test::glowingSlabView();
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     auto volumes = (*reader)->readVolumes();

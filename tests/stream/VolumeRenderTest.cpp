@@ -196,16 +196,7 @@ TEST(VolumeRender, GlowingSlabMatchesTheQuadrature) {
     slab.emissionVoxels = slab.voxels;
     const Volume reference = slab;
     const std::string path = writePackage("glowing-slab", std::move(mesh), {std::move(slab)});
-    RenderOptions o;
-    o.width = o.height = 16;
-    o.samplesPerPixel = 128;
-    o.frameScene = false;
-    o.camera.eye = {0.01f, 5, 0.02f};
-    o.camera.target = {0.01f, -5, 0.02f};
-    o.camera.up = {0, 0, 1};
-    o.camera.fovYDegrees = 1.0f;
-    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
-    o.environment.sunIrradiance = {0, 0, 0};
+    RenderOptions o = test::glowingSlabView();
     o.volumes = volumesOf(path);
     ASSERT_EQ(o.volumes->at(0).emissionVoxels.size(), reference.voxels.size());
     EXPECT_EQ(std::memcmp(o.volumes->at(0).emissionVoxels.data(), reference.voxels.data(), reference.voxels.size() * 4), 0);
