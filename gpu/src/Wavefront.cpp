@@ -364,14 +364,21 @@ private:
             barrier(cmd);
         });
     }
+    // Where copyStepCounters puts the table's bytes at `tableOffset` (from TableLayout::touched
+    // to ::queueArgs, or the window head at ::stream) in the output buffer.
+    uint64_t stepCopyOf(uint64_t tableOffset) const {
+        const TableLayout& t = b_.tables;
+        const uint64_t at = outputLayout(b_.pathCapacity, stepCounterBytes(t)).counters;
+        return tableOffset >= t.stream ? at + (t.queueArgs - t.touched) + (tableOffset - t.stream)
+                                       : at + (tableOffset - t.touched);
+    }
     // The step's counters and window head into the output buffer (stepCounterBytes), where the
     // host reads them after the step from host-cached memory.
     void copyStepCounters() {
         record([this](VkCommandBuffer cmd) {
             const TableLayout& t = b_.tables;
-            const uint64_t at = outputLayout(b_.pathCapacity, stepCounterBytes(t)).counters;
-            const VkBufferCopy regions[2] = {{t.touched, at, t.queueArgs - t.touched},
-                                             {t.stream, at + t.queueArgs - t.touched, kWindowHeadBytes}};
+            const VkBufferCopy regions[2] = {{t.touched, stepCopyOf(t.touched), t.queueArgs - t.touched},
+                                             {t.stream, stepCopyOf(t.stream), kWindowHeadBytes}};
             vkCmdCopyBuffer(cmd, b_.table->handle(), b_.output->handle(), 2, regions);
             VkMemoryBarrier b{};
             b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
@@ -477,11 +484,10 @@ private:
         }
         VASTRAY_TRY(finishSubmit());
         const TableLayout& t = b_.tables;
-        const uint64_t counters = outputLayout(b_.pathCapacity, stepCounterBytes(t)).counters - t.touched;
-        VASTRAY_TRY(download(st.demand.data(), st.demand.size() * 4, *b_.output, counters + t.demand));
-        VASTRAY_TRY(download(st.ahead.data(), st.ahead.size() * 4, *b_.output, counters + t.ahead));
-        VASTRAY_TRY(download(st.counts.data(), st.counts.size() * 4, *b_.output, counters + t.queueCounts));
-        VASTRAY_TRY(download(st.touched.data(), st.touched.size() * 4, *b_.output, counters + t.touched));
+        VASTRAY_TRY(download(st.demand.data(), st.demand.size() * 4, *b_.output, stepCopyOf(t.demand)));
+        VASTRAY_TRY(download(st.ahead.data(), st.ahead.size() * 4, *b_.output, stepCopyOf(t.ahead)));
+        VASTRAY_TRY(download(st.counts.data(), st.counts.size() * 4, *b_.output, stepCopyOf(t.queueCounts)));
+        VASTRAY_TRY(download(st.touched.data(), st.touched.size() * 4, *b_.output, stepCopyOf(t.touched)));
         for (size_t c = 0; c < st.touched.size(); ++c) st.waveTouched[c] |= st.touched[c];
         pager_.markUsed(st.touched);
         const uint32_t waiting = st.counts[kVolumeWaitQueue];
@@ -614,10 +620,8 @@ private:
                 walkRound(push, !last, last, r == 0);
             }
             VASTRAY_TRY(runStep(st, volumes));
-            // The head the step's end copied after the table's counters (copyStepCounters).
-            VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.output,
-                                 outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables)).counters +
-                                     (b_.tables.queueArgs - b_.tables.touched)));
+            // The head the step's end copied (copyStepCounters).
+            VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.output, stepCopyOf(streamOffset)));
             stats_.walkedRays += st.demand[b_.chunkCount + 1];
             // Close the tiles whose pixels are all done (all started: they lie before the
             // cursor), and rewind the cursor past them to the window's end at most.
