@@ -12,6 +12,9 @@
 //                       peer renderer's camera, e.g. ../shared/tools/mitsuba_bench.py)
 //                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
 //                       [--attributes]  (the generated mesh gets per-vertex normals and colours)
+//                       [--steady-out-of-core]  (each ratio also rendered with its scene kept open, after a
+//                                                warm-up render: no decoding, as a service rendering one scene
+//                                                again; compared with the resident row)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
 //                       [--no-stream-waves]  (out of core, a tile's wave at a time: for comparisons)
@@ -62,6 +65,7 @@ struct Args {
     int repeat = 1;
     bool keep = false;
     bool residentOnly = false;  // only the resident rows (for profiling the host side)
+    bool steadyOutOfCore = false;  // --steady-out-of-core: also each ratio with its scene kept open
     bool camera = false;        // --eye and --target given
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
     bool attributes = false;    // --attributes: the generated mesh gets per-vertex normals and colours
@@ -119,6 +123,7 @@ Args parseArgs(int argc, char** argv) {
             if (a.repeat < 1) fail("--repeat must be >= 1");
         } else if (flag == "--keep") a.keep = true;
         else if (flag == "--resident-only") a.residentOnly = true;
+        else if (flag == "--steady-out-of-core") a.steadyOutOfCore = true;
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--attributes") a.attributes = true;
@@ -266,16 +271,17 @@ int main(int argc, char** argv) {
     };
     render("warm-up (in core, primary)", fitBudget, IntegratorKind::Path, 0);
     rows.clear();
-    // Steady state in core: the scene stays open and resident, so the second render of each
-    // kind reads, decodes and uploads nothing (what a service rendering one scene again sees).
-    {
+    // Steady state: the scene stays open, so a second render of each kind decodes nothing (the
+    // host cache holds the decoded scene) and, in core, uploads nothing: what a service rendering
+    // one scene again sees. The first render of each kind only warms it up.
+    auto steady = [&](const std::string& prefix, uint64_t budget, std::initializer_list<uint32_t> depths) {
         auto scene = StreamingScene::open(**reader, attributes, args.streaming,
                                           [&](const PackageInfo& p, const ChunkAttributes& a) {
-                                              return gpu::createVulkanChunkBackend(**device, p, a, fitBudget,
+                                              return gpu::createVulkanChunkBackend(**device, p, a, budget,
                                                                                    args.waveShare, args.upload);
                                           });
         if (!scene) fail(scene.message());
-        for (uint32_t depth : {0u, args.depth}) {
+        for (uint32_t depth : depths) {
             RenderOptions o;
             setCamera(o);
             o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp, o.maxDepth = depth;
@@ -283,18 +289,18 @@ int main(int argc, char** argv) {
             std::vector<Row> runs;
             for (int pass = 0; pass <= args.repeat; ++pass) {
                 Row row;
-                row.label = std::string(depth == 0 ? "resident, primary" : "resident, path depth ") +
-                            (depth == 0 ? "" : std::to_string(depth));
-                row.budget = fitBudget;
-                row.streaming.memoryBudgetBytes = fitBudget;
+                row.label = prefix + (depth == 0 ? ", primary" : ", path depth " + std::to_string(depth));
+                row.budget = budget;
+                row.streaming.memoryBudgetBytes = budget;
                 auto image = (*scene)->render(o, &row.render, &row.streaming);
                 if (!image) fail(row.label + ": " + image.message());
-                if (pass > 0) runs.push_back(row);  // pass 0 made it resident
-                if (depth == args.depth) residentImage = std::move(image).value();
+                if (pass > 0) runs.push_back(row);  // pass 0 warmed the scene up
+                if (budget == fitBudget && depth == args.depth) residentImage = std::move(image).value();
             }
             rows.push_back(median(runs));
         }
-    }
+    };
+    steady("resident", fitBudget, {0u, args.depth});
     std::string embreeNote;
     if (args.embree) {
         auto scene = loadRenderScene(path);
@@ -330,6 +336,10 @@ int main(int argc, char** argv) {
         render(label, budget, IntegratorKind::Path, 0);
         std::snprintf(label, sizeof label, "%gx over budget, path depth %u", ratio, args.depth);
         render(label, budget, IntegratorKind::Path, args.depth);
+        if (args.steadyOutOfCore) {
+            std::snprintf(label, sizeof label, "steady %gx over budget", ratio);
+            steady(label, budget, {args.depth});
+        }
     }
 
     std::ostringstream md;
@@ -362,9 +372,12 @@ int main(int argc, char** argv) {
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
         double reference = 0;
+        // Against the in-core render of the same kind; a steady out-of-core row against the
+        // resident one (both with the scene open and decoded).
+        const bool steadyRow = r.label.rfind("steady", 0) == 0;
         for (const Row& q : rows)
-            if (q.label.rfind("in core", 0) == 0 && r.label.rfind("resident", 0) != 0 &&
-                q.label.substr(q.label.find(',')) == r.label.substr(r.label.find(',')))
+            if (q.label.rfind(steadyRow ? "resident" : "in core", 0) == 0 && r.label.rfind("resident", 0) != 0 &&
+                q.label.substr(q.label.rfind(',')) == r.label.substr(r.label.rfind(',')))
                 reference = q.render.renderSeconds;
         auto ratio = [&](double ref) {
             char text[32] = "-";

@@ -369,9 +369,11 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
                 (unsigned long long)st->chunkLoads, (unsigned long long)st->decodes);
     std::printf("  bytes                %s read, %s uploaded\n", formatBytes(st->bytesRead).c_str(),
                 formatBytes(st->bytesUploaded).c_str());
-    std::printf("  seconds              device %.3f (kernels: walk %.3f, shade %.3f), decode %.3f (workers), upload %.3f\n",
+    std::printf("  seconds              device %.3f (kernels: walk %.3f, shade %.3f), decode %.3f (workers), upload %.3f, "
+                "pipelines %.3f\n",
                 st->deviceSeconds, st->kernelSeconds[StreamingStats::kKernelWalk],
-                st->kernelSeconds[StreamingStats::kKernelShade], st->decodeSeconds, st->uploadSeconds);
+                st->kernelSeconds[StreamingStats::kKernelShade], st->decodeSeconds, st->uploadSeconds,
+                st->pipelineSeconds);
     std::printf("  device               %llu submits, %llu walk passes, %s up, %s down (besides chunks)\n",
                 (unsigned long long)st->submits, (unsigned long long)st->walkPasses,
                 formatBytes(st->hostToDeviceBytes).c_str(), formatBytes(st->deviceToHostBytes).c_str());
@@ -405,6 +407,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["walked_rays"] = st->walkedRays;
         j["submits"] = st->submits;
         j["walk_passes"] = st->walkPasses;
+        j["pipeline_seconds"] = st->pipelineSeconds;
         j["streamed_tiles"] = st->streamedTiles;
         j["volume_brick_slots"] = st->volumeBrickSlots;
         j["volume_brick_loads"] = st->volumeBrickLoads;

@@ -138,15 +138,18 @@ Result<std::unique_ptr<Wavefront>> Wavefront::create(VulkanDevice& device) {
     return w;
 }
 
-Result<const ComputePipeline*> Wavefront::variant(bool walk, std::initializer_list<uint32_t> constants) {
+Result<const ComputePipeline*> Wavefront::variant(bool walk, std::initializer_list<uint32_t> constants,
+                                                  StreamingStats& stats) {
     uint32_t key = 0, bit = 0;
     for (uint32_t c : constants) key |= (c ? 1u : 0u) << bit++;
     auto& cache = walk ? pipelines_.walk : pipelines_.shade;
     if (auto found = cache.find(key); found != cache.end()) return found->second.get();
     const std::vector<uint32_t> values(constants);
+    const auto start = std::chrono::steady_clock::now();
     auto created = ComputePipeline::create(device_, walk ? std::span<const uint32_t>(kWalkSpirv)
                                                          : std::span<const uint32_t>(kShadeSpirv),
                                            sizeof(WavefrontPush), values);
+    stats.pipelineSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!created) return created.status();
     return (cache[key] = std::move(created).value()).get();
 }
@@ -176,7 +179,8 @@ public:
         if (volumes && !b_.volumes) return Status::error("device render: the volumes have no buffer");
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
                                         sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
-                                        environmentMap, volumes, glossy});
+                                        environmentMap, volumes, glossy},
+                                stats_);
         if (!shade) return shade.status();
         shade_ = *shade;
         VASTRAY_TRY(uploadParams());
@@ -415,7 +419,7 @@ private:
         clearQueue(kShadeQueue);
         clearQueue(kVolumeWaitQueue);
         // In core no ray parks: the walk without the paging code.
-        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, !pager_.allResident()});
+        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, !pager_.allResident()}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
@@ -548,7 +552,7 @@ private:
                 VASTRAY_TRY(readWalkedRays());
             }
         VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
-        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, 1u});
+        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, 1u}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         streamed_ = true;

@@ -54,7 +54,9 @@ private:
     };
     class Run;
     // The walk or shade kernel with these specialization constants (each 0 or 1).
-    Result<const ComputePipeline*> variant(bool walk, std::initializer_list<uint32_t> constants);
+    // (the time creating one, a driver compilation on its first use in a process, is added to
+    // stats.pipelineSeconds)
+    Result<const ComputePipeline*> variant(bool walk, std::initializer_list<uint32_t> constants, StreamingStats& stats);
 
     VulkanDevice& device_;
     Pipelines pipelines_;

@@ -57,7 +57,7 @@ TEST(StreamingCli, DefaultBackendIsVulkanAndReportsTheStreamingFigures) {
     const std::string json = readFile(stats);
     EXPECT_NE(json.find("\"backend\": \"vulkan\""), std::string::npos) << json;
     for (const char* key : {"chunks_total", "chunks_touched", "chunk_loads", "bytes_read", "bytes_uploaded",
-                            "decode_seconds", "upload_seconds", "device_seconds", "submits", "walk_passes",
+                            "decode_seconds", "upload_seconds", "device_seconds", "submits", "walk_passes", "pipeline_seconds",
                             "host_to_device_bytes", "device_to_host_bytes", "walked_rays", "peak_device_bytes",
                             "memory_budget_bytes"})
         EXPECT_GT(jsonNumber(json, key), 0.0) << key << "\n" << json;

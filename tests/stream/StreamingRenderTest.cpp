@@ -757,6 +757,8 @@ TEST(StreamingRender, ResidentRenderEqualsColdRenderAndReadsBackOnlyTheImage) {
             const uint64_t streams = 1 + (integrator == IntegratorKind::Path ? o.maxDepth + 1 : 2);
             EXPECT_EQ(warm.walkPasses, streams);
             EXPECT_GT(cold.walkPasses, streams) << "the cold render paged chunks in between passes";
+            EXPECT_GT(cold.pipelineSeconds, 0.0) << "the cold render created its walk and shade kernels";
+            EXPECT_EQ(warm.pipelineSeconds, 0.0) << "the warm render created a pipeline again";
             // rgb + alpha, depth, normal, albedo, primid, chunkid, cost: 4 + 4 + 4 + 12 + 12 + 4 + 4 + 8
             // bytes per pixel (colour comes back as RGBA), plus touched flags and the ray counter.
             const uint64_t image = uint64_t(o.width) * o.height * (16 + 4 + 12 + 12 + 4 + 4 + 8);

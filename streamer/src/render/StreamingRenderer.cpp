@@ -188,6 +188,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.walkedRays = t.walkedRays - before.walkedRays;
         s.submits = t.submits - before.submits;
         s.walkPasses = t.walkPasses - before.walkPasses;
+        s.pipelineSeconds = t.pipelineSeconds - before.pipelineSeconds;
         s.streamedTiles = t.streamedTiles - before.streamedTiles;
         s.volumeBrickSlots = t.volumeBrickSlots;
         s.volumeBrickLoads = t.volumeBrickLoads - before.volumeBrickLoads;

@@ -184,6 +184,10 @@ struct StreamingStats {
     // its AOVs down.
     uint64_t submits = 0;           // submits
     uint64_t walkPasses = 0;        // walk_passes
+    // pipeline_seconds: creating the compute pipelines this render needs that the scene had not
+    // created before (its shade and walk variants; a driver compilation, which the driver's own
+    // disk cache makes cheaper in later processes)
+    double pipelineSeconds = 0;
     uint64_t streamedTiles = 0;     // streamed_tiles: tiles rendered by streamed waves (out of core)
     uint64_t volumeBrickSlots = 0;  // volume_brick_slots: the pool's brick slots (0: volumes in core or none)
     uint64_t volumeBrickLoads = 0;  // volume_brick_loads: bricks loaded into those slots
