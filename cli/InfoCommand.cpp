@@ -64,6 +64,19 @@ nlohmann::json infoJson(const PackageInfo& info) {
                            {"target", {c.camera.target.x, c.camera.target.y, c.camera.target.z}},
                            {"up", {c.camera.up.x, c.camera.up.y, c.camera.up.z}},
                            {"fov_y_degrees", c.camera.fovYDegrees}});
+    nlohmann::json lights = nlohmann::json::array();
+    for (const PunctualLight& l : info.lights) {
+        nlohmann::json light = {{"name", l.name},
+                                {"type", lightTypeName(l.type)},
+                                {"color", {l.color[0], l.color[1], l.color[2]}},
+                                {"intensity", l.intensity},
+                                {"range", l.range},
+                                {"position", {l.position.x, l.position.y, l.position.z}},
+                                {"direction", {l.direction.x, l.direction.y, l.direction.z}}};
+        if (l.type == LightType::Spot)
+            light["inner_cone_angle"] = l.innerConeAngle, light["outer_cone_angle"] = l.outerConeAngle;
+        lights.push_back(std::move(light));
+    }
     return {{"format_version", info.formatVersion},
             {"triangles", info.triangleCount},
             {"references", info.referenceCount},
@@ -80,6 +93,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"vertex_normals", info.hasNormals},
             {"vertex_colors", info.hasColors},
             {"cameras", cameras},
+            {"lights", lights},
             {"volumes", volumes},
             {"degenerate_dropped", info.degenerateDropped},
             {"collapsed_dropped", info.collapsedDropped},
@@ -110,6 +124,18 @@ void printHuman(const std::string& path, const PackageInfo& info) {
         std::printf("  camera %-13zu '%s': eye (%g, %g, %g), looking at (%g, %g, %g), fov %g degrees\n", i,
                     info.cameras[i].name.c_str(), c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z,
                     c.fovYDegrees);
+    }
+    for (size_t i = 0; i < info.lights.size(); ++i) {
+        const PunctualLight& l = info.lights[i];
+        std::printf("  light %-14zu '%s': %s, colour (%g, %g, %g), intensity %g %s", i, l.name.c_str(),
+                    lightTypeName(l.type), l.color[0], l.color[1], l.color[2], l.intensity,
+                    l.type == LightType::Directional ? "lux" : "cd");
+        if (l.type != LightType::Directional) std::printf(", at (%g, %g, %g)", l.position.x, l.position.y, l.position.z);
+        if (l.type != LightType::Point)
+            std::printf(", shining along (%g, %g, %g)", l.direction.x, l.direction.y, l.direction.z);
+        if (l.type == LightType::Spot) std::printf(", cone %g..%g rad", l.innerConeAngle, l.outerConeAngle);
+        if (l.range > 0) std::printf(", range %g (not rendered)", l.range);
+        std::printf("\n");
     }
     for (size_t i = 0; i < info.volumes.size(); ++i) {
         const PackageVolume& p = info.volumes[i];

@@ -49,6 +49,7 @@ struct RenderArgs {
     int64_t gpuDevice = -1;
     std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
     bool noSun = false;
+    bool noLights = false;
     std::string environment;  // --environment FILE
     double environmentScale = 1.0, environmentRotate = 0.0;
     std::string region, tiles;  // --region X0,Y0,X1,Y1; --tiles NX,NY (with --tile)
@@ -470,6 +471,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
+    if (!args.noLights) applySceneLights((*reader)->info().lights, (*reader)->info().bounds, options);
     if (!(*reader)->info().volumes.empty()) {  // brick tables now, each brick when a ray needs it
         auto volumes = (*reader)->openVolumes();
         if (!volumes) return volumes.status();
@@ -526,6 +528,7 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
         if (Status camera = applySceneCamera(scene->mesh.cameras, args.camera, *options); !camera)
             return progress.fail(camera.message(), 2);
         options->volumes = scene->volumes;
+        if (!args.noLights) applySceneLights(scene->mesh.lights, scene->bounds, *options);
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }
     if (!image) return progress.fail(image.message(), 1);
@@ -591,6 +594,8 @@ CommandRun addRenderCommand(CLI::App& app) {
                     "X,Y,Z,INTENSITY: direction towards the sun (world space) and its strength (default: 3, from "
                     "0.4,0.8,0.3 turned to the --up-axis)");
     cmd->add_flag("--no-sun", args->noSun, "sky light only");
+    cmd->add_flag("--no-lights", args->noLights,
+                  "ignore the scene's punctual lights (glTF KHR_lights_punctual, kept in the package)");
     cmd->add_option("--environment", args->environment,
                     "FILE (.exr, .hdr, .pfm, ...): a latitude-longitude environment map that replaces the sky (its top "
                     "row towards the --up-axis), importance sampled; the default sun is off with it (--sun adds one)")

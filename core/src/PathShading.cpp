@@ -73,17 +73,37 @@ Vec3f skyRadiance(const Environment& env, Vec3f direction) {
 Vec3f emission(const Material& m) { return toVec(m.emissive); }
 Vec3f baseColor(const Material& m) { return {m.baseColor[0], m.baseColor[1], m.baseColor[2]}; }
 
-bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const SurfacePoint& point, Vec3f* light) {
-    const Vec3f irradiance = toVec(env.sunIrradiance);
-    const float cosine = dot(point.shadingNormal, sunDirection);
-    if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f || dot(point.normal, sunDirection) <= 0.0f) return false;
+bool reflectedLight(const SurfacePoint& point, Vec3f direction, Vec3f irradiance, Vec3f* light) {
+    const float cosine = dot(point.shadingNormal, direction);
+    if (maxComponent(irradiance) <= 0.0f || cosine <= 0.0f || dot(point.normal, direction) <= 0.0f) return false;
     if (point.glossy) {
         float pdf;
-        *light = mul(glossyReflection(point, sunDirection, &pdf), irradiance);
+        *light = mul(glossyReflection(point, direction, &pdf), irradiance);
         return maxComponent(*light) > 0.0f;
     }
     *light = mul(point.albedo, irradiance) * (cosine / kPi);
     return true;
+}
+
+bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const SurfacePoint& point, Vec3f* light) {
+    return reflectedLight(point, sunDirection, toVec(env.sunIrradiance), light);
+}
+
+float punctualPickProbability(const Environment& env, std::span<const LightEntry> lights) {
+    if (lights.empty()) return 0.0f;
+    const bool sun = maxComponent(toVec(env.sunIrradiance)) > 0.0f;
+    return sun || (env.map && env.map->sampleable) ? 0.5f : 1.0f;
+}
+
+LightChoice choosePunctualLight(std::span<const LightEntry> lights, float punctualPick, Vec3f origin, RandomKey key,
+                                uint32_t seed, Vec3f* direction, float* distance, Vec3f* irradiance) {
+    if (!(punctualPick > 0.0f)) return LightChoice::Environment;
+    const float u = randomFloat(key, kDimPunctual, seed);
+    if (!(u < punctualPick)) return LightChoice::Environment;
+    const LightEntry& light = lights[pickLight(lights, u / punctualPick)];
+    if (!lightAt(light, origin, direction, distance, irradiance)) return LightChoice::None;
+    *irradiance = *irradiance * (1.0f / (punctualPick * light.pick));
+    return LightChoice::Punctual;
 }
 
 float sunPickProbability(const Environment& env) {

@@ -49,6 +49,11 @@ Result<uint32_t> parseAovList(std::string_view list) {
     return flags;
 }
 
+void applySceneLights(std::span<const PunctualLight> lights, const Aabb& bounds, RenderOptions& options) {
+    options.lights.reset();
+    if (!lights.empty()) options.lights = std::make_shared<const std::vector<LightEntry>>(makeLightTable(lights, bounds));
+}
+
 PixelBounds renderBounds(const RenderOptions& options) {
     return options.region.value_or(PixelBounds{0, 0, options.width, options.height});
 }

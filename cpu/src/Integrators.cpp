@@ -13,27 +13,46 @@ namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-// The light towards `direction` from `origin`, zero when the shadow ray is blocked, times the
-// volumes' transmittance (random numbers after *counter's).
-Vec3f shadowedLight(const ShadingContext& context, Vec3f light, Vec3f origin, Vec3f direction, RandomKey key,
-                    uint32_t* counter, uint64_t& rays) {
+// The light towards `direction` from `origin`, zero when the shadow ray is blocked within
+// `distance`, times the volumes' transmittance (random numbers after *counter's).
+Vec3f shadowedLight(const ShadingContext& context, Vec3f light, Vec3f origin, Vec3f direction, float distance,
+                    RandomKey key, uint32_t* counter, uint64_t& rays) {
     ++rays;
-    if (context.scene.occluded({origin, direction}, kInfinity)) return {};
+    if (context.scene.occluded({origin, direction}, distance)) return {};
     if (context.options.volumes)
-        light = light * volumeTransmittance(*context.options.volumes, origin, direction, kInfinity, key,
+        light = light * volumeTransmittance(*context.options.volumes, origin, direction, distance, key,
                                             context.options.seed, counter);
     return light;
 }
 
-// Next-event estimation's light at `point` (the sun's or the environment map's), zero when the
-// shadow ray from `origin` is blocked.
-Vec3f directLight(const ShadingContext& context, const SurfacePoint& point, Vec3f origin, RandomKey key,
-                  uint32_t* counter, uint64_t& rays) {
-    Vec3f light, direction;
-    if (!unshadowedDirectLight(context.options.environment, context.sunDirection, point, key, context.options.seed,
-                               &light, &direction))
-        return {};
-    return shadowedLight(context, light, origin, direction, key, counter, rays);
+// Next-event estimation's light at a surface `point` or (point null) at a point in a volume
+// scattering light that travels along `travel` with anisotropy g: a punctual light's, or the
+// sun's or the environment map's (docs/RENDERING.md, "Lights"); zero when the shadow ray from
+// `origin` is blocked.
+Vec3f directLight(const ShadingContext& context, const SurfacePoint* point, Vec3f travel, float g, Vec3f origin,
+                  RandomKey key, uint32_t* counter, uint64_t& rays) {
+    const RenderOptions& options = context.options;
+    const std::span<const LightEntry> lights =
+        options.lights ? std::span<const LightEntry>(*options.lights) : std::span<const LightEntry>();
+    const float punctualPick = punctualPickProbability(options.environment, lights);
+    Vec3f light, direction, irradiance;
+    float distance = kInfinity;
+    switch (choosePunctualLight(lights, punctualPick, origin, key, options.seed, &direction, &distance, &irradiance)) {
+        case LightChoice::None: return {};
+        case LightChoice::Punctual:
+            if (!point) light = irradiance * henyeyGreenstein(g, travel, direction);
+            else if (!reflectedLight(*point, direction, irradiance, &light)) return {};
+            break;
+        case LightChoice::Environment:
+            if (point ? !unshadowedDirectLight(options.environment, context.sunDirection, *point, key, options.seed,
+                                               &light, &direction)
+                      : !unshadowedMediumLight(options.environment, context.sunDirection, travel, g, key,
+                                               options.seed, &light, &direction))
+                return {};
+            if (punctualPick > 0.0f) light = light * (1.0f / (1.0f - punctualPick));
+            break;
+    }
+    return shadowedLight(context, light, origin, direction, distance, key, counter, rays);
 }
 
 }  // namespace
@@ -75,12 +94,9 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
                 result.radiance = result.radiance +
                                   mul(mul(throughput, Vec3f{1, 1, 1} - albedo), volumeEmission(volume, position));
             if (bounce == options.maxDepth) break;
-            Vec3f light, toLight;
-            if (unshadowedMediumLight(options.environment, context.sunDirection, ray.direction, m.anisotropy, key,
-                                      options.seed, &light, &toLight))
-                result.radiance = result.radiance +
-                                  mul(mul(throughput, albedo),
-                                      shadowedLight(context, light, position, toLight, key, &counter, rays));
+            result.radiance = result.radiance + mul(mul(throughput, albedo),
+                                                    directLight(context, nullptr, ray.direction, m.anisotropy,
+                                                                position, key, &counter, rays));
             throughput = mul(throughput, albedo);
             if (!surviveRoulette(throughput, bounce, key, options.seed)) break;
             const Vec3f direction = sampleHenyeyGreenstein(m.anisotropy, ray.direction,
@@ -101,7 +117,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         result.radiance = result.radiance + mul(throughput, emission(*point.material));
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
-        result.radiance = result.radiance + mul(throughput, directLight(context, point, origin, key, &counter, rays));
+        result.radiance = result.radiance + mul(throughput, directLight(context, &point, ray.direction, 0.0f, origin, key, &counter, rays));
         if (point.glossy) {
             // The metallic-roughness bounce: throughput times f cos / pdf, then roulette.
             Vec3f direction, weight;

@@ -43,6 +43,7 @@ Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
     scene.bounds = info.bounds;
     scene.mesh.materials = info.materials;
     scene.mesh.cameras = info.cameras;
+    scene.mesh.lights = info.lights;
     if (scene.mesh.materials.empty()) scene.mesh.materials.push_back(Material{"default"});
     // Ids count every imported triangle, those that quantization collapsed included.
     std::vector<uint8_t> seen(info.triangleCount + info.collapsedDropped, 0);

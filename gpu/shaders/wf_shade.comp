@@ -23,6 +23,7 @@
 #include "common/Attributes.glsl"
 #include "common/Environment.glsl"
 #include "common/Volume.glsl"
+#include "common/Lights.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -35,6 +36,7 @@ layout(constant_id = 4) const bool kVertexColors = false;      // the scene has 
 layout(constant_id = 5) const bool kEnvironmentMap = false;    // an environment map replaces the sky
 layout(constant_id = 6) const bool kVolumes = false;           // the scene has density volumes
 layout(constant_id = 7) const bool kMicrofacet = false;        // some material is glossy (not Lambertian)
+layout(constant_id = 8) const bool kLights = false;            // the render has punctual lights
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point).
@@ -99,7 +101,12 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                                               which, park);
         // The scattering event's point, and what it does with the path (albedo, phase or bounce).
         vec3 origin, albedo, light, toLight = vec3(p.sunX, p.sunY, p.sunZ), n = vec3(0.0), ns = vec3(0.0);
-        float g = 0.0;
+        float g = 0.0, lightDistance = kInfinity;
+        // Next-event estimation's first choice (docs/RENDERING.md, "Lights"): a punctual light's
+        // direction, distance and irradiance, or the sun or map (kChoiceEnvironment).
+        uint choice = kChoiceEnvironment;
+        vec3 punctualDirection, punctualIrradiance;
+        float punctualDistance;
         bool event = false, shoots = false;
         Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0);
         if (scattered) {
@@ -111,7 +118,15 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             // The absorbed share glows (an emission grid): sigma_a / sigma_t = 1 - albedo.
             radiance += (throughput * (vec3(1.0) - albedo)) * volumeEmission(v, origin);
             event = bounce < p.maxDepth;
-            if (event) shoots = mediumDirectLight(p, kEnvironmentMap, direction, g, pixel, sampleIndex, bounce, light, toLight);
+            if (event && kLights)
+                choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection, punctualDistance,
+                                             punctualIrradiance);
+            if (event && choice == kChoicePunctual) {
+                toLight = punctualDirection, lightDistance = punctualDistance;
+                light = punctualIrradiance * henyeyGreenstein(g, direction, toLight);
+                shoots = true;
+            } else if (event && choice == kChoiceEnvironment)
+                shoots = mediumDirectLight(p, kEnvironmentMap, direction, g, pixel, sampleIndex, bounce, light, toLight);
         } else if (!hitFound) {
             if (ao)
                 radiance = vec3(1.0);
@@ -141,10 +156,16 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 event = bounce < p.maxDepth;
                 surface = Surface(n, ns, albedo, -direction, kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0),
                                   m.metallic, m.roughness, m.specular);
-                // Next-event estimation: the sun, or with a map the sun or the map.
-                if (event && kEnvironmentMap)
+                // Next-event estimation: a punctual light, or the sun, or with a map the sun or the map.
+                if (event && kLights)
+                    choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection,
+                                                 punctualDistance, punctualIrradiance);
+                if (event && choice == kChoicePunctual) {
+                    toLight = punctualDirection, lightDistance = punctualDistance;
+                    shoots = reflectedLight(p, surface, toLight, punctualIrradiance, light);
+                } else if (event && choice == kChoiceEnvironment && kEnvironmentMap)
                     shoots = environmentDirectLight(p, surface, pixel, sampleIndex, bounce, light, toLight);
-                else if (event && kSun)
+                else if (event && choice == kChoiceEnvironment && kSun)
                     shoots = unshadowedSunLight(p, surface, light);
             }
         }
@@ -153,9 +174,12 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             return false;
         }
         if (event) {
+            // The sun's or map's share of next-event estimation is 1 - punctualPick.
+            if (kLights && shoots && choice == kChoiceEnvironment && p.punctualPick > 0.0)
+                light = light * (1.0 / (1.0 - p.punctualPick));
             // A volume's light arrives through the volumes; the surface's light has its albedo.
             if (kVolumes && shoots) {
-                light *= volumeTransmittance(p, origin, toLight, kInfinity, rnd, park);
+                light *= volumeTransmittance(p, origin, toLight, lightDistance, rnd, park);
                 if (volumeMissed) {
                     park.found = scattered, park.tCollision = tCollision, park.which = which;
                     storePark(p, j, park);
@@ -165,7 +189,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             }
             if (shoots) {
                 Vec4Array(p.pendingSun).v[j] = vec4(scattered ? (throughput * albedo) * light : throughput * light, 0.0);
-                startRay(p, j, shadow, origin, toLight, kInfinity, !scattered);
+                startRay(p, j, shadow, origin, toLight, lightDistance, !scattered);
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             }

@@ -29,7 +29,8 @@ inline uint64_t granules(uint64_t bytes) {
 
 struct TableLayout {
     uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, queueArgs = 0, params = 0,
-             materials = 0, microfacet = 0, stream = 0;
+             materials = 0, microfacet = 0, stream = 0, lights = 0;
+    uint64_t lightCapacity = 0;  // WavefrontLight records the light section holds (the package's lights)
     uint64_t totalBytes = 0;
 };
 
@@ -48,7 +49,9 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.microfacet = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));
     t.stream = t.microfacet + align(kMicrofacetTableFloats * sizeof(float));
-    t.totalBytes = t.stream + align(sizeof(StreamWindow));
+    t.lights = t.stream + align(sizeof(StreamWindow));
+    t.lightCapacity = package.lights.size();
+    t.totalBytes = t.lights + align(t.lightCapacity * sizeof(WavefrontLight));
     return t;
 }
 

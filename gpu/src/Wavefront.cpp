@@ -177,9 +177,13 @@ public:
         if (environmentMap && !b_.environment) return Status::error("device render: the environment map has no buffer");
         const bool volumes = options_.volumes && !options_.volumes->empty();
         if (volumes && !b_.volumes) return Status::error("device render: the volumes have no buffer");
+        const bool lights = options_.lights && !options_.lights->empty();
+        if (lights && options_.lights->size() > b_.tables.lightCapacity)
+            return Status::error("device render: " + std::to_string(options_.lights->size()) +
+                                 " punctual lights, the package's tables hold " + std::to_string(b_.tables.lightCapacity));
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
                                         sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
-                                        environmentMap, volumes, glossy},
+                                        environmentMap, volumes, glossy, lights},
                                 stats_);
         if (!shade) return shade.status();
         shade_ = *shade;
@@ -734,7 +738,7 @@ private:
         const TableLayout& t = b_.tables;
         p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
         p.touched = table + t.touched, p.demand = table + t.demand, p.ahead = table + t.ahead;
-        p.materials = table + t.materials, p.microfacet = table + t.microfacet;
+        p.materials = table + t.materials, p.microfacet = table + t.microfacet, p.lights = table + t.lights;
         const StateLayout s = stateLayout(b_.pathCapacity);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
         p.rayState = state + s.rayState;
@@ -778,7 +782,23 @@ private:
             materials.push_back({m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1],
                                  m.emissive[2], m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular, 0u, 0u});
         VASTRAY_TRY(upload(materials, b_.tables.materials));
+        VASTRAY_TRY(uploadLights(p));
         return uploadBytes(&p, sizeof(p), b_.tables.params);
+    }
+
+    // The render's punctual lights (core/Light.h's table, the same floats the Embree reference
+    // reads) into the table buffer's light section, which the package's light count sized.
+    Status uploadLights(WavefrontParams& p) {
+        if (!options_.lights || options_.lights->empty()) return Status::ok();
+        p.lightCount = uint32_t(options_.lights->size());
+        const std::span<const LightEntry> entries(*options_.lights);
+        p.punctualPick = punctualPickProbability(options_.environment, entries);
+        std::vector<WavefrontLight> lights;
+        for (const LightEntry& e : entries)
+            lights.push_back({e.position.x, e.position.y, e.position.z, uint32_t(e.type), e.direction.x, e.direction.y,
+                              e.direction.z, e.cdf, e.radiant.x, e.radiant.y, e.radiant.z, e.pick, e.coneScale,
+                              e.coneOffset, 0u, 0u});
+        return upload(lights, b_.tables.lights);
     }
 
     Status uploadResidency() {

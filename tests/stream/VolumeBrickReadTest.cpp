@@ -91,7 +91,7 @@ TEST(VolumeBrickRead, PagedRenderReadsOnlyTheBricksItsRaysReach) {
     auto reader = PackageReader::open(thinSlab());
     ASSERT_TRUE(reader) << reader.message();
     const PackageInfo& info = (*reader)->info();
-    ASSERT_EQ(info.formatVersion, 6u);
+    ASSERT_GE(info.formatVersion, 6u);  // brick by brick from version 6
     const RenderOptions o = lookingDown(openVolumes(**reader));
     ASSERT_TRUE(o.volumes);
     const Volume& slab = (*o.volumes)[0];
@@ -116,8 +116,8 @@ TEST(VolumeBrickRead, PagedRenderReadsOnlyTheBricksItsRaysReach) {
     EXPECT_GT(stats.volumeBrickSlots, 0u);
     EXPECT_LT(stats.volumeBrickSlots, bricks / 2) << "the bricks are paged";
     EXPECT_GT(stats.volumeBricksRead, 0u);
-    // The rays cross 2 of 64 brick columns along x; a step loads a region (about 8 columns,
-    // at most a pool's worth of bricks), and these columns lie in at most two.
+    // The rays cross 2 of 64 brick columns along x; their light rays go further, and a step
+    // whose waited bricks do not fit loads a region (at most a pool's worth of bricks).
     EXPECT_LE(stats.volumeBricksRead, 2 * stats.volumeBrickSlots) << "bricks no ray reaches were read";
     EXPECT_LT(stats.volumeBricksRead, bricks / 2) << "bricks no ray reaches were read";
     EXPECT_LE(stats.volumeBricksRead, stats.volumeBrickLoads);
@@ -127,6 +127,55 @@ TEST(VolumeBrickRead, PagedRenderReadsOnlyTheBricksItsRaysReach) {
     for (size_t p = 0; p < paged->alpha.size(); ++p)
         darkest = std::min(darkest, paged->rgb[3 * p]), brightest = std::max(brightest, paged->rgb[3 * p]);
     EXPECT_LT(darkest, brightest);
+    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(paged->alpha.data(), inCore->alpha.data(), inCore->alpha.size() * 4), 0);
+}
+
+// Camera rays only (max depth 0: no light or bounce rays) through the slab: the paged render reads
+// no brick outside the cells those rays can touch, counted here from the view alone: the box the
+// view's pyramid cuts out of the slab's depth, grown by one cell (a walk's trilinear reads touch
+// the cells after the one it samples; rounding reaches one back). The bricks the rays ask for
+// ahead lie along them, in the same box. Loading a region per step read ten times as many.
+TEST(VolumeBrickRead, CameraRaysReadOnlyTheBricksOfTheCellsTheyCross) {
+    auto reader = PackageReader::open(thinSlab());
+    ASSERT_TRUE(reader) << reader.message();
+    RenderOptions o = lookingDown(openVolumes(**reader));
+    ASSERT_TRUE(o.volumes);
+    o.maxDepth = 0;
+    const Volume& slab = (*o.volumes)[0];
+    // The slab spans world y in [0, 4); the view looks straight down from eye.y, square, so the
+    // pyramid's half-width at the slab's bottom is eye.y tan(fov / 2) on x and on z.
+    const float half = o.camera.eye[1] * std::tan(0.5f * o.camera.fovYDegrees * 3.14159265f / 180.0f);
+    // Voxel i lies at world i kVoxel; brick cell c holds voxels origin + 8c to origin + 8c + 7.
+    auto cellRange = [&](float centre, int a) {
+        auto cell = [&](float world) {
+            return int64_t(std::floor((world / kVoxel - float(slab.origin[a])) / float(kVolumeBrickSize)));
+        };
+        return std::pair{std::max<int64_t>(cell(centre - half) - 1, 0), cell(centre + half) + 1};
+    };
+    const auto [x0, x1] = cellRange(o.camera.eye[0], 0);
+    const auto [z0, z1] = cellRange(o.camera.eye[2], 2);
+    uint64_t reachable = 0;
+    for (int64_t z = z0; z <= std::min<int64_t>(z1, slab.brickCells[2] - 1); ++z)
+        for (int64_t y = 0; y < slab.brickCells[1]; ++y)
+            for (int64_t x = x0; x <= std::min<int64_t>(x1, slab.brickCells[0] - 1); ++x)
+                reachable += slab.brickOf[uint64_t(x + slab.brickCells[0] * (y + slab.brickCells[1] * z))] != kNoBrick;
+    ASSERT_GT(reachable, 0u);
+    ASSERT_LT(reachable, slab.brickCount() / 20) << "the view is not narrow";
+
+    StreamingStats inCoreStats;
+    auto inCore = renderOpen(**reader, o, 256ull << 20, &inCoreStats);
+    ASSERT_TRUE(inCore) << inCore.message();
+    StreamingStats stats;
+    const uint64_t budget = pagedBudget((*reader)->info());
+    auto paged = renderOpen(**reader, o, budget, &stats);
+    ASSERT_TRUE(paged) << paged.message();
+    std::printf("camera rays: %llu bricks read, %llu reachable, %llu slots\n", (unsigned long long)stats.volumeBricksRead,
+                (unsigned long long)reachable, (unsigned long long)stats.volumeBrickSlots);
+    EXPECT_GT(stats.volumeBrickSlots, reachable) << "the pool could hold a region wider than the view";
+    EXPECT_GT(stats.volumeBricksRead, 0u);
+    EXPECT_LE(stats.volumeBricksRead, reachable) << "bricks no ray reaches were read";
+    EXPECT_LE(stats.peakDeviceBytes, budget);
     EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
     EXPECT_EQ(std::memcmp(paged->alpha.data(), inCore->alpha.data(), inCore->alpha.size() * 4), 0);
 }

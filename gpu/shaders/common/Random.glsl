@@ -12,6 +12,7 @@ const uint kDimLightPick = 5u;
 const uint kDimLightU = 6u;
 const uint kDimLightV = 7u;
 const uint kDimLobe = 8u;
+const uint kDimPunctual = 9u;
 
 uint pcgHash(uint v) {
     const uint state = v * 747796405u + 2891336453u;

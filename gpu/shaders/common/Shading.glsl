@@ -64,20 +64,25 @@ float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
 
 #include "common/Microfacet.glsl"
 
-// unshadowedSunLight (core/src/PathShading.cpp): the sun's light reflected at surface point s
-// (Lambertian, or its metallic-roughness BSDF), before the path's throughput; false (no shadow
-// ray) without a sun or when it lies below either normal.
-bool unshadowedSunLight(WavefrontParams p, Surface s, out vec3 light) {
-    const vec3 sun = vec3(p.sunX, p.sunY, p.sunZ), irradiance = vec3(p.sunR, p.sunG, p.sunB);
-    const float cosine = dot(s.ns, sun);
-    if (maxComponent(irradiance) <= 0.0 || cosine <= 0.0 || dot(s.n, sun) <= 0.0) return false;
+// reflectedLight (core/src/PathShading.cpp): the light of `irradiance` arriving from unit
+// `direction` reflected at surface point s (Lambertian, or its metallic-roughness BSDF), before
+// the path's throughput; false (no shadow ray) when there is none or it lies below either normal.
+bool reflectedLight(WavefrontParams p, Surface s, vec3 direction, vec3 irradiance, out vec3 light) {
+    light = vec3(0.0);
+    const float cosine = dot(s.ns, direction);
+    if (maxComponent(irradiance) <= 0.0 || cosine <= 0.0 || dot(s.n, direction) <= 0.0) return false;
     if (s.glossy) {
         float pdf;
-        light = glossyReflection(p, s, sun, pdf) * irradiance;
+        light = glossyReflection(p, s, direction, pdf) * irradiance;
         return maxComponent(light) > 0.0;
     }
     light = (s.base * irradiance) * (cosine / kPi);
     return true;
+}
+
+// unshadowedSunLight: the sun's light reflected at surface point s.
+bool unshadowedSunLight(WavefrontParams p, Surface s, out vec3 light) {
+    return reflectedLight(p, s, vec3(p.sunX, p.sunY, p.sunZ), vec3(p.sunR, p.sunG, p.sunB), light);
 }
 
 WavefrontMaterial materialAt(WavefrontParams p, uint id) {

@@ -91,6 +91,20 @@ struct WavefrontMaterial {
     uint padding0, padding1;
 };
 
+// A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type
+// (vastray::LightType), colour times intensity, the spot's falloff, its pick probability and the
+// running sum of those (the last is 1).
+struct WavefrontLight {
+    float posX, posY, posZ;
+    uint type;
+    float dirX, dirY, dirZ;  // unit: where the light shines
+    float cdf;
+    float radiantR, radiantG, radiantB;
+    float pick;
+    float coneScale, coneOffset;
+    uint padding0, padding1;
+};
+
 // The metallic-roughness albedo tables' side (core/Microfacet.h's kMicrofacetTableSide; the
 // tables: two of side x side floats, then side floats).
 const uint kMicrofacetSide = 32u;
@@ -182,6 +196,7 @@ struct WavefrontParams {
                            // still running (kGroupIdle: no block), its pixel's index in the window's
                            // outputs (ring slot * tilePixels + pixel in the tile)
     uint64_t stream;       // streamed waves (table buffer): StreamWindow
+    uint64_t lights;       // WavefrontLight per punctual light (lightCount)
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -213,6 +228,9 @@ struct WavefrontParams {
     uint volumeCount;
     uint volumeBrickCount;  // paged volumes: all volumes' bricks
     uint tilePixels;        // streamed waves: a window tile's pixels at most (its outputs' stride)
+    uint lightCount;        // punctual lights (0: none)
+    float punctualPick;     // the probability that next-event estimation picks a punctual light
+                            // (punctualPickProbability; 0: never)
     uint padding;
 };
 
@@ -252,7 +270,8 @@ struct WavefrontPush {
 
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 48);
-static_assert(offsetof(WavefrontParams, eyeX) == 38 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(WavefrontLight) == 64);
+static_assert(offsetof(WavefrontParams, eyeX) == 39 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);

@@ -97,7 +97,8 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
 
 class GltfFlattener {
 public:
-    GltfFlattener(const tinygltf::Model& model, ImportedMesh& out) : model_(model), out_(out) {
+    GltfFlattener(const tinygltf::Model& model, std::vector<PunctualLight> lights, ImportedMesh& out)
+        : model_(model), out_(out), templates_(std::move(lights)) {
         for (size_t i = 0; i < model.materials.size(); ++i) out_.mesh.materials.push_back(convertMaterial(model.materials[i], i));
     }
 
@@ -119,15 +120,24 @@ public:
                 if (Status s = addMesh(node.mesh, world); !s.isOk()) return s;
             }
             if (node.camera >= 0) addCamera(node, world);
+            if (Status s = addLight(index, node, world); !s.isOk()) return s;
             for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, world);
         }
         // In the order of the file's cameras (a camera placed by two nodes twice, in visiting order).
         std::stable_sort(cameras_.begin(), cameras_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         for (auto& [index, camera] : cameras_) out_.mesh.cameras.push_back(std::move(camera));
+        std::stable_sort(lights_.begin(), lights_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        std::vector<uint8_t> placed(templates_.size(), 0);
+        for (auto& [index, light] : lights_) {
+            placed[index] = 1;
+            out_.mesh.lights.push_back(std::move(light));
+        }
+        lightsNotUsed_ += uint64_t(std::count(placed.begin(), placed.end(), 0));
         return Status::ok();
     }
 
     uint64_t camerasNotUsed() const { return camerasNotUsed_; }
+    uint64_t lightsNotUsed() const { return lightsNotUsed_; }
 
 private:
     // The default scene, else scene 0, else every node that is nobody's child.
@@ -178,6 +188,31 @@ private:
             return;
         }
         cameras_.emplace_back(node.camera, std::move(scene));
+    }
+
+    // A node's KHR_lights_punctual light, placed at the node's origin and shining down its local
+    // -Z (the extension's spec); the lights in the file's order (a light placed by two nodes twice,
+    // in visiting order). A light whose placement is degenerate (a zero scale) is counted as not used.
+    Status addLight(int nodeIndex, const tinygltf::Node& node, const Mat4& m) {
+        const auto ext = node.extensions.find("KHR_lights_punctual");
+        if (ext == node.extensions.end()) return Status::ok();
+        const std::string where = "JSON /nodes/" + std::to_string(nodeIndex) + "/extensions/KHR_lights_punctual/light";
+        const tinygltf::Value& index = ext->second.Get("light");
+        const int light = index.IsInt() ? index.GetNumberAsInt() : -1;
+        if (light < 0 || size_t(light) >= templates_.size())
+            return Status::error(where + ": light " + std::to_string(light) + " does not exist (" +
+                                 std::to_string(templates_.size()) + " lights)");
+        if (lights_.size() >= kMaxLights)
+            return Status::error(where + ": more than " + std::to_string(kMaxLights) + " lights are placed (the limit)");
+        PunctualLight placed = templates_[light];
+        if (placed.name.empty()) placed.name = storedCameraName(!node.name.empty() ? node.name : "light " + std::to_string(light));
+        placed.position = {float(m[12]), float(m[13]), float(m[14])};
+        const Vec3f down{float(-m[8]), float(-m[9]), float(-m[10])};
+        if (!(length(down) > 0.0f)) return Status::ok();  // counted as not used unless another node places it
+        placed.direction = normalize(down);
+        if (Status s = validateLight(placed); !s.isOk()) return s.withContext("JSON /nodes/" + std::to_string(nodeIndex) + ": ");
+        lights_.emplace_back(light, std::move(placed));
+        return Status::ok();
     }
 
     Status addPrimitive(const tinygltf::Primitive& prim, const Mat4& world) {
@@ -329,19 +364,49 @@ private:
     int64_t defaultMaterial_ = -1;
     std::vector<std::pair<int, SceneCamera>> cameras_;  // glTF camera index, camera
     uint64_t camerasNotUsed_ = 0;
+    const std::vector<PunctualLight> templates_;  // the file's lights, checked, not placed (readLights)
+    std::vector<std::pair<int, PunctualLight>> lights_;  // glTF light index, placed light
+    uint64_t lightsNotUsed_ = 0;
 };
+
+// The document's KHR_lights_punctual lights, each checked against the extension's rules and
+// vastray's limits (core/Light.h): "JSON /extensions/KHR_lights_punctual/lights/3: intensity ...".
+Result<std::vector<PunctualLight>> readLights(const tinygltf::Model& model) {
+    const std::string root = "JSON /extensions/KHR_lights_punctual/lights";
+    if (model.lights.size() > kMaxLights)
+        return Status::error(root + ": " + std::to_string(model.lights.size()) + " lights exceed the limit of " +
+                             std::to_string(kMaxLights));
+    std::vector<PunctualLight> lights;
+    for (size_t i = 0; i < model.lights.size(); ++i) {
+        const tinygltf::Light& g = model.lights[i];
+        const std::string where = root + "/" + std::to_string(i) + ": ";
+        PunctualLight l;
+        if (g.type == "directional") l.type = LightType::Directional;
+        else if (g.type == "point") l.type = LightType::Point;
+        else if (g.type == "spot") l.type = LightType::Spot;
+        else return Status::error(where + "type '" + g.type + "' is not directional, point or spot");
+        l.name = storedCameraName(g.name);  // cut as a package keeps it (kMaxLightNameBytes)
+        for (size_t c = 0; c < 3 && c < g.color.size(); ++c) l.color[c] = float(g.color[c]);
+        l.intensity = float(g.intensity);
+        l.range = float(g.range);
+        if (g.range < 0.0 || (g.range == 0.0 && std::signbit(g.range)))
+            return Status::error(where + "range " + std::to_string(g.range) + " is not above 0");
+        l.innerConeAngle = float(g.spot.innerConeAngle), l.outerConeAngle = float(g.spot.outerConeAngle);
+        if (Status s = validateLight(l); !s.isOk()) return s.withContext(where);
+        lights.push_back(std::move(l));
+    }
+    return lights;
+}
 
 // What the file holds that the package does not carry, once per kind.
 void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
     uint64_t morphs = 0;
     for (const tinygltf::Mesh& mesh : model.meshes)
         for (const tinygltf::Primitive& prim : mesh.primitives) morphs += prim.targets.size();
-    uint64_t lights = model.lights.size();
     report.warnUnused("morph targets", morphs);
     report.warnUnused("skins", model.skins.size());
     report.warnUnused("animations", model.animations.size());
     report.warnUnused("textures", model.textures.size(), "materials use their factors only");
-    report.warnUnused("KHR_lights_punctual lights", lights);
 }
 
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {
@@ -356,10 +421,13 @@ Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOp
     if (!model) return model.status();
     ImportedMesh imported;
     imported.report.format = binary ? "glb" : "gltf";
-    GltfFlattener flattener(*model, imported);
+    auto lights = readLights(*model);
+    if (!lights) return lights.status().withContext(name + ": ");
+    GltfFlattener flattener(*model, std::move(lights).value(), imported);
     if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
     warnAboutUnused(*model, imported.report);
     imported.report.warnUnused("cameras", flattener.camerasNotUsed(), "orthographic, or placed degenerately");
+    imported.report.warnUnused("KHR_lights_punctual lights", flattener.lightsNotUsed(), "placed by no node, or placed degenerately");
     if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
     return imported;
 }

@@ -176,11 +176,39 @@ const Schema kRoot{{{"asset", Kind::Object, &kAsset, 0, true}, {"accessors", Kin
                     {"cameras", Kind::ObjectArray, &kCamera}, {"extensionsUsed", Kind::StringArray},
                     {"extensionsRequired", Kind::StringArray}}};
 
+// KHR_lights_punctual: the lights in the document's extension, a node's reference to one.
+const Schema kSpot{{{"innerConeAngle", Kind::Number}, {"outerConeAngle", Kind::Number}}};
+const Schema kLight{{{"type", Kind::String, nullptr, 0, true}, {"name", Kind::String},
+                     {"color", Kind::NumberArray, nullptr, 3}, {"intensity", Kind::Number}, {"range", Kind::Number},
+                     {"spot", Kind::Object, &kSpot}}};
+const Schema kLightsExtension{{{"lights", Kind::ObjectArray, &kLight, 0, true}}};
+const Schema kNodeLight{{{"light", Kind::Index, nullptr, 0, true}}};
+constexpr const char* kLightsPunctual = "KHR_lights_punctual";
+
+// After the root's check: every object on the way is what the schema said.
+Status checkLightTypes(const Json& doc) {
+    const auto extensionOf = [](const Json& object) -> const Json* {
+        const auto ext = object.find("extensions");
+        if (ext == object.end()) return nullptr;
+        const auto found = ext->find(kLightsPunctual);
+        return found == ext->end() ? nullptr : &*found;
+    };
+    if (const Json* lights = extensionOf(doc))
+        VASTRAY_TRY(check(*lights, kLightsExtension, std::string("JSON /extensions/") + kLightsPunctual));
+    if (!doc.contains("nodes")) return Status::ok();
+    const Json& nodes = doc["nodes"];
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (const Json* light = extensionOf(nodes[i]))
+            VASTRAY_TRY(check(*light, kNodeLight, "JSON /nodes/" + std::to_string(i) + "/extensions/" + kLightsPunctual));
+    return Status::ok();
+}
+
 }  // namespace
 
 Status checkGltfTypes(const nlohmann::json& doc) {
     if (!doc.is_object()) return Status::error("JSON: the top level is " + found(doc) + ", not an object");
-    return check(doc, kRoot, "JSON ");
+    VASTRAY_TRY(check(doc, kRoot, "JSON "));
+    return checkLightTypes(doc);
 }
 
 }  // namespace vastray::import

@@ -292,6 +292,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     info.grid = grid;
     info.materials = mesh.materials;
     info.cameras = mesh.cameras;
+    info.lights = mesh.lights;
     for (const Volume& volume : options.volumes) info.volumes.push_back({volume});
     info.topTree = std::move(flat.nodes);
     info.chunks = std::move(flat.chunks);

@@ -7,6 +7,8 @@
 //   directory  chunkCount × kDirectoryEntryBytes
 //   cameras    cameraCount × kCameraBytes (version 3)
 //   volumes    volumeCount × kVolumeRecordBytes (version 4)
+//   lights     lightCount × kLightBytes, then the XXH64 of those records (version 7; the count
+//              is the header's field after the camera count, 0 before version 7)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
 //   volume data  one per volume (brick table, voxels), at the offsets its record gives; from
 //                version 6: cell table and brick index (one checksum), then each brick alone
@@ -25,7 +27,10 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 6: a volume's data is read one brick at a time: its cell table and a brick index (per brick
 //    its own XXH64 and largest density) under the record's checksum, then the bricks (a version
 //    3, 4 or 5 package is still read, each volume's data whole).
-constexpr uint32_t kVersion = 6;
+// 7: punctual lights (glTF KHR_lights_punctual) in a section after the volume records (a version
+//    3 to 6 package, which has none, is still read).
+constexpr uint32_t kVersion = 7;
+constexpr uint32_t kFirstLightsVersion = 7;
 constexpr uint32_t kOldestReadableVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
 constexpr uint32_t kMaterialNameBytes = 64;
@@ -35,6 +40,13 @@ constexpr uint32_t materialBytes(uint32_t version) { return version >= 5 ? kMate
 constexpr uint32_t kDirectoryEntryBytes = 4 * 8 + 4 * 4 + 6 * 4;
 constexpr uint32_t kCameraNameBytes = 64;
 constexpr uint32_t kCameraBytes = kCameraNameBytes + 10 * 4;  // name, eye, target, up, fov (degrees)
+constexpr uint32_t kLightNameBytes = 64;
+// name, type, colour, intensity, range, inner and outer cone angle, position, direction, two 0 words
+constexpr uint32_t kLightBytes = kLightNameBytes + 4 + 3 * 4 + 4 * 4 + 6 * 4 + 2 * 4;
+// The lights section: its records and their XXH64 (version 7; before, nothing).
+constexpr uint64_t lightsSectionBytes(uint32_t version, uint64_t lights) {
+    return version >= kFirstLightsVersion ? lights * kLightBytes + 8 : 0;
+}
 constexpr uint32_t kVolumeNameBytes = 64;
 constexpr uint32_t kVolumeRecordBytes = 256;
 constexpr uint32_t kFirstBrickwiseVersion = 6;

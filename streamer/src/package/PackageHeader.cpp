@@ -89,7 +89,7 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
     for (uint64_t v : {layout.materialsOffset, layout.treeOffset, layout.directoryOffset, layout.blobsOffset,
                        layout.materialsChecksum, layout.treeChecksum, layout.directoryChecksum})
         out.put(v);
-    out.put(layout.camerasOffset), out.put(layout.camerasChecksum), out.put(layout.cameraCount), out.put(uint32_t(0));
+    out.put(layout.camerasOffset), out.put(layout.camerasChecksum), out.put(layout.cameraCount), out.put(layout.lightCount);
     out.put(layout.volumesOffset), out.put(layout.volumesChecksum);
     out.padTo(format::kHeaderBytes - 8);
     out.put(checksum64(out.bytes().data(), out.size()));
@@ -130,8 +130,7 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     for (uint64_t* v : {&layout.materialsOffset, &layout.treeOffset, &layout.directoryOffset, &layout.blobsOffset,
                         &layout.materialsChecksum, &layout.treeChecksum, &layout.directoryChecksum})
         in.get(*v);
-    uint32_t reservedAfterCameras = 0;
-    in.get(layout.camerasOffset), in.get(layout.camerasChecksum), in.get(layout.cameraCount), in.get(reservedAfterCameras);
+    in.get(layout.camerasOffset), in.get(layout.camerasChecksum), in.get(layout.cameraCount), in.get(layout.lightCount);
     in.get(layout.volumesOffset), in.get(layout.volumesChecksum);  // version 3: zero padding
     if (info.formatVersion < 4 && (layout.volumeCount != 0 || layout.volumesOffset != 0 || layout.volumesChecksum != 0))
         return Status::error("header: a version 3 package with volume fields");
@@ -141,7 +140,12 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     if (layout.cameraCount > format::kMaxCameras)
         return Status::error("header: camera count " + std::to_string(layout.cameraCount) + " exceeds the limit of " +
                              std::to_string(format::kMaxCameras));
-    if (reservedAfterCameras != 0) return Status::error("header: the field after the camera count is not 0");
+    if (info.formatVersion < format::kFirstLightsVersion && layout.lightCount != 0)
+        return Status::error("header: the field after the camera count is not 0 (a version " +
+                             std::to_string(info.formatVersion) + " package has no lights)");
+    if (layout.lightCount > kMaxLights)
+        return Status::error("header: light count " + std::to_string(layout.lightCount) + " exceeds the limit of " +
+                             std::to_string(kMaxLights));
     info.defaultDoubleSided = (flags & format::kDefaultDoubleSided) != 0;
     info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
     info.hasNormals = (flags & format::kHasNormals) != 0;
@@ -220,6 +224,46 @@ Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes,
         VASTRAY_TRY(validateCamera(c.camera).withContext("camera " + std::to_string(i) + " '" + c.name + "': "));
     }
     return cameras;
+}
+
+static_assert(format::kLightNameBytes == kMaxLightNameBytes);
+
+std::vector<uint8_t> serializeLights(const std::vector<PunctualLight>& lights) {
+    ByteWriter out;
+    for (const PunctualLight& l : lights) {
+        out.putFixedString(storedCameraName(l.name), format::kLightNameBytes);  // importers cut it already
+        out.put(uint32_t(l.type)), out.put(l.color), out.put(l.intensity), out.put(l.range);
+        out.put(l.innerConeAngle), out.put(l.outerConeAngle), out.put(l.position), out.put(l.direction);
+        out.put(uint32_t(0)), out.put(uint32_t(0));
+    }
+    out.put(checksum64(out.bytes().data(), out.size()));
+    return std::move(out.bytes());
+}
+
+Result<std::vector<PunctualLight>> parseLights(const std::vector<uint8_t>& bytes, uint32_t count) {
+    const uint64_t recordBytes = uint64_t(count) * format::kLightBytes;
+    if (bytes.size() != recordBytes + 8) return Status::error("truncated lights");
+    uint64_t stored = 0;
+    std::memcpy(&stored, bytes.data() + recordBytes, 8);
+    if (const uint64_t computed = checksum64(bytes.data(), recordBytes); computed != stored)
+        return checksumMismatch("lights", stored, computed);
+    ByteReader in(bytes.data(), recordBytes);
+    std::vector<PunctualLight> lights(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        PunctualLight& l = lights[i];
+        uint32_t type = 0, reserved0 = 0, reserved1 = 0;
+        in.getFixedString(l.name, format::kLightNameBytes);
+        l.name = validUtf8(l.name);
+        in.get(type), in.get(l.color), in.get(l.intensity), in.get(l.range);
+        in.get(l.innerConeAngle), in.get(l.outerConeAngle), in.get(l.position), in.get(l.direction);
+        in.get(reserved0), in.get(reserved1);
+        if (!in.ok()) return Status::error("truncated lights");
+        const std::string what = "light " + std::to_string(i) + " '" + l.name + "': ";
+        if (reserved0 != 0 || reserved1 != 0) return Status::error(what + "its reserved words are not 0");
+        l.type = LightType(type);
+        VASTRAY_TRY(validateLight(l).withContext(what));
+    }
+    return lights;
 }
 
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes) {

@@ -19,6 +19,9 @@ struct SectionLayout {
     // The volume records lie between cameras and blobs; their data after the blobs.
     uint64_t volumesOffset = 0, volumesChecksum = 0;
     uint32_t volumeCount = 0;
+    // The lights (version 7) lie between the volume records and the blobs; their count is the
+    // header's word after the camera count, their checksum the section's last 8 bytes.
+    uint32_t lightCount = 0;
 };
 
 // "NAME checksum mismatch (stored 0x..., computed 0x...)": what a reader says of a section,
@@ -40,6 +43,11 @@ Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes,
 // Version 5 records (format::materialBytes) carry the metallic-roughness factors, each in [0, 1];
 // older ones are read as Lambertian (metallic 0, roughness 1, specular 0).
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
+
+// The lights section (format::lightsSectionBytes): the records, then their XXH64.
+std::vector<uint8_t> serializeLights(const std::vector<PunctualLight>& lights);
+// Checks the section's checksum and each light (validateLight): "light 2 'Lamp': ..." otherwise.
+Result<std::vector<PunctualLight>> parseLights(const std::vector<uint8_t>& bytes, uint32_t count);
 
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes);
 // Each record's fields checked (limits, map, material, the data's size for the format `version`);

@@ -111,9 +111,11 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     const uint64_t volumeBytes = uint64_t(l.volumeCount) * format::kVolumeRecordBytes;
     // Version 3 has no volume records: they would start where the blobs do.
     const uint64_t volumesOffset = info.formatVersion >= 4 ? l.volumesOffset : l.camerasOffset + cameraBytes;
+    const uint64_t lightsOffset = volumesOffset + volumeBytes;
+    const uint64_t lightsBytes = format::lightsSectionBytes(info.formatVersion, l.lightCount);
     if (l.materialsOffset != format::kHeaderBytes || l.treeOffset != l.materialsOffset + materialsBytes ||
         l.directoryOffset != l.treeOffset + treeBytes || l.camerasOffset != l.directoryOffset + directoryBytes ||
-        volumesOffset != l.camerasOffset + cameraBytes || l.blobsOffset != volumesOffset + volumeBytes ||
+        volumesOffset != l.camerasOffset + cameraBytes || l.blobsOffset != lightsOffset + lightsBytes ||
         l.blobsOffset > fileSize)
         return fail(Status::error("section offsets are inconsistent"));
 
@@ -143,6 +145,12 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
         auto volumes = parseVolumeRecords(bytes, l.volumeCount, info.formatVersion);
         if (!volumes) return fail(volumes.status());
         info.volumes = std::move(*volumes);
+    }
+    if (info.formatVersion >= format::kFirstLightsVersion) {
+        if (!reader->file_->read(lightsOffset, lightsBytes, bytes)) return fail(Status::error("cannot read lights"));
+        auto lights = parseLights(bytes, l.lightCount);
+        if (!lights) return fail(lights.status());
+        info.lights = std::move(*lights);
     }
     if (auto s = validateDirectory(info.chunks, info.volumes, l.blobsOffset, fileSize); !s) return fail(s);
     if (auto s = validateTopTree(info.topTree, l.chunkCount); !s) return fail(s);

@@ -88,7 +88,9 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     layout.camerasChecksum = checksum64(cameras.data(), cameras.size());
     layout.volumeCount = uint32_t(info.volumes.size());
     layout.volumesOffset = layout.camerasOffset + cameras.size();
-    layout.blobsOffset = layout.volumesOffset + uint64_t(layout.volumeCount) * format::kVolumeRecordBytes;
+    const std::vector<uint8_t> lights = serializeLights(info.lights);
+    layout.lightCount = uint32_t(info.lights.size());
+    layout.blobsOffset = layout.volumesOffset + uint64_t(layout.volumeCount) * format::kVolumeRecordBytes + lights.size();
     uint64_t offset = layout.blobsOffset;
     for (size_t i = 0; i < info.chunks.size(); ++i) {
         info.chunks[i].offset = offset;
@@ -118,7 +120,8 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     TempFile file(path + ".tmp");
     if (!file.isOpen()) return Status::error(path + ": cannot create: " + std::strerror(errno));
     bool ok = file.write(serializeHeader(info, layout)) && file.write(materials) && file.write(tree) &&
-              file.write(directory) && file.write(cameras) && file.write(volumes);
+              file.write(directory) && file.write(cameras) && file.write(volumes) &&
+              file.write(lights);
     for (size_t i = 0; ok && i < blobs.size(); ++i) ok = file.write(blobs[i]);
     for (size_t i = 0; ok && i < volumeData.size(); ++i) ok = file.write(volumeData[i]);
     if (!ok) return Status::error(path + ": write failed: " + std::strerror(errno));

@@ -41,7 +41,7 @@ protected:
 
     template <typename T>
     static void put(std::vector<uint8_t>& bytes, size_t at, T value) {
-        std::memcpy(&bytes[at], &value, sizeof value);
+        putAt(bytes, at, value);
     }
     static size_t cameraAt(uint32_t index) { return size_t(camerasAt_) + size_t(index) * format::kCameraBytes; }
 
@@ -53,11 +53,7 @@ protected:
 
     static void expectRefused(std::vector<uint8_t> bytes, bool resealCameras, const std::string& expected) {
         reseal(bytes, resealCameras);
-        const std::string path = tempPath("forged-cameras.vast");
-        writeFile(path, bytes);
-        auto reader = PackageReader::open(path);
-        ASSERT_FALSE(reader.isOk()) << "accepted; expected '" << expected << "'";
-        EXPECT_NE(reader.message().find(path + ": " + expected), std::string::npos) << reader.message();
+        expectOpenRefused(bytes, tempPath("forged-cameras.vast"), expected);
     }
 
     static std::vector<uint8_t>* bytes_;

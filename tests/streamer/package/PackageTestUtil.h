@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -50,6 +51,21 @@ inline std::unique_ptr<PackageReader> buildAndOpen(TriangleMesh mesh, const std:
     auto reader = PackageReader::open(path);
     EXPECT_TRUE(reader.isOk()) << reader.message();
     return reader ? std::move(*reader) : nullptr;
+}
+
+// A forger's edit: `value`'s bytes at byte `at`.
+template <typename T>
+void putAt(std::vector<uint8_t>& bytes, size_t at, T value) {
+    std::memcpy(&bytes[at], &value, sizeof value);
+}
+
+// Writes forged package bytes to `path` and expects PackageReader to refuse them with a
+// message that holds "PATH: expected".
+inline void expectOpenRefused(const std::vector<uint8_t>& bytes, const std::string& path, const std::string& expected) {
+    writeFile(path, bytes);
+    auto reader = PackageReader::open(path);
+    ASSERT_FALSE(reader.isOk()) << "accepted; expected '" << expected << "'";
+    EXPECT_NE(reader.message().find(path + ": " + expected), std::string::npos) << reader.message();
 }
 
 // A triangle's corners rotated so the smallest (lexicographic) comes first: equal for the

@@ -9,6 +9,7 @@
 
 #include "vastray/core/Aabb.h"
 #include "vastray/core/Camera.h"
+#include "vastray/core/Light.h"
 #include "vastray/core/Vec3.h"
 
 namespace vastray {
@@ -35,6 +36,7 @@ struct TriangleMesh {
     std::vector<uint32_t> colors;
     std::vector<Material> materials;   // at least one once imported
     std::vector<SceneCamera> cameras;  // the file's cameras, in its order (glTF); often none
+    std::vector<PunctualLight> lights; // the file's placed lights (glTF KHR_lights_punctual); often none
 
     uint64_t triangleCount() const { return indices.size() / 3; }
     uint32_t materialOf(uint64_t triangle) const {

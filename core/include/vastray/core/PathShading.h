@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 
+#include "vastray/core/Light.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Random.h"
 #include "vastray/core/RenderOptions.h"
@@ -64,6 +65,25 @@ Vec3f baseColor(const Material& material);
 // ray needed, no light) when there is no sun or the surface faces away from it. sunDirection: unit.
 bool unshadowedSunLight(const Environment& environment, Vec3f sunDirection, const SurfacePoint& point,
                         Vec3f* light);
+
+// The light reflected at `point` from unit `direction` (towards the light) by `irradiance` arriving
+// on a surface facing it (Lambertian, or the metallic-roughness BSDF). false: none (the light lies
+// below either normal).
+bool reflectedLight(const SurfacePoint& point, Vec3f direction, Vec3f irradiance, Vec3f* light);
+
+// The probability with which next-event estimation picks a punctual light rather than the sun or
+// the environment map: 0 without lights, 1 when neither the sun nor a map brings light, else 1/2
+// (docs/RENDERING.md, "Lights").
+float punctualPickProbability(const Environment& environment, std::span<const LightEntry> lights);
+
+// Next-event estimation's first choice at `origin` (kDimPunctual): Environment (the sun or the
+// map, as unshadowedDirectLight and unshadowedMediumLight pick them, their light then divided by
+// 1 - punctualPick), Punctual (a light of `lights` by its pick probability: *direction, *distance
+// and *irradiance at origin, the irradiance divided by both probabilities), or None (a punctual
+// light was picked and brings nothing here).
+enum class LightChoice { Environment, Punctual, None };
+LightChoice choosePunctualLight(std::span<const LightEntry> lights, float punctualPick, Vec3f origin, RandomKey key,
+                                uint32_t seed, Vec3f* direction, float* distance, Vec3f* irradiance);
 
 // The probability with which next-event estimation picks the sun: 1 without an environment
 // map that has light, 0 without a sun, else 1/2 (docs/RENDERING.md, "Lights").

@@ -25,7 +25,8 @@ struct RandomKey {
 // Dimensions in use (docs/RENDERING.md): at bounce 0, 0 and 1 jitter the pixel; at every
 // bounce, 2 and 3 pick the scattered (or ambient occlusion) direction, 4 decides Russian
 // roulette; with an environment map, 5 picks the light of next-event estimation (sun or map,
-// when both shine) and 6 and 7 the map's direction; volumes draw from 16 up.
+// when both shine) and 6 and 7 the map's direction; with punctual lights, 9 picks between them
+// and the sun or map, and which of them; volumes draw from 16 up.
 enum RandomDimension : uint32_t {
     kDimPixelX = 0,
     kDimPixelY = 1,
@@ -36,6 +37,7 @@ enum RandomDimension : uint32_t {
     kDimLightU = 6,
     kDimLightV = 7,
     kDimLobe = 8,  // the metallic-roughness BSDF's choice of lobe
+    kDimPunctual = 9,  // next-event estimation: a punctual light (and which), or the sun or map
     // Volumes: tracking takes dimensions kDimVolume, kDimVolume + 1, ... in the order it draws
     // them (free flight along the ray, then transmittance towards the light).
     kDimVolume = 16,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vastray/core/Camera.h"
+#include "vastray/core/Light.h"
 #include "vastray/core/Result.h"
 
 namespace vastray {
@@ -92,6 +93,9 @@ struct RenderOptions {
     // The scene's density volumes (the package's, PackageReader::readVolumes); none: no volume
     // code runs. The `path` integrator scatters in them; `ao` and the AOVs see surfaces only.
     std::shared_ptr<const std::vector<Volume>> volumes;
+    // The scene's punctual lights as next-event estimation picks them (makeLightTable,
+    // applySceneLights); none or empty: no punctual-light code runs.
+    std::shared_ptr<const std::vector<LightEntry>> lights;
 };
 
 // Turns the world's up to the unit vector `up` (+Y or +Z from --up-axis): the sky's zenith,
@@ -106,6 +110,10 @@ void applyUpAxis(Vec3f up, RenderOptions& options);
 // (storedCameraName), unless two are: then it is an error that asks for the index. Sets eye,
 // target, up and field of view. Errors name the choice and list the scene's cameras.
 Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string& choice, RenderOptions& options);
+
+// The scene's punctual lights (a package's or an imported file's) for a scene within `bounds`;
+// none sets no table.
+void applySceneLights(std::span<const PunctualLight> lights, const Aabb& bounds, RenderOptions& options);
 
 // The pixels a render produces: `region`, or the whole frame.
 PixelBounds renderBounds(const RenderOptions& options);

@@ -91,6 +91,7 @@ struct PackageInfo {
     QuantizationGrid grid;
     std::vector<Material> materials;
     std::vector<SceneCamera> cameras;  // the imported file's cameras (glTF), in its order
+    std::vector<PunctualLight> lights;  // the imported file's placed lights (version 7), in its order
     std::vector<KdNode> topTree;
     std::vector<ChunkInfo> chunks;
     std::vector<PackageVolume> volumes;  // density grids (version 4), in import order

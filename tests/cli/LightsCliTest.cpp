@@ -1,0 +1,84 @@
+// glTF KHR_lights_punctual through the command line: `import` keeps a file's lights, `info`
+// lists them (text and JSON), `render` lights the scene with them on either backend and
+// `--no-lights` leaves them out.
+#include "CommandRunner.h"
+#include "TestTmp.h"
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+using vastray::test::CommandResult;
+
+CommandResult run(const std::string& arguments) { return vastray::test::runVastray(arguments); }
+
+std::string tmp(const std::string& name) {
+    const std::filesystem::path dir = vastray::test::testTmpDir("cli-lights");
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A floor quad ([-2, 2]^2 at y = 0, facing +y) under a point light and a spot light.
+constexpr const char* kLitFloor = R"({"asset":{"version":"2.0"},
+ "buffers":[{"byteLength":60,"uri":"data:application/octet-stream;base64,AAAAwAAAAAAAAADAAAAAQAAAAAAAAADAAAAAQAAAAAAAAABAAAAAwAAAAAAAAABAAAACAAEAAAADAAIA"}],
+ "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":12}],
+ "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":4,"min":[-2,0,-2],"max":[2,0,2]},
+              {"bufferView":1,"componentType":5123,"type":"SCALAR","count":6}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+ "extensionsUsed":["KHR_lights_punctual"],
+ "extensions":{"KHR_lights_punctual":{"lights":[{"name":"Bulb","type":"point","intensity":3},
+   {"name":"Spot","type":"spot","intensity":8,"spot":{"outerConeAngle":0.4}}]}},
+ "nodes":[{"mesh":0},{"extensions":{"KHR_lights_punctual":{"light":0}},"translation":[0.5,1,0]},
+          {"extensions":{"KHR_lights_punctual":{"light":1}},"translation":[-1,2,0],"rotation":[-0.70710678,0,0,0.70710678]}],
+ "scenes":[{"nodes":[0,1,2]}]})";
+
+class LightsCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        std::ofstream(tmp("floor.gltf")) << kLitFloor;
+        CommandResult i = run("import " + tmp("floor.gltf") + " -o " + tmp("floor.vast"));
+        ASSERT_EQ(i.exitCode, 0) << i.output;
+    }
+};
+
+TEST_F(LightsCli, InfoListsTheLights) {
+    CommandResult text = run("info " + tmp("floor.vast"));
+    ASSERT_EQ(text.exitCode, 0) << text.output;
+    EXPECT_NE(text.output.find("'Bulb': point, colour (1, 1, 1), intensity 3 cd, at (0.5, 1, 0)"), std::string::npos)
+        << text.output;
+    EXPECT_NE(text.output.find("'Spot': spot"), std::string::npos) << text.output;
+    CommandResult json = run("info " + tmp("floor.vast") + " --json");
+    ASSERT_EQ(json.exitCode, 0) << json.output;
+    EXPECT_NE(json.output.find("\"lights\""), std::string::npos) << json.output;
+    EXPECT_NE(json.output.find("\"outer_cone_angle\""), std::string::npos) << json.output;
+}
+
+// The sun off: with --no-lights the floor shows the sky's light alone, without it the lights'
+// too; on both backends.
+TEST_F(LightsCli, RenderUsesTheLightsUnlessTold) {
+    for (const char* backend : {"embree", "vulkan"}) {
+        const std::string lit = tmp(std::string("lit-") + backend + ".pfm"), dark = tmp(std::string("dark-") + backend + ".pfm");
+        const std::string common = " --backend " + std::string(backend) +
+                                   " --resolution 24x16 --spp 1 --no-sun --eye 0,4,3 --target 0,0,0";
+        CommandResult a = run("render " + tmp("floor.vast") + " -o " + lit + common);
+        ASSERT_EQ(a.exitCode, 0) << a.output;
+        CommandResult b = run("render " + tmp("floor.vast") + " -o " + dark + common + " --no-lights");
+        ASSERT_EQ(b.exitCode, 0) << b.output;
+        EXPECT_NE(slurp(lit), slurp(dark)) << backend << ": the lights change nothing";
+    }
+    CommandResult help = run("render --help");
+    EXPECT_NE(help.output.find("--no-lights"), std::string::npos);
+}
+
+}  // namespace
