@@ -25,6 +25,13 @@ uint64_t blackbodyBytes(std::span<const VolumeShape> shapes) {
     return 0;
 }
 
+// How much the pager wants an absent brick: kWaitScore per parked walk waiting for it, 1 per walk
+// asking for it ahead (common/Volume.glsl's requestBrick).
+constexpr uint64_t kWaitScore = 4;
+uint64_t askWeight(std::span<const uint32_t> waits, std::span<const uint32_t> ahead, uint32_t brick) {
+    return kWaitScore * waits[brick] + ahead[brick];
+}
+
 // The most slots whose paged layout fits `bytes` (0 when not even the tables do).
 uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint64_t paths) {
     const uint64_t base = pagedVolumeBytes(shapes, 0, paths);
@@ -52,7 +59,9 @@ uint64_t inCoreVolumeBytes(std::span<const VolumeShape> shapes) {
 uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, uint64_t paths) {
     uint64_t bricks = 0;
     for (const VolumeShape& s : shapes) bricks += s.bricks;
-    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes + blackbodyBytes(shapes)) + granules(8 * bricks);
+    // The demand counters' readback: 2 per brick, 1 per slot.
+    return granules(pagedVolumeLayout(shapes, slots, paths).totalBytes + blackbodyBytes(shapes)) +
+           granules(8 * bricks + 4 * slots);
 }
 
 VolumeRegions volumeRegions(const Volume& volume, uint32_t slots) {
@@ -258,7 +267,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     VASTRAY_TRY(uploadBlackbody(volumes, layout.totalBytes, stats));
     uint64_t bricks = 0;
     for (const Volume& v : volumes) bricks += v.brickCount();
-    auto readback = device_.createBuffer(8 * bricks, VulkanDevice::MemoryUse::Readback);
+    auto readback = device_.createBuffer(8 * bricks + 4ull * slots, VulkanDevice::MemoryUse::Readback);
     if (!readback) return readback.status().withContext("volume brick counters: ");
     readback_ = std::move(readback).value();
     slots_ = slots;
@@ -283,6 +292,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     }
     brickSlot_.assign(brickVolume_.size(), kNoBrick);
     slotBrick_.assign(slots, kNoBrick);
+    slotUsed_.assign(slots, 0);
     brickRegion_.assign(brickVolume_.size(), kNoBrick);
     regionBricks_.clear();
     for (size_t i = 0; i < volumes.size(); ++i) {
@@ -309,7 +319,7 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     hand_ = 0, step_ = 0;
     densityOffset_ = layout.density, emissionOffset_ = layout.emission;
     demandOffset_ = layout.demand, parkOffset_ = layout.park, parkBytes_ = kVolumeParkBytes * paths;
-    const std::vector<uint32_t> zeros(2 * brickVolume_.size(), 0);  // no brick asked for
+    const std::vector<uint32_t> zeros(demandCount(), 0);  // no brick asked for
     VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_));
     const std::vector<uint64_t> density(volumes.size(), layout.density), emission(volumes.size(), layout.emission);
     return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission, layout.totalBytes);
@@ -362,53 +372,92 @@ Status DeviceVolumes::placeInHost(Move& move, std::vector<std::pair<uint32_t, ui
     return Status::ok();
 }
 
-// The region policy: each step makes resident the region (volumeRegions) whose absent bricks
-// parked walks ask for most (a walk waiting for a brick counts kWaitScore, one asking for it
-// ahead 1; among the regions some walk waits in; ties: the lowest region), in the slots of
-// bricks outside it. Every walk parked at a cell whose bricks it waits for have their home there
-// can then sample that cell, and the step's passes take it on until it ends or parks in another
-// region: a render cannot stall, and no walk needs this region again before another is loaded.
-// (Loading the most asked-for bricks one by one turned the pool over every step with little
-// progress; the pool's worth of bricks nearest the most asked-for brick served few walks per
-// step: PERF_NOTES 52.)
+// The demand policy: each step loads the absent bricks parked walks wait for, the most asked for
+// first (askWeight), then those walks ask for ahead (the next cells along their rays: a step
+// fewer for a walk that goes on), into the empty slots first, then into the slots of bricks no
+// parked walk keeps (keepCell in common/Volume.glsl: the resident bricks a parked walk reads when
+// it resumes), least recently used first. A brick a parked walk keeps is not evicted, so a walk's
+// bricks gather until it goes on, and a brick no ray reaches is never read. When the bricks walks
+// wait for outnumber those slots (walks all over a dense cloud), the step loads a region instead
+// (regionLoads, in the slots of the bricks outside it): every walk waiting in it can go on, so a
+// render cannot stall. PERF_NOTES 61 measured the choices (loading a region every step: PERF_NOTES
+// 52; neighbours of the waited bricks besides the asks ahead: more bricks read, no fewer steps).
 Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, StreamingStats& stats) {
-    constexpr uint64_t kWaitScore = 4;
     const uint64_t bricks = brickVolume_.size();
-    if (!paged() || demand.size() != 2 * bricks) return Status::error("volume paging: demand counters of the wrong size");
-    const std::span<const uint32_t> waits = demand.first(bricks), ahead = demand.subspan(bricks);
+    if (!paged() || demand.size() != demandCount())
+        return Status::error("volume paging: demand counters of the wrong size");
+    const std::span<const uint32_t> waits = demand.first(bricks), ahead = demand.subspan(bricks, bricks),
+                                    kept = demand.subspan(2 * bricks);
+    ++step_;
+    std::vector<uint32_t> wanted, later;  // absent: waited for, asked for ahead only
+    for (uint32_t b = 0; b < bricks; ++b)
+        if (brickSlot_[b] == kNoBrick && waits[b] > 0) wanted.push_back(b);
+        else if (brickSlot_[b] == kNoBrick && ahead[b] > 0) later.push_back(b);
+    if (wanted.empty()) return uint64_t(0);
+    const std::vector<uint32_t> slots = slotsToFill(kept);
+    if (wanted.size() > slots.size()) {
+        const auto [region, outside] = regionLoads(waits, ahead);
+        return load(region, outside, stats);
+    }
+    auto byWeight = [&](uint32_t a, uint32_t b) { return askWeight(waits, ahead, a) > askWeight(waits, ahead, b); };
+    std::stable_sort(wanted.begin(), wanted.end(), byWeight);
+    std::stable_sort(later.begin(), later.end(), byWeight);
+    wanted.insert(wanted.end(), later.begin(), later.end());
+    const size_t count = std::min(wanted.size(), slots.size());
+    return load(std::span(wanted).first(count), std::span(slots).first(count), stats);
+}
+
+std::vector<uint32_t> DeviceVolumes::slotsToFill(std::span<const uint32_t> kept) {
+    std::vector<uint32_t> empty, idle;
+    for (uint32_t s = 0; s < slots_; ++s) {
+        if (slotBrick_[s] == kNoBrick) empty.push_back(s);
+        else if (kept[s] > 0) slotUsed_[s] = step_;
+        else idle.push_back(s);
+    }
+    std::stable_sort(idle.begin(), idle.end(), [&](uint32_t a, uint32_t b) { return slotUsed_[a] < slotUsed_[b]; });
+    empty.insert(empty.end(), idle.begin(), idle.end());
+    return empty;
+}
+
+std::pair<std::vector<uint32_t>, std::vector<uint32_t>> DeviceVolumes::regionLoads(std::span<const uint32_t> waits,
+                                                                                   std::span<const uint32_t> ahead) {
     std::vector<uint64_t> score(regionBricks_.size(), 0);
     std::vector<uint8_t> waited(regionBricks_.size(), 0);
-    for (uint32_t b = 0; b < bricks; ++b) {
+    for (uint32_t b = 0; b < brickVolume_.size(); ++b) {
         if (brickSlot_[b] != kNoBrick || (waits[b] == 0 && ahead[b] == 0)) continue;
-        score[brickRegion_[b]] += kWaitScore * waits[b] + ahead[b];
+        score[brickRegion_[b]] += askWeight(waits, ahead, b);
         if (waits[b] > 0) waited[brickRegion_[b]] = 1;
     }
     uint32_t chosen = kNoBrick;
     for (uint32_t r = 0; r < score.size(); ++r)
         if (waited[r] && (chosen == kNoBrick || score[r] > score[chosen])) chosen = r;
-    if (chosen == kNoBrick) return uint64_t(0);
-    const std::vector<uint32_t>& region = regionBricks_[chosen];
-    std::vector<uint8_t> inRegion(bricks, 0);
-    for (const uint32_t brick : region) inRegion[brick] = 1;
-    std::vector<uint32_t> free;
-    for (uint32_t s = 0; s < slots_; ++s)
-        if (slotBrick_[s] == kNoBrick || !inRegion[slotBrick_[s]]) free.push_back(s);
+    std::pair<std::vector<uint32_t>, std::vector<uint32_t>> loads;
+    if (chosen == kNoBrick) return loads;
+    std::vector<uint8_t> inRegion(brickVolume_.size(), 0);
+    for (const uint32_t brick : regionBricks_[chosen]) {
+        inRegion[brick] = 1;
+        if (brickSlot_[brick] == kNoBrick) loads.first.push_back(brick);
+    }
+    for (uint32_t s = 0; s < slots_ && loads.second.size() < loads.first.size(); ++s)
+        if (slotBrick_[s] == kNoBrick || !inRegion[slotBrick_[s]]) loads.second.push_back(s);
+    return loads;
+}
+
+Result<uint64_t> DeviceVolumes::load(std::span<const uint32_t> bricks, std::span<const uint32_t> slots,
+                                     StreamingStats& stats) {
     // Which brick goes to which slot, and the cell tables, first; then the voxels on all cores
-    // (one core's writes through the device mapping were most of a step's time). A region holds
-    // at most a pool's worth of bricks, so every absent one finds a slot.
-    ++step_;
+    // (one core's writes through the device mapping were most of a step's time).
+    if (bricks.size() > slots.size()) return Status::error("volume paging: a region holds more bricks than the pool");
     std::vector<Move> moves;
     std::vector<std::pair<uint32_t, uint32_t>> reads;  // (brick, cache entry): read from the package first
-    for (const uint32_t brick : region) {
-        if (brickSlot_[brick] != kNoBrick) continue;
-        if (moves.size() == free.size()) return Status::error("volume paging: a region holds more bricks than the pool");
-        const uint32_t slot = free[moves.size()];
+    for (size_t i = 0; i < bricks.size(); ++i) {
+        const uint32_t brick = bricks[i], slot = slots[i];
         if (const uint32_t old = slotBrick_[slot]; old != kNoBrick) {
             brickSlot_[old] = kNoBrick;
             const uint32_t absent = kBrickAbsent | (old - volumeFirstBrick_[brickVolume_[old]]);
             VASTRAY_TRY(buffer_.upload(&absent, 4, tableOffset_[brickVolume_[old]] + 4ull * brickCell_[old]));
         }
-        brickSlot_[brick] = slot, slotBrick_[slot] = brick;
+        brickSlot_[brick] = slot, slotBrick_[slot] = brick, slotUsed_[slot] = step_;
         VASTRAY_TRY(buffer_.upload(&slot, 4, tableOffset_[brickVolume_[brick]] + 4ull * brickCell_[brick]));
         Move& move = moves.emplace_back(Move{brick, slot, nullptr, nullptr});
         if (Status placed = placeInHost(move, reads); !placed) {

@@ -4,8 +4,8 @@
 // (VolumeLayout). When the bytes the budget kept for them cannot hold every brick, the volumes
 // are paged (PagedVolumeLayout): the cell tables and majorants stay resident, the bricks go into
 // a pool of slots, and between the wavefront's paging steps page() turns the kernels' per-brick
-// demand counters into loads of the region most waited in. docs/RENDERING.md, "Volumes out of
-// core".
+// demand counters into loads of the bricks parked walks wait for. docs/RENDERING.md, "Volumes out
+// of core".
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -43,7 +43,8 @@ uint64_t minimumVolumeBytes(std::span<const VolumeShape> shapes, uint64_t paths)
 // region); a region's `bricks` are the stored bricks of its grown box (the volume's brick
 // numbers): with them resident, a walk parked at a cell whose bricks have their home there can
 // sample that cell (its trilinear reads touch the cell and the cells after it, all within one
-// cell of any of them).
+// cell of any of them). DeviceVolumes::page loads one when the pool has no slot for the bricks
+// walks wait for.
 struct VolumeRegions {
     std::vector<uint32_t> home;
     std::vector<std::vector<uint32_t>> bricks;
@@ -72,15 +73,18 @@ public:
     bool paged() const { return volumes_ && slots_ > 0; }
     uint32_t slotCount() const { return slots_; }        // 0: in core
     uint64_t brickCount() const { return brickVolume_.size(); }  // all volumes' bricks
-    uint64_t demandOffset() const { return demandOffset_; }      // in buffer(): 2 uint per brick (paged)
+    uint64_t demandOffset() const { return demandOffset_; }      // in buffer(): demandCount() uint (paged)
+    // The demand counters (paged): per brick the parked walks waiting for it, per brick those
+    // asking for it ahead, per slot whether a parked walk keeps it (common/Volume.glsl).
+    uint64_t demandCount() const { return paged() ? 2 * brickCount() + slots_ : 0; }
     uint64_t parkOffset() const { return parkOffset_; }          // in buffer(): VolumePark per path (paged)
     uint64_t parkBytes() const { return parkBytes_; }
 
-    // Paged, between steps while the device is idle: makes the region parked walks wait in most
-    // resident (`demand`: per brick the walks waiting for it, then per brick the walks asking for
-    // it ahead; DeviceVolumes.cpp). Bricks not in memory are read from their package on worker
-    // threads. Returns the loads. A brick that fails to read fails the step (naming the package,
-    // the volume and the brick) and drops the volumes: the next prepare builds them anew.
+    // Paged, between steps while the device is idle: loads the bricks parked walks wait for
+    // (`demand`: the counters, demandCount(); the policy in DeviceVolumes.cpp). Bricks not in
+    // memory are read from their package on worker threads. Returns the loads: at least one when
+    // a walk waits. A brick that fails to read fails the step (naming the package, the volume and
+    // the brick) and drops the volumes: the next prepare builds them anew.
     Result<uint64_t> page(std::span<const uint32_t> demand, StreamingStats& stats);
     uint64_t hostCacheBricks() const { return entryBrick_.size(); }
 
@@ -98,6 +102,15 @@ private:
         const float* density = nullptr;
         const float* emission = nullptr;
     };
+    // The slots page() fills this step, in order: the empty ones, then those of bricks no parked
+    // walk keeps, least recently used first.
+    std::vector<uint32_t> slotsToFill(std::span<const uint32_t> kept);
+    // The bricks of the region (volumeRegions) whose absent bricks walks ask for most among those
+    // some walk waits in, and the slots of the bricks outside it (the fallback when no slot is free).
+    std::pair<std::vector<uint32_t>, std::vector<uint32_t>> regionLoads(std::span<const uint32_t> waits,
+                                                                        std::span<const uint32_t> ahead);
+    // Puts `bricks` (absent) into `slots` (one each, in order) and reads and copies their voxels.
+    Result<uint64_t> load(std::span<const uint32_t> bricks, std::span<const uint32_t> slots, StreamingStats& stats);
     // Sets the move's host pointers: the volume's voxels, or a host cache entry (a new entry also
     // goes to `reads` as (brick, entry): its brick is read from the package before the copies).
     Status placeInHost(Move& move, std::vector<std::pair<uint32_t, uint32_t>>& reads);
@@ -118,9 +131,11 @@ private:
     GpuBuffer buffer_, readback_;
     uint32_t slots_ = 0;
     // Paged: per brick of all volumes its volume, its cell, its slot (kNoBrick: absent) and its
-    // home region; per volume its first brick and where its cell table lies; per slot its brick;
-    // per region (all volumes') the bricks it makes resident (numbered among all volumes').
+    // home region; per volume its first brick and where its cell table lies; per slot its brick
+    // and the last step that loaded it or found it kept; per region (all volumes') the bricks it
+    // makes resident (numbered among all volumes').
     std::vector<uint32_t> brickVolume_, brickCell_, brickSlot_, brickRegion_, volumeFirstBrick_, slotBrick_;
+    std::vector<uint64_t> slotUsed_;
     std::vector<std::vector<uint32_t>> regionBricks_;
     std::vector<uint64_t> tableOffset_;
     uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, parkOffset_ = 0, parkBytes_ = 0;

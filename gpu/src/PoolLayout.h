@@ -143,8 +143,10 @@ inline VolumeLayout volumeLayout(std::span<const VolumeShape> volumes) {
 // Paged volumes (gpu/src/DeviceVolumes.h): WavefrontVolume per volume, per volume its cell table
 // (a slot or kBrickAbsent | brick per cell) and majorants, then the pools of `slots` bricks
 // (density, and emission when a volume has an emission grid; a slot holds the same brick in
-// both), per brick of all volumes its lowest asking path, then its asks' weights, and per path of
-// a wave where its tracking parked (four uvec4, common/Volume.glsl's VolumePark).
+// both), the demand counters (per brick of all volumes the parked walks waiting for it, then per
+// brick those asking for it ahead, then per slot whether a parked walk keeps it: common/Volume.glsl's
+// requestBrick and keepCell), and per path of a wave where its tracking parked (four uvec4,
+// VolumePark).
 struct PagedVolumeLayout {
     std::vector<uint64_t> brickOf, majorant;
     uint64_t density = 0, emission = 0, demand = 0, park = 0, totalBytes = 0;
@@ -163,7 +165,7 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
     const uint64_t poolBytes = 4 * uint64_t(kVolumeBrickVoxels) * slots;
     l.density = at, at = align(at + poolBytes);
     l.emission = emission ? at : 0, at = emission ? align(at + poolBytes) : at;
-    l.demand = at, at = align(at + 8 * bricks);
+    l.demand = at, at = align(at + 8 * bricks + 4 * slots);
     l.park = at, at = align(at + kVolumeParkBytes * paths);
     l.totalBytes = at;
     return l;

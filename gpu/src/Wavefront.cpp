@@ -367,7 +367,7 @@ private:
     void copyVolumeCounters(const DeviceVolumes& volumes) {
         if (volumes.brickCount() == 0) return;
         record([&volumes](VkCommandBuffer cmd) {
-            const VkBufferCopy region{volumes.demandOffset(), 0, volumes.brickCount() * 8};
+            const VkBufferCopy region{volumes.demandOffset(), 0, volumes.demandCount() * 4};
             vkCmdCopyBuffer(cmd, volumes.buffer()->handle(), volumes.readback()->handle(), 1, &region);
             barrier(cmd);
         });
@@ -400,7 +400,7 @@ private:
     void clearVolumeCounters(const DeviceVolumes& volumes) {
         record([&volumes](VkCommandBuffer cmd) {
             if (volumes.brickCount() > 0)
-                vkCmdFillBuffer(cmd, volumes.buffer()->handle(), volumes.demandOffset(), volumes.brickCount() * 8, 0);
+                vkCmdFillBuffer(cmd, volumes.buffer()->handle(), volumes.demandOffset(), volumes.demandCount() * 4, 0);
             barrier(cmd);
         });
     }
@@ -463,7 +463,7 @@ private:
     struct Paging {
         Paging(uint32_t chunks, const DeviceVolumes* volumes)
             : demand(chunks + 2), ahead(chunks), counts(kQueueCount), touched(chunks), waveTouched(chunks, 0),
-              brickDemand(volumes ? 2 * volumes->brickCount() : 0) {}
+              brickDemand(volumes ? volumes->demandCount() : 0) {}
         std::vector<uint32_t> demand, ahead, counts, touched, waveTouched, brickDemand;
         bool planned = false;  // loads planned for the step about to run
         size_t loaded = 0;     // chunks loaded during the last step
@@ -478,8 +478,8 @@ private:
 
     // Submits the step recorded, loads the chunks planned after the last one while the device
     // works, waits, reads the counters (demand and look-ahead, queue sizes, touched flags) and,
-    // when paths wait for volume bricks, pages in the region around the one most waited for (it
-    // is absent, so every step loads it and lets the walks waiting at it go on).
+    // when paths wait for volume bricks, pages in the bricks they wait for (DeviceVolumes::page:
+    // every such step loads at least one).
     Status runStep(Paging& st, DeviceVolumes* volumes) {
         if (volumes) copyVolumeCounters(*volumes);
         copyStepCounters();

@@ -1,7 +1,8 @@
 // The paged volume pool's host side (gpu/src/DeviceVolumes.h) with bricks that stay in their
-// source: each step reads only the bricks of the region it loads, the host cache keeps what it
-// read (a brick paged in again is read again only once the cache lost it), and every resident
-// slot holds its brick's voxels, whatever the cache evicted.
+// source: each step reads only the bricks walks ask for, empty slots fill before a brick is
+// evicted, a brick a parked walk keeps is not evicted (the least recently used of the others
+// goes), the host cache keeps what it read (a brick paged in again is read again only once the
+// cache lost it), and every resident slot holds its brick's voxels, whatever the cache evicted.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -44,47 +45,64 @@ struct Steps {
     std::vector<uint64_t> reads;  // bricks read by each step
 };
 
-// Pages in the region of the brick at x = 0, then at x = 15, then at x = 0 again (a pool of 64
-// slots holds one region of 3 or 4 columns of 16 bricks), and checks every resident slot's voxels.
+constexpr uint64_t kPaths = 64;
+
+// The volume's cell table as the kernels see it: per cell its slot, or kBrickAbsent | brick.
+std::vector<uint32_t> cellTable(const DeviceVolumes& pool, const Volume& v) {
+    const std::vector<VolumeShape> shapes = volumeShapes(std::span(&v, 1));
+    const PagedVolumeLayout layout = pagedVolumeLayout(shapes, pool.slotCount(), kPaths);
+    std::vector<uint32_t> table(v.cellCount());
+    EXPECT_TRUE(pool.buffer()->download(table.data(), table.size() * 4, layout.brickOf[0]));
+    return table;
+}
+
+// A pool of kMinVolumeSlots slots over sourcedVolume.
+bool preparePool(DeviceVolumes& pool, const std::shared_ptr<const std::vector<Volume>>& volumes,
+                 StreamingStats& stats) {
+    const std::vector<VolumeShape> shapes = volumeShapes(*volumes);
+    const Status prepared = pool.prepare(volumes, pagedVolumeBytes(shapes, kMinVolumeSlots, kPaths), kPaths, stats);
+    EXPECT_TRUE(prepared) << prepared.message();
+    EXPECT_EQ(pool.slotCount(), kMinVolumeSlots);
+    return prepared && pool.slotCount() == kMinVolumeSlots;
+}
+
+// Walks wait for the bricks of columns x0 to x0 + 3 (64 bricks, a pool's worth), then of 12 to 15,
+// then of 0 to 3 again, and every resident slot's voxels are checked.
 Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
     auto source = std::make_shared<const CountingBricks>();
     const auto volumes = sourcedVolume(source);
-    const std::vector<VolumeShape> shapes = volumeShapes(*volumes);
-    constexpr uint64_t kPaths = 64;
     DeviceVolumes pool(device, hostCacheBytes);
     StreamingStats stats;
     Steps steps;
-    const Status prepared = pool.prepare(volumes, pagedVolumeBytes(shapes, kMinVolumeSlots, kPaths), kPaths, stats);
-    EXPECT_TRUE(prepared) << prepared.message();
-    if (!prepared) return steps;
-    EXPECT_EQ(pool.slotCount(), kMinVolumeSlots);
+    if (!preparePool(pool, volumes, stats)) return steps;
     EXPECT_GE(pool.hostCacheBricks(), kMinVolumeSlots);
     EXPECT_EQ(source->reads.load(), 0u) << "nothing is read before a walk asks";
     const Volume& v = (*volumes)[0];
-    for (const uint32_t x : {0u, 15u, 0u}) {
-        std::vector<uint32_t> demand(2 * v.brickCount(), 0);
-        demand[v.brickOf[x + 16 * (1 + 4 * 1)]] = 1;  // a walk waits for the brick at (x, 1, 1)
+    for (const uint32_t x0 : {0u, 12u, 0u}) {
+        std::vector<uint32_t> demand(pool.demandCount(), 0);
+        for (uint32_t c = 0; c < v.cellCount(); ++c)
+            if (c % 16 >= x0 && c % 16 < x0 + 4) demand[v.brickOf[c]] = 1;
         const uint64_t before = source->reads.load();
         auto loads = pool.page(demand, stats);
         EXPECT_TRUE(loads) << loads.message();
-        EXPECT_GT(loads ? *loads : 0, 0u);
+        EXPECT_EQ(loads ? *loads : 0, kMinVolumeSlots);
         steps.reads.push_back(source->reads.load() - before);
     }
     EXPECT_EQ(stats.volumeBricksRead, source->reads.load());
     // Every cell with a slot: that slot holds the cell's brick.
-    const PagedVolumeLayout layout = pagedVolumeLayout(shapes, pool.slotCount(), kPaths);
-    std::vector<uint32_t> table(v.cellCount());
-    EXPECT_TRUE(pool.buffer()->download(table.data(), table.size() * 4, layout.brickOf[0]));
+    const std::vector<uint32_t> table = cellTable(pool, v);
+    const PagedVolumeLayout layout = pagedVolumeLayout(volumeShapes(*volumes), pool.slotCount(), kPaths);
     uint64_t resident = 0;
     std::vector<float> voxels(kVolumeBrickVoxels);
     for (uint32_t c = 0; c < table.size(); ++c) {
         if (table[c] & kBrickAbsent) continue;
         ++resident;
+        EXPECT_LT(c % 16, 4u) << "cell " << c << " is resident, but no walk waits for it";
         EXPECT_TRUE(pool.buffer()->download(voxels.data(), voxels.size() * 4,
                                             layout.density + uint64_t(table[c]) * 4 * kVolumeBrickVoxels));
         for (uint32_t i = 0; i < kVolumeBrickVoxels; i += 37) EXPECT_EQ(voxels[i], voxelOf(c, i)) << "cell " << c;
     }
-    EXPECT_GT(resident, 0u);
+    EXPECT_EQ(resident, kMinVolumeSlots);
     return steps;
 }
 
@@ -93,17 +111,68 @@ TEST(DeviceVolumes, HostCacheKeepsTheBricksItReadAndSlotsHoldTheirBricks) {
     // A cache of the default size holds all 256 bricks: the third step reads none.
     const Steps roomy = pageBackAndForth(device, kVolumeHostCacheBytes);
     ASSERT_EQ(roomy.reads.size(), 3u);
-    EXPECT_GT(roomy.reads[0], 0u);
-    EXPECT_LE(roomy.reads[0], kMinVolumeSlots);
-    EXPECT_GT(roomy.reads[1], 0u);
+    EXPECT_EQ(roomy.reads[0], kMinVolumeSlots);
+    EXPECT_EQ(roomy.reads[1], kMinVolumeSlots);
     EXPECT_EQ(roomy.reads[2], 0u) << "a brick still in the host cache is read again";
-    // A cache of one pool's worth loses the first region's bricks to the second: the third step
+    // A cache of one pool's worth loses the first step's bricks to the second: the third step
     // reads them again, and the slots still hold the right voxels.
     const Steps tight = pageBackAndForth(device, 1);
     ASSERT_EQ(tight.reads.size(), 3u);
-    EXPECT_EQ(tight.reads[0], roomy.reads[0]);
-    EXPECT_EQ(tight.reads[1], roomy.reads[1]);
-    EXPECT_GT(tight.reads[2], 0u);
+    EXPECT_EQ(tight.reads[0], kMinVolumeSlots);
+    EXPECT_EQ(tight.reads[1], kMinVolumeSlots);
+    EXPECT_EQ(tight.reads[2], kMinVolumeSlots);
+}
+
+// Which slots a step fills: the empty ones before any brick is evicted; then the least recently
+// used brick no parked walk keeps; never a kept one while another slot is free of them; and when
+// the bricks walks wait for outnumber the slots not kept, a region still loads (no stall).
+TEST(DeviceVolumes, EmptySlotsFillFirstAndKeptBricksStay) {
+    VASTRAY_REQUIRE_DEVICE(device);
+    auto source = std::make_shared<const CountingBricks>();
+    const auto volumes = sourcedVolume(source);
+    DeviceVolumes pool(device);
+    StreamingStats stats;
+    ASSERT_TRUE(preparePool(pool, volumes, stats));
+    const Volume& v = (*volumes)[0];
+    const uint32_t bricks = uint32_t(v.brickCount()), slots = pool.slotCount();
+    // One step: walks wait for `waited`; parked walks keep the slots of `kept` (cells).
+    auto step = [&](const std::vector<uint32_t>& waited, const std::vector<uint32_t>& kept) -> uint64_t {
+        std::vector<uint32_t> demand(pool.demandCount(), 0);
+        for (const uint32_t c : waited) demand[v.brickOf[c]] = 1;
+        const std::vector<uint32_t> table = cellTable(pool, v);
+        for (const uint32_t c : kept) {
+            EXPECT_EQ(table[c] & kBrickAbsent, 0u) << "cell " << c << " is kept but not resident";
+            demand[2 * bricks + table[c]] = 1;
+        }
+        auto loads = pool.page(demand, stats);
+        EXPECT_TRUE(loads) << loads.message();
+        return loads ? *loads : 0;
+    };
+    auto resident = [&](uint32_t cell) { return (cellTable(pool, v)[cell] & kBrickAbsent) == 0; };
+    const uint32_t a = 0, b = 255;
+    EXPECT_EQ(step({a}, {}), 1u) << "only the brick a walk waits for is loaded";
+    EXPECT_EQ(step({b}, {}), 1u);
+    EXPECT_TRUE(resident(a)) << "a brick was evicted while slots were empty";
+    std::vector<uint32_t> rest;  // fills the pool: a and b, then cells 1 to 62
+    for (uint32_t c = 1; rest.size() + 2 < slots; ++c) rest.push_back(c);
+    EXPECT_EQ(step(rest, {}), slots - 2);
+    EXPECT_TRUE(resident(a) && resident(b)) << "a brick was evicted while slots were empty";
+    // Full: the least recently used goes (a, loaded first), unless a parked walk keeps it.
+    EXPECT_EQ(step({100}, {}), 1u);
+    EXPECT_FALSE(resident(a)) << "not the least recently used brick was evicted";
+    std::vector<uint32_t> keptAllBut1 = {b, 100};  // every resident brick but cell 1's
+    for (uint32_t c = 2; c <= 62; ++c) keptAllBut1.push_back(c);
+    EXPECT_EQ(step({101}, keptAllBut1), 1u);
+    EXPECT_FALSE(resident(1)) << "a brick a parked walk keeps was evicted";
+    for (const uint32_t c : keptAllBut1) EXPECT_TRUE(resident(c)) << "cell " << c << " was kept, but evicted";
+    // Every slot kept and more bricks waited for than the pool holds: a region loads anyway.
+    std::vector<uint32_t> all(bricks), keptAll = keptAllBut1;
+    for (uint32_t c = 0; c < bricks; ++c) all[c] = c;
+    keptAll.push_back(101);
+    const uint64_t loads = step(all, keptAll);
+    EXPECT_GT(loads, 0u) << "a step loaded nothing while walks wait";
+    EXPECT_LE(loads, slots);
+    EXPECT_EQ(stats.volumeBrickLoads, slots + 2 + loads);
 }
 
 }  // namespace

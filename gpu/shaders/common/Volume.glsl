@@ -10,7 +10,8 @@
 // and sets volumeMissed; the shading writes the park record and nothing else, and when the
 // path shades again it resumes the tracking at that cell. Every value the tracking reads is a
 // resident brick's, the same as in core, and a resumed walk continues with the same numbers:
-// paged and in-core renders are equal bit for bit.
+// paged and in-core renders are equal bit for bit. A parked walk also marks the resident bricks
+// it will read when it resumes (keepCell), which the pager then does not evict.
 #ifndef VASTRAY_VOLUME_GLSL
 #define VASTRAY_VOLUME_GLSL
 
@@ -118,6 +119,24 @@ void pageCell(WavefrontVolume v, ivec3 cell, uint kind) {
         if (any(greaterThanEqual(c, cells))) continue;
         const uint entry = VolumeUints(v.brickOf).v[c.x + cells.x * (c.y + cells.y * c.z)];
         if (entry != kNoBrick && (entry & kBrickAbsent) != 0u) requestBrick(v, entry, kind);
+    }
+}
+
+// keepCell (paged volumes): a walk parked at `cell` reads, once it resumes there, bricks of the
+// cells within one cell of it (its trilinear reads touch the cells after it; rounding reaches one
+// back); it marks the slots of those that are resident (the counters after the asks: one per
+// slot), so that the pager does not evict them while it waits (DeviceVolumes::page).
+void keepCell(WavefrontVolume v, ivec3 cell) {
+    const ivec3 cells = ivec3(volumeCells(v));
+    RwUintArray demand = RwUintArray(ParamsRef(pc.params).p.volumeDemand);
+    const uint kept = 2u * ParamsRef(pc.params).p.volumeBrickCount;
+    for (uint n = 0u; n < 27u; ++n) {
+        const ivec3 c = cell + ivec3(int(n % 3u), int((n / 3u) % 3u), int(n / 9u)) - ivec3(1);
+        if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, cells))) continue;
+        const uint index = uint(c.x) + uint(cells.x) * (uint(c.y) + uint(cells.y) * uint(c.z));
+        const uint entry = VolumeUints(v.brickOf).v[index];
+        if (entry == kNoBrick || (entry & kBrickAbsent) != 0u) continue;
+        if (demand.v[kept + entry] == 0u) atomicOr(demand.v[kept + entry], 1u);
     }
 }
 
@@ -245,6 +264,7 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
                 if (volumeMissed) {
                     rnd.counter = startCounter, steps = startSteps, transmittance = startTransmittance;
                     park.cell = cell, park.tNext = tNext, park.t = t, park.steps = steps, park.counter = rnd.counter;
+                    keepCell(v, cell);
                 }
             }
         }
