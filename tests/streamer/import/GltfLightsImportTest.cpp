@@ -65,6 +65,15 @@ TEST(GltfLightsImport, EachKindKeepsItsValuesAndItsNodesPlacement) {
     EXPECT_TRUE(near(lights[2].direction, {0, -1, 0}));
 }
 
+// A file that requires the extension imports (the loader refuses required extensions it lacks).
+TEST(GltfLightsImport, RequiredExtensionIsSupported) {
+    std::string json = lightsGltf(R"({"type":"point"})", R"({"mesh":0,"children":[1]},{"extensions":{"KHR_lights_punctual":{"light":0}}})");
+    json.replace(json.find("\"extensionsUsed\""), 0, R"("extensionsRequired":["KHR_lights_punctual"],)");
+    auto r = importGltf(writeFile("required-lights.gltf", json));
+    ASSERT_TRUE(r) << r.message();
+    EXPECT_EQ(r->mesh.lights.size(), 1u);
+}
+
 TEST(GltfLightsImport, SpotDefaultsAreTheExtensionsAndUnplacedLightsAreReported) {
     auto r = importLights("spot-defaults.gltf", R"({"type":"spot","spot":{}},{"type":"point"})",
                           R"({"extensions":{"KHR_lights_punctual":{"light":0}}})");
