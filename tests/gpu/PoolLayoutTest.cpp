@@ -47,5 +47,23 @@ TEST(PoolLayout, StateArraysAreAlignedAndDisjointForAnyPathCount) {
     }
 }
 
+// The punctual lights' section of the table buffer (counted, as the whole table buffer is,
+// against --memory-budget): one WavefrontLight per package light after the stream window, none
+// without lights.
+TEST(PoolLayout, LightSectionHoldsThePackagesLightsAndCostsNothingWithoutThem) {
+    PackageInfo package;
+    package.materials.resize(1);
+    const TableLayout none = tableLayout(4, package);
+    EXPECT_EQ(none.lightCapacity, 0u);
+    EXPECT_EQ(none.totalBytes, none.lights);
+    package.lights.resize(3);
+    const TableLayout three = tableLayout(4, package);
+    EXPECT_EQ(three.lightCapacity, 3u);
+    EXPECT_EQ(three.lights % 16, 0u);
+    EXPECT_GE(three.lights, three.stream + sizeof(StreamWindow));
+    EXPECT_EQ(three.totalBytes, three.lights + 3 * sizeof(WavefrontLight));
+    EXPECT_EQ(three.totalBytes - none.totalBytes, 3 * sizeof(WavefrontLight));
+}
+
 }  // namespace
 }  // namespace vastray::gpu
