@@ -438,8 +438,14 @@ std::pair<std::vector<uint32_t>, std::vector<uint32_t>> DeviceVolumes::regionLoa
         inRegion[brick] = 1;
         if (brickSlot_[brick] == kNoBrick) loads.first.push_back(brick);
     }
-    for (uint32_t s = 0; s < slots_ && loads.second.size() < loads.first.size(); ++s)
-        if (slotBrick_[s] == kNoBrick || !inRegion[slotBrick_[s]]) loads.second.push_back(s);
+    // Empty slots first, then those of bricks outside the region in slot order (least recently
+    // used first took 6 % more steps and 3 % more loads on PERF_NOTES 52's cloud).
+    std::vector<uint32_t> outside;
+    for (uint32_t s = 0; s < slots_; ++s)
+        if (slotBrick_[s] == kNoBrick) loads.second.push_back(s);
+        else if (!inRegion[slotBrick_[s]]) outside.push_back(s);
+    loads.second.insert(loads.second.end(), outside.begin(), outside.end());
+    loads.second.resize(std::min(loads.second.size(), loads.first.size()));
     return loads;
 }
 

@@ -105,8 +105,9 @@ private:
     // The slots page() fills this step, in order: the empty ones, then those of bricks no parked
     // walk keeps, least recently used first.
     std::vector<uint32_t> slotsToFill(std::span<const uint32_t> kept);
-    // The bricks of the region (volumeRegions) whose absent bricks walks ask for most among those
-    // some walk waits in, and the slots of the bricks outside it (the fallback when no slot is free).
+    // The absent bricks of the region (volumeRegions) whose absent bricks walks ask for most among
+    // those some walk waits in, and as many slots for them: empty ones, then those of bricks
+    // outside it (when the waited bricks outnumber the slots not kept).
     std::pair<std::vector<uint32_t>, std::vector<uint32_t>> regionLoads(std::span<const uint32_t> waits,
                                                                         std::span<const uint32_t> ahead);
     // Puts `bricks` (absent) into `slots` (one each, in order) and reads and copies their voxels.

@@ -175,5 +175,35 @@ TEST(DeviceVolumes, EmptySlotsFillFirstAndKeptBricksStay) {
     EXPECT_EQ(stats.volumeBrickLoads, slots + 2 + loads);
 }
 
+// A region step (the waited bricks outnumber the slots not kept) fills the empty slots before it
+// evicts a brick, kept or not.
+TEST(DeviceVolumes, RegionStepFillsEmptySlotsFirst) {
+    VASTRAY_REQUIRE_DEVICE(device);
+    auto source = std::make_shared<const CountingBricks>();
+    const auto volumes = sourcedVolume(source);
+    DeviceVolumes pool(device);
+    StreamingStats stats;
+    ASSERT_TRUE(preparePool(pool, volumes, stats));
+    const Volume& v = (*volumes)[0];
+    const uint32_t bricks = uint32_t(v.brickCount());
+    std::vector<uint32_t> column;  // the 16 cells at x = 15, into the first 16 slots
+    for (uint32_t c = 15; c < bricks; c += 16) column.push_back(c);
+    std::vector<uint32_t> demand(pool.demandCount(), 0);
+    for (const uint32_t c : column) demand[v.brickOf[c]] = 1;
+    ASSERT_EQ(pool.page(demand, stats).value(), column.size());
+    // Walks wait for every brick; the column's are kept, 48 slots are empty.
+    std::vector<uint32_t> table = cellTable(pool, v);
+    std::fill(demand.begin(), demand.end(), 0);
+    for (uint32_t c = 0; c < bricks; ++c) demand[v.brickOf[c]] = 1;
+    for (const uint32_t c : column) demand[2 * bricks + table[c]] = 1;
+    const uint64_t empty = pool.slotCount() - column.size();
+    const uint64_t loads = pool.page(demand, stats).value();
+    EXPECT_GT(loads, 0u);
+    table = cellTable(pool, v);
+    uint64_t evicted = 0;
+    for (const uint32_t c : column) evicted += (table[c] & kBrickAbsent) != 0;
+    EXPECT_EQ(evicted, loads > empty ? loads - empty : 0) << "a region evicted bricks while slots were empty";
+}
+
 }  // namespace
 }  // namespace vastray::gpu
