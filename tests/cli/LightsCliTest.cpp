@@ -2,6 +2,7 @@
 // lists them (text and JSON), `render` lights the scene with them on either backend and
 // `--no-lights` leaves them out.
 #include "CommandRunner.h"
+#include "LitFloorGltf.h"
 #include "TestTmp.h"
 #include <gtest/gtest.h>
 
@@ -29,19 +30,11 @@ std::string slurp(const std::string& path) {
     return s.str();
 }
 
-// A floor quad ([-2, 2]^2 at y = 0, facing +y) under a point light and a spot light.
-constexpr const char* kLitFloor = R"({"asset":{"version":"2.0"},
- "buffers":[{"byteLength":60,"uri":"data:application/octet-stream;base64,AAAAwAAAAAAAAADAAAAAQAAAAAAAAADAAAAAQAAAAAAAAABAAAAAwAAAAAAAAABAAAACAAEAAAADAAIA"}],
- "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":12}],
- "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":4,"min":[-2,0,-2],"max":[2,0,2]},
-              {"bufferView":1,"componentType":5123,"type":"SCALAR","count":6}],
- "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
- "extensionsUsed":["KHR_lights_punctual"],
- "extensions":{"KHR_lights_punctual":{"lights":[{"name":"Bulb","type":"point","intensity":3},
-   {"name":"Spot","type":"spot","intensity":8,"spot":{"outerConeAngle":0.4}}]}},
- "nodes":[{"mesh":0},{"extensions":{"KHR_lights_punctual":{"light":0}},"translation":[0.5,1,0]},
-          {"extensions":{"KHR_lights_punctual":{"light":1}},"translation":[-1,2,0],"rotation":[-0.70710678,0,0,0.70710678]}],
- "scenes":[{"nodes":[0,1,2]}]})";
+// The floor under a point light and a spot light.
+const std::string kLitFloor = vastray::test::litFloorGltf(
+    R"({"name":"Bulb","type":"point","intensity":3},{"name":"Spot","type":"spot","intensity":8,"spot":{"outerConeAngle":0.4}})",
+    R"({"extensions":{"KHR_lights_punctual":{"light":0}},"translation":[0.5,1,0]},)"
+    R"({"extensions":{"KHR_lights_punctual":{"light":1}},"translation":[-1,2,0],"rotation":[-0.70710678,0,0,0.70710678]})");
 
 class LightsCli : public ::testing::Test {
 protected:
