@@ -56,28 +56,36 @@ std::vector<uint32_t> cellTable(const DeviceVolumes& pool, const Volume& v) {
     return table;
 }
 
-// A pool of kMinVolumeSlots slots over sourcedVolume.
-bool preparePool(DeviceVolumes& pool, const std::shared_ptr<const std::vector<Volume>>& volumes,
-                 StreamingStats& stats) {
-    const std::vector<VolumeShape> shapes = volumeShapes(*volumes);
-    const Status prepared = pool.prepare(volumes, pagedVolumeBytes(shapes, kMinVolumeSlots, kPaths), kPaths, stats);
-    EXPECT_TRUE(prepared) << prepared.message();
-    EXPECT_EQ(pool.slotCount(), kMinVolumeSlots);
-    return prepared && pool.slotCount() == kMinVolumeSlots;
-}
+// A pool of kMinVolumeSlots slots over sourcedVolume, its bricks counted as they are read.
+struct SourcedPool {
+    explicit SourcedPool(VulkanDevice& device, uint64_t hostCacheBytes = kVolumeHostCacheBytes)
+        : source(std::make_shared<const CountingBricks>()),
+          volumes(sourcedVolume(source)),
+          pool(device, hostCacheBytes) {
+        const Status prepared = pool.prepare(
+            volumes, pagedVolumeBytes(volumeShapes(*volumes), kMinVolumeSlots, kPaths), kPaths, stats);
+        EXPECT_TRUE(prepared) << prepared.message();
+        EXPECT_EQ(pool.slotCount(), kMinVolumeSlots);
+        ready = prepared && pool.slotCount() == kMinVolumeSlots;
+    }
+    const Volume& volume() const { return (*volumes)[0]; }
+    std::shared_ptr<const CountingBricks> source;
+    std::shared_ptr<const std::vector<Volume>> volumes;
+    DeviceVolumes pool;
+    StreamingStats stats;
+    bool ready = false;
+};
 
 // Walks wait for the bricks of columns x0 to x0 + 3 (64 bricks, a pool's worth), then of 12 to 15,
 // then of 0 to 3 again, and every resident slot's voxels are checked.
 Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
-    auto source = std::make_shared<const CountingBricks>();
-    const auto volumes = sourcedVolume(source);
-    DeviceVolumes pool(device, hostCacheBytes);
-    StreamingStats stats;
+    SourcedPool sourced(device, hostCacheBytes);
+    auto& [source, volumes, pool, stats, ready] = sourced;
     Steps steps;
-    if (!preparePool(pool, volumes, stats)) return steps;
+    if (!ready) return steps;
     EXPECT_GE(pool.hostCacheBricks(), kMinVolumeSlots);
     EXPECT_EQ(source->reads.load(), 0u) << "nothing is read before a walk asks";
-    const Volume& v = (*volumes)[0];
+    const Volume& v = sourced.volume();
     for (const uint32_t x0 : {0u, 12u, 0u}) {
         std::vector<uint32_t> demand(pool.demandCount(), 0);
         for (uint32_t c = 0; c < v.cellCount(); ++c)
@@ -128,12 +136,10 @@ TEST(DeviceVolumes, HostCacheKeepsTheBricksItReadAndSlotsHoldTheirBricks) {
 // the bricks walks wait for outnumber the slots not kept, a region still loads (no stall).
 TEST(DeviceVolumes, EmptySlotsFillFirstAndKeptBricksStay) {
     VASTRAY_REQUIRE_DEVICE(device);
-    auto source = std::make_shared<const CountingBricks>();
-    const auto volumes = sourcedVolume(source);
-    DeviceVolumes pool(device);
-    StreamingStats stats;
-    ASSERT_TRUE(preparePool(pool, volumes, stats));
-    const Volume& v = (*volumes)[0];
+    SourcedPool sourced(device);
+    ASSERT_TRUE(sourced.ready);
+    auto& [source, volumes, pool, stats, ready] = sourced;
+    const Volume& v = sourced.volume();
     const uint32_t bricks = uint32_t(v.brickCount()), slots = pool.slotCount();
     // One step: walks wait for `waited`; parked walks keep the slots of `kept` (cells).
     auto step = [&](const std::vector<uint32_t>& waited, const std::vector<uint32_t>& kept) -> uint64_t {
@@ -179,12 +185,10 @@ TEST(DeviceVolumes, EmptySlotsFillFirstAndKeptBricksStay) {
 // evicts a brick, kept or not.
 TEST(DeviceVolumes, RegionStepFillsEmptySlotsFirst) {
     VASTRAY_REQUIRE_DEVICE(device);
-    auto source = std::make_shared<const CountingBricks>();
-    const auto volumes = sourcedVolume(source);
-    DeviceVolumes pool(device);
-    StreamingStats stats;
-    ASSERT_TRUE(preparePool(pool, volumes, stats));
-    const Volume& v = (*volumes)[0];
+    SourcedPool sourced(device);
+    ASSERT_TRUE(sourced.ready);
+    auto& [source, volumes, pool, stats, ready] = sourced;
+    const Volume& v = sourced.volume();
     const uint32_t bricks = uint32_t(v.brickCount());
     std::vector<uint32_t> column;  // the 16 cells at x = 15, into the first 16 slots
     for (uint32_t c = 15; c < bricks; c += 16) column.push_back(c);
