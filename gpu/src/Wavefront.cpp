@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <future>
 #include <vector>
 
 #include "vastray/core/Camera.h"
@@ -124,24 +125,67 @@ void setEnvironment(WavefrontParams& p, const Environment& e) {
 
 }  // namespace
 
+namespace {
+
+// A pipeline being created on a thread of its own: with an empty driver cache a driver compiles
+// each kernel (0.3-0.5 s on the H200), so the kernels a render needs are created side by side
+// (PERF_NOTES 60).
+using PendingPipeline = std::future<Result<std::unique_ptr<ComputePipeline>>>;
+PendingPipeline createAsync(VulkanDevice& device, std::span<const uint32_t> spirv, std::vector<uint32_t> constants = {}) {
+    return std::async(std::launch::async, [&device, spirv, constants = std::move(constants)] {
+        return ComputePipeline::create(device, spirv, sizeof(WavefrontPush), constants);
+    });
+}
+
+uint32_t variantKey(std::span<const uint32_t> constants) {
+    uint32_t key = 0, bit = 0;
+    for (uint32_t c : constants) key |= (c ? 1u : 0u) << bit++;
+    return key;
+}
+
+}  // namespace
+
 Result<std::unique_ptr<Wavefront>> Wavefront::create(VulkanDevice& device) {
     std::unique_ptr<Wavefront> w(new Wavefront(device));
-    const std::pair<std::span<const uint32_t>, std::unique_ptr<ComputePipeline>*> kernels[] = {
-        {kGenerateSpirv, &w->pipelines_.generate},
-        {kAccumulateSpirv, &w->pipelines_.accumulate},
-        {kAovSpirv, &w->pipelines_.aov}};
-    for (const auto& [spirv, pipeline] : kernels) {
-        auto created = ComputePipeline::create(device, spirv, sizeof(WavefrontPush));
-        if (!created) return created.status();
-        *pipeline = std::move(created).value();
+    std::pair<PendingPipeline, std::unique_ptr<ComputePipeline>*> kernels[] = {
+        {createAsync(device, kGenerateSpirv), &w->pipelines_.generate},
+        {createAsync(device, kAccumulateSpirv), &w->pipelines_.accumulate},
+        {createAsync(device, kAovSpirv), &w->pipelines_.aov}};
+    Status status = Status::ok();
+    for (auto& [pending, pipeline] : kernels) {  // every one is waited for, failed or not
+        auto created = pending.get();
+        if (!created && status.isOk()) status = created.status();
+        if (created) *pipeline = std::move(created).value();
     }
+    if (!status.isOk()) return status;
     return w;
+}
+
+void Wavefront::startWalkVariants(std::initializer_list<std::array<uint32_t, 2>> variants) {
+    for (const auto& constants : variants) {
+        const uint32_t key = variantKey(constants);
+        if (pipelines_.walk.count(key) || pendingWalks_.count(key)) continue;
+        pendingWalks_.emplace(key, createAsync(device_, kWalkSpirv, {constants[0], constants[1]}));
+    }
+}
+
+Status Wavefront::finishWalkVariants(StreamingStats& stats) {
+    if (pendingWalks_.empty()) return Status::ok();
+    const auto start = std::chrono::steady_clock::now();
+    Status status = Status::ok();
+    for (auto& [key, pending] : pendingWalks_) {  // every one is waited for, failed or not
+        auto created = pending.get();
+        if (!created && status.isOk()) status = created.status();
+        if (created) pipelines_.walk[key] = std::move(created).value();
+    }
+    pendingWalks_.clear();
+    stats.pipelineSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return status;
 }
 
 Result<const ComputePipeline*> Wavefront::variant(bool walk, std::initializer_list<uint32_t> constants,
                                                   StreamingStats& stats) {
-    uint32_t key = 0, bit = 0;
-    for (uint32_t c : constants) key |= (c ? 1u : 0u) << bit++;
+    const uint32_t key = variantKey(constants);
     auto& cache = walk ? pipelines_.walk : pipelines_.shade;
     if (auto found = cache.find(key); found != cache.end()) return found->second.get();
     const std::vector<uint32_t> values(constants);
@@ -181,12 +225,18 @@ public:
         if (lights && options_.lights->size() > b_.tables.lightCapacity)
             return Status::error("device render: " + std::to_string(options_.lights->size()) +
                                  " punctual lights, the package's tables hold " + std::to_string(b_.tables.lightCapacity));
+        // The walk variants this render will ask for are created beside the shade variant: the
+        // paging one while a chunk is missing, the resident one where every chunk gets a slot.
+        const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
+        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u}});
+        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u}});
         auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
                                         sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
                                         environmentMap, volumes, glossy, lights},
                                 stats_);
         if (!shade) return shade.status();
         shade_ = *shade;
+        VASTRAY_TRY(w_.finishWalkVariants(stats_));
         VASTRAY_TRY(uploadParams());
         if (glossy) VASTRAY_TRY(upload(microfacetTables(), b_.tables.microfacet));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));

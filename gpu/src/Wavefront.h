@@ -6,6 +6,8 @@
 // the pager page chunks in before the next step; paged volumes page their bricks at the same
 // points (paths that read an absent brick wait and shade again). Only the counters and the
 // finished tile's pixels come back.
+#include <array>
+#include <future>
 #include <initializer_list>
 #include <map>
 #include <memory>
@@ -57,9 +59,15 @@ private:
     // (the time creating one, a driver compilation on its first use in a process, is added to
     // stats.pipelineSeconds)
     Result<const ComputePipeline*> variant(bool walk, std::initializer_list<uint32_t> constants, StreamingStats& stats);
+    // Starts creating these walk variants (kCountCost, kPaging) on threads of their own, while
+    // the render thread creates the shade variant; finishWalkVariants waits for them (adding
+    // the wait to stats.pipelineSeconds) and keeps them for variant().
+    void startWalkVariants(std::initializer_list<std::array<uint32_t, 2>> variants);
+    Status finishWalkVariants(StreamingStats& stats);
 
     VulkanDevice& device_;
     Pipelines pipelines_;
+    std::map<uint32_t, std::future<Result<std::unique_ptr<ComputePipeline>>>> pendingWalks_;
 };
 
 }  // namespace vastray::gpu
