@@ -1,6 +1,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -384,7 +385,24 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
                     (unsigned long long)st->volumeBricksRead);
 }
 
-Status writeStatsJson(const std::string& path, const RenderStats& s, const StreamingStats* st) {
+// Where a `vastray render --backend vulkan` command's time goes besides the render itself
+// (--stats-json; docs/RENDERING.md): a cold render's wall time is mostly these.
+struct CommandTimings {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    double deviceStartSeconds = 0;  // device_start_seconds: creating the Vulkan device (beside the package's opening)
+    double deviceWaitSeconds = 0;   // device_wait_seconds: the backend factory waiting for it
+    double backendSeconds = 0;      // backend_seconds: creating the backend (pools, staging area, first kernels)
+    double openSeconds = 0;         // open_seconds: the command's start to the backend being ready
+    double closeSeconds = 0;        // close_seconds: after the backend was ready, besides render_seconds (teardown)
+    double writeSeconds = 0;        // write_seconds: writing the image file
+};
+
+double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+Status writeStatsJson(const std::string& path, const RenderStats& s, const StreamingStats* st,
+                      const CommandTimings* timings) {
     nlohmann::json j{{"backend", s.backend},
                            {"render_seconds", s.renderSeconds},
                            {"build_seconds", s.buildSeconds},
@@ -420,6 +438,14 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["peak_device_bytes"] = st->peakDeviceBytes;
         j["memory_budget_bytes"] = st->memoryBudgetBytes;
     }
+    if (timings) {
+        j["device_start_seconds"] = timings->deviceStartSeconds;
+        j["device_wait_seconds"] = timings->deviceWaitSeconds;
+        j["backend_seconds"] = timings->backendSeconds;
+        j["open_seconds"] = timings->openSeconds;
+        j["close_seconds"] = timings->closeSeconds;
+        j["write_seconds"] = timings->writeSeconds;
+    }
     std::ofstream out(path);
     out << j.dump(2) << "\n";
     if (!out) return Status::error(path + ": cannot write stats");
@@ -452,14 +478,20 @@ private:
 };
 
 Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, const StreamingSizes& sizes,
-                                 RenderStats& stats, StreamingStats& streaming, const RenderProgress& progress) {
+                                 RenderStats& stats, StreamingStats& streaming, const RenderProgress& progress,
+                                 CommandTimings& timings) {
     const uint64_t budget = sizes.memoryBudget;
     // The device starts up (~0.3 s on a discrete GPU) while the package opens and its chunks
     // decode (StreamingOptions::decodeOnOpen); the backend factory waits for it.
     gpu::VulkanDeviceOptions deviceOptions;
     deviceOptions.deviceIndex = int(args.gpuDevice);
     // An early return waits for it in the future's destructor (std::async).
-    auto starting = std::async(std::launch::async, [deviceOptions] { return gpu::VulkanDevice::create(deviceOptions); });
+    auto starting = std::async(std::launch::async, [deviceOptions, &timings] {
+        const auto start = std::chrono::steady_clock::now();
+        auto device = gpu::VulkanDevice::create(deviceOptions);
+        timings.deviceStartSeconds = secondsBetween(start, std::chrono::steady_clock::now());
+        return device;
+    });
     std::optional<decltype(starting.get())> device;
     TemporaryPackage temporary;
     std::string path = args.input;
@@ -484,12 +516,23 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     streaming.memoryBudgetBytes = budget;
     const ChunkBackendFactory factory =
         [&](const PackageInfo& info, const ChunkAttributes& attributes) -> Result<std::unique_ptr<ChunkBackend>> {
+        const auto waiting = std::chrono::steady_clock::now();
         if (!device) device.emplace(starting.get());
         if (!*device) return device->status();
-        return gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
-                                             gpu::environmentBytes(options.environment) + gpu::volumeReserveBytes(info, budget));
+        const auto creating = std::chrono::steady_clock::now();
+        timings.deviceWaitSeconds = secondsBetween(waiting, creating);
+        auto backend = gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
+                                                     gpu::environmentBytes(options.environment) +
+                                                         gpu::volumeReserveBytes(info, budget));
+        const auto ready = std::chrono::steady_clock::now();
+        timings.backendSeconds = secondsBetween(creating, ready);
+        timings.openSeconds = secondsBetween(timings.start, ready);
+        return backend;
     };
-    return renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
+    auto image = renderStreaming(**reader, options, streamingOptions, factory, &stats, &streaming, progress);
+    timings.closeSeconds = std::max(
+        0.0, secondsBetween(timings.start, std::chrono::steady_clock::now()) - timings.openSeconds - stats.renderSeconds);
+    return image;
 }
 
 // "pixels 16,0,33,19 of 50x37" or "50x37".
@@ -516,12 +559,13 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
     }
     RenderStats stats;
     StreamingStats streaming;
+    CommandTimings timings;
     const bool vulkan = args.backend == "vulkan";
     progress.status("rendering " + describePixels(*options) + " of " + args.input + " (" + args.backend + ", " +
                     std::to_string(options->samplesPerPixel) + " spp)");
     Result<RenderImage> image = Status::error("no image");
     if (vulkan) {
-        image = renderVulkan(args, *options, sizes, stats, streaming, progress.callback());
+        image = renderVulkan(args, *options, sizes, stats, streaming, progress.callback(), timings);
     } else {
         auto scene = loadRenderScene(args.input);
         if (!scene) return progress.fail(scene.message(), 1);
@@ -534,8 +578,11 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
     if (!image) return progress.fail(image.message(), 1);
     progress.finish();
     progress.status("writing " + args.output);
+    const auto writing = std::chrono::steady_clock::now();
     Status written = writeImageFile(args.output, *image);
-    if (written && !args.statsJson.empty()) written = writeStatsJson(args.statsJson, stats, vulkan ? &streaming : nullptr);
+    timings.writeSeconds = secondsBetween(writing, std::chrono::steady_clock::now());
+    if (written && !args.statsJson.empty())
+        written = writeStatsJson(args.statsJson, stats, vulkan ? &streaming : nullptr, vulkan ? &timings : nullptr);
     if (!written) return progress.fail(written.message(), 1);
     if (args.stats) printStats(stats, *options, vulkan ? &streaming : nullptr);
     progress.status("wrote " + args.output);

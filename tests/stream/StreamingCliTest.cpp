@@ -58,12 +58,16 @@ TEST(StreamingCli, DefaultBackendIsVulkanAndReportsTheStreamingFigures) {
     EXPECT_NE(json.find("\"backend\": \"vulkan\""), std::string::npos) << json;
     for (const char* key : {"chunks_total", "chunks_touched", "chunk_loads", "bytes_read", "bytes_uploaded",
                             "decode_seconds", "upload_seconds", "device_seconds", "submits", "walk_passes", "pipeline_seconds",
+                            "device_start_seconds", "backend_seconds", "open_seconds", "write_seconds",
                             "host_to_device_bytes", "device_to_host_bytes", "walked_rays", "peak_device_bytes",
                             "memory_budget_bytes"})
         EXPECT_GT(jsonNumber(json, key), 0.0) << key << "\n" << json;
     EXPECT_EQ(jsonNumber(json, "memory_budget_bytes"), 512.0 * 1024);
     EXPECT_LE(jsonNumber(json, "peak_device_bytes"), jsonNumber(json, "memory_budget_bytes"));
     EXPECT_LE(jsonNumber(json, "chunks_touched"), jsonNumber(json, "chunks_total"));
+    EXPECT_GE(jsonNumber(json, "close_seconds"), 0.0) << json;
+    EXPECT_LE(jsonNumber(json, "device_wait_seconds"), jsonNumber(json, "open_seconds")) << json;
+    EXPECT_LE(jsonNumber(json, "backend_seconds"), jsonNumber(json, "open_seconds")) << json;
 }
 
 TEST(StreamingCli, ChunkIdAndCostBecomeExrChannels) {
