@@ -89,10 +89,41 @@ inline std::vector<uint8_t> forgeVolumeData(std::vector<uint8_t> bytes, const Pa
     return bytes;
 }
 
+// A format 7 package without lights laid out as before format 7: its light section (no records,
+// only their 8-byte checksum, right after the volume records) taken out and every offset after it
+// moved back by 8 (the blobs' in the header and the directory, each volume's data in its record),
+// with the directory's, the records' and the header's checksums recomputed. Header fields: file
+// bytes at 16, chunk and volume counts at 88 and 92, directory and blobs offsets at 168 and 176,
+// the directory's XXH64 at 200, the records' offset and XXH64 at 232 and 240; a directory entry
+// starts with its blob's offset, a volume record keeps its data's offset at byte 164.
+inline std::vector<uint8_t> withoutLightSection(std::vector<uint8_t> bytes) {
+    auto get = [&](uint64_t at) {
+        uint64_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 8);
+        return v;
+    };
+    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    uint32_t chunks = 0, volumes = 0;
+    std::memcpy(&chunks, bytes.data() + 88, 4);
+    std::memcpy(&volumes, bytes.data() + 92, 4);
+    const uint64_t records = get(232), directory = get(168), lights = records + 256ull * volumes;
+    bytes.erase(bytes.begin() + int64_t(lights), bytes.begin() + int64_t(lights + 8));
+    set(16, bytes.size());
+    set(176, get(176) - 8);
+    for (uint64_t c = 0; c < chunks; ++c) set(directory + 72 * c, get(directory + 72 * c) - 8);
+    set(200, checksum64(bytes.data() + directory, 72ull * chunks));
+    for (uint64_t v = 0; v < volumes; ++v) set(records + 256 * v + 164, get(records + 256 * v + 164) - 8);
+    set(240, checksum64(bytes.data() + records, 256ull * volumes));
+    set(248, checksum64(bytes.data(), 248));
+    return bytes;
+}
+
 // The same package in format version 5, whose only volume is `p` (the last bytes of the file): its
 // data whole (cell table, every brick's densities, then every brick's emission) under one checksum,
-// as versions 4 and 5 store it.
-inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& bytes, const PackageVolume& p) {
+// as versions 4 and 5 store it. `current` is the format 7 package without lights that holds `p`.
+inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& current, PackageVolume p) {
+    const std::vector<uint8_t> bytes = withoutLightSection(current);
+    p.offset -= 8;  // the light section's checksum no longer lies before it
     const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
     std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
     for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)
