@@ -61,9 +61,7 @@ public:
     }
 
     Status init(const PackageInfo& package) {
-        auto wavefront = Wavefront::create(device_);
-        if (!wavefront) return wavefront.status();
-        wavefront_ = std::move(wavefront).value();
+        wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_);  // compiles while the pools are made
         const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly
@@ -99,7 +97,8 @@ public:
         const std::vector<ChunkSlot> empty(plan_.slots, ChunkSlot{});
         VASTRAY_TRY(table_.upload(empty.data(), empty.size() * sizeof(ChunkSlot)));
         const std::vector<uint32_t> none(chunkCount_, kEmptyCell);
-        return table_.upload(none.data(), none.size() * 4, tables_.chunkSlots);
+        VASTRAY_TRY(table_.upload(none.data(), none.size() * 4, tables_.chunkSlots));
+        return wavefront_->ready();
     }
 
     std::string name() const override { return "vulkan"; }

@@ -145,20 +145,26 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 
 }  // namespace
 
-Result<std::unique_ptr<Wavefront>> Wavefront::create(VulkanDevice& device) {
+std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore) {
     std::unique_ptr<Wavefront> w(new Wavefront(device));
-    std::pair<PendingPipeline, std::unique_ptr<ComputePipeline>*> kernels[] = {
-        {createAsync(device, kGenerateSpirv), &w->pipelines_.generate},
-        {createAsync(device, kAccumulateSpirv), &w->pipelines_.accumulate},
-        {createAsync(device, kAovSpirv), &w->pipelines_.aov}};
-    Status status = Status::ok();
-    for (auto& [pending, pipeline] : kernels) {  // every one is waited for, failed or not
-        auto created = pending.get();
-        if (!created && status.isOk()) status = created.status();
-        if (created) *pipeline = std::move(created).value();
-    }
-    if (!status.isOk()) return status;
+    w->pendingFixed_[0] = createAsync(device, kGenerateSpirv);
+    w->pendingFixed_[1] = createAsync(device, kAccumulateSpirv);
+    w->pendingFixed_[2] = createAsync(device, kAovSpirv);
+    w->startWalkVariants({{0u, 1u}});
+    if (inCore) w->startWalkVariants({{0u, 0u}});
     return w;
+}
+
+Status Wavefront::ready() {
+    std::unique_ptr<ComputePipeline>* kernels[] = {&pipelines_.generate, &pipelines_.accumulate, &pipelines_.aov};
+    Status status = Status::ok();
+    for (int k = 0; k < 3; ++k) {  // every one is waited for, failed or not
+        if (!pendingFixed_[k].valid()) continue;
+        auto created = pendingFixed_[k].get();
+        if (!created && status.isOk()) status = created.status();
+        if (created) *kernels[k] = std::move(created).value();
+    }
+    return status;
 }
 
 void Wavefront::startWalkVariants(std::initializer_list<std::array<uint32_t, 2>> variants) {
