@@ -8,12 +8,14 @@
 # Builds in $FUZZ_BUILD_DIR (build-fuzz) with clang++-14 (scripts/install-deps.sh installs it).
 # Seeds: fuzz/corpus/<format>/ (in the repository, read only); inputs the fuzzer finds go to
 # $FUZZ_BUILD_DIR/corpus/<target>/; a crash, hang (>10 s per input) or leak stops the run with
-# the input in $FUZZ_BUILD_DIR/artifacts/ and a non-zero exit.
+# the input in $FUZZ_BUILD_DIR/artifacts/ and a non-zero exit. FUZZ_PARALLEL targets (default:
+# one per core) run at once, each on one core; every target still runs its FUZZ_SECONDS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${FUZZ_BUILD_DIR:-build-fuzz}
 SECONDS_PER_TARGET=${FUZZ_SECONDS:-30}
 JOBS=${JOBS:-$(nproc)}
+PARALLEL=${FUZZ_PARALLEL:-$(nproc)}
 declare -A SEEDS=([fuzz_import_obj]=obj [fuzz_import_ply]=ply [fuzz_import_gltf]=gltf
                   [fuzz_import_glb]=glb [fuzz_import_assimp]=assimp [fuzz_package]=vast [fuzz_chunk]=chunk
                   [fuzz_http_json]=json [fuzz_volume_manifest]=volumes [fuzz_environment_map]=envmap [fuzz_pfm]=pfm)
@@ -27,10 +29,10 @@ fi
 cmake --build "$BUILD" -j "$JOBS" --target "${TARGETS[@]}"
 
 mkdir -p "$BUILD/artifacts"
-for target in "${TARGETS[@]}"; do
-  corpus="$BUILD/corpus/$target"
+# One target's run; its output goes to $BUILD/artifacts/<target>.log.
+fuzz_one() {
+  local target=$1 corpus="$BUILD/corpus/$1"
   mkdir -p "$corpus"
-  echo "== $target: ${SECONDS_PER_TARGET} s"
   # detect_leaks: the importers return values; a leak is a bug (fuzz/lsan.supp: libassimp's own,
   # the one exception). The limits make an unbounded
   # allocation (rss) or a slow input (timeout) a failure rather than a stall.
@@ -38,5 +40,25 @@ for target in "${TARGETS[@]}"; do
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$BUILD/fuzz/$target" "$corpus" "fuzz/corpus/${SEEDS[$target]}" \
       -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
-      -artifact_prefix="$BUILD/artifacts/$target-" -print_final_stats=1 2>&1 | tail -n 12
+      -artifact_prefix="$BUILD/artifacts/$target-" -print_final_stats=1 > "$BUILD/artifacts/$target.log" 2>&1
+}
+# Batches of PARALLEL targets; each target's last lines are printed when its batch is done, and
+# the first target that failed fails the script (after its batch, so no run is left behind).
+failed=""
+for ((i = 0; i < ${#TARGETS[@]}; i += PARALLEL)); do
+  batch=("${TARGETS[@]:i:PARALLEL}")
+  pids=()
+  for target in "${batch[@]}"; do
+    echo "== $target: ${SECONDS_PER_TARGET} s"
+    fuzz_one "$target" &
+    pids+=($!)
+  done
+  for j in "${!batch[@]}"; do
+    status=0
+    wait "${pids[$j]}" || status=$?
+    echo "== ${batch[$j]}: exit $status"
+    tail -n 12 "$BUILD/artifacts/${batch[$j]}.log"
+    [ $status -eq 0 ] || failed=${failed:-${batch[$j]}}
+  done
+  [ -z "$failed" ] || { echo "fuzz target $failed failed (its input: $BUILD/artifacts/$failed-*)" >&2; exit 1; }
 done
