@@ -186,7 +186,8 @@ struct WavefrontParams {
     uint64_t envConditional;
     uint64_t volumes;      // WavefrontVolume per volume (volumeCount)
     uint64_t volumeDemand; // paged volumes (0: in core): per brick (brickBase + brick), the parked walks
-                           // that wait for it; then per brick the walks that ask for it ahead
+                           // that wait for it; then per brick the walks that ask for it ahead; then
+                           // per slot the parked walks that keep its brick (Volume.glsl's keepCell)
     uint64_t volumePark;   // paged volumes: per path four uvec4, where its volume tracking parked
                            // (common/Volume.glsl, VolumePark; zero: nowhere)
     uint64_t microfacet;   // the metallic-roughness BSDF's albedo tables (core/Microfacet.h,
