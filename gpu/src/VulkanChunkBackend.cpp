@@ -61,7 +61,12 @@ public:
     }
 
     Status init(const PackageInfo& package) {
-        wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_);  // compiles while the pools are made
+        // The kernels compile while the pools are made; the shade variant guessed from the scene
+        // and the default options (path integrator, the default sky's sun, no environment map).
+        wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_,
+                                      shadeConstants(package.materials, false, true, attributes_.normals,
+                                                     attributes_.colors, false, !package.volumes.empty(),
+                                                     !package.lights.empty()));
         const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly

@@ -145,8 +145,20 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 
 }  // namespace
 
-std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore) {
+ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
+                              bool colors, bool environmentMap, bool volumes, bool lights) {
+    bool emission = false, glossy = false;
+    for (const Material& m : materials) {
+        emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
+        glossy = glossy || !isLambertian(m);
+    }
+    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights};
+}
+
+std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
     std::unique_ptr<Wavefront> w(new Wavefront(device));
+    w->pendingShades_.emplace(variantKey(likelyShade),
+                              createAsync(device, kShadeSpirv, std::vector<uint32_t>(likelyShade.begin(), likelyShade.end())));
     w->pendingFixed_[0] = createAsync(device, kGenerateSpirv);
     w->pendingFixed_[1] = createAsync(device, kAccumulateSpirv);
     w->pendingFixed_[2] = createAsync(device, kAovSpirv);
@@ -189,16 +201,24 @@ Status Wavefront::finishWalkVariants(StreamingStats& stats) {
     return status;
 }
 
-Result<const ComputePipeline*> Wavefront::variant(bool walk, std::initializer_list<uint32_t> constants,
+Result<const ComputePipeline*> Wavefront::variant(bool walk, std::span<const uint32_t> constants,
                                                   StreamingStats& stats) {
     const uint32_t key = variantKey(constants);
     auto& cache = walk ? pipelines_.walk : pipelines_.shade;
     if (auto found = cache.find(key); found != cache.end()) return found->second.get();
-    const std::vector<uint32_t> values(constants);
+    const std::vector<uint32_t> values(constants.begin(), constants.end());
     const auto start = std::chrono::steady_clock::now();
-    auto created = ComputePipeline::create(device_, walk ? std::span<const uint32_t>(kWalkSpirv)
-                                                         : std::span<const uint32_t>(kShadeSpirv),
-                                           sizeof(WavefrontPush), values);
+    auto& pending = walk ? pendingWalks_ : pendingShades_;
+    auto created = [&] {  // the one started for this scene, or a new one
+        if (auto started = pending.find(key); started != pending.end()) {
+            auto done = started->second.get();
+            pending.erase(started);
+            return done;
+        }
+        return ComputePipeline::create(device_, walk ? std::span<const uint32_t>(kWalkSpirv)
+                                                     : std::span<const uint32_t>(kShadeSpirv),
+                                       sizeof(WavefrontPush), values);
+    }();
     stats.pipelineSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!created) return created.status();
     return (cache[key] = std::move(created).value()).get();
@@ -217,11 +237,6 @@ public:
 
     Status execute() {
         // What this render does not need is not compiled into its kernels (specialization).
-        bool emission = false, glossy = false;
-        for (const Material& m : job_.materials) {
-            emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
-            glossy = glossy || !isLambertian(m);
-        }
         const std::array<float, 3>& sun = options_.environment.sunIrradiance;
         const bool environmentMap = options_.environment.map != nullptr;
         if (environmentMap && !b_.environment) return Status::error("device render: the environment map has no buffer");
@@ -236,10 +251,11 @@ public:
         const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
         if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u}});
         if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u}});
-        auto shade = w_.variant(false, {options_.integrator == IntegratorKind::AmbientOcclusion,
-                                        sun[0] > 0 || sun[1] > 0 || sun[2] > 0, emission, b_.normals, b_.colors,
-                                        environmentMap, volumes, glossy, lights},
-                                stats_);
+        const ShadeConstants constants =
+            shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
+                           sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights);
+        const bool glossy = constants[7] != 0;
+        auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();
         shade_ = *shade;
         VASTRAY_TRY(w_.finishWalkVariants(stats_));
@@ -479,7 +495,7 @@ private:
         clearQueue(kShadeQueue);
         clearQueue(kVolumeWaitQueue);
         // In core no ray parks: the walk without the paging code.
-        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, !pager_.allResident()}, stats_);
+        auto walk = w_.variant(true, std::array<uint32_t, 2>{(image_.aovs & kAovCost) != 0, !pager_.allResident()}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
@@ -612,7 +628,7 @@ private:
                 VASTRAY_TRY(readWalkedRays());
             }
         VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
-        auto walk = w_.variant(true, {(image_.aovs & kAovCost) != 0, 1u}, stats_);
+        auto walk = w_.variant(true, std::array<uint32_t, 2>{(image_.aovs & kAovCost) != 0, 1u}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         streamed_ = true;

@@ -11,6 +11,7 @@
 #include <initializer_list>
 #include <map>
 #include <memory>
+#include <span>
 
 #include "DeviceVolumes.h"
 #include "PoolLayout.h"
@@ -38,14 +39,21 @@ struct WavefrontBuffers {
     DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without
 };
 
+// wf_shade.comp's specialization constants (constant_id 0-8): what a render's shading needs.
+using ShadeConstants = std::array<uint32_t, 9>;
+ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
+                              bool colors, bool environmentMap, bool volumes, bool lights);
+
 class Wavefront {
 public:
     // Starts creating its kernels on threads of their own (a driver compiles each, 0.1-0.4 s on
-    // the H200 with an empty cache): the three every render uses and the walk variants a render
+    // the H200 with an empty cache): the three every render uses, the walk variants a render
     // without the cost AOV asks for (the paging one; with inCore, every chunk having a slot, the
-    // resident one too), so that they compile while the backend allocates its pools. ready()
-    // waits for the three; a render waits for the walk variants it uses.
-    static std::unique_ptr<Wavefront> start(VulkanDevice& device, bool inCore);
+    // resident one too) and the shade variant `likelyShade` (the scene's with the default
+    // options), so that they compile while the backend allocates its pools. ready() waits for
+    // the three; a render waits for the variants it uses (a render that needs another shade
+    // variant creates its own).
+    static std::unique_ptr<Wavefront> start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade);
     Status ready();
 
     // deviceSeconds: time spent waiting for submissions.
@@ -64,7 +72,7 @@ private:
     // The walk or shade kernel with these specialization constants (each 0 or 1).
     // (the time creating one, a driver compilation on its first use in a process, is added to
     // stats.pipelineSeconds)
-    Result<const ComputePipeline*> variant(bool walk, std::initializer_list<uint32_t> constants, StreamingStats& stats);
+    Result<const ComputePipeline*> variant(bool walk, std::span<const uint32_t> constants, StreamingStats& stats);
     // Starts creating these walk variants (kCountCost, kPaging) on threads of their own, while
     // the render thread creates the shade variant; finishWalkVariants waits for them (adding
     // the wait to stats.pipelineSeconds) and keeps them for variant().
@@ -74,6 +82,7 @@ private:
     VulkanDevice& device_;
     Pipelines pipelines_;
     std::map<uint32_t, std::future<Result<std::unique_ptr<ComputePipeline>>>> pendingWalks_;
+    std::map<uint32_t, std::future<Result<std::unique_ptr<ComputePipeline>>>> pendingShades_;
     std::future<Result<std::unique_ptr<ComputePipeline>>> pendingFixed_[3];  // generate, accumulate, aov
 };
 
