@@ -187,20 +187,6 @@ void Wavefront::startWalkVariants(std::initializer_list<std::array<uint32_t, 2>>
     }
 }
 
-Status Wavefront::finishWalkVariants(StreamingStats& stats) {
-    if (pendingWalks_.empty()) return Status::ok();
-    const auto start = std::chrono::steady_clock::now();
-    Status status = Status::ok();
-    for (auto& [key, pending] : pendingWalks_) {  // every one is waited for, failed or not
-        auto created = pending.get();
-        if (!created && status.isOk()) status = created.status();
-        if (created) pipelines_.walk[key] = std::move(created).value();
-    }
-    pendingWalks_.clear();
-    stats.pipelineSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return status;
-}
-
 Result<const ComputePipeline*> Wavefront::variant(bool walk, std::span<const uint32_t> constants,
                                                   StreamingStats& stats) {
     const uint32_t key = variantKey(constants);
@@ -246,8 +232,9 @@ public:
         if (lights && options_.lights->size() > b_.tables.lightCapacity)
             return Status::error("device render: " + std::to_string(options_.lights->size()) +
                                  " punctual lights, the package's tables hold " + std::to_string(b_.tables.lightCapacity));
-        // The walk variants this render will ask for are created beside the shade variant: the
-        // paging one while a chunk is missing, the resident one where every chunk gets a slot.
+        // The walk variants this render will ask for are created beside the shade variant (variant()
+        // waits for them when they are first used): the paging one while a chunk is missing, the
+        // resident one where every chunk gets a slot.
         const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
         if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u}});
         if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u}});
@@ -258,7 +245,6 @@ public:
         auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();
         shade_ = *shade;
-        VASTRAY_TRY(w_.finishWalkVariants(stats_));
         VASTRAY_TRY(uploadParams());
         if (glossy) VASTRAY_TRY(upload(microfacetTables(), b_.tables.microfacet));
         VASTRAY_TRY(upload(std::vector<uint32_t>(b_.chunkCount, 0), b_.tables.touched));

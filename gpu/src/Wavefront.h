@@ -69,15 +69,13 @@ private:
         std::map<uint32_t, std::unique_ptr<ComputePipeline>> walk, shade;
     };
     class Run;
-    // The walk or shade kernel with these specialization constants (each 0 or 1).
-    // (the time creating one, a driver compilation on its first use in a process, is added to
-    // stats.pipelineSeconds)
+    // The walk or shade kernel with these specialization constants (each 0 or 1): made before,
+    // or the one started for them (waited for), or created now. The time waiting for or creating
+    // one (a driver compilation on its first use in a process) is added to stats.pipelineSeconds.
     Result<const ComputePipeline*> variant(bool walk, std::span<const uint32_t> constants, StreamingStats& stats);
     // Starts creating these walk variants (kCountCost, kPaging) on threads of their own, while
-    // the render thread creates the shade variant; finishWalkVariants waits for them (adding
-    // the wait to stats.pipelineSeconds) and keeps them for variant().
+    // the render thread goes on; variant() takes them when a render first asks for them.
     void startWalkVariants(std::initializer_list<std::array<uint32_t, 2>> variants);
-    Status finishWalkVariants(StreamingStats& stats);
 
     VulkanDevice& device_;
     Pipelines pipelines_;
