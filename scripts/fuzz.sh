@@ -9,13 +9,14 @@
 # Seeds: fuzz/corpus/<format>/ (in the repository, read only); inputs the fuzzer finds go to
 # $FUZZ_BUILD_DIR/corpus/<target>/; a crash, hang (>10 s per input) or leak stops the run with
 # the input in $FUZZ_BUILD_DIR/artifacts/ and a non-zero exit. FUZZ_PARALLEL targets (default:
-# one per core) run at once, each on one core; every target still runs its FUZZ_SECONDS.
+# one per core; 1 to 999) run at once, each on one core; every target still runs its FUZZ_SECONDS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${FUZZ_BUILD_DIR:-build-fuzz}
 SECONDS_PER_TARGET=${FUZZ_SECONDS:-30}
 JOBS=${JOBS:-$(nproc)}
 PARALLEL=${FUZZ_PARALLEL:-$(nproc)}
+[[ "$PARALLEL" =~ ^[1-9][0-9]{0,2}$ ]] || { echo "FUZZ_PARALLEL '$PARALLEL': expected 1 to 999 targets at once" >&2; exit 2; }
 declare -A SEEDS=([fuzz_import_obj]=obj [fuzz_import_ply]=ply [fuzz_import_gltf]=gltf
                   [fuzz_import_glb]=glb [fuzz_import_assimp]=assimp [fuzz_package]=vast [fuzz_chunk]=chunk
                   [fuzz_http_json]=json [fuzz_volume_manifest]=volumes [fuzz_environment_map]=envmap [fuzz_pfm]=pfm)
