@@ -8,8 +8,10 @@
 // jobs). PostgreSQL drops the lock with the connection, so a killed server frees it.
 #include <libpq-fe.h>
 
+#include <chrono>
 #include <memory>
 #include <mutex>
+#include <thread>
 
 #include "JobRequest.h"
 #include "vastray/server/Storage.h"
@@ -58,6 +60,11 @@ constexpr const char* kMigrationLock = "SELECT pg_advisory_xact_lock(32496010093
 // on one database together.
 constexpr const char* kServerLock = "SELECT pg_try_advisory_lock(32496010093605122)";
 constexpr const char* kReplicaLock = "SELECT pg_try_advisory_lock_shared(32496010093605122)";
+// A server that has just closed its connection holds the lock until its backend process has
+// ended, which PostgreSQL does after the client has gone: a server restarted at once (or a
+// test that reopens the database) asks again for this long before it is refused.
+constexpr auto kServerLockWait = std::chrono::seconds(2);
+constexpr auto kServerLockRetry = std::chrono::milliseconds(25);
 
 using ResultPtr = std::unique_ptr<PGresult, decltype(&PQclear)>;
 
@@ -562,9 +569,14 @@ private:
     }
 
     Status takeServerLock(const std::string& context) {
-        auto locked = run(replicas_ ? kReplicaLock : kServerLock, Params());
-        if (!locked) return locked.status();
-        if (std::string(PQgetvalue(locked->get(), 0, 0)) == "t") return Status::ok();
+        const auto giveUp = std::chrono::steady_clock::now() + kServerLockWait;
+        for (;;) {
+            auto locked = run(replicas_ ? kReplicaLock : kServerLock, Params());
+            if (!locked) return locked.status();
+            if (std::string(PQgetvalue(locked->get(), 0, 0)) == "t") return Status::ok();
+            if (std::chrono::steady_clock::now() >= giveUp) break;
+            std::this_thread::sleep_for(kServerLockRetry);
+        }
         return Status::error(display_ + ": " + context +
                              (replicas_ ? "a `vastray serve` without --storage uses this database (replicas need "
                                           "every server on it to be a replica)"
