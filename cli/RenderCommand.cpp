@@ -642,7 +642,8 @@ CommandRun addRenderCommand(CLI::App& app) {
                     "0.4,0.8,0.3 turned to the --up-axis)");
     cmd->add_flag("--no-sun", args->noSun, "sky light only");
     cmd->add_flag("--no-lights", args->noLights,
-                  "ignore the scene's punctual lights (glTF KHR_lights_punctual, kept in the package)");
+                  "ignore the scene's punctual lights (glTF KHR_lights_punctual, and those assimp reads from Collada, FBX, "
+                  "...; kept in the package)");
     cmd->add_option("--environment", args->environment,
                     "FILE (.exr, .hdr, .pfm, ...): a latitude-longitude environment map that replaces the sky (its top "
                     "row towards the --up-axis), importance sampled; the default sun is off with it (--sun adds one)")

@@ -2,6 +2,7 @@
 // assimp (Debian libassimp-dev), behind the same interface and the same last step as our own
 // importers: node transforms baked into world space, polygons triangulated by assimp,
 // points and lines skipped and counted, then finalizeMesh's validation and named errors.
+// Cameras and punctual lights are placed by their nodes (lights: AssimpLights.h).
 // Files assimp opens besides the model (a Collada's external parts, say) must lie inside
 // the model's folder, as glTF URIs and OBJ mtllib names must.
 // assimp runs in a child process (fork): its readers crash on hostile files (the fuzzer found a
@@ -21,6 +22,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "import/AssimpLights.h"
 #include "import/ChildProcess.h"
 #include "import/ImportCommon.h"
 #include "package/ByteIo.h"
@@ -117,15 +119,7 @@ void warnAboutUnused(const aiScene& scene, ImportReport& report) {
     report.warnUnused("skin bones", bones);
     report.warnUnused("morph targets", morphs);
     report.warnUnused("animations", scene.mNumAnimations);
-    report.warnUnused("lights", scene.mNumLights);
     report.warnUnused("embedded textures", scene.mNumTextures);
-}
-
-// A node's transform to world space: its own, then each parent's up to the root.
-aiMatrix4x4 worldTransform(const aiNode& node) {
-    aiMatrix4x4 m = node.mTransformation;
-    for (const aiNode* parent = node.mParent; parent; parent = parent->mParent) m = parent->mTransformation * m;
-    return m;
 }
 
 // The scene's perspective cameras in world space, in the file's order (read before
@@ -145,7 +139,7 @@ std::vector<SceneCamera> worldCameras(const aiScene& scene, uint64_t& notUsed) {
             ++notUsed;
             continue;
         }
-        const aiMatrix4x4 m = worldTransform(*node);
+        const aiMatrix4x4 m = import::nodeToWorld(*node);
         const aiMatrix3x3 r(m);
         const aiVector3D eye = m * c.mPosition, forward = r * c.mLookAt, up = r * c.mUp;
         const float aspect = std::isfinite(c.mAspect) && c.mAspect > 0.0f ? c.mAspect : 1.0f;
@@ -240,11 +234,15 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
     ImportReport unused;
     std::vector<SceneCamera> cameras;
+    std::vector<PunctualLight> lights;
     uint64_t camerasNotUsed = 0;
     if (scene) {
         warnAboutUnused(*scene, unused);
         cameras = worldCameras(*scene, camerasNotUsed);
         unused.warnUnused("cameras", camerasNotUsed, "orthographic, placed by no node, or placed degenerately");
+        auto read = import::assimpLights(*scene, unused);
+        if (!read) return read.status().withContext(name + ": ");
+        lights = std::move(*read);
     }
     if (scene && !(scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
         scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices |
@@ -265,6 +263,7 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     imported.report.texcoordsRead = unused.texcoordsRead;
     imported.report.warnings = std::move(unused.warnings);
     imported.mesh.cameras = std::move(cameras);
+    imported.mesh.lights = std::move(lights);
     if (Status s = appendMeshes(*scene, imported); !s.isOk()) return s.withContext(name + ": ");
     return imported;
 }
@@ -321,7 +320,29 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
         putText(w, camera.name);
         w.put(camera.camera.eye), w.put(camera.camera.target), w.put(camera.camera.up), w.put(camera.camera.fovYDegrees);
     }
+    w.put(uint64_t(m.mesh.lights.size()));
+    for (const PunctualLight& l : m.mesh.lights) {
+        putText(w, l.name);
+        w.put(uint32_t(l.type)), w.put(l.color), w.put(l.intensity), w.put(l.range);
+        w.put(l.innerConeAngle), w.put(l.outerConeAngle), w.put(l.position), w.put(l.direction);
+    }
     return std::move(w.bytes());
+}
+
+// The lights encodeAnswer wrote, each within validateLight's limits (the child checked them).
+bool decodeLights(ByteReader& r, size_t answerBytes, std::vector<PunctualLight>& lights) {
+    uint64_t count = 0;
+    if (!r.get(count) || count > answerBytes || count > kMaxLights) return false;
+    lights.resize(count);
+    for (PunctualLight& l : lights) {
+        uint32_t type = 0;
+        if (!getText(r, l.name) || !r.get(type) || !r.get(l.color) || !r.get(l.intensity) || !r.get(l.range) ||
+            !r.get(l.innerConeAngle) || !r.get(l.outerConeAngle) || !r.get(l.position) || !r.get(l.direction))
+            return false;
+        l.type = LightType(type);
+        if (!validateLight(l).isOk()) return false;
+    }
+    return true;
 }
 
 Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uint8_t>& bytes) {
@@ -361,7 +382,7 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
         if (!getText(r, camera.name) || !r.get(camera.camera.eye) || !r.get(camera.camera.target) ||
             !r.get(camera.camera.up) || !r.get(camera.camera.fovYDegrees) || !validateCamera(camera.camera).isOk())
             return malformed;
-    if (r.remaining() != 0) return malformed;
+    if (!decodeLights(r, bytes.size(), m.mesh.lights) || r.remaining() != 0) return malformed;
     return m;
 }
 
