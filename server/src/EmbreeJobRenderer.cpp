@@ -94,7 +94,8 @@ public:
         };
         RenderOptions options = request.options;
         VASTRAY_TRY(applySceneCamera((*scene)->mesh.cameras, request.sceneCamera, options));
-        applySceneLights((*scene)->mesh.lights, (*scene)->bounds, options);
+        if (request.sceneLights)
+            applySceneLights((*scene)->mesh.lights, (*scene)->bounds, options);
         RenderStats render;
         auto image = renderWithEmbree(**scene, options, &render, tilesCounted);
         if (stats) stats->passes = passes, stats->render = render;

@@ -109,7 +109,7 @@ ServiceStatus Service::renderRequest(Worker& worker, const v1::Job& job, std::op
     auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
     if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
     JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes(),
-                             job.request().scene_camera()};
+                             job.request().scene_camera(), !job.request().no_lights()};
     auto rendered = worker.renderer->render(
         request, [this, &worker](const JobRenderProgress& p) { onProgress(worker, p); }, worker.cancel, &stats);
     metrics_.chunkLoads += stats.chunkLoads;

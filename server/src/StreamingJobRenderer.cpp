@@ -121,7 +121,8 @@ public:
         RenderOptions options = request.options;
         VASTRAY_TRY(applySceneCamera(scene.reader->info().cameras, request.sceneCamera, options));
         options.volumes = scene.volumes;
-        applySceneLights(scene.reader->info().lights, scene.reader->info().bounds, options);
+        if (request.sceneLights)
+            applySceneLights(scene.reader->info().lights, scene.reader->info().bounds, options);
         RenderProgressReporter reporter(progress, *scene.backend, *scene.scene);
         auto image = scene.scene->render(options, stats ? &stats->render : nullptr, &streaming,
                                           reporter.passReporter(), &cancel);

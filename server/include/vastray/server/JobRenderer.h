@@ -37,6 +37,9 @@ struct JobRenderRequest {
     // A camera of the scene by name or index (SubmitJobRequest.scene_camera); empty: the
     // scene's first camera unless `options` place the camera (applySceneCamera).
     std::string sceneCamera;
+    // The scene's punctual lights are rendered (applySceneLights) unless this is false
+    // (SubmitJobRequest.no_lights, `vastray render --no-lights`).
+    bool sceneLights = true;
 };
 
 struct JobRenderProgress {
