@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "vastray/core/Camera.h"
@@ -18,6 +19,12 @@ constexpr float kHalfPi = 1.57079632679489661923f;
 struct LightNotes {
     uint64_t ambientOrArea = 0, unplaced = 0, attenuationApproximated = 0, conesNarrowed = 0, clamped = 0;
 };
+
+std::string number(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(v));
+    return text;
+}
 
 bool finite(const aiColor3D& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
 
@@ -40,10 +47,12 @@ void splitColour(const aiColor3D& c, PunctualLight& l) {
 // no falloff.
 Status applyAttenuation(const aiLight& source, PunctualLight& l, LightNotes& notes) {
     if (l.type == LightType::Directional) return Status::ok();
-    const float c = source.mAttenuationConstant, lin = source.mAttenuationLinear, q = source.mAttenuationQuadratic;
-    if (!(std::isfinite(c) && std::isfinite(lin) && std::isfinite(q) && c >= 0.0f && lin >= 0.0f && q >= 0.0f))
-        return Status::error("attenuation (constant " + std::to_string(c) + ", linear " + std::to_string(lin) +
-                             ", quadratic " + std::to_string(q) + ") is not finite and >= 0");
+    const float c = source.mAttenuationConstant, lin = source.mAttenuationLinear;
+    const float q = source.mAttenuationQuadratic;
+    auto valid = [](float v) { return std::isfinite(v) && v >= 0.0f; };
+    if (!valid(c) || !valid(lin) || !valid(q))
+        return Status::error("attenuation (constant " + number(c) + ", linear " + number(lin) +
+                             ", quadratic " + number(q) + ") is not finite and >= 0");
     if (c == 0.0f && lin == 0.0f && q > 0.0f) {
         l.intensity /= q;
     } else {
@@ -82,7 +91,8 @@ Result<bool> convertLight(const aiScene& scene, const aiLight& source, size_t in
         ++notes.unplaced;
         return false;
     }
-    l.name = storedCameraName(source.mName.length > 0 ? source.mName.C_Str() : "light " + std::to_string(index));
+    l.name = storedCameraName(source.mName.length > 0 ? source.mName.C_Str()
+                                                      : "light " + std::to_string(index));
     const aiMatrix4x4 m = nodeToWorld(*node);
     const aiVector3D position = m * source.mPosition, direction = aiMatrix3x3(m) * source.mDirection;
     l.position = {position.x, position.y, position.z};
@@ -103,14 +113,16 @@ Result<bool> convertLight(const aiScene& scene, const aiLight& source, size_t in
 }
 
 void warnAbout(const LightNotes& notes, ImportReport& report) {
-    report.warnUnused("ambient or area lights", notes.ambientOrArea, "only directional, point and spot lights are rendered");
+    report.warnUnused("ambient or area lights", notes.ambientOrArea,
+                      "only directional, point and spot lights are rendered");
     report.warnUnused("lights", notes.unplaced, "placed by no node, or placed degenerately");
     if (notes.attenuationApproximated > 0)
         report.warnings.push_back(std::to_string(notes.attenuationApproximated) +
-                                  " lights with constant or linear attenuation: rendered with inverse-square falloff, "
-                                  "equal to the file's at distance 1");
+                                  " lights with constant or linear attenuation: rendered with inverse-square "
+                                  "falloff, equal to the file's at distance 1");
     if (notes.clamped > 0)
-        report.warnings.push_back(std::to_string(notes.clamped) + " lights brighter than " + std::to_string(int(kMaxLightIntensity)) +
+        report.warnings.push_back(std::to_string(notes.clamped) + " lights brighter than " +
+                                  std::to_string(int(kMaxLightIntensity)) +
                                   " once divided by their attenuation: clamped to that limit");
     if (notes.conesNarrowed > 0)
         report.warnings.push_back(std::to_string(notes.conesNarrowed) +
@@ -121,13 +133,15 @@ void warnAbout(const LightNotes& notes, ImportReport& report) {
 
 aiMatrix4x4 nodeToWorld(const aiNode& node) {
     aiMatrix4x4 m = node.mTransformation;
-    for (const aiNode* parent = node.mParent; parent; parent = parent->mParent) m = parent->mTransformation * m;
+    for (const aiNode* parent = node.mParent; parent; parent = parent->mParent)
+        m = parent->mTransformation * m;
     return m;
 }
 
 Result<std::vector<PunctualLight>> assimpLights(const aiScene& scene, ImportReport& report) {
     if (scene.mNumLights > kMaxLights)
-        return Status::error(std::to_string(scene.mNumLights) + " lights exceed the limit of " + std::to_string(kMaxLights));
+        return Status::error(std::to_string(scene.mNumLights) + " lights exceed the limit of " +
+                             std::to_string(kMaxLights));
     std::vector<PunctualLight> lights;
     LightNotes notes;
     for (unsigned i = 0; i < scene.mNumLights; ++i) {
