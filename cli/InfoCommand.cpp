@@ -39,6 +39,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"metallic", m.metallic},
                              {"roughness", m.roughness},
                              {"specular", m.specular},
+                             {"specular_color", m.specularColor},
                              {"double_sided", m.doubleSided}});
     nlohmann::json volumes = nlohmann::json::array();
     for (const PackageVolume& p : info.volumes) {

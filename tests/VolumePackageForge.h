@@ -1,5 +1,5 @@
 #pragma once
-// Forged volume data for tests of the package reader's checks (format 6, docs/PACKAGE_FORMAT.md,
+// Forged volume data for tests of the package reader's checks (format 6 to 8, docs/PACKAGE_FORMAT.md,
 // "Volumes").
 #include <gtest/gtest.h>
 
@@ -118,12 +118,50 @@ inline std::vector<uint8_t> withoutLightSection(std::vector<uint8_t> bytes) {
     return bytes;
 }
 
+// A format 8 package laid out as format 7: each material record's last 32 bytes (the specular
+// colour, white here, and five zero words) taken out and every offset after the materials moved
+// back by 32 per material (the tree's, the directory's, the blobs', the cameras' and the volume
+// records' in the header at 160, 168, 176, 208 and 232, the blobs' in the directory, each
+// volume's data in its record), with the materials' checksum (at 184), the directory's, the
+// records' and the header's recomputed; the material count is at 80.
+inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
+    auto get = [&](uint64_t at) {
+        uint64_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 8);
+        return v;
+    };
+    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    uint32_t materials = 0, chunks = 0, volumes = 0;
+    std::memcpy(&materials, bytes.data() + 80, 4);
+    std::memcpy(&chunks, bytes.data() + 88, 4);
+    std::memcpy(&volumes, bytes.data() + 92, 4);
+    for (uint32_t m = materials; m-- > 0;) {
+        const int64_t end = 256 + 144 * int64_t(m + 1);
+        bytes.erase(bytes.begin() + end - 32, bytes.begin() + end);
+    }
+    const uint64_t moved = 32ull * materials;
+    for (uint64_t at : {160, 168, 176, 208, 232}) set(at, get(at) - moved);
+    const uint64_t directory = get(168), records = get(232);
+    for (uint64_t c = 0; c < chunks; ++c) set(directory + 72 * c, get(directory + 72 * c) - moved);
+    for (uint64_t v = 0; v < volumes; ++v) set(records + 256 * v + 164, get(records + 256 * v + 164) - moved);
+    const uint32_t seven = 7;
+    std::memcpy(bytes.data() + 8, &seven, 4);
+    set(16, bytes.size());
+    set(184, checksum64(bytes.data() + 256, 112ull * materials));
+    set(200, checksum64(bytes.data() + directory, 72ull * chunks));
+    set(240, checksum64(bytes.data() + records, 256ull * volumes));
+    set(248, checksum64(bytes.data(), 248));
+    return bytes;
+}
+
 // The same package in format version 5, whose only volume is `p` (the last bytes of the file): its
 // data whole (cell table, every brick's densities, then every brick's emission) under one checksum,
-// as versions 4 and 5 store it. `current` is the format 7 package without lights that holds `p`.
+// as versions 4 and 5 store it. `current` is the format 8 package without lights that holds `p`.
 inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& current, PackageVolume p) {
-    const std::vector<uint8_t> bytes = withoutLightSection(current);
-    p.offset -= 8;  // the light section's checksum no longer lies before it
+    uint32_t materials = 0;
+    std::memcpy(&materials, current.data() + 80, 4);
+    const std::vector<uint8_t> bytes = withoutLightSection(withoutSpecularColours(current));
+    p.offset -= 8 + 32ull * materials;  // the light section's checksum and the colours no longer lie before it
     const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
     std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
     for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)

@@ -63,19 +63,50 @@ Lobe lobeAt(Vec3f wo, Vec3f wi, float alpha) {
     return l;
 }
 
-// What depends on wo alone, looked up once per shading event: alpha, E(mu_o), Ed(mu_o) and the
-// probability of drawing the specular lobe (its albedo's share of the two lobes').
+// The single-scattering albedo of Schlick's weight alone, from E and Ed(0.04) at one (mu, r):
+// Ed = (0.04 E + 0.96 W) (1 + 0.04 (1 / E - 1)).
+float fresnelWeightAlbedo(float e, float ed) {
+    return (ed / (1.0f + kDielectricF0 * (1.0f / e - 1.0f)) - kDielectricF0 * e) / (1.0f - kDielectricF0);
+}
+
+// The compensated layer's albedo for normal-incidence reflectance f0: (f0 E + (1 - f0) W)
+// (1 + f0 (1 / E - 1)), 1 at f0 = 1, Ed at f0 = 0.04.
+float layerAlbedo(float f0, float e, float w) { return (f0 * e + (1.0f - f0) * w) * (1.0f + f0 * (1.0f / e - 1.0f)); }
+
+// The dielectric layer's F0 per channel: min(0.04 specularColor, 1).
+Vec3f layerF0(const Bsdf& b) {
+    Vec3f f0;
+    for (int c = 0; c < 3; ++c) f0[c] = std::fmin(kDielectricF0 * b.specularColor[c], 1.0f);
+    return f0;
+}
+
+// What depends on wo alone, looked up once per shading event: alpha, E(mu_o), the layer's albedo
+// per channel at mu_o and its cosine-weighted average, and the probability of drawing the
+// specular lobe (its albedo's share of the two lobes').
 struct Outgoing {
-    float alpha = 0, metalAlbedo = 0, dielectricAlbedo = 0, pick = 0;
+    float alpha = 0, metalAlbedo = 0, pick = 0;
+    Vec3f f0, layerAlbedo, layerAverage;
 };
 Outgoing outgoingTerms(const Bsdf& b, Vec3f wo, const float* tables) {
     Outgoing o;
     o.alpha = alphaOf(b.roughness);
     o.metalAlbedo = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.roughness);
-    o.dielectricAlbedo = microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness);
+    const float w = fresnelWeightAlbedo(
+        o.metalAlbedo, microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.roughness));
+    const float wAverage = microfacetAverageLookup(tables, b.roughness, kMicrofacetFresnelAverageTable);
+    const float mixAverage = microfacetAverageLookup(tables, b.roughness, kMicrofacetMixAverageTable);
+    o.f0 = layerF0(b);
+    for (int c = 0; c < 3; ++c) {
+        const float f0 = o.f0[c];
+        o.layerAlbedo[c] = layerAlbedo(f0, o.metalAlbedo, w);
+        o.layerAverage[c] = f0 * f0 + (1.0f - f0) * (1.0f - f0) * wAverage + f0 * (1.0f - f0) * mixAverage;
+    }
     const float base = (b.base.x + b.base.y + b.base.z) / 3.0f;
-    const float spec = (1.0f - b.metallic) * b.specular * o.dielectricAlbedo + b.metallic * base;
-    const float diffuse = (1.0f - b.metallic) * base * (1.0f - b.specular * o.dielectricAlbedo);
+    const float layer = (o.layerAlbedo.x + o.layerAlbedo.y + o.layerAlbedo.z) / 3.0f;
+    float left = 0;
+    for (int c = 0; c < 3; ++c) left += b.base[c] * (1.0f - b.specular * o.layerAlbedo[c]) / 3.0f;
+    const float spec = (1.0f - b.metallic) * b.specular * layer + b.metallic * base;
+    const float diffuse = (1.0f - b.metallic) * left;
     o.pick = spec + diffuse > 0.0f ? spec / (spec + diffuse) : 0.5f;
     return o;
 }
@@ -86,19 +117,22 @@ BsdfValue evalWith(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const f
     const Lobe lobe = lobeAt(wo, wi, o.alpha);
     const float fresnel = schlickWeight(lobe.cosineOH);
     const float lost = 1.0f / o.metalAlbedo - 1.0f;
-    // Metal: Fresnel(base) specular (1 + base (1 / E - 1)), per channel.
-    Vec3f metal;
+    const float eIn = microfacetTableLookup(tables + kMicrofacetMetalTable, wi.z, b.roughness);
+    const float wIn = fresnelWeightAlbedo(eIn, microfacetTableLookup(tables + kMicrofacetDielectricTable, wi.z, b.roughness));
+    // Metal: Fresnel(base) specular (1 + base (1 / E - 1)), per channel. Dielectric: s Fresnel(F0)
+    // specular, compensated, plus the diffuse base of what it leaves (none where it leaves nothing).
+    Vec3f metal, dielectricPart;
     for (int c = 0; c < 3; ++c) {
         const float f0 = b.base[c];
         metal[c] = (f0 + (1.0f - f0) * fresnel) * lobe.specular * (1.0f + f0 * lost);
+        const float d0 = o.f0[c];
+        const float layer = b.specular * (d0 + (1.0f - d0) * fresnel) * lobe.specular * (1.0f + d0 * lost);
+        const float rest = kPi * (1.0f - b.specular * o.layerAverage[c]);
+        const float left = rest > 1e-6f ? (1.0f - b.specular * o.layerAlbedo[c]) *
+                                              (1.0f - b.specular * layerAlbedo(d0, eIn, wIn)) / rest
+                                        : 0.0f;
+        dielectricPart[c] = layer + b.base[c] * left;
     }
-    // Dielectric: s Fresnel(0.04) specular, compensated, plus the diffuse base of what it leaves.
-    const float layer = b.specular * (kDielectricF0 + (1.0f - kDielectricF0) * fresnel) * lobe.specular *
-                        (1.0f + kDielectricF0 * lost);
-    const float incoming = microfacetTableLookup(tables + kMicrofacetDielectricTable, wi.z, b.roughness);
-    const float left = (1.0f - b.specular * o.dielectricAlbedo) * (1.0f - b.specular * incoming) /
-                       (kPi * (1.0f - b.specular * microfacetAverageLookup(tables, b.roughness)));
-    const Vec3f dielectricPart = Vec3f{layer, layer, layer} + b.base * left;
     return {dielectricPart * (1.0f - b.metallic) + metal * b.metallic,
             o.pick * lobe.pdf + (1.0f - o.pick) * wi.z / kPi};
 }
@@ -111,6 +145,23 @@ float radicalInverse(uint32_t i) {
     i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
     i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
     return float(double(i) * 0x1p-32);
+}
+
+// W at a node of the tables (the lookup's value there).
+double nodeW(const std::vector<float>& t, uint32_t r, uint32_t m) {
+    const uint32_t i = r * kMicrofacetTableSide + m;
+    return fresnelWeightAlbedo(t[kMicrofacetMetalTable + i], t[kMicrofacetDielectricTable + i]);
+}
+
+// Integral over [0, 1] of y(mu) mu for y piecewise linear between the nodes' values.
+template <class Node>
+double rowAverage(uint32_t n, Node y) {
+    double sum = 0;
+    for (uint32_t m = 0; m + 1 < n; ++m) {
+        const double a = double(m) / (n - 1), b = double(m + 1) / (n - 1);
+        sum += (b - a) / 6.0 * (y(m) * (2 * a + b) + y(m + 1) * (a + 2 * b));
+    }
+    return sum;
 }
 
 // A row per roughness, in parallel (2,048 samples per entry: within ~0.2 % of 4,096's; the whole
@@ -147,6 +198,11 @@ std::vector<float> computeTables() {
             average += (b - a) / 6.0 * (ya * (2 * a + b) + yb * (a + 2 * b));
         }
         t[kMicrofacetAverageTable + r] = float(2.0 * average);
+        t[kMicrofacetFresnelAverageTable + r] = float(2.0 * rowAverage(n, [&](uint32_t m) { return nodeW(t, r, m); }));
+        t[kMicrofacetMixAverageTable + r] = float(2.0 * rowAverage(n, [&](uint32_t m) {
+            const double e = t[kMicrofacetMetalTable + r * n + m];
+            return e + nodeW(t, r, m) / e;
+        }));
     });
     return t;
 }
@@ -160,6 +216,13 @@ std::string materialFactorProblem(const Material& m) {
         if (!(v >= 0.0f && v <= 1.0f)) {
             char text[64];
             std::snprintf(text, sizeof text, "%s %g is outside [0, 1]", what, double(v));
+            return text;
+        }
+    for (float v : m.specularColor)
+        if (!(v >= 0.0f && v <= kMaxSpecularColor)) {
+            char text[128];
+            std::snprintf(text, sizeof text, "specular colour (%g, %g, %g) is outside [0, %g]", double(m.specularColor[0]),
+                          double(m.specularColor[1]), double(m.specularColor[2]), double(kMaxSpecularColor));
             return text;
         }
     return {};
@@ -187,11 +250,11 @@ float microfacetTableLookup(const float* table, float mu, float roughness) {
     return low + (high - low) * fy;
 }
 
-float microfacetAverageLookup(const float* tables, float roughness) {
+float microfacetAverageLookup(const float* tables, float roughness, uint32_t table) {
     constexpr float last = float(kMicrofacetTableSide - 1);
     const float y = std::clamp(roughness, 0.0f, 1.0f) * last;
     const uint32_t y0 = std::min(uint32_t(y), kMicrofacetTableSide - 2);
-    const float* row = tables + kMicrofacetAverageTable + y0;
+    const float* row = tables + table + y0;
     return row[0] + (row[1] - row[0]) * (y - float(y0));
 }
 

@@ -108,7 +108,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 punctualDirection, punctualIrradiance;
         float punctualDistance;
         bool event = false, shoots = false;
-        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0);
+        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0));
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
             origin = Vec4Array(p.rayOrigin).v[j].xyz + direction * tCollision;
@@ -155,7 +155,8 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
                 event = bounce < p.maxDepth;
                 surface = Surface(n, ns, albedo, -direction, kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0),
-                                  m.metallic, m.roughness, m.specular);
+                                  m.metallic, m.roughness, m.specular,
+                                  vec3(m.specularColorR, m.specularColorG, m.specularColorB));
                 // Next-event estimation: a punctual light, or the sun, or with a map the sun or the map.
                 if (event && kLights)
                     choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection,

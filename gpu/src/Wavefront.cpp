@@ -838,7 +838,8 @@ private:
         std::vector<WavefrontMaterial> materials;
         for (const Material& m : job_.materials)
             materials.push_back({m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1],
-                                 m.emissive[2], m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular, 0u, 0u});
+                                 m.emissive[2], m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular,
+                                 m.specularColor[0], m.specularColor[1], m.specularColor[2], 0u, 0u, 0u});
         VASTRAY_TRY(upload(materials, b_.tables.materials));
         VASTRAY_TRY(uploadLights(p));
         return uploadBytes(&p, sizeof(p), b_.tables.params);

@@ -64,6 +64,41 @@ TEST(Microfacet, ColouredAndLayerlessSurfacesReflectLess) {
     EXPECT_NEAR(gold.z, 0.33f, 0.08f);
 }
 
+// KHR_materials_specular's specularColorFactor: a white base under a layer of any F0 (0 to 1,
+// coloured) still reflects all it receives (the furnace, 1 % as above); per channel the layer
+// reflects more with a larger colour.
+TEST(Microfacet, WhiteFurnaceHoldsForEverySpecularColour) {
+    for (const Vec3f colour : {Vec3f{0, 0, 0}, Vec3f{0.5f, 1.0f, 2.0f}, Vec3f{10, 0.2f, 25}, Vec3f{1000, 1000, 1000}})
+        for (const float roughness : {0.0f, 0.3f, 0.7f, 1.0f})
+            for (const float mu : {0.05f, 0.5f, 1.0f}) {
+                Bsdf b{{1, 1, 1}, 0.0f, roughness, 1.0f};
+                b.specularColor = colour;
+                const Vec3f a = albedo(b, mu, 100000);
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(a[c], 1.0f, 0.01f) << "colour " << colour[c] << " roughness " << roughness << " mu " << mu;
+            }
+    Bsdf black{{0, 0, 0}, 0.0f, 0.3f, 1.0f};
+    black.specularColor = {0.5f, 1.0f, 2.0f};
+    const Vec3f a = albedo(black, 0.9f, 100000);
+    EXPECT_LT(a.x, a.y);
+    EXPECT_LT(a.y, a.z);
+}
+
+// specularColorFactor 0 is not specularFactor 0: glTF's layer keeps F90 = specularFactor, so
+// F0 = 0 leaves Schlick's grazing term (1 - cos)^5 alone. Over a black base: next to nothing
+// at normal incidence (where specularFactor 0 gives exactly nothing), a visible share at grazing.
+TEST(Microfacet, ZeroSpecularColourKeepsOnlyTheGrazingFresnel) {
+    Bsdf colourless{{0, 0, 0}, 0.0f, 0.3f, 1.0f};
+    colourless.specularColor = {0, 0, 0};
+    const Bsdf layerless{{0, 0, 0}, 0.0f, 0.3f, 0.0f};
+    EXPECT_EQ(albedo(layerless, 1.0f, 10000).x, 0.0f);
+    EXPECT_LT(albedo(colourless, 1.0f, 100000).x, 0.005f);
+    EXPECT_GT(albedo(colourless, 0.05f, 100000).x, 0.1f);
+    // At normal incidence on the mirror direction the layer's Fresnel term is exactly 0.
+    const Bsdf smooth{{0, 0, 0}, 0.0f, 0.0f, 1.0f, {0, 0, 0}};
+    EXPECT_EQ(evalBsdf(smooth, {0, 0, 1}, {0, 0, 1}, microfacetTables().data()).f.x, 0.0f);
+}
+
 // The 1e-6 upper quantile of chi-square with k degrees of freedom (Wilson and Hilferty).
 double chiSquareBound(double k) {
     const double z = 4.753, c = 2.0 / (9.0 * k);
@@ -140,10 +175,11 @@ TEST(Microfacet, SamplesFollowTheReportedDensity) {
 TEST(Microfacet, TablesAreSaneAndTheLookupIsExactAtTheNodes) {
     const std::vector<float>& t = microfacetTables();
     ASSERT_EQ(t.size(), kMicrofacetTableFloats);
-    for (float v : t) {
-        EXPECT_TRUE(std::isfinite(v));
-        EXPECT_GT(v, 0.0f);
-        EXPECT_LE(v, 1.0f + 1e-5f);
+    for (uint32_t i = 0; i < t.size(); ++i) {
+        EXPECT_TRUE(std::isfinite(t[i]));
+        EXPECT_GT(t[i], 0.0f);
+        // Albedos and their averages are fractions; the mixed term E + W / E is below 2.
+        EXPECT_LE(t[i], (i < kMicrofacetMixAverageTable ? 1.0f : 2.0f) + 1e-5f) << "entry " << i;
     }
     // A smooth lobe loses nothing to masking; the roughest loses over half, at normal incidence
     // too (half its visible normals reflect below the surface there).

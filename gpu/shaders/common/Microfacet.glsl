@@ -10,6 +10,8 @@ const float kDielectricF0 = 0.04;
 const float kMinMicrofacetAlpha = 1e-3;
 const uint kMicrofacetDielectricTable = kMicrofacetSide * kMicrofacetSide;
 const uint kMicrofacetAverageTable = 2u * kMicrofacetSide * kMicrofacetSide;
+const uint kMicrofacetFresnelAverageTable = kMicrofacetAverageTable + kMicrofacetSide;
+const uint kMicrofacetMixAverageTable = kMicrofacetFresnelAverageTable + kMicrofacetSide;
 
 // A surface point as next-event estimation and the bounce see it: geometric and shading normal
 // (on the ray's side), base colour, the direction back along the ray; glossy: the
@@ -18,6 +20,7 @@ struct Surface {
     vec3 n, ns, base, wo;
     bool glossy;
     float metallic, roughness, specular;
+    vec3 specularColor;  // the layer's F0 is min(0.04 this, 1)
 };
 
 float microfacetAlpha(float roughness) { return max(roughness * roughness, kMinMicrofacetAlpha); }
@@ -61,11 +64,11 @@ float microfacetTable(WavefrontParams p, uint table, float mu, float roughness) 
     return low + (high - low) * fy;
 }
 
-float microfacetAverage(WavefrontParams p, float roughness) {
+float microfacetAverage(WavefrontParams p, uint table, float roughness) {
     const float y = clamp(roughness, 0.0, 1.0) * float(kMicrofacetSide - 1u);
     const uint y0 = min(uint(y), kMicrofacetSide - 2u);
     FloatArray t = FloatArray(p.microfacet);
-    const uint i = kMicrofacetAverageTable + y0;
+    const uint i = table + y0;
     return t.v[i] + (t.v[i + 1u] - t.v[i]) * (y - float(y0));
 }
 
@@ -78,18 +81,35 @@ vec3 microfacetLobe(vec3 wo, vec3 wi, float alpha) {
     return vec3(d / (4.0 * wo.z * wi.z * (1.0 + lambdaO + lambdaI)), dot(wo, h), d / (4.0 * wo.z * (1.0 + lambdaO)));
 }
 
-// outgoingTerms: alpha, E(mu_o), Ed(mu_o) and the specular lobe's pick, looked up once per event.
+// fresnelWeightAlbedo: W from E and Ed(0.04) at one (mu, r).
+float fresnelWeightAlbedo(float e, float ed) {
+    return (ed / (1.0 + kDielectricF0 * (1.0 / e - 1.0)) - kDielectricF0 * e) / (1.0 - kDielectricF0);
+}
+
+// layerAlbedo: the compensated layer's albedo per channel for normal-incidence reflectance f0.
+vec3 layerAlbedo(vec3 f0, float e, float w) { return (f0 * e + (vec3(1.0) - f0) * w) * (vec3(1.0) + f0 * (1.0 / e - 1.0)); }
+
+// outgoingTerms: alpha, E(mu_o), the layer's F0, albedo at mu_o and average per channel, and the
+// specular lobe's pick, looked up once per event.
 struct BsdfOutgoing {
-    float alpha, metalAlbedo, dielectricAlbedo, pick;
+    float alpha, metalAlbedo, pick;
+    vec3 f0, layerAlbedo, layerAverage;
 };
 BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
     BsdfOutgoing o;
     o.alpha = microfacetAlpha(s.roughness);
     o.metalAlbedo = microfacetTable(p, 0u, wo.z, s.roughness);
-    o.dielectricAlbedo = microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness);
+    const float w = fresnelWeightAlbedo(o.metalAlbedo, microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness));
+    const float wAverage = microfacetAverage(p, kMicrofacetFresnelAverageTable, s.roughness);
+    const float mixAverage = microfacetAverage(p, kMicrofacetMixAverageTable, s.roughness);
+    o.f0 = min(kDielectricF0 * s.specularColor, vec3(1.0));
+    o.layerAlbedo = layerAlbedo(o.f0, o.metalAlbedo, w);
+    o.layerAverage = o.f0 * o.f0 + (vec3(1.0) - o.f0) * (vec3(1.0) - o.f0) * wAverage + o.f0 * (vec3(1.0) - o.f0) * mixAverage;
     const float base = (s.base.x + s.base.y + s.base.z) / 3.0;
-    const float spec = (1.0 - s.metallic) * s.specular * o.dielectricAlbedo + s.metallic * base;
-    const float diffuse = (1.0 - s.metallic) * base * (1.0 - s.specular * o.dielectricAlbedo);
+    const float layer = (o.layerAlbedo.x + o.layerAlbedo.y + o.layerAlbedo.z) / 3.0;
+    const vec3 leftShare = s.base * (vec3(1.0) - s.specular * o.layerAlbedo) / 3.0;
+    const float spec = (1.0 - s.metallic) * s.specular * layer + s.metallic * base;
+    const float diffuse = (1.0 - s.metallic) * (leftShare.x + leftShare.y + leftShare.z);
     o.pick = spec + diffuse > 0.0 ? spec / (spec + diffuse) : 0.5;
     return o;
 }
@@ -104,14 +124,15 @@ BsdfValue evalWith(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 w
     const vec3 lobe = microfacetLobe(wo, wi, o.alpha);
     const float fresnel = schlickWeight(lobe.y);
     const float lost = 1.0 / o.metalAlbedo - 1.0;
+    const float eIn = microfacetTable(p, 0u, wi.z, s.roughness);
+    const float wIn = fresnelWeightAlbedo(eIn, microfacetTable(p, kMicrofacetDielectricTable, wi.z, s.roughness));
     const vec3 f0 = s.base;
     const vec3 metal = (f0 + (vec3(1.0) - f0) * fresnel) * lobe.x * (vec3(1.0) + f0 * lost);
-    const float layer = s.specular * (kDielectricF0 + (1.0 - kDielectricF0) * fresnel) * lobe.x *
-                        (1.0 + kDielectricF0 * lost);
-    const float incoming = microfacetTable(p, kMicrofacetDielectricTable, wi.z, s.roughness);
-    const float left = (1.0 - s.specular * o.dielectricAlbedo) * (1.0 - s.specular * incoming) /
-                       (kPi * (1.0 - s.specular * microfacetAverage(p, s.roughness)));
-    return BsdfValue((vec3(layer) + s.base * left) * (1.0 - s.metallic) + metal * s.metallic,
+    const vec3 layer = s.specular * (o.f0 + (vec3(1.0) - o.f0) * fresnel) * lobe.x * (vec3(1.0) + o.f0 * lost);
+    const vec3 rest = kPi * (vec3(1.0) - s.specular * o.layerAverage);
+    vec3 left = (vec3(1.0) - s.specular * o.layerAlbedo) * (vec3(1.0) - s.specular * layerAlbedo(o.f0, eIn, wIn)) / rest;
+    left = mix(vec3(0.0), left, greaterThan(rest, vec3(1e-6)));
+    return BsdfValue((layer + s.base * left) * (1.0 - s.metallic) + metal * s.metallic,
                      o.pick * lobe.z + (1.0 - o.pick) * wi.z / kPi);
 }
 

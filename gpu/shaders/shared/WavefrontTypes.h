@@ -88,7 +88,8 @@ struct WavefrontMaterial {
     float metallic;
     float roughness;
     float specular;
-    uint padding0, padding1;
+    float specularColorR, specularColorG, specularColorB;  // KHR_materials_specular's colour factor
+    uint padding0, padding1, padding2;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type
@@ -270,7 +271,7 @@ struct WavefrontPush {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(WavefrontMaterial) == 48);
+static_assert(sizeof(WavefrontMaterial) == 64);
 static_assert(sizeof(WavefrontLight) == 64);
 static_assert(offsetof(WavefrontParams, eyeX) == 39 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);

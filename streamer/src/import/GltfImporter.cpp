@@ -82,8 +82,9 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
     for (size_t i = 0; i < 3 && i < g.emissiveFactor.size(); ++i) m.emissive[i] = float(g.emissiveFactor[i] * strength);
     m.doubleSided = g.doubleSided;
     // Metallic-roughness (tinygltf fills the spec's defaults, 1 and 1); KHR_materials_specular's
-    // factor weights the dielectric layer (1 without it). Out-of-range factors are refused by
-    // finalizeMesh; textures are not rendered yet (GltfLoader warns).
+    // factor weights the dielectric layer (1 without it) and its colour factor scales the layer's
+    // F0 (white without it). The types were checked (GltfSchema); out-of-range factors are refused
+    // by finalizeMesh; textures are not rendered yet (the importer warns).
     m.metallic = float(g.pbrMetallicRoughness.metallicFactor);
     m.roughness = float(g.pbrMetallicRoughness.roughnessFactor);
     m.specular = 1.0f;
@@ -91,6 +92,13 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
     if (specular != g.extensions.end() && specular->second.Has("specularFactor")) {
         const tinygltf::Value& factor = specular->second.Get("specularFactor");
         m.specular = factor.IsNumber() ? float(factor.GetNumberAsDouble()) : std::numeric_limits<float>::quiet_NaN();
+    }
+    if (specular != g.extensions.end() && specular->second.Has("specularColorFactor")) {
+        const tinygltf::Value& colour = specular->second.Get("specularColorFactor");
+        for (int c = 0; c < 3; ++c)
+            m.specularColor[c] = colour.IsArray() && colour.ArrayLen() == 3 && colour.Get(c).IsNumber()
+                                     ? float(colour.Get(c).GetNumberAsDouble())
+                                     : std::numeric_limits<float>::quiet_NaN();
     }
     return m;
 }

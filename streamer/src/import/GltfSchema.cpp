@@ -2,6 +2,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <utility>
 
 namespace vastray::import {
 namespace {
@@ -185,6 +186,25 @@ const Schema kLightsExtension{{{"lights", Kind::ObjectArray, &kLight, 0, true}}}
 const Schema kNodeLight{{{"light", Kind::Index, nullptr, 0, true}}};
 constexpr const char* kLightsPunctual = "KHR_lights_punctual";
 
+// The material extensions the importer reads (their values' ranges: finalizeMesh).
+const Schema kSpecularExtension{{{"specularFactor", Kind::Number}, {"specularTexture", Kind::Object, &kTextureInfo},
+                                 {"specularColorFactor", Kind::NumberArray, nullptr, 3},
+                                 {"specularColorTexture", Kind::Object, &kTextureInfo}}};
+const std::pair<const char*, const Schema*> kMaterialExtensions[] = {{"KHR_materials_specular", &kSpecularExtension}};
+
+Status checkMaterialExtensionTypes(const Json& doc) {
+    if (!doc.contains("materials")) return Status::ok();
+    const Json& materials = doc["materials"];
+    for (size_t i = 0; i < materials.size(); ++i) {
+        const auto ext = materials[i].find("extensions");
+        if (ext == materials[i].end()) continue;
+        for (const auto& [name, schema] : kMaterialExtensions)
+            if (const auto found = ext->find(name); found != ext->end())
+                VASTRAY_TRY(check(*found, *schema, "JSON /materials/" + std::to_string(i) + "/extensions/" + name));
+    }
+    return Status::ok();
+}
+
 // After the root's check: every object on the way is what the schema said.
 Status checkLightTypes(const Json& doc) {
     const auto extensionOf = [](const Json& object) -> const Json* {
@@ -208,6 +228,7 @@ Status checkLightTypes(const Json& doc) {
 Status checkGltfTypes(const nlohmann::json& doc) {
     if (!doc.is_object()) return Status::error("JSON: the top level is " + found(doc) + ", not an object");
     VASTRAY_TRY(check(doc, kRoot, "JSON "));
+    VASTRAY_TRY(checkMaterialExtensionTypes(doc));
     return checkLightTypes(doc);
 }
 

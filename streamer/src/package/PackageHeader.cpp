@@ -168,6 +168,8 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.put(uint32_t(m.doubleSided ? 1 : 0));
         out.put(m.metallic), out.put(m.roughness), out.put(m.specular), out.put(uint32_t(0));
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
+        out.put(m.specularColor);
+        for (int i = 0; i < 5; ++i) out.put(uint32_t(0));
     }
     return std::move(out.bytes());
 }
@@ -181,21 +183,25 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         in.get(m.baseColor);
         in.get(m.emissive);
         in.get(doubleSided);
-        if (version >= 5) {
-            uint32_t reserved = 0;
-            in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(reserved);
-            if (const std::string problem = materialFactorProblem(m); in.ok() && !problem.empty())
-                return Status::error("material " + std::to_string(i) + ": " + problem);
-            if (in.ok() && reserved != 0)
-                return Status::error("material " + std::to_string(i) + " has a non-zero reserved field");
-        }
+        uint32_t reserved[6] = {0, 0, 0, 0, 0, 0};
+        if (version >= 5) in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(reserved[0]);
         in.getFixedString(m.name, format::kMaterialNameBytes);
         m.name = validUtf8(m.name);  // a forged or older package may hold a split character
+        if (version >= format::kFirstSpecularColorVersion) {
+            in.get(m.specularColor);
+            for (int r = 1; r < 6; ++r) in.get(reserved[r]);
+        }
         m.doubleSided = doubleSided != 0;
+        if (!in.ok()) break;
+        const std::string what = "material " + std::to_string(i) + " ('" + m.name + "')";
+        if (const std::string problem = materialFactorProblem(m); !problem.empty())
+            return Status::error(what + ": " + problem);
+        for (uint32_t r : reserved)
+            if (r != 0) return Status::error(what + " has a non-zero reserved field");
         for (float v : m.baseColor)
-            if (!std::isfinite(v)) return Status::error("material " + std::to_string(i) + " has a non-finite colour");
+            if (!std::isfinite(v)) return Status::error(what + " has a non-finite colour");
         for (float v : m.emissive)
-            if (!std::isfinite(v)) return Status::error("material " + std::to_string(i) + " has a non-finite emission");
+            if (!std::isfinite(v)) return Status::error(what + " has a non-finite emission");
     }
     if (!in.ok()) return Status::error("truncated materials");
     return materials;

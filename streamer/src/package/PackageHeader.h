@@ -41,7 +41,9 @@ std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras);
 // Each camera valid (validateCamera): "camera 2 'Orbit': ..." otherwise.
 Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes, uint32_t count);
 // Version 5 records (format::materialBytes) carry the metallic-roughness factors, each in [0, 1];
-// older ones are read as Lambertian (metallic 0, roughness 1, specular 0).
+// older ones are read as Lambertian (metallic 0, roughness 1, specular 0). Version 8 records add
+// the specular colour (each channel in [0, kMaxSpecularColor]; before, white). A record out of
+// range: "material 2 ('Gold'): metallic 2 is outside [0, 1]".
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
 
 // The lights section (format::lightsSectionBytes): the records, then their XXH64.

@@ -117,7 +117,7 @@ TEST(GltfImport, MetallicRoughnessFactors) {
     for (const auto& [field, expected] :
          {std::pair{R"("pbrMetallicRoughness":{"metallicFactor":1.5})", "metallic 1.5 is outside [0, 1]"},
           std::pair{R"("pbrMetallicRoughness":{"roughnessFactor":-1})", "roughness -1 is outside [0, 1]"},
-          std::pair{R"("extensions":{"KHR_materials_specular":{"specularFactor":"high"}})", "specular nan is outside [0, 1]"}}) {
+          std::pair{R"("extensions":{"KHR_materials_specular":{"specularFactor":1.25}})", "specular 1.25 is outside [0, 1]"}}) {
         GltfBuilder bad;
         bad.addPositions(kTriangle);
         const std::string text = bad.json(std::string(R"("materials":[{"name":"shiny",)") + field + R"(}],
@@ -126,6 +126,41 @@ TEST(GltfImport, MetallicRoughnessFactors) {
         ASSERT_FALSE(refused.isOk()) << field;
         EXPECT_NE(refused.message().find(std::string("material 0 ('shiny'): ") + expected), std::string::npos)
             << refused.message();
+    }
+}
+
+// KHR_materials_specular's specularColorFactor (white without it); a value outside [0, 1000]
+// is refused naming the material, a value of the wrong JSON type naming its JSON path.
+TEST(GltfImport, SpecularColourFactor) {
+    const auto document = [](const std::string& specular) {
+        GltfBuilder b;
+        b.addPositions(kTriangle);
+        return b.json(R"("extensionsUsed":["KHR_materials_specular"],
+           "materials":[{"name":"tinted","extensions":{"KHR_materials_specular":)" + specular + R"(}},{"name":"plain"}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+    };
+    auto r = importGltf(writeFile("specularcolour.gltf", document(R"({"specularFactor":0.5,"specularColorFactor":[0.25,1,24.5]})")));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.materials[0].specular, 0.5f);
+    EXPECT_EQ(r->mesh.materials[0].specularColor, (std::array<float, 3>{0.25f, 1, 24.5f}));
+    EXPECT_EQ(r->mesh.materials[1].specularColor, (std::array<float, 3>{1, 1, 1}));
+    for (const auto& [specular, expected] :
+         {std::pair{R"({"specularColorFactor":[-1,0,0]})", "material 0 ('tinted'): specular colour (-1, 0, 0) is outside [0, 1000]"},
+          std::pair{R"({"specularColorFactor":[0,1000.5,0]})",
+                    "material 0 ('tinted'): specular colour (0, 1000.5, 0) is outside [0, 1000]"},
+          std::pair{R"({"specularColorFactor":[1e40,0,0]})", "material 0 ('tinted'): specular colour (inf, 0, 0) is outside [0, 1000]"},
+          std::pair{R"({"specularColorFactor":["NaN",0,0]})",
+                    R"(JSON /materials/0/extensions/KHR_materials_specular/specularColorFactor/0: expected a number, found string "NaN")"},
+          std::pair{R"({"specularColorFactor":[1,1]})",
+                    "JSON /materials/0/extensions/KHR_materials_specular/specularColorFactor: expected 3 numbers, found 2"},
+          std::pair{R"({"specularColorFactor":0.5})",
+                    "JSON /materials/0/extensions/KHR_materials_specular/specularColorFactor: expected an array of numbers, found number 0.5"},
+          std::pair{R"({"specularFactor":"high"})",
+                    R"(JSON /materials/0/extensions/KHR_materials_specular/specularFactor: expected a number, found string "high")"}}) {
+        auto refused = importGltf(writeFile("badspecular.gltf", document(specular)));
+        ASSERT_FALSE(refused.isOk()) << specular;
+        EXPECT_NE(refused.message().find(expected), std::string::npos) << refused.message();
     }
 }
 

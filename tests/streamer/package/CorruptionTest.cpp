@@ -83,7 +83,7 @@ TEST_F(Corruption, EveryByteOfOneChunkIsCaught) {
 }
 
 TEST_F(Corruption, HeaderAndSectionDamageFailsToOpenWithTheSectionNamed) {
-    const uint64_t materials = 256, tree = materials + info_->materials.size() * 112;  // version 5 records
+    const uint64_t materials = 256, tree = materials + info_->materials.size() * 144;  // version 8 records
     const uint64_t directory = tree + info_->topTree.size() * 8;
     const struct {
         uint64_t offset;

@@ -181,7 +181,7 @@ TEST_F(ForgedFloats, OlderFormatVersionsAskForAReimport) {
         std::vector<uint8_t> bytes = *bytes_;
         put(bytes, 8, version);
         expectRefused(bytes, "package format version " + std::to_string(version) +
-                                 " is not supported (this vastray reads 3 to 7): re-import the mesh");
+                                 " is not supported (this vastray reads 3 to 8): re-import the mesh");
     }
 }
 
@@ -218,9 +218,9 @@ TEST_F(ForgedFloats, MaterialFactorsOutsideTheUnitIntervalAreRefused) {
     constexpr size_t kMaterialsChecksumAt = kDirectoryChecksumAt - 2 * 8;
     constexpr size_t kMetallicAt = format::kHeaderBytes + 4 * 4 + 3 * 4 + 4;
     for (const auto& [at, value, expected] :
-         {std::tuple{kMetallicAt, 2.0f, "material 0: metallic 2 is outside [0, 1]"},
-          std::tuple{kMetallicAt + 4, kNan, "material 0: roughness nan is outside [0, 1]"},
-          std::tuple{kMetallicAt + 8, -0.5f, "material 0: specular -0.5 is outside [0, 1]"}}) {
+         {std::tuple{kMetallicAt, 2.0f, "material 0 (''): metallic 2 is outside [0, 1]"},
+          std::tuple{kMetallicAt + 4, kNan, "material 0 (''): roughness nan is outside [0, 1]"},
+          std::tuple{kMetallicAt + 8, -0.5f, "material 0 (''): specular -0.5 is outside [0, 1]"}}) {
         std::vector<uint8_t> bytes = *bytes_;
         put(bytes, at, value);
         const uint64_t materialsBytes = info_->materials.size() * format::kMaterialBytes;

@@ -23,6 +23,9 @@ struct Material {
     float metallic = 0.0f;   // [0, 1]
     float roughness = 1.0f;  // [0, 1], perceptual (GGX alpha = roughness^2)
     float specular = 0.0f;   // [0, 1], the dielectric specular layer's weight (KHR_materials_specular)
+    // KHR_materials_specular's specularColorFactor: the layer's F0 is min(0.04 this, 1) per channel;
+    // [0, kMaxSpecularColor] (core/Microfacet.h).
+    std::array<float, 3> specularColor{1.0f, 1.0f, 1.0f};
     bool doubleSided = true;
 };
 

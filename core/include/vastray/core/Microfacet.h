@@ -8,8 +8,9 @@
 // - the Lambertian base of a dielectric gets what its specular layer does not reflect,
 //   base (1 - s Ed(mu_o)) (1 - s Ed(mu_i)) / (pi (1 - s Ed_avg)) (Kulla and Conty 2017's
 //   form), so a white dielectric reflects all it receives whatever its roughness.
-// f = (1 - metallic) (s Fresnel(0.04) specular + diffuse) + metallic Fresnel(base) specular,
-// where s is KHR_materials_specular's factor (0: no specular layer, a Lambertian surface).
+// f = (1 - metallic) (s Fresnel(F0) specular + diffuse) + metallic Fresnel(base) specular,
+// where s is KHR_materials_specular's factor (0: no specular layer, a Lambertian surface) and
+// F0 = min(0.04 specularColor, 1) per channel (its specularColorFactor; 0.04 by default).
 // Directions are local: +z is the shading normal, wo points away from the surface (towards
 // the viewer), both unit.
 #include <cstdint>
@@ -30,7 +31,12 @@ constexpr uint32_t kMicrofacetTableSide = 32;
 constexpr uint32_t kMicrofacetMetalTable = 0;
 constexpr uint32_t kMicrofacetDielectricTable = kMicrofacetTableSide * kMicrofacetTableSide;
 constexpr uint32_t kMicrofacetAverageTable = 2 * kMicrofacetTableSide * kMicrofacetTableSide;
-constexpr uint32_t kMicrofacetTableFloats = kMicrofacetAverageTable + kMicrofacetTableSide;
+// Per roughness, 2 * integral of W(mu) mu and of (E + W / E)(mu) mu over the piecewise-linear
+// node values, W = the single-scattering albedo of Schlick's weight (1 - cos)^5 alone (derived
+// from E and Ed): the average of a layer of any F0 is F0^2 + (1 - F0)^2 W_avg + F0 (1 - F0) M_avg.
+constexpr uint32_t kMicrofacetFresnelAverageTable = kMicrofacetAverageTable + kMicrofacetTableSide;
+constexpr uint32_t kMicrofacetMixAverageTable = kMicrofacetFresnelAverageTable + kMicrofacetTableSide;
+constexpr uint32_t kMicrofacetTableFloats = kMicrofacetMixAverageTable + kMicrofacetTableSide;
 // The dielectric layer's normal-incidence reflectance (index of refraction 1.5).
 constexpr float kDielectricF0 = 0.04f;
 // GGX alpha = roughness^2, at least this (a mirror would need a delta lobe).
@@ -41,17 +47,23 @@ const std::vector<float>& microfacetTables();
 
 // Bilinear lookup of a table at cosine mu and roughness, both clamped to [0, 1].
 float microfacetTableLookup(const float* table, float mu, float roughness);
-// Ed_avg at roughness, linear between the table's rows (exact for the bilinear Ed).
-float microfacetAverageLookup(const float* tables, float roughness);
+// Ed_avg at roughness, linear between the table's rows (exact for the bilinear Ed); with
+// `table`, another per-roughness table (kMicrofacetFresnelAverageTable, ...).
+float microfacetAverageLookup(const float* tables, float roughness, uint32_t table = kMicrofacetAverageTable);
+// The largest KHR_materials_specular specularColorFactor a material may have: F0 saturates at
+// 1 from 25 on (0.04 x 25); beyond 1,000 a value is taken for an error in the file.
+constexpr float kMaxSpecularColor = 1000.0f;
 
 struct Bsdf {
     Vec3f base;          // base colour times the vertex colour
     float metallic = 0;  // [0, 1]
     float roughness = 1; // [0, 1], perceptual (alpha = roughness^2)
     float specular = 0;  // [0, 1], the dielectric layer's weight
+    Vec3f specularColor{1, 1, 1};  // [0, kMaxSpecularColor]: the layer's F0 is min(0.04 this, 1)
 };
 
-// "metallic 1.5 is outside [0, 1]" for the first factor that is not a fraction; empty when all are.
+// "metallic 1.5 is outside [0, 1]" for the first factor that is not a fraction (or a specular
+// colour channel outside [0, kMaxSpecularColor]); empty when all are.
 std::string materialFactorProblem(const Material& m);
 
 // Whether the material is the Lambertian base alone (no specular layer, not metallic): such

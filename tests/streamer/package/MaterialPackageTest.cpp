@@ -1,0 +1,117 @@
+// Issue 13 ("Real assets"): a package's material records (format version 8 adds
+// KHR_materials_specular's colour factor). Materials round-trip exactly; a forged record (a
+// forger who recomputes the materials' checksum) is refused naming the material and the field;
+// packages of older versions still read, their specular colour glTF's default, white.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+#include <tuple>
+
+#include "PackageTestUtil.h"
+#include "package/PackageFormat.h"
+#include "vastray/core/Checksum.h"
+
+namespace vastray::test {
+namespace {
+
+// Offsets in the header (ForgedFloatTest.cpp spells them out): the materials' XXH64 follows the
+// bounds, the quantization grid and the four section offsets.
+constexpr size_t kMaterialsChecksumAt = 8 + 4 + 4 + 7 * 8 + 6 * 4 + 6 * 4 + 4 * 8 + 4 * 8;
+constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
+// In a version 8 record: the specular colour after the name, then five reserved words.
+constexpr size_t kSpecularColorAt = format::kMaterialBytesBefore8;
+constexpr size_t kReservedAt = kSpecularColorAt + 12;
+
+std::vector<Material> threeMaterials() {
+    Material plastic{"Plastic", {0.2f, 0.4f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.3f, 1.0f, {0.5f, 1.0f, 2.0f}, true};
+    Material colourless{"Colourless", {0.8f, 0.8f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.6f, 0.5f, {0, 0, 0}, false};
+    Material saturated{"Saturated", {1, 1, 1, 1}, {1, 2, 3}, 0.25f, 1.0f, 1.0f, {25, 1000, 0.125f}, true};
+    return {plastic, colourless, saturated};
+}
+
+class MaterialPackage : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        TriangleMesh mesh = generatedMesh(GeneratorKind::Soup, 500, 5);
+        mesh.materials = threeMaterials();
+        mesh.materialIds.resize(mesh.triangleCount());
+        for (size_t t = 0; t < mesh.materialIds.size(); ++t) mesh.materialIds[t] = uint32_t(t % 3);
+        auto reader = buildAndOpen(std::move(mesh), tempPath("materials.vast"), PackageBuildOptions{});
+        ASSERT_TRUE(reader);
+        bytes_ = new std::vector<uint8_t>(readFile(tempPath("materials.vast")));
+    }
+    static void TearDownTestSuite() { delete bytes_; }
+
+    static size_t recordAt(uint32_t index) { return format::kHeaderBytes + size_t(index) * format::kMaterialBytes; }
+
+    static void expectRefused(std::vector<uint8_t> bytes, const std::string& expected) {
+        putAt(bytes, kMaterialsChecksumAt, checksum64(bytes.data() + format::kHeaderBytes, 3 * format::kMaterialBytes));
+        putAt(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
+        expectOpenRefused(bytes, tempPath("forged-materials.vast"), expected);
+    }
+
+    static std::vector<uint8_t>* bytes_;
+};
+std::vector<uint8_t>* MaterialPackage::bytes_ = nullptr;
+
+TEST_F(MaterialPackage, MaterialsRoundTripExactly) {
+    auto reader = PackageReader::open(tempPath("materials.vast"));
+    ASSERT_TRUE(reader.isOk()) << reader.message();
+    EXPECT_EQ((*reader)->info().formatVersion, 8u);
+    const std::vector<Material> expected = threeMaterials();
+    const std::vector<Material>& read = (*reader)->info().materials;
+    ASSERT_EQ(read.size(), expected.size());
+    for (size_t i = 0; i < read.size(); ++i) {
+        EXPECT_EQ(read[i].name, expected[i].name);
+        EXPECT_EQ(read[i].baseColor, expected[i].baseColor);
+        EXPECT_EQ(read[i].emissive, expected[i].emissive);
+        EXPECT_EQ(read[i].metallic, expected[i].metallic);
+        EXPECT_EQ(read[i].roughness, expected[i].roughness);
+        EXPECT_EQ(read[i].specular, expected[i].specular);
+        EXPECT_EQ(read[i].specularColor, expected[i].specularColor);
+        EXPECT_EQ(read[i].doubleSided, expected[i].doubleSided);
+    }
+}
+
+TEST_F(MaterialPackage, ForgedSpecularColoursAreRefusedByMaterial) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (const auto& [material, channel, value, expected] :
+         {std::tuple{1u, 0u, nan, "material 1 ('Colourless'): specular colour (nan, 0, 0) is outside [0, 1000]"},
+          std::tuple{0u, 2u, -1.0f, "material 0 ('Plastic'): specular colour (0.5, 1, -1) is outside [0, 1000]"},
+          std::tuple{2u, 1u, 1001.0f, "material 2 ('Saturated'): specular colour (25, 1001, 0.125) is outside [0, 1000]"},
+          std::tuple{2u, 0u, std::numeric_limits<float>::infinity(),
+                     "material 2 ('Saturated'): specular colour (inf, 1000, 0.125) is outside [0, 1000]"}}) {
+        std::vector<uint8_t> bytes = *bytes_;
+        putAt(bytes, recordAt(material) + kSpecularColorAt + 4 * channel, value);
+        expectRefused(bytes, expected);
+    }
+    for (uint32_t word = 0; word < 5; ++word) {
+        std::vector<uint8_t> bytes = *bytes_;
+        putAt(bytes, recordAt(1) + kReservedAt + 4 * word, uint32_t(1));
+        expectRefused(bytes, "material 1 ('Colourless') has a non-zero reserved field");
+    }
+}
+
+// A changed record without a recomputed checksum is refused before its fields are read.
+TEST_F(MaterialPackage, ChangedRecordWithoutItsChecksumIsRefused) {
+    std::vector<uint8_t> bytes = *bytes_;
+    putAt(bytes, recordAt(0) + kSpecularColorAt, 0.75f);
+    expectOpenRefused(bytes, tempPath("forged-materials.vast"), "materials checksum mismatch");
+}
+
+// The seed corpus keeps packages of versions 5 (glossy: metallic-roughness materials) and 7
+// (lights): they still read, with glTF's default specular colour.
+TEST(MaterialPackageVersions, OlderPackagesReadWithAWhiteSpecularColour) {
+    for (const auto& [seed, version] : {std::pair{"glossy.vast", 5u}, std::pair{"lights.vast", 7u}, std::pair{"small.vast", 3u}}) {
+        auto reader = PackageReader::open(std::string(VASTRAY_FUZZ_CORPUS) + "/vast/" + seed);
+        ASSERT_TRUE(reader.isOk()) << seed << ": " << reader.message();
+        EXPECT_EQ((*reader)->info().formatVersion, version) << seed;
+        EXPECT_TRUE((*reader)->verify().empty()) << seed;
+        for (const Material& m : (*reader)->info().materials)
+            EXPECT_EQ(m.specularColor, (std::array<float, 3>{1, 1, 1})) << seed << " " << m.name;
+    }
+}
+
+}  // namespace
+}  // namespace vastray::test
