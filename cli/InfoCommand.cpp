@@ -40,6 +40,8 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"roughness", m.roughness},
                              {"specular", m.specular},
                              {"specular_color", m.specularColor},
+                             {"clearcoat", m.clearcoat},
+                             {"clearcoat_roughness", m.clearcoatRoughness},
                              {"double_sided", m.doubleSided}});
     nlohmann::json volumes = nlohmann::json::array();
     for (const PackageVolume& p : info.volumes) {

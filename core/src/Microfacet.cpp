@@ -86,6 +86,8 @@ Vec3f layerF0(const Bsdf& b) {
 struct Outgoing {
     float alpha = 0, metalAlbedo = 0, pick = 0;
     Vec3f f0, layerAlbedo, layerAverage;
+    // The coat (clearcoat > 0): alpha, E and Ed at its roughness and mu_o, and its lobe's pick.
+    float coatAlpha = 0, coatMetalAlbedo = 1, coatAlbedo = 0, coatPick = 0;
 };
 Outgoing outgoingTerms(const Bsdf& b, Vec3f wo, const float* tables) {
     Outgoing o;
@@ -108,11 +110,19 @@ Outgoing outgoingTerms(const Bsdf& b, Vec3f wo, const float* tables) {
     const float spec = (1.0f - b.metallic) * b.specular * layer + b.metallic * base;
     const float diffuse = (1.0f - b.metallic) * left;
     o.pick = spec + diffuse > 0.0f ? spec / (spec + diffuse) : 0.5f;
+    if (b.clearcoat > 0.0f) {
+        o.coatAlpha = alphaOf(b.clearcoatRoughness);
+        o.coatMetalAlbedo = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.clearcoatRoughness);
+        o.coatAlbedo = microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.clearcoatRoughness);
+        const float coat = b.clearcoat * o.coatAlbedo, under = (1.0f - coat) * (spec + diffuse);
+        o.coatPick = coat + under > 0.0f ? coat / (coat + under) : 1.0f;
+    }
     return o;
 }
 
-// f and the mixture's density from one lobe evaluation; wo.z > 0.
-BsdfValue evalWith(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const float* tables) {
+// The base (everything under the coat): f and the mixture's density from one lobe evaluation;
+// wo.z > 0.
+BsdfValue evalBase(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const float* tables) {
     if (wi.z <= 0) return {};
     const Lobe lobe = lobeAt(wo, wi, o.alpha);
     const float fresnel = schlickWeight(lobe.cosineOH);
@@ -135,6 +145,17 @@ BsdfValue evalWith(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const f
     }
     return {dielectricPart * (1.0f - b.metallic) + metal * b.metallic,
             o.pick * lobe.pdf + (1.0f - o.pick) * wi.z / kPi};
+}
+
+// f and the density with the coat over the base (without one, the base's exactly).
+BsdfValue evalWith(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const float* tables) {
+    const BsdfValue base = evalBase(b, o, wo, wi, tables);
+    if (!(b.clearcoat > 0.0f) || wi.z <= 0) return base;
+    const Lobe lobe = lobeAt(wo, wi, o.coatAlpha);
+    const float fresnel = kDielectricF0 + (1.0f - kDielectricF0) * schlickWeight(lobe.cosineOH);
+    const float coat = b.clearcoat * fresnel * lobe.specular * (1.0f + kDielectricF0 * (1.0f / o.coatMetalAlbedo - 1.0f));
+    return {base.f * (1.0f - b.clearcoat * o.coatAlbedo) + Vec3f{coat, coat, coat},
+            o.coatPick * lobe.pdf + (1.0f - o.coatPick) * base.pdf};
 }
 
 // A Hammersley point set of n points: (i + 1/2) / n and the base-2 radical inverse of i.
@@ -210,8 +231,11 @@ std::vector<float> computeTables() {
 }  // namespace
 
 std::string materialFactorProblem(const Material& m) {
-    const std::pair<const char*, float> factors[] = {{"metallic", m.metallic}, {"roughness", m.roughness},
-                                                     {"specular", m.specular}};
+    const std::pair<const char*, float> factors[] = {{"metallic", m.metallic},
+                                                     {"roughness", m.roughness},
+                                                     {"specular", m.specular},
+                                                     {"clearcoat", m.clearcoat},
+                                                     {"clearcoat roughness", m.clearcoatRoughness}};
     for (const auto& [what, v] : factors)
         if (!(v >= 0.0f && v <= 1.0f)) {
             char text[64];
@@ -267,7 +291,10 @@ bool sampleBsdf(const Bsdf& b, Vec3f wo, float uLobe, float u1, float u2, const 
                 float* pdf) {
     if (wo.z <= 0) return false;
     const Outgoing o = outgoingTerms(b, wo, tables);
-    if (uLobe < o.pick) {
+    if (uLobe < o.coatPick) {
+        const Vec3f h = sampleVisibleNormal(wo, o.coatAlpha, u1, u2);
+        *wi = normalize(h * (2.0f * dot(wo, h)) - wo);
+    } else if ((o.coatPick > 0.0f ? (uLobe - o.coatPick) / (1.0f - o.coatPick) : uLobe) < o.pick) {
         const Vec3f h = sampleVisibleNormal(wo, o.alpha, u1, u2);
         *wi = normalize(h * (2.0f * dot(wo, h)) - wo);
     } else {

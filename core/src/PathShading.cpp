@@ -14,7 +14,7 @@ Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
 
 Bsdf bsdfOf(const SurfacePoint& point) {
     const Material& m = *point.material;
-    return {point.albedo, m.metallic, m.roughness, m.specular, toVec(m.specularColor)};
+    return {point.albedo, m.metallic, m.roughness, m.specular, toVec(m.specularColor), m.clearcoat, m.clearcoatRoughness};
 }
 
 // wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it

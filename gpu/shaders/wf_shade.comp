@@ -37,6 +37,7 @@ layout(constant_id = 5) const bool kEnvironmentMap = false;    // an environment
 layout(constant_id = 6) const bool kVolumes = false;           // the scene has density volumes
 layout(constant_id = 7) const bool kMicrofacet = false;        // some material is glossy (not Lambertian)
 layout(constant_id = 8) const bool kLights = false;            // the render has punctual lights
+layout(constant_id = 9) const bool kClearcoat = false;         // some material has a clear coat
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point).
@@ -108,7 +109,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 punctualDirection, punctualIrradiance;
         float punctualDistance;
         bool event = false, shoots = false;
-        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0));
+        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0);
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
             origin = Vec4Array(p.rayOrigin).v[j].xyz + direction * tCollision;
@@ -154,9 +155,12 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
                 if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
                 event = bounce < p.maxDepth;
-                surface = Surface(n, ns, albedo, -direction, kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0),
-                                  m.metallic, m.roughness, m.specular,
-                                  vec3(m.specularColorR, m.specularColorG, m.specularColorB));
+                // Without kClearcoat the coat is a constant 0 and its steps fold away.
+                const float coat = kClearcoat ? m.clearcoat : 0.0;
+                surface = Surface(n, ns, albedo, -direction,
+                                  kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || coat > 0.0), m.metallic,
+                                  m.roughness, m.specular, vec3(m.specularColorR, m.specularColorG, m.specularColorB),
+                                  coat, m.clearcoatRoughness);
                 // Next-event estimation: a punctual light, or the sun, or with a map the sun or the map.
                 if (event && kLights)
                     choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection,

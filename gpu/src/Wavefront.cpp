@@ -147,12 +147,13 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights) {
-    bool emission = false, glossy = false;
+    bool emission = false, glossy = false, coated = false;
     for (const Material& m : materials) {
         emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
         glossy = glossy || !isLambertian(m);
+        coated = coated || m.clearcoat > 0;
     }
-    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights};
+    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated};
 }
 
 std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
@@ -839,7 +840,8 @@ private:
         for (const Material& m : job_.materials)
             materials.push_back({m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1],
                                  m.emissive[2], m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular,
-                                 m.specularColor[0], m.specularColor[1], m.specularColor[2], 0u, 0u, 0u});
+                                 m.specularColor[0], m.specularColor[1], m.specularColor[2], m.clearcoat,
+                                 m.clearcoatRoughness, 0u});
         VASTRAY_TRY(upload(materials, b_.tables.materials));
         VASTRAY_TRY(uploadLights(p));
         return uploadBytes(&p, sizeof(p), b_.tables.params);

@@ -40,7 +40,9 @@ struct WavefrontBuffers {
 };
 
 // wf_shade.comp's specialization constants (constant_id 0-8): what a render's shading needs.
-using ShadeConstants = std::array<uint32_t, 9>;
+// wf_shade.comp's specialization constants, in constant_id order (the last: some material has a
+// clear coat, kClearcoat).
+using ShadeConstants = std::array<uint32_t, 10>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights);
 

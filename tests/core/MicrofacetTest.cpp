@@ -84,6 +84,35 @@ TEST(Microfacet, WhiteFurnaceHoldsForEverySpecularColour) {
     EXPECT_LT(a.y, a.z);
 }
 
+// KHR_materials_clearcoat: a white base (dielectric, metal) under a full coat of any roughness
+// still reflects all it receives (1 %, never more: the coat takes its own albedo from the base);
+// a black base under a coat reflects the coat alone, a few per cent, more at grazing.
+TEST(Microfacet, WhiteFurnaceHoldsUnderAClearcoat) {
+    for (const float metallic : {0.0f, 1.0f})
+        for (const float coatRoughness : {0.0f, 0.1f, 0.3f, 0.6f, 1.0f})
+            for (const float mu : {0.05f, 0.3f, 0.7f, 1.0f}) {
+                Bsdf b{{1, 1, 1}, metallic, 0.5f, 1.0f};
+                b.clearcoat = 1.0f, b.clearcoatRoughness = coatRoughness;
+                const Vec3f a = albedo(b, mu, 100000);
+                EXPECT_NEAR(a.x, 1.0f, 0.01f) << "metallic " << metallic << " coat roughness " << coatRoughness << " mu " << mu;
+                EXPECT_LE(a.x, 1.0f + 0.01f);
+            }
+    Bsdf black{{0, 0, 0}, 0.0f, 0.5f, 0.0f};
+    black.clearcoat = 1.0f, black.clearcoatRoughness = 0.2f;
+    const float normal = albedo(black, 1.0f, 100000).x, grazing = albedo(black, 0.1f, 100000).x;
+    EXPECT_NEAR(normal, 0.04f, 0.01f);
+    EXPECT_GT(grazing, 2 * normal);
+    // Without a coat the BSDF is the base's exactly, whatever the coat's roughness says.
+    Bsdf uncoated{{0.6f, 0.3f, 0.2f}, 0.2f, 0.4f, 1.0f};
+    uncoated.clearcoatRoughness = 0.7f;
+    const Vec3f wo = outgoing(0.6f), wi = normalize(Vec3f{0.2f, 0.3f, 0.9f});
+    const float* t = microfacetTables().data();
+    const BsdfValue withRoughness = evalBsdf(uncoated, wo, wi, t);
+    const BsdfValue plain = evalBsdf({{0.6f, 0.3f, 0.2f}, 0.2f, 0.4f, 1.0f}, wo, wi, t);
+    EXPECT_EQ(withRoughness.f.x, plain.f.x);
+    EXPECT_EQ(withRoughness.pdf, plain.pdf);
+}
+
 // specularColorFactor 0 is not specularFactor 0: glTF's layer keeps F90 = specularFactor, so
 // F0 = 0 leaves Schlick's grazing term (1 - cos)^5 alone. Over a black base: next to nothing
 // at normal incidence (where specularFactor 0 gives exactly nothing), a visible share at grazing.
@@ -109,7 +138,9 @@ TEST(Microfacet, SamplesFollowTheReportedDensity) {
     const float* t = microfacetTables().data();
     constexpr uint32_t kCos = 16, kPhi = 32, kSub = 12, n = 400000;
     for (const Bsdf b : {Bsdf{{0.8f, 0.8f, 0.8f}, 0.0f, 0.5f, 1.0f}, Bsdf{{0.9f, 0.6f, 0.3f}, 1.0f, 0.35f, 1.0f},
-                         Bsdf{{0.2f, 0.2f, 0.2f}, 0.3f, 0.8f, 0.5f}})
+                         Bsdf{{0.2f, 0.2f, 0.2f}, 0.3f, 0.8f, 0.5f},
+                         Bsdf{{0.7f, 0.1f, 0.1f}, 0.0f, 0.6f, 1.0f, {1, 1, 1}, 1.0f, 0.3f},
+                         Bsdf{{0.9f, 0.6f, 0.3f}, 1.0f, 0.7f, 1.0f, {1, 1, 1}, 0.5f, 0.4f}})
         for (const float mu : {0.3f, 0.85f}) {
             const Vec3f wo = outgoing(mu);
             // Bins of equal solid angle: uniform in cos(theta) and phi.
@@ -165,8 +196,8 @@ TEST(Microfacet, SamplesFollowTheReportedDensity) {
                 ++dof;
             }
             if (pooledExpected >= 5) chi2 += (pooledCount - pooledExpected) * (pooledCount - pooledExpected) / pooledExpected, ++dof;
-            std::printf("metallic %.1f roughness %.2f mu %.2f: chi-square %.1f over %u bins (bound %.1f)\n", b.metallic,
-                        b.roughness, mu, chi2, dof, chiSquareBound(dof - 1));
+            std::printf("metallic %.1f roughness %.2f clearcoat %.1f mu %.2f: chi-square %.1f over %u bins (bound %.1f)\n", b.metallic,
+                        b.roughness, b.clearcoat, mu, chi2, dof, chiSquareBound(dof - 1));
             EXPECT_GT(dof, 50u);
             EXPECT_LT(chi2, chiSquareBound(dof - 1));
         }

@@ -21,6 +21,7 @@ struct Surface {
     bool glossy;
     float metallic, roughness, specular;
     vec3 specularColor;  // the layer's F0 is min(0.04 this, 1)
+    float clearcoat, clearcoatRoughness;  // the coat over it all (0: none)
 };
 
 float microfacetAlpha(float roughness) { return max(roughness * roughness, kMinMicrofacetAlpha); }
@@ -94,6 +95,7 @@ vec3 layerAlbedo(vec3 f0, float e, float w) { return (f0 * e + (vec3(1.0) - f0) 
 struct BsdfOutgoing {
     float alpha, metalAlbedo, pick;
     vec3 f0, layerAlbedo, layerAverage;
+    float coatAlpha, coatMetalAlbedo, coatAlbedo, coatPick;
 };
 BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
     BsdfOutgoing o;
@@ -111,6 +113,14 @@ BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
     const float spec = (1.0 - s.metallic) * s.specular * layer + s.metallic * base;
     const float diffuse = (1.0 - s.metallic) * (leftShare.x + leftShare.y + leftShare.z);
     o.pick = spec + diffuse > 0.0 ? spec / (spec + diffuse) : 0.5;
+    o.coatAlpha = 0.0, o.coatMetalAlbedo = 1.0, o.coatAlbedo = 0.0, o.coatPick = 0.0;
+    if (s.clearcoat > 0.0) {
+        o.coatAlpha = microfacetAlpha(s.clearcoatRoughness);
+        o.coatMetalAlbedo = microfacetTable(p, 0u, wo.z, s.clearcoatRoughness);
+        o.coatAlbedo = microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.clearcoatRoughness);
+        const float coat = s.clearcoat * o.coatAlbedo, under = (1.0 - coat) * (spec + diffuse);
+        o.coatPick = coat + under > 0.0 ? coat / (coat + under) : 1.0;
+    }
     return o;
 }
 
@@ -119,7 +129,7 @@ struct BsdfValue {
     vec3 f;
     float pdf;
 };
-BsdfValue evalWith(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 wi) {
+BsdfValue evalBase(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 wi) {
     if (wi.z <= 0.0) return BsdfValue(vec3(0.0), 0.0);
     const vec3 lobe = microfacetLobe(wo, wi, o.alpha);
     const float fresnel = schlickWeight(lobe.y);
@@ -134,6 +144,17 @@ BsdfValue evalWith(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 w
     left = mix(vec3(0.0), left, greaterThan(rest, vec3(1e-6)));
     return BsdfValue((layer + s.base * left) * (1.0 - s.metallic) + metal * s.metallic,
                      o.pick * lobe.z + (1.0 - o.pick) * wi.z / kPi);
+}
+
+// evalWith: the coat over the base (without one, the base's exactly).
+BsdfValue evalWith(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 wi) {
+    const BsdfValue base = evalBase(p, s, o, wo, wi);
+    if (!(s.clearcoat > 0.0) || wi.z <= 0.0) return base;
+    const vec3 lobe = microfacetLobe(wo, wi, o.coatAlpha);
+    const float fresnel = kDielectricF0 + (1.0 - kDielectricF0) * schlickWeight(lobe.y);
+    const float coat = s.clearcoat * fresnel * lobe.x * (1.0 + kDielectricF0 * (1.0 / o.coatMetalAlbedo - 1.0));
+    return BsdfValue(base.f * (1.0 - s.clearcoat * o.coatAlbedo) + vec3(coat),
+                     o.coatPick * lobe.z + (1.0 - o.coatPick) * base.pdf);
 }
 
 vec3 localOutgoing(vec3 tangent, vec3 bitangent, vec3 n, vec3 wo) {
@@ -166,7 +187,11 @@ bool scatterSurface(WavefrontParams p, Surface s, uint pixel, uint sampleIndex, 
     const float u2 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionV, p.seed);
     const BsdfOutgoing o = outgoingTerms(p, s, wo);
     vec3 wi;
-    if (randomFloat(pixel, sampleIndex, bounce, kDimLobe, p.seed) < o.pick) {
+    const float uLobe = randomFloat(pixel, sampleIndex, bounce, kDimLobe, p.seed);
+    if (uLobe < o.coatPick) {
+        const vec3 h = sampleVisibleNormal(wo, o.coatAlpha, u1, u2);
+        wi = normalize(h * (2.0 * dot(wo, h)) - wo);
+    } else if ((o.coatPick > 0.0 ? (uLobe - o.coatPick) / (1.0 - o.coatPick) : uLobe) < o.pick) {
         const vec3 h = sampleVisibleNormal(wo, o.alpha, u1, u2);
         wi = normalize(h * (2.0 * dot(wo, h)) - wo);
     } else {

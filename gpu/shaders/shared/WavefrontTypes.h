@@ -89,7 +89,8 @@ struct WavefrontMaterial {
     float roughness;
     float specular;
     float specularColorR, specularColorG, specularColorB;  // KHR_materials_specular's colour factor
-    uint padding0, padding1, padding2;
+    float clearcoat, clearcoatRoughness;                    // KHR_materials_clearcoat's factors
+    uint padding0;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type

@@ -100,6 +100,16 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
                                      ? float(colour.Get(c).GetNumberAsDouble())
                                      : std::numeric_limits<float>::quiet_NaN();
     }
+    // KHR_materials_clearcoat's factors (0 and 0 without it: no coat).
+    if (const auto coat = g.extensions.find("KHR_materials_clearcoat"); coat != g.extensions.end()) {
+        const auto factor = [&](const char* name) {
+            if (!coat->second.Has(name)) return 0.0f;
+            const tinygltf::Value& v = coat->second.Get(name);
+            return v.IsNumber() ? float(v.GetNumberAsDouble()) : std::numeric_limits<float>::quiet_NaN();
+        };
+        m.clearcoat = factor("clearcoatFactor");
+        m.clearcoatRoughness = factor("clearcoatRoughnessFactor");
+    }
     return m;
 }
 
@@ -415,6 +425,12 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
     report.warnUnused("skins", model.skins.size());
     report.warnUnused("animations", model.animations.size());
     report.warnUnused("textures", model.textures.size(), "materials use their factors only");
+    uint64_t coatTextures = 0;
+    for (const tinygltf::Material& m : model.materials)
+        if (const auto coat = m.extensions.find("KHR_materials_clearcoat"); coat != m.extensions.end())
+            for (const char* name : {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
+                coatTextures += coat->second.Has(name) ? 1 : 0;
+    report.warnUnused("KHR_materials_clearcoat textures", coatTextures, "the coat uses its factors only");
 }
 
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {

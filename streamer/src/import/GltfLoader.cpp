@@ -18,7 +18,7 @@ namespace {
 // Textures are not rendered yet, so a required texture transform changes nothing we draw;
 // quantized (normalized integer) positions are read by GltfAccessor.
 const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
-                                                  "KHR_materials_emissive_strength", "KHR_materials_specular",
+                                                  "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_clearcoat",
                                                   "KHR_texture_transform", "KHR_lights_punctual"};
 
 // glTF's own structure nests about 6 deep (extensions and extras a few more). tinygltf and

@@ -190,7 +190,12 @@ constexpr const char* kLightsPunctual = "KHR_lights_punctual";
 const Schema kSpecularExtension{{{"specularFactor", Kind::Number}, {"specularTexture", Kind::Object, &kTextureInfo},
                                  {"specularColorFactor", Kind::NumberArray, nullptr, 3},
                                  {"specularColorTexture", Kind::Object, &kTextureInfo}}};
-const std::pair<const char*, const Schema*> kMaterialExtensions[] = {{"KHR_materials_specular", &kSpecularExtension}};
+const Schema kClearcoatExtension{{{"clearcoatFactor", Kind::Number}, {"clearcoatTexture", Kind::Object, &kTextureInfo},
+                                  {"clearcoatRoughnessFactor", Kind::Number},
+                                  {"clearcoatRoughnessTexture", Kind::Object, &kTextureInfo},
+                                  {"clearcoatNormalTexture", Kind::Object, &kTextureInfo}}};
+const std::pair<const char*, const Schema*> kMaterialExtensions[] = {{"KHR_materials_specular", &kSpecularExtension},
+                                                                     {"KHR_materials_clearcoat", &kClearcoatExtension}};
 
 Status checkMaterialExtensionTypes(const Json& doc) {
     if (!doc.contains("materials")) return Status::ok();

@@ -29,9 +29,10 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //    3, 4 or 5 package is still read, each volume's data whole).
 // 7: punctual lights (glTF KHR_lights_punctual) in a section after the volume records (a version
 //    3 to 6 package, which has none, is still read).
-// 8: materials carry KHR_materials_specular's colour factor (32 bytes more each: the colour and
-//    five reserved words, after the name; a version 3 to 7 package is still read, its specular
-//    colour white, the glTF default).
+// 8: materials carry KHR_materials_specular's colour factor and KHR_materials_clearcoat's two
+//    factors (32 bytes more each: the colour, the coat and its roughness, three reserved words,
+//    after the name; a version 3 to 7 package is still read, its specular colour white and no
+//    coat, the glTF defaults).
 constexpr uint32_t kVersion = 8;
 constexpr uint32_t kFirstLightsVersion = 7;
 constexpr uint32_t kOldestReadableVersion = 3;
@@ -40,7 +41,7 @@ constexpr uint32_t kMaterialNameBytes = 64;
 constexpr uint32_t kMaterialBytesBefore5 = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
 constexpr uint32_t kMaterialBytesBefore8 = kMaterialBytesBefore5 + 4 * 4;
 constexpr uint32_t kFirstSpecularColorVersion = 8;
-constexpr uint32_t kMaterialBytes = kMaterialBytesBefore8 + 3 * 4 + 5 * 4;
+constexpr uint32_t kMaterialBytes = kMaterialBytesBefore8 + 3 * 4 + 2 * 4 + 3 * 4;
 constexpr uint32_t materialBytes(uint32_t version) {
     return version >= kFirstSpecularColorVersion ? kMaterialBytes : version >= 5 ? kMaterialBytesBefore8 : kMaterialBytesBefore5;
 }

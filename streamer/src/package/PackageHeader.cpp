@@ -168,8 +168,8 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.put(uint32_t(m.doubleSided ? 1 : 0));
         out.put(m.metallic), out.put(m.roughness), out.put(m.specular), out.put(uint32_t(0));
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
-        out.put(m.specularColor);
-        for (int i = 0; i < 5; ++i) out.put(uint32_t(0));
+        out.put(m.specularColor), out.put(m.clearcoat), out.put(m.clearcoatRoughness);
+        for (int i = 0; i < 3; ++i) out.put(uint32_t(0));
     }
     return std::move(out.bytes());
 }
@@ -183,13 +183,13 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         in.get(m.baseColor);
         in.get(m.emissive);
         in.get(doubleSided);
-        uint32_t reserved[6] = {0, 0, 0, 0, 0, 0};
+        uint32_t reserved[4] = {0, 0, 0, 0};
         if (version >= 5) in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(reserved[0]);
         in.getFixedString(m.name, format::kMaterialNameBytes);
         m.name = validUtf8(m.name);  // a forged or older package may hold a split character
         if (version >= format::kFirstSpecularColorVersion) {
-            in.get(m.specularColor);
-            for (int r = 1; r < 6; ++r) in.get(reserved[r]);
+            in.get(m.specularColor), in.get(m.clearcoat), in.get(m.clearcoatRoughness);
+            for (int r = 1; r < 4; ++r) in.get(reserved[r]);
         }
         m.doubleSided = doubleSided != 0;
         if (!in.ok()) break;

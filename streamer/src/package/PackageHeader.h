@@ -42,7 +42,8 @@ std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras);
 Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes, uint32_t count);
 // Version 5 records (format::materialBytes) carry the metallic-roughness factors, each in [0, 1];
 // older ones are read as Lambertian (metallic 0, roughness 1, specular 0). Version 8 records add
-// the specular colour (each channel in [0, kMaxSpecularColor]; before, white). A record out of
+// the specular colour (each channel in [0, kMaxSpecularColor]; before, white) and the clear coat's
+// weight and roughness (each in [0, 1]; before, no coat). A record out of
 // range: "material 2 ('Gold'): metallic 2 is outside [0, 1]".
 Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
 

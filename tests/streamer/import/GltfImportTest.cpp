@@ -164,6 +164,53 @@ TEST(GltfImport, SpecularColourFactor) {
     }
 }
 
+// KHR_materials_clearcoat's factors (no coat without it); a factor outside [0, 1] is refused
+// naming the material, a value of the wrong JSON type naming its JSON path; its textures are
+// warned about once, as unused.
+TEST(GltfImport, ClearcoatFactors) {
+    const auto document = [](const std::string& coat) {
+        GltfBuilder b;
+        b.addPositions(kTriangle);
+        return b.json(R"("extensionsUsed":["KHR_materials_clearcoat"],"extensionsRequired":["KHR_materials_clearcoat"],
+           "materials":[{"name":"lacquer","extensions":{"KHR_materials_clearcoat":)" + coat + R"(}},{"name":"bare"}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+    };
+    auto r = importGltf(writeFile("clearcoat.gltf", document(R"({"clearcoatFactor":0.75,"clearcoatRoughnessFactor":0.125,
+        "clearcoatTexture":{"index":0},"clearcoatNormalTexture":{"index":0}})")));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.materials[0].clearcoat, 0.75f);
+    EXPECT_EQ(r->mesh.materials[0].clearcoatRoughness, 0.125f);
+    EXPECT_EQ(r->mesh.materials[1].clearcoat, 0.0f);
+    EXPECT_EQ(r->mesh.materials[1].clearcoatRoughness, 0.0f);
+    size_t coatWarnings = 0;
+    for (const std::string& w : r->report.warnings)
+        if (w.find("KHR_materials_clearcoat textures") != std::string::npos) {
+            ++coatWarnings;
+            EXPECT_NE(w.find("2 "), std::string::npos) << w;
+        }
+    EXPECT_EQ(coatWarnings, 1u);
+    auto plain = importGltf(writeFile("clearcoat-plain.gltf", document(R"({"clearcoatFactor":1})")));
+    ASSERT_TRUE(plain.isOk()) << plain.message();
+    EXPECT_EQ(plain->mesh.materials[0].clearcoat, 1.0f);
+    EXPECT_EQ(plain->mesh.materials[0].clearcoatRoughness, 0.0f);
+    for (const auto& [coat, expected] :
+         {std::pair{R"({"clearcoatFactor":-0.5})", "material 0 ('lacquer'): clearcoat -0.5 is outside [0, 1]"},
+          std::pair{R"({"clearcoatFactor":1,"clearcoatRoughnessFactor":1.5})",
+                    "material 0 ('lacquer'): clearcoat roughness 1.5 is outside [0, 1]"},
+          std::pair{R"({"clearcoatFactor":1e40})", "material 0 ('lacquer'): clearcoat inf is outside [0, 1]"},
+          std::pair{R"({"clearcoatFactor":"NaN"})",
+                    R"(JSON /materials/0/extensions/KHR_materials_clearcoat/clearcoatFactor: expected a number, found string "NaN")"},
+          std::pair{R"({"clearcoatRoughnessFactor":[0.5]})",
+                    "JSON /materials/0/extensions/KHR_materials_clearcoat/clearcoatRoughnessFactor: expected a number, found array [0.5]"},
+          std::pair{R"({"clearcoatTexture":3})",
+                    "JSON /materials/0/extensions/KHR_materials_clearcoat/clearcoatTexture: expected an object, found number 3"}}) {
+        auto refused = importGltf(writeFile("badclearcoat.gltf", document(coat)));
+        ASSERT_FALSE(refused.isOk()) << coat;
+        EXPECT_NE(refused.message().find(expected), std::string::npos) << refused.message();
+    }
+}
+
 TEST(GltfImport, GlbWithBinChunk) {
     std::string bin;
     for (float f : kTriangle) appendRaw(bin, f);

@@ -1,5 +1,5 @@
 // Issue 13 ("Real assets"): a package's material records (format version 8 adds
-// KHR_materials_specular's colour factor). Materials round-trip exactly; a forged record (a
+// KHR_materials_specular's colour factor and KHR_materials_clearcoat's factors). Materials round-trip exactly; a forged record (a
 // forger who recomputes the materials' checksum) is refused naming the material and the field;
 // packages of older versions still read, their specular colour glTF's default, white.
 #include <gtest/gtest.h>
@@ -19,14 +19,16 @@ namespace {
 // bounds, the quantization grid and the four section offsets.
 constexpr size_t kMaterialsChecksumAt = 8 + 4 + 4 + 7 * 8 + 6 * 4 + 6 * 4 + 4 * 8 + 4 * 8;
 constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
-// In a version 8 record: the specular colour after the name, then five reserved words.
+// In a version 8 record: the specular colour after the name, the coat and its roughness, then
+// three reserved words.
 constexpr size_t kSpecularColorAt = format::kMaterialBytesBefore8;
-constexpr size_t kReservedAt = kSpecularColorAt + 12;
+constexpr size_t kClearcoatAt = kSpecularColorAt + 12;
+constexpr size_t kReservedAt = kClearcoatAt + 8;
 
 std::vector<Material> threeMaterials() {
-    Material plastic{"Plastic", {0.2f, 0.4f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.3f, 1.0f, {0.5f, 1.0f, 2.0f}, true};
-    Material colourless{"Colourless", {0.8f, 0.8f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.6f, 0.5f, {0, 0, 0}, false};
-    Material saturated{"Saturated", {1, 1, 1, 1}, {1, 2, 3}, 0.25f, 1.0f, 1.0f, {25, 1000, 0.125f}, true};
+    Material plastic{"Plastic", {0.2f, 0.4f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.3f, 1.0f, {0.5f, 1.0f, 2.0f}, 0.0f, 0.0f, true};
+    Material colourless{"Colourless", {0.8f, 0.8f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.6f, 0.5f, {0, 0, 0}, 1.0f, 0.125f, false};
+    Material saturated{"Saturated", {1, 1, 1, 1}, {1, 2, 3}, 0.25f, 1.0f, 1.0f, {25, 1000, 0.125f}, 0.5f, 1.0f, true};
     return {plastic, colourless, saturated};
 }
 
@@ -70,11 +72,13 @@ TEST_F(MaterialPackage, MaterialsRoundTripExactly) {
         EXPECT_EQ(read[i].roughness, expected[i].roughness);
         EXPECT_EQ(read[i].specular, expected[i].specular);
         EXPECT_EQ(read[i].specularColor, expected[i].specularColor);
+        EXPECT_EQ(read[i].clearcoat, expected[i].clearcoat);
+        EXPECT_EQ(read[i].clearcoatRoughness, expected[i].clearcoatRoughness);
         EXPECT_EQ(read[i].doubleSided, expected[i].doubleSided);
     }
 }
 
-TEST_F(MaterialPackage, ForgedSpecularColoursAreRefusedByMaterial) {
+TEST_F(MaterialPackage, ForgedFactorsAreRefusedByMaterial) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (const auto& [material, channel, value, expected] :
          {std::tuple{1u, 0u, nan, "material 1 ('Colourless'): specular colour (nan, 0, 0) is outside [0, 1000]"},
@@ -86,7 +90,15 @@ TEST_F(MaterialPackage, ForgedSpecularColoursAreRefusedByMaterial) {
         putAt(bytes, recordAt(material) + kSpecularColorAt + 4 * channel, value);
         expectRefused(bytes, expected);
     }
-    for (uint32_t word = 0; word < 5; ++word) {
+    for (const auto& [material, field, value, expected] :
+         {std::tuple{0u, 0u, 1.5f, "material 0 ('Plastic'): clearcoat 1.5 is outside [0, 1]"},
+          std::tuple{1u, 1u, nan, "material 1 ('Colourless'): clearcoat roughness nan is outside [0, 1]"},
+          std::tuple{2u, 0u, -0.25f, "material 2 ('Saturated'): clearcoat -0.25 is outside [0, 1]"}}) {
+        std::vector<uint8_t> bytes = *bytes_;
+        putAt(bytes, recordAt(material) + kClearcoatAt + 4 * field, value);
+        expectRefused(bytes, expected);
+    }
+    for (uint32_t word = 0; word < 3; ++word) {
         std::vector<uint8_t> bytes = *bytes_;
         putAt(bytes, recordAt(1) + kReservedAt + 4 * word, uint32_t(1));
         expectRefused(bytes, "material 1 ('Colourless') has a non-zero reserved field");
@@ -101,7 +113,7 @@ TEST_F(MaterialPackage, ChangedRecordWithoutItsChecksumIsRefused) {
 }
 
 // The seed corpus keeps packages of versions 5 (glossy: metallic-roughness materials) and 7
-// (lights): they still read, with glTF's default specular colour.
+// (lights): they still read, with glTF's default specular colour and no coat.
 TEST(MaterialPackageVersions, OlderPackagesReadWithAWhiteSpecularColour) {
     for (const auto& [seed, version] : {std::pair{"glossy.vast", 5u}, std::pair{"lights.vast", 7u}, std::pair{"small.vast", 3u}}) {
         auto reader = PackageReader::open(std::string(VASTRAY_FUZZ_CORPUS) + "/vast/" + seed);
@@ -110,6 +122,7 @@ TEST(MaterialPackageVersions, OlderPackagesReadWithAWhiteSpecularColour) {
         EXPECT_TRUE((*reader)->verify().empty()) << seed;
         for (const Material& m : (*reader)->info().materials)
             EXPECT_EQ(m.specularColor, (std::array<float, 3>{1, 1, 1})) << seed << " " << m.name;
+        for (const Material& m : (*reader)->info().materials) EXPECT_EQ(m.clearcoat, 0.0f) << seed << " " << m.name;
     }
 }
 

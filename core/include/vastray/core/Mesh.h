@@ -26,6 +26,10 @@ struct Material {
     // KHR_materials_specular's specularColorFactor: the layer's F0 is min(0.04 this, 1) per channel;
     // [0, kMaxSpecularColor] (core/Microfacet.h).
     std::array<float, 3> specularColor{1.0f, 1.0f, 1.0f};
+    // KHR_materials_clearcoat: the coat's weight and perceptual roughness, each [0, 1]; a clear
+    // GGX layer (F0 0.04) over everything above (core/Microfacet.h). 0: no coat.
+    float clearcoat = 0.0f;
+    float clearcoatRoughness = 0.0f;
     bool doubleSided = true;
 };
 

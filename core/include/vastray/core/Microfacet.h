@@ -11,6 +11,10 @@
 // f = (1 - metallic) (s Fresnel(F0) specular + diffuse) + metallic Fresnel(base) specular,
 // where s is KHR_materials_specular's factor (0: no specular layer, a Lambertian surface) and
 // F0 = min(0.04 specularColor, 1) per channel (its specularColorFactor; 0.04 by default).
+// A clear coat (KHR_materials_clearcoat, weight k, its own roughness) lies over all of it:
+// f = (1 - k Ec(mu_o)) f_base + k Fresnel(0.04) specular_coat (1 + 0.04 (1 / E - 1)), Ec the
+// coat's directional albedo (the Ed table at the coat's roughness): the base gets what the coat
+// does not reflect towards the viewer, so a white base under any coat reflects all it receives.
 // Directions are local: +z is the shading normal, wo points away from the surface (towards
 // the viewer), both unit.
 #include <cstdint>
@@ -60,6 +64,8 @@ struct Bsdf {
     float roughness = 1; // [0, 1], perceptual (alpha = roughness^2)
     float specular = 0;  // [0, 1], the dielectric layer's weight
     Vec3f specularColor{1, 1, 1};  // [0, kMaxSpecularColor]: the layer's F0 is min(0.04 this, 1)
+    float clearcoat = 0;           // [0, 1], the coat's weight (0: none)
+    float clearcoatRoughness = 0;  // [0, 1], perceptual
 };
 
 // "metallic 1.5 is outside [0, 1]" for the first factor that is not a fraction (or a specular
@@ -68,7 +74,9 @@ std::string materialFactorProblem(const Material& m);
 
 // Whether the material is the Lambertian base alone (no specular layer, not metallic): such
 // surfaces take the cosine-sampled Lambertian steps of core/PathShading.h unchanged.
-inline bool isLambertian(const Material& m) { return m.metallic <= 0.0f && m.specular <= 0.0f; }
+inline bool isLambertian(const Material& m) {
+    return m.metallic <= 0.0f && m.specular <= 0.0f && m.clearcoat <= 0.0f;
+}
 
 // f(wo, wi) (without the cosine) and the solid-angle density with which sampleBsdf draws wi.
 struct BsdfValue {
@@ -78,8 +86,10 @@ struct BsdfValue {
 // Both from one evaluation of the lobe and one lookup of each table (next-event estimation
 // needs both); 0 when either direction lies below the surface.
 BsdfValue evalBsdf(const Bsdf& bsdf, Vec3f wo, Vec3f wi, const float* tables);
-// Draws wi: the specular lobe (GGX visible normals, Dupuy and Benyoub 2023's spherical caps)
-// with a probability from the lobes' albedos (uLobe), else the cosine-weighted diffuse one;
+// Draws wi: with a coat, the coat's lobe with probability k Ec / (k Ec + (1 - k Ec) a_base)
+// (uLobe below it), else uLobe rescaled picks as without a coat: the specular lobe (GGX visible
+// normals, Dupuy and Benyoub 2023's spherical caps) with a probability from the lobes' albedos,
+// else the cosine-weighted diffuse one;
 // *weight = f cos / pdf, *pdf the mixture's density (evalBsdf's, from the same lookups).
 // false: no direction (below the surface).
 bool sampleBsdf(const Bsdf& bsdf, Vec3f wo, float uLobe, float u1, float u2, const float* tables, Vec3f* wi,
