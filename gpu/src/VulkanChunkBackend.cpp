@@ -332,9 +332,10 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     // slots; slots beyond the chunk count are useless, so what they would take goes back to the
     // wave. When the slots cannot hold every chunk, the wave gets waveShareOutOfCore (half by
     // default): every wave pages the scene through the slots again, so out of core fewer, larger
-    // waves mean fewer loads, and fewer slots only mean more walk passes per stream (PERF_NOTES 25).
-    auto split = [&](double share, uint64_t& rays, uint64_t& slots) {
-        rays = std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, kMaxBatchRays);
+    // waves mean fewer loads, and fewer slots only mean more walk passes per stream (PERF_NOTES 25);
+    // but at most kMaxOutOfCoreBatchRays paths, beyond which more slots pay more (PERF_NOTES 63).
+    auto split = [&](double share, uint64_t maxRays, uint64_t& rays, uint64_t& slots) {
+        rays = std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, maxRays);
         while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
         rays = std::max<uint64_t>(rays, kMinBatchRays);
         const uint64_t available = budget - batchBytes(rays);  // >= one slot and a one-slot table
@@ -343,8 +344,8 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         slots = std::min<uint64_t>(slots, chunks);
     };
     uint64_t rays = 0, slots = 0;
-    split(0.25, rays, slots);
-    if (slots < chunks) split(waveShareOutOfCore, rays, slots);
+    split(0.25, kMaxBatchRays, rays, slots);
+    if (slots < chunks) split(waveShareOutOfCore, kMaxOutOfCoreBatchRays, rays, slots);
     const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
     while (rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);

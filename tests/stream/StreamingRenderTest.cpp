@@ -399,6 +399,32 @@ TEST(StreamingRender, HostCacheAvoidsSecondDecodes) {
     EXPECT_LE(p.decodes, p.chunksTotal);
 }
 
+// A large out-of-core budget: the wave stops at kMaxOutOfCoreBatchRays paths and the slots take
+// the rest (PERF_NOTES 63). planPool reads only the package's chunk table, so a small package's
+// chunks repeated stand for a scene of several GiB.
+TEST(StreamingRender, OutOfCoreWaveStopsAtItsCapAndSlotsTakeTheRest) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    PackageInfo big = (*reader)->info();
+    const std::vector<ChunkInfo> chunks = big.chunks;
+    while (big.chunks.size() < 120000) big.chunks.insert(big.chunks.end(), chunks.begin(), chunks.end());
+    ASSERT_GT(big.decodedBytes(), 4ull << 30) << "the stand-in scene must exceed the budget";
+    const uint64_t budget = 2ull << 30;
+    auto plan = gpu::planPool(big, ChunkAttributes{}, budget, false);
+    ASSERT_TRUE(plan) << plan.message();
+    ASSERT_LT(plan->slots, big.chunks.size());
+    EXPECT_EQ(plan->batchRays, gpu::kMaxOutOfCoreBatchRays) << "half of 2 GiB would hold ~5 M paths";
+    EXPECT_LT(plan->rayBytes, budget / 8);
+    EXPECT_GT(plan->totalBytes, budget * 9 / 10) << "the slots take what the wave leaves";
+    EXPECT_LE(plan->totalBytes, budget);
+    // Below the cap the share still decides.
+    auto small = gpu::planPool(big, ChunkAttributes{}, 64ull << 20, false);
+    ASSERT_TRUE(small) << small.message();
+    EXPECT_LT(small->batchRays, gpu::kMaxOutOfCoreBatchRays);
+    EXPECT_GT(small->rayBytes, (64ull << 20) * 2 / 5) << "about half of the budget";
+}
+
 TEST(StreamingRender, WaveShareSplitsAnOutOfCoreBudget) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     auto reader = PackageReader::open(path);

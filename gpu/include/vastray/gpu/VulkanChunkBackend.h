@@ -85,6 +85,12 @@ constexpr uint32_t kMaxBatchRays = 65535u * 32u;
 // grows into what the slots leave only up to this many paths (~77 MiB), so that scenes sharing
 // a service's pool do not each take all of it.
 constexpr uint32_t kGrowBatchRays = 1u << 18;
+// Out of core the wave takes waveShareOutOfCore of the budget up to this many paths (~125 MiB of
+// path state); what a larger wave would take goes to chunk slots. A wave of this size fills an
+// H200; beyond it the walk gains little while fewer slots mean more reloads (PERF_NOTES 63: city
+// 64M at 4x over a 477 MiB budget, scene kept open: 1.25 M paths 0.745 s, 876 k 0.609 s, 625 k
+// 0.570 s, 450 k 0.638 s, 300 k 0.763 s). A budget below ~250 MiB never reaches it.
+constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
 
 // Splits `budget` between slots and the ray batch; an error (naming the minimum) when the
 // budget cannot hold one slot plus a minimal batch. The tile outputs the host reads back live
