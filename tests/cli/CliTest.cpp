@@ -57,6 +57,29 @@ TEST_F(Cli, InfoJsonHasTheDocumentedFields) {
         EXPECT_NE(r.output.find(key), std::string::npos) << key;
 }
 
+// glTF material extensions (KHR_materials_specular's colour, KHR_materials_clearcoat) reach the
+// package and `info --json` lists them per material; the coat's texture is warned about.
+TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
+    // One triangle (0,0,0), (1,0,0), (0,1,0) as base64 floats.
+    const std::string gltf = R"({"asset":{"version":"2.0"},
+        "extensionsUsed":["KHR_materials_specular","KHR_materials_clearcoat"],
+        "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+        "bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+        "materials":[{"name":"lacquer","extensions":{"KHR_materials_specular":{"specularColorFactor":[0.5,1,2]},
+            "KHR_materials_clearcoat":{"clearcoatFactor":0.75,"clearcoatRoughnessFactor":0.125,"clearcoatTexture":{"index":0}}}}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
+    std::ofstream(tmp("coat.gltf")) << gltf;
+    CommandResult i = run("import " + tmp("coat.gltf") + " -o " + tmp("coat.vast") + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("1 KHR_materials_clearcoat textures read but not used"), std::string::npos) << i.output;
+    CommandResult r = run("info " + tmp("coat.vast") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* key : {"\"name\": \"lacquer\"", "\"specular_color\"", "0.5", "2.0", "\"clearcoat\": 0.75",
+                            "\"clearcoat_roughness\": 0.125"})
+        EXPECT_NE(r.output.find(key), std::string::npos) << key << " in " << r.output;
+}
+
 TEST_F(Cli, MeshoptCodecImportsVerifiesAndSaysSo) {
     CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("meshopt.vast") +
                           " --chunk-size 64KiB --codec meshopt --progress none");
