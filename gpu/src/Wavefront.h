@@ -39,9 +39,8 @@ struct WavefrontBuffers {
     DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without
 };
 
-// wf_shade.comp's specialization constants (constant_id 0-8): what a render's shading needs.
-// wf_shade.comp's specialization constants, in constant_id order (the last: some material has a
-// clear coat, kClearcoat).
+// wf_shade.comp's specialization constants (constant_id 0-9, in that order): what a render's
+// shading needs; the last, kClearcoat, says some material has a clear coat.
 using ShadeConstants = std::array<uint32_t, 10>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights);
