@@ -4,11 +4,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
+#include <string>
 
 #include "import/GltfAccessor.h"
 #include "import/GltfLoader.h"
 #include "import/ImportCommon.h"
+#include "vastray/core/Utf8.h"
 #include "vastray/core/VecMath.h"
 #include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
@@ -431,6 +434,32 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
             for (const char* name : {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
                 coatTextures += coat->second.Has(name) ? 1 : 0;
     report.warnUnused("KHR_materials_clearcoat textures", coatTextures, "the coat uses its factors only");
+    // Material extensions the renderer has no model for (transmission, sheen, volume, ior, ...),
+    // and alpha modes: each counted by name, so that glass rendered opaque is not a surprise.
+    std::map<std::string, uint64_t> extensions;
+    uint64_t alphaModes = 0;
+    for (const tinygltf::Material& m : model.materials) {
+        for (const auto& [name, value] : m.extensions)
+            if (name != "KHR_materials_emissive_strength" && name != "KHR_materials_specular" &&
+                name != "KHR_materials_clearcoat")
+                ++extensions[name];
+        alphaModes += m.alphaMode == "MASK" || m.alphaMode == "BLEND";
+    }
+    // The most used first (then by name); a hostile file may name thousands: past eight, one line.
+    constexpr size_t kNamedExtensions = 8;
+    std::vector<std::pair<std::string, uint64_t>> byUse(extensions.begin(), extensions.end());
+    std::stable_sort(byUse.begin(), byUse.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    uint64_t others = 0;
+    size_t named = 0;
+    for (const auto& [name, count] : byUse) {
+        if (named++ < kNamedExtensions)
+            report.warnUnused("materials' " + cutUtf8(validUtf8(name), 64) + " extensions", count,
+                              "the material is rendered without it");
+        else
+            others += count;
+    }
+    report.warnUnused("other material extensions", others, "rendered without them");
+    report.warnUnused("materials with alphaMode MASK or BLEND", alphaModes, "rendered opaque");
 }
 
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {

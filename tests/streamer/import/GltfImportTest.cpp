@@ -167,6 +167,34 @@ TEST(GltfImport, SpecularColourFactor) {
 // KHR_materials_clearcoat's factors (no coat without it); a factor outside [0, 1] is refused
 // naming the material, a value of the wrong JSON type naming its JSON path; its textures are
 // warned about once, as unused.
+// Material extensions without a model in the renderer, and alpha modes, are warned about once
+// per extension name (a glass rendered opaque is not a surprise), at most eight by name.
+TEST(GltfImport, UnsupportedMaterialExtensionsAndAlphaModesAreWarnedOncePerKind) {
+    GltfBuilder b;
+    b.addPositions(kTriangle);
+    std::string many;
+    for (int i = 0; i < 10; ++i) many += ",\"EXT_made_up_" + std::to_string(i) + "\":{}";
+    const std::string path = writeFile("unsupported.gltf", b.json(R"("extensionsUsed":["KHR_materials_transmission"],
+       "materials":[{"name":"glass","alphaMode":"BLEND","extensions":{"KHR_materials_transmission":{"transmissionFactor":1},
+                     "KHR_materials_specular":{"specularFactor":0.5}}},
+                    {"name":"glass2","alphaMode":"MASK","extensions":{"KHR_materials_transmission":{})" + many + R"(}},
+                    {"name":"plain","alphaMode":"OPAQUE"}],
+       "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1},
+                                {"attributes":{"POSITION":0},"material":2}]}],
+       "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])"));
+    auto r = importGltf(path);
+    ASSERT_TRUE(r.isOk()) << r.message();
+    auto count = [&](const std::string& text) {
+        return std::count_if(r->report.warnings.begin(), r->report.warnings.end(),
+                             [&](const std::string& w) { return w.find(text) != std::string::npos; });
+    };
+    EXPECT_EQ(count("2 materials' KHR_materials_transmission extensions read but not used"), 1);
+    EXPECT_EQ(count("KHR_materials_specular"), 0) << "specular is rendered";
+    EXPECT_EQ(count("2 materials with alphaMode MASK or BLEND read but not used (rendered opaque)"), 1);
+    EXPECT_EQ(count("materials' EXT_made_up_"), 7) << "eight names at most, transmission among them";
+    EXPECT_EQ(count("3 other material extensions read but not used"), 1);
+}
+
 TEST(GltfImport, ClearcoatFactors) {
     const auto document = [](const std::string& coat) {
         GltfBuilder b;
