@@ -7,19 +7,46 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <string>
 
+#include "TestTmp.h"
 #include "vastray/core/RenderImage.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
 #include "vastray/gpu/VulkanDevice.h"
+#include "vastray/streamer/Generate.h"
+#include "vastray/streamer/PackageBuilder.h"
 #include "vastray/streamer/ScenePackage.h"
 #include "vastray/streamer/StreamingRenderer.h"
 
 namespace vastray::test {
+
+// A generated mesh's package NAME.vast in the test folder `folder` (64 KiB chunks); `material`
+// (when given) replaces every material, their names kept.
+inline std::string generatedMaterialPackage(const std::string& folder, const std::string& name, GeneratorKind kind,
+                                            uint64_t triangles, const Material* material = nullptr) {
+    const std::filesystem::path dir = testTmpDir(folder);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / (name + ".vast")).string();
+    auto mesh = generateMesh({kind, triangles, 1});
+    EXPECT_TRUE(mesh) << mesh.message();
+    if (material)
+        for (Material& m : mesh->materials) {
+            const std::string kept = m.name;
+            m = *material;
+            m.name = kept;
+        }
+    PackageBuildOptions options;
+    options.chunkSizeBytes = 64 << 10;
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh).value(), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
 
 // One device for the whole binary (a Vulkan instance per test costs ~0.1 s on lavapipe). These
 // tests run on lavapipe in CI: no usable device is a failure, never a skip.

@@ -21,25 +21,10 @@
 namespace vastray {
 namespace {
 
-// A generated mesh's package; `material` (when given) replaces every material's factors.
+// A generated mesh's package; `material` (when given) replaces every material (names kept).
 std::string package(const std::string& name, GeneratorKind kind, uint64_t triangles,
                     const Material* material = nullptr) {
-    const std::filesystem::path dir = test::testTmpDir("environment");
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
-    auto mesh = generateMesh({kind, triangles, 1});
-    EXPECT_TRUE(mesh) << mesh.message();
-    if (material)
-        for (Material& m : mesh->materials) {
-            m.baseColor = material->baseColor;
-            m.metallic = material->metallic, m.roughness = material->roughness, m.specular = material->specular;
-        }
-    PackageBuildOptions options;
-    options.chunkSizeBytes = 64 << 10;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh).value(), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::generatedMaterialPackage("environment", name, kind, triangles, material);
 }
 
 std::shared_ptr<const EnvironmentMap> constantMap(float r, float g, float b) {

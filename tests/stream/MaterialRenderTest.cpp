@@ -17,24 +17,8 @@
 namespace vastray {
 namespace {
 
-// A generated mesh's package, every material replaced by `material` (its name kept).
 std::string package(const std::string& name, GeneratorKind kind, uint64_t triangles, const Material& material) {
-    const std::filesystem::path dir = test::testTmpDir("materials");
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
-    auto mesh = generateMesh({kind, triangles, 1});
-    EXPECT_TRUE(mesh) << mesh.message();
-    for (Material& m : mesh->materials) {
-        const std::string kept = m.name;
-        m = material;
-        m.name = kept;
-    }
-    PackageBuildOptions options;
-    options.chunkSizeBytes = 64 << 10;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh).value(), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::generatedMaterialPackage("materials", name, kind, triangles, &material);
 }
 
 // side x side pixels, 32 spp, depth 3, lit by a constant map of 1 alone.
