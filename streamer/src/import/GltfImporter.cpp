@@ -116,6 +116,25 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
     return m;
 }
 
+// A material its alpha hides whatever its texture and vertex colours say (they only multiply
+// baseColorFactor's alpha): alphaMode MASK with the factor below alphaCutoff, or BLEND at alpha
+// 0. Its triangles are left out at import (counted; nothing else could show them).
+bool hiddenByAlpha(const tinygltf::Material& g) {
+    const auto& base = g.pbrMetallicRoughness.baseColorFactor;
+    const double alpha = base.size() == 4 ? base[3] : 1.0;
+    return (g.alphaMode == "MASK" && alpha < g.alphaCutoff) || (g.alphaMode == "BLEND" && alpha <= 0.0);
+}
+
+// A material whose alpha the renderer cannot honour: a cut-out (MASK) whose texture's alpha would
+// decide, or a blend with some alpha of its own; rendered opaque (warned).
+bool alphaNotRendered(const tinygltf::Material& g) {
+    if (hiddenByAlpha(g)) return false;
+    const auto& base = g.pbrMetallicRoughness.baseColorFactor;
+    const double alpha = base.size() == 4 ? base[3] : 1.0;
+    const bool textured = g.pbrMetallicRoughness.baseColorTexture.index >= 0;
+    return (g.alphaMode == "MASK" && textured) || (g.alphaMode == "BLEND" && (alpha < 1.0 || textured));
+}
+
 class GltfFlattener {
 public:
     GltfFlattener(const tinygltf::Model& model, std::vector<PunctualLight> lights, ImportedMesh& out)
@@ -159,6 +178,7 @@ public:
 
     uint64_t camerasNotUsed() const { return camerasNotUsed_; }
     uint64_t lightsNotUsed() const { return lightsNotUsed_; }
+    uint64_t hiddenTriangles() const { return hiddenTriangles_; }
 
 private:
     // The default scene, else scene 0, else every node that is nobody's child.
@@ -362,7 +382,12 @@ private:
         if (prim.material >= 0 && size_t(prim.material) >= model_.materials.size())
             return Status::error("material " + std::to_string(prim.material) + " does not exist");
         const uint32_t material = materialId(prim.material);
+        const bool hidden = prim.material >= 0 && hiddenByAlpha(model_.materials[size_t(prim.material)]);
         auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+            if (hidden) {
+                ++hiddenTriangles_;
+                return;
+            }
             if (mirrored) std::swap(b, c);
             out_.mesh.indices.insert(out_.mesh.indices.end(), {base + a, base + b, base + c});
             out_.mesh.materialIds.push_back(material);
@@ -388,6 +413,7 @@ private:
     const std::vector<PunctualLight> templates_;  // the file's lights, checked, not placed (readLights)
     std::vector<std::pair<int, PunctualLight>> lights_;  // glTF light index, placed light
     uint64_t lightsNotUsed_ = 0;
+    uint64_t hiddenTriangles_ = 0;  // of materials their alpha hides (hiddenByAlpha), left out
 };
 
 // The document's KHR_lights_punctual lights, each checked against the extension's rules and
@@ -443,7 +469,7 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
             if (name != "KHR_materials_emissive_strength" && name != "KHR_materials_specular" &&
                 name != "KHR_materials_clearcoat")
                 ++extensions[name];
-        alphaModes += m.alphaMode == "MASK" || m.alphaMode == "BLEND";
+        alphaModes += alphaNotRendered(m);
     }
     // The most used first (then by name); a hostile file may name thousands: past eight, one line.
     constexpr size_t kNamedExtensions = 8;
@@ -459,7 +485,7 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
             others += count;
     }
     report.warnUnused("other material extensions", others, "rendered without them");
-    report.warnUnused("materials with alphaMode MASK or BLEND", alphaModes, "rendered opaque");
+    report.warnUnused("materials with alphaMode MASK (textured) or BLEND", alphaModes, "rendered opaque");
 }
 
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {
@@ -481,6 +507,13 @@ Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOp
     warnAboutUnused(*model, imported.report);
     imported.report.warnUnused("cameras", flattener.camerasNotUsed(), "orthographic, or placed degenerately");
     imported.report.warnUnused("KHR_lights_punctual lights", flattener.lightsNotUsed(), "placed by no node, or placed degenerately");
+    if (flattener.hiddenTriangles() > 0) {
+        const std::string hidden = std::to_string(flattener.hiddenTriangles()) +
+                                   " triangles left out: their material's alpha hides them (alphaMode MASK below "
+                                   "alphaCutoff, or BLEND at alpha 0)";
+        if (imported.mesh.indices.empty()) return import::errorIn(name, "no triangles to render: " + hidden);
+        imported.report.warnings.push_back(hidden);
+    }
     if (Status s = finalizeMesh(name, options, imported); !s.isOk()) return s;
     return imported;
 }

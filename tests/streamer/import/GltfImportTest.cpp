@@ -167,32 +167,54 @@ TEST(GltfImport, SpecularColourFactor) {
 // KHR_materials_clearcoat's factors (no coat without it); a factor outside [0, 1] is refused
 // naming the material, a value of the wrong JSON type naming its JSON path; its textures are
 // warned about once, as unused.
-// Material extensions without a model in the renderer, and alpha modes, are warned about once
-// per extension name (a glass rendered opaque is not a surprise), at most eight by name.
+// Material extensions without a model in the renderer are warned about once per extension name
+// (a glass rendered opaque is not a surprise), at most eight by name. Alpha: a material whose
+// alpha hides it (MASK below its cutoff, BLEND at 0) has its triangles left out, whatever a texture
+// would say; an untextured MASK above its cutoff is exactly opaque; a BLEND with some alpha is
+// rendered opaque and warned about.
 TEST(GltfImport, UnsupportedMaterialExtensionsAndAlphaModesAreWarnedOncePerKind) {
     GltfBuilder b;
     b.addPositions(kTriangle);
     std::string many;
     for (int i = 0; i < 10; ++i) many += ",\"EXT_made_up_" + std::to_string(i) + "\":{}";
+    std::string primitives;
+    for (int m = 0; m < 5; ++m)
+        primitives += std::string(m ? "," : "") + R"({"attributes":{"POSITION":0},"material":)" + std::to_string(m) + "}";
     const std::string path = writeFile("unsupported.gltf", b.json(R"("extensionsUsed":["KHR_materials_transmission"],
-       "materials":[{"name":"glass","alphaMode":"BLEND","extensions":{"KHR_materials_transmission":{"transmissionFactor":1},
-                     "KHR_materials_specular":{"specularFactor":0.5}}},
+       "materials":[{"name":"glass","alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.3]},
+                     "extensions":{"KHR_materials_transmission":{"transmissionFactor":1},
+                                   "KHR_materials_specular":{"specularFactor":0.5}}},
                     {"name":"glass2","alphaMode":"MASK","extensions":{"KHR_materials_transmission":{})" + many + R"(}},
-                    {"name":"plain","alphaMode":"OPAQUE"}],
-       "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1},
-                                {"attributes":{"POSITION":0},"material":2}]}],
+                    {"name":"plain","alphaMode":"OPAQUE"},
+                    {"name":"hidden","alphaMode":"MASK","alphaCutoff":0.25,"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.2]}},
+                    {"name":"gone","alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0]}}],
+       "meshes":[{"primitives":[)" + primitives + R"(]}],
        "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])"));
     auto r = importGltf(path);
     ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_EQ(r->mesh.triangleCount(), 3u) << "the hidden and gone materials' triangles are left out";
+    for (uint64_t t = 0; t < r->mesh.triangleCount(); ++t) EXPECT_LT(r->mesh.materialOf(t), 3u);
     auto count = [&](const std::string& text) {
         return std::count_if(r->report.warnings.begin(), r->report.warnings.end(),
                              [&](const std::string& w) { return w.find(text) != std::string::npos; });
     };
     EXPECT_EQ(count("2 materials' KHR_materials_transmission extensions read but not used"), 1);
     EXPECT_EQ(count("KHR_materials_specular"), 0) << "specular is rendered";
-    EXPECT_EQ(count("2 materials with alphaMode MASK or BLEND read but not used (rendered opaque)"), 1);
+    EXPECT_EQ(count("1 materials with alphaMode MASK (textured) or BLEND read but not used (rendered opaque)"), 1)
+        << "only the glass: the untextured MASK above its cutoff is exactly opaque";
+    EXPECT_EQ(count("2 triangles left out: their material's alpha hides them"), 1);
     EXPECT_EQ(count("materials' EXT_made_up_"), 7) << "eight names at most, transmission among them";
     EXPECT_EQ(count("3 other material extensions read but not used"), 1);
+
+    GltfBuilder only;
+    only.addPositions(kTriangle);
+    auto none = importGltf(writeFile("all-hidden.gltf", only.json(R"(
+       "materials":[{"name":"hidden","alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.2]}}],
+       "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],"nodes":[{"mesh":0}],
+       "scenes":[{"nodes":[0]}])")));
+    ASSERT_FALSE(none.isOk());
+    EXPECT_EQ(none.message(), "all-hidden.gltf: no triangles to render: 1 triangles left out: their material's alpha "
+                              "hides them (alphaMode MASK below alphaCutoff, or BLEND at alpha 0)");
 }
 
 TEST(GltfImport, ClearcoatFactors) {
