@@ -14,7 +14,7 @@ constexpr double kPi = 3.14159265358979323846;
 // One triangle and two perspective cameras: "Eye" inside a translated parent, turned 90 degrees
 // about +Y, with yfov 40 and aspect 2; "Down" turned -90 degrees about +X, with xfov 50 and no
 // aspect ratio (taken as square).
-const char* const kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
+const std::string kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
   <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
   <library_cameras>
@@ -25,20 +25,7 @@ const char* const kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
       <xfov>50</xfov><znear>0.1</znear><zfar>100</zfar>
     </perspective></technique_common></optics></camera>
   </library_cameras>
-  <library_geometries>
-    <geometry id="tri-mesh" name="tri"><mesh>
-      <source id="tri-positions"><float_array id="tri-positions-array" count="9">0 0 0 1 0 0 0 1 0</float_array>
-        <technique_common><accessor source="#tri-positions-array" count="3" stride="3">
-          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-        </accessor></technique_common></source>
-      <vertices id="tri-vertices"><input semantic="POSITION" source="#tri-positions"/></vertices>
-      <triangles count="1"><input semantic="VERTEX" source="#tri-vertices" offset="0"/><p>0 1 2</p></triangles>
-    </mesh></geometry>
-  </library_geometries>
-  <library_visual_scenes>
-    <visual_scene id="Scene" name="Scene">
-      <node id="tri" name="tri"><instance_geometry url="#tri-mesh"/></node>
-      <node id="rig" name="rig"><translate>0 0 10</translate>
+)" + std::string(kColladaTriangle) + R"(      <node id="rig" name="rig"><translate>0 0 10</translate>
         <node id="Eye" name="Eye"><translate>1 2 0</translate><rotate>0 1 0 90</rotate>
           <instance_camera url="#wide-camera"/></node>
       </node>

@@ -17,7 +17,7 @@ constexpr float kDegree = 3.14159265358979323846f / 180.0f;
 // One triangle and four lights: point "Bulb" inside a translated parent (colour 2 4 1, pure
 // quadratic attenuation 0.5), spot "Cone" turned to shine down (full cone angles 40 and 60
 // degrees, FCOLLADA's outer_cone), directional "Sun" turned 90 degrees about +Y, ambient "Fill".
-const char* const kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
+const std::string kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
   <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
   <library_lights>
@@ -36,20 +36,7 @@ const char* const kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
       <color>0.2 0.2 0.2</color>
     </ambient></technique_common></light>
   </library_lights>
-  <library_geometries>
-    <geometry id="tri-mesh" name="tri"><mesh>
-      <source id="tri-positions"><float_array id="tri-positions-array" count="9">0 0 0 1 0 0 0 1 0</float_array>
-        <technique_common><accessor source="#tri-positions-array" count="3" stride="3">
-          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-        </accessor></technique_common></source>
-      <vertices id="tri-vertices"><input semantic="POSITION" source="#tri-positions"/></vertices>
-      <triangles count="1"><input semantic="VERTEX" source="#tri-vertices" offset="0"/><p>0 1 2</p></triangles>
-    </mesh></geometry>
-  </library_geometries>
-  <library_visual_scenes>
-    <visual_scene id="Scene" name="Scene">
-      <node id="tri" name="tri"><instance_geometry url="#tri-mesh"/></node>
-      <node id="rig" name="rig"><translate>0 0 10</translate>
+)" + std::string(kColladaTriangle) + R"(      <node id="rig" name="rig"><translate>0 0 10</translate>
         <node id="Bulb" name="Bulb"><translate>1 2 0</translate><instance_light url="#bulb-light"/></node>
       </node>
       <node id="Cone" name="Cone"><translate>0 5 0</translate><rotate>1 0 0 -90</rotate>

@@ -105,6 +105,24 @@ inline std::string glb(std::string json, std::string bin) {
 }
 
 // Asserts failure and that the message names the file and contains `element`.
+// Collada: the triangle (0,0,0), (1,0,0), (0,1,0) as a geometry library, then the start of a
+// visual scene whose node "tri" places it; a test file puts its own libraries before it and its
+// nodes, the scene's end and <scene> after it.
+inline constexpr const char* kColladaTriangle = R"(  <library_geometries>
+    <geometry id="tri-mesh" name="tri"><mesh>
+      <source id="tri-positions"><float_array id="tri-positions-array" count="9">0 0 0 1 0 0 0 1 0</float_array>
+        <technique_common><accessor source="#tri-positions-array" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="tri-vertices"><input semantic="POSITION" source="#tri-positions"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#tri-vertices" offset="0"/><p>0 1 2</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="Scene" name="Scene">
+      <node id="tri" name="tri"><instance_geometry url="#tri-mesh"/></node>
+)";
+
 #define EXPECT_IMPORT_ERROR(result, file, element)                                   \
     do {                                                                             \
         const auto& r_ = (result);                                                   \
