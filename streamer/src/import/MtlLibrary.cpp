@@ -20,7 +20,7 @@ bool parseColor(const char* p, const char* end, std::array<float, 3>& out) {
 
 }  // namespace
 
-Status parseMtlFile(const std::string& path, MtlLibrary& library) {
+Status parseMtlFile(const std::string& path, MtlLibrary& library, MtlUnused& unused) {
     auto bytes = readWholeFile(path);
     if (!bytes) return bytes.status();
     const std::string name = fileNameOf(path);
@@ -45,6 +45,16 @@ Status parseMtlFile(const std::string& path, MtlLibrary& library) {
         } else if (keyword == "Ns" && current) {
             if (!parseField(p, eol, current->exponent) || !(current->exponent >= 0.0f && current->exponent <= 1e6f))
                 return errorIn(name, "line " + std::to_string(line) + ": Ns must be a number in [0, 1e6]");
+        } else if (current && (keyword.substr(0, 4) == "map_" || keyword == "bump" || keyword == "norm" ||
+                               keyword == "disp" || keyword == "decal" || keyword == "refl")) {
+            ++unused["texture maps"];
+        } else if (current && (keyword == "d" || keyword == "Tr")) {
+            float value = 0.0f;  // opacity (d) or transparency (Tr = 1 - d); a malformed one is left alone
+            if (parseField(p, eol, value) && (keyword == "d" ? value < 1.0f : value > 0.0f))
+                ++unused["transparency statements (d below 1, Tr above 0)"];
+        } else if (current && (keyword == "Pr" || keyword == "Pm" || keyword == "Ps" || keyword == "Pc" ||
+                               keyword == "Pcr" || keyword == "aniso" || keyword == "anisor")) {
+            ++unused["PBR statements (Pr, Pm, Ps, Pc, Pcr, aniso)"];
         }
         p = eol + (eol < end ? 1 : 0);
     }

@@ -3,6 +3,8 @@
 // Ns (a specular layer: its weight the largest Ks component, its roughness from the Phong
 // exponent, docs/RENDERING.md "Materials").
 #include <array>
+#include <cstdint>
+#include <map>
 #include <string>
 #include <unordered_map>
 
@@ -20,7 +22,13 @@ struct MtlEntry {
 
 using MtlLibrary = std::unordered_map<std::string, MtlEntry>;
 
-// Adds the materials of `path` to `library`. d/Tr, maps and other statements are ignored.
-Status parseMtlFile(const std::string& path, MtlLibrary& library);
+// What a library says and the renderer does not use, by kind ("texture maps", ...), for the OBJ
+// importer's warnings (once per kind).
+using MtlUnused = std::map<std::string, uint64_t>;
+
+// Adds the materials of `path` to `library`. Texture maps, transparency (d below 1, Tr above
+// 0) and the PBR extension's statements (Pr, Pm, ...) are counted in `unused`; other statements
+// are ignored.
+Status parseMtlFile(const std::string& path, MtlLibrary& library, MtlUnused& unused);
 
 }  // namespace vastray::import

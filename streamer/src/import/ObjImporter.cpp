@@ -250,6 +250,7 @@ private:
 // files, and a client must not make it read (and render the colours of) files elsewhere.
 Status ObjParser::applyMaterialLibraries() {
     import::MtlLibrary library;
+    import::MtlUnused unused;
     const std::filesystem::path folder = import::directoryOf(path_);
     for (const std::string& name : libraryFiles()) {
         std::string why;
@@ -263,8 +264,13 @@ Status ObjParser::applyMaterialLibraries() {
         }
         if (!import::insideFolder(folder, file))
             return import::errorIn(name_, "mtllib '" + name + "' resolves outside the model folder (a link)");
-        if (Status s = import::parseMtlFile(file.string(), library); !s.isOk()) return s;
+        if (Status s = import::parseMtlFile(file.string(), library, unused); !s.isOk()) return s;
     }
+    for (const auto& [kind, count] : unused)
+        out_.report.warnUnused("MTL " + kind, count,
+                               kind == "texture maps"    ? "materials use their colours only"
+                               : kind.front() == 't'     ? "rendered opaque"
+                                                         : "Kd, Ks and Ns decide the material");
     for (Material& m : out_.mesh.materials) {
         if (m.name.empty()) m.name = "default";
         const auto it = library.find(m.name);

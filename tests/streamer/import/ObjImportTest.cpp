@@ -55,6 +55,23 @@ TEST(ObjImport, UsemtlGivesMaterialsInFirstUseOrderWithMtlColours) {
     EXPECT_TRUE(m[0].doubleSided);  // OBJ has no sidedness: Material's default
 }
 
+// What a library says and the renderer does not use is warned about once per kind: texture maps,
+// transparency (d below 1, Tr above 0; d 1 and Tr 0 are opaque and say nothing), the PBR
+// extension's statements.
+TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
+    writeFile("unused.mtl", "newmtl a\nKd 1 0 0\nd 0.5\nmap_Kd a.png\nbump a-n.png\nPr 0.3\nPm 1\n"
+                            "newmtl b\nKd 0 1 0\nd 1\nTr 0\nmap_Ks b.png\nnewmtl c\nTr 0.25\n");
+    auto r = importObj(writeFile("unused.obj", "mtllib unused.mtl\n" + std::string(kSquareVertices) +
+                                                   "usemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    const std::vector<std::string> expected = {
+        "2 MTL PBR statements (Pr, Pm, Ps, Pc, Pcr, aniso) read but not used (Kd, Ks and Ns decide the material)",
+        "3 MTL texture maps read but not used (materials use their colours only)",
+        "2 MTL transparency statements (d below 1, Tr above 0) read but not used (rendered opaque)"};
+    for (const std::string& w : expected)
+        EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(), w), 1) << w;
+}
+
 // The error of importing one face of material x from an OBJ whose library is `mtl` (written as
 // <stem>.mtl); empty if the import succeeds.
 std::string mtlRefusal(const std::string& stem, const std::string& mtl) {
