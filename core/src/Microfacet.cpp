@@ -211,14 +211,9 @@ std::vector<float> computeTables() {
             t[kMicrofacetDielectricTable + r * n + m] =
                 float(fresnel / kSamples) * (1.0f + kDielectricF0 * (1.0f / e - 1.0f));
         }
-        // 2 * integral of the piecewise-linear Ed(mu) mu: on [a, b], h/6 (ya (2a + b) + yb (a + 2b)).
-        double average = 0;
-        for (uint32_t m = 0; m + 1 < n; ++m) {
-            const double a = double(m) / (n - 1), b = double(m + 1) / (n - 1);
-            const double ya = t[kMicrofacetDielectricTable + r * n + m], yb = t[kMicrofacetDielectricTable + r * n + m + 1];
-            average += (b - a) / 6.0 * (ya * (2 * a + b) + yb * (a + 2 * b));
-        }
-        t[kMicrofacetAverageTable + r] = float(2.0 * average);
+        // 2 * integral of the piecewise-linear Ed(mu) mu (rowAverage: on [a, b], h/6 (ya (2a + b) + yb (a + 2b))).
+        t[kMicrofacetAverageTable + r] =
+            float(2.0 * rowAverage(n, [&](uint32_t m) { return double(t[kMicrofacetDielectricTable + r * n + m]); }));
         t[kMicrofacetFresnelAverageTable + r] = float(2.0 * rowAverage(n, [&](uint32_t m) { return nodeW(t, r, m); }));
         t[kMicrofacetMixAverageTable + r] = float(2.0 * rowAverage(n, [&](uint32_t m) {
             const double e = t[kMicrofacetMetalTable + r * n + m];

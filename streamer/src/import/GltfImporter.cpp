@@ -119,9 +119,12 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
 // A material its alpha hides whatever its texture and vertex colours say (they only multiply
 // baseColorFactor's alpha): alphaMode MASK with the factor below alphaCutoff, or BLEND at alpha
 // 0. Its triangles are left out at import (counted; nothing else could show them).
-bool hiddenByAlpha(const tinygltf::Material& g) {
+double factorAlpha(const tinygltf::Material& g) {
     const auto& base = g.pbrMetallicRoughness.baseColorFactor;
-    const double alpha = base.size() == 4 ? base[3] : 1.0;
+    return base.size() == 4 ? base[3] : 1.0;
+}
+bool hiddenByAlpha(const tinygltf::Material& g) {
+    const double alpha = factorAlpha(g);
     return (g.alphaMode == "MASK" && alpha < g.alphaCutoff) || (g.alphaMode == "BLEND" && alpha <= 0.0);
 }
 
@@ -129,8 +132,7 @@ bool hiddenByAlpha(const tinygltf::Material& g) {
 // decide, or a blend with some alpha of its own; rendered opaque (warned).
 bool alphaNotRendered(const tinygltf::Material& g) {
     if (hiddenByAlpha(g)) return false;
-    const auto& base = g.pbrMetallicRoughness.baseColorFactor;
-    const double alpha = base.size() == 4 ? base[3] : 1.0;
+    const double alpha = factorAlpha(g);
     const bool textured = g.pbrMetallicRoughness.baseColorTexture.index >= 0;
     return (g.alphaMode == "MASK" && textured) || (g.alphaMode == "BLEND" && (alpha < 1.0 || textured));
 }
