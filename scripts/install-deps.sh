@@ -35,7 +35,7 @@ packages=(
   libshaderc-dev glslc spirv-tools
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libssl-dev
-  libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev libzip-dev libassimp-dev
+  libspdlog-dev libtbb-dev libmeshoptimizer-dev libsqlite3-dev libxxhash-dev libzstd-dev libzip-dev libassimp-dev
   libpq-dev postgresql
   assimp-testmodels python3 python3-matplotlib python3-venv python3-pip time
   curl openssl golang-go

@@ -106,4 +106,17 @@ Status writeStoredImage(const std::string& path, const StoredImage& image) {
     return m.api->writeStoredImage(path, image);
 }
 
+Result<Rgba8Image> readRgba8Image(const std::string& path, uint64_t maxPixels) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(path + ": cannot read: ");
+    return m.api->readRgba8Image(path, maxPixels);
+}
+
+Result<Rgba8Image> decodeRgba8Image(const std::string& name, const std::string& extension,
+                                    const std::vector<uint8_t>& bytes, uint64_t maxPixels) {
+    const LoadedModule& m = module();
+    if (!m.api) return m.status.withContext(name + ": cannot read: ");
+    return m.api->decodeRgba8Image(name, extension, bytes, maxPixels);
+}
+
 }  // namespace vastray

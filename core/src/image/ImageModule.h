@@ -14,7 +14,7 @@
 namespace vastray {
 
 // Bumped whenever the table or the types it passes change: a module from another build is refused.
-constexpr uint32_t kImageModuleVersion = 4;
+constexpr uint32_t kImageModuleVersion = 5;
 
 struct ImageModuleApi {
     uint32_t version;
@@ -26,6 +26,9 @@ struct ImageModuleApi {
                             const std::vector<uint8_t>& rgba);
     Result<StoredImage> (*readStoredImage)(const std::string& path);
     Status (*writeStoredImage)(const std::string& path, const StoredImage& image);
+    Result<Rgba8Image> (*readRgba8Image)(const std::string& path, uint64_t maxPixels);
+    Result<Rgba8Image> (*decodeRgba8Image)(const std::string& name, const std::string& extension,
+                                           const std::vector<uint8_t>& bytes, uint64_t maxPixels);
 };
 
 }  // namespace vastray

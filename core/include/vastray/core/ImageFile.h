@@ -68,6 +68,24 @@ struct ImageChannels {
 Result<ImageChannels> readImageChannels(const std::string& path, const std::vector<std::string>& names,
                                         uint64_t maxPixels = UINT64_MAX);
 
+// 8-bit RGBA texels of a texture image, row 0 at the top (the file's first row: glTF's uv (0, 0)
+// is its upper-left corner, as core/Texture.h addresses it).
+struct Rgba8Image {
+    uint32_t width = 0, height = 0;
+    std::vector<uint8_t> texels;  // width * height * 4
+};
+
+// A texture image (PNG, JPEG, or any 8- or 16-bit format OpenImageIO reads) as 8-bit RGBA: grey
+// is copied to R, G and B, a missing alpha is 255, 16-bit samples are rounded to 8 bits, float
+// samples clamped to [0, 1] and rounded. `name` is what errors call it (a file, or "image 3 of
+// scene.glb"); an image of more than maxPixels pixels, of no or more than 4 channels, is refused
+// naming it and the limit before its pixels are read. decodeRgba8Image reads the file's bytes
+// from memory (an image embedded in a glTF buffer or data URI); `extension` (".png", ".jpg")
+// picks the reader.
+Result<Rgba8Image> readRgba8Image(const std::string& path, uint64_t maxPixels);
+Result<Rgba8Image> decodeRgba8Image(const std::string& name, const std::string& extension,
+                                    const std::vector<uint8_t>& bytes, uint64_t maxPixels);
+
 // Writes 8-bit sRGB RGBA pixels (4 bytes per pixel, row 0 at the top) as a PNG file.
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
                      const std::vector<uint8_t>& rgba);

@@ -20,6 +20,9 @@ Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
                      const std::vector<uint8_t>& rgba);
 Result<StoredImage> readStoredImage(const std::string& path);
 Status writeStoredImage(const std::string& path, const StoredImage& image);
+Result<Rgba8Image> readRgba8Image(const std::string& path, uint64_t maxPixels);
+Result<Rgba8Image> decodeRgba8Image(const std::string& name, const std::string& extension,
+                                    const std::vector<uint8_t>& bytes, uint64_t maxPixels);
 
 // Records where `spec`'s image lies in its frame: the EXR data and display windows, or the PNG
 // text chunk kRegionTextKey (nothing for a whole frame).

@@ -8,6 +8,8 @@ extern "C" __attribute__((visibility("default"))) const vastray::ImageModuleApi*
                                              &vastray::oiio::readImageChannels,
                                              &vastray::oiio::writeRgba8Png,
                                              &vastray::oiio::readStoredImage,
-                                             &vastray::oiio::writeStoredImage};
+                                             &vastray::oiio::writeStoredImage,
+                                             &vastray::oiio::readRgba8Image,
+                                             &vastray::oiio::decodeRgba8Image};
     return &api;
 }
