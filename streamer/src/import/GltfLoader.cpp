@@ -109,9 +109,11 @@ bool sandboxWrite(std::string* err, const std::string&, const std::vector<unsign
     return false;
 }
 
-// Images are not rendered: accept and drop them so that a PNG never costs a decode.
-bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                 void*) {
+// Images are kept as tinygltf hands them over, encoded (from a file, a data URI or a buffer view):
+// GltfTextures.cpp names them, and import decodes only those a material's map reads.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (bytes && size > 0) image->image.assign(bytes, bytes + size);
     return true;
 }
 
@@ -308,7 +310,7 @@ Result<tinygltf::Model> loadGltfModel(const std::string& path, bool binary, bool
     Sandbox box{directoryOf(path), {}};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&sandboxFileExists, &sandboxExpand, &sandboxRead, &sandboxWrite, &box});
-    loader.SetImageLoader(&ignoreImage, nullptr);
+    loader.SetImageLoader(&keepEncodedImage, nullptr);
     tinygltf::Model model;
     std::string err, warn;
     bool ok = false;

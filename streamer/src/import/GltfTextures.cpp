@@ -1,0 +1,217 @@
+#include "import/GltfTextures.h"
+
+#include <filesystem>
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "import/ImportCommon.h"
+
+namespace vastray::import {
+namespace {
+
+Result<TextureWrap> wrapMode(int mode) {
+    switch (mode) {
+        case 10497: return TextureWrap::Repeat;
+        case 33071: return TextureWrap::Clamp;
+        case 33648: return TextureWrap::Mirror;
+    }
+    return Status::error("wrap mode " + std::to_string(mode) + " is not 10497, 33071 or 33648");
+}
+
+// KHR_texture_transform of a textureInfo, or the identity.
+Result<UvTransform> transformOf(const tinygltf::ExtensionMap& extensions) {
+    const auto it = extensions.find("KHR_texture_transform");
+    if (it == extensions.end()) return kIdentityUvTransform;
+    const tinygltf::Value& t = it->second;
+    float offset[2] = {0.0f, 0.0f}, scale[2] = {1.0f, 1.0f}, rotation = 0.0f;
+    auto pair = [&](const char* key, float* out) -> Status {
+        if (!t.Has(key)) return Status::ok();
+        const tinygltf::Value& v = t.Get(key);
+        if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+            return Status::error(std::string("KHR_texture_transform ") + key + " is not an array of two numbers");
+        for (int i = 0; i < 2; ++i) out[i] = float(v.Get(i).GetNumberAsDouble());
+        return Status::ok();
+    };
+    VASTRAY_TRY(pair("offset", offset));
+    VASTRAY_TRY(pair("scale", scale));
+    if (t.Has("rotation")) {
+        if (!t.Get("rotation").IsNumber()) return Status::error("KHR_texture_transform rotation is not a number");
+        rotation = float(t.Get("rotation").GetNumberAsDouble());
+    }
+    for (float v : {offset[0], offset[1], scale[0], scale[1], rotation})
+        if (!std::isfinite(v) || std::fabs(v) > kMaxUvTransformValue)
+            return Status::error("KHR_texture_transform value " + std::to_string(v) + " is outside +-" +
+                                 std::to_string(kMaxUvTransformValue));
+    return khrTextureTransform(offset[0], offset[1], rotation, scale[0], scale[1]);
+}
+
+std::string imageName(const tinygltf::Model& model, int image, const std::string& fileName) {
+    const tinygltf::Image& i = model.images[size_t(image)];
+    std::string label = !i.name.empty() ? i.name : (!i.uri.empty() && i.uri.rfind("data:", 0) != 0 ? i.uri : "");
+    return "image " + std::to_string(image) + (label.empty() ? "" : " ('" + label + "')") + " of " + fileName;
+}
+
+// "%20" -> " ": glTF URIs are URI-encoded (RFC 3986); a malformed escape stays as it is.
+std::string percentDecoded(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
+            std::isxdigit(uint8_t(uri[i + 2]))) {
+            out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+class Reader {
+public:
+    Reader(const tinygltf::Model& model, const std::string& fileName, const std::string& folder,
+           ImportReport& report)
+        : model_(model), fileName_(fileName), folder_(folder), report_(report) {}
+
+    Result<GltfTextures> read() {
+        for (size_t m = 0; m < model_.materials.size(); ++m) {
+            const tinygltf::Material& g = model_.materials[m];
+            const std::string where =
+                "material " + std::to_string(m) + (g.name.empty() ? "" : " ('" + g.name + "')") + " ";
+            MaterialTextures t;
+            const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
+            const struct {
+                TextureSlot slot;
+                int index;
+                const tinygltf::ExtensionMap& extensions;
+            } maps[] = {{TextureSlot::BaseColor, pbr.baseColorTexture.index, pbr.baseColorTexture.extensions},
+                        {TextureSlot::MetallicRoughness, pbr.metallicRoughnessTexture.index,
+                         pbr.metallicRoughnessTexture.extensions},
+                        {TextureSlot::Normal, g.normalTexture.index, g.normalTexture.extensions},
+                        {TextureSlot::Emissive, g.emissiveTexture.index, g.emissiveTexture.extensions},
+                        {TextureSlot::Occlusion, g.occlusionTexture.index, g.occlusionTexture.extensions}};
+            for (const auto& map : maps) {
+                if (map.index < 0) continue;
+                const std::string at = where + textureSlotName(map.slot) + ": ";
+                auto binding = bind(map.index, map.slot, map.extensions);
+                if (!binding) return binding.status().withContext(fileName_ + ": " + at);
+                t.slots[uint32_t(map.slot)] = *binding;
+            }
+            t.normalScale = float(g.normalTexture.scale);
+            t.occlusionStrength = float(g.occlusionTexture.strength);
+            if (!std::isfinite(t.normalScale) || std::fabs(t.normalScale) > kMaxUvTransformValue)
+                return Status::error(fileName_ + ": " + where + "normalTexture scale " +
+                                     std::to_string(g.normalTexture.scale) + " is not finite within +-1e6");
+            if (!(t.occlusionStrength >= 0.0f && t.occlusionStrength <= 1.0f))
+                return Status::error(fileName_ + ": " + where + "occlusionTexture strength " +
+                                     std::to_string(g.occlusionTexture.strength) + " is outside [0, 1]");
+            out_.materials.push_back(t);
+        }
+        report_.warnUnused("texture maps whose image file is missing or unreadable", missing_,
+                           "their maps are rendered without them");
+        report_.warnUnused("texture maps with a KTX2 image", ktx2_, "their maps are rendered without them");
+        report_.warnUnused("texture maps with an image neither PNG nor JPEG", unknown_,
+                           "their maps are rendered without them");
+        report_.warnUnused("texture maps whose image only an extension names (KHR_texture_basisu, EXT_texture_webp, ...)",
+                           extensionOnly_, "their maps are rendered without them");
+        return std::move(out_);
+    }
+
+private:
+    // The binding of one map: kNoTexture (warned) when its image cannot be read here.
+    Result<TextureBinding> bind(int index, TextureSlot slot, const tinygltf::ExtensionMap& extensions) {
+        if (size_t(index) >= model_.textures.size())
+            return Status::error("texture " + std::to_string(index) + " does not exist (the file has " +
+                                 std::to_string(model_.textures.size()) + ")");
+        const tinygltf::Texture& texture = model_.textures[size_t(index)];
+        TextureBinding binding;
+        auto transform = transformOf(extensions);
+        if (!transform) return transform.status();
+        binding.transform = *transform;
+        if (texture.source < 0) {
+            ++extensionOnly_;
+            return binding;
+        }
+        if (size_t(texture.source) >= model_.images.size())
+            return Status::error("texture " + std::to_string(index) + "'s image " + std::to_string(texture.source) +
+                                 " does not exist (the file has " + std::to_string(model_.images.size()) + ")");
+        TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+        if (texture.sampler >= 0) {
+            if (size_t(texture.sampler) >= model_.samplers.size())
+                return Status::error("texture " + std::to_string(index) + "'s sampler " +
+                                     std::to_string(texture.sampler) + " does not exist");
+            const tinygltf::Sampler& sampler = model_.samplers[size_t(texture.sampler)];
+            auto s = wrapMode(sampler.wrapS), t = wrapMode(sampler.wrapT);
+            if (!s) return s.status().withContext("sampler " + std::to_string(texture.sampler) + " wrapS: ");
+            if (!t) return t.status().withContext("sampler " + std::to_string(texture.sampler) + " wrapT: ");
+            wrapS = *s;
+            wrapT = *t;
+        }
+        auto bytes = imageBytes(texture.source);
+        if (!bytes) return bytes.status();
+        if (bytes->empty()) {
+            ++missing_;
+            return binding;
+        }
+        const std::string extension = imageSignatureExtension(*bytes);
+        if (extension == ".ktx2") {
+            ++ktx2_;
+            return binding;
+        }
+        if (extension.empty()) {
+            ++unknown_;
+            return binding;
+        }
+        const auto key = std::make_tuple(texture.source, wrapS, wrapT, slotEncoding(slot));
+        auto found = textureOf_.find(key);
+        if (found == textureOf_.end()) {
+            if (out_.textures.size() >= kMaxSceneTextures)
+                return Status::error("more than " + std::to_string(kMaxSceneTextures) +
+                                     " textures (image, sampler and encoding) in one scene");
+            TextureSource source;
+            source.name = imageName(model_, texture.source, fileName_);
+            source.extension = extension;
+            source.bytes = std::move(*bytes);
+            source.wrapS = wrapS;
+            source.wrapT = wrapT;
+            source.encoding = slotEncoding(slot);
+            found = textureOf_.emplace(key, uint32_t(out_.textures.size())).first;
+            out_.textures.push_back(std::move(source));
+        }
+        binding.texture = found->second;
+        return binding;
+    }
+
+    // The image's bytes: as the loader kept them, or its file's (empty when that is missing).
+    Result<std::vector<uint8_t>> imageBytes(int index) {
+        const tinygltf::Image& image = model_.images[size_t(index)];
+        if (!image.image.empty() || image.uri.empty() || image.uri.rfind("data:", 0) == 0) return image.image;
+        const std::string uri = percentDecoded(image.uri);
+        std::string why;
+        if (!isSafeRelativeUri(uri, why)) return Status::error("image " + std::to_string(index) + " uri '" + uri + "' " + why);
+        const std::filesystem::path file = std::filesystem::path(folder_) / uri;
+        if (!insideFolder(folder_, file))
+            return Status::error("image " + std::to_string(index) + " uri '" + uri + "' leads outside the model's folder");
+        auto bytes = readWholeFile(file.string());
+        if (!bytes) return std::vector<uint8_t>();
+        return std::vector<uint8_t>(bytes->begin(), bytes->end());
+    }
+
+    const tinygltf::Model& model_;
+    const std::string& fileName_;
+    const std::string& folder_;
+    ImportReport& report_;
+    GltfTextures out_;
+    std::map<std::tuple<int, TextureWrap, TextureWrap, TextureEncoding>, uint32_t> textureOf_;
+    uint64_t missing_ = 0, ktx2_ = 0, unknown_ = 0, extensionOnly_ = 0;
+};
+
+}  // namespace
+
+Result<GltfTextures> readGltfTextures(const tinygltf::Model& model, const std::string& fileName,
+                                      const std::string& folder, ImportReport& report) {
+    return Reader(model, fileName, folder, report).read();
+}
+
+}  // namespace vastray::import

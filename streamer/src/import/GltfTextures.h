@@ -1,0 +1,37 @@
+#pragma once
+// The textures of a glTF model's materials (core/MaterialTextures.h): each material's five
+// maps with their KHR_texture_transform, and the scene's textures they name, one per image,
+// sampler wrap modes and encoding. The images' encoded bytes come from the loader (GltfLoader.cpp
+// keeps them, from a data URI or a buffer view) or, for an image in a file of its own, from
+// that file, read here for the images a map uses only, inside the model's folder only (the
+// rules of glTF buffer URIs: isSafeRelativeUri, insideFolder); nothing is decoded here.
+#include <string>
+#include <vector>
+
+#include "import/TinyGltf.h"
+#include "vastray/core/MaterialTextures.h"
+#include "vastray/core/Result.h"
+#include "vastray/streamer/Import.h"
+
+namespace vastray::import {
+
+// At most this many distinct textures (image, wrap modes, encoding) in one scene.
+constexpr uint32_t kMaxSceneTextures = 4096;
+// A KHR_texture_transform offset or scale beyond this is refused (a UV map that far out is
+// an error, and float UVs lose their texel precision long before).
+constexpr float kMaxUvTransformValue = 1e6f;
+
+struct GltfTextures {
+    std::vector<MaterialTextures> materials;  // one per glTF material, in order
+    std::vector<TextureSource> textures;
+};
+
+// Errors name the file, the material, the map and the limit ("scene.gltf: material 2 ('Brick')
+// normalTexture: texture 9 does not exist"); an image URI outside `folder` is refused as a
+// buffer's is. A map whose image is in a format not read here (KTX2, WebP, anything but PNG and
+// JPEG) or whose file is missing is left out, warned once per kind in `report`; so is a texture
+// a material reads through an extension only (KHR_texture_basisu).
+Result<GltfTextures> readGltfTextures(const tinygltf::Model& model, const std::string& fileName,
+                                      const std::string& folder, ImportReport& report);
+
+}  // namespace vastray::import
