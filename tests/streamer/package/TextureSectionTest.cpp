@@ -1,0 +1,147 @@
+// streamer/src/package/TextureSection: the package's texture table and page frames round trip,
+// and a forged or cut table or page is refused naming the file, the texture or entry and the
+// field (each forgery re-checksummed, so that the check of the field itself is what refuses it).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "package/TextureSection.h"
+#include "vastray/core/Checksum.h"
+
+namespace vastray {
+namespace {
+
+Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) {
+    std::mt19937 rng(seed);
+    Rgba8Image image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
+    for (uint8_t& t : image.texels) t = uint8_t(rng() & 0x3F);
+    return image;
+}
+
+struct Written {
+    std::vector<TexturePyramid> pyramids;
+    std::vector<uint8_t> table, data;
+};
+
+Written writeTwo() {
+    Written w;
+    w.pyramids.push_back(*buildTexturePyramid(noise(200, 130, 1), TextureWrap::Clamp, TextureWrap::Mirror,
+                                              TextureEncoding::Srgb));
+    w.pyramids.push_back(*buildTexturePyramid(noise(16, 8, 2), TextureWrap::Repeat, TextureWrap::Repeat,
+                                              TextureEncoding::Linear));
+    TextureSectionWriter writer;
+    EXPECT_TRUE(writer.add("bricks.png", w.pyramids[0]));
+    w.data = writer.data();  // a writer may also write out and clear its data after each texture
+    writer.data().clear();
+    EXPECT_TRUE(writer.add("image 1 of scene.glb", w.pyramids[1]));
+    w.data.insert(w.data.end(), writer.data().begin(), writer.data().end());
+    w.table = writer.tableBytes();
+    return w;
+}
+
+TEST(TextureSection, TableAndPagesRoundTrip) {
+    const Written w = writeTwo();
+    uint64_t tableBytes = 0;
+    auto table = parseTextureTable(w.table.data(), w.table.size(), w.data.size(), "scene.vast", tableBytes);
+    ASSERT_TRUE(table) << table.message();
+    EXPECT_EQ(tableBytes, w.table.size());
+    ASSERT_EQ(table->textures.size(), 2u);
+    EXPECT_EQ(table->textures[0].name, "bricks.png");
+    EXPECT_EQ(table->textures[0].wrapS, TextureWrap::Clamp);
+    EXPECT_EQ(table->textures[0].wrapT, TextureWrap::Mirror);
+    EXPECT_EQ(table->textures[1].encoding, TextureEncoding::Linear);
+    EXPECT_EQ(table->textures[1].firstEntry, w.pyramids[0].layout.pageCount);
+    EXPECT_EQ(table->entries.size(), size_t(w.pyramids[0].layout.pageCount + w.pyramids[1].layout.pageCount));
+    std::vector<uint8_t> page(kTexturePageBytes);
+    for (uint32_t t = 0; t < 2; ++t)
+        for (uint32_t p = 0; p < w.pyramids[t].layout.pageCount; ++p) {
+            const TexturePageEntry& e = table->entries[table->textures[t].firstEntry + p];
+            ASSERT_TRUE(readTexturePage(*table, t, p, w.data.data() + e.offset, e.size, page.data(), "scene.vast"));
+            ASSERT_EQ(0, std::memcmp(page.data(), w.pyramids[t].pages.data() + size_t(p) * kTexturePageBytes,
+                                     kTexturePageBytes))
+                << t << " " << p;
+        }
+    // A package without textures: a count of 0 and the checksum.
+    TextureSectionWriter none;
+    const std::vector<uint8_t> empty = none.tableBytes();
+    EXPECT_EQ(empty.size(), 16u);
+    auto nothing = parseTextureTable(empty.data(), empty.size(), 0, "plain.vast", tableBytes);
+    ASSERT_TRUE(nothing) << nothing.message();
+    EXPECT_TRUE(nothing->textures.empty());
+}
+
+// The table with one u32 or u64 at `at` replaced, and its checksum made right again.
+template <typename T>
+std::vector<uint8_t> forged(std::vector<uint8_t> table, size_t at, T value) {
+    std::memcpy(table.data() + at, &value, sizeof(T));
+    const uint64_t sum = checksum64(table.data(), table.size() - 8);
+    std::memcpy(table.data() + table.size() - 8, &sum, 8);
+    return table;
+}
+
+TEST(TextureSection, ForgedFieldsAreRefusedByName) {
+    const Written w = writeTwo();
+    const size_t record0 = 8, record1 = 8 + kTextureRecordBytes, field = 64;
+    const size_t entries = 8 + 2 * kTextureRecordBytes;
+    const size_t entry1 = entries + kTexturePageEntryBytes;
+    struct Case {
+        std::vector<uint8_t> table;
+        const char* says;
+    } cases[] = {
+        {forged(w.table, 0, uint32_t(kMaxPackageTextures + 1)), "4097 textures is more than the 4096"},
+        {forged(w.table, 4, uint32_t(7)), "reserved word 7"},
+        {forged(w.table, record0 + field, uint32_t(0)), "texture 0 ('bricks.png'): a texture of 0x130 texels"},
+        {forged(w.table, record0 + field + 4, uint32_t(kMaxTextureSide + 1)), "outside 1..16384"},
+        {forged(w.table, record0 + field + 8, uint32_t(3)), "wrap modes 3, 2"},
+        {forged(w.table, record1 + field + 16, uint32_t(2)), "texture 1 ('image 1 of scene.glb'): encoding 2"},
+        {forged(w.table, record0 + field + 20, uint32_t(9)), "9 levels and"},
+        {forged(w.table, record1 + field + 28, uint32_t(0)), "first page entry 0, not"},
+        {forged(w.table, entry1, uint64_t(1)), "page entry 1: offset 1, where the previous frame ends at"},
+        {forged(w.table, entry1 + 16, uint32_t(0)), "page entry 1: a frame of 0 bytes"},
+        {forged(w.table, entry1 + 20, uint32_t(5)), "page entry 1: reserved word 5"},
+    };
+    uint64_t tableBytes = 0;
+    for (const Case& c : cases) {
+        auto table = parseTextureTable(c.table.data(), c.table.size(), w.data.size(), "forged.vast", tableBytes);
+        ASSERT_FALSE(table) << c.says;
+        EXPECT_NE(table.message().find("forged.vast: textures: "), std::string::npos) << table.message();
+        EXPECT_NE(table.message().find(c.says), std::string::npos) << table.message();
+    }
+    // A flipped bit anywhere the fields do not catch: the checksum does.
+    std::vector<uint8_t> flipped = w.table;
+    flipped[record0 + 3] ^= 0x20;  // inside the first name
+    auto table = parseTextureTable(flipped.data(), flipped.size(), w.data.size(), "flip.vast", tableBytes);
+    ASSERT_FALSE(table);
+    EXPECT_NE(table.message().find("checksum does not match"), std::string::npos) << table.message();
+    // Page data shorter or longer than the frames.
+    table = parseTextureTable(w.table.data(), w.table.size(), w.data.size() - 1, "short.vast", tableBytes);
+    ASSERT_FALSE(table);
+    EXPECT_NE(table.message().find("beyond the"), std::string::npos) << table.message();
+    table = parseTextureTable(w.table.data(), w.table.size(), w.data.size() + 1, "long.vast", tableBytes);
+    ASSERT_FALSE(table);
+    EXPECT_NE(table.message().find("the page data at"), std::string::npos) << table.message();
+}
+
+TEST(TextureSection, EveryCutOfTheTableIsRefusedAndAForgedPageToo) {
+    const Written w = writeTwo();
+    uint64_t tableBytes = 0;
+    for (size_t cut = 0; cut < w.table.size(); ++cut)
+        ASSERT_FALSE(parseTextureTable(w.table.data(), cut, w.data.size(), "cut.vast", tableBytes)) << cut;
+    auto table = parseTextureTable(w.table.data(), w.table.size(), w.data.size(), "scene.vast", tableBytes);
+    ASSERT_TRUE(table);
+    const TexturePageEntry& e = table->entries[3];
+    std::vector<uint8_t> frame(w.data.begin() + long(e.offset), w.data.begin() + long(e.offset + e.size));
+    std::vector<uint8_t> page(kTexturePageBytes);
+    frame[frame.size() / 2] ^= 1;
+    Status bad = readTexturePage(*table, 0, 3, frame.data(), frame.size(), page.data(), "scene.vast");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("scene.vast: texture 0 ('bricks.png') page 3: checksum"), std::string::npos)
+        << bad.message();
+    bad = readTexturePage(*table, 0, 3, frame.data(), frame.size() - 1, page.data(), "scene.vast");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("bytes read, the entry says"), std::string::npos) << bad.message();
+}
+
+}  // namespace
+}  // namespace vastray
