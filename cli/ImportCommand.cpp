@@ -247,10 +247,10 @@ CommandRun addImportCommand(CLI::App& app) {
             return 1;
         }
         for (const Volume& v : *volumes) {
-            const char* glow = v.emissionVoxels.empty() ? "" : (v.material.temperature ? ", with temperature" : ", with emission");
+            const char* glow = !v.hasEmission() ? "" : (v.material.temperature ? ", with temperature" : ", with emission");
             std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels)%s\n", v.name.c_str(),
                         v.brickCells[0], v.brickCells[1], v.brickCells[2], (unsigned long long)v.brickCount(),
-                        formatBytes(v.voxels.size() * 4).c_str(), glow);
+                        formatBytes(v.brickCount() * kVolumeBrickVoxels * 4).c_str(), glow);
         }
         options->volumes = std::move(volumes).value();
         ImportOptions importOptions;

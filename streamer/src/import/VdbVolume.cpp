@@ -1,5 +1,9 @@
 // OpenVDB float grids into vastray volumes (VolumeImport.h). The only translation unit of the
-// product that includes OpenVDB: its headers take ~25 s to compile.
+// product that includes OpenVDB (with VdbGridVoxels.h): its headers take ~25 s to compile.
+// A volume is opened in one pass over its grids (every value checked, the cell table and each
+// brick's largest value found, each leaf's voxels read and dropped); its bricks are then filled
+// one at a time from the file when asked for (VdbBrickSource), so that importing holds the cell
+// table and per-brick sources, never the voxels (docs/PACKAGE_FORMAT.md, "Volumes").
 #include <openvdb/io/Archive.h>
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/io/io.h>
@@ -11,13 +15,16 @@
 #include <cassert>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <ios>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <vector>
 
 #include "import/ImportCommon.h"
+#include "import/VdbGridVoxels.h"
 #include "vastray/core/Blackbody.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/Utf8.h"
@@ -134,6 +141,33 @@ public:
                                         const VdbEntry& entry) {
         openvdb::GridBase::Ptr grid = gridOf(entry);
         if (!entry.descriptor.isInstance()) return grid;
+        auto parent = parentOf(fileName, entries, entry);
+        if (!parent) return parent.status();
+        grid->setTree(gridOf(**parent)->baseTreePtr());  // throws when the trees' types differ
+        return grid;
+    }
+
+    // The float grid of `entry` with its voxels left in the file (vdb::GridVoxels); in a file
+    // without grid offsets (written to a stream) the grid as scan read it, whole.
+    Result<std::unique_ptr<vdb::GridVoxels>> voxels(const std::string& path, const std::string& fileName,
+                                                    const std::vector<VdbEntry>& entries, const VdbEntry& entry) {
+        if (!inputHasGridOffsets()) {
+            auto grid = read(fileName, entries, entry);
+            if (!grid) return grid.status();
+            return std::make_unique<vdb::GridVoxels>(openvdb::gridPtrCast<FloatGrid>(*grid));
+        }
+        const GridDescriptor* parent = nullptr;
+        if (entry.descriptor.isInstance()) {
+            auto p = parentOf(fileName, entries, entry);
+            if (!p) return p.status();
+            parent = &(*p)->descriptor;
+        }
+        return std::make_unique<vdb::GridVoxels>(path, entry.descriptor, parent);
+    }
+
+private:
+    Result<const VdbEntry*> parentOf(const std::string& fileName, const std::vector<VdbEntry>& entries,
+                                     const VdbEntry& entry) const {
         const auto parent = std::find_if(entries.begin(), entries.end(), [&](const VdbEntry& e) {
             return e.descriptor.uniqueName() == entry.descriptor.instanceParentName();
         });
@@ -142,11 +176,8 @@ public:
                            "grid " + quoted(entry.name()) + " is an instance of " +
                                quoted(GridDescriptor::nameAsString(entry.descriptor.instanceParentName())) +
                                ", which the file does not hold as a grid of its own");
-        grid->setTree(gridOf(*parent)->baseTreePtr());  // throws when the trees' types differ
-        return grid;
+        return &*parent;
     }
-
-private:
     openvdb::GridBase::Ptr gridOf(const VdbEntry& entry) {
         if (entry.grid) return entry.grid;
         entry.descriptor.seekToGrid(in_);
@@ -242,26 +273,50 @@ Status setBrickGrid(const std::string& where, const CoordBBox& box, Volume& volu
     return Status::ok();
 }
 
-// The brick cell holding index-space voxel c (inside the brick grid).
+// readVdbVolume's failures that OpenVDB reports by throwing, as errors naming the file.
+template <typename F>
+auto guardedVdbCall(const std::string& fileName, F&& call) -> decltype(call()) {
+    try {
+        return call();
+    } catch (const std::ios_base::failure&) {
+        return errorIn(fileName, "ends before the data it describes (truncated or corrupt OpenVDB file)");
+    } catch (const std::bad_alloc&) {
+        return errorIn(fileName,
+                       "out of memory while reading the OpenVDB file (corrupt, or too large for this machine)");
+    } catch (const std::exception& e) {  // openvdb::Exception and the rest
+        return errorIn(fileName, std::string("not a readable OpenVDB file: ") + e.what());
+    } catch (...) {
+        return errorIn(fileName, "not a readable OpenVDB file (unknown error)");
+    }
+}
+
+// The brick cell holding index-space voxel c, or kNoCell when c lies outside the brick grid.
+constexpr uint64_t kNoCell = ~uint64_t(0);
 uint64_t cellOf(const Volume& v, const Coord& c) {
     uint64_t cell[3];
     for (int a = 0; a < 3; ++a) {
         const int64_t offset = int64_t(c[a]) - v.origin[a];
-        assert(offset >= 0 && offset < int64_t(kVolumeBrickSize) * v.brickCells[a]);
+        if (offset < 0 || offset >= int64_t(kVolumeBrickSize) * v.brickCells[a]) return kNoCell;
         cell[a] = uint64_t(offset) / kVolumeBrickSize;
     }
     return cell[0] + v.brickCells[0] * (cell[1] + uint64_t(v.brickCells[1]) * cell[2]);
 }
 
-// Calls visit(cell) for every brick cell of an active tile's box (tiles are 128 or more voxels
-// a side, aligned to their size, so they cover whole cells).
+// Calls visit(cell) for every brick cell of an active tile's box inside the brick grid (tiles are
+// 128 or more voxels a side, aligned to their size, so they cover whole cells), in cell order.
 template <typename Visit>
 void forTileCells(const Volume& v, const CoordBBox& tile, Visit&& visit) {
-    const uint64_t lo = cellOf(v, tile.min()), hi = cellOf(v, tile.max());
+    int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        const int64_t size = kVolumeBrickSize, last = int64_t(v.brickCells[a]) - 1;
+        lo[a] = std::max<int64_t>(0, (int64_t(tile.min()[a]) - v.origin[a]) / size);
+        hi[a] = std::min<int64_t>(last, (int64_t(tile.max()[a]) - v.origin[a]) / size);
+        if (int64_t(tile.max()[a]) < v.origin[a] || lo[a] > hi[a]) return;
+    }
     const uint64_t nx = v.brickCells[0], nxy = nx * v.brickCells[1];
-    for (uint64_t z = lo / nxy; z <= hi / nxy; ++z)
-        for (uint64_t y = lo % nxy / nx; y <= hi % nxy / nx; ++y)
-            for (uint64_t x = lo % nx; x <= hi % nx; ++x) visit(x + nx * y + nxy * z);
+    for (int64_t z = lo[2]; z <= hi[2]; ++z)
+        for (int64_t y = lo[1]; y <= hi[1]; ++y)
+            for (int64_t x = lo[0]; x <= hi[0]; ++x) visit(uint64_t(x) + nx * uint64_t(y) + nxy * uint64_t(z));
 }
 
 // The active tiles above the leaves (the leaves' voxels are read leaf by leaf).
@@ -271,62 +326,204 @@ FloatGrid::TreeType::ValueOnCIter activeTiles(const FloatGrid& grid) {
     return it;
 }
 
-// Checks every active value and marks the cells holding a nonzero one (kMarkedCell); returns
-// how many. Each leaf (8^3 voxels, 8-aligned) lies in one cell.
-Result<uint64_t> markCells(const std::string& where, const FloatGrid& grid, Volume& volume) {
+// Where a stored brick's voxels come from in one grid: a leaf (GridVoxels::leafSource), an
+// active tile's value (kTileSource | its bits), or nothing (kNoSource: every voxel 0).
+constexpr uint64_t kTileSource = uint64_t(1) << 63;
+constexpr uint64_t kNoSource = ~uint64_t(0);
+uint64_t tileSource(float value) {
+    uint32_t bits;
+    std::memcpy(&bits, &value, 4);
+    return kTileSource | bits;
+}
+
+// Our brick layout (x fastest) from OpenVDB's leaf offset (z fastest).
+uint32_t brickIndex(openvdb::Index offset) {
+    const Coord c = vdb::FloatLeaf::offsetToLocalCoord(offset);
+    return uint32_t(c.x()) + kVolumeBrickSize * (uint32_t(c.y()) + kVolumeBrickSize * uint32_t(c.z()));
+}
+
+// A brick's voxels from `source` of grid `g` (kVolumeBrickVoxels values; inactive ones are 0).
+void fillBrick(vdb::GridVoxels& g, uint64_t source, float* out) {
+    if (source == kNoSource || (source & kTileSource)) {
+        const uint32_t bits = source == kNoSource ? 0u : uint32_t(source);
+        float value;
+        std::memcpy(&value, &bits, 4);
+        std::fill(out, out + kVolumeBrickVoxels, value);
+        return;
+    }
+    float values[vdb::FloatLeaf::SIZE];
+    vdb::LeafMask mask;
+    g.readLeaf(source, values, mask);
+    std::fill(out, out + kVolumeBrickVoxels, 0.0f);
+    for (auto on = mask.beginOn(); on; ++on) out[brickIndex(on.pos())] = values[on.pos()];
+}
+
+// The nonzero leaves of a density grid: the cell each lies in (each leaf, 8^3 voxels 8-aligned,
+// lies in one) and where its voxels come from.
+struct LeafCell {
+    uint64_t cell, source;
+};
+
+// Checks every active value, marks the cells holding a nonzero one (kMarkedCell) and records in
+// volume.majorant each marked cell's largest value; returns how many cells it marked. Reads each
+// leaf's voxels once, in the file's order, and keeps none.
+Result<uint64_t> markCells(const std::string& where, vdb::GridVoxels& g, Volume& volume,
+                           std::vector<LeafCell>& leaves) {
     volume.brickOf.assign(volume.cellCount(), kNoBrick);
+    volume.majorant.assign(volume.cellCount(), 0.0f);
     uint64_t marked = 0;
-    auto mark = [&](uint64_t cell) {
+    auto mark = [&](uint64_t cell, float largest) {
         marked += volume.brickOf[cell] != kMarkedCell;
         volume.brickOf[cell] = kMarkedCell;
+        volume.majorant[cell] = largest;
     };
-    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
-        bool nonzero = false;
-        for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel) {
-            if (!isDensity(*voxel))
-                return densityError(where, "voxel " + coordText(voxel.getCoord()), *voxel);
-            nonzero |= *voxel != 0.0f;
+    float values[vdb::FloatLeaf::SIZE];
+    vdb::LeafMask mask;
+    for (auto leaf = g.grid().tree().cbeginLeaf(); leaf; ++leaf) {
+        const uint64_t source = g.leafSource(*leaf);
+        g.readLeaf(source, values, mask);
+        float largest = 0.0f;
+        for (auto on = mask.beginOn(); on; ++on) {
+            const float x = values[on.pos()];
+            if (!isDensity(x)) return densityError(where, "voxel " + coordText(leaf->offsetToGlobalCoord(on.pos())), x);
+            largest = std::max(largest, x);
         }
-        if (nonzero) mark(cellOf(volume, leaf->origin()));
+        if (largest == 0.0f) continue;
+        const uint64_t cell = cellOf(volume, leaf->origin());
+        assert(cell != kNoCell);
+        mark(cell, largest);
+        leaves.push_back({cell, source});
     }
-    for (auto tile = activeTiles(grid); tile; ++tile) {
+    for (auto tile = activeTiles(g.grid()); tile; ++tile) {
         if (!tile.isTileValue()) continue;
         CoordBBox box;
         tile.getBoundingBox(box);
         if (!isDensity(*tile))
             return densityError(where, "tile " + coordText(box.min()) + " to " + coordText(box.max()), *tile);
-        if (*tile != 0.0f) forTileCells(volume, box, mark);
+        if (*tile != 0.0f) forTileCells(volume, box, [&](uint64_t cell) { mark(cell, *tile); });
     }
     return marked;
 }
 
-// Numbers the marked cells' bricks in cell order and copies the active values into them.
-void fillBricks(const FloatGrid& grid, uint64_t brickCount, Volume& volume) {
+// Numbers the marked cells' bricks in cell order; returns each brick's source in the grid and
+// fills `brickMax` with each brick's largest value.
+std::vector<uint64_t> numberBricks(const vdb::GridVoxels& g, const std::vector<LeafCell>& leaves, uint64_t bricks,
+                                   Volume& volume, std::vector<float>& brickMax) {
+    brickMax.assign(bricks, 0.0f);
     uint32_t next = 0;
-    for (uint32_t& brick : volume.brickOf)
-        if (brick == kMarkedCell) brick = next++;
-    volume.voxels.assign(brickCount * kVolumeBrickVoxels, 0.0f);
-    const int32_t size = int32_t(kVolumeBrickSize);
-    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
-        const uint32_t brick = volume.brickOf[cellOf(volume, leaf->origin())];
-        if (brick == kNoBrick) continue;
-        float* voxels = &volume.voxels[uint64_t(brick) * kVolumeBrickVoxels];
-        for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel) {
-            const Coord local = voxel.getCoord() - leaf->origin();
-            voxels[local.x() + size * (local.y() + size * local.z())] = *voxel;
-        }
-    }
-    for (auto tile = activeTiles(grid); tile; ++tile) {
+    for (uint64_t cell = 0; cell < volume.brickOf.size(); ++cell)
+        if (volume.brickOf[cell] == kMarkedCell) brickMax[next] = volume.majorant[cell], volume.brickOf[cell] = next++;
+    std::vector<uint64_t> sources(bricks, kNoSource);
+    for (const LeafCell& leaf : leaves) sources[volume.brickOf[leaf.cell]] = leaf.source;
+    for (auto tile = activeTiles(g.grid()); tile; ++tile) {
         if (!tile.isTileValue() || *tile == 0.0f) continue;
         CoordBBox box;
         tile.getBoundingBox(box);
-        const float value = *tile;
+        forTileCells(volume, box, [&](uint64_t cell) { sources[volume.brickOf[cell]] = tileSource(*tile); });
+    }
+    return sources;
+}
+
+bool emissionOk(float value, bool temperature) { return isDensity(value) && (!temperature || value <= kMaxTemperature); }
+
+// An emission (or temperature) value's fault, or an empty string: finite, in [0, 1e18] and for
+// a temperature at most kMaxTemperature kelvin.
+std::string emissionFault(const std::string& voxel, float value, bool temperature) {
+    if (!isDensity(value))
+        return voxel + " has the value " + numberText(value) + "; emission values are finite and in [0, " +
+               numberText(kMaxVolumeDensity) + "]";
+    if (temperature && !(value <= kMaxTemperature))
+        return voxel + " has the temperature " + numberText(value) + " K; temperatures are in [0, " +
+               numberText(kMaxTemperature) + "] K";
+    return {};
+}
+
+// The emission grid's sources for the density's bricks (its values where the density has no
+// brick are dropped), every value that lands in a brick checked. Of several bad values the one
+// reported is the first in brick-cell order, then x fastest within the cell: the order in which
+// the bricks are filled.
+Result<std::vector<uint64_t>> emissionSources(const std::string& where, vdb::GridVoxels& g, const Volume& volume) {
+    std::vector<uint64_t> sources(volume.bricks.count, kNoSource);  // the source is not set yet
+    uint64_t firstKey = ~uint64_t(0);
+    std::string firstFault;
+    auto consider = [&](uint64_t cell, uint32_t index, const Coord& c, float value) {
+        const uint64_t key = cell * kVolumeBrickVoxels + index;
+        if (key >= firstKey || emissionOk(value, volume.material.temperature)) return;
+        firstKey = key;
+        firstFault = emissionFault("voxel " + coordText(c), value, volume.material.temperature);
+    };
+    float values[vdb::FloatLeaf::SIZE];
+    vdb::LeafMask mask;
+    for (auto leaf = g.grid().tree().cbeginLeaf(); leaf; ++leaf) {
+        const uint64_t source = g.leafSource(*leaf);
+        g.readLeaf(source, values, mask);  // read in turn: the next leaf's source is where this one ends
+        const uint64_t cell = cellOf(volume, leaf->origin());
+        if (cell == kNoCell || volume.brickOf[cell] == kNoBrick) continue;
+        sources[volume.brickOf[cell]] = source;
+        for (auto on = mask.beginOn(); on; ++on)
+            consider(cell, brickIndex(on.pos()), leaf->offsetToGlobalCoord(on.pos()), values[on.pos()]);
+    }
+    const uint64_t nx = volume.brickCells[0], nxy = nx * volume.brickCells[1];
+    for (auto tile = activeTiles(g.grid()); tile; ++tile) {
+        if (!tile.isTileValue()) continue;
+        CoordBBox box;
+        tile.getBoundingBox(box);
         forTileCells(volume, box, [&](uint64_t cell) {
-            float* voxels = &volume.voxels[uint64_t(volume.brickOf[cell]) * kVolumeBrickVoxels];
-            std::fill(voxels, voxels + kVolumeBrickVoxels, value);
+            if (volume.brickOf[cell] == kNoBrick) return;
+            sources[volume.brickOf[cell]] = tileSource(*tile);
+            const int32_t size = int32_t(kVolumeBrickSize);
+            const Coord first(volume.origin[0] + size * int32_t(cell % nx), volume.origin[1] + size * int32_t(cell % nxy / nx),
+                              volume.origin[2] + size * int32_t(cell / nxy));
+            consider(cell, 0, first, *tile);
         });
     }
+    if (!firstFault.empty()) return Status::error(where + firstFault);
+    return sources;
 }
+
+// The bricks of a volume whose voxels stay in its .vdb file: each brick is filled from the
+// density (and emission) grid's leaf or tile when asked for, and checked again (the file may
+// have changed since it was scanned). Called from any thread: one brick at a time.
+class VdbBrickSource final : public VolumeBrickSource {
+public:
+    struct Grid {
+        std::string where;  // "fog.vdb: grid 'density': "
+        std::unique_ptr<vdb::GridVoxels> voxels;
+        std::vector<uint64_t> sources;  // per brick
+    };
+    VdbBrickSource(std::string fileName, Grid density, Grid emission, bool temperature)
+        : fileName_(std::move(fileName)), density_(std::move(density)), emission_(std::move(emission)),
+          temperature_(temperature) {}
+
+    Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const override {
+        if (volume != 0 || brick >= density_.sources.size())
+            return errorIn(fileName_, "volume " + std::to_string(volume) + " brick " + std::to_string(brick) +
+                                          " does not exist (1 volume of " +
+                                          std::to_string(density_.sources.size()) + " bricks)");
+        std::lock_guard<std::mutex> lock(mutex_);
+        return guardedVdbCall(fileName_, [&]() -> Status {
+            fillBrick(*density_.voxels, density_.sources[brick], density);
+            for (uint32_t i = 0; i < kVolumeBrickVoxels; ++i)
+                if (!isDensity(density[i]))
+                    return densityError(density_.where, "brick " + std::to_string(brick) + " voxel " + std::to_string(i),
+                                        density[i]);
+            if (!emission_.voxels) return Status::ok();
+            fillBrick(*emission_.voxels, emission_.sources[brick], emission);
+            for (uint32_t i = 0; i < kVolumeBrickVoxels; ++i)
+                if (!emissionOk(emission[i], temperature_))
+                    return Status::error(emission_.where + emissionFault("brick " + std::to_string(brick) + " voxel " +
+                                                                             std::to_string(i),
+                                                                         emission[i], temperature_));
+            return Status::ok();
+        });
+    }
+
+private:
+    std::string fileName_;
+    Grid density_, emission_;
+    bool temperature_;
+    mutable std::mutex mutex_;  // the grids' streams
+};
 
 // indexToWorld from the grid's transform, which must be linear. OpenVDB multiplies row
 // vectors, world = (i, j, k, 1) * M: column c of M's first three rows is row c of our linear
@@ -354,7 +551,11 @@ Status setTransform(const std::string& where, const openvdb::math::Transform& tr
     return Status::ok();
 }
 
-Result<Volume> volumeOf(const std::string& where, const FloatGrid& grid, const VolumeMaterial& material) {
+// The density grid's brick grid, cell table and majorants, and each brick's source (the voxels
+// are read and checked once here, and again when each brick is asked for).
+Result<Volume> volumeOf(const std::string& where, vdb::GridVoxels& g, const VolumeMaterial& material,
+                        std::vector<uint64_t>& sources) {
+    const FloatGrid& grid = g.grid();
     if (!(grid.background() == 0.0f))
         return Status::error(where + "background " + numberText(grid.background()) +
                              " is not 0; vastray reads fog volumes (a level set has a nonzero background)");
@@ -363,112 +564,107 @@ Result<Volume> volumeOf(const std::string& where, const FloatGrid& grid, const V
         return Status::error(where + "has no active values (an empty grid)");
     Volume volume;
     VASTRAY_TRY(setBrickGrid(where, box, volume));
-    auto bricks = markCells(where, grid, volume);
+    std::vector<LeafCell> leaves;
+    auto bricks = markCells(where, g, volume, leaves);
     if (!bricks) return bricks.status();
     if (*bricks > kMaxVolumeBricks)
         return Status::error(where + std::to_string(*bricks) +
                              " brick cells hold nonzero values, more than the limit of " +
                              std::to_string(kMaxVolumeBricks) + " bricks");
-    fillBricks(grid, *bricks, volume);
+    std::vector<float> brickMax;
+    sources = numberBricks(g, leaves, *bricks, volume, brickMax);
     VASTRAY_TRY(setTransform(where, grid.transform(), volume));
-    computeVolumeMajorants(volume);
+    computeVolumeMajorants(volume, brickMax);
     volume.material = material;
-    if (const std::string problem = checkVolume(volume); !problem.empty())
-        return Status::error(where + "the volume read is not sound: " + problem);
+    volume.bricks.count = *bricks;
     return volume;
 }
 
-// The emission grid's voxels in the density's bricks (its inactive values count as 0): the same
-// transform as the density's, values finite and in [0, kMaxVolumeDensity] (a temperature grid's
-// in [0, kMaxTemperature]).
-Status readEmission(const std::string& where, const FloatGrid& grid, const std::string& densityName, Volume& volume) {
+// The emission grid's sources in the density's bricks: the same transform as the density's,
+// values finite and in [0, kMaxVolumeDensity] (a temperature grid's in [0, kMaxTemperature]).
+Result<std::vector<uint64_t>> readEmission(const std::string& where, vdb::GridVoxels& g,
+                                           const std::string& densityName, const Volume& volume) {
     Volume placed;
-    VASTRAY_TRY(setTransform(where, grid.transform(), placed));
+    VASTRAY_TRY(setTransform(where, g.grid().transform(), placed));
     if (placed.indexToWorld != volume.indexToWorld)
         return Status::error(where + "its transform is not the density grid " + quoted(densityName) +
                              "'s; an emission grid must share the density's voxels");
-    volume.emissionVoxels.assign(volume.voxels.size(), 0.0f);
-    // Unregistered: a registered accessor enters the tree's TBB hash map, whose header UBSan
-    // reports (a misaligned downcast inside TBB); the grid is not written while it is read.
-    FloatGrid::ConstUnsafeAccessor access = grid.getConstUnsafeAccessor();
-    const int32_t size = int32_t(kVolumeBrickSize);
-    for (uint32_t z = 0; z < volume.brickCells[2]; ++z)
-        for (uint32_t y = 0; y < volume.brickCells[1]; ++y)
-            for (uint32_t x = 0; x < volume.brickCells[0]; ++x) {
-                const uint32_t brick = volume.brickOf[x + volume.brickCells[0] * (y + uint64_t(volume.brickCells[1]) * z)];
-                if (brick == kNoBrick) continue;
-                float* voxels = &volume.emissionVoxels[uint64_t(brick) * kVolumeBrickVoxels];
-                const Coord first(volume.origin[0] + size * int32_t(x), volume.origin[1] + size * int32_t(y),
-                                  volume.origin[2] + size * int32_t(z));
-                for (int32_t k = 0; k < size; ++k)
-                    for (int32_t j = 0; j < size; ++j)
-                        for (int32_t i = 0; i < size; ++i) {
-                            const Coord c = first.offsetBy(i, j, k);
-                            float value = 0.0f;
-                            if (!access.probeValue(c, value)) continue;
-                            if (!isDensity(value))
-                                return Status::error(where + "voxel " + coordText(c) + " has the value " +
-                                                     numberText(value) + "; emission values are finite and in [0, " +
-                                                     numberText(kMaxVolumeDensity) + "]");
-                            if (volume.material.temperature && !(value <= kMaxTemperature))
-                                return Status::error(where + "voxel " + coordText(c) + " has the temperature " +
-                                                     numberText(value) + " K; temperatures are in [0, " +
-                                                     numberText(kMaxTemperature) + "] K");
-                            voxels[i + size * (j + size * k)] = value;
-                        }
-            }
-    return Status::ok();
+    return emissionSources(where, g, volume);
 }
 
-Result<Volume> readVolume(const std::string& path, const std::string& fileName, uint64_t fileSize,
+Result<Volume> openVolume(const std::string& path, const std::string& fileName, uint64_t fileSize,
                           const std::string& gridName, const VolumeMaterial& material, const std::string& emissionName) {
     VdbArchive archive(path, fileSize);
     std::vector<VdbEntry> entries;
     VASTRAY_TRY(archive.scan(fileName, entries));
     auto entry = selectGrid(fileName, entries, gridName);
     if (!entry) return entry.status();
-    auto grid = archive.read(fileName, entries, **entry);
-    if (!grid) return grid.status();
     const std::string name = (*entry)->name();
-    auto volume = volumeOf(fileName + ": grid " + quoted(name) + ": ",
-                           *openvdb::gridPtrCast<FloatGrid>(*grid), material);
+    VdbBrickSource::Grid density{fileName + ": grid " + quoted(name) + ": ", nullptr, {}};
+    auto densityVoxels = archive.voxels(path, fileName, entries, **entry);
+    if (!densityVoxels) return densityVoxels.status();
+    density.voxels = std::move(densityVoxels).value();
+    auto volume = volumeOf(density.where, *density.voxels, material, density.sources);
     if (!volume) return volume;
+    density.voxels->dropTopology();  // before the emission grid's is read
     volume->name = validUtf8(name);
+    VdbBrickSource::Grid emission;
     if (!emissionName.empty()) {
         auto emissionEntry = selectGrid(fileName, entries, emissionName);
         if (!emissionEntry) return emissionEntry.status();
-        auto emission = archive.read(fileName, entries, **emissionEntry);
-        if (!emission) return emission.status();
         const char* kind = material.temperature ? ": temperature grid " : ": emission grid ";
-        VASTRAY_TRY(readEmission(fileName + kind + quoted((*emissionEntry)->name()) + ": ",
-                                 *openvdb::gridPtrCast<FloatGrid>(*emission), name, *volume));
-        if (const std::string problem = checkVolume(*volume); !problem.empty())
-            return errorIn(fileName, "the volume read is not sound: " + problem);
+        emission.where = fileName + kind + quoted((*emissionEntry)->name()) + ": ";
+        auto emissionVoxels = archive.voxels(path, fileName, entries, **emissionEntry);
+        if (!emissionVoxels) return emissionVoxels.status();
+        emission.voxels = std::move(emissionVoxels).value();
+        auto sources = readEmission(emission.where, *emission.voxels, name, *volume);
+        if (!sources) return sources.status();
+        emission.sources = std::move(sources).value();
+        emission.voxels->dropTopology();
     }
+    volume->bricks.emission = emission.voxels != nullptr;
+    volume->bricks.source = std::make_shared<VdbBrickSource>(fileName, std::move(density), std::move(emission),
+                                                             material.temperature);
+    if (const std::string problem = checkVolume(*volume); !problem.empty())
+        return errorIn(fileName, "grid " + quoted(name) + ": the volume read is not sound: " + problem);
     return volume;
+}
+
+// Every brick of an opened volume read into memory (Volume::voxels, emissionVoxels).
+Status readAllBricks(Volume& volume) {
+    const uint64_t bricks = volume.brickCount();
+    const bool emission = volume.hasEmission();
+    std::vector<float> voxels(bricks * kVolumeBrickVoxels), glow(emission ? voxels.size() : 0);
+    for (uint64_t b = 0; b < bricks; ++b)
+        VASTRAY_TRY(readVolumeBrick(volume, b, &voxels[b * kVolumeBrickVoxels],
+                                    emission ? &glow[b * kVolumeBrickVoxels] : nullptr));
+    volume.voxels = std::move(voxels);
+    volume.emissionVoxels = std::move(glow);
+    volume.bricks = {};
+    return Status::ok();
 }
 
 }  // namespace
 
-Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
-                             const VolumeMaterial& material, const std::string& emissionGrid) {
+Result<Volume> openVdbVolume(const std::string& path, const std::string& gridName, const VolumeMaterial& material,
+                             const std::string& emissionGrid) {
     const std::string fileName = import::fileNameOf(path);
     auto size = checkedFileSize(path, fileName);
     if (!size) return size.status();
-    try {
+    return guardedVdbCall(fileName, [&]() -> Result<Volume> {
         initializeOpenVdb();
-        return readVolume(path, fileName, *size, gridName, material, emissionGrid);
-    } catch (const std::ios_base::failure&) {
-        return errorIn(fileName, "ends before the data it describes (truncated or corrupt OpenVDB file)");
-    } catch (const std::bad_alloc&) {
-        return errorIn(
-            fileName,
-            "out of memory while reading the OpenVDB file (corrupt, or too large for this machine)");
-    } catch (const std::exception& e) {  // openvdb::Exception and the rest
-        return errorIn(fileName, std::string("not a readable OpenVDB file: ") + e.what());
-    } catch (...) {
-        return errorIn(fileName, "not a readable OpenVDB file (unknown error)");
-    }
+        return openVolume(path, fileName, *size, gridName, material, emissionGrid);
+    });
+}
+
+Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
+                             const VolumeMaterial& material, const std::string& emissionGrid) {
+    auto volume = openVdbVolume(path, gridName, material, emissionGrid);
+    if (!volume) return volume;
+    VASTRAY_TRY(readAllBricks(*volume));
+    if (const std::string problem = checkVolume(*volume); !problem.empty())
+        return errorIn(import::fileNameOf(path), "the volume read is not sound: " + problem);
+    return volume;
 }
 
 }  // namespace vastray

@@ -138,7 +138,7 @@ Result<std::vector<Volume>> readVolumes(const std::vector<VolumeSource>& sources
         VASTRAY_TRY(checkVolumeMaterial(source.material, source.names));
         auto volume = options.childProcess
                           ? readInChildProcess(source)
-                          : readVdbVolume(source.path, source.grid, source.material, source.emissionGrid);
+                          : openVdbVolume(source.path, source.grid, source.material, source.emissionGrid);
         if (!volume && !source.label.empty()) return relabel(volume.message(), source);
         if (!volume) return volume.status();
         volumes.push_back(std::move(volume).value());

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <sys/types.h>
 
 #include "package/ByteIo.h"
 #include "package/PackageFormat.h"
@@ -14,6 +15,9 @@
 namespace vastray {
 namespace {
 
+// Bricks read and written at once: 256 KiB of densities (512 KiB with emission).
+constexpr uint64_t kWriteBatchBricks = 128;
+
 class TempFile {
 public:
     explicit TempFile(std::string path) : path_(std::move(path)) { file_ = std::fopen(path_.c_str(), "wb"); }
@@ -22,8 +26,11 @@ public:
         if (!committed_) std::remove(path_.c_str());
     }
     bool isOpen() const { return file_ != nullptr; }
-    bool write(const std::vector<uint8_t>& bytes) {
-        return bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), file_) == bytes.size();
+    bool write(const void* bytes, size_t size) { return size == 0 || std::fwrite(bytes, 1, size, file_) == size; }
+    bool write(const std::vector<uint8_t>& bytes) { return write(bytes.data(), bytes.size()); }
+    // Overwrites bytes written before at `offset`, and goes back to the end.
+    bool writeAt(uint64_t offset, const std::vector<uint8_t>& bytes) {
+        return fseeko(file_, off_t(offset), SEEK_SET) == 0 && write(bytes) && fseeko(file_, 0, SEEK_END) == 0;
     }
     // Flushes, closes and renames onto `target`.
     Status commit(const std::string& target) {
@@ -44,28 +51,39 @@ private:
     bool committed_ = false;
 };
 
-// A volume's data (format version 6): its cell table; its brick index, per brick the XXH64 of
-// its bytes, its largest density and a reserved 0; then each brick's densities and emission.
-std::vector<uint8_t> serializeVolumeData(const Volume& v) {
-    const uint64_t bricks = v.brickCount(), brickBytes = format::volumeBrickBytes(v.hasEmission());
-    ByteWriter out;
-    out.putArray(v.brickOf);
-    std::vector<uint8_t> brick(brickBytes);
-    for (uint64_t b = 0; b < bricks; ++b) {
-        const float* density = v.voxels.data() + b * kVolumeBrickVoxels;
-        std::memcpy(brick.data(), density, 4 * kVolumeBrickVoxels);
-        if (v.hasEmission())
-            std::memcpy(brick.data() + 4 * kVolumeBrickVoxels, v.emissionVoxels.data() + b * kVolumeBrickVoxels,
-                        4 * kVolumeBrickVoxels);
-        out.put(checksum64(brick.data(), brick.size()));
-        out.put(*std::max_element(density, density + kVolumeBrickVoxels));
-        out.put(uint32_t(0));
+Status writeFailed(const std::string& path) { return Status::error(path + ": write failed: " + std::strerror(errno)); }
+
+// Writes a volume's data (format version 6) at the file's end: its cell table; its brick index,
+// per brick the XXH64 of its bytes, its largest density and a reserved 0; then each brick's
+// densities and emission. The bricks are read (readVolumeBrick) and written kWriteBatchBricks at
+// a time, so that only the table, the index and one batch are in memory; the index, known when
+// every brick is written, is written over the zeros that held its place. Sets p's checksum.
+Status writeVolumeData(TempFile& file, const std::string& path, PackageVolume& p) {
+    const Volume& v = p.volume;
+    const bool emission = v.hasEmission();
+    const uint64_t bricks = v.brickCount(), brickBytes = format::volumeBrickBytes(emission);
+    ByteWriter table;
+    table.putArray(v.brickOf);
+    const uint64_t indexAt = p.offset + table.bytes().size();
+    table.bytes().resize(format::volumeTableBytes(format::kVersion, v.cellCount(), bricks));
+    if (!file.write(table.bytes())) return writeFailed(path);
+    std::vector<float> batch(kWriteBatchBricks * brickBytes / 4);
+    ByteWriter index;
+    for (uint64_t first = 0; first < bricks; first += kWriteBatchBricks) {
+        const uint64_t count = std::min<uint64_t>(kWriteBatchBricks, bricks - first);
+        for (uint64_t b = 0; b < count; ++b) {
+            float* density = batch.data() + b * brickBytes / 4;
+            VASTRAY_TRY(readVolumeBrick(v, first + b, density, emission ? density + kVolumeBrickVoxels : nullptr));
+            index.put(checksum64(density, brickBytes));
+            index.put(*std::max_element(density, density + kVolumeBrickVoxels));
+            index.put(uint32_t(0));
+        }
+        if (!file.write(batch.data(), count * brickBytes)) return writeFailed(path);
     }
-    for (uint64_t b = 0; b < bricks; ++b) {
-        out.putBytes(v.voxels.data() + b * kVolumeBrickVoxels, 4 * kVolumeBrickVoxels);
-        if (v.hasEmission()) out.putBytes(v.emissionVoxels.data() + b * kVolumeBrickVoxels, 4 * kVolumeBrickVoxels);
-    }
-    return std::move(out.bytes());
+    if (!file.writeAt(indexAt, index.bytes())) return writeFailed(path);
+    std::memcpy(table.bytes().data() + (indexAt - p.offset), index.bytes().data(), index.bytes().size());
+    p.checksum = checksum64(table.bytes().data(), table.bytes().size());
+    return Status::ok();
 }
 
 }  // namespace
@@ -98,18 +116,14 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
         info.chunks[i].checksum = checksum64(blobs[i].data(), blobs[i].size());
         offset += blobs[i].size();
     }
-    std::vector<std::vector<uint8_t>> volumeData;
     for (PackageVolume& p : info.volumes) {
-        volumeData.push_back(serializeVolumeData(p.volume));
         p.brickCount = uint32_t(p.volume.brickCount());
         p.hasEmission = p.volume.hasEmission();
-        p.offset = offset, p.size = volumeData.back().size();
-        p.checksum = checksum64(volumeData.back().data(),
-                                format::volumeTableBytes(format::kVersion, p.volume.cellCount(), p.brickCount));
+        p.offset = offset;
+        p.size = format::volumeDataBytes(format::kVersion, p.volume.cellCount(), p.brickCount, p.hasEmission);
+        p.checksum = 0;  // known once its bricks are written
         offset += p.size;
     }
-    const std::vector<uint8_t> volumes = serializeVolumeRecords(info.volumes);
-    layout.volumesChecksum = checksum64(volumes.data(), volumes.size());
     info.fileBytes = offset;
     info.formatVersion = format::kVersion;
     const std::vector<uint8_t> directory = serializeDirectory(info.chunks);
@@ -119,12 +133,17 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
 
     TempFile file(path + ".tmp");
     if (!file.isOpen()) return Status::error(path + ": cannot create: " + std::strerror(errno));
+    // The header and the volume records hold the volumes' checksums: written again at the end.
     bool ok = file.write(serializeHeader(info, layout)) && file.write(materials) && file.write(tree) &&
-              file.write(directory) && file.write(cameras) && file.write(volumes) &&
+              file.write(directory) && file.write(cameras) && file.write(serializeVolumeRecords(info.volumes)) &&
               file.write(lights);
     for (size_t i = 0; ok && i < blobs.size(); ++i) ok = file.write(blobs[i]);
-    for (size_t i = 0; ok && i < volumeData.size(); ++i) ok = file.write(volumeData[i]);
-    if (!ok) return Status::error(path + ": write failed: " + std::strerror(errno));
+    if (!ok) return writeFailed(path);
+    for (PackageVolume& p : info.volumes) VASTRAY_TRY(writeVolumeData(file, path, p));
+    const std::vector<uint8_t> volumes = serializeVolumeRecords(info.volumes);
+    layout.volumesChecksum = checksum64(volumes.data(), volumes.size());
+    if (!file.writeAt(layout.volumesOffset, volumes) || !file.writeAt(0, serializeHeader(info, layout)))
+        return writeFailed(path);
     return file.commit(path);
 }
 

@@ -31,6 +31,17 @@ constexpr int64_t kMaxVdbIndex = int64_t(1) << 24;
 Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
                              const VolumeMaterial& material, const std::string& emissionGrid = {});
 
+// readVdbVolume with the voxels left in the file: the same checks and the same volume, less
+// Volume::voxels and emissionVoxels; Volume::bricks.source fills each brick from the file when
+// asked for (readVolumeBrick), one at a time, and holds the file open. What stays in memory is
+// the cell table, the majorants and 8 bytes per brick and grid; while the grids are scanned,
+// also OpenVDB's tree without its voxel buffers (about 100 bytes per 8^3 leaf). A file written
+// to a stream (no grid offsets) or of format 221 or older is read whole (docs/HARDENING.md).
+// The file must not change while the volume is in use: a brick read again is checked again
+// (every value in range) but not against the first pass.
+Result<Volume> openVdbVolume(const std::string& path, const std::string& gridName,
+                             const VolumeMaterial& material, const std::string& emissionGrid = {});
+
 // What messages call a volume's material fields: a front end's own names for them, e.g. the
 // CLI's options ("--volume-density") or an upload manifest's keys ("vastray-volumes.json:
 // volumes[1].density").
@@ -69,8 +80,9 @@ struct VolumeReadOptions {
 // How long one .vdb may take in a child process before it is killed and the import fails.
 constexpr int kVdbReadSecondsLimit = 600;
 
-// Every source in order, at most kMaxVolumes: its material checked, then its grid read
-// (readVdbVolume). Returns the first error ("65 volumes exceed the limit of 64", a material's
+// Every source in order, at most kMaxVolumes: its material checked, then its grid opened
+// (openVdbVolume: the bricks stay in the file), or read in a child process (readVdbVolume there:
+// the voxels come back through the pipe and are held in memory). Returns the first error ("65 volumes exceed the limit of 64", a material's
 // field by its name, or readVdbVolume's message naming the file and the grid).
 Result<std::vector<Volume>> readVolumes(const std::vector<VolumeSource>& sources,
                                         const VolumeReadOptions& options = {});
