@@ -319,11 +319,57 @@ function renderRequest(): object {
     spp: Number(input("spp").value), max_depth: Number(input("max-depth").value),
     integrator: ($("integrator") as HTMLSelectElement).value,
     memory_budget_bytes: String(Math.round(Number(input("budget").value) * 1048576)),
-    aovs,
+    aovs, ...lightingRequest(), ...cameraRequest(),
   };
 }
 
+function selected(id: string): string { return ($(id) as HTMLSelectElement).value; }
+
+// The numbers in the x, y, z boxes `PREFIX-x`..., empty boxes left out: the server then names
+// what is missing ("camera.eye: expected 3 numbers x, y, z, got 2"), and checks the rest.
+function vectorOf(prefix: string): number[] {
+  return ["x", "y", "z"].map((axis) => input(`${prefix}-${axis}`).value).filter((v) => v !== "").map(Number);
+}
+
+// up_axis, sun and no_lights of SubmitJobRequest. "No sun" is the API's sun of intensity 0 (its
+// direction, the up axis, is then unused).
+function lightingRequest(): object {
+  const upAxis = selected("up-axis");
+  const request: Record<string, unknown> = { up_axis: upAxis, no_lights: !input("scene-lights").checked };
+  if (selected("sun-mode") === "custom")
+    request.sun = { direction: vectorOf("sun"), intensity: Number(input("sun-intensity").value) };
+  else if (selected("sun-mode") === "none")
+    request.sun = { direction: upAxis === "z" ? [0, 0, 1] : [0, 1, 0], intensity: 0 };
+  return request;
+}
+
+// scene_camera or camera (the two exclude each other); neither: the scene's first camera, else
+// framing. An empty field of view is left out (the API's 0: 45 degrees).
+function cameraRequest(): object {
+  const mode = selected("camera-mode");
+  if (mode === "scene") return { scene_camera: input("scene-camera").value };
+  if (mode !== "eye") return {};
+  const camera: Record<string, unknown> = { eye: vectorOf("eye"), target: vectorOf("target") };
+  const up = vectorOf("camera-up");
+  if (up.length > 0) camera.up = up;
+  if (input("fov").value !== "") camera.fov_y_degrees = Number(input("fov").value);
+  return { camera };
+}
+
+// Only the boxes of the chosen sun and camera take input (a disabled fieldset's controls are
+// skipped by Tab and by the form's checks); also run at start, since a reload may restore the
+// selects.
+function syncRenderOptions(): void {
+  ($("sun-fields") as HTMLFieldSetElement).disabled = selected("sun-mode") !== "custom";
+  input("scene-camera").disabled = selected("camera-mode") !== "scene";
+  ($("camera-fields") as HTMLFieldSetElement).disabled = selected("camera-mode") !== "eye";
+}
+
 function setupRenderForm(): void {
+  for (const id of ["sun-mode", "camera-mode"]) $(id).addEventListener("change", syncRenderOptions);
+  syncRenderOptions();
+  // A box the browser refuses (an empty sun intensity) must be visible to say why.
+  $("render-form").addEventListener("invalid", () => { ($("light-camera") as HTMLDetailsElement).open = true; }, true);
   $("render-form").addEventListener("submit", async (event) => {
     event.preventDefault();
     $("render-message").textContent = "";

@@ -8,9 +8,10 @@ token, then the right one; uploads a mesh with the file picker, a two-file OBJ +
 (zipped by the page) and an OBJ by drag and drop; renders 64x64 at 2 spp with AOVs and watches
 it to completion; switches through the AOVs and checks each image on screen (a screenshot of
 it: the expected size, not uniform); downloads the result; cancels a long job while it runs
-(vulkan). Prints figures (page bytes, first
-contentful paint, main-thread responsiveness while a job streams its events); they are
-measurements for docs/SERVICE.md, not assertions.
+(vulkan); sets the lighting and camera controls from the keyboard and checks that the job the
+server stored carries them, and that bad values show the server's own 400 message. Prints
+figures (page bytes, first contentful paint, main-thread responsiveness while a job streams its
+events); they are measurements for docs/SERVICE.md, not assertions.
 
 Exit status 0 when every check passed, 1 otherwise (a missing browser, driver or selenium is
 a failure, never a skip: install-deps was supposed to install them).
@@ -27,6 +28,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.error
 import urllib.request
 
 TOKEN = "browser-test-token"
@@ -43,6 +45,7 @@ try:
     from selenium.common.exceptions import TimeoutException
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
     from selenium.webdriver.support.ui import Select, WebDriverWait
 except ImportError as error:
     fail(f"{error}: run scripts/install-deps.sh (python3-selenium, python3-pil)")
@@ -83,6 +86,18 @@ class Server:
                                          headers={"Authorization": f"Bearer {self.token}"} if self.token else {})
         with urllib.request.urlopen(request, timeout=30) as response:
             return json.load(response)
+
+    def post(self, path, body):
+        """POST a JSON body; (HTTP status, the JSON answer), errors included."""
+        headers = {"Content-Type": "application/json"}
+        if self.token:
+            headers["Authorization"] = f"Bearer {self.token}"
+        request = urllib.request.Request(self.url + path, data=json.dumps(body).encode(), headers=headers)
+        try:
+            with urllib.request.urlopen(request, timeout=30) as response:
+                return response.status, json.load(response)
+        except urllib.error.HTTPError as error:
+            return error.code, json.load(error)
 
     def raw(self, path):
         with urllib.request.urlopen(self.url + path, timeout=30) as response:
@@ -225,15 +240,25 @@ class PageTest:
             fail(f"the dropped OBJ should be 1 triangle: {dropped}")
         return scene_id
 
-    def submit(self, scene_id, width, height, spp, aovs=()):
+    def type_into(self, box_id, value):
+        box = self.driver.find_element(By.ID, box_id)
+        box.clear()
+        box.send_keys(str(value))
+
+    def fill(self, scene_id, width, height, spp, aovs=()):
         Select(self.driver.find_element(By.ID, "scene-select")).select_by_value(scene_id)
         for field, value in (("width", width), ("height", height), ("spp", spp)):
-            box = self.driver.find_element(By.ID, field)
-            box.clear()
-            box.send_keys(str(value))
+            self.type_into(field, value)
         for box in self.driver.find_elements(By.CSS_SELECTOR, "#aovs input"):
             if box.is_selected() != (box.get_attribute("value") in aovs):
                 box.click()
+
+    def submit(self, scene_id, width, height, spp, aovs=()):
+        self.fill(scene_id, width, height, spp, aovs)
+        return self.submit_filled()
+
+    def submit_filled(self):
+        """Clicks Render; the id of the job whose card appears."""
         before = {e.get_attribute("data-job-id") for e in self.driver.find_elements(By.CSS_SELECTOR, ".job")}
         self.driver.find_element(By.ID, "submit-render").click()
         self.wait(lambda: len(self.driver.find_elements(By.CSS_SELECTOR, ".job")) > len(before), "the new job's card")
@@ -265,6 +290,7 @@ class PageTest:
 
     def check_image(self, aov):
         image = self.driver.find_element(By.ID, "result-image")
+        self.js("arguments[0].scrollIntoView({block: 'center'})", image)
         natural = self.js("const i = arguments[0]; return [i.naturalWidth, i.naturalHeight]", image)
         if natural != [64, 64]:
             fail(f"{aov}: the image is {natural}, not 64x64")
@@ -344,6 +370,118 @@ class PageTest:
             "long_task_ms_total": round(sum(probe["longTasks"]), 1),
         })
 
+    def choose(self, select_id, value):
+        """Chooses an option of a select from the keyboard: Home, then Down to it."""
+        box = self.driver.find_element(By.ID, select_id)
+        values = [o.get_attribute("value") for o in box.find_elements(By.TAG_NAME, "option")]
+        box.send_keys(Keys.HOME + Keys.ARROW_DOWN * values.index(value))
+        self.wait(lambda: box.get_attribute("value") == value, f"{select_id} to be {value!r} by keyboard", 5)
+
+    def tab_from(self, element_id):
+        """The id of the control Tab moves to from `element_id`."""
+        self.driver.find_element(By.ID, element_id).send_keys(Keys.TAB)
+        return self.js("return document.activeElement.id")
+
+    def fill_vector(self, prefix, values):
+        for axis, value in zip("xyz", values):
+            self.type_into(f"{prefix}-{axis}", value)
+
+    def stored_request(self, job_id, expected, absent=()):
+        request = self.server.api(f"/v1/jobs/{job_id}")["request"]
+        got = {key: request.get(key) for key in expected}
+        if got != expected or any(key in request for key in absent):
+            fail(f"the job the form submitted carries {request}, expected {expected} and no {list(absent)}")
+
+    def lit_job(self, scene_id):
+        """Up axis z, a sun of its own, the scene's lights off and an eye/target camera, all set from
+        the keyboard; Tab reaches only the boxes of the chosen sun and camera."""
+        self.fill(scene_id, 64, 64, 2)
+        self.driver.find_element(By.CSS_SELECTOR, "#light-camera summary").send_keys(Keys.ENTER)
+        self.wait(lambda: self.js("return document.getElementById('light-camera').open"),
+                  "Enter on 'lighting and camera' to open it", 5)
+        if self.tab_from("sun-mode") != "scene-lights":
+            fail("Tab from the default sun does not skip the custom sun's boxes")
+        self.choose("up-axis", "z")
+        self.choose("sun-mode", "custom")
+        if self.tab_from("sun-mode") != "sun-x":
+            fail("Tab from 'this sun' does not reach the sun's direction")
+        self.fill_vector("sun", (1, 2, 0.5))
+        self.type_into("sun-intensity", 7.5)
+        lights = self.driver.find_element(By.ID, "scene-lights")
+        lights.send_keys(Keys.SPACE)
+        if lights.is_selected():
+            fail("Space did not turn the scene's lights off")
+        self.choose("camera-mode", "eye")
+        if self.tab_from("camera-mode") != "eye-x":
+            fail("Tab from 'eye and target' does not skip the scene camera's box to reach the eye")
+        self.fill_vector("eye", (0, -3, 1))
+        self.fill_vector("target", (0, 0, 0.25))
+        self.type_into("fov", 50)
+        job_id = self.submit_filled()
+        # The camera's up left empty: the server fills in the up axis.
+        self.stored_request(job_id, {
+            "up_axis": "z", "sun": {"direction": [1, 2, 0.5], "intensity": 7.5}, "no_lights": True,
+            "camera": {"eye": [0, -3, 1], "target": [0, 0, 0.25], "up": [0, 0, 1], "fov_y_degrees": 50},
+            "scene_camera": ""})
+        final = ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED", "JOB_STATE_CANCELLED")
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") in final, "the lit job to end", 120)
+        if self.card(job_id).get_attribute("data-state") != "JOB_STATE_SUCCEEDED":
+            fail(f"the lit job did not succeed: {self.card(job_id).text}")
+
+    def scene_camera_job(self):
+        """No sun and a scene camera by index: stored as the API's sun of intensity 0 and
+        scene_camera; the sphere has no camera, so the job fails and its card shows why."""
+        self.choose("sun-mode", "none")
+        self.choose("camera-mode", "scene")
+        self.type_into("scene-camera", "1")
+        job_id = self.submit_filled()
+        self.stored_request(job_id, {"up_axis": "z", "sun": {"direction": [0, 0, 1], "intensity": 0},
+                                     "scene_camera": "1", "no_lights": True}, absent=("camera",))
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") == "JOB_STATE_FAILED", "the job to fail", 60)
+        error = self.server.api(f"/v1/jobs/{job_id}")["error"]
+        self.wait(lambda: error in self.card(job_id).text, "the job's error on its card", 10)
+        if "defines no cameras" not in error:
+            fail(f"the scene camera job failed for another reason: {error}")
+
+    def refused(self, scene_id, request, field):
+        """Submits the form as it stands; the page must show the server's own answer to `request`
+        (what the form sends, posted directly), which names `field`, and add no job."""
+        status, answer = self.server.post("/v1/jobs", {"scene_id": scene_id, "width": 64, "height": 64,
+                                                       "spp": 2, **request})
+        if status != 400 or not answer["error"]["message"].startswith(field + ":"):
+            fail(f"the API should refuse {request} naming {field}: {status} {answer}")
+        expected = f"{status} {answer['error']['code']}: {answer['error']['message']}"
+        cards = len(self.driver.find_elements(By.CSS_SELECTOR, ".job"))
+        self.driver.find_element(By.ID, "submit-render").click()
+        message = lambda: self.driver.find_element(By.ID, "render-message").text  # noqa: E731
+        self.wait(lambda: message() == expected, f"the server's error {expected!r} (the page shows {message()!r})", 10)
+        if len(self.driver.find_elements(By.CSS_SELECTOR, ".job")) != cards:
+            fail(f"a refused request ({request}) added a job card")
+
+    def lighting_and_camera(self, scene_id):
+        self.lit_job(scene_id)
+        self.scene_camera_job()
+        lit = {"up_axis": "z", "no_lights": True}
+        self.choose("sun-mode", "custom")
+        self.choose("camera-mode", "default")
+        self.fill_vector("sun", (0, 0, 0))
+        self.refused(scene_id, {**lit, "sun": {"direction": [0, 0, 0], "intensity": 7.5}}, "sun.direction")
+        self.fill_vector("sun", (1, 2, 0.5))
+        self.type_into("sun-intensity", 2000000)
+        self.refused(scene_id, {**lit, "sun": {"direction": [1, 2, 0.5], "intensity": 2000000}}, "sun.intensity")
+        self.type_into("sun-intensity", 7.5)
+        # The 65-byte name reaches the server whole (the box does not cut it).
+        self.choose("camera-mode", "scene")
+        self.type_into("scene-camera", "c" * 65)
+        self.refused(scene_id, {**lit, "sun": {"direction": [1, 2, 0.5], "intensity": 7.5},
+                                "scene_camera": "c" * 65}, "scene_camera")
+        # An empty box is left out, and the server says what is missing.
+        self.choose("camera-mode", "eye")
+        self.type_into("eye-z", "")
+        self.refused(scene_id, {**lit, "sun": {"direction": [1, 2, 0.5], "intensity": 7.5},
+                                "camera": {"eye": [0, -3], "target": [0, 0, 0.25], "fov_y_degrees": 50}},
+                     "camera.eye")
+
     def page_bytes(self):
         html = self.server.raw("/")
         scripts = re.findall(rb'src="([^"]+)"', html) + re.findall(rb'href="([^"]+\.css)"', html)
@@ -368,10 +506,13 @@ class PageTest:
         if backend == "vulkan":
             self.cancel_long_job(scene_id)
             self.responsiveness(scene_id)
-        # The 401s that made the page ask for the token are expected; nothing else may be logged
-        # (a CSP violation, a failed request, an exception in the page).
+        self.lighting_and_camera(scene_id)
+        # The 401s that made the page ask for the token and the 400s of the refused jobs are
+        # expected; nothing else may be logged (a CSP violation, a failed request, an exception).
+        expected = ("status of 401 (Unauthorized)", "/v1/jobs - Failed to load resource: the server responded "
+                    "with a status of 400 (Bad Request)")
         errors = [e for e in self.driver.get_log("browser")
-                  if e["level"] == "SEVERE" and "status of 401 (Unauthorized)" not in e["message"]]
+                  if e["level"] == "SEVERE" and not any(text in e["message"] for text in expected)]
         if errors:
             fail(f"errors in the browser console: {errors}")
 
