@@ -95,6 +95,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"codec", geometryCodecName(info.codec)},
             {"vertex_normals", info.hasNormals},
             {"vertex_colors", info.hasColors},
+            {"vertex_uvs", info.hasUvs},
             {"cameras", cameras},
             {"lights", lights},
             {"volumes", volumes},
@@ -118,9 +119,11 @@ void printHuman(const std::string& path, const PackageInfo& info) {
     else
         std::printf("  quantization         lossless\n");
     std::printf("  chunk codec          %s\n", geometryCodecName(info.codec));
-    const char* attributes = info.hasNormals ? (info.hasColors ? "shading normals, colours" : "shading normals")
-                                             : (info.hasColors ? "colours" : "none");
-    std::printf("  vertex attributes    %s\n", attributes);
+    std::string attributes;
+    for (auto [present, name] : {std::pair{info.hasNormals, "shading normals"}, {info.hasColors, "colours"},
+                                 {info.hasUvs, "texture coordinates"}})
+        if (present) attributes += (attributes.empty() ? "" : ", ") + std::string(name);
+    std::printf("  vertex attributes    %s\n", attributes.empty() ? "none" : attributes.c_str());
     std::printf("  materials            %zu\n", info.materials.size());
     for (size_t i = 0; i < info.cameras.size(); ++i) {
         const Camera& c = info.cameras[i].camera;

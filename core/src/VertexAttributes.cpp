@@ -71,6 +71,19 @@ uint32_t interpolateColor(uint32_t c0, uint32_t c1, uint32_t c2, float u, float 
     return unorm(c.x, 1023.0f) | (unorm(c.y, 1023.0f) << 10) | (unorm(c.z, 1023.0f) << 20);
 }
 
+std::array<float, 2> interpolateUv(std::array<float, 2> uv0, std::array<float, 2> uv1, std::array<float, 2> uv2,
+                                   float u, float v) {
+    const float w = 1.0f - u - v;
+    std::array<float, 2> out;
+    for (int i = 0; i < 2; ++i) {
+        // Separate roundings: the GLSL twin's `precise` products and sums round the same way.
+        const float a = w * uv0[i], b = u * uv1[i], c = v * uv2[i];
+        const float ab = a + b;
+        out[i] = ab + c;
+    }
+    return out;
+}
+
 Vec3f unpackHitColor(uint32_t packed) {
     return {float(packed & 1023u) / 1023.0f, float((packed >> 10) & 1023u) / 1023.0f,
             float((packed >> 20) & 1023u) / 1023.0f};

@@ -14,12 +14,14 @@ namespace {
 Status appendChunk(const DecodedChunk& chunk, const PackageInfo& info, const std::string& path,
                    std::vector<uint8_t>& seen, RenderScene& scene) {
     const auto base = uint32_t(scene.mesh.positions.size());
-    if (chunk.normals.empty() == info.hasNormals || chunk.colors.empty() == info.hasColors)
+    if (chunk.normals.empty() == info.hasNormals || chunk.colors.empty() == info.hasColors ||
+        chunk.uvs.empty() == info.hasUvs)
         return Status::error(path + ": chunk " + std::to_string(chunk.id) +
                              ": its vertex attributes disagree with the header's");
     scene.mesh.positions.insert(scene.mesh.positions.end(), chunk.positions.begin(), chunk.positions.end());
     scene.mesh.normals.insert(scene.mesh.normals.end(), chunk.normals.begin(), chunk.normals.end());
     scene.mesh.colors.insert(scene.mesh.colors.end(), chunk.colors.begin(), chunk.colors.end());
+    scene.mesh.uvs.insert(scene.mesh.uvs.end(), chunk.uvs.begin(), chunk.uvs.end());
     for (size_t t = 0; t < chunk.primitiveIds.size(); ++t) {
         const uint32_t id = chunk.primitiveIds[t];
         if (id >= seen.size())

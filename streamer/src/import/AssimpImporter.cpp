@@ -122,6 +122,15 @@ void warnAboutUnused(const aiScene& scene, ImportReport& report) {
     report.warnUnused("embedded textures", scene.mNumTextures);
 }
 
+// Texture maps the scene's materials reference, of every kind: UVs are kept only with one.
+uint64_t textureMapCount(const aiScene& scene) {
+    uint64_t maps = 0;
+    for (unsigned i = 0; i < scene.mNumMaterials; ++i)
+        for (int type = aiTextureType_NONE + 1; type <= AI_TEXTURE_TYPE_MAX; ++type)
+            maps += scene.mMaterials[i]->GetTextureCount(aiTextureType(type));
+    return maps;
+}
+
 // The scene's perspective cameras in world space, in the file's order (read before
 // post-processing, while the node tree that places them is whole). An aiCamera sits at
 // mPosition looking along mLookAt with mUp, in the frame of the node of its name.
@@ -162,8 +171,17 @@ std::vector<SceneCamera> worldCameras(const aiScene& scene, uint64_t& notUsed) {
 
 // Normals (world space after aiProcess_PreTransformVertices) and the first colour set, taken as
 // sRGB-encoded like OBJ's and PLY's. The mesh has them on every vertex or on none: parts without
-// get kNoNormal and white once some part has them.
-void appendAttributes(const aiMesh& part, uint64_t base, TriangleMesh& mesh) {
+// get kNoNormal and white once some part has them. With `uvs` (a material has a texture map)
+// the first UV set likewise, (0, 0) on parts without, v flipped: assimp's texture space has v
+// up, the package keeps glTF's (docs/RENDERING.md). finalizeMesh checks the values.
+void appendAttributes(const aiMesh& part, uint64_t base, bool uvs, TriangleMesh& mesh) {
+    if (uvs && part.HasTextureCoords(0)) {
+        mesh.uvs.resize(base, {0.0f, 0.0f});
+        for (unsigned v = 0; v < part.mNumVertices; ++v)
+            mesh.uvs.push_back({part.mTextureCoords[0][v].x, 1.0f - part.mTextureCoords[0][v].y});
+    } else if (!mesh.uvs.empty()) {
+        mesh.uvs.resize(base + part.mNumVertices, {0.0f, 0.0f});
+    }
     if (part.HasNormals()) {
         mesh.normals.resize(base, kNoNormal);
         for (unsigned v = 0; v < part.mNumVertices; ++v)
@@ -186,6 +204,7 @@ void appendAttributes(const aiMesh& part, uint64_t base, TriangleMesh& mesh) {
 Status appendMeshes(const aiScene& scene, ImportedMesh& out) {
     TriangleMesh& mesh = out.mesh;
     for (unsigned i = 0; i < scene.mNumMaterials; ++i) mesh.materials.push_back(convertMaterial(*scene.mMaterials[i], i));
+    out.report.textureMaps = textureMapCount(scene);
     for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
         const aiMesh& part = *scene.mMeshes[i];
         if (!(part.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
@@ -199,7 +218,7 @@ Status appendMeshes(const aiScene& scene, ImportedMesh& out) {
         out.report.verticesRead += part.mNumVertices;
         for (unsigned v = 0; v < part.mNumVertices; ++v)
             mesh.positions.push_back({part.mVertices[v].x, part.mVertices[v].y, part.mVertices[v].z});
-        appendAttributes(part, base, mesh);
+        appendAttributes(part, base, out.report.textureMaps > 0, mesh);
         if (part.mMaterialIndex >= mesh.materials.size())
             return Status::error("mesh " + std::to_string(i) + ": material " + std::to_string(part.mMaterialIndex) +
                                  " does not exist");
@@ -303,7 +322,7 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
     w.put(uint8_t(1));
     putText(w, m.report.format);
     w.put(m.report.verticesRead), w.put(m.report.normalsRead), w.put(m.report.coloursRead),
-        w.put(m.report.texcoordsRead);
+        w.put(m.report.texcoordsRead), w.put(m.report.textureMaps);
     w.put(m.report.primitivesSkipped);
     w.put(uint64_t(m.report.warnings.size()));
     for (const std::string& warning : m.report.warnings) putText(w, warning);
@@ -314,7 +333,7 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
         w.put(material.metallic), w.put(material.roughness), w.put(material.specular);
     }
     putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
-    putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors);
+    putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors), putCounted(w, m.mesh.uvs);
     w.put(uint64_t(m.mesh.cameras.size()));
     for (const SceneCamera& camera : m.mesh.cameras) {
         putText(w, camera.name);
@@ -358,7 +377,7 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
     ImportedMesh m;
     uint64_t warnings = 0, materials = 0;
     if (!getText(r, m.report.format) || !r.get(m.report.verticesRead) || !r.get(m.report.normalsRead) ||
-        !r.get(m.report.coloursRead) || !r.get(m.report.texcoordsRead) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
+        !r.get(m.report.coloursRead) || !r.get(m.report.texcoordsRead) || !r.get(m.report.textureMaps) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
         warnings > bytes.size())
         return malformed;
     m.report.warnings.resize(warnings);
@@ -375,7 +394,7 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
     }
     uint64_t cameras = 0;
     if (!getCounted(r, m.mesh.positions) || !getCounted(r, m.mesh.indices) || !getCounted(r, m.mesh.materialIds) ||
-        !getCounted(r, m.mesh.normals) || !getCounted(r, m.mesh.colors) || !r.get(cameras) || cameras > bytes.size())
+        !getCounted(r, m.mesh.normals) || !getCounted(r, m.mesh.colors) || !getCounted(r, m.mesh.uvs) || !r.get(cameras) || cameras > bytes.size())
         return malformed;
     m.mesh.cameras.resize(cameras);
     for (SceneCamera& camera : m.mesh.cameras)

@@ -1,5 +1,7 @@
 #include "import/GltfAccessor.h"
 
+#include "import/ImportCommon.h"
+
 #include <algorithm>
 #include <cstring>
 
@@ -105,6 +107,26 @@ Status readColorAccessor(const tinygltf::Model& model, int index, std::vector<do
     for (size_t i = 0; i < view.count; ++i)
         for (int c = 0; c < 3; ++c)
             rgb[i * 3 + c] = std::clamp(component(view.base + i * view.stride + c * size, t, true), 0.0, 1.0);
+    return Status::ok();
+}
+
+Status readUvAccessor(const tinygltf::Model& model, int index, const std::string& what, std::vector<double>& uv) {
+    const std::string where = "accessor " + std::to_string(index) + ": ";
+    if (index < 0 || size_t(index) >= model.accessors.size()) return Status::error(where + "does not exist");
+    const tinygltf::Accessor& a = model.accessors[index];
+    const int t = a.componentType;
+    const bool integer = t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if (a.type != TINYGLTF_TYPE_VEC2 || !(t == TINYGLTF_COMPONENT_TYPE_FLOAT || (integer && a.normalized)))
+        return Status::error(where + what + " must be VEC2 of floats or normalized unsigned bytes or shorts");
+    AccessorView view;
+    if (Status s = locate(model, index, 2, view); !s.isOk()) return s;
+    const int size = componentSize(t);
+    uv.resize(view.count * 2);
+    for (size_t i = 0; i < view.count; ++i) {
+        for (int c = 0; c < 2; ++c) uv[i * 2 + c] = component(view.base + i * view.stride + c * size, t, true);
+        if (const std::string problem = uvProblem(uv[i * 2], uv[i * 2 + 1]); !problem.empty())
+            return Status::error(where + what + " element " + std::to_string(i) + " " + problem);
+    }
     return Status::ok();
 }
 

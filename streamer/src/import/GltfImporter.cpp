@@ -144,6 +144,8 @@ public:
         for (size_t i = 0; i < model.materials.size(); ++i) out_.mesh.materials.push_back(convertMaterial(model.materials[i], i));
     }
 
+    void keepUvSet(int set) { uvSet_ = set; }
+
     Status run() {
         std::vector<int> roots = rootNodes();
         std::vector<uint8_t> visited(model_.nodes.size(), 0);
@@ -277,6 +279,7 @@ private:
         appendPositions(world);
         if (Status s = appendNormals(prim, world, vertexCount); !s.isOk()) return s;
         if (Status s = appendColours(prim, vertexCount); !s.isOk()) return s;
+        if (Status s = appendUvs(prim, vertexCount); !s.isOk()) return s;
         return appendTriangles(prim, uint32_t(base), determinant3(world) < 0);
     }
 
@@ -284,8 +287,9 @@ private:
     // Without it: none, and once earlier primitives gave the mesh that attribute (`values` not
     // empty), this primitive's vertices get `fill`: a mesh has it on every vertex or on none.
     // With it, the caller reads it and pads the vertices before this primitive with `fill`.
-    std::optional<int> attributeOrFill(const tinygltf::Primitive& prim, const char* attribute,
-                                       std::vector<uint32_t>& values, uint32_t fill) {
+    template <typename T>
+    std::optional<int> attributeOrFill(const tinygltf::Primitive& prim, const char* attribute, std::vector<T>& values,
+                                       T fill) {
         const auto found = prim.attributes.find(attribute);
         if (found != prim.attributes.end()) return found->second;
         if (!values.empty()) values.resize(out_.mesh.positions.size(), fill);
@@ -329,6 +333,23 @@ private:
         return Status::ok();
     }
 
+    // TEXCOORD_<uvSet_> (uvSet_ < 0: no material has a texture, nothing is read), (0, 0) on the
+    // vertices of primitives without once any has it. glTF's texture space is the package's.
+    Status appendUvs(const tinygltf::Primitive& prim, uint64_t vertexCount) {
+        if (uvSet_ < 0) return Status::ok();
+        const std::string attribute = "TEXCOORD_" + std::to_string(uvSet_);
+        std::vector<std::array<float, 2>>& uvs = out_.mesh.uvs;
+        const std::optional<int> uv = attributeOrFill(prim, attribute.c_str(), uvs, std::array<float, 2>{0.0f, 0.0f});
+        if (!uv) return Status::ok();
+        if (Status s = import::readUvAccessor(model_, *uv, attribute, rgb_); !s.isOk()) return s;
+        if (rgb_.size() / 2 != vertexCount)
+            return Status::error(attribute + " has " + std::to_string(rgb_.size() / 2) + " elements for " +
+                                 std::to_string(vertexCount) + " positions");
+        uvs.resize(out_.mesh.positions.size() - vertexCount, {0.0f, 0.0f});
+        for (size_t i = 0; i < rgb_.size(); i += 2) uvs.push_back({float(rgb_[i]), float(rgb_[i + 1])});
+        return Status::ok();
+    }
+
     Status readCorners(const tinygltf::Primitive& prim, uint64_t vertexCount) {
         if (prim.indices >= 0) {
             if (Status s = import::readIndexAccessor(model_, prim.indices, corners_); !s.isOk()) return s;
@@ -353,7 +374,7 @@ private:
         const uint64_t count = xyz_.size() / 3;
         out_.report.verticesRead += count;
         if (prim.attributes.count("NORMAL")) out_.report.normalsRead += count;
-        if (prim.attributes.count("TEXCOORD_0")) out_.report.texcoordsRead += count;
+        if (prim.attributes.count("TEXCOORD_" + std::to_string(std::max(uvSet_, 0)))) out_.report.texcoordsRead += count;
     }
 
     void appendPositions(const Mat4& m) {
@@ -407,7 +428,8 @@ private:
     const tinygltf::Model& model_;
     ImportedMesh& out_;
     std::vector<double> xyz_;        // reused per primitive
-    std::vector<double> rgb_;        // reused per primitive
+    std::vector<double> rgb_;        // reused per primitive (colours, UVs)
+    int uvSet_ = -1;                 // the TEXCOORD_n kept (chooseUvSet), -1: none
     std::vector<uint32_t> corners_;  // reused per primitive
     int64_t defaultMaterial_ = -1;
     std::vector<std::pair<int, SceneCamera>> cameras_;  // glTF camera index, camera
@@ -445,6 +467,29 @@ Result<std::vector<PunctualLight>> readLights(const tinygltf::Model& model) {
         lights.push_back(std::move(l));
     }
     return lights;
+}
+
+// The UV set the materials' textures use (textureInfo.texCoord of the five core maps), the
+// most used when they differ (warned, naming the file), -1 when no material has a texture:
+// then no UVs are kept. Counts the maps into report.textureMaps.
+int chooseUvSet(const tinygltf::Model& model, const std::string& name, ImportReport& report) {
+    std::map<int, uint64_t> uses;
+    for (const tinygltf::Material& m : model.materials) {
+        const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
+        for (auto [index, set] : {std::pair{pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord},
+                                  {pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord},
+                                  {m.normalTexture.index, m.normalTexture.texCoord},
+                                  {m.occlusionTexture.index, m.occlusionTexture.texCoord},
+                                  {m.emissiveTexture.index, m.emissiveTexture.texCoord}})
+            if (index >= 0) ++uses[std::max(set, 0)], ++report.textureMaps;
+    }
+    if (uses.empty()) return -1;
+    const auto most = std::max_element(uses.begin(), uses.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (uses.size() > 1)
+        report.warnings.push_back(name + ": materials' textures use " + std::to_string(uses.size()) +
+                                  " UV sets; TEXCOORD_" + std::to_string(most->first) +
+                                  " (the most used) is kept, textures on the others will be placed by it");
+    return most->first;
 }
 
 // What the file holds that the package does not carry, once per kind.
@@ -505,6 +550,7 @@ Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOp
     auto lights = readLights(*model);
     if (!lights) return lights.status().withContext(name + ": ");
     GltfFlattener flattener(*model, std::move(lights).value(), imported);
+    flattener.keepUvSet(chooseUvSet(*model, name, imported.report));
     if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
     warnAboutUnused(*model, imported.report);
     imported.report.warnUnused("cameras", flattener.camerasNotUsed(), "orthographic, or placed degenerately");

@@ -95,6 +95,16 @@ uint64_t dropDegenerates(TriangleMesh& mesh) {
     return count - kept;
 }
 
+Status checkUvs(const TriangleMesh& mesh) {
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+        return Status::error("texture coordinates are not one per vertex (" + std::to_string(mesh.uvs.size()) +
+                             " for " + std::to_string(mesh.positions.size()) + " vertices)");
+    for (size_t i = 0; i < mesh.uvs.size(); ++i)
+        if (const std::string problem = import::uvProblem(mesh.uvs[i][0], mesh.uvs[i][1]); !problem.empty())
+            return Status::error("vertex " + std::to_string(i) + " texture coordinate " + problem);
+    return Status::ok();
+}
+
 void applySidedness(const ImportOptions& options, std::vector<Material>& materials) {
     if (options.sidedness == ImportOptions::Sidedness::FromFile) return;
     const bool doubleSided = options.sidedness == ImportOptions::Sidedness::ForceDoubleSided;
@@ -130,6 +140,8 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
         return Status::error(prefix + "per-vertex normals or colours are not one per vertex (" +
                              std::to_string(mesh.normals.size()) + " normals, " + std::to_string(mesh.colors.size()) +
                              " colours, " + std::to_string(mesh.positions.size()) + " vertices)");
+    if (imported.report.textureMaps == 0) mesh.uvs.clear();  // read by nothing: not stored
+    if (Status s = checkUvs(mesh); !s.isOk()) return s.withContext(prefix);
     imported.report.inputTriangles = mesh.triangleCount();
     if (mesh.triangleCount() == 0) return Status::error(prefix + "no triangles");
     imported.report.degenerateDropped = dropDegenerates(mesh);
@@ -140,7 +152,8 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     ImportReport& report = imported.report;
     if (mesh.normals.empty()) report.warnUnused("shading normals", report.normalsRead, "shading stays faceted");
     if (mesh.colors.empty()) report.warnUnused("vertex colours", report.coloursRead, "a scan renders grey");
-    report.warnUnused("texture coordinates", report.texcoordsRead, "textures are not rendered yet");
+    if (mesh.uvs.empty())
+        report.warnUnused("texture coordinates", report.texcoordsRead, "no material has a texture map");
     shortenCameraNames(mesh, report);
     return Status::ok();
 }

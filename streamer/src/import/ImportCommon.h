@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <new>
@@ -12,6 +13,7 @@
 
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
+#include "vastray/core/VertexAttributes.h"
 
 namespace vastray::import {
 
@@ -70,6 +72,17 @@ inline void setPhongSpecular(Material& m, float weight, float exponent) {
     if (!(weight > 0.0f)) return;
     m.specular = std::min(weight, 1.0f);
     m.roughness = std::sqrt(std::sqrt(2.0f / (std::max(exponent, 0.0f) + 2.0f)));
+}
+
+// Why a texture coordinate pair is refused ("(nan, 0) is not finite"), or "" when it is kept:
+// finite and within +-kMaxAbsUv (docs/HARDENING.md).
+inline std::string uvProblem(double u, double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "(%.9g, %.9g)", u, v);
+    if (!std::isfinite(u) || !std::isfinite(v)) return std::string(text) + " is not finite";
+    if (std::fabs(u) > kMaxAbsUv || std::fabs(v) > kMaxAbsUv)
+        return std::string(text) + " lies beyond the texture coordinate limit of +-1e6";
+    return "";
 }
 
 inline Status errorIn(const std::string& fileName, const std::string& message) {

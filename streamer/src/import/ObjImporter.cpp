@@ -1,8 +1,10 @@
 // Wavefront OBJ: v (with optional r g b colour)/vt/vn/f, negative indices, ear-clipped polygons,
 // usemtl/mtllib. The whole file is read once and parsed in place with std::from_chars. Normals
-// are indexed apart from positions: a position used with several normals becomes several
-// vertices (splitVertices), as every renderer's vertex arrays want.
+// and texture coordinates are indexed apart from positions: a position used with several
+// normals or UVs becomes several vertices (splitVertices), as every renderer's vertex arrays
+// want. UVs are kept only when the MTL library has a texture map (ImportReport::textureMaps).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -38,11 +40,12 @@ public:
 
     const std::string& name() const { return name_; }
     uint64_t normalCount() const { return normals_.size(); }
-    uint64_t texcoordCount() const { return texcoordCount_; }
+    uint64_t texcoordCount() const { return texcoords_.size(); }
     uint64_t colourCount() const { return colouredVertices_; }
 
-    // Gives the mesh its per-vertex normals and colours: each (position, normal) pair that a
-    // face corner uses becomes one vertex; corners without a normal get kNoNormal.
+    // Gives the mesh its per-vertex normals, colours and (with a texture map) UVs: each
+    // (position, normal, texcoord) that a face corner uses becomes one vertex; corners without
+    // a normal get kNoNormal, without a texcoord (0, 0).
     void splitVertices();
 
 private:
@@ -53,7 +56,7 @@ private:
     Status parseLine(const char* p, const char* eol) {
         const std::string_view keyword = import::nextToken(p, eol);
         if (keyword == "v") return parseVertex(p, eol);
-        if (keyword == "vt") return countAttribute(p, eol, 1, texcoordCount_, "vt");  // v and w optional
+        if (keyword == "vt") return parseTexcoord(p, eol);
         if (keyword == "vn") return parseNormal(p, eol);
         if (keyword == "f") return parseFace(p, eol);
         if (keyword == "usemtl") return useMaterial(std::string(import::trimmed(p, eol)));
@@ -96,13 +99,16 @@ private:
         return Status::ok();
     }
 
-    // vt/vn are not carried into the mesh, but a malformed one is still an error.
-    Status countAttribute(const char* p, const char* eol, int required, uint64_t& count, const char* what) {
-        for (int i = 0; i < required; ++i) {
-            float value;
-            if (!import::parseField(p, eol, value)) return lineError(std::string("malformed ") + what);
-        }
-        ++count;
+    // "vt u [v [w]]": w is dropped, a missing v is 0. Stored with v flipped (1 - v): the
+    // package keeps glTF's texture space, v growing downwards (docs/RENDERING.md).
+    Status parseTexcoord(const char* p, const char* eol) {
+        float u = 0.0f, v = 0.0f;
+        if (!import::parseField(p, eol, u)) return lineError("malformed vt");
+        const bool hasV = import::parseField(p, eol, v);
+        if (texcoords_.size() >= std::numeric_limits<uint32_t>::max() - 1)
+            return lineError("texcoord count exceeds the uint32 index range");
+        if (const std::string problem = import::uvProblem(u, v); !problem.empty()) return lineError("vt " + problem);
+        texcoords_.push_back({u, hasV ? 1.0f - v : 1.0f});
         return Status::ok();
     }
 
@@ -116,15 +122,15 @@ private:
         return Status::ok();
     }
 
-    Status parseCorner(std::string_view token, uint32_t& vertex, uint32_t& normal) const {
+    Status parseCorner(std::string_view token, uint32_t& vertex, uint32_t& texcoord, uint32_t& normal) const {
         const char* p = token.data();
         const char* end = p + token.size();
         int64_t index = 0;
         if (!parseNumber(p, end, index)) return lineError("malformed face corner '" + std::string(token) + "'");
         if (Status s = resolve(index, out_.mesh.positions.size(), "vertex", vertex); !s.isOk()) return s;
-        const uint64_t counts[2] = {texcoordCount_, normals_.size()};
+        const uint64_t counts[2] = {texcoords_.size(), normals_.size()};
         const char* names[2] = {"texcoord", "normal"};
-        normal = kNoCornerNormal;
+        normal = texcoord = kNoCorner;
         for (int slot = 0; slot < 2 && p < end; ++slot) {
             if (*p != '/') return lineError("malformed face corner '" + std::string(token) + "'");
             ++p;
@@ -132,7 +138,7 @@ private:
             uint32_t resolved;
             if (!parseNumber(p, end, index)) return lineError("malformed face corner '" + std::string(token) + "'");
             if (Status s = resolve(index, counts[slot], names[slot], resolved); !s.isOk()) return s;
-            if (slot == 1) normal = resolved;
+            (slot == 1 ? normal : texcoord) = resolved;
         }
         if (p != end) return lineError("malformed face corner '" + std::string(token) + "'");
         return Status::ok();
@@ -141,17 +147,20 @@ private:
     Status parseFace(const char* p, const char* eol) {
         corners_.clear();
         cornerNormals_.clear();
-        bool anyNormal = false;
+        cornerTexcoords_.clear();
+        bool anyNormal = false, anyTexcoord = false;
         for (std::string_view token = import::nextToken(p, eol); !token.empty();
              token = import::nextToken(p, eol)) {
-            uint32_t vertex, normal;
-            if (Status s = parseCorner(token, vertex, normal); !s.isOk()) return s;
+            uint32_t vertex = 0, texcoord = kNoCorner, normal = kNoCorner;
+            if (Status s = parseCorner(token, vertex, texcoord, normal); !s.isOk()) return s;
             if (corners_.size() == import::kMaxPolygonCorners)
                 return lineError("face has more than " + std::to_string(import::kMaxPolygonCorners) +
                                  " corners (the polygon limit)");
             corners_.push_back(vertex);
             cornerNormals_.push_back(normal);
-            anyNormal = anyNormal || normal != kNoCornerNormal;
+            cornerTexcoords_.push_back(texcoord);
+            anyNormal = anyNormal || normal != kNoCorner;
+            anyTexcoord = anyTexcoord || texcoord != kNoCorner;
         }
         if (corners_.size() < 3)
             return lineError("face has " + std::to_string(corners_.size()) + " vertices (need at least 3)");
@@ -160,35 +169,37 @@ private:
         const uint64_t triangles = triangulator_.triangulate(out_.mesh.positions, corners_, out_.mesh.indices);
         if (!triangulator_.failure().empty()) return lineError("face: " + triangulator_.failure());
         out_.mesh.materialIds.insert(out_.mesh.materialIds.end(), triangles, material);
-        recordCornerNormals(first, anyNormal);
+        recordCorners(first, anyNormal, cornerNormals_, indexNormals_);
+        recordCorners(first, anyTexcoord, cornerTexcoords_, indexTexcoords_);
         return Status::ok();
     }
 
-    // The triangulator returns position indices: each new corner takes the normal its
-    // position had in the face (the first such corner's, if a polygon repeats a position).
-    void recordCornerNormals(size_t first, bool anyNormal) {
+    // The triangulator returns position indices: each new corner takes the normal (texcoord)
+    // its position had in the face (the first such corner's, if a polygon repeats a position).
+    // `perIndex` stays empty until some face has one.
+    void recordCorners(size_t first, bool any, const std::vector<uint32_t>& perCorner, std::vector<uint32_t>& perIndex) {
         const size_t added = out_.mesh.indices.size() - first;
-        if (!anyNormal) {
-            if (!indexNormals_.empty()) indexNormals_.insert(indexNormals_.end(), added, kNoCornerNormal);
+        if (!any) {
+            if (!perIndex.empty()) perIndex.insert(perIndex.end(), added, kNoCorner);
             return;
         }
-        if (indexNormals_.empty()) indexNormals_.assign(first, kNoCornerNormal);
+        if (perIndex.empty()) perIndex.assign(first, kNoCorner);
         // Large polygons look their corners up in a map (a 10^6-corner face stays linear).
-        std::unordered_map<uint32_t, uint32_t> normalOf;
+        std::unordered_map<uint32_t, uint32_t> valueOf;
         if (corners_.size() > 16)
-            for (size_t c = corners_.size(); c-- > 0;) normalOf[corners_[c]] = cornerNormals_[c];
+            for (size_t c = corners_.size(); c-- > 0;) valueOf[corners_[c]] = perCorner[c];
         for (size_t i = first; i < out_.mesh.indices.size(); ++i) {
-            uint32_t normal = kNoCornerNormal;
+            uint32_t value = kNoCorner;
             if (corners_.size() > 16) {
-                normal = normalOf[out_.mesh.indices[i]];
+                value = valueOf[out_.mesh.indices[i]];
             } else {
                 for (size_t c = 0; c < corners_.size(); ++c)
                     if (corners_[c] == out_.mesh.indices[i]) {
-                        normal = cornerNormals_[c];
+                        value = perCorner[c];
                         break;
                     }
             }
-            indexNormals_.push_back(normal);
+            perIndex.push_back(value);
         }
     }
 
@@ -229,15 +240,16 @@ private:
     std::string name_;
     ImportedMesh& out_;
     uint64_t line_ = 0;
-    static constexpr uint32_t kNoCornerNormal = 0xFFFFFFFFu;
-    uint64_t texcoordCount_ = 0;
+    static constexpr uint32_t kNoCorner = 0xFFFFFFFFu;  // a face corner without a normal or texcoord
     uint64_t colouredVertices_ = 0;
     int64_t current_ = -1;
     std::vector<uint32_t> normals_;       // octahedral codes of the vn lines
     std::vector<uint32_t> colours_;       // per v line once one has a colour (white before)
     std::vector<uint32_t> indexNormals_;  // per mesh index: its vn, once a face used one
+    std::vector<std::array<float, 2>> texcoords_;  // the vt lines, v flipped
+    std::vector<uint32_t> indexTexcoords_;  // per mesh index: its vt, once a face used one
     std::vector<uint32_t> corners_;  // reused for every face: no per-face allocation
-    std::vector<uint32_t> cornerNormals_;
+    std::vector<uint32_t> cornerNormals_, cornerTexcoords_;
     import::PolygonTriangulator triangulator_;
     std::unordered_map<std::string, uint32_t> materialIds_;
     std::vector<std::string> libraries_;
@@ -266,6 +278,7 @@ Status ObjParser::applyMaterialLibraries() {
             return import::errorIn(name_, "mtllib '" + name + "' resolves outside the model folder (a link)");
         if (Status s = import::parseMtlFile(file.string(), library, unused); !s.isOk()) return s;
     }
+    if (const auto maps = unused.find("texture maps"); maps != unused.end()) out_.report.textureMaps = maps->second;
     for (const auto& [kind, count] : unused)
         out_.report.warnUnused("MTL " + kind, count,
                                kind == "texture maps"    ? "materials use their colours only"
@@ -286,26 +299,44 @@ Status ObjParser::applyMaterialLibraries() {
 
 void ObjParser::splitVertices() {
     TriangleMesh& mesh = out_.mesh;
-    if (indexNormals_.empty()) {
+    // UVs nothing reads (no texture map) would only split vertices: left out.
+    if (out_.report.textureMaps == 0) indexTexcoords_.clear();
+    if (indexNormals_.empty() && indexTexcoords_.empty()) {
         mesh.colors = std::move(colours_);
         return;
     }
-    std::unordered_map<uint64_t, uint32_t> vertexOf;
+    // Key: position and normal in 64 bits, then the texcoord (kNoCorner where a face had none).
+    struct Key {
+        uint64_t positionNormal;
+        uint32_t texcoord;
+        bool operator==(const Key&) const = default;
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const { return std::hash<uint64_t>()(k.positionNormal ^ (uint64_t(k.texcoord) * 0x9E3779B97F4A7C15ull)); }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> vertexOf;
     std::vector<Vec3f> positions;
     std::vector<uint32_t> normals, colours;
+    std::vector<std::array<float, 2>> uvs;
     for (size_t i = 0; i < mesh.indices.size(); ++i) {
-        const uint32_t position = mesh.indices[i], normal = indexNormals_[i];
-        const auto [it, added] = vertexOf.try_emplace((uint64_t(position) << 32) | normal, uint32_t(positions.size()));
+        const uint32_t position = mesh.indices[i];
+        const uint32_t normal = indexNormals_.empty() ? kNoCorner : indexNormals_[i];
+        const uint32_t texcoord = indexTexcoords_.empty() ? kNoCorner : indexTexcoords_[i];
+        const auto [it, added] =
+            vertexOf.try_emplace(Key{(uint64_t(position) << 32) | normal, texcoord}, uint32_t(positions.size()));
         if (added) {
             positions.push_back(mesh.positions[position]);
-            normals.push_back(normal == kNoCornerNormal ? kNoNormal : normals_[normal]);
+            if (!indexNormals_.empty()) normals.push_back(normal == kNoCorner ? kNoNormal : normals_[normal]);
             if (!colours_.empty()) colours.push_back(colours_[position]);
+            if (!indexTexcoords_.empty())
+                uvs.push_back(texcoord == kNoCorner ? std::array<float, 2>{0.0f, 0.0f} : texcoords_[texcoord]);
         }
         mesh.indices[i] = it->second;
     }
     mesh.positions = std::move(positions);
     mesh.normals = std::move(normals);
     mesh.colors = std::move(colours);
+    mesh.uvs = std::move(uvs);
 }
 
 Result<ImportedMesh> importObjUnguarded(const std::string& path, const ImportOptions& options) {

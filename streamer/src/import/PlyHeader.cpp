@@ -31,6 +31,7 @@ public:
         if (keyword == "format") return format(p, eol, header);
         if (keyword == "element") return element(p, eol, header);
         if (keyword == "property") return property(p, eol, header);
+        if (keyword == "comment" && nextToken(p, eol) == "TextureFile") ++header.textureFiles;
         // comment, obj_info, and stray text such as a comment wrapped onto a second line
         // (Blender 2.47 writes those): none of it describes the body.
         return Status::ok();

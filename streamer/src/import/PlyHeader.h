@@ -38,6 +38,9 @@ struct PlyHeader {
     PlyFormat format = PlyFormat::Ascii;
     std::vector<PlyElement> elements;
     size_t bodyOffset = 0;  // first byte after "end_header\n"
+    // "comment TextureFile <image>" lines (MeshLab's, the PLY way to name a texture map): the
+    // file's UVs are kept only with one (ImportReport::textureMaps).
+    uint64_t textureFiles = 0;
 };
 
 // `name` prefixes every message ("bunny.ply: ...").

@@ -20,8 +20,8 @@ namespace {
 using import::PlyElement;
 using import::PlyProperty;
 
-// X..Blue are read in this order into a row's values (Role - X).
-enum class Role : uint8_t { Skip, X, Y, Z, NX, NY, NZ, Red, Green, Blue, Texcoord };
+// X..V are read in this order into a row's values (Role - X).
+enum class Role : uint8_t { Skip, X, Y, Z, NX, NY, NZ, Red, Green, Blue, U, V };
 
 Role roleOf(const PlyProperty& p) {
     if (p.isList) return Role::Skip;
@@ -31,7 +31,8 @@ Role roleOf(const PlyProperty& p) {
     if (p.name == "nx") return Role::NX;
     if (p.name == "ny") return Role::NY;
     if (p.name == "nz") return Role::NZ;
-    if (p.name == "u" || p.name == "s" || p.name == "texture_u") return Role::Texcoord;
+    if (p.name == "u" || p.name == "s" || p.name == "texture_u") return Role::U;
+    if (p.name == "v" || p.name == "t" || p.name == "texture_v") return Role::V;
     if (p.name == "red" || p.name == "diffuse_red") return Role::Red;
     if (p.name == "green" || p.name == "diffuse_green") return Role::Green;
     if (p.name == "blue" || p.name == "diffuse_blue") return Role::Blue;
@@ -62,7 +63,9 @@ uint8_t srgbByte(double c) { return uint8_t(std::lround(std::clamp(c, 0.0, 1.0) 
 template <typename Reader>
 class PlyBody {
 public:
-    PlyBody(Reader reader, const std::string& name, ImportedMesh& out) : r_(reader), name_(name), out_(out) {}
+    // keepUvs: the header names a texture (PlyHeader::textureFiles); UVs are read and checked anyway.
+    PlyBody(Reader reader, const std::string& name, ImportedMesh& out, bool keepUvs)
+        : r_(reader), name_(name), out_(out), keepUvs_(keepUvs) {}
 
     Status element(const PlyElement& e) {
         if (e.name == "vertex") return vertices(e);
@@ -106,26 +109,29 @@ private:
         for (const PlyProperty& p : e.properties) roles.push_back(roleOf(p));
         if (!hasRoles(roles, {Role::X, Role::Y, Role::Z}))
             return rowError(e, 0, "vertex element lacks an x, y or z property");
-        // A normal or a colour is read only when all three of its properties are there.
+        // A normal or a colour is read only when all three of its properties are there, UVs when both are.
         const bool normals = hasRoles(roles, {Role::NX, Role::NY, Role::NZ});
         const bool colours = hasRoles(roles, {Role::Red, Role::Green, Role::Blue});
+        const bool uvs = hasRoles(roles, {Role::U, Role::V});
         std::vector<double> scale(roles.size(), 1.0);
         for (size_t i = 0; i < roles.size(); ++i) {
             const bool used = (roles[i] >= Role::X && roles[i] <= Role::Z) ||
                               (normals && roles[i] >= Role::NX && roles[i] <= Role::NZ) ||
-                              (colours && roles[i] >= Role::Red && roles[i] <= Role::Blue);
-            if (!used) roles[i] = roles[i] == Role::Texcoord ? Role::Texcoord : Role::Skip;
+                              (colours && roles[i] >= Role::Red && roles[i] <= Role::Blue) ||
+                              (uvs && (roles[i] == Role::U || roles[i] == Role::V));
+            if (!used) roles[i] = Role::Skip;
             if (roles[i] >= Role::Red && roles[i] <= Role::Blue) scale[i] = colourScale(e.properties[i].type);
         }
         out_.mesh.positions.reserve(e.count);
         if (normals) out_.mesh.normals.reserve(e.count);
         if (colours) out_.mesh.colors.reserve(e.count);
+        if (uvs && keepUvs_) out_.mesh.uvs.reserve(e.count);
         for (uint64_t row = 0; row < e.count; ++row) {
-            double values[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+            double values[11] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
             for (size_t i = 0; i < roles.size(); ++i) {
                 const PlyProperty& p = e.properties[i];
                 const Role role = roles[i];
-                const bool ok = role >= Role::X && role <= Role::Blue
+                const bool ok = role >= Role::X && role <= Role::V
                                     ? r_.readReal(p.type, values[int(role) - int(Role::X)])
                                     : skipProperty(p);
                 if (!ok) return rowError(e, row, std::string(r_.failure()) + " in " + p.name);
@@ -136,11 +142,16 @@ private:
                 out_.mesh.normals.push_back(encodeOctahedral(Vec3f{float(values[3]), float(values[4]), float(values[5])}));
             if (colours)
                 out_.mesh.colors.push_back(packSrgb8(srgbByte(values[6]), srgbByte(values[7]), srgbByte(values[8])));
+            if (!uvs) continue;
+            if (const std::string problem = import::uvProblem(values[9], values[10]); !problem.empty())
+                return rowError(e, row, "texture coordinate " + problem);
+            // v flipped: the package keeps glTF's texture space (docs/RENDERING.md).
+            if (keepUvs_) out_.mesh.uvs.push_back({float(values[9]), 1.0f - float(values[10])});
         }
         vertexCount_ = e.count;
         if (normals) out_.report.normalsRead = e.count;
         if (colours) out_.report.coloursRead = e.count;
-        if (std::find(roles.begin(), roles.end(), Role::Texcoord) != roles.end()) out_.report.texcoordsRead = e.count;
+        if (uvs) out_.report.texcoordsRead = e.count;
         return Status::ok();
     }
 
@@ -225,6 +236,7 @@ private:
     Reader r_;
     const std::string& name_;
     ImportedMesh& out_;
+    const bool keepUvs_;
     uint64_t vertexCount_ = kNoVertices;
     std::vector<uint32_t> corners_;  // reused for every row: no per-face allocation
     import::PolygonTriangulator triangulator_;
@@ -232,7 +244,8 @@ private:
 
 template <typename Reader>
 Status readBody(Reader reader, const import::PlyHeader& header, const std::string& name, ImportedMesh& out) {
-    PlyBody<Reader> body(reader, name, out);
+    out.report.textureMaps = header.textureFiles;
+    PlyBody<Reader> body(reader, name, out, header.textureFiles > 0);
     for (const PlyElement& e : header.elements)
         if (Status s = body.element(e); !s.isOk()) return s;
     return Status::ok();

@@ -2,12 +2,14 @@
 
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "package/ByteIo.h"
 #include "package/ChunkCodec.h"
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
@@ -78,7 +80,8 @@ std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, Ge
     out.put(uint32_t(geometry.size()));
     out.put((materialIds.empty() ? 0u : format::kChunkHasMaterialIds) |
             (codec == GeometryCodec::Meshopt ? format::kChunkMeshoptGeometry : 0u) |
-            (attributes.normals ? format::kChunkHasNormals : 0u) | (attributes.colors ? format::kChunkHasColors : 0u));
+            (attributes.normals ? format::kChunkHasNormals : 0u) | (attributes.colors ? format::kChunkHasColors : 0u) |
+            (attributes.uvs ? format::kChunkHasUvs : 0u));
     out.put(bvh.bounds.lo);
     out.put(bvh.bounds.hi);
     out.put(uint32_t(bvh.maxDepth));
@@ -93,7 +96,7 @@ std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, Ge
 
 uint64_t DecodedChunk::residentBytes() const {
     return positions.size() * 12 + indices.size() * 4 + primitiveIds.size() * 4 + materialIds.size() * 4 +
-           normals.size() * 4 + colors.size() * 4 + bvh.nodes.size() * sizeof(Bvh4Node);
+           normals.size() * 4 + colors.size() * 4 + uvs.size() * 8 + bvh.nodes.size() * sizeof(Bvh4Node);
 }
 
 Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const ChunkInfo& info,
@@ -114,13 +117,15 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
 
     const GeometryCodec codec =
         (h.flags & format::kChunkMeshoptGeometry) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
-    const GeometryAttributes attributes{(h.flags & format::kChunkHasNormals) != 0, (h.flags & format::kChunkHasColors) != 0};
+    const GeometryAttributes attributes{(h.flags & format::kChunkHasNormals) != 0, (h.flags & format::kChunkHasColors) != 0,
+                                        (h.flags & format::kChunkHasUvs) != 0};
     auto geometry = decodeChunkGeometry(in.current(), h.geometryBytes, grid.bits == 0, codec, attributes);
     if (!geometry) return geometry.status();
     in.skip(h.geometryBytes);
     if (geometry->indices.size() != size_t(h.triangleCount) * 3 || geometry->vertexWords.size() != size_t(h.vertexCount) * 3 ||
         (attributes.normals && geometry->normals.size() != h.vertexCount) ||
-        (attributes.colors && geometry->colors.size() != h.vertexCount))
+        (attributes.colors && geometry->colors.size() != h.vertexCount) ||
+        (attributes.uvs && geometry->uvs.size() != h.vertexCount))
         return Status::error(std::string(geometryCodecName(codec)) + " stream disagrees with the chunk's counts");
 
     DecodedChunk chunk;
@@ -128,6 +133,14 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     chunk.indices = std::move(geometry->indices);
     chunk.normals = std::move(geometry->normals);
     chunk.colors = std::move(geometry->colors);
+    chunk.uvs = std::move(geometry->uvs);
+    for (size_t v = 0; v < chunk.uvs.size(); ++v)
+        if (!(std::fabs(chunk.uvs[v][0]) <= kMaxAbsUv && std::fabs(chunk.uvs[v][1]) <= kMaxAbsUv)) {  // NaN fails too
+            char text[64];
+            std::snprintf(text, sizeof text, "(%.9g, %.9g)", chunk.uvs[v][0], chunk.uvs[v][1]);
+            return Status::error("vertex " + std::to_string(v) + " texture coordinate " + text +
+                                 " is not finite or beyond +-1e6");
+        }
     for (uint32_t index : chunk.indices)
         if (index >= h.vertexCount) return Status::error("vertex index out of range");
     chunk.positions.resize(h.vertexCount);

@@ -3,7 +3,8 @@
 //   header (kChunkHeaderBytes): magic "VCHK", version, triangleCount, vertexCount,
 //     bvhNodeCount, reserved (0), geometryBytes, flags, BVH bounds (6 floats), BVH max depth, zero pad
 //   geometry stream (geometryBytes): Draco, or meshopt with kChunkMeshoptGeometry; positions, and
-//     per-vertex normals (kChunkHasNormals) and colours (kChunkHasColors)
+//     per-vertex normals (kChunkHasNormals), colours (kChunkHasColors) and texture coordinates
+//     (kChunkHasUvs, two f32 each)
 //   primitive ids  u32 × triangleCount   (leaf order)
 //   material ids   u32 × triangleCount   (leaf order; only with kChunkHasMaterialIds)
 //   BVH nodes      56 B × bvhNodeCount   (Bvh4Node)

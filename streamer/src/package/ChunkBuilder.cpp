@@ -62,6 +62,7 @@ ChunkGeometry gatherGeometry(const ChunkSource& source, const std::vector<Triang
                                         &source.vertexWords[3 * size_t(global)] + 3);
             if (source.normals) geometry.normals.push_back(source.normals[global]);
             if (source.colors) geometry.colors.push_back(source.colors[global]);
+            if (source.uvs) geometry.uvs.push_back(source.uvs[global]);
         }
         geometry.indices[c] = table[slot].second;
     }
@@ -188,7 +189,7 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     chunk.encodeSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    const GeometryAttributes attributes{source.normals != nullptr, source.colors != nullptr};
+    const GeometryAttributes attributes{source.normals != nullptr, source.colors != nullptr, source.uvs != nullptr};
     auto decoded = decodeChunkGeometry(encoded->data(), encoded->size(), lossless, source.codec, attributes);
     if (!decoded) return decoded.status();
     auto primitiveIds = recoverPrimitiveIds(input, refs, *decoded);
@@ -225,7 +226,8 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     chunk.info.vertexCount = uint32_t(positions.size());
     chunk.info.bvhNodeCount = uint32_t(bvh.nodes.size());
     chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(), bvh.nodes.size(),
-                                                  uint32_t(attributes.normals) + uint32_t(attributes.colors));
+                                                  uint32_t(attributes.normals) + uint32_t(attributes.colors) +
+                                                      2 * uint32_t(attributes.uvs));
     chunk.blob =
         serializeChunkBlob(*encoded, source.codec, chunk.info.vertexCount, *primitiveIds, materialIds, bvh, attributes);
     chunk.info.size = chunk.blob.size();

@@ -1,6 +1,7 @@
 #pragma once
 // Builds one chunk from the triangles of one cell: codec round trip, original-id recovery,
 // 4-wide BVH on the decoder's output, serialized blob.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -22,6 +23,7 @@ struct ChunkSource {
     double residentBytesPerTriangle = 0;  // PackageBuildOptions::residentBytesPerTriangle
     const uint32_t* normals = nullptr;    // per vertex, or nullptr (TriangleMesh::normals)
     const uint32_t* colors = nullptr;     // per vertex, or nullptr (TriangleMesh::colors)
+    const std::array<float, 2>* uvs = nullptr;  // per vertex, or nullptr (TriangleMesh::uvs)
 };
 
 struct BuiltChunk {
@@ -33,7 +35,7 @@ struct BuiltChunk {
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell);
 
 // Decoded resident footprint of a chunk with these counts (what the GPU will hold).
-// attributeWords: per-vertex attribute words (one each for normals and colours).
+// attributeWords: per-vertex attribute words (one each for normals and colours, two for UVs).
 uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes,
                             uint32_t attributeWords = 0);
 

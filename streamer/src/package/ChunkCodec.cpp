@@ -57,6 +57,25 @@ bool readPackedAttribute(const draco::Mesh& mesh, draco::GeometryAttribute::Type
     return true;
 }
 
+// Texture coordinates as Draco's TEX_COORD, two f32 components and no quantization: Draco then
+// stores the values raw (no prediction for floats it may not quantize), so they decode bit for
+// bit, each point (vertex) with its own pair, seams included.
+void addUvAttribute(draco::Mesh& mesh, const std::vector<std::array<float, 2>>& uvs) {
+    draco::GeometryAttribute attribute;
+    attribute.Init(draco::GeometryAttribute::TEX_COORD, nullptr, 2, draco::DT_FLOAT32, false, 8, 0);
+    draco::PointAttribute* added = mesh.attribute(mesh.AddAttribute(attribute, true, uint32_t(uvs.size())));
+    for (uint32_t v = 0; v < uvs.size(); ++v) added->SetAttributeValue(draco::AttributeValueIndex(v), uvs[v].data());
+}
+
+bool readUvAttribute(const draco::Mesh& mesh, std::vector<std::array<float, 2>>& uvs) {
+    const draco::PointAttribute* attribute = mesh.GetNamedAttribute(draco::GeometryAttribute::TEX_COORD);
+    if (!attribute || attribute->num_components() != 2 || attribute->data_type() != draco::DT_FLOAT32) return false;
+    uvs.resize(mesh.num_points());
+    for (uint32_t p = 0; p < mesh.num_points(); ++p)
+        std::memcpy(uvs[p].data(), attribute->GetAddress(attribute->mapped_index(draco::PointIndex(p))), 8);
+    return true;
+}
+
 bool readAttribute(const draco::Mesh& mesh, const draco::PointAttribute* attribute, draco::DataType dataType,
                    std::vector<int32_t>& words) {
     if (!attribute || attribute->num_components() != 3 || attribute->data_type() != dataType) return false;
@@ -103,6 +122,7 @@ Result<std::vector<uint8_t>> encodeDraco(const ChunkGeometry& geometry, bool los
     if (lowBits) addAttribute(mesh, draco::GeometryAttribute::GENERIC, draco::DT_INT32, low);
     if (!geometry.normals.empty()) addPackedAttribute(mesh, draco::GeometryAttribute::NORMAL, geometry.normals);
     if (!geometry.colors.empty()) addPackedAttribute(mesh, draco::GeometryAttribute::COLOR, geometry.colors);
+    if (!geometry.uvs.empty()) addUvAttribute(mesh, geometry.uvs);
     const uint32_t faceCount = uint32_t(geometry.indices.size() / 3);
     mesh.SetNumFaces(faceCount);
     for (uint32_t f = 0; f < faceCount; ++f) {
@@ -152,6 +172,8 @@ Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossles
         return Status::error("Draco stream lacks the chunk's normals (2 x int16 per vertex)");
     if (attributes.colors && !readPackedAttribute(*mesh, draco::GeometryAttribute::COLOR, geometry.colors))
         return Status::error("Draco stream lacks the chunk's colours (4 x uint8 per vertex)");
+    if (attributes.uvs && !readUvAttribute(*mesh, geometry.uvs))
+        return Status::error("Draco stream lacks the chunk's texture coordinates (2 x float32 per vertex)");
     // Modular 32-bit addition, as the meshopt stream's: a forged minimum wraps (the positions
     // are then checked against the grid like any others) instead of overflowing a signed int.
     if (!lossless)
@@ -171,7 +193,8 @@ Result<ChunkGeometry> decodeDraco(const uint8_t* data, size_t size, bool lossles
 // work too): 4 x uint16 (w = 0; the vertex codec wants a stride that is a multiple of 4) when
 // every offset fits 16 bits, else 3 x uint32. Between the index stream and the position stream
 // (which ends the blob), for each attribute the chunk has (normals, then colours): its stream's
-// bytes (uint32) and meshoptimizer's vertex stream of one word per vertex, in position order.
+// bytes (uint32) and meshoptimizer's vertex stream of one word per vertex, in position order;
+// then, with texture coordinates, their stream's bytes and a stream of two f32 per vertex.
 Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
     // Index codec version 1 (smaller); set once, before any thread encodes (a global in meshopt).
     static std::once_flag version;
@@ -219,6 +242,15 @@ Result<std::vector<uint8_t>> encodeMeshopt(const ChunkGeometry& geometry) {
         out.put(uint32_t(stream.size()));
         out.putBytes(stream.data(), stream.size());
     }
+    if (!geometry.uvs.empty()) {
+        std::vector<std::array<float, 2>> ordered(used);
+        meshopt_remapVertexBuffer(ordered.data(), geometry.uvs.data(), vertexCount, 8, remap.data());
+        std::vector<uint8_t> stream(meshopt_encodeVertexBufferBound(used, 8));
+        stream.resize(meshopt_encodeVertexBuffer(stream.data(), stream.size(), ordered.data(), used, 8));
+        if (stream.empty()) return Status::error("meshopt encode returned no bytes for the texture coordinates");
+        out.put(uint32_t(stream.size()));
+        out.putBytes(stream.data(), stream.size());
+    }
     out.putBytes(vertexStream.data(), vertexStream.size());
     return std::move(out.bytes());
 }
@@ -248,6 +280,15 @@ Result<ChunkGeometry> decodeMeshopt(const uint8_t* data, size_t size, GeometryAt
         words->resize(vertexCount);
         if (meshopt_decodeVertexBuffer(words->data(), vertexCount, 4, in.current(), bytes) != 0)
             return Status::error("meshopt attribute stream is corrupt");
+        in.skip(bytes);
+    }
+    if (attributes.uvs) {
+        uint32_t bytes = 0;
+        in.get(bytes);
+        if (!in.ok() || bytes > in.remaining()) return Status::error("meshopt texture coordinate stream overruns the chunk");
+        geometry.uvs.resize(vertexCount);
+        if (meshopt_decodeVertexBuffer(geometry.uvs.data(), vertexCount, 8, in.current(), bytes) != 0)
+            return Status::error("meshopt texture coordinate stream is corrupt");
         in.skip(bytes);
     }
     std::vector<uint8_t> vertices(size_t(vertexCount) * stride);

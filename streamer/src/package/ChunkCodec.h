@@ -4,6 +4,7 @@
 // Positions travel as exact 32-bit words per axis: grid coordinates when quantized (our own
 // scene-wide grid, so the decoder returns the integers we gave it and a triangle shared by
 // several chunks decodes identically in each), raw float bits when lossless.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -18,12 +19,14 @@ struct ChunkGeometry {
     // Per vertex, or empty (core/VertexAttributes.h codes); both codecs return them exactly.
     std::vector<uint32_t> normals;
     std::vector<uint32_t> colors;
+    std::vector<std::array<float, 2>> uvs;  // per vertex, or empty: f32 bit patterns, kept exactly
 };
 
 // Which optional per-vertex attributes a geometry stream carries (the chunk header's flags).
 struct GeometryAttributes {
     bool normals = false;
     bool colors = false;
+    bool uvs = false;
 };
 
 // `lossless` stores float bit patterns, otherwise grid integers; both codecs return exactly

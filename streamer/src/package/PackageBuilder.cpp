@@ -72,7 +72,8 @@ private:
         const double perTriangle = std::min(3.0, verticesPerTriangle_ * 1.1 + 0.05) * 12.0 + 16.0 +
                                    (source_.materialIds ? 4.0 : 0.0) + kEstimatedBvhBytesPerTriangle +
                                    std::min(3.0, verticesPerTriangle_ * 1.1 + 0.05) * 4.0 *
-                                       double(int(source_.normals != nullptr) + int(source_.colors != nullptr));
+                                       double(int(source_.normals != nullptr) + int(source_.colors != nullptr) +
+                                              2 * int(source_.uvs != nullptr));
         return uint64_t(double(refs) * perTriangle);
     }
 
@@ -244,6 +245,9 @@ Status validateOptions(const PackageBuildOptions& options, const TriangleMesh& m
     if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size())
         return Status::error("the mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
                              std::to_string(mesh.positions.size()) + " vertices");
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+        return Status::error("the mesh has " + std::to_string(mesh.uvs.size()) + " texture coordinates for " +
+                             std::to_string(mesh.positions.size()) + " vertices");
     return Status::ok();
 }
 
@@ -270,7 +274,8 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
                        mesh.materials.size() > 1 && !mesh.materialIds.empty() ? mesh.materialIds.data() : nullptr,
                        &grid, options.dracoSpeed, options.codec, options.residentBytesPerTriangle,
                        mesh.normals.empty() ? nullptr : mesh.normals.data(),
-                       mesh.colors.empty() ? nullptr : mesh.colors.data()};
+                       mesh.colors.empty() ? nullptr : mesh.colors.data(),
+                       mesh.uvs.empty() ? nullptr : mesh.uvs.data()};
     PackageBuildJob job(source, options, double(mesh.positions.size()) / double(mesh.triangleCount()),
                         scene.triangles.size());
     std::unique_ptr<BuildNode> root = job.run(scene.triangles, scene.bounds);
@@ -288,6 +293,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     info.codec = options.codec;
     info.hasNormals = !mesh.normals.empty();
     info.hasColors = !mesh.colors.empty();
+    info.hasUvs = !mesh.uvs.empty();
     info.bounds = scene.bounds;
     info.grid = grid;
     info.materials = mesh.materials;

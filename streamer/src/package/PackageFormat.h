@@ -33,7 +33,10 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //    factors (32 bytes more each: the colour, the coat and its roughness, three reserved words,
 //    after the name; a version 3 to 7 package is still read, its specular colour white and no
 //    coat, the glTF defaults).
-constexpr uint32_t kVersion = 8;
+// 9: chunks may carry one UV set, two f32 per vertex (header flag kHasUvs, chunk flag
+//    kChunkHasUvs; a version 3 to 8 package, which has none, is still read).
+constexpr uint32_t kVersion = 9;
+constexpr uint32_t kFirstUvVersion = 9;
 constexpr uint32_t kFirstLightsVersion = 7;
 constexpr uint32_t kOldestReadableVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
@@ -82,11 +85,19 @@ constexpr uint32_t kChunkHasMaterialIds = 1u;
 constexpr uint32_t kChunkMeshoptGeometry = 2u;  // geometry stream is meshoptimizer's, not Draco's
 constexpr uint32_t kChunkHasNormals = 4u;  // the geometry stream carries octahedral normals
 constexpr uint32_t kChunkHasColors = 8u;   // the geometry stream carries sRGB8 colours
-constexpr uint32_t kChunkKnownFlags = kChunkHasMaterialIds | kChunkMeshoptGeometry | kChunkHasNormals | kChunkHasColors;
+constexpr uint32_t kChunkHasUvs = 16u;     // the geometry stream carries texture coordinates (version 9)
+constexpr uint32_t kChunkKnownFlags =
+    kChunkHasMaterialIds | kChunkMeshoptGeometry | kChunkHasNormals | kChunkHasColors | kChunkHasUvs;
 
-// kHasNormals / kHasColors: every chunk carries them (a scene has them on all its vertices or
-// on none: vertices the file gave none get kNoNormal / kWhiteColor).
-enum HeaderFlags : uint32_t { kDefaultDoubleSided = 1u, kMeshoptChunks = 2u, kHasNormals = 4u, kHasColors = 8u };
-constexpr uint32_t kKnownHeaderFlags = kDefaultDoubleSided | kMeshoptChunks | kHasNormals | kHasColors;
+// kHasNormals / kHasColors / kHasUvs: every chunk carries them (a scene has them on all its
+// vertices or on none: vertices the file gave none get kNoNormal / kWhiteColor / (0, 0)).
+enum HeaderFlags : uint32_t {
+    kDefaultDoubleSided = 1u,
+    kMeshoptChunks = 2u,
+    kHasNormals = 4u,
+    kHasColors = 8u,
+    kHasUvs = 16u,  // version 9
+};
+constexpr uint32_t kKnownHeaderFlags = kDefaultDoubleSided | kMeshoptChunks | kHasNormals | kHasColors | kHasUvs;
 
 }  // namespace vastray::format

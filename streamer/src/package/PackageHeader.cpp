@@ -76,7 +76,8 @@ std::vector<uint8_t> serializeHeader(const PackageInfo& info, const SectionLayou
         out.put(v);
     out.put((info.defaultDoubleSided ? uint32_t(format::kDefaultDoubleSided) : 0u) |
             (info.codec == GeometryCodec::Meshopt ? uint32_t(format::kMeshoptChunks) : 0u) |
-            (info.hasNormals ? uint32_t(format::kHasNormals) : 0u) | (info.hasColors ? uint32_t(format::kHasColors) : 0u));
+            (info.hasNormals ? uint32_t(format::kHasNormals) : 0u) | (info.hasColors ? uint32_t(format::kHasColors) : 0u) |
+            (info.hasUvs ? uint32_t(format::kHasUvs) : 0u));
     out.put(info.grid.bits);
     out.put(layout.materialCount);
     out.put(layout.topNodeCount);
@@ -150,8 +151,13 @@ Result<SectionLayout> parseHeader(const uint8_t* bytes, size_t size, PackageInfo
     info.codec = (flags & format::kMeshoptChunks) ? GeometryCodec::Meshopt : GeometryCodec::Draco;
     info.hasNormals = (flags & format::kHasNormals) != 0;
     info.hasColors = (flags & format::kHasColors) != 0;
+    info.hasUvs = (flags & format::kHasUvs) != 0;
     if (!in.ok()) return Status::error("truncated header");
     if (flags & ~format::kKnownHeaderFlags) return Status::error("header has unknown flags " + std::to_string(flags));
+    if (info.hasUvs && info.formatVersion < format::kFirstUvVersion)
+        return Status::error("header: a version " + std::to_string(info.formatVersion) +
+                             " package with the texture coordinate flag (version " +
+                             std::to_string(format::kFirstUvVersion) + " brought them)");
     VASTRAY_TRY(checkGrid(info.grid));
     VASTRAY_TRY(checkStoredBox("header: scene bounds", info.bounds));
     if (layout.materialCount == 0 || layout.materialCount > format::kMaxMaterials || layout.chunkCount > format::kMaxChunks)

@@ -1,7 +1,7 @@
 #pragma once
 // The in-core triangle mesh every importer produces and every later stage reads:
 // world-space positions, shared vertex indices, one material id per triangle, optional
-// per-vertex shading normals and colours.
+// per-vertex shading normals, colours and texture coordinates.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -41,6 +41,9 @@ struct TriangleMesh {
     // the file gave none) and packed sRGB8 colours (kWhiteColor where it gave none).
     std::vector<uint32_t> normals;
     std::vector<uint32_t> colors;
+    // Per vertex, or empty: one UV set (u, v) as the file gave it, |u|, |v| <= kMaxAbsUv; kept
+    // only when a material references a texture map ((0, 0) where a mesh of the file had none).
+    std::vector<std::array<float, 2>> uvs;
     std::vector<Material> materials;   // at least one once imported
     std::vector<SceneCamera> cameras;  // the file's cameras, in its order (glTF); often none
     std::vector<PunctualLight> lights; // the file's placed lights (glTF KHR_lights_punctual); often none

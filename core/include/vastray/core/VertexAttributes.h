@@ -5,7 +5,9 @@
 // 255). At a hit the three corners are interpolated with the hit's barycentrics and the result
 // is quantized again for the hit record (the GPU keeps it in 32 bits per path): the normal with
 // the same octahedral code, the colour as 10-bit linear R, G, B. shaders/common/Attributes.glsl
-// is the GLSL twin of these functions.
+// is the GLSL twin of these functions. Texture coordinates are kept as two floats per vertex and
+// interpolated in f32 (interpolateUv).
+#include <array>
 #include <cstdint>
 
 #include "vastray/core/Vec3.h"
@@ -37,5 +39,13 @@ uint32_t interpolateNormal(uint32_t n0, uint32_t n1, uint32_t n2, float u, float
 // The hit record's colour: the corners' linear colours weighted likewise, 10 bits per channel.
 uint32_t interpolateColor(uint32_t c0, uint32_t c1, uint32_t c2, float u, float v);
 Vec3f unpackHitColor(uint32_t packed);
+
+// The largest |u| or |v| an importer or the package reader accepts: far beyond any tiling a file
+// uses on purpose (larger is a corrupt or hostile file), and f32 still steps by 1/16 there.
+constexpr float kMaxAbsUv = 1e6f;
+// The hit's texture coordinates: the corners' weighted by (1 - u - v, u, v) in f32, in exactly
+// this order (w * uv0 + u * uv1 + v * uv2, no fused multiply-add; Attributes.glsl too).
+std::array<float, 2> interpolateUv(std::array<float, 2> uv0, std::array<float, 2> uv1, std::array<float, 2> uv2,
+                                   float u, float v);
 
 }  // namespace vastray

@@ -33,7 +33,10 @@ struct ImportReport {
     uint64_t verticesRead = 0;
     uint64_t normalsRead = 0;          // shading normals, carried into the package (TriangleMesh::normals)
     uint64_t coloursRead = 0;          // vertex colours, carried likewise (TriangleMesh::colors)
-    uint64_t texcoordsRead = 0;        // parsed and validated; not carried into the package yet (warned)
+    uint64_t texcoordsRead = 0;        // one UV set; carried (TriangleMesh::uvs) when textureMaps > 0
+    // Texture maps the file's materials reference (glTF textureInfos, MTL map_*/bump/norm/...,
+    // assimp material textures): without one, UVs are read by nothing and not kept.
+    uint64_t textureMaps = 0;
     uint64_t primitivesSkipped = 0;    // glTF points/lines primitives (no triangles to render)
     // What the file holds and the package does not carry, one line per kind ("3 animations
     // read but not used"), for `vastray import` and the service's job messages.
@@ -69,7 +72,8 @@ bool assimpReads(const std::string& path);  // extension in kAssimpFormats
 std::string assimpFormatList();
 
 // Shared last step of every importer: rejects NaN/Inf positions and out-of-range indices,
-// and per-vertex normals or colours that are not one per vertex, drops degenerate triangles
+// per-vertex normals, colours or UVs that are not one per vertex, UVs not finite or beyond
+// +-kMaxAbsUv (naming the vertex), drops UVs when no material has a texture map, drops degenerate triangles
 // (counted in report), guarantees at least one material and applies the sidedness override.
 // Cuts camera names a package could not keep whole (storedCameraName), a warning each.
 // `fileName` prefixes every message.

@@ -2,6 +2,7 @@
 // The scene package (.vast): header, materials, top-level KD-tree over cells, chunk
 // directory, chunk blobs. docs/PACKAGE_FORMAT.md gives the byte layout. A reader validates
 // every field before use; every section and every chunk carries a 64-bit checksum.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -86,6 +87,7 @@ struct PackageInfo {
     bool defaultDoubleSided = true;
     bool hasNormals = false;           // every chunk carries per-vertex shading normals
     bool hasColors = false;            // every chunk carries per-vertex colours
+    bool hasUvs = false;               // every chunk carries per-vertex texture coordinates (version 9)
     GeometryCodec codec = GeometryCodec::Draco;
     Aabb bounds;
     QuantizationGrid grid;
@@ -122,6 +124,7 @@ struct DecodedChunk {
     std::vector<uint32_t> materialIds;  // per triangle, or empty: material 0
     std::vector<uint32_t> normals;      // per vertex, or empty: octahedral codes (core/VertexAttributes.h)
     std::vector<uint32_t> colors;       // per vertex, or empty: packed sRGB8
+    std::vector<std::array<float, 2>> uvs;  // per vertex, or empty: texture coordinates (u, v)
     Bvh4 bvh;                           // over this chunk's triangles (bvh.order is not kept)
     // Set by the package reader once every index and BVH node is checked to lie in
     // range (backends then skip their own pass over the arrays); false for a hand-made chunk.
