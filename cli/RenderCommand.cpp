@@ -661,7 +661,8 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--seed", args->seed, "random seed, 0..4294967295; same seed, same image")
         ->capture_default_str();
-    cmd->add_option("--aovs", args->aovs, "extra EXR channels: any of depth,normal,albedo,primid,chunkid,cost (the last two: vulkan only)");
+    cmd->add_option("--aovs", args->aovs, "extra EXR channels: any of depth,normal,albedo,primid,uv,chunkid,cost (uv: the hit's texture "
+                    "coordinates, 0 in a scene without them; the last two: vulkan only)");
     cmd->add_option("--threads", args->threads,
                     "worker threads (0 = all cores); the image does not depend on it")
         ->capture_default_str();

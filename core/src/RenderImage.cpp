@@ -20,6 +20,7 @@ void RenderImage::allocate(uint32_t w, uint32_t h, uint32_t aovFlags) {
     primId.assign((aovFlags & kAovPrimId) ? n : 0, kMissPrimId);
     chunkId.assign((aovFlags & kAovChunkId) ? n : 0, kMissPrimId);
     cost.assign((aovFlags & kAovCost) ? 2 * n : 0, 0.0f);
+    uv.assign((aovFlags & kAovUv) ? 2 * n : 0, 0.0f);
 }
 
 void RenderImage::placeInFrame(uint32_t x0, uint32_t y0, uint32_t frameW, uint32_t frameH) {

@@ -20,6 +20,7 @@ uint64_t imageBytesPerPixel(uint32_t aovs) {
     if (aovs & kAovPrimId) bytes += sizeof(uint32_t);
     if (aovs & kAovChunkId) bytes += sizeof(uint32_t);
     if (aovs & kAovCost) bytes += 2 * sizeof(float);
+    if (aovs & kAovUv) bytes += 2 * sizeof(float);
     return bytes;
 }
 

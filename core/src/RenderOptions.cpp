@@ -39,9 +39,11 @@ Result<uint32_t> parseAovList(std::string_view list) {
             flags |= kAovChunkId;
         else if (name == "cost")
             flags |= kAovCost;
+        else if (name == "uv")
+            flags |= kAovUv;
         else
             return Status::error("unknown AOV '" + std::string(name) +
-                                 "' (expected depth, normal, albedo, primid, chunkid, cost)");
+                                 "' (expected depth, normal, albedo, primid, chunkid, cost, uv)");
         if (comma == std::string_view::npos) break;
         list.remove_prefix(comma + 1);
         if (list.empty()) return Status::error("AOV list ends with a comma");

@@ -45,6 +45,12 @@ void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, Re
     if (image.aovs & kAovAlbedo)
         for (int c = 0; c < 3; ++c) image.albedo[3 * pixel + c] = point.albedo[c];
     if (image.aovs & kAovPrimId) image.primId[pixel] = hit.triangle;
+    if ((image.aovs & kAovUv) && !context.mesh.uvs.empty()) {
+        const uint32_t* corners = &context.mesh.indices[3 * size_t(hit.triangle)];
+        const std::array<float, 2> uv = interpolateUv(context.mesh.uvs[corners[0]], context.mesh.uvs[corners[1]],
+                                                      context.mesh.uvs[corners[2]], hit.u, hit.v);
+        image.uv[2 * pixel] = uv[0], image.uv[2 * pixel + 1] = uv[1];
+    }
 }
 
 // Frame pixel (x, y): its random numbers are keyed by its index in the frame, whatever part of

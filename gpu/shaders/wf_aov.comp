@@ -1,5 +1,6 @@
 // The AOVs of the tile's pixel-centre rays (one per pixel, walked like a closest-hit stream):
-// depth, facing unit normal, base colour, primitive and chunk; miss values where nothing was hit.
+// depth, facing unit normal, base colour, primitive, chunk and texture coordinates; miss values
+// where nothing was hit (and UV (0, 0) where the scene has none).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -13,7 +14,7 @@
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
 // Same values as vastray::AovFlags.
-const uint kAovDepth = 1u, kAovNormal = 2u, kAovAlbedo = 4u, kAovPrimId = 8u, kAovChunkId = 16u;
+const uint kAovDepth = 1u, kAovNormal = 2u, kAovAlbedo = 4u, kAovPrimId = 8u, kAovChunkId = 16u, kAovUv = 64u;
 
 void main() {
     const uint i = gl_GlobalInvocationID.x;
@@ -38,4 +39,10 @@ void main() {
         for (uint c = 0u; c < 3u; ++c) RwFloatArray(params.p.outAlbedo).v[3u * i + c] = albedo[c];
     if ((aovs & kAovPrimId) != 0u) RwUintArray(params.p.outPrimId).v[i] = found ? ids.x : 0xFFFFFFFFu;
     if ((aovs & kAovChunkId) != 0u) RwUintArray(params.p.outChunkId).v[i] = found ? ids.z : 0xFFFFFFFFu;
+    if ((aovs & kAovUv) != 0u) {
+        const bool uvs = found && params.p.hitUv != 0ul;
+        RwFloatArray uvOut = RwFloatArray(params.p.outUv);
+        uvOut.v[2u * i] = uvs ? RwFloatArray(params.p.hitUv).v[2u * i] : 0.0;
+        uvOut.v[2u * i + 1u] = uvs ? RwFloatArray(params.p.hitUv).v[2u * i + 1u] : 0.0;
+    }
 }

@@ -47,7 +47,8 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 // The closest hit's record: position and geometric normal as core/PathShading.h evaluates them
 // (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them, and
 // the interpolated shading normal (hitNormal.w's bits) and colour (hitIds.w) when it holds
-// those (kNoNormal and white otherwise): the chunk may be evicted before the path is shaded.
+// those (kNoNormal and white otherwise), and the interpolated UV (hitUv) when the slot holds UVs
+// (only when the render reads them): the chunk may be evicted before the path is shaded.
 void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     const ChunkView c = chunkView(s);
     UintArray indices = UintArray(c.indices);
@@ -71,6 +72,15 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     if ((s.flags & kSlotColors) != 0u) {
         UintArray c = UintArray(s.colors);
         color = interpolateColor(c.v[corner.x], c.v[corner.y], c.v[corner.z], h.u, h.v);
+    }
+    if ((s.flags & kSlotUvs) != 0u) {
+        FloatArray t = FloatArray(s.uvs);
+        const vec2 uv0 = vec2(t.v[2u * corner.x], t.v[2u * corner.x + 1u]);
+        const vec2 uv1 = vec2(t.v[2u * corner.y], t.v[2u * corner.y + 1u]);
+        const vec2 uv2 = vec2(t.v[2u * corner.z], t.v[2u * corner.z + 1u]);
+        const vec2 uv = interpolateUv(uv0, uv1, uv2, h.u, h.v);
+        RwFloatArray hitUv = RwFloatArray(params.p.hitUv);
+        hitUv.v[2u * ray] = uv.x, hitUv.v[2u * ray + 1u] = uv.y;
     }
     Vec4Array(params.p.hitPosition).v[ray] = vec4(position, h.t);
     // Written as words: a normal's code read back as a float could be flushed or canonicalized.

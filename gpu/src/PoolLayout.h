@@ -67,12 +67,14 @@ inline uint64_t queueOffset(uint32_t q, uint64_t paths) {
     return queueOffset(kGroupQueue, paths) + uint64_t(q - kGroupQueue) * 4 * groupCapacity(paths);
 }
 // The 16-byte vectors first (per path, rays' directions per ray), then the 8-byte ones, then
-// the queues, so that every array is aligned for any count of paths.
+// the queues, so that every array is aligned for any count of paths; with `uvs` (the render reads
+// the scene's texture coordinates, ChunkAttributes::uvs) the hits' UVs last (else hitUv is 0 and
+// costs nothing).
 struct StateLayout {
     uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, accum, rayState,
-        pathInfo, groupState, queues, totalBytes;
+        pathInfo, groupState, queues, hitUv, totalBytes;
 };
-inline StateLayout stateLayout(uint64_t paths) {
+inline StateLayout stateLayout(uint64_t paths, bool uvs = false) {
     StateLayout s{};
     const uint64_t perPath = paths * 16;
     s.rayOrigin = 0, s.rayDirection = perPath, s.hitPosition = s.rayDirection + 2 * perPath;
@@ -82,6 +84,7 @@ inline StateLayout stateLayout(uint64_t paths) {
     s.groupState = s.pathInfo + paths * 8;
     s.queues = s.groupState + groupCapacity(paths) * 8;
     s.totalBytes = s.queues + queueOffset(kQueueCount, paths);
+    if (uvs) s.hitUv = (s.totalBytes + 15) / 16 * 16, s.totalBytes = s.hitUv + 8 * paths;
     return s;
 }
 // What a paging step ends with and the host reads: the table's touched flags, demand and
@@ -95,13 +98,14 @@ inline uint64_t stepCounterBytes(const TableLayout& t) { return t.queueArgs - t.
 // The output buffer (host-cached): per tile pixel the colour and the AOVs, then the step's
 // counters (stepCounterBytes).
 struct OutputLayout {
-    uint64_t color, depth, normal, albedo, primId, chunkId, cost, counters, totalBytes;
+    uint64_t color, depth, normal, albedo, primId, chunkId, cost, uv, counters, totalBytes;
 };
 inline OutputLayout outputLayout(uint64_t pixels, uint64_t counterBytes) {
     OutputLayout o{};
     o.color = 0, o.depth = 16 * pixels, o.normal = o.depth + 4 * pixels, o.albedo = o.normal + 12 * pixels;
     o.primId = o.albedo + 12 * pixels, o.chunkId = o.primId + 4 * pixels, o.cost = o.chunkId + 4 * pixels;
-    o.counters = (o.cost + 8 * pixels + 15) / 16 * 16;
+    o.uv = o.cost + 8 * pixels;
+    o.counters = (o.uv + 8 * pixels + 15) / 16 * 16;
     o.totalBytes = o.counters + counterBytes;
     return o;
 }
@@ -171,7 +175,7 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
     return l;
 }
 
-static_assert(kBytesPerPath == 16 + 2 * (16 + 8) + 3 * 16 + 3 * 16 + 8 + 16 + 8 + 8 && kBytesPerTilePixel == 76);
+static_assert(kBytesPerPath == 16 + 2 * (16 + 8) + 3 * 16 + 3 * 16 + 8 + 16 + 8 + 8 && kBytesPerTilePixel == 84);
 // A path's word (shared/WavefrontTypes.h): flags, bounce and sample index fit their fields.
 static_assert(kPathFlagBits == kPathBounceShift && kPathBounceShift + kPathBounceBits == kPathSampleShift);
 static_assert((kPathAlive | kPathShadowPending | kPathCameraHit | kPathWalkClosest | kPathWalkShadow) < (1u << kPathFlagBits));

@@ -28,12 +28,15 @@ static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 
 // Device bytes of one path of a wave: its state, and at most one tile pixel's sum and outputs
 // when those are in device memory.
-uint64_t rayBytes(bool outputInDeviceMemory) { return kBytesPerPath + (outputInDeviceMemory ? kBytesPerTilePixel : 0); }
+// With `uvs` (ChunkAttributes::uvs) a path also keeps its hit's texture coordinates.
+uint64_t rayBytes(bool outputInDeviceMemory, bool uvs) {
+    return kBytesPerPath + (uvs ? 8 : 0) + (outputInDeviceMemory ? kBytesPerTilePixel : 0);
+}
 
 // Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile
 // outputs the host reads when they are in device memory.
-uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory, uint64_t counterBytes) {
-    return granules(stateLayout(paths).totalBytes) +
+uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory, uint64_t counterBytes, bool uvs) {
+    return granules(stateLayout(paths, uvs).totalBytes) +
            (outputInDeviceMemory ? granules(outputLayout(paths, counterBytes).totalBytes) : 0);
 }
 
@@ -89,7 +92,7 @@ public:
         table_ = std::move(table).value();
         if (topNodeCount_ > 0)
             VASTRAY_TRY(table_.upload(package.topTree.data(), topNodeCount_ * sizeof(KdNode), tables_.topNodes));
-        auto state = device_.createBuffer(stateLayout(plan_.batchRays).totalBytes);
+        auto state = device_.createBuffer(stateLayout(plan_.batchRays, attributes_.uvs).totalBytes);
         if (!state) return state.status();
         state_ = std::move(state).value();
         auto output = device_.createBuffer(outputLayout(plan_.batchRays, stepCounterBytes(tables_)).totalBytes,
@@ -122,10 +125,10 @@ public:
         // Constant time for the package reader's chunks (DecodedChunk::validated); a pass over
         // the arrays only for hand-made ones.
         VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
-        for (const auto* words : {&chunk.normals, &chunk.colors})
-            if (!words->empty() && words->size() != chunk.positions.size())
-                return Status::error("chunk " + std::to_string(chunk.id) + " has " + std::to_string(words->size()) +
-                                     " attribute words for " + std::to_string(chunk.positions.size()) + " vertices");
+        for (size_t words : {chunk.normals.size(), chunk.colors.size(), chunk.uvs.size()})
+            if (words != 0 && words != chunk.positions.size())
+                return Status::error("chunk " + std::to_string(chunk.id) + " has " + std::to_string(words) +
+                                     " attribute values for " + std::to_string(chunk.positions.size()) + " vertices");
         const ChunkLayout layout =
             chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, attributes_);
         if (layout.totalBytes > plan_.slotBytes)
@@ -170,6 +173,10 @@ public:
             put(layout.colors, chunk.colors.data(), chunk.colors.size() * 4);
             entry.colors = base + layout.colors, entry.flags |= kSlotColors;
         }
+        if (attributes_.uvs && !chunk.uvs.empty()) {
+            put(layout.uvs, chunk.uvs.data(), chunk.uvs.size() * 8);
+            entry.uvs = base + layout.uvs, entry.flags |= kSlotUvs;
+        }
         if (uploader_) {
             VASTRAY_TRY(uploader_->upload(chunk.id, b, copies, layout.totalBytes)
                             .withContext("chunk " + std::to_string(chunk.id) + ": "));
@@ -196,7 +203,7 @@ public:
         b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
-        b.normals = attributes_.normals, b.colors = attributes_.colors;
+        b.normals = attributes_.normals, b.colors = attributes_.colors, b.uvs = attributes_.uvs;
         b.uploader = uploader_.get();
         VASTRAY_TRY(prepareEnvironment(job.options->environment, job.options->volumes, stats));
         VASTRAY_TRY(prepareVolumes(job.options->volumes, stats));
@@ -305,8 +312,10 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     PoolPlan plan;
     plan.outputInDeviceMemory = outputInDeviceMemory;
     const uint64_t counterBytes = stepCounterBytes(tableLayout(1, package));
-    auto batchBytes = [=](uint64_t paths) { return gpu::batchBytes(paths, outputInDeviceMemory, counterBytes); };
-    const uint64_t kRayBytes = rayBytes(outputInDeviceMemory);
+    auto batchBytes = [=](uint64_t paths) {
+        return gpu::batchBytes(paths, outputInDeviceMemory, counterBytes, attributes.uvs);
+    };
+    const uint64_t kRayBytes = rayBytes(outputInDeviceMemory, attributes.uvs);
     uint64_t largest = 0;
     for (const ChunkInfo& c : package.chunks) largest = std::max(largest, chunkLayout(c, attributes).totalBytes);
     plan.slotBytes = largest;

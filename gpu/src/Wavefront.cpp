@@ -326,7 +326,7 @@ private:
 
     Status renderTile(const Tile& tile, uint32_t samplesPerWave) {
         const uint32_t count = tile.count();
-        const StateLayout state = stateLayout(b_.pathCapacity);
+        const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs);
         record([=, this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.state->handle(), state.accum, uint64_t(count) * 16, 0);
             barrier(cmd);
@@ -409,7 +409,7 @@ private:
     // copied: the shading just before may have added paths the host has not counted.
     void retryWaiting(WavefrontPush& push) {
         record([this](VkCommandBuffer cmd) {
-            const uint64_t queues = stateLayout(b_.pathCapacity).queues, capacity = b_.pathCapacity;
+            const uint64_t queues = stateLayout(b_.pathCapacity, b_.uvs).queues, capacity = b_.pathCapacity;
             const VkBufferCopy paths{queues + queueOffset(kVolumeWaitQueue, capacity),
                                      queues + queueOffset(kShadeQueue, capacity), 4 * capacity};
             vkCmdCopyBuffer(cmd, b_.state->handle(), b_.state->handle(), 1, &paths);
@@ -623,7 +623,7 @@ private:
         // Paging bricks: every path a step resumes runs to its end or its next park (walkWave).
         const uint32_t passes = volumes ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u)
                                         : kPassesPerPagingStep;
-        const StateLayout state = stateLayout(b_.pathCapacity);
+        const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs);
         record([=, this](VkCommandBuffer cmd) {  // every group idle
             vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
             barrier(cmd);
@@ -770,6 +770,7 @@ private:
         if (aovs & kAovPrimId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.primId + 4 * first, image_.primId, false));
         if (aovs & kAovChunkId) VASTRAY_TRY(readRows<uint32_t>(tile, 1, o.chunkId + 4 * first, image_.chunkId, false));
         if (aovs & kAovCost) VASTRAY_TRY(readRows<uint32_t>(tile, 2, o.cost + 8 * first, image_.cost, addCost));
+        if (aovs & kAovUv) VASTRAY_TRY(readRows<float>(tile, 2, o.uv + 8 * first, image_.uv, false));
         return Status::ok();
     }
 
@@ -798,7 +799,7 @@ private:
         p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
         p.touched = table + t.touched, p.demand = table + t.demand, p.ahead = table + t.ahead;
         p.materials = table + t.materials, p.microfacet = table + t.microfacet, p.lights = table + t.lights;
-        const StateLayout s = stateLayout(b_.pathCapacity);
+        const StateLayout s = stateLayout(b_.pathCapacity, b_.uvs);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
         p.rayState = state + s.rayState;
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
@@ -809,7 +810,8 @@ private:
         const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
-        p.outCost = out + o.cost;
+        p.outCost = out + o.cost, p.outUv = out + o.uv;
+        p.hitUv = b_.uvs ? state + s.hitUv : 0;
         setCamera(p, job_.camera, options_.width, options_.height);
         setEnvironment(p, options_.environment);
         if (b_.environment) {

@@ -34,6 +34,7 @@ struct WavefrontBuffers {
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
+    bool uvs = false;  // slots hold texture coordinates and the state buffer the hits' (StateLayout::hitUv)
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
     GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
     DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without

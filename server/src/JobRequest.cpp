@@ -49,7 +49,7 @@ ServiceStatus normalizeOutput(v1::SubmitJobRequest& r) {
     std::set<std::string> seen;
     for (const std::string& aov : r.aovs()) {
         if (!parseAovList(aov))
-            return invalidArgument("aovs", "'" + aov + "': expected depth, normal, albedo, primid, chunkid or cost");
+            return invalidArgument("aovs", "'" + aov + "': expected depth, normal, albedo, primid, chunkid, cost or uv");
         if (!seen.insert(aov).second) return invalidArgument("aovs", "'" + aov + "' given twice");
     }
     if (r.output_format().empty()) r.set_output_format(r.aovs().empty() ? "png" : "exr");

@@ -142,7 +142,7 @@ json resultOperation() {
          {"schema", {{"type", "string"}}}},
         queryParameter("aov",
                        {{"type", "string"},
-                        {"enum", {"beauty", "depth", "normal", "albedo", "primid", "chunkid", "cost"}}},
+                        {"enum", {"beauty", "depth", "normal", "albedo", "primid", "chunkid", "cost", "uv"}}},
                        "A PNG preview of this channel group (default beauty); AOVs the job did not render are "
                        "400."),
         queryParameter("format", {{"type", "string"}, {"enum", {"png"}}},

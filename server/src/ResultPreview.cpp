@@ -31,7 +31,7 @@ const std::vector<PreviewKind>& previewKinds() {
         {"beauty", {"R", "G", "B", "A"}},      {"depth", {"Z"}},
         {"normal", {"N.x", "N.y", "N.z"}},     {"albedo", {"albedo.R", "albedo.G", "albedo.B"}},
         {"primid", {"primid"}},                {"chunkid", {"chunkid"}},
-        {"cost", {"cost.triangles"}}};
+        {"cost", {"cost.triangles"}},          {"uv", {"uv.u", "uv.v"}}};
     return kinds;
 }
 
@@ -104,6 +104,14 @@ void mapIds(const ImageChannels& in, Rgba& out) {
     }
 }
 
+// UV: the fractional parts of u and v as red and green (a repeating texture's tiles show as
+// repeated ramps); misses and scenes without UVs (0, 0) black.
+void mapUv(const ImageChannels& in, Rgba& out) {
+    const auto& p = in.planes;
+    for (size_t i = 0; i < p[0].size(); ++i)
+        setPixel(out, i, p[0][i] - std::floor(p[0][i]), p[1][i] - std::floor(p[1][i]), 0.0f);
+}
+
 // Cost: triangle tests of the pixel's rays on a log scale, t = log(1 + c) / log(1 + the image's
 // largest c), through a heat ramp black -> red -> yellow -> white (thirds of t).
 void mapCost(const ImageChannels& in, Rgba& out) {
@@ -121,7 +129,7 @@ Rgba mapPreview(const std::string& aov, const ImageChannels& in) {
     using Mapping = void (*)(const ImageChannels&, Rgba&);
     static const std::map<std::string, Mapping> mappings{
         {"beauty", mapBeauty}, {"depth", mapDepth}, {"normal", mapNormal}, {"albedo", mapAlbedo},
-        {"primid", mapIds},    {"chunkid", mapIds}, {"cost", mapCost}};
+        {"primid", mapIds},    {"chunkid", mapIds}, {"cost", mapCost},     {"uv", mapUv}};
     mappings.at(aov)(in, out);
     return out;
 }

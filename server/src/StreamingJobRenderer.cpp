@@ -183,9 +183,10 @@ private:
         entry.reader = std::move(reader).value();
         const PackageInfo& info = entry.reader->info();
         ChunkAttributes needed = requiredAttributes(info, request.options);
-        // Open with primitive ids whenever a scene is opened, so that a later job asking for
-        // the primid AOV does not force a reload.
+        // Open with primitive ids (and the scene's UVs) whenever a scene is opened, so that a later
+        // job asking for the primid (uv) AOV does not force a reload.
         needed.primitiveIds = true;
+        needed.uvs = info.hasUvs;  // likewise for the uv AOV (8 bytes a vertex, only in scenes with UVs)
         // The volumes stay on the device with the scene: their bytes (or a pool their bricks are
         // paged through) are kept from the budget.
         const uint64_t volumeBytes = gpu::volumeReserveBytes(info, budget);

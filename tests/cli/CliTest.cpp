@@ -80,6 +80,28 @@ TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
         EXPECT_NE(r.output.find(key), std::string::npos) << key << " in " << r.output;
 }
 
+// A textured OBJ (vt, and an MTL map_Kd): info says the package has texture coordinates, in
+// text and JSON, and both backends render the uv AOV into an EXR (its values: UvRender.*).
+TEST_F(Cli, TexturedObjKeepsUvsAndRendersTheUvAov) {
+    std::ofstream(tmp("textured.obj")) << "mtllib textured.mtl\nusemtl painted\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                          "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvn 0 0 1\n"
+                                          "f 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/4/1 3/3/1\n";
+    std::ofstream(tmp("textured.mtl")) << "newmtl painted\nKd 1 1 1\nmap_Kd wood.png\n";
+    CommandResult i = run("import " + tmp("textured.obj") + " -o " + tmp("textured.vast") + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    CommandResult info = run("info " + tmp("textured.vast"));
+    EXPECT_NE(info.output.find("vertex attributes    shading normals, texture coordinates"), std::string::npos) << info.output;
+    EXPECT_NE(run("info " + tmp("textured.vast") + " --json").output.find("\"vertex_uvs\": true"), std::string::npos);
+    EXPECT_NE(run("info " + tmp("terrain.vast") + " --json").output.find("\"vertex_uvs\": false"), std::string::npos);
+    for (const char* backend : {"embree", "vulkan"}) {
+        CommandResult r = run("render " + tmp("textured.vast") + " --backend " + backend +
+                              " --resolution 16x16 --spp 1 --aovs uv --progress none -o " + tmp("uv.exr"));
+        EXPECT_EQ(r.exitCode, 0) << backend << ": " << r.output;
+        EXPECT_TRUE(std::filesystem::exists(tmp("uv.exr"))) << backend;
+        std::filesystem::remove(tmp("uv.exr"));
+    }
+}
+
 TEST_F(Cli, MeshoptCodecImportsVerifiesAndSaysSo) {
     CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("meshopt.vast") +
                           " --chunk-size 64KiB --codec meshopt --progress none");

@@ -47,6 +47,20 @@ TEST(PoolLayout, StateArraysAreAlignedAndDisjointForAnyPathCount) {
     }
 }
 
+// The hits' UVs (a render that reads the scene's texture coordinates): one vec2 per path after
+// everything else, 8-byte aligned; without them the layout is the same as before and has none.
+TEST(PoolLayout, HitUvsAreAppendedOnlyWhenTheRenderReadsThem) {
+    for (const uint64_t paths : {1ull, 3ull, 1001ull, 1ull << 20}) {
+        const StateLayout plain = stateLayout(paths), uvs = stateLayout(paths, true);
+        EXPECT_EQ(plain.hitUv, 0u);
+        EXPECT_EQ(uvs.queues, plain.queues);
+        EXPECT_GE(uvs.hitUv, plain.totalBytes) << paths;
+        EXPECT_EQ(uvs.hitUv % 8, 0u) << paths;
+        EXPECT_EQ(uvs.totalBytes, uvs.hitUv + 8 * paths) << paths;
+        EXPECT_LT(uvs.hitUv - plain.totalBytes, 16u) << paths;
+    }
+}
+
 // The punctual lights' section of the table buffer (counted, as the whole table buffer is,
 // against --memory-budget): one WavefrontLight per package light after the stream window, none
 // without lights.

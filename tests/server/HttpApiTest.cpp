@@ -155,7 +155,7 @@ TEST_F(ServerTest, StreamingOnlyAovsAreRefusedAtSubmitByAnEmbreeServer) {
     bad["aovs"] = {"bogus"};
     auto res = submit(bad);
     EXPECT_EQ(res->status, 400);
-    EXPECT_NE(errorMessage(res).find("expected depth, normal, albedo, primid, chunkid or cost"), std::string::npos)
+    EXPECT_NE(errorMessage(res).find("expected depth, normal, albedo, primid, chunkid, cost or uv"), std::string::npos)
         << errorMessage(res);
     json fine = smallJob(sceneId);
     fine["aovs"] = {"depth", "primid"};

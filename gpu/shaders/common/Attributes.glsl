@@ -65,4 +65,16 @@ vec3 shadingNormalAt(uint code, vec3 facing) {
     return dot(n, facing) < 0.0 ? -n : n;
 }
 
+// The hit's texture coordinates (core/VertexAttributes.h interpolateUv): w * uv0 + u * uv1 + v * uv2
+// with every product and sum rounded on its own, as the host's.
+vec2 interpolateUv(vec2 uv0, vec2 uv1, vec2 uv2, float u, float v) {
+    precise float w = 1.0 - u - v;
+    precise vec2 a = w * uv0;
+    precise vec2 b = u * uv1;
+    precise vec2 c = v * uv2;
+    precise vec2 ab = a + b;
+    precise vec2 sum = ab + c;
+    return sum;
+}
+
 #endif  // VASTRAY_ATTRIBUTES_GLSL

@@ -17,6 +17,7 @@ const uint kSlotPrimitiveIds = 2u;
 const uint kSlotMaterialIds = 4u;
 const uint kSlotNormals = 8u;
 const uint kSlotColors = 16u;
+const uint kSlotUvs = 32u;
 
 // Entries of the chunk traversal's stack (Bvh4Traversal.glsl): three per level below the root
 // and three for the deepest nodes' children; checked against vastray::kBvh4MaxDepth on the host.
@@ -33,6 +34,7 @@ struct ChunkSlot {
     uint64_t materialIds;   // valid with kSlotMaterialIds
     uint64_t normals;       // per vertex, octahedral (core/VertexAttributes.h); valid with kSlotNormals
     uint64_t colors;        // per vertex, sRGB8; valid with kSlotColors
+    uint64_t uvs;           // per vertex, 2 x f32 (u, v); valid with kSlotUvs
     uint nodeCount;
     uint flags;
     float boundsLoX, boundsLoY, boundsLoZ;
@@ -43,7 +45,7 @@ struct ChunkSlot {
 const uint kWalkNoHit = 0xFFFFFFFFu;
 
 #ifdef __cplusplus
-static_assert(sizeof(ChunkSlot) == 96 && offsetof(ChunkSlot, nodeCount) == 64 && offsetof(ChunkSlot, boundsHiZ) == 92);
+static_assert(sizeof(ChunkSlot) == 104 && offsetof(ChunkSlot, nodeCount) == 72 && offsetof(ChunkSlot, boundsHiZ) == 100);
 }  // namespace vastray::gpu
 #endif
 

@@ -78,7 +78,7 @@ const uint kWaveStreamed = 1u;
 // group queues: streamed waves' groups have two paths or more) and per tile pixel (the sum, the
 // colour and the AOVs at most). The host sizes waves from the budget with these.
 const uint kBytesPerPath = 16u + 2u * (16u + 8u) + 3u * 16u + 3u * 16u + 8u + 2u * 2u * 4u + 2u * 4u + (8u + 2u * 4u) / 2u;
-const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u;
+const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u + 8u;
 
 // A material as the shading kernel reads it (vastray::Material).
 struct WavefrontMaterial {
@@ -200,6 +200,9 @@ struct WavefrontParams {
                            // outputs (ring slot * tilePixels + pixel in the tile)
     uint64_t stream;       // streamed waves (table buffer): StreamWindow
     uint64_t lights;       // WavefrontLight per punctual light (lightCount)
+    uint64_t hitUv;        // vec2 per path: texture coordinates at its closest hit, written when the
+                           // hit's slot holds UVs (kSlotUvs); 0 when the render reads none
+    uint64_t outUv;        // float[2] per tile pixel: the uv AOV
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -274,7 +277,7 @@ struct WavefrontPush {
 #ifdef __cplusplus
 static_assert(sizeof(WavefrontMaterial) == 64);
 static_assert(sizeof(WavefrontLight) == 64);
-static_assert(offsetof(WavefrontParams, eyeX) == 39 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 41 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);

@@ -26,6 +26,7 @@ ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles
     l.materialIds = section(attributes.materialIds ? triangles * 4 : 0);
     l.normals = section(attributes.normals ? vertices * 4 : 0);
     l.colors = section(attributes.colors ? vertices * 4 : 0);
+    l.uvs = section(attributes.uvs ? vertices * 8 : 0);
     l.totalBytes = std::max<uint64_t>(at, 16);
     return l;
 }

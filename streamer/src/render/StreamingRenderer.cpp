@@ -70,6 +70,8 @@ ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions&
     for (const Material& m : info.materials) a.singleSided |= !m.doubleSided;
     a.normals = info.hasNormals;
     a.colors = info.hasColors;
+    // Read by the uv AOV alone (nothing shades with them yet): other renders leave them on the host.
+    a.uvs = info.hasUvs && (options.aovs & kAovUv) != 0;
     return a;
 }
 
@@ -119,8 +121,8 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     const ChunkAttributes needed = requiredAttributes(info, options);
     if ((needed.primitiveIds && !st.attributes.primitiveIds) || (needed.materialIds && !st.attributes.materialIds) ||
         (needed.singleSided && !st.attributes.singleSided) || (needed.normals && !st.attributes.normals) ||
-        (needed.colors && !st.attributes.colors))
-        return Status::error("this render needs chunk attributes the scene was not opened with (primid AOV?)");
+        (needed.colors && !st.attributes.colors) || (needed.uvs && !st.attributes.uvs))
+        return Status::error("this render needs chunk attributes the scene was not opened with (primid or uv AOV?)");
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
 

@@ -24,6 +24,8 @@ struct RenderImage {
     std::vector<uint32_t> primId;  // triangle index in the imported mesh; kMissPrimId on a miss
     std::vector<uint32_t> chunkId; // chunk whose cell produced the pixel-centre hit; kMissPrimId on a miss
     std::vector<float> cost;       // 2 per pixel: cells traced, triangles tested, over all the pixel's rays
+    std::vector<float> uv;         // 2 per pixel, the pixel-centre hit's texture coordinates; 0 on a miss
+                                   // or where the scene has none
     // The camera that rendered the frame (recordCamera, Camera.h), written into an EXR header as
     // OpenEXR's standard worldToCamera and worldToNDC: row vectors, p' = [x y z 1] * M, M row by
     // row. Camera space is left-handed (x right, y up, z the view direction, origin at the eye);

@@ -30,10 +30,11 @@ enum AovFlags : uint32_t {
     kAovPrimId = 1u << 3,
     kAovChunkId = 1u << 4,  // streaming backends only: the chunk whose cell produced the hit
     kAovCost = 1u << 5,     // streaming backends only: cells visited and triangles tested per pixel
+    kAovUv = 1u << 6,       // the hit's texture coordinates; (0, 0) where the scene has none, or on a miss
 };
 // Backends without chunks (the Embree reference) cannot produce these.
 constexpr uint32_t kAovStreamingOnly = kAovChunkId | kAovCost;
-// "depth,normal,albedo,primid,chunkid,cost" (any subset, any order); "" is none.
+// "depth,normal,albedo,primid,chunkid,cost,uv" (any subset, any order); "" is none.
 Result<uint32_t> parseAovList(std::string_view list);
 
 struct EnvironmentMap;  // vastray/core/EnvironmentMap.h

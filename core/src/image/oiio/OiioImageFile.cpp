@@ -62,6 +62,7 @@ ChannelLayout exrLayout(uint32_t aovs) {
     if (aovs & kAovNormal) layout.names.insert(layout.names.end(), {"N.x", "N.y", "N.z"});
     if (aovs & kAovAlbedo) layout.names.insert(layout.names.end(), {"albedo.R", "albedo.G", "albedo.B"});
     if (aovs & kAovCost) layout.names.insert(layout.names.end(), {"cost.cells", "cost.triangles"});
+    if (aovs & kAovUv) layout.names.insert(layout.names.end(), {"uv.u", "uv.v"});
     layout.floatCount = layout.names.size();
     if (aovs & kAovPrimId) layout.names.push_back("primid");
     if (aovs & kAovChunkId) layout.names.push_back("chunkid");
@@ -78,6 +79,7 @@ std::vector<uint8_t> packExrPixels(const RenderImage& image, const ChannelLayout
         if (image.aovs & kAovNormal) f.insert(f.end(), &image.normal[3 * i], &image.normal[3 * i] + 3);
         if (image.aovs & kAovAlbedo) f.insert(f.end(), &image.albedo[3 * i], &image.albedo[3 * i] + 3);
         if (image.aovs & kAovCost) f.insert(f.end(), &image.cost[2 * i], &image.cost[2 * i] + 2);
+        if (image.aovs & kAovUv) f.insert(f.end(), &image.uv[2 * i], &image.uv[2 * i] + 2);
         uint8_t* at = bytes.data() + i * stride;
         std::memcpy(at, f.data(), f.size() * 4);
         at += f.size() * 4;

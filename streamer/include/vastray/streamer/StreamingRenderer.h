@@ -31,6 +31,7 @@ struct ChunkAttributes {
     bool singleSided = false;   // some material is single-sided
     bool normals = false;       // the package has per-vertex shading normals
     bool colors = false;        // the package has per-vertex colours
+    bool uvs = false;           // the package has texture coordinates and the render reads them (uv AOV)
 };
 
 // Where each array of a chunk lies in a device slot: byte offsets of 16-byte aligned sections
@@ -42,6 +43,7 @@ struct ChunkLayout {
     uint64_t materialIds = 0;   // uint32 per triangle
     uint64_t normals = 0;       // uint32 per vertex (octahedral)
     uint64_t colors = 0;        // uint32 per vertex (sRGB8)
+    uint64_t uvs = 0;           // 2 x f32 per vertex
     uint64_t totalBytes = 0;
 };
 ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, const ChunkAttributes& attributes);
