@@ -117,7 +117,7 @@ TEST_F(WebPageTest, ThePageIsServedWithoutTheTokenWithOnlyLocalSources) {
 
 TEST_F(WebPageTest, EveryAovPreviewIsAPngOfTheImageSizeWithItsDocumentedMapping) {
     startServer();
-    const std::string id = renderSphere({"depth", "normal", "albedo", "primid", "chunkid", "cost"});
+    const std::string id = renderSphere({"depth", "normal", "albedo", "primid", "chunkid", "cost", "uv"});
     const Preview depth = fetchPreview(id, "depth");
     const Preview normal = fetchPreview(id, "normal");
     const Preview albedo = fetchPreview(id, "albedo");
@@ -149,6 +149,10 @@ TEST_F(WebPageTest, EveryAovPreviewIsAPngOfTheImageSizeWithItsDocumentedMapping)
     int white = 0;
     for (const auto& p : cost.pixels) white += p == std::array<int, 4>{255, 255, 255, 255};
     EXPECT_GE(white, 1) << "the costliest pixel is white on the heat ramp";
+    // The sphere has no texture coordinates: its uv preview is black, hits and misses alike.
+    const Preview uv = fetchPreview(id, "uv");
+    ASSERT_EQ(uv.pixels.size(), depth.pixels.size());
+    for (size_t i = 0; i < uv.pixels.size(); ++i) EXPECT_EQ(uv.pixels[i], (std::array<int, 4>{0, 0, 0, 255})) << i;
 
     // The beauty of the EXR, tone mapped, equals the PNG the same job renders without AOVs.
     const Preview beauty = fetchPreview(id, "beauty");
