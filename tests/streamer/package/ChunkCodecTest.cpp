@@ -86,49 +86,48 @@ TEST_P(ChunkCodecTest, AttributesFollowTheirVertices) {
         input.colors.push_back(uint32_t(v * 40503u) | 0xFF000000u);
         input.uvs.push_back({float(v) * 0.37f - 3.0f, 1.0f / float(v + 1)});
     }
-    for (bool normals : {true, false})
-        for (bool colors : {true, false})
-        for (bool uvs : {true, false}) {
-            ChunkGeometry g = input;
-            if (!normals) g.normals.clear();
-            if (!colors) g.colors.clear();
-            if (!uvs) g.uvs.clear();
-            auto encoded = encodeChunkGeometry(g, c.bits == 0, c.codec, 5);
-            ASSERT_TRUE(encoded.isOk()) << encoded.message();
-            auto decoded =
-                decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec, {normals, colors, uvs});
-            ASSERT_TRUE(decoded.isOk()) << decoded.message();
-            const size_t n = decoded->vertexWords.size() / 3;
-            ASSERT_EQ(decoded->normals.size(), normals ? n : 0);
-            ASSERT_EQ(decoded->colors.size(), colors ? n : 0);
-            ASSERT_EQ(decoded->uvs.size(), uvs ? n : 0);
-            for (size_t d = 0; d < n; ++d) {
-                size_t v = 0;
-                while (v < vertices && std::memcmp(&input.vertexWords[3 * v], &decoded->vertexWords[3 * d], 12) != 0) ++v;
-                ASSERT_LT(v, vertices);
-                if (normals) {
-                    EXPECT_EQ(decoded->normals[d], input.normals[v]) << d;
-                }
-                if (colors) {
-                    EXPECT_EQ(decoded->colors[d], input.colors[v]) << d;
-                }
-                if (uvs) {
-                    EXPECT_EQ(std::memcmp(decoded->uvs[d].data(), input.uvs[v].data(), 8), 0) << d;
-                }
+    for (int mask = 0; mask < 8; ++mask) {  // every subset of normals, colours and UVs
+        const bool normals = mask & 1, colors = mask & 2, uvs = mask & 4;
+        ChunkGeometry g = input;
+        if (!normals) g.normals.clear();
+        if (!colors) g.colors.clear();
+        if (!uvs) g.uvs.clear();
+        auto encoded = encodeChunkGeometry(g, c.bits == 0, c.codec, 5);
+        ASSERT_TRUE(encoded.isOk()) << encoded.message();
+        auto decoded =
+            decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec, {normals, colors, uvs});
+        ASSERT_TRUE(decoded.isOk()) << decoded.message();
+        const size_t n = decoded->vertexWords.size() / 3;
+        ASSERT_EQ(decoded->normals.size(), normals ? n : 0);
+        ASSERT_EQ(decoded->colors.size(), colors ? n : 0);
+        ASSERT_EQ(decoded->uvs.size(), uvs ? n : 0);
+        for (size_t d = 0; d < n; ++d) {
+            size_t v = 0;
+            while (v < vertices && std::memcmp(&input.vertexWords[3 * v], &decoded->vertexWords[3 * d], 12) != 0) ++v;
+            ASSERT_LT(v, vertices);
+            if (normals) {
+                EXPECT_EQ(decoded->normals[d], input.normals[v]) << d;
             }
-            EXPECT_EQ(canonical(*decoded), canonical(input));
-            // A stream asked for an attribute it does not carry is an error, not garbage.
-            if (!normals) {
-                auto wrong =
-                    decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec, {true, colors, uvs});
-                EXPECT_FALSE(wrong.isOk());
+            if (colors) {
+                EXPECT_EQ(decoded->colors[d], input.colors[v]) << d;
             }
-            if (!uvs) {
-                auto wrong =
-                    decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec, {normals, colors, true});
-                EXPECT_FALSE(wrong.isOk());
+            if (uvs) {
+                EXPECT_EQ(std::memcmp(decoded->uvs[d].data(), input.uvs[v].data(), 8), 0) << d;
             }
         }
+        EXPECT_EQ(canonical(*decoded), canonical(input));
+        // A stream asked for an attribute it does not carry is an error, not garbage.
+        if (!normals) {
+            auto wrong =
+                decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec, {true, colors, uvs});
+            EXPECT_FALSE(wrong.isOk());
+        }
+        if (!uvs) {
+            auto wrong =
+                decodeChunkGeometry(encoded->data(), encoded->size(), c.bits == 0, c.codec, {normals, colors, true});
+            EXPECT_FALSE(wrong.isOk());
+        }
+    }
 }
 
 // Triangles as corner words and UV bits, smallest corner first, sorted: what a face looks like
