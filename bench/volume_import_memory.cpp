@@ -1,12 +1,15 @@
 // Peak memory and time of importing a .vdb volume into a package (docs/PERFORMANCE.md, "Volume
 // import memory"), one mode per process (the peak is the process's VmHWM):
 //
-//   usage: volume_import_memory FILE.vdb OUT.vast streamed|whole [EMISSION_GRID]
+//   usage: volume_import_memory FILE.vdb OUT.vast streamed|whole|child [EMISSION_GRID]
 //
 // streamed: openVdbVolume, each brick read from the .vdb when the package writer writes it (what
 //           `vastray import --volume` does);
 // whole:    readVdbVolume, every brick in memory before the write (the import before bricks were
-//           streamed, and still the service's child-process path, whose volume crosses a pipe).
+//           streamed);
+// child:    readVolumes in a child process, as the service reads uploads: the child writes the
+//           bricks to a temporary file that the writer reads back (this process's peak only;
+//           the child's is its own).
 // The package holds one small triangle beside the volume (a package needs a mesh). Prints one
 // JSON line: bricks, voxel bytes, the resident peak before the import (libraries loaded) and
 // after it, and the seconds to open (or read) the grid and to build the package.
@@ -30,6 +33,17 @@ uint64_t peakResidentBytes() {
     return 0;
 }
 
+vastray::Result<vastray::Volume> readInChild(const std::string& path, const std::string& emission) {
+    vastray::VolumeSource source;
+    source.path = path;
+    source.emissionGrid = emission;
+    vastray::VolumeReadOptions options;
+    options.childProcess = true;
+    auto volumes = vastray::readVolumes({source}, options);
+    if (!volumes) return volumes.status();
+    return std::move((*volumes)[0]);
+}
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -38,8 +52,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 int main(int argc, char** argv) {
     const std::string mode = argc >= 4 ? argv[3] : "";
-    if ((argc != 4 && argc != 5) || (mode != "streamed" && mode != "whole")) {
-        std::fprintf(stderr, "usage: %s FILE.vdb OUT.vast streamed|whole [EMISSION_GRID]\n", argv[0]);
+    if ((argc != 4 && argc != 5) || (mode != "streamed" && mode != "whole" && mode != "child")) {
+        std::fprintf(stderr, "usage: %s FILE.vdb OUT.vast streamed|whole|child [EMISSION_GRID]\n", argv[0]);
         return 2;
     }
     using namespace vastray;
@@ -47,7 +61,8 @@ int main(int argc, char** argv) {
     const uint64_t peakBefore = peakResidentBytes();
     auto start = std::chrono::steady_clock::now();
     auto volume = mode == "streamed" ? openVdbVolume(argv[1], "", VolumeMaterial{}, emission)
-                                     : readVdbVolume(argv[1], "", VolumeMaterial{}, emission);
+                  : mode == "whole"  ? readVdbVolume(argv[1], "", VolumeMaterial{}, emission)
+                                     : readInChild(argv[1], emission);
     if (!volume) {
         std::fprintf(stderr, "%s\n", volume.message().c_str());
         return 1;

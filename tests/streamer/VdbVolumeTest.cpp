@@ -299,6 +299,9 @@ TEST(VdbVolume, TemperatureGridGlowsAsABlackbody) {
     auto read = readVolumes({source}, child);
     ASSERT_TRUE(read.isOk()) << read.message();
     EXPECT_TRUE((*read)[0].material.temperature);
+    // The bricks came back through a temporary file, read when asked for.
+    EXPECT_TRUE((*read)[0].voxels.empty() && (*read)[0].bricks.source);
+    ASSERT_TRUE(readVolumeIntoMemory((*read)[0]).isOk());
     EXPECT_NEAR(volumeEmission((*read)[0], {2.0f, 1.0f, 1.0f}).x, 2.0f * b.x, 1e-6f * b.x);
 }
 

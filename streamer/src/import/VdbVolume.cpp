@@ -630,20 +630,6 @@ Result<Volume> openVolume(const std::string& path, const std::string& fileName, 
     return volume;
 }
 
-// Every brick of an opened volume read into memory (Volume::voxels, emissionVoxels).
-Status readAllBricks(Volume& volume) {
-    const uint64_t bricks = volume.brickCount();
-    const bool emission = volume.hasEmission();
-    std::vector<float> voxels(bricks * kVolumeBrickVoxels), glow(emission ? voxels.size() : 0);
-    for (uint64_t b = 0; b < bricks; ++b)
-        VASTRAY_TRY(readVolumeBrick(volume, b, &voxels[b * kVolumeBrickVoxels],
-                                    emission ? &glow[b * kVolumeBrickVoxels] : nullptr));
-    volume.voxels = std::move(voxels);
-    volume.emissionVoxels = std::move(glow);
-    volume.bricks = {};
-    return Status::ok();
-}
-
 }  // namespace
 
 Result<Volume> openVdbVolume(const std::string& path, const std::string& gridName, const VolumeMaterial& material,
@@ -657,11 +643,24 @@ Result<Volume> openVdbVolume(const std::string& path, const std::string& gridNam
     });
 }
 
+Status readVolumeIntoMemory(Volume& volume) {
+    const uint64_t bricks = volume.brickCount();
+    const bool emission = volume.hasEmission();
+    std::vector<float> voxels(bricks * kVolumeBrickVoxels), glow(emission ? voxels.size() : 0);
+    for (uint64_t b = 0; b < bricks; ++b)
+        VASTRAY_TRY(readVolumeBrick(volume, b, &voxels[b * kVolumeBrickVoxels],
+                                    emission ? &glow[b * kVolumeBrickVoxels] : nullptr));
+    volume.voxels = std::move(voxels);
+    volume.emissionVoxels = std::move(glow);
+    volume.bricks = {};
+    return Status::ok();
+}
+
 Result<Volume> readVdbVolume(const std::string& path, const std::string& gridName,
                              const VolumeMaterial& material, const std::string& emissionGrid) {
     auto volume = openVdbVolume(path, gridName, material, emissionGrid);
     if (!volume) return volume;
-    VASTRAY_TRY(readAllBricks(*volume));
+    VASTRAY_TRY(readVolumeIntoMemory(*volume));
     if (const std::string problem = checkVolume(*volume); !problem.empty())
         return errorIn(import::fileNameOf(path), "the volume read is not sound: " + problem);
     return volume;

@@ -1,13 +1,23 @@
-// The volumes of an import (VolumeImport.h): materials checked, each .vdb read in this process
-// or in a child process that sends the volume back through a pipe. No OpenVDB here: the child
-// calls readVdbVolume (VdbVolume.cpp) like the caller would.
+// The volumes of an import (VolumeImport.h): materials checked, each .vdb opened in this process
+// (its bricks stay in the file) or in a child process that writes the bricks to an unlinked
+// temporary file and sends the rest back through a pipe. No OpenVDB here: the child calls
+// openVdbVolume (VdbVolume.cpp) like the caller would.
 #include <tbb/task_arena.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <memory>
 #include <type_traits>
 
 #include "import/ChildProcess.h"
 #include "import/ImportCommon.h"
+#include "vastray/core/Blackbody.h"
 #include "vastray/streamer/VolumeImport.h"
 
 namespace vastray {
@@ -43,9 +53,78 @@ void writeVector(int fd, const std::vector<T>& values) {
     import::writeToParent(fd, values.data(), values.size() * sizeof(T));
 }
 
-// In the child: the answer is a byte 0 and the message, or a byte 1 and the volume less what
-// the parent computes again (worldToIndex, majorants, world bounds).
-void sendAnswer(int fd, const Result<Volume>& volume) {
+// All of `size` bytes to `fd`; false (errno set) when a write fails.
+bool writeAll(int fd, const void* data, uint64_t size) {
+    const char* bytes = static_cast<const char*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd, bytes, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        bytes += n, size -= uint64_t(n);
+    }
+    return true;
+}
+
+// The temporary file a child process writes a volume's bricks to (brick b at b * brick bytes:
+// densities, then emission values), already unlinked: it goes when the last volume reading it
+// does. The parent reads each brick when the package writer asks for it, and checks it again
+// (a child whose memory a hostile file corrupted could write anything): every value in range,
+// the brick's largest density the one the child sent.
+class SpooledBricks final : public VolumeBrickSource {
+public:
+    SpooledBricks(std::FILE* file, std::string name, std::vector<float> maximum, bool emission, bool temperature)
+        : file_(file), name_(std::move(name)), maximum_(std::move(maximum)), emission_(emission),
+          temperature_(temperature) {}
+    ~SpooledBricks() override { std::fclose(file_); }
+
+    Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const override {
+        const std::string name = name_ + "brick " + std::to_string(brick);
+        if (volume != 0 || brick >= maximum_.size()) return Status::error(name + " does not exist");
+        const uint64_t bytes = 4ull * kVolumeBrickVoxels;
+        const off_t at = off_t(brick * bytes * (emission_ ? 2 : 1));
+        if (::pread(fileno(file_), density, bytes, at) != ssize_t(bytes) ||
+            (emission_ && ::pread(fileno(file_), emission, bytes, at + off_t(bytes)) != ssize_t(bytes)))
+            return Status::error(name + ": cannot read it back from its temporary file: " + std::strerror(errno));
+        float largest = 0.0f;
+        for (uint32_t i = 0; i < kVolumeBrickVoxels; ++i) {
+            if (!(density[i] >= 0.0f && density[i] <= kMaxVolumeDensity))
+                return Status::error(name + " voxel " + std::to_string(i) + " has density " + std::to_string(density[i]));
+            largest = std::max(largest, density[i]);
+            if (emission_ && !(emission[i] >= 0.0f && emission[i] <= (temperature_ ? kMaxTemperature : kMaxVolumeDensity)))
+                return Status::error(name + " emission voxel " + std::to_string(i) + " has the value " +
+                                     std::to_string(emission[i]));
+        }
+        if (largest != maximum_[brick])
+            return Status::error(name + ": its largest density " + std::to_string(largest) + " is not the one sent (" +
+                                 std::to_string(maximum_[brick]) + ")");
+        return Status::ok();
+    }
+
+private:
+    std::FILE* file_;
+    std::string name_;  // "fog.vdb: the OpenVDB reader process sent a malformed answer: "
+    std::vector<float> maximum_;
+    bool emission_, temperature_;
+};
+
+// In the child: opens the volume, writes its bricks to `spool` in order, then answers with a
+// byte 0 and the message, or a byte 1 and the volume less its voxels and what the parent
+// computes again (worldToIndex, majorants, world bounds), and each brick's largest density.
+void sendAnswer(int fd, int spool, const std::string& fileName, Result<Volume> volume) {
+    std::vector<float> maximum;
+    if (volume) {
+        const bool emission = volume->hasEmission();
+        std::vector<float> brick(kVolumeBrickVoxels * (emission ? 2 : 1));
+        for (uint64_t b = 0; volume && b < volume->brickCount(); ++b) {
+            if (Status s = readVolumeBrick(*volume, b, brick.data(), emission ? brick.data() + kVolumeBrickVoxels : nullptr); !s)
+                volume = s;
+            else if (!writeAll(spool, brick.data(), brick.size() * 4))
+                volume = import::errorIn(fileName, std::string("cannot write its bricks to a temporary file: ") +
+                                                       std::strerror(errno));
+            else
+                maximum.push_back(*std::max_element(brick.begin(), brick.begin() + kVolumeBrickVoxels));
+        }
+    }
     writeValue(fd, uint8_t(volume ? 1 : 0));
     if (!volume) {
         writeValue(fd, uint64_t(volume.message().size()));
@@ -56,15 +135,16 @@ void sendAnswer(int fd, const Result<Volume>& volume) {
     writeValue(fd, uint64_t(v.name.size()));
     import::writeToParent(fd, v.name.data(), v.name.size());
     writeValue(fd, v.indexToWorld), writeValue(fd, v.origin), writeValue(fd, v.brickCells);
-    writeValue(fd, v.material);
-    writeVector(fd, v.brickOf), writeVector(fd, v.voxels), writeVector(fd, v.emissionVoxels);
+    writeValue(fd, v.material), writeValue(fd, uint8_t(v.hasEmission()));
+    writeVector(fd, v.brickOf), writeVector(fd, maximum);
 }
 
-// The volume (or the child's error) from the pipe; the checks it passed in the child are made
-// again here, for a child whose memory a hostile file corrupted could send anything.
-Result<Volume> receiveAnswer(import::ChildAnswer& in, const std::string& name) {
+// The volume (or the child's error) from the pipe, its bricks left in `spool`; the checks it
+// passed in the child are made again here, for a child whose memory a hostile file corrupted
+// could send anything.
+Result<Volume> receiveAnswer(import::ChildAnswer& in, const std::string& name, std::FILE* spool) {
     const Status malformed = import::errorIn(name, "the OpenVDB reader process sent a malformed answer: ");
-    uint8_t ok = 0;
+    uint8_t ok = 0, emission = 0;
     uint64_t textBytes = 0;
     if (!in.value(ok) || !in.value(textBytes)) return Status::error(malformed.message() + in.error());
     if (textBytes > kMaxSentNameBytes) return Status::error(malformed.message() + "a text of " + std::to_string(textBytes) + " bytes");
@@ -73,38 +153,53 @@ Result<Volume> receiveAnswer(import::ChildAnswer& in, const std::string& name) {
     if (!ok) return Status::error(text);
     Volume v;
     v.name = std::move(text);
+    std::vector<float> maximum;
     if (!in.value(v.indexToWorld) || !in.value(v.origin) || !in.value(v.brickCells) || !in.value(v.material) ||
-        !in.vector(v.brickOf, kMaxVolumeBrickCells) || !in.vector(v.voxels, kMaxVolumeBricks * kVolumeBrickVoxels) ||
-        !in.vector(v.emissionVoxels, kMaxVolumeBricks * kVolumeBrickVoxels))
+        !in.value(emission) || !in.vector(v.brickOf, kMaxVolumeBrickCells) || !in.vector(maximum, kMaxVolumeBricks))
         return Status::error(malformed.message() + in.error());
+    for (float m : maximum)
+        if (!(m >= 0.0f && m <= kMaxVolumeDensity))
+            return Status::error(malformed.message() + "a brick's largest density " + std::to_string(m));
+    struct stat st {};
+    const uint64_t bytes = maximum.size() * 4ull * kVolumeBrickVoxels * (emission ? 2 : 1);
+    if (::fstat(fileno(spool), &st) != 0 || uint64_t(st.st_size) != bytes)
+        return Status::error(malformed.message() + "its bricks' temporary file is not " + std::to_string(bytes) + " bytes");
+    const uint64_t count = maximum.size();
+    v.bricks = {std::make_shared<SpooledBricks>(spool, malformed.message(), maximum, emission != 0, v.material.temperature),
+                0, count, emission != 0};
     v.majorant.assign(v.brickOf.size(), 0.0f);
     std::string problem = checkVolume(v);
     if (problem.empty() && !finishVolumeTransform(v)) problem = "its transform cannot be inverted";
     if (!problem.empty()) return Status::error(malformed.message() + problem);
-    computeVolumeMajorants(v);
+    computeVolumeMajorants(v, maximum);
     return v;
 }
 
-// Runs in the child: reads the volume and sends it.
-void childReads(int fd, const VolumeSource& source) {
-    // One thread: the parent's TBB workers do not exist here, so OpenVDB's parallel loops
-    // run in an arena that asks for none.
+// Runs in the child: opens the volume (one thread: the parent's TBB workers do not exist here,
+// so OpenVDB's parallel loops run in an arena that asks for none) and sends it.
+void childReads(int fd, int spool, const VolumeSource& source) {
     tbb::task_arena arena(1);
-    Result<Volume> volume = Status::error("not read");
-    arena.execute([&] { volume = readVdbVolume(source.path, source.grid, source.material, source.emissionGrid); });
-    sendAnswer(fd, volume);
+    arena.execute([&] {
+        sendAnswer(fd, spool, import::fileNameOf(source.path),
+                   openVdbVolume(source.path, source.grid, source.material, source.emissionGrid));
+    });
 }
 
 Result<Volume> readInChildProcess(const VolumeSource& source) {
     const std::string name = import::fileNameOf(source.path);
+    std::FILE* spool = std::tmpfile();  // unlinked already; closed by the volume's brick source
+    if (!spool) return import::errorIn(name, std::string("cannot create a temporary file for its bricks: ") + std::strerror(errno));
+    bool owned = false;  // once the volume's source holds it
     Result<Volume> volume = Status::error("no answer");
     const Status status = import::runInChildProcess(
         name, {"OpenVDB", "the OpenVDB reader process", kVdbReadSecondsLimit},
-        [&](int fd) { childReads(fd, source); },
+        [&](int fd) { childReads(fd, fileno(spool), source); },
         [&](import::ChildAnswer& in) {
-            volume = receiveAnswer(in, name);
+            volume = receiveAnswer(in, name, spool);
+            owned = volume && volume->bricks.source;
             return volume.status();
         });
+    if (!owned) std::fclose(spool);
     if (!status.isOk()) return status;
     return volume;
 }

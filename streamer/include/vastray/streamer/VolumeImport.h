@@ -42,6 +42,10 @@ Result<Volume> readVdbVolume(const std::string& path, const std::string& gridNam
 Result<Volume> openVdbVolume(const std::string& path, const std::string& gridName,
                              const VolumeMaterial& material, const std::string& emissionGrid = {});
 
+// Reads every brick of a volume whose bricks stay in their source into Volume::voxels (and
+// emissionVoxels), and drops the source: what the CPU functions of core/Volume.h need.
+Status readVolumeIntoMemory(Volume& volume);
+
 // What messages call a volume's material fields: a front end's own names for them, e.g. the
 // CLI's options ("--volume-density") or an upload manifest's keys ("vastray-volumes.json:
 // volumes[1].density").
@@ -72,8 +76,9 @@ struct VolumeReadOptions {
     // of OpenVDB on a hostile file (past kVdbReadSecondsLimit) fails the import by the file's
     // name instead of ending the caller, and the child, not the caller, is the kernel's first
     // choice when memory runs out (OpenVDB allocates what a file's length fields say). The
-    // volume comes back through a pipe and is checked again (checkVolume). The render service
-    // sets it; the CLI reads in its own process.
+    // volume comes back through a pipe, its bricks through a temporary file, and is checked
+    // again (checkVolume, and each brick when it is read). The render service sets it; the CLI
+    // reads in its own process.
     bool childProcess = false;
 };
 
@@ -81,8 +86,9 @@ struct VolumeReadOptions {
 constexpr int kVdbReadSecondsLimit = 600;
 
 // Every source in order, at most kMaxVolumes: its material checked, then its grid opened
-// (openVdbVolume: the bricks stay in the file), or read in a child process (readVdbVolume there:
-// the voxels come back through the pipe and are held in memory). Returns the first error ("65 volumes exceed the limit of 64", a material's
+// (openVdbVolume: the bricks stay in the file), or with options.childProcess opened in a child
+// process that writes the bricks to an unlinked temporary file (in $TMPDIR, as large as the
+// bricks) from which the returned volume's source reads them back, each checked again. Returns the first error ("65 volumes exceed the limit of 64", a material's
 // field by its name, or readVdbVolume's message naming the file and the grid).
 Result<std::vector<Volume>> readVolumes(const std::vector<VolumeSource>& sources,
                                         const VolumeReadOptions& options = {});
