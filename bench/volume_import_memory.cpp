@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     TriangleMesh mesh;
     mesh.positions = {{3, 3, 3}, {4, 3, 3}, {3, 4, 3}};
     mesh.indices = {0, 1, 2};
-    mesh.materials.push_back(Material{"far"});
+    mesh.materials.emplace_back().name = "far";
     PackageBuildOptions options;
     options.progress = Progress::Mode::None;
     options.volumes.push_back(std::move(volume).value());
