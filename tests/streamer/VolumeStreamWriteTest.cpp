@@ -1,5 +1,6 @@
 // Volumes written to a package brick by brick: a volume opened with openVdbVolume (its voxels
-// left in the .vdb) gives the same package bytes as the volume read whole into memory, and its
+// left in the .vdb), or in a child process (its bricks spooled to a temporary file), gives the
+// same package bytes as the volume read whole into memory, and its
 // data section is the layout docs/PACKAGE_FORMAT.md "Volumes" gives (cell table, brick index,
 // bricks), computed here from the voxels; a brick that cannot be read fails the write and leaves
 // no file behind.
@@ -121,6 +122,15 @@ TEST(VolumeStreamWrite, StreamedBricksGiveTheBytesOfTheWholeVolume) {
         const std::string b = writeVolumePackage(kFolder, name + "-streamed", farTriangle(300), {*streamed});
         const std::vector<uint8_t> bytes = fileBytes(b);
         EXPECT_TRUE(fileBytes(a) == bytes) << "the streamed package's bytes differ from the whole volume's";
+        // The service's path: a child process opens the volume and spools its bricks to a file.
+        VolumeSource source{vdb, "density", emission, material, {}, {}};
+        VolumeReadOptions child;
+        child.childProcess = true;
+        auto spooled = readVolumes({source}, child);
+        ASSERT_TRUE(spooled) << spooled.message();
+        EXPECT_TRUE((*spooled)[0].voxels.empty() && (*spooled)[0].bricks.source);
+        const std::string c = writeVolumePackage(kFolder, name + "-spooled", farTriangle(300), {(*spooled)[0]});
+        EXPECT_TRUE(fileBytes(c) == bytes) << "the child process's package differs from the whole volume's";
 
         auto reader = PackageReader::open(b);
         ASSERT_TRUE(reader) << reader.message();
