@@ -10,6 +10,7 @@
 
 #include "import/GltfAccessor.h"
 #include "import/GltfLoader.h"
+#include "import/GltfTextures.h"
 #include "import/ImportCommon.h"
 #include "vastray/core/Utf8.h"
 #include "vastray/core/VecMath.h"
@@ -552,6 +553,10 @@ Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOp
     GltfFlattener flattener(*model, std::move(lights).value(), imported);
     flattener.keepUvSet(chooseUvSet(*model, name, imported.report));
     if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
+    auto textures = import::readGltfTextures(*model, name, import::directoryOf(path), imported.report);
+    if (!textures) return textures.status();
+    for (size_t i = 0; i < textures->materials.size(); ++i) imported.mesh.materials[i].textures = textures->materials[i];
+    imported.mesh.textures = std::move(textures->textures);
     warnAboutUnused(*model, imported.report);
     imported.report.warnUnused("cameras", flattener.camerasNotUsed(), "orthographic, or placed degenerately");
     imported.report.warnUnused("KHR_lights_punctual lights", flattener.lightsNotUsed(), "placed by no node, or placed degenerately");

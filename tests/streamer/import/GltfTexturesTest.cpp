@@ -168,5 +168,17 @@ TEST(GltfTextures, ImageBytesAreTheSameFromAFileADataUriAndABufferView) {
     }
 }
 
+TEST(GltfTextures, ImportCarriesTheMapsAndTheirTexturesWithTheMesh) {
+    const std::string file = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";
+    auto imported = importGltf(file);
+    ASSERT_TRUE(imported) << imported.message();
+    ASSERT_EQ(imported->mesh.textures.size(), 1u);
+    EXPECT_EQ(imported->mesh.materials[0].textures.slots[uint32_t(TextureSlot::BaseColor)].texture, 0u);
+    EXPECT_EQ(imported->mesh.uvs.size(), imported->mesh.positions.size());
+    EXPECT_NE(imported->mesh.textures[0].name.find("CesiumLogoFlat.png"), std::string::npos)
+        << imported->mesh.textures[0].name;
+}
+
 }  // namespace
 }  // namespace vastray::test

@@ -10,6 +10,7 @@
 #include "vastray/core/Aabb.h"
 #include "vastray/core/Camera.h"
 #include "vastray/core/Light.h"
+#include "vastray/core/MaterialTextures.h"
 #include "vastray/core/Vec3.h"
 
 namespace vastray {
@@ -31,6 +32,8 @@ struct Material {
     float clearcoat = 0.0f;
     float clearcoatRoughness = 0.0f;
     bool doubleSided = true;
+    // The maps it reads (glTF's five), each a texture of the mesh's `textures` or kNoTexture.
+    MaterialTextures textures{};
 };
 
 struct TriangleMesh {
@@ -45,6 +48,9 @@ struct TriangleMesh {
     // only when a material references a texture map ((0, 0) where a mesh of the file had none).
     std::vector<std::array<float, 2>> uvs;
     std::vector<Material> materials;   // at least one once imported
+    // The textures the materials' maps name, as the file gave them (encoded images); empty when
+    // no map was read. Import decodes them into the package's pages (core/Texture.h).
+    std::vector<TextureSource> textures;
     std::vector<SceneCamera> cameras;  // the file's cameras, in its order (glTF); often none
     std::vector<PunctualLight> lights; // the file's placed lights (glTF KHR_lights_punctual); often none
 
