@@ -127,7 +127,7 @@ TEST_F(ImportJobTest, ImporterWarningsReachTheSceneAndTheImportJob) {
     ASSERT_LT(sync->status, 300) << sync->body;
     const json scene = json::parse(sync->body);
     ASSERT_EQ(scene["import_warnings"].size(), 1u) << scene.dump();
-    EXPECT_EQ(scene["import_warnings"][0], "1 texture coordinates read but not used (textures are not rendered yet)");
+    EXPECT_EQ(scene["import_warnings"][0], "1 texture coordinates read but not used (no material has a texture map)");
 
     const std::string uvs = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
     auto res = putAsync(uvs, "uvs.obj");
@@ -137,7 +137,7 @@ TEST_F(ImportJobTest, ImporterWarningsReachTheSceneAndTheImportJob) {
     const json job = waitForEnd(queued["import_job_id"]);
     EXPECT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
     ASSERT_EQ(job["import"]["warnings"].size(), 1u) << job.dump();
-    EXPECT_EQ(job["import"]["warnings"][0], "3 texture coordinates read but not used (textures are not rendered yet)");
+    EXPECT_EQ(job["import"]["warnings"][0], "3 texture coordinates read but not used (no material has a texture map)");
     const json stored = json::parse(http().Get(("/v1/scenes/" + queued["id"].get<std::string>()).c_str())->body);
     EXPECT_EQ(stored["format"], "obj");
     EXPECT_EQ(stored["import_warnings"], job["import"]["warnings"]);
