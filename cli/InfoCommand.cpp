@@ -19,6 +19,14 @@ nlohmann::json boundsJson(const Aabb& b) {
     return {{"min", {b.lo.x, b.lo.y, b.lo.z}}, {"max", {b.hi.x, b.hi.y, b.hi.z}}};
 }
 
+// The compressed bytes of a texture's pages in the package.
+uint64_t textureStoredBytes(const PackageInfo& info, uint32_t texture) {
+    const PackageTexture& x = info.textures[texture];
+    uint64_t bytes = 0;
+    for (uint32_t p = 0; p < x.layout.pageCount; ++p) bytes += info.texturePages[x.firstEntry + p].size;
+    return bytes;
+}
+
 nlohmann::json infoJson(const PackageInfo& info) {
     nlohmann::json chunks = nlohmann::json::array();
     for (const ChunkInfo& c : info.chunks)
@@ -32,7 +40,13 @@ nlohmann::json infoJson(const PackageInfo& info) {
                           {"checksum", c.checksum},
                           {"bounds", boundsJson(c.cell)}});
     nlohmann::json materials = nlohmann::json::array();
-    for (const Material& m : info.materials)
+    for (const Material& m : info.materials) {
+        nlohmann::json maps = nlohmann::json::object();
+        for (uint32_t s = 0; s < kTextureSlotCount; ++s) {
+            const TextureBinding& b = m.textures.slots[s];
+            if (b.texture == kNoTexture) continue;
+            maps[textureSlotName(TextureSlot(s))] = {{"texture", b.texture}, {"uv_transform", b.transform}};
+        }
         materials.push_back({{"name", m.name},
                              {"base_color", m.baseColor},
                              {"emissive", m.emissive},
@@ -42,7 +56,23 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"specular_color", m.specularColor},
                              {"clearcoat", m.clearcoat},
                              {"clearcoat_roughness", m.clearcoatRoughness},
-                             {"double_sided", m.doubleSided}});
+                             {"double_sided", m.doubleSided},
+                             {"maps", maps},
+                             {"normal_scale", m.textures.normalScale},
+                             {"occlusion_strength", m.textures.occlusionStrength}});
+    }
+    nlohmann::json textures = nlohmann::json::array();
+    for (uint32_t t = 0; t < info.textures.size(); ++t) {
+        const PackageTexture& x = info.textures[t];
+        textures.push_back({{"name", x.name},
+                            {"width", x.layout.width},
+                            {"height", x.layout.height},
+                            {"levels", x.layout.levelCount},
+                            {"pages", x.layout.pageCount},
+                            {"stored_bytes", textureStoredBytes(info, t)},
+                            {"wrap", {textureWrapName(x.wrapS), textureWrapName(x.wrapT)}},
+                            {"encoding", x.encoding == TextureEncoding::Srgb ? "srgb" : "linear"}});
+    }
     nlohmann::json volumes = nlohmann::json::array();
     for (const PackageVolume& p : info.volumes) {
         const Volume& v = p.volume;
@@ -99,6 +129,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"cameras", cameras},
             {"lights", lights},
             {"volumes", volumes},
+            {"textures", textures},
             {"degenerate_dropped", info.degenerateDropped},
             {"collapsed_dropped", info.collapsedDropped},
             {"materials", materials},
@@ -125,6 +156,14 @@ void printHuman(const std::string& path, const PackageInfo& info) {
         if (present) attributes += (attributes.empty() ? "" : ", ") + std::string(name);
     std::printf("  vertex attributes    %s\n", attributes.empty() ? "none" : attributes.c_str());
     std::printf("  materials            %zu\n", info.materials.size());
+    for (uint32_t t = 0; t < info.textures.size(); ++t) {
+        const PackageTexture& x = info.textures[t];
+        std::printf("  texture %-12u '%s': %u x %u texels, %u levels, %u pages (%s stored), %s, wrap %s/%s\n", t,
+                    x.name.c_str(), x.layout.width, x.layout.height, x.layout.levelCount, x.layout.pageCount,
+                    formatBytes(textureStoredBytes(info, t)).c_str(),
+                    x.encoding == TextureEncoding::Srgb ? "sRGB" : "linear", textureWrapName(x.wrapS),
+                    textureWrapName(x.wrapT));
+    }
     for (size_t i = 0; i < info.cameras.size(); ++i) {
         const Camera& c = info.cameras[i].camera;
         std::printf("  camera %-13zu '%s': eye (%g, %g, %g), looking at (%g, %g, %g), fov %g degrees\n", i,

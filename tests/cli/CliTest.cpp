@@ -80,6 +80,29 @@ TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
         EXPECT_NE(r.output.find(key), std::string::npos) << key << " in " << r.output;
 }
 
+// A textured glTF (Debian's assimp-testmodels BoxTextured): import stores its texture, info lists
+// it in text and JSON with the material's map, and a render says the maps are not rendered yet.
+TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
+    const std::string file = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";
+    CommandResult i = run("import " + file + " -o " + tmp("box.vast") + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    CommandResult text = run("info " + tmp("box.vast"));
+    ASSERT_EQ(text.exitCode, 0) << text.output;
+    EXPECT_NE(text.output.find("vastray package v10"), std::string::npos) << text.output;
+    EXPECT_NE(text.output.find("'image 0 ('CesiumLogoFlat.png') of BoxTextured.gltf': 211 x 211 texels, 8 levels, 11 pages"),
+              std::string::npos)
+        << text.output;
+    CommandResult json = run("info " + tmp("box.vast") + " --json");
+    ASSERT_EQ(json.exitCode, 0) << json.output;
+    for (const char* key : {"\"textures\"", "\"baseColorTexture\"", "\"wrap\"", "\"mirror\"", "\"stored_bytes\""})
+        EXPECT_NE(json.output.find(key), std::string::npos) << key << " in " << json.output;
+    CommandResult r = run("render " + tmp("box.vast") + " -o " + tmp("box.png") +
+                          " --backend embree --resolution 16x16 --spp 1 --progress none");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("does not render yet"), std::string::npos) << r.output;
+}
+
 // A textured OBJ (vt, and an MTL map_Kd): info says the package has texture coordinates, in
 // text and JSON, and both backends render the uv AOV into an EXR (its values: UvRender.*).
 TEST_F(Cli, TexturedObjKeepsUvsAndRendersTheUvAov) {

@@ -154,6 +154,12 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     if (mesh.colors.empty()) report.warnUnused("vertex colours", report.coloursRead, "a scan renders grey");
     if (mesh.uvs.empty())
         report.warnUnused("texture coordinates", report.texcoordsRead, "no material has a texture map");
+    if (mesh.uvs.empty() && !mesh.textures.empty()) {
+        // Maps without texture coordinates cannot be sampled: rendered with the factors alone.
+        report.warnUnused("textures", mesh.textures.size(), "the mesh has no texture coordinates to map them with");
+        mesh.textures.clear();
+        for (Material& m : mesh.materials) m.textures = MaterialTextures{};
+    }
     shortenCameraNames(mesh, report);
     return Status::ok();
 }

@@ -17,6 +17,7 @@
 #include "package/ChunkBuilder.h"
 #include "package/Partitioner.h"
 #include "package/PackageWriter.h"
+#include "vastray/core/ImageFile.h"
 #include "vastray/core/ByteSize.h"
 
 namespace vastray {
@@ -307,7 +308,18 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
         info.maxChunkResidentBytes = std::max(info.maxChunkResidentBytes, chunk.residentBytes);
     }
     start = Clock::now();
-    VASTRAY_TRY(writePackage(outPath, info, flat.blobs));
+    // Each texture is decoded and made into pages when the writer comes to it: one at a time.
+    std::vector<TextureInput> textures;
+    for (const TextureSource& source : mesh.textures)
+        textures.push_back({source.name, [&source]() -> Result<TexturePyramid> {
+                                auto image = decodeRgba8Image(source.name, source.extension, source.bytes,
+                                                              uint64_t(kMaxTextureSide) * kMaxTextureSide);
+                                if (!image) return image.status();
+                                auto pyramid = buildTexturePyramid(*image, source.wrapS, source.wrapT, source.encoding);
+                                if (!pyramid) return pyramid.status().withContext(source.name + ": ");
+                                return pyramid;
+                            }});
+    VASTRAY_TRY(writePackage(outPath, info, flat.blobs, textures));
     report.writeSeconds = secondsSince(start);
 
     report.triangles = info.triangleCount;

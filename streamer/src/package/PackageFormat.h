@@ -9,9 +9,12 @@
 //   volumes    volumeCount × kVolumeRecordBytes (version 4)
 //   lights     lightCount × kLightBytes, then the XXH64 of those records (version 7; the count
 //              is the header's field after the camera count, 0 before version 7)
+//   textures   the texture head, kTextureHeadBytes (version 10; TextureSection.h)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
 //   volume data  one per volume (brick table, voxels), at the offsets its record gives; from
 //                version 6: cell table and brick index (one checksum), then each brick alone
+//   texture pages, texture table  (version 10): one zstd frame per page, then the table the
+//                head points to, which ends the file
 #include <cstdint>
 
 #include "vastray/core/Volume.h"
@@ -35,8 +38,13 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //    coat, the glTF defaults).
 // 9: chunks may carry one UV set, two f32 per vertex (header flag kHasUvs, chunk flag
 //    kChunkHasUvs; a version 3 to 8 package, which has none, is still read).
-constexpr uint32_t kVersion = 9;
+// 10: textures (a head after the lights, each texture's mip-mapped pages and a table at the end
+//     of the file) and materials that name them (156 bytes more each: per map its texture and
+//     UV transform, the normal scale and occlusion strength; a version 3 to 9 package, which
+//     has none, is still read).
+constexpr uint32_t kVersion = 10;
 constexpr uint32_t kFirstUvVersion = 9;
+constexpr uint32_t kFirstTextureVersion = 10;
 constexpr uint32_t kFirstLightsVersion = 7;
 constexpr uint32_t kOldestReadableVersion = 3;
 constexpr uint32_t kHeaderBytes = 256;
@@ -44,10 +52,18 @@ constexpr uint32_t kMaterialNameBytes = 64;
 constexpr uint32_t kMaterialBytesBefore5 = 4 * 4 + 3 * 4 + 4 + kMaterialNameBytes;
 constexpr uint32_t kMaterialBytesBefore8 = kMaterialBytesBefore5 + 4 * 4;
 constexpr uint32_t kFirstSpecularColorVersion = 8;
-constexpr uint32_t kMaterialBytes = kMaterialBytesBefore8 + 3 * 4 + 2 * 4 + 3 * 4;
+constexpr uint32_t kMaterialBytesBefore10 = kMaterialBytesBefore8 + 3 * 4 + 2 * 4 + 3 * 4;
+// Per map (core/MaterialTextures.h, kTextureSlotCount of them): texture index, UV transform (6 × f32).
+constexpr uint32_t kMaterialMapBytes = 4 + 6 * 4;
+constexpr uint32_t kMaterialBytes = kMaterialBytesBefore10 + 5 * kMaterialMapBytes + 4 * 4;
 constexpr uint32_t materialBytes(uint32_t version) {
-    return version >= kFirstSpecularColorVersion ? kMaterialBytes : version >= 5 ? kMaterialBytesBefore8 : kMaterialBytesBefore5;
+    return version >= kFirstTextureVersion         ? kMaterialBytes
+           : version >= kFirstSpecularColorVersion ? kMaterialBytesBefore10
+           : version >= 5                          ? kMaterialBytesBefore8
+                                                   : kMaterialBytesBefore5;
 }
+// The texture head after the lights (version 10; before, nothing).
+constexpr uint64_t textureHeadBytes(uint32_t version) { return version >= kFirstTextureVersion ? 32 : 0; }
 constexpr uint32_t kDirectoryEntryBytes = 4 * 8 + 4 * 4 + 6 * 4;
 constexpr uint32_t kCameraNameBytes = 64;
 constexpr uint32_t kCameraBytes = kCameraNameBytes + 10 * 4;  // name, eye, target, up, fov (degrees)

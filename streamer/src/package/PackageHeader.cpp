@@ -176,11 +176,36 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
         out.put(m.specularColor), out.put(m.clearcoat), out.put(m.clearcoatRoughness);
         for (int i = 0; i < 3; ++i) out.put(uint32_t(0));
+        for (const TextureBinding& b : m.textures.slots) out.put(b.texture), out.put(b.transform);
+        out.put(m.textures.normalScale), out.put(m.textures.occlusionStrength), out.put(uint32_t(0)), out.put(uint32_t(0));
     }
     return std::move(out.bytes());
 }
 
-Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version) {
+namespace {
+
+// A material's maps as a reader checks them: each texture index one of the package's or
+// kNoTexture, each UV transform finite within +-1e6 (the importers' limit), the normal scale
+// too, the occlusion strength in [0, 1].
+std::string mapsProblem(const MaterialTextures& t, uint32_t textureCount) {
+    for (uint32_t s = 0; s < kTextureSlotCount; ++s) {
+        const TextureBinding& b = t.slots[s];
+        const std::string slot = textureSlotName(TextureSlot(s));
+        if (b.texture != kNoTexture && b.texture >= textureCount)
+            return slot + " names texture " + std::to_string(b.texture) + " of " + std::to_string(textureCount);
+        for (float v : b.transform)
+            if (!(std::fabs(v) <= 1e6f)) return slot + " UV transform value " + std::to_string(v) + " is outside +-1e6";
+    }
+    if (!(std::fabs(t.normalScale) <= 1e6f)) return "normal scale " + std::to_string(t.normalScale) + " is outside +-1e6";
+    if (!(t.occlusionStrength >= 0.0f && t.occlusionStrength <= 1.0f))
+        return "occlusion strength " + std::to_string(t.occlusionStrength) + " is outside [0, 1]";
+    return "";
+}
+
+}  // namespace
+
+Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version,
+                                             uint32_t textureCount) {
     ByteReader in(bytes.data(), bytes.size());
     std::vector<Material> materials(count);
     for (uint32_t i = 0; i < count; ++i) {
@@ -197,6 +222,12 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
             in.get(m.specularColor), in.get(m.clearcoat), in.get(m.clearcoatRoughness);
             for (int r = 1; r < 4; ++r) in.get(reserved[r]);
         }
+        uint32_t mapsReserved[2] = {0, 0};
+        if (version >= format::kFirstTextureVersion) {
+            for (TextureBinding& b : m.textures.slots) in.get(b.texture), in.get(b.transform);
+            in.get(m.textures.normalScale), in.get(m.textures.occlusionStrength);
+            in.get(mapsReserved[0]), in.get(mapsReserved[1]);
+        }
         m.doubleSided = doubleSided != 0;
         if (!in.ok()) break;
         const std::string what = "material " + std::to_string(i) + " ('" + m.name + "')";
@@ -204,6 +235,9 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
             return Status::error(what + ": " + problem);
         for (uint32_t r : reserved)
             if (r != 0) return Status::error(what + " has a non-zero reserved field");
+        if (mapsReserved[0] != 0 || mapsReserved[1] != 0) return Status::error(what + " has a non-zero reserved field");
+        if (const std::string problem = mapsProblem(m.textures, textureCount); !problem.empty())
+            return Status::error(what + ": " + problem);
         for (float v : m.baseColor)
             if (!std::isfinite(v)) return Status::error(what + " has a non-finite colour");
         for (float v : m.emissive)

@@ -44,8 +44,11 @@ Result<std::vector<SceneCamera>> parseCameras(const std::vector<uint8_t>& bytes,
 // older ones are read as Lambertian (metallic 0, roughness 1, specular 0). Version 8 records add
 // the specular colour (each channel in [0, kMaxSpecularColor]; before, white) and the clear coat's
 // weight and roughness (each in [0, 1]; before, no coat). A record out of
-// range: "material 2 ('Gold'): metallic 2 is outside [0, 1]".
-Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
+// range: "material 2 ('Gold'): metallic 2 is outside [0, 1]". Version 10 records add the maps: each
+// texture index below `textureCount` (or kNoTexture), transforms finite within +-1e6, the
+// occlusion strength in [0, 1] ("material 2 ('Brick'): normalTexture names texture 9 of 3").
+Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version,
+                                             uint32_t textureCount);
 
 // The lights section (format::lightsSectionBytes): the records, then their XXH64.
 std::vector<uint8_t> serializeLights(const std::vector<PunctualLight>& lights);

@@ -11,6 +11,7 @@
 
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
+#include "package/TextureSection.h"
 #include "package/VolumeBricks.h"
 #include "vastray/core/Checksum.h"
 #include "vastray/core/FilePath.h"
@@ -50,9 +51,10 @@ Status validateTopTree(const std::vector<KdNode>& nodes, uint32_t chunkCount) {
 }
 
 // Blobs lie after the directory, in order, without overlap, inside the file; the volumes' data
-// after them, in order, up to the end of the file.
-Status validateDirectory(const std::vector<ChunkInfo>& chunks, const std::vector<PackageVolume>& volumes,
-                         uint64_t blobsOffset, uint64_t fileBytes) {
+// after them, in order. Returns where the last of them ends: the end of the file before version
+// 10, the start of the texture pages from version 10 (the caller checks which).
+Result<uint64_t> validateDirectory(const std::vector<ChunkInfo>& chunks, const std::vector<PackageVolume>& volumes,
+                                   uint64_t blobsOffset, uint64_t fileBytes) {
     uint64_t next = blobsOffset;
     for (const ChunkInfo& c : chunks) {
         const std::string name = "chunk " + std::to_string(c.id) + ": ";
@@ -71,8 +73,7 @@ Status validateDirectory(const std::vector<ChunkInfo>& chunks, const std::vector
             return Status::error("volume " + std::to_string(i) + ": data outside the file");
         next = v.offset + v.size;
     }
-    if (next != fileBytes) return Status::error("file size disagrees with the chunk directory and volume records");
-    return Status::ok();
+    return next;
 }
 
 }  // namespace
@@ -113,11 +114,27 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     const uint64_t volumesOffset = info.formatVersion >= 4 ? l.volumesOffset : l.camerasOffset + cameraBytes;
     const uint64_t lightsOffset = volumesOffset + volumeBytes;
     const uint64_t lightsBytes = format::lightsSectionBytes(info.formatVersion, l.lightCount);
+    const uint64_t textureHeadOffset = lightsOffset + lightsBytes;
+    const uint64_t textureHeadBytes = format::textureHeadBytes(info.formatVersion);
     if (l.materialsOffset != format::kHeaderBytes || l.treeOffset != l.materialsOffset + materialsBytes ||
         l.directoryOffset != l.treeOffset + treeBytes || l.camerasOffset != l.directoryOffset + directoryBytes ||
-        volumesOffset != l.camerasOffset + cameraBytes || l.blobsOffset != lightsOffset + lightsBytes ||
+        volumesOffset != l.camerasOffset + cameraBytes || l.blobsOffset != textureHeadOffset + textureHeadBytes ||
         l.blobsOffset > fileSize)
         return fail(Status::error("section offsets are inconsistent"));
+    // The texture head first: the materials name its textures.
+    TextureHead textureHead;
+    textureHead.tableOffset = fileSize;
+    if (textureHeadBytes > 0) {
+        if (!reader->file_->read(textureHeadOffset, textureHeadBytes, bytes))
+            return fail(Status::error("cannot read the texture head"));
+        auto head = parseTextureHead(bytes.data(), bytes.size());
+        if (!head) return fail(head.status());
+        textureHead = *head;
+        if (textureHead.tableOffset > fileSize || textureHead.tableBytes != fileSize - textureHead.tableOffset)
+            return fail(Status::error("textures: the table at " + std::to_string(textureHead.tableOffset) + " (" +
+                                      std::to_string(textureHead.tableBytes) + " bytes) does not end the " +
+                                      std::to_string(fileSize) + "-byte file"));
+    }
 
     auto readSection = [&](uint64_t offset, uint64_t size, uint64_t checksum, const char* name) -> Status {
         if (!reader->file_->read(offset, size, bytes)) return Status::error(std::string("cannot read ") + name);
@@ -126,7 +143,7 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
         return Status::ok();
     };
     if (auto s = readSection(l.materialsOffset, materialsBytes, l.materialsChecksum, "materials"); !s) return fail(s);
-    auto materials = parseMaterials(bytes, l.materialCount, info.formatVersion);
+    auto materials = parseMaterials(bytes, l.materialCount, info.formatVersion, textureHead.count);
     if (!materials) return fail(materials.status());
     info.materials = std::move(*materials);
     if (auto s = readSection(l.treeOffset, treeBytes, l.treeChecksum, "top-level tree"); !s) return fail(s);
@@ -152,7 +169,20 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
         if (!lights) return fail(lights.status());
         info.lights = std::move(*lights);
     }
-    if (auto s = validateDirectory(info.chunks, info.volumes, l.blobsOffset, fileSize); !s) return fail(s);
+    auto dataEnd = validateDirectory(info.chunks, info.volumes, l.blobsOffset, fileSize);
+    if (!dataEnd) return fail(dataEnd.status());
+    if (*dataEnd > textureHead.tableOffset || (textureHead.count == 0 && *dataEnd != fileSize))
+        return fail(Status::error("file size disagrees with the chunk directory and volume records"));
+    info.textureDataOffset = *dataEnd;
+    info.textureDataBytes = textureHead.tableOffset - *dataEnd;
+    if (textureHead.count > 0) {
+        if (!reader->file_->read(textureHead.tableOffset, textureHead.tableBytes, bytes))
+            return fail(Status::error("cannot read the texture table"));
+        auto table = parseTextureTable(bytes.data(), bytes.size(), textureHead.count, info.textureDataBytes, path);
+        if (!table) return table.status();
+        info.textures = std::move(table->textures);
+        info.texturePages = std::move(table->entries);
+    }
     if (auto s = validateTopTree(info.topTree, l.chunkCount); !s) return fail(s);
     uint64_t references = 0;
     for (const ChunkInfo& c : info.chunks) references += c.triangleCount;
@@ -171,6 +201,19 @@ Result<std::vector<uint8_t>> PackageReader::readChunkBlob(uint32_t id) const {
     if (const uint64_t computed = checksum64(blob.data(), blob.size()); computed != chunk.checksum)
         return checksumMismatch(path_ + ": chunk " + std::to_string(id) + ":", chunk.checksum, computed);
     return blob;
+}
+
+Status PackageReader::readTexturePage(uint32_t texture, uint32_t page, uint8_t* out) const {
+    if (texture >= info_.textures.size() || page >= info_.textures[texture].layout.pageCount)
+        return Status::error(path_ + ": texture " + std::to_string(texture) + " page " + std::to_string(page) +
+                             " does not exist");
+    const TexturePageEntry& e = info_.texturePages[info_.textures[texture].firstEntry + page];
+    std::vector<uint8_t> frame;
+    if (!file_->read(info_.textureDataOffset + e.offset, e.size, frame))
+        return Status::error(path_ + ": texture " + std::to_string(texture) + " page " + std::to_string(page) +
+                             ": read failed");
+    return vastray::readTexturePage(info_.textures, info_.texturePages, texture, page, frame.data(), frame.size(),
+                                    out, path_);
 }
 
 Result<DecodedChunk> PackageReader::readChunk(uint32_t id) const {
@@ -272,6 +315,10 @@ std::vector<std::string> PackageReader::verify() const {
         if (!decoded) problems.push_back(decoded.message());
     }
     if (auto volumes = readVolumes(); !volumes) problems.push_back(volumes.message());
+    std::vector<uint8_t> page(kTexturePageBytes);
+    for (uint32_t t = 0; t < info_.textures.size(); ++t)
+        for (uint32_t p = 0; p < info_.textures[t].layout.pageCount; ++p)
+            if (Status s = readTexturePage(t, p, page.data()); !s) problems.push_back(s.message());
     return problems;
 }
 

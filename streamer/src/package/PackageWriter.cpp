@@ -10,6 +10,7 @@
 #include "package/ByteIo.h"
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
+#include "package/TextureSection.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray {
@@ -88,7 +89,8 @@ Status writeVolumeData(TempFile& file, const std::string& path, PackageVolume& p
 
 }  // namespace
 
-Status writePackage(const std::string& path, PackageInfo& info, const std::vector<std::vector<uint8_t>>& blobs) {
+Status writePackage(const std::string& path, PackageInfo& info, const std::vector<std::vector<uint8_t>>& blobs,
+                    const std::vector<TextureInput>& textures) {
     const std::vector<uint8_t> materials = serializeMaterials(info.materials);
     std::vector<uint8_t> tree(info.topTree.size() * sizeof(KdNode));
     std::memcpy(tree.data(), info.topTree.data(), tree.size());
@@ -108,7 +110,9 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     layout.volumesOffset = layout.camerasOffset + cameras.size();
     const std::vector<uint8_t> lights = serializeLights(info.lights);
     layout.lightCount = uint32_t(info.lights.size());
-    layout.blobsOffset = layout.volumesOffset + uint64_t(layout.volumeCount) * format::kVolumeRecordBytes + lights.size();
+    const uint64_t textureHeadOffset =
+        layout.volumesOffset + uint64_t(layout.volumeCount) * format::kVolumeRecordBytes + lights.size();
+    layout.blobsOffset = textureHeadOffset + format::textureHeadBytes(format::kVersion);
     uint64_t offset = layout.blobsOffset;
     for (size_t i = 0; i < info.chunks.size(); ++i) {
         info.chunks[i].offset = offset;
@@ -136,10 +140,29 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     // The header and the volume records hold the volumes' checksums: written again at the end.
     bool ok = file.write(serializeHeader(info, layout)) && file.write(materials) && file.write(tree) &&
               file.write(directory) && file.write(cameras) && file.write(serializeVolumeRecords(info.volumes)) &&
-              file.write(lights);
+              file.write(lights) && file.write(std::vector<uint8_t>(format::textureHeadBytes(format::kVersion), 0));
     for (size_t i = 0; ok && i < blobs.size(); ++i) ok = file.write(blobs[i]);
     if (!ok) return writeFailed(path);
     for (PackageVolume& p : info.volumes) VASTRAY_TRY(writeVolumeData(file, path, p));
+    // The textures' pages, one texture at a time, then their table, which ends the file.
+    TextureSectionWriter section;
+    for (const TextureInput& t : textures) {
+        auto pyramid = t.build();
+        if (!pyramid) return pyramid.status();
+        VASTRAY_TRY(section.add(t.name, *pyramid).withContext(path + ": "));
+        if (!file.write(section.data())) return writeFailed(path);
+        section.data().clear();
+    }
+    const std::vector<uint8_t> table = section.tableBytes();
+    const uint64_t tableOffset = info.fileBytes + section.table().dataBytes;
+    if (!file.write(table) ||
+        !file.writeAt(textureHeadOffset, serializeTextureHead({uint32_t(textures.size()), tableOffset, table.size()})))
+        return writeFailed(path);
+    info.textureDataOffset = info.fileBytes;
+    info.textureDataBytes = section.table().dataBytes;
+    info.textures = section.table().textures;
+    info.texturePages = section.table().entries;
+    info.fileBytes = tableOffset + table.size();
     const std::vector<uint8_t> volumes = serializeVolumeRecords(info.volumes);
     layout.volumesChecksum = checksum64(volumes.data(), volumes.size());
     if (!file.writeAt(layout.volumesOffset, volumes) || !file.writeAt(0, serializeHeader(info, layout)))

@@ -40,9 +40,8 @@ Status TextureSectionWriter::add(const std::string& name, const TexturePyramid& 
 }
 
 std::vector<uint8_t> TextureSectionWriter::tableBytes() const {
+    if (table_.textures.empty()) return {};
     ByteWriter w;
-    w.put(uint32_t(table_.textures.size()));
-    w.put(uint32_t(0));
     for (const PackageTexture& t : table_.textures) {
         w.putFixedString(t.name, kTextureNameBytes);
         for (uint32_t v : {t.layout.width, t.layout.height, uint32_t(t.wrapS), uint32_t(t.wrapT), uint32_t(t.encoding),
@@ -59,16 +58,42 @@ std::vector<uint8_t> TextureSectionWriter::tableBytes() const {
     return std::move(w.bytes());
 }
 
-Result<TextureTable> parseTextureTable(const uint8_t* data, size_t size, uint64_t dataBytes,
-                                       const std::string& fileName, uint64_t& tableBytes) {
+std::vector<uint8_t> serializeTextureHead(const TextureHead& head) {
+    ByteWriter w;
+    w.put(head.count);
+    w.put(uint32_t(0));
+    w.put(head.tableOffset);
+    w.put(head.tableBytes);
+    w.put(checksum64(w.bytes().data(), w.size()));
+    return std::move(w.bytes());
+}
+
+Result<TextureHead> parseTextureHead(const uint8_t* data, size_t size) {
+    ByteReader r(data, size);
+    TextureHead head;
+    uint32_t reserved = 0;
+    uint64_t stored = 0;
+    r.get(head.count), r.get(reserved), r.get(head.tableOffset), r.get(head.tableBytes), r.get(stored);
+    if (!r.ok()) return Status::error("textures: the head is cut short");
+    if (stored != checksum64(data, kTextureHeadBytes - 8)) return Status::error("textures: the head's checksum does not match");
+    if (reserved != 0) return Status::error("textures: the head's reserved word " + std::to_string(reserved) + " is not 0");
+    if (head.count > kMaxPackageTextures)
+        return Status::error("textures: " + std::to_string(head.count) + " textures is more than the " +
+                             std::to_string(kMaxPackageTextures) + " a package may hold");
+    const uint64_t least = head.count ? uint64_t(head.count) * kTextureRecordBytes + 8 : 0;
+    if (head.tableBytes < least || (head.count == 0 && head.tableBytes != 0))
+        return Status::error("textures: a table of " + std::to_string(head.tableBytes) + " bytes for " +
+                             std::to_string(head.count) + " textures");
+    return head;
+}
+
+Result<TextureTable> parseTextureTable(const uint8_t* data, size_t size, uint32_t count, uint64_t dataBytes,
+                                       const std::string& fileName) {
     auto fail = [&](const std::string& what) { return Status::error(fileName + ": textures: " + what); };
     ByteReader r(data, size);
-    uint32_t count = 0, reserved = 0;
-    if (!r.get(count) || !r.get(reserved)) return fail("the table is cut short");
     if (count > kMaxPackageTextures)
         return fail(std::to_string(count) + " textures is more than the " + std::to_string(kMaxPackageTextures) +
                     " a package may hold");
-    if (reserved != 0) return fail("reserved word " + std::to_string(reserved) + " is not 0");
     if (uint64_t(count) * kTextureRecordBytes > r.remaining()) return fail("the table is cut short");
     TextureTable table;
     table.textures.resize(count);
@@ -99,7 +124,7 @@ Result<TextureTable> parseTextureTable(const uint8_t* data, size_t size, uint64_
         t.firstEntry = v[7];
         entries += layout->pageCount;
     }
-    if (entries * kTexturePageEntryBytes + 8 > r.remaining()) return fail("the table is cut short");
+    if (count > 0 && entries * kTexturePageEntryBytes + 8 > r.remaining()) return fail("the table is cut short");
     table.entries.resize(entries);
     const size_t largestFrame = ZSTD_compressBound(kTexturePageBytes);
     for (uint64_t i = 0; i < entries; ++i) {
@@ -124,18 +149,21 @@ Result<TextureTable> parseTextureTable(const uint8_t* data, size_t size, uint64_
     const size_t covered = r.position();
     uint64_t stored = 0;
     r.get(stored);
-    if (stored != checksum64(data, covered)) return fail("the table's checksum does not match");
+    if (count > 0 && stored != checksum64(data, covered)) return fail("the table's checksum does not match");
+    if (r.remaining() != 0 || (count == 0 && size != 0))
+        return fail("the table is " + std::to_string(size) + " bytes, its textures' records and entries " +
+                    std::to_string(count ? r.position() : 0));
     if (table.dataBytes != dataBytes)
         return fail("the frames end at " + std::to_string(table.dataBytes) + ", the page data at " +
                     std::to_string(dataBytes));
-    tableBytes = r.position();
     return table;
 }
 
-Status readTexturePage(const TextureTable& table, uint32_t texture, uint32_t page, const uint8_t* frame,
-                       size_t frameBytes, uint8_t* out, const std::string& fileName) {
-    const PackageTexture& t = table.textures[texture];
-    const TexturePageEntry& e = table.entries[t.firstEntry + page];
+Status readTexturePage(const std::vector<PackageTexture>& textures, const std::vector<TexturePageEntry>& entries,
+                       uint32_t texture, uint32_t page, const uint8_t* frame, size_t frameBytes, uint8_t* out,
+                       const std::string& fileName) {
+    const PackageTexture& t = textures[texture];
+    const TexturePageEntry& e = entries[t.firstEntry + page];
     const std::string where = fileName + ": " + textureLabel(texture, t.name) + " page " + std::to_string(page) + ": ";
     if (frameBytes != e.size)
         return Status::error(where + std::to_string(frameBytes) + " bytes read, the entry says " + std::to_string(e.size));

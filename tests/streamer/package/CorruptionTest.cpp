@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "PackageTestUtil.h"
+#include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray::test {
@@ -83,7 +84,7 @@ TEST_F(Corruption, EveryByteOfOneChunkIsCaught) {
 }
 
 TEST_F(Corruption, HeaderAndSectionDamageFailsToOpenWithTheSectionNamed) {
-    const uint64_t materials = 256, tree = materials + info_->materials.size() * 144;  // version 8 records
+    const uint64_t materials = 256, tree = materials + info_->materials.size() * format::kMaterialBytes;
     const uint64_t directory = tree + info_->topTree.size() * 8;
     const struct {
         uint64_t offset;

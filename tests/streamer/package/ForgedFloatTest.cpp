@@ -181,7 +181,7 @@ TEST_F(ForgedFloats, OlderFormatVersionsAskForAReimport) {
         std::vector<uint8_t> bytes = *bytes_;
         put(bytes, 8, version);
         expectRefused(bytes, "package format version " + std::to_string(version) +
-                                 " is not supported (this vastray reads 3 to 9): re-import the mesh");
+                                 " is not supported (this vastray reads 3 to " + std::to_string(format::kVersion) + "): re-import the mesh");
     }
 }
 

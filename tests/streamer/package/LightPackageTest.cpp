@@ -68,7 +68,7 @@ uint64_t LightPackage::lightsAt_ = 0;
 TEST_F(LightPackage, LightsRoundTripExactly) {
     auto reader = PackageReader::open(tempPath("lights.vast"));
     ASSERT_TRUE(reader.isOk()) << reader.message();
-    EXPECT_EQ((*reader)->info().formatVersion, 9u);
+    EXPECT_EQ((*reader)->info().formatVersion, format::kVersion);
     const std::vector<PunctualLight> expected = threeLights();
     const std::vector<PunctualLight>& read = (*reader)->info().lights;
     ASSERT_EQ(read.size(), expected.size());

@@ -60,7 +60,7 @@ std::vector<uint8_t>* MaterialPackage::bytes_ = nullptr;
 TEST_F(MaterialPackage, MaterialsRoundTripExactly) {
     auto reader = PackageReader::open(tempPath("materials.vast"));
     ASSERT_TRUE(reader.isOk()) << reader.message();
-    EXPECT_EQ((*reader)->info().formatVersion, 9u);
+    EXPECT_EQ((*reader)->info().formatVersion, format::kVersion);
     const std::vector<Material> expected = threeMaterials();
     const std::vector<Material>& read = (*reader)->info().materials;
     ASSERT_EQ(read.size(), expected.size());

@@ -13,6 +13,7 @@
 #include "vastray/core/KdTree.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
+#include "vastray/core/Texture.h"
 #include "vastray/core/Volume.h"
 
 namespace vastray {
@@ -75,6 +76,23 @@ struct PackageVolume {
     }
 };
 
+// A texture of the package (version 10; docs/PACKAGE_FORMAT.md "Textures"): what it is and
+// where its pages' entries start in PackageInfo::texturePages.
+struct PackageTexture {
+    std::string name;
+    TextureLayout layout;
+    TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+    TextureEncoding encoding = TextureEncoding::Srgb;
+    uint32_t firstEntry = 0;  // its level 0 page's entry
+};
+
+// Where one page's zstd frame lies in the page data, and its XXH64.
+struct TexturePageEntry {
+    uint64_t offset = 0;  // from the start of the page data
+    uint64_t checksum = 0;
+    uint32_t size = 0;
+};
+
 struct PackageInfo {
     uint32_t formatVersion = 0;
     uint64_t fileBytes = 0;
@@ -97,6 +115,9 @@ struct PackageInfo {
     std::vector<KdNode> topTree;
     std::vector<ChunkInfo> chunks;
     std::vector<PackageVolume> volumes;  // density grids (version 4), in import order
+    std::vector<PackageTexture> textures;       // the materials' maps' textures (version 10)
+    std::vector<TexturePageEntry> texturePages;  // every texture's pages, texture by texture
+    uint64_t textureDataOffset = 0, textureDataBytes = 0;  // the page data (after the volumes' data)
 
     uint64_t duplicatedReferences() const { return referenceCount - triangleCount; }
     // The decoded size of every chunk together: what a host cache holding the scene needs.
@@ -149,7 +170,11 @@ public:
     // Reads one blob and checks its checksum ("scene.vast: chunk 17: checksum mismatch").
     Result<std::vector<uint8_t>> readChunkBlob(uint32_t id) const;
     Result<DecodedChunk> readChunk(uint32_t id) const;
-    // Every chunk's checksum and structure; one message per damaged chunk, empty when sound.
+    // Page `page` of texture `texture` (version 10), checked against its checksum and inflated
+    // into `out` (kTexturePageBytes bytes, core/Texture.h). Errors name the file, texture and page.
+    Status readTexturePage(uint32_t texture, uint32_t page, uint8_t* out) const;
+    // Every chunk's checksum and structure, every volume brick and every texture page; one
+    // message per damaged chunk, the first damaged volume, each damaged page; empty when sound.
     std::vector<std::string> verify() const;
     // Every volume's brick table and majorants, checked, without its voxels: each brick is read
     // and checked when a render asks for it (Volume::bricks, readVolumeBrick; the source keeps the
