@@ -4,6 +4,8 @@
 // replaced by other texels.
 #include <gtest/gtest.h>
 
+#include "TestTextures.h"
+
 #include <random>
 #include <set>
 
@@ -14,12 +16,7 @@
 namespace vastray::gpu::test {
 namespace {
 
-Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) {
-    std::mt19937 rng(seed);
-    Rgba8Image image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
-    for (uint8_t& t : image.texels) t = uint8_t(rng() & 0xFF);
-    return image;
-}
+Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) { return vastray::test::noiseImage(w, h, seed); }
 
 struct Textures {
     std::vector<TexturePyramid> pyramids;

@@ -3,6 +3,8 @@
 // pages is checked against an independent bilinear filter that wraps each texel index itself.
 #include <gtest/gtest.h>
 
+#include "TestTextures.h"
+
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -20,12 +22,7 @@ Rgba8Image solid(uint32_t w, uint32_t h, uint8_t r, uint8_t g, uint8_t b, uint8_
     return image;
 }
 
-Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) {
-    std::mt19937 rng(seed);
-    Rgba8Image image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
-    for (uint8_t& t : image.texels) t = uint8_t(rng() & 0xFF);
-    return image;
-}
+Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) { return vastray::test::noiseImage(w, h, seed); }
 
 TEST(TexturePages, ConstantImagesStayConstantAtEveryLevel) {
     for (TextureEncoding encoding : {TextureEncoding::Srgb, TextureEncoding::Linear}) {

@@ -3,8 +3,9 @@
 // field (each forgery re-checksummed, so that the check of the field itself is what refuses it).
 #include <gtest/gtest.h>
 
+#include "TestTextures.h"
+
 #include <cstring>
-#include <random>
 
 #include "package/TextureSection.h"
 #include "vastray/core/Checksum.h"
@@ -12,12 +13,7 @@
 namespace vastray {
 namespace {
 
-Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) {
-    std::mt19937 rng(seed);
-    Rgba8Image image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
-    for (uint8_t& t : image.texels) t = uint8_t(rng() & 0x3F);
-    return image;
-}
+Rgba8Image noise(uint32_t w, uint32_t h, uint32_t seed) { return vastray::test::noiseImage(w, h, seed, 0x3F); }
 
 struct Written {
     std::vector<TexturePyramid> pyramids;
