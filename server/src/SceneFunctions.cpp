@@ -109,6 +109,25 @@ std::string inZip(const std::string& zipName, const fs::path& model, const std::
     return zipName + ": " + message;
 }
 
+void addVector(google::protobuf::RepeatedField<float>* to, const Vec3f& v) {
+    to->Add(v.x);
+    to->Add(v.y);
+    to->Add(v.z);
+}
+
+// The package's cameras into Scene.cameras, so a client can offer them for scene_camera.
+void addCameras(v1::Scene& scene, const std::vector<SceneCamera>& cameras) {
+    for (size_t i = 0; i < cameras.size(); ++i) {
+        v1::SceneCamera& camera = *scene.add_cameras();
+        camera.set_name(cameras[i].name);
+        camera.set_index(uint32_t(i));
+        addVector(camera.mutable_eye(), cameras[i].camera.eye);
+        addVector(camera.mutable_target(), cameras[i].camera.target);
+        addVector(camera.mutable_up(), cameras[i].camera.up);
+        camera.set_fov_y_degrees(cameras[i].camera.fovYDegrees);
+    }
+}
+
 }  // namespace
 
 // The volumes vastray-volumes.json lists (VolumeManifest.h), each .vdb read in a child process
@@ -273,6 +292,7 @@ ServiceResult<v1::Scene> Service::importUpload(const std::string& name, const fs
     scene.set_triangles((*reader)->info().triangleCount);
     scene.set_chunks((*reader)->info().chunks.size());
     for (const std::string& warning : warnings) scene.add_import_warnings(warning);
+    addCameras(scene, (*reader)->info().cameras);
     scene.set_package_bytes((*reader)->info().fileBytes);
     reader->reset();
     *scene.mutable_create_time() = nowTimestamp();

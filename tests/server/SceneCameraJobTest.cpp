@@ -61,6 +61,40 @@ TEST_F(ServerTest, SceneCameraOfAJobIsTheCliRendersCamera) {
 
 // A package keeps camera names to 64 bytes: a longer scene_camera can name no camera, so it is
 // refused at submit, naming the field and the limit; 64 bytes is still a name to look for.
+// Scene.cameras lists the package's cameras (what a client offers for scene_camera) in the
+// upload's answer, GetScene and ListScenes alike. Positions are exact in float (node
+// translations 3, 6 and 0.5); the fov is yfov 0.8 rad in degrees, within float rounding.
+TEST_F(ServerTest, SceneListsItsCameras) {
+    startServer();
+    auto uploaded = http().Put("/v1/scenes?name=cameras.gltf", kCamerasGltf, "application/octet-stream");
+    ASSERT_TRUE(uploaded);
+    ASSERT_EQ(uploaded->status, 200) << uploaded->body;
+    const std::string sceneId = json::parse(uploaded->body)["id"];
+    auto got = http().Get(("/v1/scenes/" + sceneId).c_str());
+    ASSERT_TRUE(got && got->status == 200);
+    auto listed = http().Get("/v1/scenes");
+    ASSERT_TRUE(listed && listed->status == 200);
+    const json listedScene = json::parse(listed->body)["scenes"][0];
+    for (const json& scene : {json::parse(uploaded->body), json::parse(got->body), listedScene}) {
+        const json& cameras = scene["cameras"];
+        ASSERT_EQ(cameras.size(), 2u) << scene.dump();
+        EXPECT_EQ(cameras[0]["name"], "Near");
+        EXPECT_EQ(cameras[0]["index"], 0);
+        EXPECT_EQ(cameras[0]["eye"], json({0, 0, 3}));
+        EXPECT_EQ(cameras[1]["name"], "Far");
+        EXPECT_EQ(cameras[1]["index"], 1);
+        EXPECT_EQ(cameras[1]["eye"], json({0.5, 0, 6}));
+        EXPECT_EQ(cameras[1]["up"], json({0, 1, 0}));
+        EXPECT_NEAR(cameras[1]["fov_y_degrees"].get<double>(), 0.8 * 180 / 3.14159265358979, 1e-4);
+        EXPECT_EQ(cameras[1]["target"].size(), 3u);
+    }
+
+    auto plain = http().Put("/v1/scenes?name=plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+                            "application/octet-stream");
+    ASSERT_TRUE(plain && plain->status == 200) << (plain ? plain->body : "");
+    EXPECT_EQ(json::parse(plain->body)["cameras"], json::array()) << "a scene without cameras lists none";
+}
+
 TEST_F(ServerTest, SceneCameraLongerThan64BytesIsRefusedAtSubmit) {
     startServer();
     auto uploaded = http().Put("/v1/scenes?name=cameras.gltf", kCamerasGltf, "application/octet-stream");
