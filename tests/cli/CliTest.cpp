@@ -1,6 +1,7 @@
 // The command line as a user drives it: exit codes, messages, files.
 #include "CommandRunner.h"
 #include "TestTmp.h"
+#include "vastray/core/ImageFile.h"
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -103,16 +104,19 @@ TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
     EXPECT_NE(r.output.find("does not render yet"), std::string::npos) << r.output;
 }
 
-// A textured OBJ (vt, and an MTL map_Kd): info says the package has texture coordinates, in
-// text and JSON, and both backends render the uv AOV into an EXR (its values: UvRender.*).
+// A textured OBJ (vt, and an MTL map_Kd of a PNG beside it): the package stores the texture and
+// info lists it, says the package has texture coordinates, in text and JSON, and both backends
+// render the uv AOV into an EXR (its values: UvRender.*).
 TEST_F(Cli, TexturedObjKeepsUvsAndRendersTheUvAov) {
     std::ofstream(tmp("textured.obj")) << "mtllib textured.mtl\nusemtl painted\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
                                           "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvn 0 0 1\n"
                                           "f 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/4/1 3/3/1\n";
-    std::ofstream(tmp("textured.mtl")) << "newmtl painted\nKd 1 1 1\nmap_Kd wood.png\n";
+    std::ofstream(tmp("textured.mtl")) << "newmtl painted\nKd 1 1 1\nmap_Kd -s 2 2 wood.png\n";
+    ASSERT_TRUE(vastray::writeRgba8Png(tmp("wood.png"), 4, 2, std::vector<uint8_t>(4 * 2 * 4, 200)).isOk());
     CommandResult i = run("import " + tmp("textured.obj") + " -o " + tmp("textured.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     CommandResult info = run("info " + tmp("textured.vast"));
+    EXPECT_NE(info.output.find("'wood.png' of textured.obj': 4 x 2 texels"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("vertex attributes    shading normals, texture coordinates"), std::string::npos) << info.output;
     EXPECT_NE(run("info " + tmp("textured.vast") + " --json").output.find("\"vertex_uvs\": true"), std::string::npos);
     EXPECT_NE(run("info " + tmp("terrain.vast") + " --json").output.find("\"vertex_uvs\": false"), std::string::npos);

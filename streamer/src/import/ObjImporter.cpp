@@ -2,7 +2,8 @@
 // usemtl/mtllib. The whole file is read once and parsed in place with std::from_chars. Normals
 // and texture coordinates are indexed apart from positions: a position used with several
 // normals or UVs becomes several vertices (splitVertices), as every renderer's vertex arrays
-// want. UVs are kept only when the MTL library has a texture map (ImportReport::textureMaps).
+// want. UVs are kept only when the MTL library has a texture map (ImportReport::textureMaps);
+// map_Kd, norm and map_Ke become the materials' maps (MtlLibrary.h, TextureFiles.h).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "import/ImportCommon.h"
 #include "import/MtlLibrary.h"
 #include "import/TextScan.h"
+#include "import/TextureFiles.h"
 #include "import/Triangulate.h"
 #include "vastray/core/VertexAttributes.h"
 #include "vastray/streamer/Import.h"
@@ -222,6 +224,7 @@ private:
     }
 
     Status applyMaterialLibraries();
+    Status bindMaps(const import::MtlEntry& entry, import::TextureFiles& files, MaterialTextures& out);
 
     // "mtllib a.mtl b.mtl" names two files, but some exporters write one name with spaces.
     std::vector<std::string> libraryFiles() const {
@@ -276,14 +279,11 @@ Status ObjParser::applyMaterialLibraries() {
         }
         if (!import::insideFolder(folder, file))
             return import::errorIn(name_, "mtllib '" + name + "' resolves outside the model folder (a link)");
-        if (Status s = import::parseMtlFile(file.string(), library, unused); !s.isOk()) return s;
+        if (Status s = import::parseMtlFile(file.string(), name, library, unused); !s.isOk()) return s;
     }
-    if (const auto maps = unused.find("texture maps"); maps != unused.end()) out_.report.textureMaps = maps->second;
-    for (const auto& [kind, count] : unused)
-        out_.report.warnUnused("MTL " + kind, count,
-                               kind == "texture maps"    ? "materials use their colours only"
-                               : kind.front() == 't'     ? "rendered opaque"
-                                                         : "Kd, Ks and Ns decide the material");
+    out_.report.textureMaps = unused.maps;
+    for (const auto& [kind, counted] : unused.kinds) out_.report.warnUnused("MTL " + kind, counted.first, counted.second);
+    import::TextureFiles files(folder, name_);
     for (Material& m : out_.mesh.materials) {
         if (m.name.empty()) m.name = "default";
         const auto it = library.find(m.name);
@@ -293,6 +293,36 @@ Status ObjParser::applyMaterialLibraries() {
         m.emissive = e.emissive;
         // Ks and Ns: a dielectric specular layer (illum 0 and 1 have no highlight).
         if (e.illumination >= 2) import::setPhongSpecular(m, std::max({e.specular[0], e.specular[1], e.specular[2]}), e.exponent);
+        if (Status s = bindMaps(e, files, m.textures); !s.isOk())
+            return import::errorIn(import::fileNameOf(e.library), "material '" + m.name + "' " + s.message());
+    }
+    files.warn(out_.report);
+    out_.mesh.textures = std::move(files.textures());
+    return Status::ok();
+}
+
+// An MTL map's -s and -o in the package's texture space. MTL maps v up (OBJ's vt): u' = s_u u +
+// o_u, v' = s_v v + o_v. The package stores g = 1 - v (glTF's v down) and samples the image at
+// g' = 1 - v' = 1 - s_v (1 - g) - o_v = s_v g + (1 - s_v - o_v).
+UvTransform mtlUvTransform(const import::MtlMap& map) {
+    return {map.scale[0], 0.0f, map.offset[0], 0.0f, map.scale[1], 1.0f - map.scale[1] - map.offset[1]};
+}
+
+// The material's map_Kd, norm and map_Ke, each a texture of `files` (its file is relative to
+// the library's folder); a map whose image is missing or not PNG/JPEG is left out (warned).
+Status ObjParser::bindMaps(const import::MtlEntry& entry, import::TextureFiles& files, MaterialTextures& out) {
+    const std::filesystem::path libraryFolder = std::filesystem::path(entry.library).parent_path();
+    for (uint32_t slot = 0; slot < kTextureSlotCount; ++slot) {
+        const import::MtlMap& map = entry.maps[slot];
+        if (map.file.empty()) continue;
+        const TextureWrap wrap = map.clamp ? TextureWrap::Clamp : TextureWrap::Repeat;
+        std::string why;
+        if (!import::isSafeRelativeUri(map.file, why))
+            return Status::error("line " + std::to_string(map.line) + ": image '" + map.file + "' " + why);
+        auto texture = files.addFile((libraryFolder / map.file).generic_string(), wrap, wrap,
+                                     slotEncoding(TextureSlot(slot)));
+        if (!texture) return texture.status().withContext("line " + std::to_string(map.line) + ": ");
+        out.slots[slot] = {*texture, mtlUvTransform(map)};
     }
     return Status::ok();
 }

@@ -1,5 +1,7 @@
 // OBJ importer features on hand-written files.
+#include <array>
 #include <cmath>
+#include <tuple>
 
 #include "ImportTestFiles.h"
 
@@ -55,23 +57,6 @@ TEST(ObjImport, UsemtlGivesMaterialsInFirstUseOrderWithMtlColours) {
     EXPECT_TRUE(m[0].doubleSided);  // OBJ has no sidedness: Material's default
 }
 
-// What a library says and the renderer does not use is warned about once per kind: texture maps,
-// transparency (d below 1, Tr above 0; d 1 and Tr 0 are opaque and say nothing), the PBR
-// extension's statements.
-TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
-    writeFile("unused.mtl", "newmtl a\nKd 1 0 0\nd 0.5\nmap_Kd a.png\nbump a-n.png\nPr 0.3\nPm 1\n"
-                            "newmtl b\nKd 0 1 0\nd 1\nTr 0\nmap_Ks b.png\nnewmtl c\nTr 0.25\n");
-    auto r = importObj(writeFile("unused.obj", "mtllib unused.mtl\n" + std::string(kSquareVertices) +
-                                                   "usemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n"));
-    ASSERT_TRUE(r.isOk()) << r.message();
-    const std::vector<std::string> expected = {
-        "2 MTL PBR statements (Pr, Pm, Ps, Pc, Pcr, aniso) read but not used (Kd, Ks and Ns decide the material)",
-        "3 MTL texture maps read but not used (materials use their colours only)",
-        "2 MTL transparency statements (d below 1, Tr above 0) read but not used (rendered opaque)"};
-    for (const std::string& w : expected)
-        EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(), w), 1) << w;
-}
-
 // The error of importing one face of material x from an OBJ whose library is `mtl` (written as
 // <stem>.mtl); empty if the import succeeds.
 std::string mtlRefusal(const std::string& stem, const std::string& mtl) {
@@ -79,6 +64,138 @@ std::string mtlRefusal(const std::string& stem, const std::string& mtl) {
     auto r = importObj(writeFile(stem + ".obj", "mtllib " + stem + ".mtl\n" + std::string(kSquareVertices) +
                                                      "usemtl x\nf 1 2 3\n"));
     return r.isOk() ? std::string() : r.message();
+}
+
+// What a library says and the renderer does not use is warned about once per kind: maps without
+// a glTF slot, bump (height) maps, alpha maps, map_Pr/map_Pm, map options that change the look,
+// a map whose file is missing (a bump map's options are not even read), transparency (d below 1, Tr above 0; d 1 and Tr 0 are opaque
+// and say nothing), the PBR extension's statements.
+TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
+    writeFile("unused.mtl", "newmtl a\nKd 1 0 0\nd 0.5\nmap_Kd -mm 0.2 2 -t 1 1 -blendv off gone.png\nbump a-n.png\nPr 0.3\nPm 1\n"
+                            "map_Pr r.png\nmap_Pm m.png\nmap_d -texres 64 a.png\n"
+                            "newmtl b\nKd 0 1 0\nd 1\nTr 0\nmap_Ks b.png\nmap_Bump -bm 2 b.png\nnewmtl c\nTr 0.25\n");
+    auto r = importObj(writeFile("unused.obj", "mtllib unused.mtl\n" + std::string(kSquareVertices) +
+                                                   "usemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    const std::vector<std::string> expected = {
+        "2 MTL PBR statements (Pr, Pm, Ps, Pc, Pcr, aniso) read but not used (Kd, Ks and Ns decide the material)",
+        "1 MTL texture maps without a glTF slot (map_Ka, map_Ks, map_Ns, disp, decal, refl, ...) read but not used "
+        "(materials use their colours there)",
+        "2 MTL bump (height) maps read but not used (not rendered: only norm normal maps are read)",
+        "1 MTL alpha maps (map_d) read but not used (rendered opaque)",
+        "2 MTL roughness and metallic maps (map_Pr, map_Pm) read but not used (glTF's one metallic-roughness image "
+        "is not assembled from two files)",
+        "1 MTL map options -mm (value range) read but not used (the map is read without it)",
+        "1 MTL map options -t (turbulence) read but not used (the map is read without it)",
+        "1 MTL map options -blendv off read but not used (the map is read without it)",
+        "1 texture maps whose image file is missing or unreadable read but not used (their maps are rendered "
+        "without them)",
+        "2 MTL transparency statements (d below 1, Tr above 0) read but not used (rendered opaque)"};
+    for (const std::string& w : expected)
+        EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(), w), 1) << w;
+    EXPECT_EQ(r->report.warnings.size(), expected.size());
+    EXPECT_EQ(r->report.textureMaps, 7u);  // every map statement keeps the UVs, read or not
+    EXPECT_TRUE(r->mesh.textures.empty());
+    EXPECT_FALSE(r->mesh.materials[0].textures.any());  // the missing map_Kd is left out
+}
+
+// The texel an OBJ vt (u, v) reads through an MTL map's -s and -o: (s_u u + o_u, s_v v + o_v) in
+// MTL space, v up; in the package's space (v down) its v is 1 minus that.
+std::array<float, 2> mtlTexel(float u, float v, float su, float sv, float ou, float ov) {
+    return {su * u + ou, 1.0f - (sv * v + ov)};
+}
+
+// map_Kd, norm and map_Ke become base colour (sRGB), normal (linear) and emissive (sRGB) maps
+// of PNG files beside the library (names with spaces, options before them); -s and -o give the
+// UV transform in the package's v-down space, -clamp on clamps; one image read with one
+// sampling and encoding is one texture, shared by materials.
+TEST(ObjImport, MtlMapsBecomeTheMaterialsTexturesWithTheirTransforms) {
+    std::filesystem::create_directories(tmpPath("maps dir"));
+    writeFile("maps dir/my bricks.png", tinyPng());
+    writeFile("maps dir/n.png", tinyPng());
+    writeFile("maps.mtl", "newmtl a\nKd 1 1 1\nmap_Kd -s 2 3 1 -o 0.25 0.5 -clamp on -texres 512 maps dir/my bricks.png\n"
+                          "norm maps dir\\n.png\nmap_Ke -blendu on maps dir/my bricks.png\n"
+                          "newmtl b\nmap_Kd -o 0.5 maps dir/my bricks.png\n");
+    auto r = importObj(writeFile("maps.obj", "mtllib maps.mtl\n" + std::string(kSquareVertices) +
+                                                 "vt 0 0\nvt 1 1\nusemtl a\nf 1/1 2/2 3/1\nusemtl b\nf 1/1 3/2 4/1\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    EXPECT_TRUE(r->report.warnings.empty()) << r->report.warnings[0];
+    const auto& t = r->mesh.textures;
+    ASSERT_EQ(t.size(), 3u);  // bricks clamped (sRGB), n (linear), bricks repeated (sRGB) for map_Ke and b
+    const MaterialTextures& a = r->mesh.materials[0].textures;
+    const MaterialTextures& b = r->mesh.materials[1].textures;
+    const TextureBinding& colour = a.slots[uint32_t(TextureSlot::BaseColor)];
+    const TextureBinding& normal = a.slots[uint32_t(TextureSlot::Normal)];
+    const TextureBinding& emissive = a.slots[uint32_t(TextureSlot::Emissive)];
+    ASSERT_LT(colour.texture, 3u);
+    ASSERT_LT(normal.texture, 3u);
+    ASSERT_LT(emissive.texture, 3u);
+    EXPECT_EQ(t[colour.texture].name, "'maps dir/my bricks.png' of maps.obj");
+    const std::string png = tinyPng();
+    EXPECT_EQ(t[colour.texture].bytes, std::vector<uint8_t>(png.begin(), png.end()));
+    EXPECT_EQ(t[colour.texture].extension, ".png");
+    EXPECT_EQ(t[colour.texture].wrapS, TextureWrap::Clamp);
+    EXPECT_EQ(t[colour.texture].wrapT, TextureWrap::Clamp);
+    EXPECT_EQ(t[colour.texture].encoding, TextureEncoding::Srgb);
+    EXPECT_EQ(t[normal.texture].name, "'maps dir/n.png' of maps.obj");  // a Windows separator read as '/'
+    EXPECT_EQ(t[normal.texture].encoding, TextureEncoding::Linear);
+    EXPECT_EQ(t[emissive.texture].wrapS, TextureWrap::Repeat);
+    EXPECT_EQ(t[emissive.texture].encoding, TextureEncoding::Srgb);
+    EXPECT_EQ(b.slots[uint32_t(TextureSlot::BaseColor)].texture, emissive.texture);
+    EXPECT_FALSE(a.slots[uint32_t(TextureSlot::MetallicRoughness)].texture != kNoTexture);
+    EXPECT_EQ(emissive.transform, kIdentityUvTransform);
+    // vt (0, 0) and (1, 1), stored as (u, 1 - v), land where the MTL's options put them. The
+    // arithmetic is a few float operations on small values: 1e-6 covers its rounding.
+    for (const auto& [binding, s, o] : {std::tuple{colour, std::array{2.0f, 3.0f}, std::array{0.25f, 0.5f}},
+                                        std::tuple{b.slots[0], std::array{1.0f, 1.0f}, std::array{0.5f, 0.0f}}})
+        for (const std::array<float, 2>& vt : {std::array{0.0f, 0.0f}, std::array{1.0f, 1.0f}}) {
+            float u = 0.0f, v = 0.0f;
+            applyUvTransform(binding.transform, vt[0], 1.0f - vt[1], u, v);
+            const std::array<float, 2> expected = mtlTexel(vt[0], vt[1], s[0], s[1], o[0], o[1]);
+            EXPECT_NEAR(u, expected[0], 1e-6f) << vt[0] << "," << vt[1];
+            EXPECT_NEAR(v, expected[1], 1e-6f) << vt[0] << "," << vt[1];
+        }
+    ASSERT_EQ(r->mesh.uvs.size(), r->mesh.positions.size());
+}
+
+// A map's file stays inside the model's folder (as mtllib names do): '..', absolute paths and
+// schemes are refused by library, material, line and name; malformed options by line.
+TEST(ObjImport, MtlMapsOutsideTheFolderAndBadOptionsAreRefused) {
+    for (const char* file : {"../outside.png", "/etc/passwd", "file:///etc/passwd"}) {
+        const std::string bad = mtlRefusal("outmap", std::string("newmtl x\nmap_Kd ") + file + "\n");
+        EXPECT_NE(bad.find("outmap.mtl: material 'x' line 2: image '" + std::string(file) + "'"), std::string::npos)
+            << bad;
+    }
+    const std::pair<const char*, const char*> options[] = {
+        {"map_Kd -s\n", "line 2: map_Kd: -s needs one to three numbers"},
+        {"norm -o 1e9 0 n.png\n", "line 2: norm: -o value 1000000000.000000 is outside +-1e6"},
+        {"map_Ke -clamp yes e.png\n", "line 2: map_Ke: -clamp must be on or off"},
+        {"map_Kd -s 1 1\n", "line 2: map_Kd: the map names no file"}};
+    for (const auto& [statement, message] : options) {
+        const std::string bad = mtlRefusal("badmap", std::string("newmtl x\n") + statement);
+        EXPECT_NE(bad.find(std::string("badmap.mtl: ") + message), std::string::npos) << bad;
+    }
+}
+
+// A map whose image is neither PNG nor JPEG is left out, warned once; a link out of the
+// folder is refused like a '..' name.
+TEST(ObjImport, MtlMapsNotPngOrJpegAreWarnedAndLinksOutRefused) {
+    writeFile("picture.tga", "not a PNG or JPEG");
+    const std::string mtl = "newmtl x\nmap_Kd picture.tga\n";
+    writeFile("tga.mtl", mtl);
+    auto r = importObj(writeFile("tga.obj", "mtllib tga.mtl\n" + std::string(kSquareVertices) + "usemtl x\nf 1 2 3\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->report.warnings.size(), 1u);
+    EXPECT_EQ(r->report.warnings[0],
+              "1 texture maps with an image neither PNG nor JPEG read but not used (their maps are rendered without them)");
+    EXPECT_TRUE(r->mesh.textures.empty());
+    const std::string link = tmpPath("link-out.png");
+    std::filesystem::remove(link);
+    std::filesystem::create_symlink("/etc/hostname", link);
+    const std::string bad = mtlRefusal("linkmap", "newmtl x\nmap_Kd link-out.png\n");
+    EXPECT_NE(bad.find("linkmap.mtl: material 'x' line 2: image 'link-out.png' resolves outside the model's folder"),
+              std::string::npos)
+        << bad;
 }
 
 // Ks and Ns: a dielectric layer of weight max(Ks), roughness (2 / (Ns + 2))^(1/4); illum 0 and 1

@@ -1,0 +1,49 @@
+#pragma once
+// The textures of an OBJ's or an assimp scene's materials (core/MaterialTextures.h), gathered
+// one map at a time: an image file beside the model, read inside the model's folder only (the
+// rules of mtllib names and glTF URIs: isSafeRelativeUri, insideFolder), or bytes the model
+// embeds; PNG and JPEG by their signature. One TextureSource per image, wrap modes and encoding;
+// nothing is decoded here (import decodes them when it stores them).
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "vastray/core/MaterialTextures.h"
+#include "vastray/core/Result.h"
+#include "vastray/streamer/Import.h"
+
+namespace vastray::import {
+
+class TextureFiles {
+public:
+    // `folder`: the model's folder; `modelName`: what texture names say they belong to.
+    TextureFiles(std::filesystem::path folder, std::string modelName)
+        : folder_(std::move(folder)), modelName_(std::move(modelName)) {}
+
+    // The texture of the image file `relative` (to the model's folder; '\' is read as '/'), or
+    // kNoTexture when the file is missing or neither PNG nor JPEG (counted, see warn). A name
+    // that leaves the folder is an error naming it.
+    Result<uint32_t> addFile(const std::string& relative, TextureWrap wrapS, TextureWrap wrapT,
+                             TextureEncoding encoding);
+    // The texture of embedded bytes, told apart by `key` ("*0" for assimp's first); `label`
+    // names it in `info` and errors.
+    Result<uint32_t> addBytes(const std::string& key, const std::string& label, std::vector<uint8_t> bytes,
+                              TextureWrap wrapS, TextureWrap wrapT, TextureEncoding encoding);
+
+    // One warning per kind of map left out.
+    void warn(ImportReport& report) const;
+    std::vector<TextureSource>& textures() { return textures_; }
+
+private:
+    std::filesystem::path folder_;
+    std::string modelName_;
+    std::vector<TextureSource> textures_;
+    std::map<std::tuple<std::string, TextureWrap, TextureWrap, TextureEncoding>, uint32_t> textureOf_;
+    std::map<std::string, std::vector<uint8_t>> fileBytes_;  // each file read once, whatever its sampling
+    uint64_t missing_ = 0, unknown_ = 0;
+};
+
+}  // namespace vastray::import
