@@ -3,9 +3,12 @@
 // time, no library. Every /v1 call sends `Authorization: Bearer <token>` once the server has
 // asked for one (401); the token lives in sessionStorage for this tab.
 
+interface SceneCamera {
+  name: string; index: number; eye: number[]; target: number[]; up: number[]; fov_y_degrees: number;
+}
 interface Scene {
   id: string; name: string; format: string; upload_bytes: string; package_bytes: string;
-  triangles: string; chunks: string; import_job_id: string;
+  triangles: string; chunks: string; import_job_id: string; cameras?: SceneCamera[];
 }
 interface JobStats {
   backend: string; render_seconds: number; rays: string; chunk_loads: string;
@@ -268,6 +271,7 @@ function setupUpload(): void {
 // ---- scenes ---------------------------------------------------------------------------
 
 const sceneNames = new Map<string, string>();
+const sceneCameras = new Map<string, SceneCamera[]>();
 
 async function refreshScenes(select?: string): Promise<void> {
   const scenes: Scene[] = [];
@@ -285,6 +289,7 @@ async function refreshScenes(select?: string): Promise<void> {
   options.replaceChildren();
   for (const scene of scenes) {
     sceneNames.set(scene.id, scene.name);
+    sceneCameras.set(scene.id, scene.cameras ?? []);
     const row = document.createElement("tr");
     row.dataset.sceneId = scene.id;
     const chunks = Number(scene.chunks);
@@ -298,7 +303,7 @@ async function refreshScenes(select?: string): Promise<void> {
     }
     const use = document.createElement("button");
     use.type = "button"; use.className = "small"; use.textContent = "render";
-    use.addEventListener("click", () => { options.value = scene.id; input("width").focus(); });
+    use.addEventListener("click", () => { options.value = scene.id; fillCameraList(); input("width").focus(); });
     const cell = document.createElement("td");
     cell.append(use);
     row.append(cell);
@@ -307,6 +312,28 @@ async function refreshScenes(select?: string): Promise<void> {
   }
   if (previous && scenes.some((s) => s.id === previous)) options.value = previous;
   $("no-scenes").hidden = scenes.length > 0;
+  fillCameraList();
+}
+
+// The chosen scene's cameras (Scene.cameras) as options "1: Far", each valued by its index;
+// the last option leaves the box as typed. Picking a camera writes what scene_camera takes into
+// the box: its name, or its index when the name is empty or another camera has it too.
+function fillCameraList(): void {
+  const list = $("scene-camera-list") as HTMLSelectElement;
+  const cameras = sceneCameras.get(selected("scene-select")) ?? [];
+  list.replaceChildren(...cameras.map((c) => new Option(`${c.index ?? 0}: ${c.name || "(no name)"}`,
+    String(c.index ?? 0))), new Option(cameras.length ? "another (the box below)" : "none defined (the box below)", ""));
+  list.value = "";
+}
+
+function pickListedCamera(): void {
+  const value = selected("scene-camera-list");
+  if (value === "") return;
+  const cameras = sceneCameras.get(selected("scene-select")) ?? [];
+  const camera = cameras.find((c) => String(c.index ?? 0) === value);
+  if (!camera) return;
+  const unique = camera.name !== "" && cameras.filter((c) => c.name === camera.name).length === 1;
+  input("scene-camera").value = unique ? camera.name : value;
 }
 
 // ---- render jobs ----------------------------------------------------------------------
@@ -362,11 +389,14 @@ function cameraRequest(): object {
 function syncRenderOptions(): void {
   ($("sun-fields") as HTMLFieldSetElement).disabled = selected("sun-mode") !== "custom";
   input("scene-camera").disabled = selected("camera-mode") !== "scene";
+  ($("scene-camera-list") as HTMLSelectElement).disabled = selected("camera-mode") !== "scene";
   ($("camera-fields") as HTMLFieldSetElement).disabled = selected("camera-mode") !== "eye";
 }
 
 function setupRenderForm(): void {
   for (const id of ["sun-mode", "camera-mode"]) $(id).addEventListener("change", syncRenderOptions);
+  $("scene-select").addEventListener("change", fillCameraList);
+  $("scene-camera-list").addEventListener("change", pickListedCamera);
   syncRenderOptions();
   // A box the browser refuses (an empty sun intensity) must be visible to say why.
   $("render-form").addEventListener("invalid", () => { ($("light-camera") as HTMLDetailsElement).open = true; }, true);

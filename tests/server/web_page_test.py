@@ -481,6 +481,46 @@ class PageTest:
         self.refused(scene_id, {**lit, "sun": {"direction": [1, 2, 0.5], "intensity": 7.5},
                                 "camera": {"eye": [0, -3], "target": [0, 0, 0.25], "fov_y_degrees": 50}},
                      "camera.eye")
+        self.listed_camera_job(scene_id)
+
+    def listed_camera_job(self, sphere_id):
+        """A glTF with cameras "Near" and "Far" (dropped on the page): choosing it fills the camera
+        list from Scene.cameras; picking "1: Far" by keyboard writes its name into the box, and the
+        job renders with scene_camera "Far"."""
+        gltf = json.dumps({
+            "asset": {"version": "2.0"},
+            "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,"
+                         "AACAvwAAgL8AAAAAAACAPwAAgL8AAAAAAAAAAAAAgD8AAAAA"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "type": "VEC3", "count": 3,
+                           "min": [-1, -1, 0], "max": [1, 1, 0]}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "cameras": [{"name": "Near", "type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}},
+                        {"name": "Far", "type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+            "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3]}, {"camera": 1, "translation": [0, 0, 6]}],
+            "scenes": [{"nodes": [0, 1, 2]}]})
+        scene_id, _ = self.upload([], "cameras.gltf", gltf)
+        self.fill(scene_id, 32, 32, 2)
+        self.choose("sun-mode", "default")
+        self.choose("camera-mode", "scene")
+        if self.tab_from("camera-mode") != "scene-camera-list":
+            fail("Tab from 'a scene camera' does not reach the list of the scene's cameras")
+        options = lambda: [o.text for o in self.driver.find_elements(By.CSS_SELECTOR, "#scene-camera-list option")]  # noqa: E731
+        self.wait(lambda: options()[:2] == ["0: Near", "1: Far"], f"the scene's cameras in the list ({options()})", 5)
+        self.type_into("scene-camera", "")
+        self.choose("scene-camera-list", "1")
+        box = self.driver.find_element(By.ID, "scene-camera")
+        self.wait(lambda: box.get_attribute("value") == "Far", "picking '1: Far' to write Far into the box", 5)
+        job_id = self.submit_filled()
+        self.stored_request(job_id, {"scene_id": scene_id, "scene_camera": "Far"}, absent=("camera",))
+        final = ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED", "JOB_STATE_CANCELLED")
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") in final, "the listed-camera job to end", 120)
+        if self.card(job_id).get_attribute("data-state") != "JOB_STATE_SUCCEEDED":
+            fail(f"the job with a listed camera did not succeed: {self.card(job_id).text}")
+        # The sphere defines no camera: choosing it leaves only the box's option.
+        self.fill(sphere_id, 32, 32, 2)
+        self.wait(lambda: options() == ["none defined (the box below)"],
+                  f"a scene without cameras to list none ({options()})", 5)
 
     def page_bytes(self):
         html = self.server.raw("/")
