@@ -8,6 +8,7 @@
 
 #include <google/protobuf/descriptor.pb.h>
 
+#include "CamerasGltf.h"
 #include "GrpcUpload.h"
 #include "ServerTestSupport.h"
 #include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
@@ -164,6 +165,30 @@ TEST_F(GrpcTest, UploadSubmitWatchAndGetResult) {
     v1::GetSceneResponse stored;
     ASSERT_TRUE(scenes_->GetScene(context().get(), getScene, &stored).ok());
     EXPECT_EQ(stored.scene().id(), scene.id());
+}
+
+// Scene.cameras over gRPC: the upload's answer and ListScenes carry the package's cameras in
+// file order (positions exact in float; yfov 0.8 rad in degrees within float rounding).
+TEST_F(GrpcTest, ScenesListTheirCameras) {
+    startServer();
+    connect();
+    v1::Scene uploaded;
+    auto c = context();
+    ASSERT_TRUE(uploadSceneOverGrpc(*scenes_, *c, "cameras.gltf", kCamerasGltf, 65536, false, &uploaded).ok());
+    v1::ListScenesResponse listed;
+    ASSERT_TRUE(scenes_->ListScenes(context().get(), v1::ListScenesRequest(), &listed).ok());
+    ASSERT_EQ(listed.scenes_size(), 1);
+    for (const v1::Scene& scene : {uploaded, listed.scenes(0)}) {
+        ASSERT_EQ(scene.cameras_size(), 2);
+        EXPECT_EQ(scene.cameras(0).name(), "Near");
+        EXPECT_EQ(scene.cameras(1).name(), "Far");
+        EXPECT_EQ(scene.cameras(1).index(), 1u);
+        ASSERT_EQ(scene.cameras(1).eye_size(), 3);
+        EXPECT_EQ(scene.cameras(1).eye(0), 0.5f);
+        EXPECT_EQ(scene.cameras(1).eye(2), 6.0f);
+        EXPECT_EQ(scene.cameras(0).eye(2), 3.0f);
+        EXPECT_NEAR(scene.cameras(0).fov_y_degrees(), 0.8 * 180 / 3.14159265358979, 1e-4);
+    }
 }
 
 TEST_F(GrpcTest, ErrorCodes) {

@@ -1,21 +1,11 @@
 // A job's scene_camera (a glTF camera kept in the package) renders what `vastray render
 // --camera` renders; the default is the scene's first camera; scene_camera and camera exclude
 // each other at submit; an unknown name fails the job naming the cameras there are.
+#include "CamerasGltf.h"
 #include "ServerTestSupport.h"
 
 namespace vastray::test {
 namespace {
-
-// One triangle and two perspective cameras: "Near" at z = 3 and "Far" at z = 6.
-const char* kCamerasGltf = R"({"asset":{"version":"2.0"},
- "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AACAvwAAgL8AAAAAAACAPwAAgL8AAAAAAAAAAAAAgD8AAAAA"}],
- "bufferViews":[{"buffer":0,"byteLength":36}],
- "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3,"min":[-1,-1,0],"max":[1,1,0]}],
- "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
- "cameras":[{"name":"Near","type":"perspective","perspective":{"yfov":0.8,"znear":0.1}},
-            {"name":"Far","type":"perspective","perspective":{"yfov":0.8,"znear":0.1}}],
- "nodes":[{"mesh":0},{"camera":0,"translation":[0,0,3]},{"camera":1,"translation":[0.5,0,6]}],
- "scenes":[{"nodes":[0,1,2]}]})";
 
 TEST_F(ServerTest, SceneCameraOfAJobIsTheCliRendersCamera) {
     startServer();
