@@ -88,6 +88,7 @@ TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
     if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";
     CommandResult i = run("import " + file + " -o " + tmp("box.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_NE(i.output.find("textures: 1 (11 pages of 128 x 128 texels"), std::string::npos) << i.output;
     CommandResult text = run("info " + tmp("box.vast"));
     ASSERT_EQ(text.exitCode, 0) << text.output;
     EXPECT_NE(text.output.find("vastray package v10"), std::string::npos) << text.output;

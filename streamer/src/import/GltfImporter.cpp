@@ -501,7 +501,6 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
     report.warnUnused("morph targets", morphs);
     report.warnUnused("skins", model.skins.size());
     report.warnUnused("animations", model.animations.size());
-    report.warnUnused("textures", model.textures.size(), "materials use their factors only");
     uint64_t coatTextures = 0;
     for (const tinygltf::Material& m : model.materials)
         if (const auto coat = m.extensions.find("KHR_materials_clearcoat"); coat != m.extensions.end())

@@ -160,6 +160,10 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
         mesh.textures.clear();
         for (Material& m : mesh.materials) m.textures = MaterialTextures{};
     }
+    if (!mesh.textures.empty())
+        report.warnings.push_back(std::to_string(mesh.textures.size()) +
+                                  " textures stored in the package but not rendered by this vastray yet (the "
+                                  "materials render with their factors alone)");
     shortenCameraNames(mesh, report);
     return Status::ok();
 }

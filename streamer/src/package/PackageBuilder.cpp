@@ -327,6 +327,9 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     report.chunks = uint32_t(info.chunks.size());
     for (const KdNode& node : info.topTree) report.emptyCells += node.isLeaf() && node.firstRef() == kEmptyCell;
     report.fileBytes = info.fileBytes;
+    report.textures = uint32_t(info.textures.size());
+    report.texturePages = info.texturePages.size();
+    report.textureBytes = info.textureDataBytes;
     report.maxChunkResidentBytes = info.maxChunkResidentBytes;
     report.partitionSeconds = job.partition.seconds();
     report.encodeSeconds = job.encode.seconds();

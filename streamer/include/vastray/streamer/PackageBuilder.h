@@ -43,6 +43,10 @@ struct PackageBuildReport {
     uint32_t emptyCells = 0;
     uint64_t fileBytes = 0;
     uint64_t maxChunkResidentBytes = 0;
+    // The textures stored (decoded, mip-mapped and paged during the write): how many, their
+    // pages and the pages' compressed bytes.
+    uint32_t textures = 0;
+    uint64_t texturePages = 0, textureBytes = 0;
     double quantizeSeconds = 0, partitionSeconds = 0, encodeSeconds = 0, decodeSeconds = 0,
            bvhBuildSeconds = 0, writeSeconds = 0, totalSeconds = 0;
 };
