@@ -105,6 +105,18 @@ TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
     EXPECT_NE(r.output.find("does not render yet"), std::string::npos) << r.output;
 }
 
+// An FBX through assimp whose diffuse map is a PNG the file embeds: import stores it, info
+// lists it by the embedded image's name.
+TEST_F(Cli, AssimpEmbeddedTextureIsStoredAndInfoListsIt) {
+    const std::string file = "/usr/share/assimp/models/FBX/embedded_ascii/box.FBX";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";
+    CommandResult i = run("import " + file + " -o " + tmp("fbx-box.vast") + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    CommandResult info = run("info " + tmp("fbx-box.vast"));
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("uv_test.png') of box.FBX': 512 x 512 texels"), std::string::npos) << info.output;
+}
+
 // A textured OBJ (vt, and an MTL map_Kd of a PNG beside it): the package stores the texture and
 // info lists it, says the package has texture coordinates, in text and JSON, and both backends
 // render the uv AOV into an EXR (its values: UvRender.*).

@@ -2,7 +2,8 @@
 // assimp (Debian libassimp-dev), behind the same interface and the same last step as our own
 // importers: node transforms baked into world space, polygons triangulated by assimp,
 // points and lines skipped and counted, then finalizeMesh's validation and named errors.
-// Cameras and punctual lights are placed by their nodes (lights: AssimpLights.h).
+// Cameras and punctual lights are placed by their nodes (lights: AssimpLights.h); materials'
+// texture maps and their images travel with the mesh (AssimpTextures.h).
 // Files assimp opens besides the model (a Collada's external parts, say) must lie inside
 // the model's folder, as glTF URIs and OBJ mtllib names must.
 // assimp runs in a child process (fork): its readers crash on hostile files (the fuzzer found a
@@ -23,7 +24,9 @@
 #include <limits>
 
 #include "import/AssimpLights.h"
+#include "import/AssimpTextures.h"
 #include "import/ChildProcess.h"
+#include "import/GltfTextures.h"
 #include "import/ImportCommon.h"
 #include "package/ByteIo.h"
 #include "vastray/core/Camera.h"
@@ -119,7 +122,6 @@ void warnAboutUnused(const aiScene& scene, ImportReport& report) {
     report.warnUnused("skin bones", bones);
     report.warnUnused("morph targets", morphs);
     report.warnUnused("animations", scene.mNumAnimations);
-    report.warnUnused("embedded textures", scene.mNumTextures);
 }
 
 // Texture maps the scene's materials reference, of every kind: UVs are kept only with one.
@@ -284,6 +286,10 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     imported.mesh.cameras = std::move(cameras);
     imported.mesh.lights = std::move(lights);
     if (Status s = appendMeshes(*scene, imported); !s.isOk()) return s.withContext(name + ": ");
+    auto textures = import::assimpTextures(*scene, import::directoryOf(path), name, imported.report);
+    if (!textures) return textures.status();
+    for (size_t i = 0; i < textures->materials.size(); ++i) imported.mesh.materials[i].textures = textures->materials[i];
+    imported.mesh.textures = std::move(textures->textures);
     return imported;
 }
 
@@ -345,7 +351,39 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
         w.put(uint32_t(l.type)), w.put(l.color), w.put(l.intensity), w.put(l.range);
         w.put(l.innerConeAngle), w.put(l.outerConeAngle), w.put(l.position), w.put(l.direction);
     }
+    w.put(uint64_t(m.mesh.textures.size()));
+    for (const TextureSource& t : m.mesh.textures) {
+        putText(w, t.name), putText(w, t.extension), putCounted(w, t.bytes);
+        w.put(uint32_t(t.wrapS)), w.put(uint32_t(t.wrapT)), w.put(uint32_t(t.encoding));
+    }
+    for (const Material& material : m.mesh.materials) {
+        for (const TextureBinding& b : material.textures.slots) w.put(b.texture), w.put(b.transform);
+        w.put(material.textures.normalScale), w.put(material.textures.occlusionStrength);
+    }
     return std::move(w.bytes());
+}
+
+// The textures and the materials' maps encodeAnswer wrote: PNG or JPEG, known wrap modes and
+// encodings, each map's texture one of them.
+bool decodeTextures(ByteReader& r, size_t answerBytes, TriangleMesh& mesh) {
+    uint64_t count = 0;
+    if (!r.get(count) || count > answerBytes || count > import::kMaxSceneTextures) return false;
+    mesh.textures.resize(count);
+    for (TextureSource& t : mesh.textures) {
+        uint32_t wrapS = 0, wrapT = 0, encoding = 0;
+        if (!getText(r, t.name) || !getText(r, t.extension) || !getCounted(r, t.bytes) || !r.get(wrapS) ||
+            !r.get(wrapT) || !r.get(encoding) || wrapS > 2 || wrapT > 2 || encoding > 1 ||
+            imageSignatureExtension(t.bytes) != t.extension || (t.extension != ".png" && t.extension != ".jpg"))
+            return false;
+        t.wrapS = TextureWrap(wrapS), t.wrapT = TextureWrap(wrapT), t.encoding = TextureEncoding(encoding);
+    }
+    for (Material& material : mesh.materials) {
+        for (TextureBinding& b : material.textures.slots)
+            if (!r.get(b.texture) || !r.get(b.transform) || (b.texture != kNoTexture && b.texture >= count))
+                return false;
+        if (!r.get(material.textures.normalScale) || !r.get(material.textures.occlusionStrength)) return false;
+    }
+    return true;
 }
 
 // The lights encodeAnswer wrote, each within validateLight's limits (the child checked them).
@@ -401,7 +439,8 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
         if (!getText(r, camera.name) || !r.get(camera.camera.eye) || !r.get(camera.camera.target) ||
             !r.get(camera.camera.up) || !r.get(camera.camera.fovYDegrees) || !validateCamera(camera.camera).isOk())
             return malformed;
-    if (!decodeLights(r, bytes.size(), m.mesh.lights) || r.remaining() != 0) return malformed;
+    if (!decodeLights(r, bytes.size(), m.mesh.lights) || !decodeTextures(r, bytes.size(), m.mesh) || r.remaining() != 0)
+        return malformed;
     return m;
 }
 

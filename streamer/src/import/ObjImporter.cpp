@@ -305,7 +305,7 @@ Status ObjParser::applyMaterialLibraries() {
 // o_u, v' = s_v v + o_v. The package stores g = 1 - v (glTF's v down) and samples the image at
 // g' = 1 - v' = 1 - s_v (1 - g) - o_v = s_v g + (1 - s_v - o_v).
 UvTransform mtlUvTransform(const import::MtlMap& map) {
-    return {map.scale[0], 0.0f, map.offset[0], 0.0f, map.scale[1], 1.0f - map.scale[1] - map.offset[1]};
+    return import::vUpToVDown({map.scale[0], 0.0f, map.offset[0], 0.0f, map.scale[1], map.offset[1]});
 }
 
 // The material's map_Kd, norm and map_Ke, each a texture of `files` (its file is relative to

@@ -17,6 +17,14 @@
 
 namespace vastray::import {
 
+// A UV transform `m` stated in a v-up texture space (OBJ's vt, MTL, assimp: v = 0 at the
+// image's bottom) as the package needs it, in glTF's v-down space where UVs are stored as
+// g = 1 - v: sampling at v' = m3 u + m4 v + m5 means g' = 1 - v' with v = 1 - g, so
+// u' = m0 u - m1 g + (m1 + m2) and g' = -m3 u + m4 g + (1 - m4 - m5).
+inline UvTransform vUpToVDown(const UvTransform& m) {
+    return {m[0], -m[1], m[1] + m[2], -m[3], m[4], 1.0f - m[4] - m[5]};
+}
+
 class TextureFiles {
 public:
     // `folder`: the model's folder; `modelName`: what texture names say they belong to.

@@ -4,7 +4,11 @@
 // effect stays Lambertian; the factors survive the assimp child process's answer.
 #include "ImportTestFiles.h"
 
+#include <array>
 #include <cmath>
+#include <filesystem>
+
+#include "import/AssimpTextures.h"
 
 namespace vastray::test {
 namespace {
@@ -68,6 +72,128 @@ TEST(AssimpMaterials, PhongSpecularBecomesTheDielectricLayerAndLambertStaysLambe
     EXPECT_EQ(matte->specular, 0.0f);
     EXPECT_EQ(matte->metallic, 0.0f);
     EXPECT_NEAR(matte->baseColor[1], 0.8f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace vastray::test
+
+namespace vastray::test {
+namespace {
+
+// A DirectX .x quad (assimp's X reader: TextureFilename is a diffuse map, UVs v-down in the file)
+// whose material names `texture`.
+std::string texturedX(const std::string& texture) {
+    return R"(xof 0302txt 0064
+Material Painted {
+ 1.0;1.0;1.0;1.0;;
+ 0.0;
+ 0.0;0.0;0.0;;
+ 0.0;0.0;0.0;;
+ TextureFilename { ")" + texture + R"("; }
+}
+Mesh quad {
+ 4;
+ 0.0;0.0;0.0;,
+ 1.0;0.0;0.0;,
+ 1.0;1.0;0.0;,
+ 0.0;1.0;0.0;;
+ 2;
+ 3;0,1,2;,
+ 3;0,2,3;;
+ MeshMaterialList { 1; 2; 0, 0;; { Painted } }
+ MeshTextureCoords { 4; 0.0;1.0;, 1.0;1.0;, 1.0;0.0;, 0.0;0.0;; }
+}
+)";
+}
+
+// A diffuse map of a PNG beside the model becomes the base colour map (sRGB, repeat, no
+// transform), its bytes carried through the assimp child process's answer.
+TEST(AssimpMaterials, DiffuseMapOfAPngBesideTheModelIsTheBaseColourMap) {
+    writeFile("x-wood.png", tinyPng());
+    auto r = importMesh(writeFile("x-textured.x", texturedX("x-wood.png")));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.textures.size(), 1u);
+    const TextureSource& t = r->mesh.textures[0];
+    EXPECT_EQ(t.name, "'x-wood.png' of x-textured.x");
+    EXPECT_EQ(t.extension, ".png");
+    const std::string png = tinyPng();
+    EXPECT_EQ(t.bytes, std::vector<uint8_t>(png.begin(), png.end()));
+    EXPECT_EQ(t.encoding, TextureEncoding::Srgb);
+    EXPECT_EQ(t.wrapS, TextureWrap::Repeat);
+    bool found = false;
+    for (const Material& m : r->mesh.materials) {
+        const TextureBinding& b = m.textures.slots[uint32_t(TextureSlot::BaseColor)];
+        if (b.texture == kNoTexture) continue;
+        found = true;
+        EXPECT_EQ(b.texture, 0u);
+        EXPECT_EQ(b.transform, kIdentityUvTransform);
+        EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::Normal)].texture, kNoTexture);
+    }
+    EXPECT_TRUE(found);
+    EXPECT_EQ(r->mesh.uvs.size(), r->mesh.positions.size());
+}
+
+// A map whose file is missing, is not PNG/JPEG, or lies outside the model's folder (FBX files
+// often name absolute paths) is left out and warned once per kind; the import succeeds.
+TEST(AssimpMaterials, MapsNotReadableHereAreWarnedAndLeftOut) {
+    writeFile("x-picture.tga", "not a PNG or JPEG");
+    const std::pair<const char*, const char*> cases[] = {
+        {"x-gone.png", "1 texture maps whose image file is missing or unreadable read but not used"},
+        {"x-picture.tga", "1 texture maps with an image neither PNG nor JPEG read but not used"},
+        {"../x-outside.png", "1 texture maps whose file lies outside the model's folder read but not used"},
+        {"/etc/hostname", "1 texture maps whose file lies outside the model's folder read but not used"}};
+    for (const auto& [texture, warning] : cases) {
+        auto r = importMesh(writeFile("x-unread.x", texturedX(texture)));
+        ASSERT_TRUE(r.isOk()) << r.message();
+        EXPECT_TRUE(r->mesh.textures.empty()) << texture;
+        for (const Material& m : r->mesh.materials) EXPECT_FALSE(m.textures.any()) << texture;
+        bool warned = false;
+        for (const std::string& w : r->report.warnings) warned = warned || w.find(warning) == 0;
+        EXPECT_TRUE(warned) << texture << ": " << ::testing::PrintToString(r->report.warnings);
+    }
+}
+
+// A link inside the folder that leads out of it is refused by name, as an OBJ's map is.
+TEST(AssimpMaterials, MapLinkedOutOfTheFolderIsRefused) {
+    const std::string link = tmpPath("x-link-out.png");
+    std::filesystem::remove(link);
+    std::filesystem::create_symlink("/etc/hostname", link);
+    auto r = importMesh(writeFile("x-link.x", texturedX("x-link-out.png")));
+    ASSERT_FALSE(r.isOk());
+    EXPECT_NE(r.message().find("x-link.x: material 0 ('Painted') baseColorTexture: image 'x-link-out.png' resolves "
+                               "outside the model's folder"),
+              std::string::npos)
+        << r.message();
+}
+
+// aiUVTransform in assimp's convention (TransformUVCoords: translate, then rotate counter-clockwise
+// and scale about (0.5, 0.5), v up) lands a v-up UV where that convention says, read in the
+// package's v-down space. Tolerance 1e-6: a few float operations on values near 1.
+TEST(AssimpMaterials, UvTransformFollowsAssimpsConventionInVDownSpace) {
+    EXPECT_EQ(import::assimpUvTransform(0.0f, 0.0f, 1.0f, 1.0f, 0.0f), kIdentityUvTransform);
+    const float pi = 3.14159265358979f;
+    struct Case {
+        float tu, tv, su, sv, rotation;
+    };
+    for (const Case& c : {Case{0.25f, 0.5f, 1.0f, 1.0f, 0.0f}, Case{0.0f, 0.0f, 2.0f, 3.0f, 0.0f},
+                          Case{0.0f, 0.0f, 1.0f, 1.0f, pi / 2}, Case{0.1f, -0.2f, 2.0f, 0.5f, 0.3f}}) {
+        const UvTransform m = import::assimpUvTransform(c.tu, c.tv, c.su, c.sv, c.rotation);
+        for (const std::array<float, 2>& uv : {std::array{0.0f, 0.0f}, std::array{1.0f, 0.5f}, std::array{0.3f, 0.9f}}) {
+            // assimp, v up: S R (uv + t - 0.5) + 0.5.
+            const float x = uv[0] + c.tu - 0.5f, y = uv[1] + c.tv - 0.5f;
+            const float up = c.su * (std::cos(c.rotation) * x - std::sin(c.rotation) * y) + 0.5f;
+            const float vp = c.sv * (std::sin(c.rotation) * x + std::cos(c.rotation) * y) + 0.5f;
+            float u = 0.0f, g = 0.0f;
+            applyUvTransform(m, uv[0], 1.0f - uv[1], u, g);
+            EXPECT_NEAR(u, up, 1e-6f) << uv[0] << "," << uv[1] << " rotation " << c.rotation;
+            EXPECT_NEAR(g, 1.0f - vp, 1e-6f) << uv[0] << "," << uv[1] << " rotation " << c.rotation;
+        }
+    }
+    // A quarter turn counter-clockwise takes (1, 0.5) to (0.5, 1) (v up), (0.5, 0) stored v-down.
+    float u = 0.0f, g = 0.0f;
+    applyUvTransform(import::assimpUvTransform(0.0f, 0.0f, 1.0f, 1.0f, pi / 2), 1.0f, 0.5f, u, g);
+    EXPECT_NEAR(u, 0.5f, 1e-6f);
+    EXPECT_NEAR(g, 0.0f, 1e-6f);
 }
 
 }  // namespace

@@ -1,0 +1,168 @@
+#include "import/AssimpTextures.h"
+
+#include <assimp/material.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+
+#include "import/ImportCommon.h"
+#include "import/TextureFiles.h"
+
+namespace vastray::import {
+namespace {
+
+// A UV transform value beyond this is refused (as KHR_texture_transform's and MTL's are).
+constexpr float kMaxAssimpUvTransformValue = 1e6f;
+
+struct SlotTypes {
+    TextureSlot slot;
+    aiTextureType preferred, fallback;
+};
+constexpr SlotTypes kSlots[] = {{TextureSlot::BaseColor, aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE},
+                                {TextureSlot::Normal, aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA},
+                                {TextureSlot::Emissive, aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR},
+                                {TextureSlot::Occlusion, aiTextureType_AMBIENT_OCCLUSION,
+                                 aiTextureType_AMBIENT_OCCLUSION}};
+
+class Reader {
+public:
+    Reader(const aiScene& scene, const std::string& folder, const std::string& fileName, ImportReport& report)
+        : scene_(scene), fileName_(fileName), report_(report), files_(folder, fileName) {}
+
+    Result<AssimpTextures> read() {
+        AssimpTextures out;
+        for (unsigned i = 0; i < scene_.mNumMaterials; ++i) {
+            const aiMaterial& material = *scene_.mMaterials[i];
+            const std::string where = "material " + std::to_string(i) + " ('" + material.GetName().C_Str() + "') ";
+            auto textures = readMaterial(material, where);
+            if (!textures) return textures.status();
+            out.materials.push_back(*textures);
+        }
+        files_.warn(report_);
+        const char* without = "their maps are rendered without them";
+        report_.warnUnused("texture maps without a glTF slot (specular, height, opacity, lightmap, ...)", otherMaps_,
+                           "materials use their factors there");
+        report_.warnUnused("metalness and roughness maps in two images", separatePbr_,
+                           "glTF's one metallic-roughness image is not assembled from two");
+        report_.warnUnused("layered texture maps (a second map of one kind)", layered_, "the first one is read");
+        report_.warnUnused("texture maps on a second UV set", otherUvSet_, without);
+        report_.warnUnused("projected texture maps (sphere, box, ...)", projected_, without);
+        report_.warnUnused("texture maps with an uncompressed embedded image", uncompressed_, without);
+        report_.warnUnused("texture maps whose file lies outside the model's folder", outside_, without);
+        out.textures = std::move(files_.textures());
+        return out;
+    }
+
+private:
+    Result<MaterialTextures> readMaterial(const aiMaterial& material, const std::string& where) {
+        MaterialTextures t;
+        std::set<aiTextureType> read;
+        for (const SlotTypes& s : kSlots) {
+            const aiTextureType type =
+                material.GetTextureCount(s.preferred) > 0 ? s.preferred : s.fallback;
+            if (material.GetTextureCount(type) == 0) continue;
+            read.insert(type);
+            if (Status st = bind(material, type, s.slot, t.slots[uint32_t(s.slot)]); !st.isOk())
+                return st.withContext(fileName_ + ": " + where + textureSlotName(s.slot) + ": ");
+        }
+        aiString metal, rough;
+        const bool hasMetal = material.GetTexture(aiTextureType_METALNESS, 0, &metal) == AI_SUCCESS;
+        const bool hasRough = material.GetTexture(aiTextureType_DIFFUSE_ROUGHNESS, 0, &rough) == AI_SUCCESS;
+        if (hasMetal && hasRough && std::strcmp(metal.C_Str(), rough.C_Str()) == 0) {
+            read.insert(aiTextureType_METALNESS);
+            read.insert(aiTextureType_DIFFUSE_ROUGHNESS);
+            TextureBinding& b = t.slots[uint32_t(TextureSlot::MetallicRoughness)];
+            if (Status st = bind(material, aiTextureType_METALNESS, TextureSlot::MetallicRoughness, b); !st.isOk())
+                return st.withContext(fileName_ + ": " + where + "metallicRoughnessTexture: ");
+        } else if (hasMetal || hasRough) {
+            read.insert(aiTextureType_METALNESS);
+            read.insert(aiTextureType_DIFFUSE_ROUGHNESS);
+            ++separatePbr_;
+        }
+        for (int type = aiTextureType_NONE + 1; type <= AI_TEXTURE_TYPE_MAX; ++type) {
+            const unsigned count = material.GetTextureCount(aiTextureType(type));
+            if (read.count(aiTextureType(type)))
+                layered_ += count > 1 ? count - 1 : 0;
+            else
+                otherMaps_ += count;
+        }
+        return t;
+    }
+
+    // The binding of the first map of `type`: kNoTexture (counted) when it cannot be read here.
+    Status bind(const aiMaterial& material, aiTextureType type, TextureSlot slot, TextureBinding& out) {
+        aiString path;
+        aiTextureMapping mapping = aiTextureMapping_UV;
+        unsigned uvIndex = 0;
+        aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+        if (material.GetTexture(type, 0, &path, &mapping, &uvIndex, nullptr, nullptr, modes) != AI_SUCCESS)
+            return Status::error("assimp names no texture");
+        if (mapping != aiTextureMapping_UV) return ++projected_, Status::ok();
+        if (uvIndex != 0) return ++otherUvSet_, Status::ok();
+        aiUVTransform uv;
+        if (material.Get(AI_MATKEY_UVTRANSFORM(type, 0), uv) == AI_SUCCESS) {
+            for (float v : {float(uv.mTranslation.x), float(uv.mTranslation.y), float(uv.mScaling.x),
+                            float(uv.mScaling.y), float(uv.mRotation)})
+                if (!std::isfinite(v) || std::fabs(v) > kMaxAssimpUvTransformValue)
+                    return Status::error("UV transform value " + std::to_string(v) + " is outside +-1e6");
+            out.transform = assimpUvTransform(uv.mTranslation.x, uv.mTranslation.y, uv.mScaling.x, uv.mScaling.y,
+                                              uv.mRotation);
+        }
+        const TextureWrap wrapS = wrapOf(modes[0]), wrapT = wrapOf(modes[1]);
+        auto texture = textureOf(path.C_Str(), wrapS, wrapT, slotEncoding(slot));
+        if (!texture) return texture.status();
+        out.texture = *texture;
+        return Status::ok();
+    }
+
+    // Decal (transparent outside [0, 1]) is the nearest clamp.
+    static TextureWrap wrapOf(aiTextureMapMode mode) {
+        if (mode == aiTextureMapMode_Clamp || mode == aiTextureMapMode_Decal) return TextureWrap::Clamp;
+        return mode == aiTextureMapMode_Mirror ? TextureWrap::Mirror : TextureWrap::Repeat;
+    }
+
+    Result<uint32_t> textureOf(const std::string& path, TextureWrap wrapS, TextureWrap wrapT, TextureEncoding encoding) {
+        if (const aiTexture* embedded = scene_.GetEmbeddedTexture(path.c_str())) {
+            unsigned index = 0;
+            while (index < scene_.mNumTextures && scene_.mTextures[index] != embedded) ++index;
+            if (embedded->mHeight != 0 || !embedded->pcData) return ++uncompressed_, kNoTexture;
+            const uint8_t* bytes = reinterpret_cast<const uint8_t*>(embedded->pcData);
+            const std::string name = embedded->mFilename.length ? embedded->mFilename.C_Str() : path;
+            return files_.addBytes("*" + std::to_string(index),
+                                   "embedded image " + std::to_string(index) + " ('" + name + "') of " + fileName_,
+                                   std::vector<uint8_t>(bytes, bytes + embedded->mWidth), wrapS, wrapT, encoding);
+        }
+        std::string why;
+        std::string name = path;
+        std::replace(name.begin(), name.end(), '\\', '/');
+        if (!isSafeRelativeUri(name, why)) return ++outside_, kNoTexture;  // FBX often names absolute paths
+        return files_.addFile(name, wrapS, wrapT, encoding);
+    }
+
+    const aiScene& scene_;
+    const std::string& fileName_;
+    ImportReport& report_;
+    TextureFiles files_;
+    uint64_t otherMaps_ = 0, separatePbr_ = 0, layered_ = 0, otherUvSet_ = 0, projected_ = 0, uncompressed_ = 0,
+             outside_ = 0;
+};
+
+}  // namespace
+
+UvTransform assimpUvTransform(float translationU, float translationV, float scaleU, float scaleV, float rotation) {
+    // v-up: uv' = S R (uv + t - c) + c with c = (0.5, 0.5), R counter-clockwise.
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    const float a00 = scaleU * c, a01 = -scaleU * s, a10 = scaleV * s, a11 = scaleV * c;
+    const float du = translationU - 0.5f, dv = translationV - 0.5f;
+    return vUpToVDown({a00, a01, a00 * du + a01 * dv + 0.5f, a10, a11, a10 * du + a11 * dv + 0.5f});
+}
+
+Result<AssimpTextures> assimpTextures(const aiScene& scene, const std::string& folder, const std::string& fileName,
+                                      ImportReport& report) {
+    return Reader(scene, folder, fileName, report).read();
+}
+
+}  // namespace vastray::import
