@@ -159,6 +159,19 @@ TEST(ObjImport, MtlMapsBecomeTheMaterialsTexturesWithTheirTransforms) {
     ASSERT_EQ(r->mesh.uvs.size(), r->mesh.positions.size());
 }
 
+// A library in a sub-folder names its maps relative to its own folder.
+TEST(ObjImport, MtlMapsAreRelativeToTheLibrarysFolder) {
+    std::filesystem::create_directories(tmpPath("mtl-sub"));
+    writeFile("mtl-sub/tex.png", tinyPng());
+    writeFile("mtl-sub/lib.mtl", "newmtl x\nmap_Kd tex.png\n");
+    auto r = importObj(writeFile("mtl-sub.obj", "mtllib mtl-sub/lib.mtl\n" + std::string(kSquareVertices) +
+                                                    "vt 0 0\nusemtl x\nf 1/1 2/1 3/1\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.textures.size(), 1u);
+    EXPECT_EQ(r->mesh.textures[0].name, "'mtl-sub/tex.png' of mtl-sub.obj");
+    EXPECT_EQ(r->mesh.materials[0].textures.slots[uint32_t(TextureSlot::BaseColor)].texture, 0u);
+}
+
 // A map's file stays inside the model's folder (as mtllib names do): '..', absolute paths and
 // schemes are refused by library, material, line and name; malformed options by line.
 TEST(ObjImport, MtlMapsOutsideTheFolderAndBadOptionsAreRefused) {
