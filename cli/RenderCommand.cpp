@@ -297,17 +297,29 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
     return options;
 }
 
-// Texture maps are imported and stored (docs/RENDERING.md, "Textures") but neither backend samples
-// them yet: say so, rather than let a textured scene render plain without a word.
-void noteUnrenderedMaps(const std::vector<Material>& materials, const std::string& input) {
-    size_t textured = 0;
-    for (const Material& m : materials) textured += m.textures.any();
-    if (textured > 0)
+// Texture maps are imported and stored (docs/RENDERING.md, "Textures"); the Embree reference
+// renders base colour, metallic-roughness and emissive maps, the Vulkan renderer none yet, and
+// neither normal or occlusion maps: say what a render leaves out, rather than let a textured
+// scene render plain without a word.
+void noteUnrenderedMaps(const std::vector<Material>& materials, const std::string& input, bool vulkan) {
+    size_t textured = 0, normalOrOcclusion = 0;
+    for (const Material& m : materials) {
+        textured += m.textures.any();
+        normalOrOcclusion += m.textures.slots[uint32_t(TextureSlot::Normal)].texture != kNoTexture ||
+                             m.textures.slots[uint32_t(TextureSlot::Occlusion)].texture != kNoTexture;
+    }
+    if (vulkan && textured > 0)
         std::fprintf(stderr,
-                     "vastray render: note: %zu material%s of %s read%s texture maps, which this vastray imports and "
-                     "stores but does not render yet: %s with %s factors alone\n",
-                     textured, textured == 1 ? "" : "s", input.c_str(), textured == 1 ? "s" : "",
-                     textured == 1 ? "it renders" : "they render", textured == 1 ? "its" : "their");
+                     "vastray render: note: %zu material%s of %s read texture maps, which the vulkan backend does "
+                     "not render yet (--backend embree renders base colour, metallic-roughness and emissive "
+                     "maps): %s with %s factors alone\n",
+                     textured, textured == 1 ? "" : "s", input.c_str(), textured == 1 ? "it renders" : "they render",
+                     textured == 1 ? "its" : "their");
+    else if (!vulkan && normalOrOcclusion > 0)
+        std::fprintf(stderr,
+                     "vastray render: note: %zu material%s of %s read normal or occlusion maps, which are not "
+                     "rendered yet\n",
+                     normalOrOcclusion, normalOrOcclusion == 1 ? "" : "s", input.c_str());
 }
 
 // Tile progress as the chosen front end shows it; called from worker threads. `openjd` writes
@@ -517,7 +529,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     if (!reader) return reader.status();
     VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
     if (!args.noLights) applySceneLights((*reader)->info().lights, (*reader)->info().bounds, options);
-    noteUnrenderedMaps((*reader)->info().materials, args.input);
+    noteUnrenderedMaps((*reader)->info().materials, args.input, true);
     if (!(*reader)->info().volumes.empty()) {  // brick tables now, each brick when a ray needs it
         auto volumes = (*reader)->openVolumes();
         if (!volumes) return volumes.status();
@@ -587,7 +599,7 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
             return progress.fail(camera.message(), 2);
         options->volumes = scene->volumes;
         if (!args.noLights) applySceneLights(scene->mesh.lights, scene->bounds, *options);
-        noteUnrenderedMaps(scene->mesh.materials, args.input);
+        noteUnrenderedMaps(scene->mesh.materials, args.input, false);
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }
     if (!image) return progress.fail(image.message(), 1);

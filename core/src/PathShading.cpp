@@ -14,7 +14,8 @@ Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
 
 Bsdf bsdfOf(const SurfacePoint& point) {
     const Material& m = *point.material;
-    return {point.albedo, m.metallic, m.roughness, m.specular, toVec(m.specularColor), m.clearcoat, m.clearcoatRoughness};
+    return {point.albedo, point.metallic, point.roughness, m.specular, toVec(m.specularColor), m.clearcoat,
+            m.clearcoatRoughness};
 }
 
 // wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it
@@ -44,8 +45,33 @@ HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const u
     return a;
 }
 
+MaterialSample materialFactors(const Material& m) {
+    return {baseColor(m), m.metallic, m.roughness, toVec(m.emissive)};
+}
+
+MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture> textures, std::array<float, 2> uv,
+                              float lod) {
+    MaterialSample s = materialFactors(m);
+    auto map = [&](TextureSlot slot, TextureSample* out) {
+        const TextureBinding& b = m.textures.slots[uint32_t(slot)];
+        if (b.texture == kNoTexture || b.texture >= textures.size()) return false;
+        float u = 0.0f, v = 0.0f;
+        applyUvTransform(b.transform, uv[0], uv[1], u, v);
+        *out = sampleTexture(textures[b.texture], u, v, lod);
+        return true;
+    };
+    TextureSample t;
+    if (map(TextureSlot::BaseColor, &t)) s.baseColor = mul(s.baseColor, Vec3f{t.r, t.g, t.b});
+    if (map(TextureSlot::MetallicRoughness, &t)) {
+        s.roughness *= t.g;
+        s.metallic *= t.b;
+    }
+    if (map(TextureSlot::Emissive, &t)) s.emissive = mul(s.emissive, Vec3f{t.r, t.g, t.b});
+    return s;
+}
+
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material,
-                              HitAttributes attributes) {
+                              HitAttributes attributes, const MaterialSample* sample) {
     SurfacePoint point;
     point.position = position;
     point.normal = normalize(geometric);
@@ -55,7 +81,11 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
         const Vec3f n = decodeOctahedral(attributes.normal);
         point.shadingNormal = dot(n, point.normal) < 0.0f ? n * -1.0f : n;
     }
-    point.albedo = mul(baseColor(material), unpackHitColor(attributes.color));
+    const MaterialSample factors = sample ? *sample : materialFactors(material);
+    point.albedo = mul(factors.baseColor, unpackHitColor(attributes.color));
+    point.metallic = factors.metallic;
+    point.roughness = factors.roughness;
+    point.emissive = factors.emissive;
     point.outgoing = rayDirection * -1.0f;
     point.glossy = !isLambertian(material);
     point.material = &material;

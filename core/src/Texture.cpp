@@ -139,4 +139,9 @@ TextureSample sampleTexture(const TextureLayout& layout, TextureWrap wrapS, Text
     return a;
 }
 
+TextureSample sampleTexture(const DecodedTexture& t, float u, float v, float lod) {
+    return sampleTexture(t.layout, t.wrapS, t.wrapT, t.encoding,
+                         [&t](uint32_t page) { return t.pages.data() + size_t(page) * kTexturePageBytes; }, u, v, lod);
+}
+
 }  // namespace vastray

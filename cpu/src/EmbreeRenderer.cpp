@@ -38,7 +38,7 @@ void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, Re
     SceneHit hit;
     ++rays;
     if (!context.scene.intersect(ray, std::numeric_limits<float>::infinity(), &hit)) return;
-    const SurfacePoint point = surfaceAt(context.mesh, hit, ray.direction);
+    const SurfacePoint point = surfaceAt(context, hit, ray.direction);
     if (image.aovs & kAovDepth) image.depth[pixel] = hit.t;
     if (image.aovs & kAovNormal)
         for (int c = 0; c < 3; ++c) image.normal[3 * pixel + c] = point.shadingNormal[c];
@@ -130,7 +130,8 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
                                                            float(options.width) / float(options.height), options.camera.up)
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
-    const ShadingContext context{scene.mesh, **embree, options, normalize(options.environment.sunDirection)};
+    const ShadingContext context{scene.mesh, **embree, options, normalize(options.environment.sunDirection),
+                                 scene.textures};
     const PixelBounds bounds = renderBounds(options);
     RenderImage image;
     image.allocate(bounds.width(), bounds.height(), options.aovs);

@@ -57,14 +57,24 @@ Vec3f directLight(const ShadingContext& context, const SurfacePoint* point, Vec3
 
 }  // namespace
 
-SurfacePoint surfaceAt(const TriangleMesh& mesh, const SceneHit& hit, Vec3f rayDirection) {
+SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f rayDirection) {
+    const TriangleMesh& mesh = context.mesh;
     const Vec3f v0 = mesh.positions[mesh.indices[3 * hit.triangle]];
     const Vec3f v1 = mesh.positions[mesh.indices[3 * hit.triangle + 1]];
     const Vec3f v2 = mesh.positions[mesh.indices[3 * hit.triangle + 2]];
     const uint32_t* corners = &mesh.indices[3 * size_t(hit.triangle)];
+    const Material& material = materialAt(mesh.materials, mesh.materialOf(hit.triangle));
+    MaterialSample sample;
+    const bool mapped = !mesh.uvs.empty() && !context.textures.empty() && material.textures.any();
+    if (mapped)
+        sample = sampleMaterial(material, context.textures,
+                                interpolateUv(mesh.uvs[corners[0]], mesh.uvs[corners[1]], mesh.uvs[corners[2]], hit.u,
+                                              hit.v),
+                                0.0f);
     return makeSurfacePoint(barycentricPosition(v0, v1, v2, hit.u, hit.v), geometricNormal(v0, v1, v2),
-                            rayDirection, materialAt(mesh.materials, mesh.materialOf(hit.triangle)),
-                            hitAttributes(mesh.normals, mesh.colors, corners[0], corners[1], corners[2], hit.u, hit.v));
+                            rayDirection, material,
+                            hitAttributes(mesh.normals, mesh.colors, corners[0], corners[1], corners[2], hit.u, hit.v),
+                            mapped ? &sample : nullptr);
 }
 
 SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, uint64_t& rays) {
@@ -113,8 +123,8 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
             break;
         }
         if (bounce == 0) result.cameraRayHit = true;
-        const SurfacePoint point = surfaceAt(context.mesh, hit, ray.direction);
-        result.radiance = result.radiance + mul(throughput, emission(*point.material));
+        const SurfacePoint point = surfaceAt(context, hit, ray.direction);
+        result.radiance = result.radiance + mul(throughput, point.emissive);
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
         result.radiance = result.radiance + mul(throughput, directLight(context, &point, ray.direction, 0.0f, origin, key, &counter, rays));
@@ -148,7 +158,7 @@ SampleResult traceAmbientOcclusion(const ShadingContext& context, Ray ray, Rando
         return result;
     }
     result.cameraRayHit = true;
-    const SurfacePoint point = surfaceAt(context.mesh, hit, ray.direction);
+    const SurfacePoint point = surfaceAt(context, hit, ray.direction);
     const Vec3f origin = offsetRayOrigin(point.position, point.normal);
     const float range = context.options.aoDistance > 0.0f ? context.options.aoDistance : kInfinity;
     ++rays;

@@ -1,4 +1,5 @@
 #pragma once
+#include <span>
 // Per-sample estimators of the reference renderer. docs/RENDERING.md defines both; a GPU
 // backend reproduces them with the same random keys.
 #include <cstdint>
@@ -17,9 +18,12 @@ struct ShadingContext {
     const EmbreeScene& scene;
     const RenderOptions& options;
     Vec3f sunDirection;  // unit, towards the sun
+    std::span<const DecodedTexture> textures;  // the materials' maps' textures (RenderScene::textures)
 };
 
-SurfacePoint surfaceAt(const TriangleMesh& mesh, const SceneHit& hit, Vec3f rayDirection);
+// The surface at a hit: its material's maps sampled at the hit's UV (finest level: the pixel's
+// samples filter the texture, docs/RENDERING.md "Textures") when the mesh has UVs.
+SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f rayDirection);
 
 struct SampleResult {
     Vec3f radiance;

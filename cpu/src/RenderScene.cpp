@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "vastray/streamer/Import.h"
+#include "vastray/streamer/PackageBuilder.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray {
@@ -54,6 +55,16 @@ Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
         if (!chunk) return chunk.status();
         VASTRAY_TRY(appendChunk(*chunk, info, reader.path(), seen, scene));
     }
+    // Every page of every texture (this renderer holds the whole scene in memory).
+    for (uint32_t t = 0; t < info.textures.size(); ++t) {
+        const PackageTexture& x = info.textures[t];
+        DecodedTexture& texture = scene.textures.emplace_back();
+        texture.layout = x.layout;
+        texture.wrapS = x.wrapS, texture.wrapT = x.wrapT, texture.encoding = x.encoding;
+        texture.pages.resize(size_t(x.layout.pageCount) * kTexturePageBytes);
+        for (uint32_t p = 0; p < x.layout.pageCount; ++p)
+            VASTRAY_TRY(reader.readTexturePage(t, p, texture.pages.data() + size_t(p) * kTexturePageBytes));
+    }
     if (!info.volumes.empty()) {
         auto volumes = reader.readVolumes();
         if (!volumes) return volumes.status();
@@ -72,6 +83,11 @@ Result<RenderScene> loadRenderScene(const std::string& path) {
     if (!imported) return imported.status();
     RenderScene scene;
     scene.mesh = std::move(imported->mesh);
+    for (const TextureSource& source : scene.mesh.textures) {  // as import would store them
+        auto texture = decodeTexture(source);
+        if (!texture) return texture.status();
+        scene.textures.push_back(std::move(texture).value());
+    }
     scene.bounds = scene.mesh.bounds();
     return scene;
 }

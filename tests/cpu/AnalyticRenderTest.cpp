@@ -125,7 +125,8 @@ TEST(AnalyticRender, InsideAnEmissiveSphereRouletteIsUnbiased) {
 
 TEST(AnalyticRender, SingleSidedPlaneIsInvisibleFromBehindDoubleSidedIsNot) {
     for (bool doubleSided : {false, true}) {
-        RenderScene scene{test::quadFacingPlusZ(doubleSided), {}, {}, {}};
+        RenderScene scene;
+        scene.mesh = test::quadFacingPlusZ(doubleSided);
         RenderOptions o = smallRender(16, 16, 1);
         lookFrom(o, {0, 0, -3}, {0, 0, 0});  // behind the quad
         o.aovs = kAovPrimId | kAovNormal;

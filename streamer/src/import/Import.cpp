@@ -162,8 +162,9 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     }
     if (!mesh.textures.empty())
         report.warnings.push_back(std::to_string(mesh.textures.size()) +
-                                  " textures stored in the package but not rendered by this vastray yet (the "
-                                  "materials render with their factors alone)");
+                                  " textures stored in the package; the vulkan backend does not render them yet "
+                                  "(--backend embree renders base colour, metallic-roughness and emissive maps; "
+                                  "neither renders normal or occlusion maps)");
     shortenCameraNames(mesh, report);
     return Status::ok();
 }

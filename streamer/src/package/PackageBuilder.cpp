@@ -254,6 +254,14 @@ Status validateOptions(const PackageBuildOptions& options, const TriangleMesh& m
 
 }  // namespace
 
+Result<DecodedTexture> decodeTexture(const TextureSource& source) {
+    auto image = decodeRgba8Image(source.name, source.extension, source.bytes, uint64_t(kMaxTextureSide) * kMaxTextureSide);
+    if (!image) return image.status();
+    auto pyramid = buildTexturePyramid(*image, source.wrapS, source.wrapT, source.encoding);
+    if (!pyramid) return pyramid.status().withContext(source.name + ": ");
+    return pyramid;
+}
+
 Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& outPath,
                                         const PackageBuildOptions& options) {
     VASTRAY_TRY(validateOptions(options, mesh));
@@ -311,14 +319,7 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     // Each texture is decoded and made into pages when the writer comes to it: one at a time.
     std::vector<TextureInput> textures;
     for (const TextureSource& source : mesh.textures)
-        textures.push_back({source.name, [&source]() -> Result<TexturePyramid> {
-                                auto image = decodeRgba8Image(source.name, source.extension, source.bytes,
-                                                              uint64_t(kMaxTextureSide) * kMaxTextureSide);
-                                if (!image) return image.status();
-                                auto pyramid = buildTexturePyramid(*image, source.wrapS, source.wrapT, source.encoding);
-                                if (!pyramid) return pyramid.status().withContext(source.name + ": ");
-                                return pyramid;
-                            }});
+        textures.push_back({source.name, [&source] { return decodeTexture(source); }});
     VASTRAY_TRY(writePackage(outPath, info, flat.blobs, textures));
     report.writeSeconds = secondsSince(start);
 

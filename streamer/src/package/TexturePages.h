@@ -12,13 +12,8 @@
 
 namespace vastray {
 
-// Every level of `image` and every page of them (layout.pageCount * kTexturePageBytes bytes).
-struct TexturePyramid {
-    TextureLayout layout;
-    TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
-    TextureEncoding encoding = TextureEncoding::Srgb;
-    std::vector<uint8_t> pages;
-};
+// Every level of an image and every page of them (layout.pageCount * kTexturePageBytes bytes).
+using TexturePyramid = DecodedTexture;
 
 // The next level of `level` (each side max(1, floor(side / 2))): every texel the average of the
 // part of `level` it covers, each source texel weighted by the area it shares with it (a box

@@ -119,7 +119,7 @@ TEST(ObjImport, MtlMapsBecomeTheMaterialsTexturesWithTheirTransforms) {
     auto r = importObj(writeFile("maps.obj", "mtllib maps.mtl\n" + std::string(kSquareVertices) +
                                                  "vt 0 0\nvt 1 1\nusemtl a\nf 1/1 2/2 3/1\nusemtl b\nf 1/1 3/2 4/1\n"));
     ASSERT_TRUE(r.isOk()) << r.message();
-    for (const std::string& w : r->report.warnings)  // nothing left out (the one warning says textures are not rendered yet)
+    for (const std::string& w : r->report.warnings)  // nothing left out (the one warning says which backend renders the textures)
         EXPECT_EQ(w.find("read but not used"), std::string::npos) << w;
     const auto& t = r->mesh.textures;
     ASSERT_EQ(t.size(), 3u);  // bricks clamped (sRGB), n (linear), bricks repeated (sRGB) for map_Ke and b

@@ -199,7 +199,7 @@ TEST(AssimpModels, WhatIsReadButNotUsedIsWarnedOncePerKind) {
     EXPECT_TRUE(hasWarning(fbx->report, "animations read but not used")) << ::testing::PrintToString(fbx->report.warnings);
     auto textured = importMesh(kAssimp + "glTF2/BoxTextured-glTF/BoxTextured.gltf");
     ASSERT_TRUE(textured.isOk());
-    EXPECT_TRUE(hasWarning(textured->report, "1 textures stored in the package but not rendered"))
+    EXPECT_TRUE(hasWarning(textured->report, "1 textures stored in the package; the vulkan backend does not render them yet"))
         << ::testing::PrintToString(textured->report.warnings);
     EXPECT_FALSE(hasWarning(textured->report, "shading normals")) << "normals are carried now";
     EXPECT_EQ(textured->mesh.normals.size(), textured->mesh.positions.size());

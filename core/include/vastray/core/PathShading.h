@@ -2,6 +2,7 @@
 // The shading steps of the `path` and `ao` integrators (docs/RENDERING.md), shared by every
 // backend: the Embree reference calls them per sample, the streaming renderer per wavefront.
 // Given the same hits, both therefore produce the same floats.
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -9,6 +10,7 @@
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Random.h"
 #include "vastray/core/RenderOptions.h"
+#include "vastray/core/Texture.h"
 #include "vastray/core/Vec3.h"
 #include "vastray/core/VertexAttributes.h"
 
@@ -25,7 +27,10 @@ struct SurfacePoint {
     // Unit shading normal on the same side (the geometric one without vertex normals): the
     // Lambertian cosines and the bounce use it; light and bounces below `normal` are cut.
     Vec3f shadingNormal;
-    Vec3f albedo;    // base colour times the vertex colour
+    Vec3f albedo;    // base colour (times its map) times the vertex colour
+    // The material's factors times their maps where it has them (MaterialSample).
+    float metallic = 0.0f, roughness = 1.0f;
+    Vec3f emissive;  // radiance
     Vec3f outgoing;  // unit, towards where the ray came from
     // Not the Lambertian base alone (core/Microfacet.h): the metallic-roughness BSDF's steps
     // replace the Lambertian ones (docs/RENDERING.md, "Materials").
@@ -45,6 +50,22 @@ struct HitAttributes {
 HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const uint32_t> colors, uint32_t i0,
                             uint32_t i1, uint32_t i2, float u, float v);
 
+// What a material's maps give at a hit (docs/RENDERING.md, "Textures", glTF 2.0's
+// metallic-roughness model): the base colour factor times the base colour map (sRGB decoded,
+// linear RGB), the metallic and roughness factors times the metallic-roughness map's B and G
+// channels, the emissive factor times the emissive map. `uv` is the hit's; each map's
+// KHR_texture_transform applies to it. A material without maps gives its factors. Normal and
+// occlusion maps are not applied (not rendered yet).
+struct MaterialSample {
+    Vec3f baseColor;
+    float metallic = 0.0f, roughness = 1.0f;
+    Vec3f emissive;
+};
+MaterialSample sampleMaterial(const Material& material, std::span<const DecodedTexture> textures,
+                              std::array<float, 2> uv, float lod);
+// The factors alone.
+MaterialSample materialFactors(const Material& material);
+
 // v0 + (v1 - v0) * u + (v2 - v0) * v, evaluated in exactly this order (the GPU kernel too).
 Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v);
 // cross(v1 - v0, v2 - v0), not normalized.
@@ -53,8 +74,11 @@ Vec3f geometricNormal(Vec3f v0, Vec3f v1, Vec3f v2);
 const Material& materialAt(std::span<const Material> materials, uint32_t id);
 // Normalizes `geometricNormal` and turns it towards the side `rayDirection` came from; the
 // shading normal is the hit's (turned to that side too) or the geometric one.
+// `sample` (sampleMaterial; the factors alone when null) gives the point's base colour, metallic,
+// roughness and emission.
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometricNormal, Vec3f rayDirection,
-                              const Material& material, HitAttributes attributes = {});
+                              const Material& material, HitAttributes attributes = {},
+                              const MaterialSample* sample = nullptr);
 
 // The environment's radiance towards unit `direction`: the map's, or the sky's.
 Vec3f skyRadiance(const Environment& environment, Vec3f direction);

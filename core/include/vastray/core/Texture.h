@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "vastray/core/Result.h"
 
@@ -91,9 +92,18 @@ struct TextureSample {
 // texels.
 using TexturePageFetch = std::function<const uint8_t*(uint32_t page)>;
 
+// A texture with every page in memory (a renderer that holds the whole scene: the Embree reference).
+struct DecodedTexture {
+    TextureLayout layout;
+    TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+    TextureEncoding encoding = TextureEncoding::Srgb;
+    std::vector<uint8_t> pages;  // layout.pageCount * kTexturePageBytes
+};
+
 // Trilinear sample at (u, v) and level of detail `lod` (clamped to the levels there are):
 // linear RGB (sRGB decoded for TextureEncoding::Srgb) and alpha in [0, 1].
 TextureSample sampleTexture(const TextureLayout& layout, TextureWrap wrapS, TextureWrap wrapT,
                             TextureEncoding encoding, const TexturePageFetch& fetch, float u, float v, float lod);
+TextureSample sampleTexture(const DecodedTexture& texture, float u, float v, float lod);
 
 }  // namespace vastray

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vastray/core/Mesh.h"
+#include "vastray/core/Texture.h"
 #include "vastray/core/Result.h"
 #include "vastray/core/Volume.h"
 
@@ -25,6 +26,9 @@ struct RenderScene {
     // A package's density volumes (PackageReader::readVolumes); null: none. A render uses them
     // when its RenderOptions::volumes is set to them.
     std::shared_ptr<const std::vector<Volume>> volumes;
+    // The textures the materials' maps name, every page decoded (a package's pages, or an
+    // imported file's images made into pages as import does); empty without maps.
+    std::vector<DecodedTexture> textures;
 
     uint32_t primitiveId(uint32_t triangle) const {
         return primitiveIds.empty() ? triangle : primitiveIds[triangle];

@@ -51,6 +51,11 @@ struct PackageBuildReport {
            bvhBuildSeconds = 0, writeSeconds = 0, totalSeconds = 0;
 };
 
+// A texture source (an importer's encoded image) decoded and made into the pages the package
+// stores (docs/PACKAGE_FORMAT.md, "Textures"): what import writes, and what the Embree reference
+// samples when it renders a file without a package. Errors name the image.
+Result<DecodedTexture> decodeTexture(const TextureSource& source);
+
 // `mesh` is consumed (positions are replaced by their quantized values).
 Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& outPath,
                                         const PackageBuildOptions& options);
