@@ -14,8 +14,6 @@
 namespace vastray::import {
 namespace {
 
-// A UV transform value beyond this is refused (as KHR_texture_transform's and MTL's are).
-constexpr float kMaxAssimpUvTransformValue = 1e6f;
 
 struct SlotTypes {
     TextureSlot slot;
@@ -106,7 +104,7 @@ private:
         if (material.Get(AI_MATKEY_UVTRANSFORM(type, 0), uv) == AI_SUCCESS) {
             for (float v : {float(uv.mTranslation.x), float(uv.mTranslation.y), float(uv.mScaling.x),
                             float(uv.mScaling.y), float(uv.mRotation)})
-                if (!std::isfinite(v) || std::fabs(v) > kMaxAssimpUvTransformValue)
+                if (!std::isfinite(v) || std::fabs(v) > kMaxUvTransformValue)
                     return Status::error("UV transform value " + std::to_string(v) + " is outside +-1e6");
             out.transform = assimpUvTransform(uv.mTranslation.x, uv.mTranslation.y, uv.mScaling.x, uv.mScaling.y,
                                               uv.mRotation);

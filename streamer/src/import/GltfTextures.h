@@ -17,9 +17,6 @@ namespace vastray::import {
 
 // At most this many distinct textures (image, wrap modes, encoding) in one scene.
 constexpr uint32_t kMaxSceneTextures = 4096;
-// A KHR_texture_transform offset or scale beyond this is refused (a UV map that far out is
-// an error, and float UVs lose their texel precision long before).
-constexpr float kMaxUvTransformValue = 1e6f;
 
 struct GltfTextures {
     std::vector<MaterialTextures> materials;  // one per glTF material, in order

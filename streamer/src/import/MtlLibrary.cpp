@@ -41,7 +41,7 @@ std::string parseMapOption(std::string_view option, const char*& p, const char* 
         std::array<float, 2>& target = option == "-s" ? map.scale : map.offset;
         target = {values[0], count > 1 ? values[1] : target[1]};
         for (float v : target)
-            if (!std::isfinite(v) || std::fabs(v) > kMaxMtlMapTransformValue)
+            if (!std::isfinite(v) || std::fabs(v) > kMaxUvTransformValue)
                 return name + " value " + std::to_string(v) + " is outside +-1e6";
         return "";
     }

@@ -26,8 +26,6 @@ struct MtlMap {
     bool clamp = false;  // -clamp on; repeat otherwise
 };
 
-// A -s or -o value beyond this is refused (UVs that far out lose their texel precision).
-constexpr float kMaxMtlMapTransformValue = 1e6f;
 
 struct MtlEntry {
     std::array<float, 3> diffuse{0.8f, 0.8f, 0.8f};

@@ -185,8 +185,8 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
 namespace {
 
 // A material's maps as a reader checks them: each texture index one of the package's or
-// kNoTexture, each UV transform finite within +-1e6 (the importers' limit), the normal scale
-// too, the occlusion strength in [0, 1].
+// kNoTexture, each UV transform entry finite within +-kMaxUvTransformEntry (what the importers'
+// limit allows), the normal scale within +-kMaxUvTransformValue, the occlusion strength in [0, 1].
 std::string mapsProblem(const MaterialTextures& t, uint32_t textureCount) {
     for (uint32_t s = 0; s < kTextureSlotCount; ++s) {
         const TextureBinding& b = t.slots[s];
@@ -194,9 +194,11 @@ std::string mapsProblem(const MaterialTextures& t, uint32_t textureCount) {
         if (b.texture != kNoTexture && b.texture >= textureCount)
             return slot + " names texture " + std::to_string(b.texture) + " of " + std::to_string(textureCount);
         for (float v : b.transform)
-            if (!(std::fabs(v) <= 1e6f)) return slot + " UV transform value " + std::to_string(v) + " is outside +-1e6";
+            if (!(std::fabs(v) <= kMaxUvTransformEntry))
+                return slot + " UV transform value " + std::to_string(v) + " is outside +-4e6";
     }
-    if (!(std::fabs(t.normalScale) <= 1e6f)) return "normal scale " + std::to_string(t.normalScale) + " is outside +-1e6";
+    if (!(std::fabs(t.normalScale) <= kMaxUvTransformValue))
+        return "normal scale " + std::to_string(t.normalScale) + " is outside +-1e6";
     if (!(t.occlusionStrength >= 0.0f && t.occlusionStrength <= 1.0f))
         return "occlusion strength " + std::to_string(t.occlusionStrength) + " is outside [0, 1]";
     return "";

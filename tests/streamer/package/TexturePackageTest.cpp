@@ -90,6 +90,18 @@ TEST_F(TexturePackage, EveryPageReadsBackAsTheImagesPyramidAndMaterialsKeepTheir
     EXPECT_EQ(readFile(path), readFile(again));
 }
 
+// The largest transform an importer accepts (an MTL -s 1e6 1e6 -o 1e6 1e6: v's offset becomes
+// 1 - 1e6 - 1e6 in the stored v-down space) is one a reader accepts too.
+TEST_F(TexturePackage, TheLargestImportableTransformRoundTrips) {
+    TriangleMesh mesh = texturedQuad(png_);
+    const float big = kMaxUvTransformValue;
+    const UvTransform largest{big, 0, big, 0, big, 1.0f - big - big};
+    mesh.materials[0].textures.slots[uint32_t(TextureSlot::BaseColor)].transform = largest;
+    auto reader = buildAndOpen(std::move(mesh), tempPath("largest.vast"), {});
+    ASSERT_TRUE(reader);
+    EXPECT_EQ(reader->info().materials[0].textures.slots[uint32_t(TextureSlot::BaseColor)].transform, largest);
+}
+
 TEST_F(TexturePackage, APackageWithoutTexturesHasAnEmptyHeadAndNoTable) {
     TriangleMesh mesh = texturedQuad(png_);
     mesh.textures.clear();

@@ -20,6 +20,14 @@ const char* textureSlotName(TextureSlot slot);
 // Colour maps are sRGB-encoded, data maps linear (glTF 2.0, "Materials").
 TextureEncoding slotEncoding(TextureSlot slot);
 
+// A UV transform's inputs as files give them (offsets, scales, rotation: KHR_texture_transform,
+// MTL -s/-o, aiUVTransform) are refused beyond this (UVs that far out lose their texel
+// precision long before); the matrix they make stays within kMaxUvTransformEntry (a v-up file's
+// offset becomes 1 - scale - offset, assimp's pivot adds a little), which a package reader
+// holds every stored transform to.
+constexpr float kMaxUvTransformValue = 1e6f;
+constexpr float kMaxUvTransformEntry = 4e6f;
+
 // uv' = (m[0] u + m[1] v + m[2], m[3] u + m[4] v + m[5]).
 using UvTransform = std::array<float, 6>;
 constexpr UvTransform kIdentityUvTransform{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
