@@ -82,29 +82,7 @@ namespace {
 
 // A DirectX .x quad (assimp's X reader: TextureFilename is a diffuse map, UVs v-down in the file)
 // whose material names `texture`.
-std::string texturedX(const std::string& texture) {
-    return R"(xof 0302txt 0064
-Material Painted {
- 1.0;1.0;1.0;1.0;;
- 0.0;
- 0.0;0.0;0.0;;
- 0.0;0.0;0.0;;
- TextureFilename { ")" + texture + R"("; }
-}
-Mesh quad {
- 4;
- 0.0;0.0;0.0;,
- 1.0;0.0;0.0;,
- 1.0;1.0;0.0;,
- 0.0;1.0;0.0;;
- 2;
- 3;0,1,2;,
- 3;0,2,3;;
- MeshMaterialList { 1; 2; 0, 0;; { Painted } }
- MeshTextureCoords { 4; 0.0;1.0;, 1.0;1.0;, 1.0;0.0;, 0.0;0.0;; }
-}
-)";
-}
+std::string texturedX(const std::string& texture) { return texturedQuadX(texture); }
 
 // A diffuse map of a PNG beside the model becomes the base colour map (sRGB, repeat, no
 // transform), its bytes carried through the assimp child process's answer.

@@ -133,6 +133,34 @@ inline constexpr const char* kColladaTriangle = R"(  <library_geometries>
       <node id="tri" name="tri"><instance_geometry url="#tri-mesh"/></node>
 )";
 
+// A DirectX .x quad (0,0,0)-(1,1,0) whose material names `texture` (a file name) and whose four
+// corners have the texture coordinates `uvs` ("u;v;" each, in the file's v-down space; assimp's
+// X reader turns them into its v-up ones).
+inline std::string texturedQuadX(const std::string& texture,
+                                 const std::string& uvs = "0.0;1.0;, 1.0;1.0;, 1.0;0.0;, 0.0;0.0;") {
+    return R"(xof 0302txt 0064
+Material Painted {
+ 1.0;1.0;1.0;1.0;;
+ 0.0;
+ 0.0;0.0;0.0;;
+ 0.0;0.0;0.0;;
+ TextureFilename { ")" + texture + R"("; }
+}
+Mesh quad {
+ 4;
+ 0.0;0.0;0.0;,
+ 1.0;0.0;0.0;,
+ 1.0;1.0;0.0;,
+ 0.0;1.0;0.0;;
+ 2;
+ 3;0,1,2;,
+ 3;0,2,3;;
+ MeshMaterialList { 1; 2; 0, 0;; { Painted } }
+ MeshTextureCoords { 4; )" + uvs + R"(; }
+}
+)";
+}
+
 #define EXPECT_IMPORT_ERROR(result, file, element)                                   \
     do {                                                                             \
         const auto& r_ = (result);                                                   \

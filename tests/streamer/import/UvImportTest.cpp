@@ -164,39 +164,7 @@ TEST(UvImport, GltfHostileOrMistypedTexcoordsAreNamed) {
 // assimp: a DirectX .x quad whose material names a texture file (assimp's X reader turns the
 // file's v-down UVs into its own v-up ones; the importer turns them back).
 TEST(UvImport, AssimpReadsTheFirstUvSetOfATexturedMaterial) {
-    const std::string x = R"(xof 0302txt 0064
-Material Painted {
- 1.0;1.0;1.0;1.0;;
- 0.0;
- 0.0;0.0;0.0;;
- 0.0;0.0;0.0;;
- TextureFilename { "wood.png"; }
-}
-Mesh quad {
- 4;
- 0.0;0.0;0.0;,
- 1.0;0.0;0.0;,
- 1.0;1.0;0.0;,
- 0.0;1.0;0.0;;
- 2;
- 3;0,1,2;,
- 3;0,2,3;;
- MeshMaterialList {
-  1;
-  2;
-  0,
-  0;;
-  { Painted }
- }
- MeshTextureCoords {
-  4;
-  0.0;1.0;,
-  0.5;1.0;,
-  0.5;0.25;,
-  0.0;0.25;;
- }
-}
-)";
+    const std::string x = texturedQuadX("wood.png", "0.0;1.0;, 0.5;1.0;, 0.5;0.25;, 0.0;0.25;");
     auto r = importWithAssimp(writeFile("uv-quad.x", x));
     ASSERT_TRUE(r.isOk()) << r.message();
     const TriangleMesh& m = r->mesh;
