@@ -2,7 +2,7 @@
 // The OpenImageIO image module's entry point. OpenImageIO brings ~260 shared libraries whose
 // relocation took ~0.35 s at every start of the program, so it lives in a module
 // (libvastray_oiio.so) that the first image read or write loads; commands that touch no image
-// (import, info, generate, --help) never load it.
+// (info, generate, --help, an import of a file without texture maps) never load it.
 #include <cstdint>
 #include <string>
 
