@@ -118,6 +118,47 @@ inline std::vector<uint8_t> withoutLightSection(std::vector<uint8_t> bytes) {
     return bytes;
 }
 
+// A format 10 package without textures laid out as format 9: each material record's last 156
+// bytes (its maps, none here) and the 32-byte texture head (right before the first blob) taken
+// out, every offset after them moved back (the tree's, the directory's, the blobs', the cameras'
+// and the volume records' in the header at 160, 168, 176, 208 and 232, the blobs' in the
+// directory, each volume's data in its record), the version set to 9 and the materials' (at 184),
+// directory's, records' and header's checksums recomputed; the material count is at 80. A package
+// without textures has no texture table, so nothing else changes.
+inline std::vector<uint8_t> withoutTextures(std::vector<uint8_t> bytes) {
+    auto get = [&](uint64_t at) {
+        uint64_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 8);
+        return v;
+    };
+    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    uint32_t materials = 0, chunks = 0, volumes = 0;
+    std::memcpy(&materials, bytes.data() + 80, 4);
+    std::memcpy(&chunks, bytes.data() + 88, 4);
+    std::memcpy(&volumes, bytes.data() + 92, 4);
+    for (uint32_t m = materials; m-- > 0;) {
+        const int64_t end = 256 + 300 * int64_t(m + 1);
+        bytes.erase(bytes.begin() + end - 156, bytes.begin() + end);
+    }
+    const uint64_t maps = 156ull * materials;
+    for (uint64_t at : {160, 168, 208, 232}) set(at, get(at) - maps);
+    const uint64_t head = get(176) - maps - 32;  // the texture head ends where the blobs begin
+    bytes.erase(bytes.begin() + int64_t(head), bytes.begin() + int64_t(head + 32));
+    const uint64_t moved = maps + 32;
+    set(176, get(176) - moved);
+    const uint64_t directory = get(168), records = get(232);
+    for (uint64_t c = 0; c < chunks; ++c) set(directory + 72 * c, get(directory + 72 * c) - moved);
+    for (uint64_t v = 0; v < volumes; ++v) set(records + 256 * v + 164, get(records + 256 * v + 164) - moved);
+    const uint32_t nine = 9;
+    std::memcpy(bytes.data() + 8, &nine, 4);
+    set(16, bytes.size());
+    set(184, checksum64(bytes.data() + 256, 144ull * materials));
+    set(200, checksum64(bytes.data() + directory, 72ull * chunks));
+    set(240, checksum64(bytes.data() + records, 256ull * volumes));
+    set(248, checksum64(bytes.data(), 248));
+    return bytes;
+}
+
 // A format 8 package laid out as format 7: each material record's last 32 bytes (the specular
 // colour, white here, and five zero words) taken out and every offset after the materials moved
 // back by 32 per material (the tree's, the directory's, the blobs', the cameras' and the volume
@@ -156,12 +197,14 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
 
 // The same package in format version 5, whose only volume is `p` (the last bytes of the file): its
 // data whole (cell table, every brick's densities, then every brick's emission) under one checksum,
-// as versions 4 and 5 store it. `current` is the format 8 package without lights that holds `p`.
+// as versions 4 and 5 store it. `current` is the format 10 package without lights or textures
+// that holds `p`.
 inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& current, PackageVolume p) {
     uint32_t materials = 0;
     std::memcpy(&materials, current.data() + 80, 4);
-    const std::vector<uint8_t> bytes = withoutLightSection(withoutSpecularColours(current));
-    p.offset -= 8 + 32ull * materials;  // the light section's checksum and the colours no longer lie before it
+    const std::vector<uint8_t> bytes = withoutLightSection(withoutSpecularColours(withoutTextures(current)));
+    // The light section's checksum, the texture head, the colours and the maps no longer lie before it.
+    p.offset -= 8 + 32 + (32ull + 156ull) * materials;
     const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
     std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
     for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)
