@@ -49,14 +49,12 @@ std::string gridsFile() {
     heat->setName("heat");
     for (auto* grid : {density.get(), heat.get()})
         grid->setTransform(openvdb::math::Transform::createLinearTransform(0.125));
-    // fill() first, before any accessor exists: fill() clears the tree's accessor registry, and
-    // iterating one that has held accessors is undefined behaviour inside TBB's hash map (UBSan: a
-    // misaligned downcast in concurrent_hash_map.h), not ours to fix. The boxes and the voxels set
-    // below do not overlap, so the order does not change the grids.
-    density->fill(CoordBBox(Coord(128, 0, 0), Coord(191, 63, 63)), 0.75f, true);
-    heat->fill(CoordBBox(Coord(128, 0, 0), Coord(135, 7, 7)), 40.0f, true);
-    auto d = density->getAccessor();
-    auto e = heat->getAccessor();
+    // No ValueAccessor: a tree that has registered one iterates its accessor registry when it is
+    // filled or destroyed, and that is undefined behaviour inside TBB's hash map (UBSan: a
+    // misaligned downcast in concurrent_hash_map.h), not ours to fix; the tree's own setValue
+    // does without.
+    FloatGrid::TreeType& d = density->tree();
+    FloatGrid::TreeType& e = heat->tree();
     for (int32_t k = 1; k < 40; ++k)
         for (int32_t j = 1; j < 40; ++j)
             for (int32_t i = 1; i < 72; ++i) {
@@ -65,6 +63,8 @@ std::string gridsFile() {
                 d.setValue(Coord(i, j, k), h % 16 == 1 ? 0.0f : float(h >> 8) / float(1 << 23));
                 if (i < 30 && h % 3 == 0) e.setValue(Coord(i, j, k), 100.0f + float(h % 1000) / 10.0f);
             }
+    density->fill(CoordBBox(Coord(128, 0, 0), Coord(191, 63, 63)), 0.75f, true);
+    heat->fill(CoordBBox(Coord(128, 0, 0), Coord(135, 7, 7)), 40.0f, true);
     d.setValue(Coord(-300, 5, 7), 3.0f);
     e.setValue(Coord(-600, 5, 7), 9.0f);
     const std::string path = vdbPath("grids.vdb");
