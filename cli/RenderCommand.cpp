@@ -298,28 +298,28 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
 }
 
 // Texture maps are imported and stored (docs/RENDERING.md, "Textures"); the Embree reference
-// renders base colour, metallic-roughness and emissive maps, the Vulkan renderer none yet, and
-// neither normal or occlusion maps: say what a render leaves out, rather than let a textured
-// scene render plain without a word.
+// renders base colour, metallic-roughness, emissive and normal maps, the Vulkan renderer none yet;
+// occlusion maps are applied by neither, by design (a path tracer finds the occlusion itself).
+// Say what a render leaves out, rather than let a textured scene render plain without a word.
 void noteUnrenderedMaps(const std::vector<Material>& materials, const std::string& input, bool vulkan) {
-    size_t textured = 0, normalOrOcclusion = 0;
+    size_t textured = 0, occlusion = 0;
     for (const Material& m : materials) {
         textured += m.textures.any();
-        normalOrOcclusion += m.textures.slots[uint32_t(TextureSlot::Normal)].texture != kNoTexture ||
-                             m.textures.slots[uint32_t(TextureSlot::Occlusion)].texture != kNoTexture;
+        occlusion += m.textures.slots[uint32_t(TextureSlot::Occlusion)].texture != kNoTexture;
     }
     if (vulkan && textured > 0)
         std::fprintf(stderr,
                      "vastray render: note: %zu material%s of %s read texture maps, which the vulkan backend does "
-                     "not render yet (--backend embree renders base colour, metallic-roughness and emissive "
-                     "maps): %s with %s factors alone\n",
+                     "not render yet (--backend embree renders base colour, metallic-roughness, emissive and "
+                     "normal maps): %s with %s factors alone\n",
                      textured, textured == 1 ? "" : "s", input.c_str(), textured == 1 ? "it renders" : "they render",
                      textured == 1 ? "its" : "their");
-    else if (!vulkan && normalOrOcclusion > 0)
+    else if (!vulkan && occlusion > 0)
         std::fprintf(stderr,
-                     "vastray render: note: %zu material%s of %s read normal or occlusion maps, which are not "
-                     "rendered yet\n",
-                     normalOrOcclusion, normalOrOcclusion == 1 ? "" : "s", input.c_str());
+                     "vastray render: note: %zu material%s of %s read occlusion maps, which are stored but not "
+                     "applied, by design (the path tracer computes occlusion itself; the map would count it "
+                     "twice)\n",
+                     occlusion, occlusion == 1 ? "" : "s", input.c_str());
 }
 
 // Tile progress as the chosen front end shows it; called from worker threads. `openjd` writes

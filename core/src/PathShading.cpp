@@ -67,19 +67,29 @@ MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture>
         s.metallic *= t.b;
     }
     if (map(TextureSlot::Emissive, &t)) s.emissive = mul(s.emissive, Vec3f{t.r, t.g, t.b});
+    if (map(TextureSlot::Normal, &t)) {
+        s.normalMapped = true;
+        s.tangentNormal = decodeNormalTexel(t.r, t.g, t.b, m.textures.normalScale);
+    }
     return s;
 }
 
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material,
-                              HitAttributes attributes, const MaterialSample* sample) {
+                              HitAttributes attributes, const MaterialSample* sample,
+                              const UvDerivatives* uvDerivatives) {
     SurfacePoint point;
     point.position = position;
-    point.normal = normalize(geometric);
-    if (dot(point.normal, rayDirection) > 0.0f) point.normal = point.normal * -1.0f;
+    const Vec3f front = normalize(geometric);
+    point.normal = dot(front, rayDirection) > 0.0f ? front * -1.0f : front;
     point.shadingNormal = point.normal;
-    if (attributes.normal != kNoNormal) {
-        const Vec3f n = decodeOctahedral(attributes.normal);
-        point.shadingNormal = dot(n, point.normal) < 0.0f ? n * -1.0f : n;
+    const bool interpolated = attributes.normal != kNoNormal;
+    const bool bent = sample && sample->normalMapped && uvDerivatives && uvDerivatives->valid;
+    if (interpolated || bent) {
+        // The map bends the front side's normal; the turn to the ray's side is the unbent one's.
+        Vec3f n = interpolated ? decodeOctahedral(attributes.normal) : front;
+        const bool turn = dot(n, point.normal) < 0.0f;
+        if (bent) n = perturbNormal(n, *uvDerivatives, sample->tangentNormal);
+        point.shadingNormal = turn ? n * -1.0f : n;
     }
     const MaterialSample factors = sample ? *sample : materialFactors(material);
     point.albedo = mul(factors.baseColor, unpackHitColor(attributes.color));

@@ -65,16 +65,19 @@ SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f
     const uint32_t* corners = &mesh.indices[3 * size_t(hit.triangle)];
     const Material& material = materialAt(mesh.materials, mesh.materialOf(hit.triangle));
     MaterialSample sample;
+    UvDerivatives derivatives;
     const bool mapped = !mesh.uvs.empty() && !context.textures.empty() && material.textures.any();
-    if (mapped)
-        sample = sampleMaterial(material, context.textures,
-                                interpolateUv(mesh.uvs[corners[0]], mesh.uvs[corners[1]], mesh.uvs[corners[2]], hit.u,
-                                              hit.v),
-                                0.0f);
+    if (mapped) {
+        const std::array<float, 2> t0 = mesh.uvs[corners[0]], t1 = mesh.uvs[corners[1]], t2 = mesh.uvs[corners[2]];
+        sample = sampleMaterial(material, context.textures, interpolateUv(t0, t1, t2, hit.u, hit.v), 0.0f);
+        if (sample.normalMapped)
+            derivatives = uvDerivatives(material.textures.slots[uint32_t(TextureSlot::Normal)].transform, v0, v1, v2,
+                                        t0, t1, t2);
+    }
     return makeSurfacePoint(barycentricPosition(v0, v1, v2, hit.u, hit.v), geometricNormal(v0, v1, v2),
                             rayDirection, material,
                             hitAttributes(mesh.normals, mesh.colors, corners[0], corners[1], corners[2], hit.u, hit.v),
-                            mapped ? &sample : nullptr);
+                            mapped ? &sample : nullptr, &derivatives);
 }
 
 SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, uint64_t& rays) {

@@ -163,8 +163,8 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
     if (!mesh.textures.empty())
         report.warnings.push_back(std::to_string(mesh.textures.size()) +
                                   " textures stored in the package; the vulkan backend does not render them yet "
-                                  "(--backend embree renders base colour, metallic-roughness and emissive maps; "
-                                  "neither renders normal or occlusion maps)");
+                                  "(--backend embree renders base colour, metallic-roughness, emissive and normal "
+                                  "maps; occlusion maps are stored, not applied by design)");
     shortenCameraNames(mesh, report);
     return Status::ok();
 }

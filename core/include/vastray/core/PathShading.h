@@ -8,6 +8,7 @@
 
 #include "vastray/core/Light.h"
 #include "vastray/core/Mesh.h"
+#include "vastray/core/NormalMap.h"
 #include "vastray/core/Random.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/core/Texture.h"
@@ -53,13 +54,18 @@ HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const u
 // What a material's maps give at a hit (docs/RENDERING.md, "Textures", glTF 2.0's
 // metallic-roughness model): the base colour factor times the base colour map (sRGB decoded,
 // linear RGB), the metallic and roughness factors times the metallic-roughness map's B and G
-// channels, the emissive factor times the emissive map. `uv` is the hit's; each map's
-// KHR_texture_transform applies to it. A material without maps gives its factors. Normal and
-// occlusion maps are not applied (not rendered yet).
+// channels, the emissive factor times the emissive map, and the normal map's tangent-space
+// normal (linear texels, decodeNormalTexel with the material's normal scale; makeSurfacePoint
+// bends the shading normal with it: "Normal maps"). `uv` is the hit's; each map's
+// KHR_texture_transform applies to it. A material without maps gives its factors. Occlusion
+// maps are stored but not applied, by design: a path tracer finds the occlusion itself, and a
+// baked map would count it twice (as Mitsuba 3 and Cycles do, they are ignored).
 struct MaterialSample {
     Vec3f baseColor;
     float metallic = 0.0f, roughness = 1.0f;
     Vec3f emissive;
+    bool normalMapped = false;        // the material has a normal map
+    Vec3f tangentNormal{0, 0, 1};     // its decoded texel, when normalMapped
 };
 MaterialSample sampleMaterial(const Material& material, std::span<const DecodedTexture> textures,
                               std::array<float, 2> uv, float lod);
@@ -75,10 +81,12 @@ const Material& materialAt(std::span<const Material> materials, uint32_t id);
 // Normalizes `geometricNormal` and turns it towards the side `rayDirection` came from; the
 // shading normal is the hit's (turned to that side too) or the geometric one.
 // `sample` (sampleMaterial; the factors alone when null) gives the point's base colour, metallic,
-// roughness and emission.
+// roughness and emission. With a normal-mapped sample and valid `uvDerivatives` (the hit
+// triangle's, core/NormalMap.h), the front-side shading normal is first bent by the map
+// (perturbNormal), then turned to the ray's side exactly when the unbent one is.
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometricNormal, Vec3f rayDirection,
                               const Material& material, HitAttributes attributes = {},
-                              const MaterialSample* sample = nullptr);
+                              const MaterialSample* sample = nullptr, const UvDerivatives* uvDerivatives = nullptr);
 
 // The environment's radiance towards unit `direction`: the map's, or the sky's.
 Vec3f skyRadiance(const Environment& environment, Vec3f direction);
