@@ -25,8 +25,9 @@ constexpr float kMaxSurvival = 0.95f;
 struct SurfacePoint {
     Vec3f position;  // from barycentrics (more exact than origin + t * direction)
     Vec3f normal;    // unit geometric normal, on the side the ray came from
-    // Unit shading normal on the same side (the geometric one without vertex normals): the
-    // Lambertian cosines and the bounce use it; light and bounces below `normal` are cut.
+    // Unit shading normal on the same side (the geometric one without vertex normals; bent by
+    // the material's normal map where it has one): the Lambertian cosines and the bounce use it;
+    // light and bounces below `normal` are cut.
     Vec3f shadingNormal;
     Vec3f albedo;    // base colour (times its map) times the vertex colour
     // The material's factors times their maps where it has them (MaterialSample).
