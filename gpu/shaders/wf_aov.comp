@@ -1,6 +1,9 @@
 // The AOVs of the tile's pixel-centre rays (one per pixel, walked like a closest-hit stream):
 // depth, facing unit normal, base colour, primitive, chunk and texture coordinates; miss values
-// where nothing was hit (and UV (0, 0) where the scene has none).
+// where nothing was hit (and UV (0, 0) where the scene has none). The base colour has the
+// material's maps; with paged textures a pixel whose map reads an absent page asks for it, writes
+// nothing and joins kShadeWaitQueue; the host loads the pages and runs the kernel again over those
+// pixels (pc.mode kAovRetry: the pixels of kShadeQueue).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -10,16 +13,16 @@
 #include "common/Random.glsl"
 #include "common/Shading.glsl"
 #include "common/Attributes.glsl"
+#include "common/Texture.glsl"
+#include "common/MaterialMaps.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
 // Same values as vastray::AovFlags.
 const uint kAovDepth = 1u, kAovNormal = 2u, kAovAlbedo = 4u, kAovPrimId = 8u, kAovChunkId = 16u, kAovUv = 64u;
 
-void main() {
-    const uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.pixelCount) return;
-    ParamsRef params = ParamsRef(pc.params);
+// Pixel i's AOVs; false when its base colour waits for a texture page (nothing written).
+bool writeAovs(ParamsRef params, uint i) {
     const uint aovs = params.p.aovs;
     const uvec4 n = UVec4Array(params.p.hitNormal).v[i];
     const bool found = (UVec2Array(params.p.rayState).v[i].x & kHitFound) != 0u;
@@ -27,10 +30,14 @@ void main() {
     const uvec4 ids = UVec4Array(params.p.hitIds).v[i];
     vec3 normal = vec3(0.0), albedo = vec3(0.0);
     if (found) {
-        // The shading normal and the base colour times the vertex colour (white without).
+        // The shading normal and the base colour (times its map) times the vertex colour (white without).
         normal = shadingNormalAt(n.w, facingNormal(uintBitsToFloat(n.xyz), Vec4Array(params.p.rayDirection).v[i].xyz));
         const WavefrontMaterial m = materialAt(params.p, ids.y);
-        albedo = vec3(m.baseR, m.baseG, m.baseB) * unpackHitColor(ids.w);
+        MaterialValues values = materialFactors(m);
+        if ((aovs & kAovAlbedo) != 0u && params.p.textures != 0ul && params.p.hitUv != 0ul && hasMaps(m) &&
+            !sampleMaterialMaps(params.p, m, hitUvOf(params.p, i), values))
+            return false;
+        albedo = values.baseColor * unpackHitColor(ids.w);
     }
     if ((aovs & kAovDepth) != 0u) RwFloatArray(params.p.outDepth).v[i] = found ? position.w : kInfinity;
     if ((aovs & kAovNormal) != 0u)
@@ -45,4 +52,17 @@ void main() {
         uvOut.v[2u * i] = uvs ? RwFloatArray(params.p.hitUv).v[2u * i] : 0.0;
         uvOut.v[2u * i + 1u] = uvs ? RwFloatArray(params.p.hitUv).v[2u * i + 1u] : 0.0;
     }
+    return true;
+}
+
+void main() {
+    ParamsRef params = ParamsRef(pc.params);
+    uint i = gl_GlobalInvocationID.x;
+    bool active = i < pc.pixelCount;
+    if (pc.mode == kAovRetry) {
+        active = i < queueCount(params, kShadeQueue);
+        if (active) i = queueOf(params, kShadeQueue).v[i];
+    }
+    const bool waits = active && !writeAovs(params, i);
+    if (params.p.textureDemand != 0ul) appendToQueue(params, kShadeWaitQueue, false, waits ? 1u : 0u, i, 0u);
 }

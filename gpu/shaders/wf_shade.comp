@@ -6,7 +6,7 @@
 // volumes, free flight along the ray first: a real collision before the hit scatters there
 // instead (next-event estimation through the volumes, the phase function's bounce). New rays
 // are queued on pc.queue for walking. A path whose volume tracking parks at a brick that is not
-// resident (paged volumes) writes its park record and nothing else: it joins kVolumeWaitQueue
+// resident (paged volumes) writes its park record and nothing else: it joins kShadeWaitQueue
 // and shades again from the same state once the bricks are resident, its tracking resuming
 // where it parked.
 // Each path carries its own bounce, so paths of one wave may be at different bounces. Streamed
@@ -24,6 +24,8 @@
 #include "common/Environment.glsl"
 #include "common/Volume.glsl"
 #include "common/Lights.glsl"
+#include "common/Texture.glsl"
+#include "common/MaterialMaps.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -38,6 +40,7 @@ layout(constant_id = 6) const bool kVolumes = false;           // the scene has 
 layout(constant_id = 7) const bool kMicrofacet = false;        // some material is glossy (not Lambertian)
 layout(constant_id = 8) const bool kLights = false;            // the render has punctual lights
 layout(constant_id = 9) const bool kClearcoat = false;         // some material has a clear coat
+layout(constant_id = 10) const bool kTextures = false;         // some material has maps (and the hits UVs)
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point).
@@ -148,18 +151,26 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             } else {
                 const uvec4 ids = UVec4Array(p.hitIds).v[j];
                 const WavefrontMaterial m = materialAt(p, ids.y);
+                // The factors times the maps (docs/RENDERING.md, "Textures"). A page that is not
+                // resident (paged textures): the path waits, nothing of it written, and shades
+                // again from the same state once its pages are loaded.
+                MaterialValues values = materialFactors(m);
+                if (kTextures && hasMaps(m) && !(kVolumes && volumeMissed) &&
+                    !sampleMaterialMaps(p, m, hitUvOf(p, j), values))
+                    return false;
                 // Vertex colour and shading normal (docs/RENDERING.md, "Vertex attributes"): the
                 // colour scales the base colour; the shading normal takes the Lambertian cosines,
                 // and light or a bounce below the geometric surface is cut.
-                albedo = vec3(m.baseR, m.baseG, m.baseB) * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
+                albedo = values.baseColor * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
                 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
-                if (kEmission) radiance += throughput * vec3(m.emitR, m.emitG, m.emitB);
+                if (kEmission) radiance += throughput * values.emissive;
                 event = bounce < p.maxDepth;
                 // Without kClearcoat the coat is a constant 0 and its steps fold away.
                 const float coat = kClearcoat ? m.clearcoat : 0.0;
+                // Glossy or Lambertian by the factors (core isLambertian), as the reference decides.
                 surface = Surface(n, ns, albedo, -direction,
-                                  kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || coat > 0.0), m.metallic,
-                                  m.roughness, m.specular, vec3(m.specularColorR, m.specularColorG, m.specularColorB),
+                                  kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || coat > 0.0), values.metallic,
+                                  values.roughness, m.specular, vec3(m.specularColorR, m.specularColorG, m.specularColorB),
                                   coat, m.clearcoatRoughness);
                 // Next-event estimation: a punctual light, or the sun, or with a map the sun or the map.
                 if (event && kLights)
@@ -251,7 +262,7 @@ void main() {
         waits = !shade(path, count, first, second, ended);
     }
     appendToQueue(params, pc.queue, true, count, first, second);
-    if (kVolumes) appendToQueue(params, kVolumeWaitQueue, false, waits ? 1u : 0u, path, 0u);
+    if (kVolumes || kTextures) appendToQueue(params, kShadeWaitQueue, false, waits ? 1u : 0u, path, 0u);
     if (pc.mode == kWaveStreamed) {  // streamed waves: the last path of a group's block queues the group
         const uint g = path / pc.sampleCount;
         const bool blockDone = ended && atomicAdd(UVec2Array(params.p.groupState).v[g].x, 0xffffffffu) == 1u;

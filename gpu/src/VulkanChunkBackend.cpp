@@ -9,6 +9,7 @@
 
 #include "ChunkUploader.h"
 #include "ChunkValidation.h"
+#include "DeviceTextures.h"
 #include "DeviceVolumes.h"
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
@@ -47,7 +48,7 @@ public:
         : device_(device), plan_(plan), attributes_(attributes), upload_(upload), mode_(mode),
           tables_(tableLayout(plan.slots, package)), bounds_(package.bounds),
           topNodeCount_(uint32_t(package.topTree.size())), chunkCount_(uint32_t(package.chunks.size())),
-          volumes_(device) {}
+          volumes_(device), textures_(device) {}
 
     ~VulkanChunkBackend() override {
         if (uploader_) {
@@ -69,7 +70,8 @@ public:
         wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_,
                                       shadeConstants(package.materials, false, true, attributes_.normals,
                                                      attributes_.colors, false, !package.volumes.empty(),
-                                                     !package.lights.empty()));
+                                                     !package.lights.empty(),
+                                                     attributes_.uvs && !package.textures.empty()));
         const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly
@@ -207,8 +209,10 @@ public:
         b.uploader = uploader_.get();
         VASTRAY_TRY(prepareEnvironment(job.options->environment, job.options->volumes, stats));
         VASTRAY_TRY(prepareVolumes(job.options->volumes, stats));
+        VASTRAY_TRY(prepareTextures(job, stats));
         b.environment = environment_ ? &environmentBuffer_ : nullptr;
         b.volumes = volumes_.buffer() ? &volumes_ : nullptr;
+        b.textures = textures_.present() ? &textures_ : nullptr;
         return wavefront_->render(b, job, pager, image, stats, deviceSeconds_);
     }
 
@@ -247,10 +251,10 @@ private:
     Status checkReserve(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes) const {
         const uint64_t map = environmentBytes(environment),
                        grids = volumes ? minimumVolumeBytes(volumeShapes(*volumes), plan_.batchRays) : 0;
-        if (map + grids <= plan_.reservedBytes) return Status::ok();
+        if (map + grids <= plan_.reservedBytes - plan_.textureBytes) return Status::ok();
         return Status::error((map ? "the environment map needs " + formatBytes(map) + (grids ? " and " : "") : std::string("")) +
                              (grids ? "the volumes need at least " + formatBytes(grids) : std::string()) +
-                             " of device memory; the pool kept " + formatBytes(plan_.reservedBytes) +
+                             " of device memory; the pool kept " + formatBytes(plan_.reservedBytes - plan_.textureBytes) +
                              " for them (createVulkanChunkBackend's reservedBytes)");
     }
 
@@ -260,9 +264,19 @@ private:
         VASTRAY_TRY(checkReserve(Environment{}, volumes));
         const uint64_t map = environment_ ? environmentBuffer_.allocatedBytes() : 0;
         allocated_ -= volumes_.allocatedBytes();
-        const Status s =
-            volumes_.prepare(volumes, plan_.reservedBytes - std::min(map, plan_.reservedBytes), plan_.batchRays, stats);
+        const uint64_t kept = plan_.reservedBytes - plan_.textureBytes;
+        const Status s = volumes_.prepare(volumes, kept - std::min(map, kept), plan_.batchRays, stats);
         allocated_ += volumes_.allocatedBytes();
+        peak_ = std::max(peak_, allocated_);
+        return s;
+    }
+
+    // The package's textures in the bytes the plan kept for them (in core, or paged through a
+    // pool of page slots: DeviceTextures); kept from one render to the next.
+    Status prepareTextures(const DeviceRenderJob& job, StreamingStats& stats) {
+        allocated_ -= textures_.allocatedBytes();
+        const Status s = textures_.prepare(job.textures, job.readTexturePage, plan_.textureBytes, stats);
+        allocated_ += textures_.allocatedBytes();
         peak_ = std::max(peak_, allocated_);
         return s;
     }
@@ -295,6 +309,7 @@ private:
     std::shared_ptr<const EnvironmentMap> environment_;  // the map in environmentBuffer_
     GpuBuffer environmentBuffer_;
     DeviceVolumes volumes_;  // the render's volumes, in core or paged
+    DeviceTextures textures_;  // the package's textures, in core or paged (plan_.textureBytes)
     std::unique_ptr<ChunkUploader> uploader_;  // Dma; destroyed first: its copies write the slots
     ChunkUploadFigures figures_;
     uint64_t allocated_ = 0, peak_ = 0, uploaded_ = 0;
@@ -326,7 +341,8 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         stagingInDeviceMemory ? std::clamp<uint64_t>(granules(stagingInDeviceMemory), 2 * slotAllocation,
                                                      std::max<uint64_t>(chunks, 2) * slotAllocation)
                               : 0;
-    const uint64_t reserved = reservedBytes > 0 ? granules(reservedBytes) : 0;
+    const uint64_t textures = textureReserveBytes(package, budget);
+    const uint64_t reserved = (reservedBytes > 0 ? granules(reservedBytes) : 0) + textures;
     plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1) + staging + reserved;
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
@@ -335,7 +351,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                              std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
                              " plus tables of " + formatBytes(tableBytes(1)) +
                              (staging ? " plus a staging area of " + formatBytes(staging) : std::string()) +
-                             (reserved ? " plus the environment map's and volumes' " + formatBytes(reserved) : std::string()) + ")");
+                             (reserved ? " plus the environment map's, volumes' and textures' " + formatBytes(reserved) : std::string()) + ")");
     budget -= staging + reserved;  // the rest is split between the wave and the slots
     // A quarter of the budget for the wave (within [kMinBatchRays, kMaxBatchRays]), the rest for
     // slots; slots beyond the chunk count are useless, so what they would take goes back to the
@@ -363,6 +379,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.tableBytes = tableBytes(slots);
     plan.stagingBytes = staging;
     plan.reservedBytes = reserved;
+    plan.textureBytes = textures;
     plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes + staging + reserved;
     return plan;
 }
@@ -384,6 +401,15 @@ std::vector<VolumeShape> volumeShapes(const PackageInfo& package) {
 }  // namespace
 
 uint64_t volumeBytes(const PackageInfo& package) { return inCoreVolumeBytes(volumeShapes(package)); }
+
+uint64_t textureBytes(const PackageInfo& package) { return inCoreTextureBytes(package.textures); }
+
+uint64_t textureReserveBytes(const PackageInfo& package, uint64_t budget) {
+    const uint64_t whole = inCoreTextureBytes(package.textures);
+    const uint64_t share = uint64_t(double(budget) * kTextureShareOutOfCore) / kAllocationGranule * kAllocationGranule;
+    if (whole <= share) return whole;
+    return std::max(share, pagedTextureBytes(package.textures, kMinTexturePageSlots));
+}
 
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget) {
     const uint64_t whole = volumeBytes(package);

@@ -137,6 +137,9 @@ PendingPipeline createAsync(VulkanDevice& device, std::span<const uint32_t> spir
     });
 }
 
+// The texture a material's map names (kNoTexture: none).
+uint32_t materialMap(const Material& m, TextureSlot slot) { return m.textures.slots[uint32_t(slot)].texture; }
+
 uint32_t variantKey(std::span<const uint32_t> constants) {
     uint32_t key = 0, bit = 0;
     for (uint32_t c : constants) key |= (c ? 1u : 0u) << bit++;
@@ -146,14 +149,18 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 }  // namespace
 
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
-                              bool colors, bool environmentMap, bool volumes, bool lights) {
-    bool emission = false, glossy = false, coated = false;
+                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures) {
+    bool emission = false, glossy = false, coated = false, mapped = false;
     for (const Material& m : materials) {
         emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
         glossy = glossy || !isLambertian(m);
         coated = coated || m.clearcoat > 0;
+        mapped = mapped || materialMap(m, TextureSlot::BaseColor) != kNoTexture ||
+                 materialMap(m, TextureSlot::MetallicRoughness) != kNoTexture ||
+                 materialMap(m, TextureSlot::Emissive) != kNoTexture;
     }
-    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated};
+    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated,
+            textures && mapped};
 }
 
 std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
@@ -241,7 +248,8 @@ public:
         if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u}});
         const ShadeConstants constants =
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
-                           sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights);
+                           sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights,
+                           b_.textures && b_.uvs);
         const bool glossy = constants[7] != 0;
         auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();
@@ -264,9 +272,10 @@ public:
         // Tiles of the image (the frame, or a region of it); the device sees frame pixels.
         const uint32_t width = image_.width, height = image_.height;
         const TileGrid grid = planTiles(width, height, std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave));
-        // Out of core (chunks or volume bricks paged), waves are streamed (renderStreamed) when a
-        // group of a pixel's samples leaves room for a window of two tiles or more.
-        const bool paged = b_.outOfCore || (volumes && b_.volumes->paged());
+        // Out of core (chunks, volume bricks or texture pages paged), waves are streamed
+        // (renderStreamed) when a group of a pixel's samples leaves room for a window of two tiles
+        // or more.
+        const bool paged = b_.outOfCore || (volumes && b_.volumes->paged()) || pagedTextures();
         if (job_.streamWaves && paged && samplesPerWave >= 2) {
             VASTRAY_TRY(renderStreamed(grid, samplesPerWave));
         } else {
@@ -283,6 +292,8 @@ public:
 
 private:
     const Pipelines& kernels() const { return w_.pipelines_; }
+    // The textures when they are paged (a shading or an albedo may wait for a page); else null.
+    DeviceTextures* pagedTextures() const { return b_.textures && b_.textures->paged() ? b_.textures : nullptr; }
 
     // A rectangle of the image, which lies at (originX, originY) in a frame frameWidth wide; its
     // pixel i (row by row) is the image's pixel at(i) and the frame's pixel first() + ...
@@ -320,8 +331,50 @@ private:
         dispatch(*kernels().generate, kGenerate, push, tile.count());
         push.mode = kWaveTiled;  // for the walk
         VASTRAY_TRY(walkWave(push, false));
+        DeviceTextures* textures = (image_.aovs & kAovAlbedo) ? pagedTextures() : nullptr;
+        if (textures) {
+            clearQueue(kShadeWaitQueue);
+            clearTextureCounters(*textures);
+        }
+        push.mode = kAovPixels;
         dispatch(*kernels().aov, kAov, push, tile.count());
-        return Status::ok();
+        return textures ? retryAovs(push, *textures) : Status::ok();
+    }
+
+    // Paged textures: the pixels whose albedo waited for a page (kShadeWaitQueue), until none
+    // waits: the pages they asked for are loaded and wf_aov.comp runs again over those pixels.
+    Status retryAovs(WavefrontPush push, DeviceTextures& textures) {
+        std::vector<uint32_t> demand(textures.pageCount());
+        for (;;) {
+            copyTextureCounters(textures);
+            VASTRAY_TRY(flush());
+            uint32_t waiting = 0;
+            VASTRAY_TRY(download(&waiting, 4, *b_.table, b_.tables.queueCounts + 4ull * kShadeWaitQueue));
+            if (waiting == 0) return Status::ok();
+            VASTRAY_TRY(download(demand.data(), demand.size() * 4, textures.readback(), 0));
+            auto loaded = textures.page(demand, stats_);
+            if (!loaded) return loaded.status();
+            if (*loaded == 0) return nothingLoaded(waiting, nullptr, &textures);
+            moveWaitingToShadeQueue();
+            clearTextureCounters(textures);
+            push.mode = kAovRetry;
+            dispatchQueue(*kernels().aov, kAov, push, kShadeQueue);
+            clearQueue(kShadeQueue);
+        }
+    }
+
+    // The error of a paging step that loaded nothing while `waiting` paths (or AOV pixels) wait.
+    Status nothingLoaded(uint32_t waiting, const DeviceVolumes* volumes, const DeviceTextures* textures) const {
+        std::string pools;
+        if (volumes) pools = "the pool of " + std::to_string(volumes->slotCount()) + " brick slots";
+        if (textures)
+            pools += (pools.empty() ? "" : " and ") + std::string("the pool of ") +
+                     std::to_string(textures->slotCount()) + " texture page slots";
+        return Status::error(std::to_string(waiting) + " paths wait for " +
+                             (volumes && textures ? "volume bricks or texture pages"
+                              : volumes           ? "volume bricks"
+                                                  : "texture pages") +
+                             ", but " + pools + " loaded none");
     }
 
     Status renderTile(const Tile& tile, uint32_t samplesPerWave) {
@@ -404,23 +457,41 @@ private:
         clearQueue(push.groupQueue);
         push.groupQueue ^= 1u;
     }
-    // Paged volumes: the paths of the volume wait queue move to the (empty) shade queue and
-    // shade again; those that still miss a brick join the wait queue again. The whole queue is
-    // copied: the shading just before may have added paths the host has not counted.
+    // Paged volumes or textures: the paths of the wait queue move to the (empty) shade queue and
+    // shade again; those that still miss a brick or page join the wait queue again.
     void retryWaiting(WavefrontPush& push) {
+        moveWaitingToShadeQueue();
+        shadeReady(push);
+    }
+    // The wait queue becomes the shade queue, and is emptied. The whole queue is copied: the
+    // shading just before may have added paths the host has not counted.
+    void moveWaitingToShadeQueue() {
         record([this](VkCommandBuffer cmd) {
             const uint64_t queues = stateLayout(b_.pathCapacity, b_.uvs).queues, capacity = b_.pathCapacity;
-            const VkBufferCopy paths{queues + queueOffset(kVolumeWaitQueue, capacity),
+            const VkBufferCopy paths{queues + queueOffset(kShadeWaitQueue, capacity),
                                      queues + queueOffset(kShadeQueue, capacity), 4 * capacity};
             vkCmdCopyBuffer(cmd, b_.state->handle(), b_.state->handle(), 1, &paths);
             const VkBufferCopy counters[] = {
-                {b_.tables.queueCounts + 4ull * kVolumeWaitQueue, b_.tables.queueCounts + 4ull * kShadeQueue, 4},
-                {b_.tables.queueArgs + 12ull * kVolumeWaitQueue, b_.tables.queueArgs + 12ull * kShadeQueue, 12}};
+                {b_.tables.queueCounts + 4ull * kShadeWaitQueue, b_.tables.queueCounts + 4ull * kShadeQueue, 4},
+                {b_.tables.queueArgs + 12ull * kShadeWaitQueue, b_.tables.queueArgs + 12ull * kShadeQueue, 12}};
             vkCmdCopyBuffer(cmd, b_.table->handle(), b_.table->handle(), 2, counters);
             barrier(cmd);
         });
-        clearQueue(kVolumeWaitQueue);
-        shadeReady(push);
+        clearQueue(kShadeWaitQueue);
+    }
+    // Paged textures: the step's demand counters into host-cached memory, and their clearing.
+    void copyTextureCounters(const DeviceTextures& textures) {
+        record([&textures](VkCommandBuffer cmd) {
+            const VkBufferCopy region{textures.demandOffset(), 0, textures.pageCount() * 4};
+            vkCmdCopyBuffer(cmd, textures.buffer().handle(), textures.readback().handle(), 1, &region);
+            barrier(cmd);
+        });
+    }
+    void clearTextureCounters(const DeviceTextures& textures) {
+        record([&textures](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, textures.buffer().handle(), textures.demandOffset(), textures.pageCount() * 4, 0);
+            barrier(cmd);
+        });
     }
     // Paged volumes: the step's demand counters into host-cached memory.
     void copyVolumeCounters(const DeviceVolumes& volumes) {
@@ -480,29 +551,31 @@ private:
         const bool ao = options_.integrator == IntegratorKind::AmbientOcclusion;
         const uint32_t events = !shade ? 1u : ao ? 2u : options_.maxDepth + 1u;
         clearQueue(kShadeQueue);
-        clearQueue(kVolumeWaitQueue);
+        clearQueue(kShadeWaitQueue);
         // In core no ray parks: the walk without the paging code.
         auto walk = w_.variant(true, std::array<uint32_t, 2>{(image_.aovs & kAovCost) != 0, !pager_.allResident()}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
-        if (pager_.allResident() && !volumes) {
+        DeviceTextures* textures = shade ? pagedTextures() : nullptr;
+        if (pager_.allResident() && !volumes && !textures) {
             for (uint32_t e = 0; e < events; ++e) walkRound(push, shade, false, false);
             return Status::ok();
         }
         pager_.beginStream();
-        Paging st(b_.chunkCount, volumes);
+        Paging st(b_.chunkCount, volumes, textures);
         const std::vector<uint32_t>& counts = st.counts;
-        // Paging bricks: a step's passes take every path it resumes to its end or its next park
-        // (for bricks or chunks; a pass over an empty queue costs an empty dispatch), so that no
-        // path needs the step's region in a later step. Paging chunks only: a few passes, then
-        // the host pages again.
-        const uint32_t passes = volumes ? events : kPassesPerPagingStep;
+        // Paging bricks or pages: a step's passes take every path it resumes to its end or its
+        // next park (for bricks, pages or chunks; a pass over an empty queue costs an empty
+        // dispatch), so that no path needs the step's region in a later step. Paging chunks
+        // only: a few passes, then the host pages again.
+        const uint32_t passes = volumes || textures ? events : kPassesPerPagingStep;
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             if (volumes) clearVolumeCounters(*volumes);
+            if (textures) clearTextureCounters(*textures);
             if (step > 0 && shade) shadeReady(push);  // the paths the last step's final pass finished
-            if (volumes && counts[kVolumeWaitQueue] > 0) retryWaiting(push);
+            if ((volumes || textures) && counts[kShadeWaitQueue] > 0) retryWaiting(push);
             record([this](VkCommandBuffer cmd) {
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
                 barrier(cmd);
@@ -511,8 +584,8 @@ private:
                 const bool last = r + 1 == passes;
                 walkRound(push, shade && !last, last, r == 0);
             }
-            VASTRAY_TRY(runStep(st, volumes));
-            if (counts[push.queue] == 0 && counts[kShadeQueue] == 0 && counts[kVolumeWaitQueue] == 0)
+            VASTRAY_TRY(runStep(st, volumes, textures));
+            if (counts[push.queue] == 0 && counts[kShadeQueue] == 0 && counts[kShadeWaitQueue] == 0)
                 return finishPaging(st);
             VASTRAY_TRY(pageChunks(st, counts[kShadeQueue]));
         }
@@ -520,10 +593,10 @@ private:
 
     // A paging step's counters, and the chunks planned for the next step.
     struct Paging {
-        Paging(uint32_t chunks, const DeviceVolumes* volumes)
+        Paging(uint32_t chunks, const DeviceVolumes* volumes, const DeviceTextures* textures)
             : demand(chunks + 2), ahead(chunks), counts(kQueueCount), touched(chunks), waveTouched(chunks, 0),
-              brickDemand(volumes ? volumes->demandCount() : 0) {}
-        std::vector<uint32_t> demand, ahead, counts, touched, waveTouched, brickDemand;
+              brickDemand(volumes ? volumes->demandCount() : 0), pageDemand(textures ? textures->pageCount() : 0) {}
+        std::vector<uint32_t> demand, ahead, counts, touched, waveTouched, brickDemand, pageDemand;
         bool planned = false;  // loads planned for the step about to run
         size_t loaded = 0;     // chunks loaded during the last step
     };
@@ -537,10 +610,11 @@ private:
 
     // Submits the step recorded, loads the chunks planned after the last one while the device
     // works, waits, reads the counters (demand and look-ahead, queue sizes, touched flags) and,
-    // when paths wait for volume bricks, pages in the bricks they wait for (DeviceVolumes::page:
-    // every such step loads at least one).
-    Status runStep(Paging& st, DeviceVolumes* volumes) {
+    // when paths wait for volume bricks or texture pages, pages in what they wait for
+    // (DeviceVolumes::page, DeviceTextures::page: every such step loads at least one).
+    Status runStep(Paging& st, DeviceVolumes* volumes, DeviceTextures* textures) {
         if (volumes) copyVolumeCounters(*volumes);
+        if (textures) copyTextureCounters(*textures);
         copyStepCounters();
         VASTRAY_TRY(beginSubmit());
         st.loaded = 0;
@@ -557,16 +631,22 @@ private:
         VASTRAY_TRY(download(st.touched.data(), st.touched.size() * 4, *b_.output, stepCopyOf(t.touched)));
         for (size_t c = 0; c < st.touched.size(); ++c) st.waveTouched[c] |= st.touched[c];
         pager_.markUsed(st.touched);
-        const uint32_t waiting = st.counts[kVolumeWaitQueue];
-        if (volumes && waiting > 0) {
+        const uint32_t waiting = st.counts[kShadeWaitQueue];
+        if (!(volumes || textures) || waiting == 0) return Status::ok();
+        uint64_t loads = 0;
+        if (volumes) {
             VASTRAY_TRY(download(st.brickDemand.data(), st.brickDemand.size() * 4, *volumes->readback(), 0));
             auto paged = volumes->page(st.brickDemand, stats_);
             if (!paged) return paged.status();
-            if (*paged == 0)
-                return Status::error(std::to_string(waiting) + " paths wait for volume bricks, but the pool of " +
-                                     std::to_string(volumes->slotCount()) + " brick slots loaded none");
+            loads += *paged;
         }
-        return Status::ok();
+        if (textures) {
+            VASTRAY_TRY(download(st.pageDemand.data(), st.pageDemand.size() * 4, textures->readback(), 0));
+            auto paged = textures->page(st.pageDemand, stats_);
+            if (!paged) return paged.status();
+            loads += *paged;
+        }
+        return loads > 0 ? Status::ok() : nothingLoaded(waiting, volumes, textures);
     }
 
     // After a step that did not finish: plans the chunks the parked rays wait for. With overlap
@@ -620,15 +700,16 @@ private:
         walk_ = *walk;
         streamed_ = true;
         DeviceVolumes* volumes = b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
-        // Paging bricks: every path a step resumes runs to its end or its next park (walkWave).
-        const uint32_t passes = volumes ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u)
+        DeviceTextures* textures = pagedTextures();
+        // Paging bricks or pages: every path a step resumes runs to its end or its next park (walkWave).
+        const uint32_t passes = volumes || textures ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u)
                                         : kPassesPerPagingStep;
         const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs);
         record([=, this](VkCommandBuffer cmd) {  // every group idle
             vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
             barrier(cmd);
         });
-        for (uint32_t q : {0u, 1u, kShadeQueue, kVolumeWaitQueue, kGroupQueue, kGroupQueue + 1}) clearQueue(q);
+        for (uint32_t q : {0u, 1u, kShadeQueue, kShadeWaitQueue, kGroupQueue, kGroupQueue + 1}) clearQueue(q);
         WavefrontPush push{};
         push.params = b_.table->address() + b_.tables.params;
         push.sampleCount = groupSize, push.mode = kWaveStreamed, push.queue = 0, push.groupQueue = kGroupQueue;
@@ -643,7 +724,7 @@ private:
         uint32_t cursor = 0;  // the device's window cursor, rewound to the window's end after a step
         const uint64_t streamOffset = b_.tables.stream;
         pager_.beginStream();
-        Paging st(b_.chunkCount, volumes);
+        Paging st(b_.chunkCount, volumes, textures);
         const std::vector<uint32_t>& counts = st.counts;
         std::vector<uint32_t> windowHead(kWindowHeadBytes / 4);  // cursor, tile count, padding, done[]
         for (uint64_t step = 0;; ++step) {
@@ -677,16 +758,17 @@ private:
                 barrier(cmd);
             });
             if (volumes) clearVolumeCounters(*volumes);
+            if (textures) clearTextureCounters(*textures);
             if (step == 0)
                 regenerate(push, groupCount);
             else
                 shadeReady(push);  // the paths the last step's final pass finished (and the groups after them)
-            if (volumes && counts[kVolumeWaitQueue] > 0) retryWaiting(push);
+            if ((volumes || textures) && counts[kShadeWaitQueue] > 0) retryWaiting(push);
             for (uint32_t r = 0; r < passes; ++r) {
                 const bool last = r + 1 == passes;
                 walkRound(push, !last, last, r == 0);
             }
-            VASTRAY_TRY(runStep(st, volumes));
+            VASTRAY_TRY(runStep(st, volumes, textures));
             // The head the step's end copied (copyStepCounters).
             VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.output, stepCopyOf(streamOffset)));
             stats_.walkedRays += st.demand[b_.chunkCount + 1];
@@ -830,6 +912,10 @@ private:
                 p.volumeBrickCount = uint32_t(b_.volumes->brickCount());
             }
         }
+        if (b_.textures) {
+            p.textures = b_.textures->recordsAddress(), p.texturePages = b_.textures->pageTableAddress();
+            p.texturePool = b_.textures->poolAddress(), p.textureDemand = b_.textures->demandAddress();
+        }
         p.aoDistance = options_.aoDistance;
         p.boundsLoX = b_.bounds.lo.x, p.boundsLoY = b_.bounds.lo.y, p.boundsLoZ = b_.bounds.lo.z;
         p.boundsHiX = b_.bounds.hi.x, p.boundsHiY = b_.bounds.hi.y, p.boundsHiZ = b_.bounds.hi.z;
@@ -839,14 +925,30 @@ private:
         p.aovs = image_.aovs, p.pathCapacity = b_.pathCapacity;
         p.chunkCount = b_.chunkCount, p.topNodeCount = b_.topNodeCount;
         std::vector<WavefrontMaterial> materials;
-        for (const Material& m : job_.materials)
-            materials.push_back({m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1],
-                                 m.emissive[2], m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular,
-                                 m.specularColor[0], m.specularColor[1], m.specularColor[2], m.clearcoat,
-                                 m.clearcoatRoughness, 0u});
+        for (const Material& m : job_.materials) {
+            WavefrontMaterial& r = materials.emplace_back(WavefrontMaterial{
+                m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1], m.emissive[2],
+                m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular, m.specularColor[0], m.specularColor[1],
+                m.specularColor[2], m.clearcoat, m.clearcoatRoughness, 0u});
+            setMaps(m, r);
+        }
         VASTRAY_TRY(upload(materials, b_.tables.materials));
         VASTRAY_TRY(uploadLights(p));
         return uploadBytes(&p, sizeof(p), b_.tables.params);
+    }
+
+    // The material's maps in its record: each map's texture (kNoGpuTexture without textures on the
+    // device, the hits' UVs or a texture the package has) and UV transform.
+    void setMaps(const Material& m, WavefrontMaterial& r) const {
+        const uint64_t textures = b_.textures && b_.uvs ? job_.textures.size() : 0;
+        auto set = [&](TextureSlot slot, uint32_t& texture, float* uv) {
+            const TextureBinding& binding = m.textures.slots[uint32_t(slot)];
+            texture = binding.texture < textures ? binding.texture : kNoGpuTexture;
+            std::copy(binding.transform.begin(), binding.transform.end(), uv);
+        };
+        set(TextureSlot::BaseColor, r.baseColorMap, r.baseColorUv);
+        set(TextureSlot::MetallicRoughness, r.metallicRoughnessMap, r.metallicRoughnessUv);
+        set(TextureSlot::Emissive, r.emissiveMap, r.emissiveUv);
     }
 
     // The render's punctual lights (core/Light.h's table, the same floats the Embree reference

@@ -13,6 +13,7 @@
 #include <memory>
 #include <span>
 
+#include "DeviceTextures.h"
 #include "DeviceVolumes.h"
 #include "PoolLayout.h"
 #include "vastray/gpu/ComputePipeline.h"
@@ -38,13 +39,15 @@ struct WavefrontBuffers {
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
     GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
     DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without
+    DeviceTextures* textures = nullptr; // the package's textures (DeviceRenderJob::textures), in core or paged; none without
 };
 
-// wf_shade.comp's specialization constants (constant_id 0-9, in that order): what a render's
-// shading needs; the last, kClearcoat, says some material has a clear coat.
-using ShadeConstants = std::array<uint32_t, 10>;
+// wf_shade.comp's specialization constants (constant_id 0-10, in that order): what a render's
+// shading needs; kClearcoat says some material has a clear coat, kTextures (the last) that some
+// material has maps and the render has textures and the hits' UVs (`textures`).
+using ShadeConstants = std::array<uint32_t, 11>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
-                              bool colors, bool environmentMap, bool volumes, bool lights);
+                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false);
 
 class Wavefront {
 public:

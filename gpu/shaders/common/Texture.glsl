@@ -35,15 +35,27 @@ vec4 unpackTexel(uint word, bool linear) {
     return linear ? c : vec4(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b), c.a);
 }
 
-vec4 bilinearTexture(GpuTexture t, uint level, vec2 uv, TextureWords pageTable, TextureWords pool, inout uint missing) {
+// Where level `level`'s bilinear footprint at uv lies: its page's page-table entry (the return
+// value), the footprint's upper-left texel in that level and the weights of the next texels.
+uint textureFootprint(GpuTexture t, uint level, vec2 uv, out uint x, out uint y, out float fx, out float fy) {
     const uint w = max(1u, t.width >> level), h = max(1u, t.height >> level);
-    uint x, y;
-    float fx, fy;
     textureAxis(uv.x, w, t.flags & 3u, x, fx);
     textureAxis(uv.y, h, (t.flags >> 2) & 3u, y, fy);
     const uint pagesX = (w + kGpuTexturePageTexels - 1u) / kGpuTexturePageTexels;
-    const uint entry = t.pageTable + t.levelFirstPage[level] + (y / kGpuTexturePageTexels) * pagesX +
-                       x / kGpuTexturePageTexels;
+    return t.pageTable + t.levelFirstPage[level] + (y / kGpuTexturePageTexels) * pagesX + x / kGpuTexturePageTexels;
+}
+
+// The page-table entry of the page that level `level`'s bilinear footprint at uv reads.
+uint texturePageEntry(GpuTexture t, uint level, vec2 uv) {
+    uint x, y;
+    float fx, fy;
+    return textureFootprint(t, level, uv, x, y, fx, fy);
+}
+
+vec4 bilinearTexture(GpuTexture t, uint level, vec2 uv, TextureWords pageTable, TextureWords pool, inout uint missing) {
+    uint x, y;
+    float fx, fy;
+    const uint entry = textureFootprint(t, level, uv, x, y, fx, fy);
     const uint slot = pageTable.v[entry];
     if (slot == kTexturePageAbsent) {
         missing = entry;

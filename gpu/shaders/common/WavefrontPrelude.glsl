@@ -4,6 +4,7 @@
 #include "shared/TraceTypes.h"
 #include "shared/StreamTypes.h"
 #include "shared/WavefrontTypes.h"
+#include "shared/TextureTypes.h"
 #include "common/WavefrontState.glsl"
 
 #define kInfinity uintBitsToFloat(0x7f800000u)

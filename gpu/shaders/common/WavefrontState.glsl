@@ -29,8 +29,8 @@ uint pathBounce(uint word) { return (word >> kPathBounceShift) & ((1u << kPathBo
 uint pathSample(uint word) { return word >> kPathSampleShift; }
 
 // Queue q: ray queues 0 and 1 (the ray indices a walk pass walks, and the ones the next pass
-// walks), kShadeQueue (the paths whose rays are all walked) or kVolumeWaitQueue (paths waiting
-// for volume bricks; pathCapacity entries each after the ray queues), and the group queues
+// walks), kShadeQueue (the paths whose rays are all walked) or kShadeWaitQueue (paths waiting
+// for volume bricks or texture pages; pathCapacity entries each after the ray queues), and the group queues
 // (kGroupQueue, kGroupQueue + 1; (pathCapacity + 1) / 2 entries each, gpu/src/PoolLayout.h's
 // queueOffset); dense, in no particular order (each ray's walk and each path's shading is
 // independent of the others', so the order changes nothing but the schedule).

@@ -19,6 +19,8 @@ const uint kGpuTexturePageWords = 129u * 129u;
 const uint kGpuTexturePageTexels = 128u;
 // A page-table entry of a page the pool does not hold.
 const uint kTexturePageAbsent = 0xFFFFFFFFu;
+// A material's map that names no texture (core kNoTexture).
+const uint kNoGpuTexture = 0xFFFFFFFFu;
 const uint kMaxGpuTextureLevels = 16u;
 
 // GpuTexture::flags: wrap S in bits 0-1, wrap T in bits 2-3 (core TextureWrap's values), bit 4

@@ -39,10 +39,11 @@ const uint kRayDoneBits = 24u;
 
 
 // The queue of paths ready to shade (WavefrontParams::queues, queueCounts), and the queue of
-// paths whose shading read a volume brick that was not resident (volumes paged through a pool
-// of brick slots): they shade again once the pager has loaded the bricks they asked for.
+// paths whose shading read a volume brick or a texture page that was not resident (volumes or
+// textures paged through a pool of slots): they shade again once the host has loaded what they
+// asked for. wf_aov.comp uses both for the pixels whose albedo waits for a texture page.
 const uint kShadeQueue = 2u;
-const uint kVolumeWaitQueue = 3u;
+const uint kShadeWaitQueue = 3u;
 // Streamed waves (out of core): the two queues of path groups whose block of samples is done or
 // that have none (pathCapacity entries each): wf_generate takes one and appends those it could
 // not give a pixel to the other.
@@ -64,6 +65,11 @@ const uint kGenerateAov = 1u;    // one unjittered ray through each pixel centre
 const uint kGenerateStream = 2u; // streamed waves: the groups of queue pc.groupQueue add their finished
                                  // block to their pixel's sum and start their next block or pixel;
                                  // with pc.pixelCount = G > 0 every group 0..G-1 instead (all idle)
+
+// WavefrontPush::mode of wf_aov.comp: every pixel of the tile, or the pixels of kShadeQueue (those
+// whose albedo waited for texture pages, which are resident now).
+const uint kAovPixels = 0u;
+const uint kAovRetry = 1u;
 
 // WavefrontPush::mode of wf_walk.comp and wf_shade.comp: a tile's wave (the cost AOV's pixel of
 // path j is j / sampleCount), or streamed waves (its group's window pixel; a group whose block's
@@ -91,6 +97,14 @@ struct WavefrontMaterial {
     float specularColorR, specularColorG, specularColorB;  // KHR_materials_specular's colour factor
     float clearcoat, clearcoatRoughness;                    // KHR_materials_clearcoat's factors
     uint padding0;
+    // Its maps (core/MaterialTextures.h, wf_shade.comp's materialMaps): the texture (an index into
+    // WavefrontParams::textures, or kNoTexture) and the UV transform (row-major 2 x 3) of the base
+    // colour, metallic-roughness and emissive maps. The normal and occlusion maps are not read.
+    uint baseColorMap, metallicRoughnessMap, emissiveMap, padding1;
+    float baseColorUv[6];
+    float metallicRoughnessUv[6];
+    float emissiveUv[6];
+    uint padding2, padding3;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type
@@ -203,6 +217,10 @@ struct WavefrontParams {
     uint64_t hitUv;        // vec2 per path: texture coordinates at its closest hit, written when the
                            // hit's slot holds UVs (kSlotUvs); 0 when the render reads none
     uint64_t outUv;        // float[2] per tile pixel: the uv AOV
+    uint64_t textures;        // the render's textures (gpu/src/DeviceTextures.h): GpuTexture per texture,
+    uint64_t texturePages;    // the page table (a pool slot, or kTexturePageAbsent, per page of every
+    uint64_t texturePool;     // texture), the pool (kGpuTexturePageWords per slot) and, paged, per page
+    uint64_t textureDemand;   // the paths waiting that read it (0: in core, no page is ever absent)
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -275,9 +293,10 @@ struct WavefrontPush {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(WavefrontMaterial) == 64);
+static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 3 * 6 * 4 + 2 * 4 &&
+              offsetof(WavefrontMaterial, baseColorMap) == 64);
 static_assert(sizeof(WavefrontLight) == 64);
-static_assert(offsetof(WavefrontParams, eyeX) == 41 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 45 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);

@@ -70,8 +70,9 @@ ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions&
     for (const Material& m : info.materials) a.singleSided |= !m.doubleSided;
     a.normals = info.hasNormals;
     a.colors = info.hasColors;
-    // Read by the uv AOV alone (nothing shades with them yet): other renders leave them on the host.
-    a.uvs = info.hasUvs && (options.aovs & kAovUv) != 0;
+    // Read by the materials' maps (a package with UVs has textures: import keeps UVs only for
+    // maps) and the uv AOV.
+    a.uvs = info.hasUvs && (!info.textures.empty() || (options.aovs & kAovUv) != 0);
     return a;
 }
 
@@ -156,6 +157,11 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     job.options = &options;
     job.camera = camera;
     job.materials = info.materials;
+    job.textures = info.textures;
+    const PackageReader& reader = st.reader;
+    job.readTexturePage = [&reader](uint32_t texture, uint32_t page, uint8_t* out) {
+        return reader.readTexturePage(texture, page, out);
+    };
     const Material fallback{"default"};
     if (job.materials.empty()) job.materials = std::span<const Material>(&fallback, 1);
     job.maxPathsPerWave = st.options.maxPathsPerWave;
@@ -195,6 +201,8 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.volumeBrickSlots = t.volumeBrickSlots;
         s.volumeBrickLoads = t.volumeBrickLoads - before.volumeBrickLoads;
         s.volumeBricksRead = t.volumeBricksRead - before.volumeBricksRead;
+        s.texturePageSlots = t.texturePageSlots;
+        s.texturePageLoads = t.texturePageLoads - before.texturePageLoads;
         s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;
         s.deviceToHostBytes = t.deviceToHostBytes - before.deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k) s.kernelSeconds[k] = t.kernelSeconds[k] - before.kernelSeconds[k];

@@ -27,9 +27,12 @@ struct PoolPlan {
     // DMA uploads with the staging area in device memory (lavapipe): the staging taken from the
     // budget (counted in totalBytes; two slots at least, a slot per chunk at most); 0 otherwise.
     uint64_t stagingBytes = 0;
-    // Device bytes kept from the budget for the render's environment map and the scene's volumes
-    // (counted in totalBytes and minimumBytes, allocated by the render that uses them); 0: none.
+    // Device bytes kept from the budget for the render's environment map, the scene's volumes and
+    // its textures (counted in totalBytes and minimumBytes, allocated by the render that uses
+    // them); 0: none.
     uint64_t reservedBytes = 0;
+    // Of reservedBytes, the textures' (textureReserveBytes); the rest is the map's and volumes'.
+    uint64_t textureBytes = 0;
 };
 
 // How chunk data reaches the slots (gpu/src/ChunkUploader.h). Mapped: the host writes each chunk
@@ -99,6 +102,8 @@ constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
 // integrated GPU, where they do (true; also the conservative answer when the device is unknown).
 // When the slots cannot hold every chunk, the wave gets waveShareOutOfCore of the budget (in
 // (0, 1); the default, half, is PERF_NOTES 25's measured choice).
+// reservedBytes: the environment map's and the volumes' (environmentBytes, volumeReserveBytes);
+// the package's textures' (textureReserveBytes) are added to it here.
 // stagingInDeviceMemory: for DMA uploads whose staging area is device memory, the staging bytes
 // asked for (ChunkUploadOptions::stagingBytes), kept from the budget as whole slots, two at least
 // and one per chunk at most (PoolPlan::stagingBytes); 0: none.
@@ -121,6 +126,17 @@ uint64_t volumeBytes(const PackageInfo& package);
 // bricks are paged (docs/RENDERING.md, "Volumes out of core").
 constexpr double kVolumeShareOutOfCore = 0.5;
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget);
+// What a render of the package at this budget keeps for its textures (planPool adds it to the
+// reserve itself): every page when that is at most kTextureShareOutOfCore of the budget; else
+// that share (at least the tables and the fewest page slots), through which the pages are paged
+// (docs/RENDERING.md, "Textures out of core"). 0 without textures.
+constexpr double kTextureShareOutOfCore = 0.25;
+uint64_t textureReserveBytes(const PackageInfo& package, uint64_t budget);
+// The device bytes the package's textures take in core (every page); 0 without textures.
+uint64_t textureBytes(const PackageInfo& package);
+// A texture pool holds at least this many pages: a path's maps read one page each (three at
+// most), and waiting paths keep the pages they read while they wait.
+constexpr uint64_t kMinTexturePageSlots = 16;
 
 // device must outlive the backend. Every buffer is allocated here, once, but the environment
 // map's and the volumes': reservedBytes of the budget are kept for them (environmentBytes plus

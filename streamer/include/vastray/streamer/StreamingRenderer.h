@@ -94,6 +94,10 @@ struct DeviceRenderJob {
     const RenderOptions* options = nullptr;
     Camera camera;
     std::span<const Material> materials;  // at least one
+    // The package's textures (the materials' maps name them) and how a page of one is read
+    // (PackageReader::readTexturePage; called from worker threads).
+    std::span<const PackageTexture> textures;
+    std::function<Status(uint32_t texture, uint32_t page, uint8_t* out)> readTexturePage;
     uint32_t maxPathsPerWave = 0;         // StreamingOptions::maxPathsPerWave (the budget may allow fewer)
     bool overlapLoads = true;             // StreamingOptions::overlapLoads
     bool streamWaves = true;              // StreamingOptions::streamWaves
@@ -197,6 +201,8 @@ struct StreamingStats {
     // emission grid; version 6 packages, in core or paged; a paged brick the host cache lost is
     // read again). Older packages read their volumes whole when they open: 0.
     uint64_t volumeBricksRead = 0;
+    uint64_t texturePageSlots = 0;  // texture_page_slots: the pool's page slots (0: textures in core or none)
+    uint64_t texturePageLoads = 0;  // texture_page_loads: pages read from the package into those slots
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
     uint64_t deviceToHostBytes = 0; // device_to_host_bytes
     // Device time per kernel of the device wavefront, from timestamp queries (kernel_seconds,

@@ -1,0 +1,183 @@
+// The Vulkan renderer samples the materials' maps (issue 13, docs/RENDERING.md "Textures"): a
+// textured quad's texels land on the pixels whose centres they cover, as on the Embree reference
+// (exact through the albedo AOV); base colour, metallic-roughness and emissive maps render as the
+// reference renders them; textures four times the texture pool render the same image as with an
+// ample pool, the pool's bytes within the budget; a budget below the textures' minimum is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "StreamTestSupport.h"
+#include "TestTextures.h"
+#include "TestTmp.h"
+#include "vastray/core/ImageFile.h"
+#include "vastray/core/Texture.h"
+#include "vastray/streamer/PackageBuilder.h"
+
+namespace vastray {
+namespace {
+
+std::filesystem::path folder() {
+    const std::filesystem::path dir = test::testTmpDir("device-textures");
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+std::vector<uint8_t> pngBytes(const Rgba8Image& image, const std::string& name) {
+    const std::string png = (folder() / name).string();
+    EXPECT_TRUE(writeRgba8Png(png, image.width, image.height, image.texels));
+    std::ifstream in(png, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The unit quad [0, 1]^2 at z = 0 facing +z, its UVs in glTF's space (v down from the image's
+// top), material `m` (its maps name `textures`), as the package NAME.vast.
+std::string quadPackage(const std::string& name, const Material& m, std::vector<TextureSource> textures) {
+    TriangleMesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    mesh.materials = {m};
+    mesh.textures = std::move(textures);
+    const std::string path = (folder() / (name + ".vast")).string();
+    PackageBuildOptions options;
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
+
+TextureSource source(const Rgba8Image& image, const std::string& name, TextureWrap wrap, TextureEncoding encoding) {
+    return {name, ".png", pngBytes(image, name), wrap, wrap, encoding};
+}
+
+// Looking straight at the quad from +z, the quad exactly filling a side x side image.
+RenderOptions headOn(uint32_t side) {
+    RenderOptions o;
+    o.width = o.height = side;
+    o.samplesPerPixel = 1;
+    o.frameScene = false;
+    const float fov = 40.0f;
+    o.camera = {{0.5f, 0.5f, 0.5f / std::tan(fov * 0.5f * float(M_PI) / 180.0f)}, {0.5f, 0.5f, 0}, {0, 1, 0}, fov};
+    return o;
+}
+
+// Seen from above and aside, lit by the sky and the sun: glossy and Lambertian, emission.
+RenderOptions lit(uint32_t side, uint32_t spp) {
+    RenderOptions o;
+    o.width = o.height = side;
+    o.samplesPerPixel = spp;
+    o.maxDepth = 3;
+    o.frameScene = false;
+    o.camera = {{0.2f, -0.6f, 1.4f}, {0.5f, 0.5f, 0}, {0, 0, 1}, 50.0f};
+    return o;
+}
+
+Material mapped(bool metalRough, bool emissive) {
+    Material m;
+    m.baseColor = {1, 1, 1, 1};
+    m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture = 0;
+    if (metalRough) {
+        m.metallic = 1.0f, m.roughness = 1.0f, m.specular = 1.0f;
+        m.textures.slots[uint32_t(TextureSlot::MetallicRoughness)] = {1, khrTextureTransform(0.1f, 0.2f, 0.3f, 2, 2)};
+    }
+    if (emissive) {
+        m.emissive = {0.5f, 0.5f, 0.5f};
+        m.textures.slots[uint32_t(TextureSlot::Emissive)].texture = 0;
+    }
+    return m;
+}
+
+TEST(TextureDeviceRender, TexelsLandOnThePixelsTheyCoverAsOnTheReference) {
+    constexpr uint32_t kTexels = 8;
+    const Rgba8Image image = test::noiseImage(kTexels, kTexels, 5);
+    const std::string path =
+        quadPackage("checker", mapped(false, false), {source(image, "checker.png", TextureWrap::Clamp, TextureEncoding::Srgb)});
+    RenderOptions o = headOn(kTexels);
+    o.aovs = kAovAlbedo;
+    auto device = test::renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(device) << device.message();
+    auto reference = test::renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    for (uint32_t y = 0; y < kTexels; ++y)
+        for (uint32_t x = 0; x < kTexels; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const size_t p = size_t(y) * kTexels + x;
+                const float texel = srgb8ToLinear(image.texels[4 * p + c]);  // the image's top row at the top
+                EXPECT_NEAR(device->albedo[3 * p + c], texel, 2e-5f) << "pixel " << x << "," << y << " channel " << c;
+                EXPECT_NEAR(device->albedo[3 * p + c], reference->albedo[3 * p + c], 2e-5f)
+                    << "pixel " << x << "," << y << " channel " << c;
+            }
+}
+
+// Base colour, metallic-roughness (transformed UVs, repeated) and emissive maps: the device's
+// image within the relative RMSE the glossy comparisons allow (1e-2, MaterialRenderTest); the
+// maps show (not the factors' image).
+TEST(TextureDeviceRender, MapsRenderAsOnTheReference) {
+    const Rgba8Image albedo = test::noiseImage(40, 24, 7), metalRough = test::noiseImage(16, 16, 9);
+    std::vector<TextureSource> textures{source(albedo, "albedo.png", TextureWrap::Repeat, TextureEncoding::Srgb),
+                                        source(metalRough, "mr.png", TextureWrap::Repeat, TextureEncoding::Linear)};
+    const std::string path = quadPackage("maps", mapped(true, true), textures);
+    const RenderOptions o = lit(40, 8);
+    auto device = test::renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(device) << device.message();
+    auto reference = test::renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    const double rmse = test::relativeRmse(device->rgb, reference->rgb);
+    std::printf("textured quad: device vs Embree relative RMSE %.2e\n", rmse);
+    EXPECT_LE(rmse, 1e-2);
+    Material factors = mapped(true, true);
+    factors.textures = {};
+    auto plain = test::renderVulkan(quadPackage("factors", factors, {}), o, 256ull << 20);
+    ASSERT_TRUE(plain) << plain.message();
+    EXPECT_GT(test::relativeRmse(device->rgb, plain->rgb), 0.1);
+}
+
+// A 1024^2 texture (64 pages at level 0, 87 in all) through a pool of about a quarter of its
+// pages: the same image and albedo, bit for bit, as with every page resident; pages loaded more
+// than once; the device's peak within the budget.
+TEST(TextureDeviceRender, TexturesFourTimesThePoolRenderTheSame) {
+    const Rgba8Image albedo = test::noiseImage(1024, 1024, 11, 0x3F), metalRough = test::noiseImage(64, 64, 13);
+    std::vector<TextureSource> textures{source(albedo, "big.png", TextureWrap::Clamp, TextureEncoding::Srgb),
+                                        source(metalRough, "mr.png", TextureWrap::Repeat, TextureEncoding::Linear)};
+    const std::string path = quadPackage("big", mapped(true, true), textures);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const uint64_t textureBytes = gpu::textureBytes((*reader)->info());
+    RenderOptions o = lit(64, 4);  // every page of level 0 in view
+    o.aovs = kAovAlbedo;
+    StreamingStats ample, tight;
+    auto inCore = test::renderVulkan(path, o, 256ull << 20, &ample);
+    ASSERT_TRUE(inCore) << inCore.message();
+    EXPECT_EQ(ample.texturePageSlots, 0u) << "every page resident";
+    // The textures' share (a quarter of the budget) a quarter of their bytes.
+    const uint64_t budget = textureBytes;
+    auto paged = test::renderVulkan(path, o, budget, &tight);
+    ASSERT_TRUE(paged) << paged.message();
+    std::printf("textures %llu bytes in core; budget %llu: %llu page slots, %llu page loads, peak %llu bytes\n",
+                (unsigned long long)textureBytes, (unsigned long long)budget, (unsigned long long)tight.texturePageSlots,
+                (unsigned long long)tight.texturePageLoads, (unsigned long long)tight.peakDeviceBytes);
+    EXPECT_GE(tight.texturePageSlots, gpu::kMinTexturePageSlots);
+    EXPECT_LE(tight.texturePageSlots * 4, 87u + 4u) << "the pool holds about a quarter of the pages";
+    EXPECT_GT(tight.texturePageLoads, 87u) << "pages paged in more than once";
+    EXPECT_LE(tight.peakDeviceBytes, budget);
+    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(paged->albedo.data(), inCore->albedo.data(), inCore->albedo.size() * 4), 0);
+}
+
+TEST(TextureDeviceRender, ABudgetBelowTheTexturesMinimumIsRefusedNamingIt) {
+    const Rgba8Image albedo = test::noiseImage(1024, 1024, 3);
+    const std::string path = quadPackage(
+        "refused", mapped(false, false), {source(albedo, "refused.png", TextureWrap::Clamp, TextureEncoding::Srgb)});
+    auto image = test::renderVulkan(path, headOn(16), 1ull << 20);
+    ASSERT_FALSE(image);
+    EXPECT_NE(image.message().find("is below this scene's minimum"), std::string::npos) << image.message();
+    EXPECT_NE(image.message().find("textures'"), std::string::npos) << image.message();
+}
+
+}  // namespace
+}  // namespace vastray
