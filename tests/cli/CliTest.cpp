@@ -110,6 +110,45 @@ TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
     EXPECT_EQ(e.output.find("note:"), std::string::npos) << "the embree backend renders its base colour map: " << e.output;
 }
 
+// A glTF quad with UVs whose material reads a normal map and, in the second file, an occlusion
+// map too: the embree backend renders normal maps without a word, and says that occlusion maps
+// are stored but not applied, by design (docs/RENDERING.md, "Normal maps").
+TEST_F(Cli, EmbreeRendersNormalMapsAndSaysOcclusionMapsAreNotApplied) {
+    ASSERT_TRUE(vastray::writeRgba8Png(tmp("bumps.png"), 2, 2, std::vector<uint8_t>(2 * 2 * 4, 200)).isOk());
+    auto quad = [](const std::string& maps) {
+        return R"({"asset":{"version":"2.0"},
+ "buffers":[{"byteLength":92,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAIA/AACAPwAAgD8AAAAAAAAAAAAAAAAAAAEAAgAAAAIAAwA="}],
+ "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":32},
+                {"buffer":0,"byteOffset":80,"byteLength":12}],
+ "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":4,"min":[0,0,0],"max":[1,1,0]},
+              {"bufferView":1,"componentType":5126,"type":"VEC2","count":4},
+              {"bufferView":2,"componentType":5123,"type":"SCALAR","count":6}],
+ "images":[{"uri":"bumps.png"}], "textures":[{"source":0}],
+ "materials":[{)" + maps + R"(}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"indices":2,"material":0}]}],
+ "nodes":[{"mesh":0}]})";
+    };
+    std::ofstream(tmp("normal-mapped.gltf")) << quad(R"("normalTexture":{"index":0,"scale":0.5})");
+    std::ofstream(tmp("occluded.gltf")) << quad(R"("normalTexture":{"index":0},"occlusionTexture":{"index":0})");
+    for (const char* name : {"normal-mapped", "occluded"}) {
+        const std::string package = tmp(std::string(name) + ".vast");
+        CommandResult i = run("import " + tmp(std::string(name) + ".gltf") + " -o " + package + " --progress none");
+        ASSERT_EQ(i.exitCode, 0) << i.output;
+        EXPECT_NE(i.output.find("occlusion maps are stored, not applied by design"), std::string::npos) << i.output;
+        CommandResult e = run("render " + package + " -o " + tmp(std::string(name) + ".png") +
+                              " --backend embree --resolution 16x16 --spp 1 --progress none");
+        ASSERT_EQ(e.exitCode, 0) << e.output;
+        if (std::string(name) == "normal-mapped") {
+            EXPECT_EQ(e.output.find("note:"), std::string::npos) << "embree renders normal maps: " << e.output;
+        } else {
+            EXPECT_NE(e.output.find("1 material of " + package + " read occlusion maps, which are stored but not "
+                                    "applied, by design"),
+                      std::string::npos)
+                << e.output;
+        }
+    }
+}
+
 // An FBX through assimp whose diffuse map is a PNG the file embeds: import stores it, info
 // lists it by the embedded image's name.
 TEST_F(Cli, AssimpEmbeddedTextureIsStoredAndInfoListsIt) {
