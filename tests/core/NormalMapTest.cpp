@@ -76,8 +76,8 @@ TEST(NormalMap, DegenerateUvsLeaveTheNormalAndStayFinite) {
     // All three corners at one UV, and three UVs on a line: no area in texture space.
     const UvDerivatives point = uvDerivatives(kIdentityUvTransform, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0.5f, 0.5f},
                                               {0.5f, 0.5f}, {0.5f, 0.5f});
-    const UvDerivatives line = uvDerivatives(kIdentityUvTransform, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0}, {0.5f, 0.5f},
-                                             {1, 1});
+    const UvDerivatives line = uvDerivatives(kIdentityUvTransform, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0},
+                                             {0.5f, 0.5f}, {1, 1});
     EXPECT_FALSE(point.valid);
     EXPECT_FALSE(line.valid);
     EXPECT_EQ(perturbNormal(n, point, {1, 0, 1}), n);
@@ -92,7 +92,8 @@ TEST(NormalMap, DegenerateUvsLeaveTheNormalAndStayFinite) {
     EXPECT_EQ(perturbNormal(n, squareDerivatives(false), {0, 0, 0}), n);
     // Non-finite inputs.
     const float inf = INFINITY;
-    EXPECT_FALSE(uvDerivatives(kIdentityUvTransform, {0, 0, 0}, {inf, 0, 0}, {1, 1, 0}, {0, 1}, {1, 1}, {1, 0}).valid);
+    EXPECT_FALSE(
+        uvDerivatives(kIdentityUvTransform, {0, 0, 0}, {inf, 0, 0}, {1, 1, 0}, {0, 1}, {1, 1}, {1, 0}).valid);
     EXPECT_EQ(perturbNormal(n, squareDerivatives(false), {NAN, 0, 1}), n);
     // A tiny but non-zero UV area (the square's UVs times 1e-10) still bends the normal.
     const UvDerivatives tiny = uvDerivatives(kIdentityUvTransform, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1e-10f},

@@ -31,7 +31,11 @@ DecodedTexture oneTexel(Texel t) {
     texture.encoding = TextureEncoding::Linear;
     texture.wrapS = texture.wrapT = TextureWrap::Clamp;
     texture.pages.assign(kTexturePageBytes, 255);
-    for (size_t i = 0; i < kTexturePageBytes; i += 4) texture.pages[i] = t.r, texture.pages[i + 1] = t.g, texture.pages[i + 2] = t.b;
+    for (size_t i = 0; i < kTexturePageBytes; i += 4) {
+        texture.pages[i] = t.r;
+        texture.pages[i + 1] = t.g;
+        texture.pages[i + 2] = t.b;
+    }
     return texture;
 }
 
@@ -62,7 +66,8 @@ RenderScene tiltedQuad(Vec3f n) {
     const Vec3f c{0.5f, 0.5f, 0};
     RenderScene scene = mappedQuad(nullptr);
     TriangleMesh& mesh = scene.mesh;
-    mesh.positions = {c - a * 0.5f - b * 0.5f, c + a * 0.5f - b * 0.5f, c + a * 0.5f + b * 0.5f, c - a * 0.5f + b * 0.5f};
+    const Vec3f ha = a * 0.5f, hb = b * 0.5f;
+    mesh.positions = {c - ha - hb, c + ha - hb, c + ha + hb, c - ha + hb};
     scene.bounds = mesh.bounds();
     return scene;
 }
@@ -141,7 +146,8 @@ TEST(NormalMapRender, AFlatEightBitMapTiltsOnlyByItsRounding) {
     const RenderImage mapped = render(mappedQuad(&flat), sunlit(sun));
     const RenderImage plain = render(mappedQuad(nullptr), sunlit(sun));
     expectLambertian(mapped, decoded(flat), sun);
-    for (size_t i = 0; i < plain.rgb.size(); ++i) ASSERT_NEAR(mapped.rgb[i], plain.rgb[i], 1e-2f * plain.rgb[i]) << i;
+    for (size_t i = 0; i < plain.rgb.size(); ++i)
+        ASSERT_NEAR(mapped.rgb[i], plain.rgb[i], 1e-2f * plain.rgb[i]) << i;
 }
 
 TEST(NormalMapRender, NormalScaleZeroChangesNothing) {

@@ -87,7 +87,8 @@ const Material& materialAt(std::span<const Material> materials, uint32_t id);
 // (perturbNormal), then turned to the ray's side exactly when the unbent one is.
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometricNormal, Vec3f rayDirection,
                               const Material& material, HitAttributes attributes = {},
-                              const MaterialSample* sample = nullptr, const UvDerivatives* uvDerivatives = nullptr);
+                              const MaterialSample* sample = nullptr,
+                              const UvDerivatives* uvDerivatives = nullptr);
 
 // The environment's radiance towards unit `direction`: the map's, or the sky's.
 Vec3f skyRadiance(const Environment& environment, Vec3f direction);
