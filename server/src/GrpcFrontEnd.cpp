@@ -110,6 +110,39 @@ public:
         return a_.handle(context,
                          [&] { return Adapter::assign(a_.service_.deleteScene(*request), response); });
     }
+    grpc::Status UploadEnvironment(grpc::ServerContext* context,
+                                   grpc::ServerReader<v1::UploadEnvironmentRequest>* reader,
+                                   v1::UploadEnvironmentResponse* response) override {
+        return a_.handle(context, [&]() -> ServiceStatus {
+            v1::UploadEnvironmentRequest message;
+            if (!reader->Read(&message)) return invalidArgument("name", "the upload stream is empty");
+            auto upload = a_.service_.beginEnvironmentUpload(message.name(), 0);
+            if (!upload) return upload.status();
+            do {
+                if (message.data().size() > kMaxStreamChunkBytes)
+                    return invalidArgument("data", "more than 1 MiB in one message");
+                if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
+            } while (reader->Read(&message));
+            if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
+            return Adapter::assign((*upload)->finishEnvironment(), response->mutable_environment());
+        });
+    }
+    grpc::Status GetEnvironment(grpc::ServerContext* context, const v1::GetEnvironmentRequest* request,
+                                v1::GetEnvironmentResponse* response) override {
+        return a_.handle(context, [&] {
+            return Adapter::assign(a_.service_.getEnvironment(*request), response->mutable_environment());
+        });
+    }
+    grpc::Status ListEnvironments(grpc::ServerContext* context, const v1::ListEnvironmentsRequest* request,
+                                  v1::ListEnvironmentsResponse* response) override {
+        return a_.handle(context,
+                         [&] { return Adapter::assign(a_.service_.listEnvironments(*request), response); });
+    }
+    grpc::Status DeleteEnvironment(grpc::ServerContext* context, const v1::DeleteEnvironmentRequest* request,
+                                   v1::DeleteEnvironmentResponse* response) override {
+        return a_.handle(context,
+                         [&] { return Adapter::assign(a_.service_.deleteEnvironment(*request), response); });
+    }
 
 private:
     Adapter& a_;

@@ -211,6 +211,7 @@ public:
             service_.metrics().countRequest("http", statusCodeNameOfHttp(res.status));
         });
         addSceneRoutes(server);
+        addEnvironmentRoutes(server);
         addJobRoutes(server);
         addOperationalRoutes(server);
         addWebPageRoutes(server);
@@ -228,6 +229,8 @@ private:
 
     BodyRule bodyRule(const httplib::Request& req) const {
         if (req.method == "PUT" && req.path == "/v1/scenes") return {service_.options().maxUploadBytes, false};
+        if (req.method == "PUT" && req.path == "/v1/environments")
+            return {std::min(service_.options().maxUploadBytes, kMaxEnvironmentUploadBytes), false};
         if (req.method == "POST" &&
             (req.path == "/v1/jobs" || req.path == "/v1/scenes:findMissing" || isCancelPath(req.path)))
             return {kMaxJsonBodyBytes, true};
@@ -311,6 +314,58 @@ private:
         });
     }
 
+    void addEnvironmentRoutes(httplib::Server& server) {
+        server.Put("/v1/environments",
+                   [this](const httplib::Request& req, httplib::Response& res,
+                          const httplib::ContentReader& content) { uploadEnvironment(req, res, content); });
+        server.Get("/v1/environments", [this](const httplib::Request& req, httplib::Response& res) {
+            v1::ListEnvironmentsRequest request;
+            auto size = intParam(req, "page_size");
+            if (!size) return writeError(res, size.status());
+            request.set_page_size(*size);
+            request.set_page_token(req.get_param_value("page_token"));
+            reply(res, service_.listEnvironments(request));
+        });
+        server.Get(R"(/v1/environments/([^:/]+))", [this](const httplib::Request& req, httplib::Response& res) {
+            v1::GetEnvironmentRequest request;
+            request.set_id(req.matches[1]);
+            reply(res, service_.getEnvironment(request));
+        });
+        server.Delete(R"(/v1/environments/([^:/]+))", [this](const httplib::Request& req, httplib::Response& res) {
+            v1::DeleteEnvironmentRequest request;
+            request.set_id(req.matches[1]);
+            reply(res, service_.deleteEnvironment(request));
+        });
+    }
+
+    // The body into `upload` as it arrives. httplib stops a chunked body (no Content-Length to
+    // judge first) before it passes the server's payload limit and reports it only by the
+    // reader's false: such a body, or one whose connection broke, was not read to its end and
+    // is refused, never stored cut short.
+    ServiceStatus receiveBody(const httplib::Request& req, const httplib::ContentReader& content, SceneUpload& upload) {
+        ServiceStatus status;
+        const bool whole = content([&](const char* data, size_t size) {
+            status = upload.append(data, size);
+            return status.isOk();
+        });
+        if (!status || whole) return status;
+        return {StatusCode::ResourceExhausted,
+                req.get_param_value("name") + ": the upload was cut off before its end (a chunked body over the " +
+                    std::to_string(bodyRule(req).maxBytes) + "-byte limit of " + req.method + " " + req.path +
+                    ", or a connection that broke)"};
+    }
+
+    void uploadEnvironment(const httplib::Request& req, httplib::Response& res,
+                           const httplib::ContentReader& content) {
+        auto upload = service_.beginEnvironmentUpload(req.get_param_value("name"), contentLength(req));
+        if (!upload)
+            return writeError(res, upload.status(),
+                              upload.status().code() == StatusCode::ResourceExhausted ? 413 : 0);
+        const ServiceStatus status = receiveBody(req, content, **upload);
+        if (!status) return writeError(res, status, status.code() == StatusCode::ResourceExhausted ? 413 : 0);
+        reply(res, (*upload)->finishEnvironment());
+    }
+
     void upload(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& content) {
         const std::string async = req.get_param_value("async");
         if (async != "" && async != "true" && async != "false")
@@ -320,11 +375,7 @@ private:
         if (!upload)
             return writeError(res, upload.status(),
                               upload.status().code() == StatusCode::ResourceExhausted ? 413 : 0);
-        ServiceStatus status;
-        content([&](const char* data, size_t size) {
-            status = (*upload)->append(data, size);
-            return status.isOk();
-        });
+        const ServiceStatus status = receiveBody(req, content, **upload);
         if (!status) return writeError(res, status, status.code() == StatusCode::ResourceExhausted ? 413 : 0);
         auto scene = (*upload)->finish(async == "true");
         // A queued import: 202, the job to watch in Location.

@@ -163,6 +163,11 @@ ServiceResult<SubmitOutcome> Service::submitJob(const v1::SubmitJobRequest& requ
     auto scene = stores_.scenes->getScene(normalized->scene_id());
     if (!scene) return internalError(scene.message());
     if (!*scene) return notFound("scene_id: no scene " + normalized->scene_id() + importNoteLocked(normalized->scene_id()));
+    if (normalized->has_environment()) {
+        auto environment = stores_.environments->getEnvironment(normalized->environment().id());
+        if (!environment) return internalError(environment.message());
+        if (!*environment) return notFound("environment.id: no environment " + normalized->environment().id());
+    }
     if (queue_.size() >= options_.maxQueue) {
         ++metrics_.jobsRejectedFull;
         return ServiceStatus{StatusCode::ResourceExhausted,

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "vastray/core/Camera.h"
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/server/Sha256.h"
 
 namespace vastray::server {
@@ -74,6 +75,24 @@ ServiceStatus normalizeLabels(const v1::SubmitJobRequest& r) {
     return {};
 }
 
+// The environment map's fields, with the ranges of `vastray render --environment-scale` and
+// `--environment-rotate`; absent scale means 1.
+ServiceStatus normalizeEnvironment(v1::SubmitJobRequest& r) {
+    if (!r.has_environment()) return {};
+    v1::JobEnvironment& e = *r.mutable_environment();
+    if (e.id().empty()) return invalidArgument("environment.id", "required (an environment's id, from UploadEnvironment)");
+    if (!isSha256Hex(e.id())) return invalidArgument("environment.id", "expected 64 lowercase hex digits");
+    if (!e.has_scale()) e.set_scale(1);
+    if (!(e.scale() >= 0 && e.scale() <= kMaxEnvironmentRadiance))
+        return invalidArgument("environment.scale", std::to_string(e.scale()) + " is outside [0, 1e18]");
+    if (!(std::fabs(e.rotation_degrees()) <= kMaxEnvironmentRotation))
+        return invalidArgument("environment.rotation_degrees",
+                               std::to_string(e.rotation_degrees()) + " is outside [-360, 360] degrees");
+    if (r.integrator() == "ao")
+        return invalidArgument("environment", "an environment map lights the path integrator; integrator ao has no lights");
+    return {};
+}
+
 ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
     if (r.scene_id().empty()) return invalidArgument("scene_id", "required");
     if (!isSha256Hex(r.scene_id())) return invalidArgument("scene_id", "expected 64 lowercase hex digits");
@@ -102,6 +121,7 @@ ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
                                                    "`vastray info` lists, or the camera's index)");
     if (r.has_camera() && !r.scene_camera().empty())
         return invalidArgument("scene_camera", "and camera exclude each other");
+    if (auto s = normalizeEnvironment(r); !s) return s;
     if (r.has_camera()) return normalizeCamera(*r.mutable_camera(), r.up_axis() == "z");
     return {};
 }
@@ -164,6 +184,10 @@ Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& r) {
     if (!flags) return flags.status();
     options.aovs = *flags;
     applyUpAxis(r.up_axis() == "z" ? Vec3f{0, 0, 1} : Vec3f{0, 1, 0}, options);  // stored requests: ""
+    // As `vastray render --environment` without --sun: the map's bright texels are its sun. The
+    // map itself is read when the job runs (Service::jobEnvironmentMap).
+    if (r.has_environment() && !r.has_sun()) options.environment.sunIrradiance = {0.0f, 0.0f, 0.0f};
+    if (r.has_environment()) options.environment.mapRotationDegrees = r.environment().rotation_degrees();
     if (r.has_sun() && r.sun().direction_size() == 3) {
         const auto& d = r.sun().direction();
         options.environment.sunDirection = {d[0], d[1], d[2]};

@@ -9,6 +9,7 @@
 #include "vastray/core/RenderOptions.h"
 #include "vastray/server/ServiceStatus.h"
 #include "vastray/v1/render_service.pb.h"
+#include "vastray/v1/scene_service.pb.h"
 
 namespace vastray::server {
 
@@ -20,6 +21,8 @@ Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& request);
 
 // "scenes/ID.vast" and "results/JOB.png|exr": object keys.
 std::string sceneKey(const std::string& sceneId);
+// "environments/ID.exr|hdr".
+std::string environmentKey(const v1::Environment& environment);
 std::string resultKey(const v1::Job& job);
 const char* resultContentType(const v1::SubmitJobRequest& request);
 

@@ -108,6 +108,9 @@ ServiceStatus Service::renderRequest(Worker& worker, const v1::Job& job, std::op
         return {StatusCode::ResourceExhausted, memory.message()};
     auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
     if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
+    auto environment = jobEnvironmentMap(job.request());
+    if (!environment) return environment.status();
+    options->environment.map = std::move(*environment);
     JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes(),
                              job.request().scene_camera(), !job.request().no_lights()};
     auto rendered = worker.renderer->render(

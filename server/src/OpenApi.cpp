@@ -108,6 +108,37 @@ void addScenePaths(json& p) {
     p["/v1/scenes/{id}"] = {{"parameters", {sceneId}}, {"get", get}, {"delete", remove}};
 }
 
+void addEnvironmentPaths(json& p) {
+    json upload = operation("uploadEnvironment", "environments", "Upload an environment map",
+                            "SceneService.UploadEnvironment",
+                            "The body is the file's bytes. Multipart bodies are refused (415).");
+    upload["parameters"] = {queryParameter("name", {{"type", "string"}},
+                                           protoComment("vastray.v1.UploadEnvironmentRequest.name"), true)};
+    upload["requestBody"] = {
+        {"required", true},
+        {"content", {{"application/octet-stream", {{"schema", {{"type", "string"}, {"contentMediaType", "application/octet-stream"}}}}}}}};
+    upload["responses"] =
+        responses({{"200", ok("The stored environment (the existing one for known content).", "Environment")}},
+                  {{"400", "BadRequest"}, {"413", "PayloadTooLarge"}, {"415", "UnsupportedMediaType"},
+                   {"503", "Unavailable"}});
+    p["/v1/environments"]["put"] = upload;
+
+    json list = operation("listEnvironments", "environments", "List environment maps", "SceneService.ListEnvironments");
+    list["parameters"] = pageParameters("ListEnvironmentsRequest");
+    list["responses"] =
+        responses({{"200", ok("A page of environments.", "ListEnvironmentsResponse")}}, {{"400", "BadRequest"}});
+    p["/v1/environments"]["get"] = list;
+
+    const json environmentId = idParameter("The environment's id (lowercase hex SHA-256 of its upload).");
+    json get = operation("getEnvironment", "environments", "Get an environment map", "SceneService.GetEnvironment");
+    get["responses"] = responses({{"200", ok("The environment.", "Environment")}}, {{"400", "BadRequest"}, {"404", "NotFound"}});
+    json remove = operation("deleteEnvironment", "environments", "Delete an environment map",
+                            "SceneService.DeleteEnvironment");
+    remove["responses"] = responses({{"200", ok("Deleted.", "DeleteEnvironmentResponse")}},
+                                    {{"400", "BadRequest"}, {"404", "NotFound"}, {"409", "Conflict"}});
+    p["/v1/environments/{id}"] = {{"parameters", {environmentId}}, {"get", get}, {"delete", remove}};
+}
+
 json submitOperation() {
     json submit = operation("submitJob", "jobs", "Submit a render job", "RenderService.SubmitJob",
                             "Answers 202 with `Location: /v1/jobs/{id}` for a new job, 200 with the earlier job "
@@ -235,8 +266,9 @@ json errorResponses() {
     unauthorized["headers"]["WWW-Authenticate"] = {{"schema", {{"type", "string"}}}};
     return {{"BadRequest", error("A bad field or parameter (INVALID_ARGUMENT); the message starts with its name.")},
             {"Unauthorized", unauthorized},
-            {"NotFound", error("Unknown scene or job (NOT_FOUND).")},
-            {"Conflict", error("The scene or job is in the wrong state, or a reused request_id (FAILED_PRECONDITION).")},
+            {"NotFound", error("Unknown scene, environment or job (NOT_FOUND).")},
+            {"Conflict", error("The scene, environment or job is in the wrong state, or a reused request_id "
+                               "(FAILED_PRECONDITION).")},
             {"LengthRequired", error("A JSON body sent without Content-Length (chunked).")},
             {"PayloadTooLarge", error("The body is larger than the route takes, or the disk is full (RESOURCE_EXHAUSTED).")},
             {"UnsupportedMediaType", error("The Content-Type is not one the route takes.")},
@@ -250,6 +282,9 @@ json tags() {
     return {{{"name", "scenes"},
              {"description", "Scenes are content-addressed: a scene's id is the lowercase hex SHA-256 of the "
                              "uploaded bytes (SceneService)."}},
+            {{"name", "environments"},
+             {"description", "Environment maps (.exr, .hdr) that jobs light scenes with, content-addressed as "
+                             "scenes (SceneService)."}},
             {{"name", "jobs"}, {"description", "A job renders one stored scene to one image file (RenderService)."}},
             {{"name", "operations"}, {"description", "Health, metrics and this document."}}};
 }
@@ -259,6 +294,7 @@ json tags() {
 std::string openApiDocument(bool authRequired) {
     json paths = json::object();
     addScenePaths(paths);
+    addEnvironmentPaths(paths);
     addJobPaths(paths);
     addOperationalPaths(paths);
     json schemas = openApiProtoSchemas();

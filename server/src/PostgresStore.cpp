@@ -1,4 +1,4 @@
-// SceneCatalog and JobStore in PostgreSQL through libpq: the records and the behaviour of
+// SceneCatalog, EnvironmentCatalog and JobStore in PostgreSQL through libpq: the records and the behaviour of
 // SqliteStore.cpp (serialized proto messages, with columns only to look them up and order
 // them). One connection, one statement at a time behind a mutex, as SqliteStore; a connection
 // lost between statements is re-opened once before the next statement.
@@ -51,6 +51,11 @@ const char* const kMigrations[] = {
     " failures INTEGER NOT NULL DEFAULT 0,"
     " PRIMARY KEY (job_id, tile));"
     "CREATE INDEX tasks_to_lease ON tasks(state, priority DESC, job_position, tile);",
+    // 3: environments (SceneService.UploadEnvironment), as SQLite's version 2.
+    "CREATE TABLE environments ("
+    " position BIGINT GENERATED ALWAYS AS IDENTITY PRIMARY KEY,"
+    " id TEXT NOT NULL UNIQUE,"
+    " record BYTEA NOT NULL);",
 };
 static_assert(std::size(kMigrations) == size_t(kPostgresSchemaVersion));
 
@@ -130,7 +135,7 @@ Result<Message> parseRecord(const std::string& bytes, const std::string& where) 
 
 constexpr int kWaiting = 0, kLeased = 1, kDone = 2;
 
-class PostgresStore final : public SceneCatalog, public JobStore, public TaskStore {
+class PostgresStore final : public SceneCatalog, public EnvironmentCatalog, public JobStore, public TaskStore {
 public:
     PostgresStore(PGconn* conn, std::string display, bool replicas)
         : conn_(conn), display_(std::move(display)), replicas_(replicas) {}
@@ -180,6 +185,45 @@ public:
     Status deleteScene(const std::string& id) override {
         std::lock_guard<std::mutex> lock(mutex_);
         return run("DELETE FROM scenes WHERE id = $1", Params().text(id)).status();
+    }
+
+    Result<v1::Environment> insertEnvironment(const v1::Environment& environment) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        VASTRAY_TRY(run("INSERT INTO environments(id, record) VALUES($1, $2) ON CONFLICT (id) DO NOTHING",
+                        Params().text(environment.id()).bytes(environment.SerializeAsString())));
+        auto stored = getEnvironmentLocked(environment.id());
+        if (!stored) return stored.status();
+        if (!*stored) return Status::error(display_ + ": environment " + environment.id() + " vanished after insert");
+        return **stored;
+    }
+
+    Result<std::optional<v1::Environment>> getEnvironment(const std::string& id) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return getEnvironmentLocked(id);
+    }
+
+    Result<EnvironmentPage> listEnvironments(uint64_t after, uint32_t limit) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto rows = run("SELECT position, record FROM environments WHERE position > $1 ORDER BY position LIMIT $2",
+                        Params().integer(int64_t(after)).integer(int64_t(limit) + 1));
+        if (!rows) return rows.status();
+        EnvironmentPage page;
+        for (int row = 0; row < PQntuples(rows->get()); ++row) {
+            if (page.environments.size() == limit) {
+                page.more = true;
+                break;
+            }
+            auto environment = parseRecord<v1::Environment>(byteaValue(rows->get(), row, 1), display_);
+            if (!environment) return environment.status();
+            page.environments.push_back(std::move(*environment));
+            page.last = uint64_t(integerValue(rows->get(), row, 0));
+        }
+        return page;
+    }
+
+    Status deleteEnvironment(const std::string& id) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return run("DELETE FROM environments WHERE id = $1", Params().text(id)).status();
     }
 
     Result<Insert> insertJob(const v1::Job& job) override {
@@ -626,6 +670,15 @@ private:
         return std::optional<v1::Scene>(std::move(*scene));
     }
 
+    Result<std::optional<v1::Environment>> getEnvironmentLocked(const std::string& id) {
+        auto rows = run("SELECT record FROM environments WHERE id = $1", Params().text(id));
+        if (!rows) return rows.status();
+        if (PQntuples(rows->get()) == 0) return std::optional<v1::Environment>();
+        auto environment = parseRecord<v1::Environment>(byteaValue(rows->get(), 0, 0), display_);
+        if (!environment) return environment.status();
+        return std::optional<v1::Environment>(std::move(*environment));
+    }
+
     Result<std::optional<v1::Job>> findOne(const char* sql, const std::string& key) {
         auto rows = run(sql, Params().text(key));
         if (!rows) return rows.status();
@@ -706,7 +759,7 @@ Result<MetadataStores> openPostgresStores(const std::string& url, bool replicas)
     PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
     auto store = std::make_shared<PostgresStore>(conn, display, replicas);
     VASTRAY_TRY(store->prepare());
-    return MetadataStores{store, store, replicas ? store : nullptr};
+    return MetadataStores{store, store, replicas ? store : nullptr, store};
 }
 
 }  // namespace vastray::server

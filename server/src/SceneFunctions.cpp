@@ -175,8 +175,9 @@ ServiceStatus Service::importZip(const std::string& name, const fs::path& file, 
     return status;
 }
 
-SceneUpload::SceneUpload(Service& service, std::string name, fs::path file)
-    : service_(service), name_(std::move(name)), file_(std::move(file)), out_(file_, std::ios::binary) {}
+SceneUpload::SceneUpload(Service& service, std::string name, fs::path file, uint64_t maxBytes)
+    : service_(service), name_(std::move(name)), file_(std::move(file)), out_(file_, std::ios::binary),
+      maxBytes_(maxBytes) {}
 
 SceneUpload::~SceneUpload() {
     if (finished_) return;
@@ -189,10 +190,9 @@ ServiceStatus SceneUpload::append(const void* data, size_t size) {
     if (finished_) return {StatusCode::FailedPrecondition, "upload already finished"};
     bytes_ += size;
     service_.metrics_.uploadBytes += size;
-    if (bytes_ > service_.options_.maxUploadBytes)
-        return {StatusCode::ResourceExhausted, "upload exceeds the server's limit of " +
-                                                   std::to_string(service_.options_.maxUploadBytes) +
-                                                   " bytes"};
+    if (bytes_ > maxBytes_)
+        return {StatusCode::ResourceExhausted, name_ + ": upload exceeds the server's limit of " +
+                                                   std::to_string(maxBytes_) + " bytes"};
     if (bytes_ >= nextDiskCheck_) {
         if (service_.objects_->availableBytes() < size + service_.options_.diskReserveBytes)
             return {StatusCode::ResourceExhausted, "not enough free disk space for this upload"};
@@ -218,8 +218,7 @@ ServiceResult<v1::Scene> SceneUpload::finish(bool async) {
     return scene;
 }
 
-ServiceResult<std::unique_ptr<SceneUpload>> Service::beginUpload(const std::string& name,
-                                                                 uint64_t expectedBytes) {
+ServiceStatus Service::checkUploadStart(const std::string& name, uint64_t expectedBytes, uint64_t maxBytes) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (!accepting_) return ServiceStatus{StatusCode::Unavailable, "the server is shutting down"};
@@ -229,14 +228,20 @@ ServiceResult<std::unique_ptr<SceneUpload>> Service::beginUpload(const std::stri
         name.find('\0') != std::string::npos)
         return invalidArgument(
             "name", "a file name without '/', at most " + std::to_string(kMaxNameLength) + " characters");
-    if (expectedBytes > options_.maxUploadBytes)
-        return ServiceStatus{StatusCode::ResourceExhausted, "upload of " + std::to_string(expectedBytes) +
+    if (expectedBytes > maxBytes)
+        return ServiceStatus{StatusCode::ResourceExhausted, name + ": upload of " + std::to_string(expectedBytes) +
                                                                 " bytes exceeds the server's limit of " +
-                                                                std::to_string(options_.maxUploadBytes)};
+                                                                std::to_string(maxBytes)};
     if (expectedBytes + options_.diskReserveBytes > objects_->availableBytes())
         return ServiceStatus{StatusCode::ResourceExhausted, "not enough free disk space for this upload"};
+    return {};
+}
+
+ServiceResult<std::unique_ptr<SceneUpload>> Service::beginUpload(const std::string& name,
+                                                                 uint64_t expectedBytes) {
+    if (ServiceStatus s = checkUploadStart(name, expectedBytes, options_.maxUploadBytes); !s) return s;
     const fs::path file = objects_->scratchDir() / ("upload-" + randomHex(16) + ".part");
-    auto upload = std::unique_ptr<SceneUpload>(new SceneUpload(*this, name, file));
+    auto upload = std::unique_ptr<SceneUpload>(new SceneUpload(*this, name, file, options_.maxUploadBytes));
     if (!upload->out_) return internalError(file.string() + ": cannot create");
     return upload;
 }

@@ -1,4 +1,4 @@
-// SceneCatalog and JobStore in one SQLite database. Records are the serialized proto
+// SceneCatalog, EnvironmentCatalog and JobStore in one SQLite database. Records are the serialized proto
 // messages; the columns beside them exist only to look records up and order them.
 #include <sqlite3.h>
 
@@ -29,6 +29,12 @@ CREATE TABLE IF NOT EXISTS jobs (
   record BLOB NOT NULL);
 CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, position);
 CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
+)sql",
+    R"sql(
+CREATE TABLE environments (
+  position INTEGER PRIMARY KEY AUTOINCREMENT,
+  id TEXT NOT NULL UNIQUE,
+  record BLOB NOT NULL);
 )sql",
 };
 static_assert(std::size(kMigrations) == size_t(kSqliteSchemaVersion));
@@ -76,7 +82,7 @@ Result<Message> parseRecord(const std::string& bytes) {
     return message;
 }
 
-class SqliteStore final : public SceneCatalog, public JobStore {
+class SqliteStore final : public SceneCatalog, public EnvironmentCatalog, public JobStore {
 public:
     explicit SqliteStore(sqlite3* db, std::string path) : db_(db), path_(std::move(path)) {}
     ~SqliteStore() override { sqlite3_close(db_); }
@@ -123,6 +129,52 @@ public:
     Status deleteScene(const std::string& id) override {
         std::lock_guard<std::mutex> lock(mutex_);
         Statement remove(db_, "DELETE FROM scenes WHERE id = ?");
+        remove.bind(1, id);
+        if (remove.step() != SQLITE_DONE) return failure(remove);
+        return Status::ok();
+    }
+
+    Result<v1::Environment> insertEnvironment(const v1::Environment& environment) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Statement insert(db_, "INSERT OR IGNORE INTO environments(id, record) VALUES(?, ?)");
+        insert.bind(1, environment.id());
+        insert.bindBlob(2, environment.SerializeAsString());
+        if (insert.step() != SQLITE_DONE) return failure(insert);
+        auto stored = getRecordLocked<v1::Environment>("SELECT record FROM environments WHERE id = ?", environment.id());
+        if (!stored) return stored.status();
+        if (!*stored) return Status::error(path_ + ": environment " + environment.id() + " vanished after insert");
+        return **stored;
+    }
+
+    Result<std::optional<v1::Environment>> getEnvironment(const std::string& id) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return getRecordLocked<v1::Environment>("SELECT record FROM environments WHERE id = ?", id);
+    }
+
+    Result<EnvironmentPage> listEnvironments(uint64_t after, uint32_t limit) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Statement query(db_, "SELECT position, record FROM environments WHERE position > ? ORDER BY position LIMIT ?");
+        query.bind(1, int64_t(after));
+        query.bind(2, int64_t(limit) + 1);
+        EnvironmentPage page;
+        int rc;
+        while ((rc = query.step()) == SQLITE_ROW) {
+            if (page.environments.size() == limit) {
+                page.more = true;
+                break;
+            }
+            auto environment = parseRecord<v1::Environment>(query.blob(1));
+            if (!environment) return environment.status();
+            page.environments.push_back(std::move(*environment));
+            page.last = uint64_t(query.integer(0));
+        }
+        if (rc != SQLITE_ROW && rc != SQLITE_DONE) return failure(query);
+        return page;
+    }
+
+    Status deleteEnvironment(const std::string& id) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Statement remove(db_, "DELETE FROM environments WHERE id = ?");
         remove.bind(1, id);
         if (remove.step() != SQLITE_DONE) return failure(remove);
         return Status::ok();
@@ -241,6 +293,18 @@ private:
         return std::optional<v1::Scene>(std::move(*scene));
     }
 
+    template <typename Message>
+    Result<std::optional<Message>> getRecordLocked(const char* sql, const std::string& key) {
+        Statement query(db_, sql);
+        query.bind(1, key);
+        const int rc = query.step();
+        if (rc == SQLITE_DONE) return std::optional<Message>();
+        if (rc != SQLITE_ROW) return failure(query);
+        auto record = parseRecord<Message>(query.blob(0));
+        if (!record) return record.status();
+        return std::optional<Message>(std::move(*record));
+    }
+
     Result<std::optional<v1::Job>> findOne(const char* sql, const std::string& key) {
         Statement query(db_, sql);
         query.bind(1, key);
@@ -318,7 +382,7 @@ Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePat
     // a power loss, not only a crash of the process.
     VASTRAY_TRY(execute(db, path, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"));
     VASTRAY_TRY(migrate(db, path));
-    return MetadataStores{store, store, nullptr};
+    return MetadataStores{store, store, nullptr, store};
 }
 
 }  // namespace vastray::server

@@ -141,6 +141,7 @@ private:
     struct OpenScene {
         std::string path;
         uint64_t budget = 0;       // the job budget it was opened with
+        uint64_t mapBytes = 0;     // device bytes its pool keeps for an environment map
         uint64_t hostBytes = 0;    // its host cache's capacity
         uint64_t lastUse = 0;
         std::unique_ptr<PackageReader> reader;
@@ -170,8 +171,11 @@ private:
 
     Result<OpenScene*> openScene(const JobRenderRequest& request) {
         const uint64_t budget = request.memoryBudgetBytes;
+        // The job's environment map is kept from the budget, as `vastray render --environment`
+        // does: an open scene whose pool kept less for it is opened again.
+        const uint64_t mapBytes = gpu::environmentBytes(request.options.environment);
         for (OpenScene& o : open_)
-            if (o.path == request.scenePath && o.budget == budget) {
+            if (o.path == request.scenePath && o.budget == budget && o.mapBytes >= mapBytes) {
                 o.lastUse = ++tick_;
                 return &o;
             }
@@ -195,7 +199,7 @@ private:
             if (!volumes) return volumes.status();
             entry.volumes = std::move(volumes).value();
         }
-        auto plan = gpu::planPool(info, needed, budget, true, gpu::kWaveShareOutOfCore, 0, volumeBytes);
+        auto plan = gpu::planPool(info, needed, budget, true, gpu::kWaveShareOutOfCore, 0, mapBytes + volumeBytes);
         if (!plan) return plan.status();
         entry.hostBytes = std::min(hostCacheBytes_, info.decodedBytes());
         while ((deviceInUse() + plan->totalBytes > devicePoolBytes_ || hostInUse() + entry.hostBytes > hostCacheBytes_) &&
@@ -208,7 +212,8 @@ private:
                                               -> Result<std::unique_ptr<ChunkBackend>> {
                                               auto backend =
                                                   gpu::createVulkanChunkBackend(*device_, p, attributes, budget,
-                                                                                gpu::kWaveShareOutOfCore, {}, volumeBytes);
+                                                                                gpu::kWaveShareOutOfCore, {},
+                                                                                mapBytes + volumeBytes);
                                               if (!backend) return backend.status();
                                               auto counting = std::make_unique<LoadCountingBackend>(
                                                   std::move(backend).value());
@@ -219,6 +224,7 @@ private:
         entry.scene = std::move(scene).value();
         entry.path = request.scenePath;
         entry.budget = budget;
+        entry.mapBytes = mapBytes;
         entry.lastUse = ++tick_;
         open_.push_back(std::move(entry));
         return &open_.back();

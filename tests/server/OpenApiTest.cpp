@@ -92,6 +92,8 @@ TEST_F(OpenApiTest, PathAndQueryParametersAreDeclared) {
     EXPECT_EQ(parameterNames("/v1/jobs", "get"), (std::set<std::string>{"page_size", "page_token", "state"}));
     EXPECT_EQ(parameterNames("/v1/scenes", "get"), (std::set<std::string>{"page_size", "page_token"}));
     EXPECT_EQ(parameterNames("/v1/scenes", "put"), (std::set<std::string>{"name", "async"}));
+    EXPECT_EQ(parameterNames("/v1/environments", "put"), (std::set<std::string>{"name"}));
+    EXPECT_EQ(parameterNames("/v1/environments", "get"), (std::set<std::string>{"page_size", "page_token"}));
     EXPECT_EQ(parameterNames("/v1/jobs", "post"), (std::set<std::string>{"Idempotency-Key"}));
     EXPECT_EQ(parameterNames("/v1/jobs/{id}/result", "get"), (std::set<std::string>{"Range", "aov", "format"}));
 }
@@ -119,6 +121,8 @@ TEST_F(OpenApiTest, ErrorsAndAuthAreDescribed) {
     EXPECT_TRUE(doc["components"]["responses"]["TooManyRequests"]["headers"].contains("Retry-After"));
     EXPECT_TRUE(doc["paths"]["/v1/jobs/{id}/result"]["get"]["responses"].contains("416"));
     EXPECT_TRUE(doc["paths"]["/v1/scenes/{id}"]["delete"]["responses"].contains("409"));
+    EXPECT_TRUE(doc["paths"]["/v1/environments/{id}"]["delete"]["responses"].contains("409"));
+    EXPECT_TRUE(doc["paths"]["/v1/environments"]["put"]["responses"].contains("413"));
     EXPECT_EQ(doc["paths"]["/v1/jobs/{id}:cancel"]["post"]["requestBody"]["required"], false);
 }
 

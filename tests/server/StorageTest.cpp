@@ -116,6 +116,31 @@ CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_id, state);
     EXPECT_FALSE(again->created) << "the old request id still maps to its job";
 }
 
+// Version 1 (before environments), as a server of that version left it, with a job: opening
+// migrates it to the current version keeping the job, and environments are stored.
+TEST(SqliteStore, DatabaseOfVersionOneGetsTheEnvironmentsTable) {
+    const auto path = freshDir("sqlite-version-one") / "jobs.db";
+    {
+        auto stores = server::openSqliteStores(path);
+        ASSERT_TRUE(stores.isOk()) << stores.message();
+        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-one", v1::JOB_STATE_QUEUED, "one-key")).isOk());
+    }
+    runSql(path, "DROP TABLE environments; UPDATE schema_version SET version = 1");
+    ASSERT_EQ(schemaVersion(path), 1);
+    auto stores = server::openSqliteStores(path);
+    ASSERT_TRUE(stores.isOk()) << stores.message();
+    EXPECT_EQ(schemaVersion(path), server::kSqliteSchemaVersion);
+    auto kept = stores->jobs->getJob("job-one");
+    ASSERT_TRUE(kept.isOk() && *kept) << "the job survives the migration";
+    v1::Environment environment;
+    environment.set_id(std::string(64, 'e'));
+    environment.set_name("sky.exr");
+    ASSERT_TRUE(stores->environments->insertEnvironment(environment).isOk());
+    auto stored = stores->environments->getEnvironment(environment.id());
+    ASSERT_TRUE(stored.isOk() && *stored) << stored.message();
+    EXPECT_EQ((*stored)->name(), "sky.exr");
+}
+
 TEST(SqliteStore, NewerSchemaVersionIsRefusedNamingBoth) {
     const auto path = freshDir("sqlite-newer") / "jobs.db";
     ASSERT_TRUE(server::openSqliteStores(path).isOk());

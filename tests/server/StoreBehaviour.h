@@ -1,7 +1,8 @@
 #pragma once
 // What every SceneCatalog + JobStore must do, whichever database holds it (SqliteStore,
 // PostgresStore): records survive a reopen, a request id maps to its first job, paging and
-// filters order as documented, scenes insert once and delete.
+// filters order as documented, scenes and environments insert once and delete, a job's
+// environment fields come back as stored.
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -60,6 +61,32 @@ inline void checkStoreBehaviour(const std::function<Result<server::MetadataStore
         ASSERT_TRUE(kept.isOk());
         EXPECT_EQ(kept->name(), "scene-a.ply") << "a scene id inserts once; the stored record is returned";
         ASSERT_TRUE(scenes.deleteScene("scene-b").isOk());
+
+        auto& environments = *stores->environments;
+        for (const char* id : {"env-a", "env-b", "env-c"}) {
+            v1::Environment environment;
+            environment.set_id(id);
+            environment.set_name(std::string(id) + ".exr");
+            environment.set_format("exr");
+            environment.set_width(16);
+            environment.set_height(8);
+            environment.set_device_bytes(2580);
+            ASSERT_TRUE(environments.insertEnvironment(environment).isOk());
+        }
+        v1::Environment renamedEnvironment;
+        renamedEnvironment.set_id("env-a");
+        renamedEnvironment.set_name("other.hdr");
+        auto keptEnvironment = environments.insertEnvironment(renamedEnvironment);
+        ASSERT_TRUE(keptEnvironment.isOk()) << keptEnvironment.message();
+        EXPECT_EQ(keptEnvironment->name(), "env-a.exr") << "an environment id inserts once";
+        ASSERT_TRUE(environments.deleteEnvironment("env-b").isOk());
+
+        v1::Job lit = makeJob("job-lit", v1::JOB_STATE_SUCCEEDED);
+        v1::JobEnvironment& e = *lit.mutable_request()->mutable_environment();
+        e.set_id("env-a");
+        e.set_scale(0);  // present and zero: a map scaled to black, not the default 1
+        e.set_rotation_degrees(-90.5f);
+        ASSERT_TRUE(jobs.insertJob(lit).isOk());
     }
     auto stores = open();
     ASSERT_TRUE(stores.isOk()) << stores.message();
@@ -82,12 +109,13 @@ inline void checkStoreBehaviour(const std::function<Result<server::MetadataStore
         before = page->last;
         more = page->more;
     }
-    EXPECT_EQ(seen, (std::vector<std::string>{"job-x", "job-4", "job-3", "job-2", "job-1", "job-0"}))
+    EXPECT_EQ(seen, (std::vector<std::string>{"job-lit", "job-x", "job-4", "job-3", "job-2", "job-1", "job-0"}))
         << "newest first";
     auto succeeded = jobs.listJobs(v1::JOB_STATE_SUCCEEDED, 0, 10);
     ASSERT_TRUE(succeeded.isOk());
-    ASSERT_EQ(succeeded->jobs.size(), 1u);
-    EXPECT_EQ(succeeded->jobs[0].id(), "job-2");
+    ASSERT_EQ(succeeded->jobs.size(), 2u);
+    EXPECT_EQ(succeeded->jobs[0].id(), "job-lit");
+    EXPECT_EQ(succeeded->jobs[1].id(), "job-2");
     auto inUse = jobs.sceneInUse(std::string(64, 'a'));
     ASSERT_TRUE(inUse.isOk());
     EXPECT_TRUE(*inUse);
@@ -109,6 +137,33 @@ inline void checkStoreBehaviour(const std::function<Result<server::MetadataStore
         more = page->more;
     }
     EXPECT_EQ(sceneIds, (std::vector<std::string>{"scene-a", "scene-c"})) << "oldest first, scene-b deleted";
+
+    auto lit = jobs.getJob("job-lit");
+    ASSERT_TRUE(lit.isOk() && *lit) << lit.message();
+    ASSERT_TRUE((*lit)->request().has_environment());
+    EXPECT_EQ((*lit)->request().environment().id(), "env-a");
+    EXPECT_TRUE((*lit)->request().environment().has_scale()) << "a scale of 0 is kept as given";
+    EXPECT_EQ((*lit)->request().environment().scale(), 0.0f);
+    EXPECT_EQ((*lit)->request().environment().rotation_degrees(), -90.5f);
+
+    auto& environments = *stores->environments;
+    std::vector<std::string> environmentIds;
+    after = 0;
+    for (bool more = true; more;) {
+        auto page = environments.listEnvironments(after, 1);
+        ASSERT_TRUE(page.isOk()) << page.message();
+        for (const auto& environment : page->environments) environmentIds.push_back(environment.id());
+        after = page->last;
+        more = page->more;
+    }
+    EXPECT_EQ(environmentIds, (std::vector<std::string>{"env-a", "env-c"})) << "oldest first, env-b deleted";
+    auto environment = environments.getEnvironment("env-c");
+    ASSERT_TRUE(environment.isOk() && *environment);
+    EXPECT_EQ((*environment)->width(), 16u);
+    EXPECT_EQ((*environment)->device_bytes(), 2580u);
+    auto goneEnvironment = environments.getEnvironment("env-b");
+    ASSERT_TRUE(goneEnvironment.isOk());
+    EXPECT_FALSE(*goneEnvironment);
     auto gone = scenes.getScene("scene-b");
     ASSERT_TRUE(gone.isOk());
     EXPECT_FALSE(*gone);

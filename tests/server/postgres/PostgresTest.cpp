@@ -38,7 +38,7 @@ TEST_F(PostgresStoreTest, EmptyDatabaseIsMigratedOnceToTheCurrentVersion) {
     EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kPostgresSchemaVersion));
     EXPECT_EQ(scalar("SELECT string_agg(tablename, ',' ORDER BY tablename) FROM pg_tables WHERE schemaname = "
                      "'public'"),
-              "jobs,scenes,schema_version,tasks");
+              "environments,jobs,scenes,schema_version,tasks");
     auto stores = server::openPostgresStores(cluster_.url());
     ASSERT_TRUE(stores.isOk()) << stores.message();
     EXPECT_EQ(scalar("SELECT count(*) FROM schema_version"), "1") << "a second open finds nothing to migrate";
@@ -46,15 +46,15 @@ TEST_F(PostgresStoreTest, EmptyDatabaseIsMigratedOnceToTheCurrentVersion) {
     ASSERT_TRUE(kept.isOk() && *kept) << "the rows survive a reopen";
 }
 
-// Version 1 (before tasks): the current database without the tasks table, at version 1, with a
-// job. Opening migrates it to the current version and keeps the job.
+// Version 1 (before tasks): the current database without the tasks and environments tables, at
+// version 1, with a job. Opening migrates it to the current version and keeps the job.
 TEST_F(PostgresStoreTest, DatabaseOfThePreviousVersionIsMigratedKeepingItsJobs) {
     {
         auto stores = server::openPostgresStores(cluster_.url());
         ASSERT_TRUE(stores.isOk()) << stores.message();
         ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-old", v1::JOB_STATE_QUEUED, "old-key")).isOk());
     }
-    scalar("DROP TABLE tasks; UPDATE schema_version SET version = 1");
+    scalar("DROP TABLE tasks; DROP TABLE environments; UPDATE schema_version SET version = 1");
     auto stores = server::openPostgresStores(cluster_.url(), true);
     ASSERT_TRUE(stores.isOk()) << stores.message();
     EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kPostgresSchemaVersion));
@@ -69,6 +69,30 @@ TEST_F(PostgresStoreTest, DatabaseOfThePreviousVersionIsMigratedKeepingItsJobs) 
     ASSERT_TRUE(stores->tasks->insertJobWithTasks(tiled, 2).isOk());
     EXPECT_EQ(scalar("SELECT string_agg(tile::text, ',' ORDER BY tile) FROM tasks WHERE job_id = 'job-tiled'"),
               "-1,0,1");
+}
+
+// Version 2 (before environments): the current database without the environments table, at
+// version 2, with a job. Opening migrates it to the current version, keeps the job, and
+// environments are stored.
+TEST_F(PostgresStoreTest, DatabaseOfVersionTwoGetsTheEnvironmentsTable) {
+    {
+        auto stores = server::openPostgresStores(cluster_.url());
+        ASSERT_TRUE(stores.isOk()) << stores.message();
+        ASSERT_TRUE(stores->jobs->insertJob(makeJob("job-two", v1::JOB_STATE_QUEUED, "two-key")).isOk());
+    }
+    scalar("DROP TABLE environments; UPDATE schema_version SET version = 2");
+    auto stores = server::openPostgresStores(cluster_.url());
+    ASSERT_TRUE(stores.isOk()) << stores.message();
+    EXPECT_EQ(scalar("SELECT version FROM schema_version"), std::to_string(server::kPostgresSchemaVersion));
+    auto kept = stores->jobs->getJob("job-two");
+    ASSERT_TRUE(kept.isOk() && *kept) << "the job survives the migration";
+    v1::Environment environment;
+    environment.set_id(std::string(64, 'e'));
+    environment.set_name("sky.exr");
+    ASSERT_TRUE(stores->environments->insertEnvironment(environment).isOk());
+    auto stored = stores->environments->getEnvironment(environment.id());
+    ASSERT_TRUE(stored.isOk() && *stored) << stored.message();
+    EXPECT_EQ((*stored)->name(), "sky.exr");
 }
 
 TEST_F(PostgresStoreTest, NewerSchemaVersionIsRefusedNamingBoth) {

@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/server/JobRenderer.h"
 #include "vastray/server/Metrics.h"
 #include "vastray/server/ServiceStatus.h"
@@ -55,8 +56,9 @@ using ImportProgress = std::function<void(int percent)>;
 
 class Service;
 
-// One scene upload in progress: append() the bytes as they arrive, then finish(). Destroying
-// an unfinished upload deletes what was written.
+// One upload in progress (a scene's, or an environment map's): append() the bytes as they
+// arrive, then finish() or finishEnvironment(). Destroying an unfinished upload deletes what
+// was written.
 class SceneUpload {
 public:
     ~SceneUpload();
@@ -65,18 +67,26 @@ public:
     // content already stored returns the stored scene. `async`: queues the import as an
     // import job instead and returns at once, the scene's import_job_id naming the job.
     ServiceResult<v1::Scene> finish(bool async = false);
+    // An upload begun with beginEnvironmentUpload: hashes, decodes the image with the reader
+    // `vastray render --environment` uses (readEnvironmentMap) and stores the environment.
+    ServiceResult<v1::Environment> finishEnvironment();
 
 private:
     friend class Service;
-    SceneUpload(Service& service, std::string name, std::filesystem::path file);
+    SceneUpload(Service& service, std::string name, std::filesystem::path file, uint64_t maxBytes);
     Service& service_;
     std::string name_;
     std::filesystem::path file_;
     std::ofstream out_;
     Sha256 hash_;
+    uint64_t maxBytes_ = 0;  // --max-upload, or kMaxEnvironmentUploadBytes when that is smaller
     uint64_t bytes_ = 0, nextDiskCheck_ = 0;
     bool finished_ = false;
 };
+
+// The largest environment map upload (besides --max-upload): an uncompressed float RGB EXR at
+// the texel limit of an environment map (kMaxEnvironmentTexels) is 768 MiB.
+constexpr uint64_t kMaxEnvironmentUploadBytes = 1ull << 30;
 
 struct SubmitOutcome {
     v1::Job job;
@@ -110,6 +120,14 @@ public:
     ServiceResult<v1::Scene> getScene(const v1::GetSceneRequest& request);
     ServiceResult<v1::ListScenesResponse> listScenes(const v1::ListScenesRequest& request);
     ServiceResult<v1::DeleteSceneResponse> deleteScene(const v1::DeleteSceneRequest& request);
+
+    // Environment maps (SceneService.UploadEnvironment and the rest; EnvironmentFunctions.cpp).
+    // The upload's limit is the smaller of --max-upload and kMaxEnvironmentUploadBytes.
+    ServiceResult<std::unique_ptr<SceneUpload>> beginEnvironmentUpload(const std::string& name,
+                                                                       uint64_t expectedBytes);
+    ServiceResult<v1::Environment> getEnvironment(const v1::GetEnvironmentRequest& request);
+    ServiceResult<v1::ListEnvironmentsResponse> listEnvironments(const v1::ListEnvironmentsRequest& request);
+    ServiceResult<v1::DeleteEnvironmentResponse> deleteEnvironment(const v1::DeleteEnvironmentRequest& request);
 
     ServiceResult<SubmitOutcome> submitJob(const v1::SubmitJobRequest& request);
     ServiceResult<v1::Job> getJob(const v1::GetJobRequest& request);
@@ -175,6 +193,14 @@ private:
 
     explicit Service(const ServiceOptions& options);
     Status recoverJobs();
+    // An upload's checks shared by scenes and environments: accepting, the name, the size.
+    ServiceStatus checkUploadStart(const std::string& name, uint64_t expectedBytes, uint64_t maxBytes);
+    ServiceResult<v1::Environment> storeEnvironment(const std::string& name, const std::filesystem::path& file,
+                                                    const std::string& digest, uint64_t bytes);
+    // The job's environment map read as `vastray render --environment FILE --environment-scale S`
+    // reads it (the last one read is kept for the next job that asks for the same), or null when
+    // the request has none.
+    ServiceResult<std::shared_ptr<const EnvironmentMap>> jobEnvironmentMap(const v1::SubmitJobRequest& request);
     ServiceResult<v1::Scene> storeUpload(const std::string& name, const std::filesystem::path& file,
                                          const std::string& digest, uint64_t bytes,
                                          const ImportProgress& progress = {});
@@ -248,6 +274,10 @@ private:
     std::map<std::string, std::string> importing_;
     std::condition_variable importAvailable_;
     std::thread importWorker_;
+    // jobEnvironmentMap's last map, by "ID SCALE".
+    std::mutex environmentMutex_;
+    std::string environmentKey_;
+    std::shared_ptr<const EnvironmentMap> environmentMap_;
 };
 
 }  // namespace vastray::server

@@ -58,6 +58,24 @@ public:
     virtual Status deleteScene(const std::string& id) = 0;
 };
 
+// One record per stored environment map (SceneService.UploadEnvironment), as SceneCatalog's
+// scenes.
+class EnvironmentCatalog {
+public:
+    virtual ~EnvironmentCatalog() = default;
+    // Inserts unless an environment of that id exists; returns the stored record either way.
+    virtual Result<v1::Environment> insertEnvironment(const v1::Environment& environment) = 0;
+    virtual Result<std::optional<v1::Environment>> getEnvironment(const std::string& id) = 0;
+    // Oldest first, after the environment at position `after` (0: from the start).
+    struct EnvironmentPage {
+        std::vector<v1::Environment> environments;
+        uint64_t last = 0;  // position of the last environment returned
+        bool more = false;
+    };
+    virtual Result<EnvironmentPage> listEnvironments(uint64_t after, uint32_t limit) = 0;
+    virtual Status deleteEnvironment(const std::string& id) = 0;
+};
+
 class JobStore {
 public:
     virtual ~JobStore() = default;
@@ -139,15 +157,17 @@ struct MetadataStores {
     std::shared_ptr<SceneCatalog> scenes;
     std::shared_ptr<JobStore> jobs;
     std::shared_ptr<TaskStore> tasks;  // PostgreSQL opened for replicas only
+    std::shared_ptr<EnvironmentCatalog> environments;
 };
 
 // The schema versions the stores write, in a one-row table schema_version. Opening a store
 // runs the migrations from the version it finds (0: an empty database) up to its version, in
 // one transaction; a database of a newer version is an error. SQLite databases written before
 // schema_version existed hold version 1's tables and are migrated as version 0.
-// SQLite 1: scenes, jobs. PostgreSQL 1: scenes, jobs; 2: tasks (the tiles replicas lease).
-constexpr int kSqliteSchemaVersion = 1;
-constexpr int kPostgresSchemaVersion = 2;
+// SQLite 1: scenes, jobs; 2: environments. PostgreSQL 1: scenes, jobs; 2: tasks (the tiles
+// replicas lease); 3: environments.
+constexpr int kSqliteSchemaVersion = 2;
+constexpr int kPostgresSchemaVersion = 3;
 
 // One SQLite database (WAL, synchronous=FULL) implementing both catalogs.
 Result<MetadataStores> openSqliteStores(const std::filesystem::path& databasePath);
