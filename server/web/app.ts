@@ -10,6 +10,10 @@ interface Scene {
   id: string; name: string; format: string; upload_bytes: string; package_bytes: string;
   triangles: string; chunks: string; import_job_id: string; cameras?: SceneCamera[];
 }
+interface Environment {
+  id: string; name: string; format: string; upload_bytes: string; width?: number; height?: number;
+  device_bytes: string;
+}
 interface JobStats {
   backend: string; render_seconds: number; rays: string; chunk_loads: string;
   peak_device_bytes: string; memory_budget_bytes: string; passes: string;
@@ -358,11 +362,19 @@ function vectorOf(prefix: string): number[] {
   return ["x", "y", "z"].map((axis) => input(`${prefix}-${axis}`).value).filter((v) => v !== "").map(Number);
 }
 
-// up_axis, sun and no_lights of SubmitJobRequest. "No sun" is the API's sun of intensity 0 (its
+// up_axis, sun, no_lights and environment of SubmitJobRequest. "No sun" is the API's sun of intensity 0 (its
 // direction, the up axis, is then unused).
 function lightingRequest(): object {
   const upAxis = selected("up-axis");
   const request: Record<string, unknown> = { up_axis: upAxis, no_lights: !input("scene-lights").checked };
+  const environment = selected("environment-select");
+  if (environment !== "") {
+    // Empty boxes are left out: the API's scale 1 and rotation 0.
+    const map: Record<string, unknown> = { id: environment };
+    if (input("environment-scale").value !== "") map.scale = Number(input("environment-scale").value);
+    if (input("environment-rotation").value !== "") map.rotation_degrees = Number(input("environment-rotation").value);
+    request.environment = map;
+  }
   if (selected("sun-mode") === "custom")
     request.sun = { direction: vectorOf("sun"), intensity: Number(input("sun-intensity").value) };
   else if (selected("sun-mode") === "none")
@@ -391,10 +403,48 @@ function syncRenderOptions(): void {
   input("scene-camera").disabled = selected("camera-mode") !== "scene";
   ($("scene-camera-list") as HTMLSelectElement).disabled = selected("camera-mode") !== "scene";
   ($("camera-fields") as HTMLFieldSetElement).disabled = selected("camera-mode") !== "eye";
+  ($("environment-fields") as HTMLFieldSetElement).disabled = selected("environment-select") === "";
+}
+
+// The stored environment maps (ListEnvironments) as the options of the environment select, by
+// name, size and id; `select` (or the chosen one) stays chosen.
+async function refreshEnvironments(select?: string): Promise<void> {
+  const environments: Environment[] = [];
+  let token = "";
+  do {
+    const page = await apiJson<{ environments?: Environment[]; next_page_token?: string }>(
+      `/v1/environments?page_size=1000${token ? "&page_token=" + encodeURIComponent(token) : ""}`);
+    environments.push(...(page.environments ?? []));
+    token = page.next_page_token ?? "";
+  } while (token);
+  const options = $("environment-select") as HTMLSelectElement;
+  const previous = select ?? options.value;
+  options.replaceChildren(new Option("none (the sky)", ""), ...environments.map((e) =>
+    new Option(`${e.name} (${e.width ?? 0}x${e.height ?? 0}, ${e.id.slice(0, 8)})`, e.id)));
+  options.value = environments.some((e) => e.id === previous) ? previous : "";
+  syncRenderOptions();
+}
+
+// An environment map from the file picker: uploaded as it is, then chosen. A refused file shows
+// the server's message (it names the file and the limit).
+async function uploadEnvironment(): Promise<void> {
+  const file = input("environment-file").files?.[0];
+  if (!file) return;
+  $("environment-message").textContent = `uploading ${file.name}...`;
+  try {
+    const environment = await apiJson<Environment>(`/v1/environments?name=${encodeURIComponent(file.name)}`,
+      { method: "PUT", body: file });
+    await refreshEnvironments(environment.id);
+    $("environment-message").textContent = `${file.name} stored`;
+  } catch (error) {
+    $("environment-message").textContent = (error as Error).message;
+  }
+  input("environment-file").value = "";
 }
 
 function setupRenderForm(): void {
-  for (const id of ["sun-mode", "camera-mode"]) $(id).addEventListener("change", syncRenderOptions);
+  for (const id of ["sun-mode", "camera-mode", "environment-select"]) $(id).addEventListener("change", syncRenderOptions);
+  $("environment-file").addEventListener("change", () => void uploadEnvironment());
   $("scene-select").addEventListener("change", fillCameraList);
   $("scene-camera-list").addEventListener("change", pickListedCamera);
   syncRenderOptions();
@@ -628,9 +678,10 @@ async function start(): Promise<void> {
   setupTokenDialog();
   setupUpload();
   setupRenderForm();
-  $("refresh-scenes").addEventListener("click", () => void refreshScenes());
+  $("refresh-scenes").addEventListener("click", () => void refreshScenes().then(() => refreshEnvironments()));
   try {
     await refreshScenes();
+    await refreshEnvironments();
     await loadJobs();
     $("server-status").textContent = "connected";
     document.body.dataset.ready = "true";

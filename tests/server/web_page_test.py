@@ -44,6 +44,7 @@ try:
     from selenium import webdriver
     from selenium.common.exceptions import TimeoutException
     from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
     from selenium.webdriver.support.ui import Select, WebDriverWait
@@ -382,6 +383,13 @@ class PageTest:
         self.driver.find_element(By.ID, element_id).send_keys(Keys.TAB)
         return self.js("return document.activeElement.id")
 
+    def tab_twice_from(self, element_id):
+        """The id of the control two Tabs move to from `element_id` (past a file input, which takes
+        no keys from WebDriver: its send_keys chooses a file)."""
+        self.driver.find_element(By.ID, element_id).send_keys(Keys.TAB)
+        ActionChains(self.driver).send_keys(Keys.TAB).perform()
+        return self.js("return document.activeElement.id")
+
     def fill_vector(self, prefix, values):
         for axis, value in zip("xyz", values):
             self.type_into(f"{prefix}-{axis}", value)
@@ -522,6 +530,60 @@ class PageTest:
         self.wait(lambda: options() == ["none defined (the box below)"],
                   f"a scene without cameras to list none ({options()})", 5)
 
+    def environment_job(self, scene_id):
+        """An environment map uploaded through the page's picker (a garbage one first: the page shows
+        the server's refusal naming the file) is chosen in the environment select; its scale and
+        rotation boxes, skipped by Tab while no map is chosen, and the uv AOV box are set from the
+        keyboard; the job is stored with exactly those fields and SUCCEEDS. A scale out of range
+        shows the API's own 400."""
+        garbage = os.path.join(self.work, "garbage.hdr")
+        with open(garbage, "wb") as f:
+            f.write(b"#?RADIANCE\nnot a picture")
+        studio = os.path.join(self.work, "studio.hdr")
+        with open(studio, "wb") as f:  # 8x4 flat RGBE texels of 1.0
+            f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n" + b"\x80\x80\x80\x81" * 32)
+        message = lambda: self.driver.find_element(By.ID, "environment-message").text  # noqa: E731
+        self.driver.find_element(By.ID, "environment-file").send_keys(garbage)
+        self.wait(lambda: message().startswith("400 INVALID_ARGUMENT: data: garbage.hdr"),
+                  f"the refusal of garbage.hdr naming it (the page shows {message()!r})", 20)
+        self.driver.find_element(By.ID, "environment-file").send_keys(studio)
+        self.wait(lambda: message() == "studio.hdr stored", f"studio.hdr to be stored ({message()!r})", 20)
+        stored = [e for e in self.server.api("/v1/environments")["environments"] if e["name"] == "studio.hdr"]
+        if len(stored) != 1 or (stored[0]["width"], stored[0]["height"]) != (8, 4):
+            fail(f"the uploaded map is not listed as an 8x4 studio.hdr: {stored}")
+        environment_id = stored[0]["id"]
+        self.fill(scene_id, 32, 32, 2)
+        self.choose("sun-mode", "default")
+        self.choose("camera-mode", "default")
+        self.choose("environment-select", "")
+        if self.tab_from("environment-select") != "environment-file":
+            fail("Tab from the environment select does not reach the upload picker")
+        if self.tab_twice_from("environment-select") == "environment-scale":
+            fail("Tab reaches the environment's scale while no map is chosen")
+        self.choose("environment-select", environment_id)
+        if self.tab_twice_from("environment-select") != "environment-scale":
+            fail("Tab past the environment picker does not reach the chosen map's scale")
+        self.type_into("environment-scale", 0.5)
+        self.type_into("environment-rotation", 45)
+        uv = self.driver.find_element(By.CSS_SELECTOR, "#aovs input[value='uv']")
+        uv.send_keys(Keys.SPACE)
+        if not uv.is_selected():
+            fail("Space did not tick the uv AOV box")
+        job_id = self.submit_filled()
+        self.stored_request(job_id, {
+            "scene_id": scene_id, "aovs": ["uv"], "output_format": "exr",
+            "environment": {"id": environment_id, "scale": 0.5, "rotation_degrees": 45}}, absent=("sun", "camera"))
+        final = ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED", "JOB_STATE_CANCELLED")
+        self.wait(lambda: self.card(job_id).get_attribute("data-state") in final, "the environment job to end", 120)
+        if self.card(job_id).get_attribute("data-state") != "JOB_STATE_SUCCEEDED":
+            fail(f"the environment job did not succeed: {self.card(job_id).text}")
+        self.type_into("environment-scale", -1)
+        up_axis = self.driver.find_element(By.ID, "up-axis").get_attribute("value")
+        self.refused(scene_id, {"up_axis": up_axis, "no_lights": not self.driver.find_element(By.ID, "scene-lights").is_selected(),
+                                "aovs": ["uv"], "environment": {"id": environment_id, "scale": -1, "rotation_degrees": 45}},
+                     "environment.scale")
+        self.choose("environment-select", "")
+
     def page_bytes(self):
         html = self.server.raw("/")
         scripts = re.findall(rb'src="([^"]+)"', html) + re.findall(rb'href="([^"]+\.css)"', html)
@@ -547,10 +609,12 @@ class PageTest:
             self.cancel_long_job(scene_id)
             self.responsiveness(scene_id)
         self.lighting_and_camera(scene_id)
+        self.environment_job(scene_id)
         # The 401s that made the page ask for the token and the 400s of the refused jobs are
         # expected; nothing else may be logged (a CSP violation, a failed request, an exception).
         expected = ("status of 401 (Unauthorized)", "/v1/jobs - Failed to load resource: the server responded "
-                    "with a status of 400 (Bad Request)")
+                    "with a status of 400 (Bad Request)", "/v1/environments?name=garbage.hdr - Failed to load "
+                    "resource: the server responded with a status of 400 (Bad Request)")
         errors = [e for e in self.driver.get_log("browser")
                   if e["level"] == "SEVERE" and not any(text in e["message"] for text in expected)]
         if errors:
