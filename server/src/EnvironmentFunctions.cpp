@@ -28,7 +28,8 @@ std::string environmentFormat(const fs::path& file) {
 }
 
 std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
-    for (size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
+    for (size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size())
+        text.replace(at, from.size(), to);
     return text;
 }
 
@@ -49,7 +50,8 @@ ServiceResult<std::unique_ptr<SceneUpload>> Service::beginEnvironmentUpload(cons
     if (ServiceStatus s = checkUploadStart(name, expectedBytes, maxBytes); !s) return s;
     const std::string ext = lowerExtension(name);
     if (ext != ".exr" && ext != ".hdr")
-        return invalidArgument("name", "'" + name + "': an environment map is an OpenEXR (.exr) or Radiance (.hdr) file");
+        return invalidArgument("name", "'" + name +
+                                           "': an environment map is an OpenEXR (.exr) or Radiance (.hdr) file");
     const fs::path file = objects_->scratchDir() / ("environment-" + randomHex(16) + ".part");
     auto upload = std::unique_ptr<SceneUpload>(new SceneUpload(*this, name, file, maxBytes));
     if (!upload->out_) return internalError(file.string() + ": cannot create");
@@ -79,14 +81,20 @@ ServiceResult<v1::Environment> Service::storeEnvironment(const std::string& name
     environment.set_format(environmentFormat(file));
     environment.set_upload_bytes(bytes);
     if (environment.format() != lowerExtension(name).substr(1))
-        return invalidArgument("data", name + ": not an " + (lowerExtension(name) == ".exr" ? "OpenEXR" : "Radiance .hdr") +
+        return invalidArgument("data", name + ": not an " +
+                                           (lowerExtension(name) == ".exr" ? "OpenEXR" : "Radiance .hdr") +
                                            " file (its first bytes are not that format's magic number)");
     // The image reader picks the format by the extension: the scratch file gets the right one.
     const fs::path image = objects_->scratchDir() / (digest + "-" + randomHex(8) + "." + environment.format());
     std::error_code error;
     fs::rename(file, image, error);
     if (error) return internalError(image.string() + ": " + error.message());
-    auto map = readEnvironmentMap(image.string());
+    // One decode at a time, uploads and jobs together: a small file may decode to the texel limit
+    // (2^26 texels, about 2.5 GB of host memory while the map is built).
+    auto map = [&] {
+        std::lock_guard<std::mutex> lock(environmentMutex_);
+        return readEnvironmentMap(image.string());
+    }();
     if (!map) {
         fs::remove(image, error);
         std::string why = replaceAll(map.message(), image.string(), name);

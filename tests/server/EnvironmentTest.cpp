@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdio>
 
 #include <array>
 #include <cmath>
@@ -48,7 +49,8 @@ std::string writeExr(const fs::path& path, uint32_t w, uint32_t h, const float* 
 // A w x h Radiance .hdr, flat (not run-length encoded) scanlines, every texel RGBE 80 80 80 81
 // (1.0 in each channel).
 std::string hdrBytes(uint32_t w, uint32_t h) {
-    std::string bytes = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(h) + " +X " + std::to_string(w) + "\n";
+    std::string bytes =
+        "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(h) + " +X " + std::to_string(w) + "\n";
     for (uint64_t i = 0; i < uint64_t(w) * h; ++i) bytes += std::string("\x80\x80\x80\x81", 4);
     return bytes;
 }
@@ -66,9 +68,10 @@ std::array<double, 3> channelMeans(const fs::path& exr) {
     return mean;
 }
 
-// PUT `target` with a Content-Length of `length` and no body, over a socket of its own; what the
-// server answers before it closes (at most 5 s).
-std::string headersOnlyPut(int port, const std::string& target, size_t length) {
+// Sends `request` (all of it, at once: it fits the loopback socket's buffers, so the server has
+// it before it answers) over a connection of its own; what the server answers before it closes
+// (at most 5 s).
+std::string rawExchange(int port, const std::string& request) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     sockaddr_in address{};
     address.sin_family = AF_INET;
@@ -78,9 +81,6 @@ std::string headersOnlyPut(int port, const std::string& target, size_t length) {
     if (fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) {
         timeval timeout{5, 0};
         ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-        const std::string request = "PUT " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: " +
-                                    std::to_string(length) +
-                                    "\r\nContent-Type: application/octet-stream\r\nConnection: close\r\n\r\n";
         if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == ssize_t(request.size())) {
             char buffer[4096];
             for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) answer.append(buffer, size_t(n));
@@ -88,6 +88,19 @@ std::string headersOnlyPut(int port, const std::string& target, size_t length) {
     }
     if (fd >= 0) ::close(fd);
     return answer;
+}
+
+// A PUT of `target` whose headers are `headers` and whose body is `body`.
+std::string rawPut(int port, const std::string& target, const std::string& headers, const std::string& body = "") {
+    return rawExchange(port, "PUT " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + headers +
+                                 "Content-Type: application/octet-stream\r\nConnection: close\r\n\r\n" + body);
+}
+
+// `data` as one chunk of a chunked body, and the last chunk.
+std::string oneChunk(const std::string& data) {
+    char size[32];
+    std::snprintf(size, sizeof size, "%zx\r\n", data.size());
+    return size + data + "\r\n0\r\n\r\n";
 }
 
 class EnvironmentTest : public ServerTest {
@@ -149,7 +162,8 @@ protected:
             // Each sample of each pixel reads the one texel value times 2 (a power of two: exact),
             // and the mean of equal floats is that float; 1e-6 allows another summation order.
             EXPECT_NEAR(litMean[c], 2.0 * kTexel[c], 1e-6) << "channel " << c;
-            EXPECT_GT(std::fabs(skyMean[c] - 2.0 * kTexel[c]), 0.05) << "the sky alone gives the same mean, channel " << c;
+            EXPECT_GT(std::fabs(skyMean[c] - 2.0 * kTexel[c]), 0.05)
+                << "the sky alone gives the same mean, channel " << c;
         }
     }
 };
@@ -180,7 +194,8 @@ TEST_F(EnvironmentTest, UploadGetListAndDeleteOverHttp) {
     const json page = json::parse(first->body);
     ASSERT_EQ(page["environments"].size(), 1u);
     EXPECT_EQ(page["environments"][0]["id"], stored["id"]) << "oldest first";
-    auto second = http().Get(("/v1/environments?page_size=1&page_token=" + std::string(page["next_page_token"])).c_str());
+    const std::string next = page["next_page_token"];
+    auto second = http().Get(("/v1/environments?page_size=1&page_token=" + next).c_str());
     ASSERT_TRUE(second && second->status == 200);
     EXPECT_EQ(json::parse(second->body)["environments"][0]["id"], hdr["id"]);
 
@@ -220,56 +235,31 @@ TEST_F(EnvironmentTest, GarbageAndOversizedFilesAreRefusedByName) {
     }
     // Over the limit by its Content-Length: refused from the headers, before a byte of the body
     // (none is sent here, so no refusal can cut a write short).
-    const std::string refused = headersOnlyPut(server_.httpPort(), "/v1/environments?name=big.exr", 70 << 10);
+    const std::string refused =
+        rawPut(server_.httpPort(), "/v1/environments?name=big.exr", "Content-Length: 71680\r\n");
     EXPECT_NE(refused.find("HTTP/1.1 413"), std::string::npos) << refused;
     EXPECT_NE(refused.find("a body of 71680 bytes exceeds the 65536-byte limit of PUT /v1/environments"),
               std::string::npos)
         << refused;
-    // Past the limit without a Content-Length (chunked): 4 blocks of 16 KiB and 1 KiB more, so
-    // that what follows the refusal is within what the server drains before it closes.
-    size_t sent = 0;
-    auto chunked = http().Put(
-        "/v1/environments?name=chunked.exr",
-        [&sent](size_t, httplib::DataSink& sink) {
-            const std::string block(sent < (64u << 10) ? 16 << 10 : 1 << 10, 'x');
-            if (sent < (65u << 10)) {
-                sink.write(block.data(), block.size());
-                sent += block.size();
-            } else {
-                sink.done();
-            }
-            return true;
-        },
-        "application/octet-stream");
-    ASSERT_TRUE(chunked);
-    EXPECT_EQ(chunked->status, 413) << chunked->body;
-    EXPECT_NE(chunked->body.find("chunked.exr: the upload was cut off before its end (a chunked body over the "
-                                 "65536-byte limit of PUT /v1/environments"),
+    // Past the limit without a Content-Length (chunked): one chunk of 100 bytes more than the
+    // limit, sent whole before the server answers (a refusal cannot cut a write short).
+    const std::string chunked = rawPut(server_.httpPort(), "/v1/environments?name=chunked.exr",
+                                       "Transfer-Encoding: chunked\r\n", oneChunk(std::string((64 << 10) + 100, 'x')));
+    EXPECT_EQ(chunked.rfind("HTTP/1.1 413", 0), 0u) << chunked;
+    EXPECT_NE(chunked.find("chunked.exr: the upload was cut off before its end (a chunked body over the "
+                           "65536-byte limit of PUT /v1/environments"),
               std::string::npos)
-        << chunked->body;
+        << chunked;
     // The same for a scene: a chunked body past --max-upload is refused, not stored cut short.
-    sent = 0;
-    auto scene = http().Put(
-        "/v1/scenes?name=chunked.ply",
-        [&sent](size_t, httplib::DataSink& sink) {
-            const size_t size = sent < (64u << 10) ? 16 << 10 : 1 << 10;
-            const std::string block = sent == 0 ? "ply\nformat ascii 1.0\ncomment " + std::string(size - 30, 'x') + "\n"
-                                                 : "comment " + std::string(size - 9, 'x') + "\n";
-            if (sent < (65u << 10)) {
-                sink.write(block.data(), block.size());
-                sent += block.size();
-            } else {
-                sink.done();
-            }
-            return true;
-        },
-        "application/octet-stream");
-    ASSERT_TRUE(scene);
-    EXPECT_EQ(scene->status, 413) << scene->body;
-    EXPECT_NE(scene->body.find("chunked.ply: the upload was cut off before its end (a chunked body over the 65536-byte "
-                               "limit of PUT /v1/scenes"),
+    const std::string header = "ply\nformat ascii 1.0\ncomment ";
+    const std::string scene =
+        rawPut(server_.httpPort(), "/v1/scenes?name=chunked.ply", "Transfer-Encoding: chunked\r\n",
+               oneChunk(header + std::string((64 << 10) + 100 - header.size() - 1, 'x') + "\n"));
+    EXPECT_EQ(scene.rfind("HTTP/1.1 413", 0), 0u) << scene;
+    EXPECT_NE(scene.find("chunked.ply: the upload was cut off before its end (a chunked body over the 65536-byte "
+                         "limit of PUT /v1/scenes"),
               std::string::npos)
-        << scene->body;
+        << scene;
     auto list = http().Get("/v1/environments");
     ASSERT_TRUE(list && list->status == 200);
     EXPECT_TRUE(json::parse(list->body).value("environments", json::array()).empty()) << list->body;
@@ -323,7 +313,8 @@ TEST_F(EnvironmentTest, JobFieldsAreCheckedStoredAndKeepTheirMap) {
         {{{"id", "abc"}}, "environment.id: expected 64 lowercase hex digits"},
         {{{"id", environmentId}, {"scale", -1}}, "environment.scale: -1.000000 is outside [0, 1e18]"},
         {{{"id", environmentId}, {"scale", 2e18}}, "environment.scale"},
-        {{{"id", environmentId}, {"rotation_degrees", 400}}, "environment.rotation_degrees: 400.000000 is outside [-360, 360]"},
+        {{{"id", environmentId}, {"rotation_degrees", 400}},
+         "environment.rotation_degrees: 400.000000 is outside [-360, 360]"},
         {{{"id", environmentId}, {"rotation_degrees", "NaN"}}, "environment.rotation_degrees"},
     };
     for (const auto& [environment, message] : bad) {

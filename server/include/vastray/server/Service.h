@@ -274,7 +274,8 @@ private:
     std::map<std::string, std::string> importing_;
     std::condition_variable importAvailable_;
     std::thread importWorker_;
-    // jobEnvironmentMap's last map, by "ID SCALE".
+    // jobEnvironmentMap's last map, by "ID SCALE"; the mutex also makes every environment decode
+    // (uploads' and jobs') one at a time.
     std::mutex environmentMutex_;
     std::string environmentKey_;
     std::shared_ptr<const EnvironmentMap> environmentMap_;
