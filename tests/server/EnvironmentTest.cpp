@@ -260,6 +260,24 @@ TEST_F(EnvironmentTest, GarbageAndOversizedFilesAreRefusedByName) {
                          "limit of PUT /v1/scenes"),
               std::string::npos)
         << scene;
+    // gRPC counts the stream's bytes against the same limit.
+    {
+        auto stub =
+            v1::SceneService::NewStub(grpc::CreateChannel(server_.grpcAddress(), grpc::InsecureChannelCredentials()));
+        grpc::ClientContext context;
+        v1::UploadEnvironmentResponse response;
+        auto writer = stub->UploadEnvironment(&context, &response);
+        v1::UploadEnvironmentRequest message;
+        message.set_name("streamed.exr");
+        message.set_data(std::string(10 << 10, 'x'));
+        for (int i = 0; i < 7 && writer->Write(message); ++i) message.clear_name();  // 70 KiB
+        writer->WritesDone();
+        const grpc::Status status = writer->Finish();
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+        EXPECT_NE(status.error_message().find("streamed.exr: upload exceeds the server's limit of 65536 bytes"),
+                  std::string::npos)
+            << status.error_message();
+    }
     auto list = http().Get("/v1/environments");
     ASSERT_TRUE(list && list->status == 200);
     EXPECT_TRUE(json::parse(list->body).value("environments", json::array()).empty()) << list->body;
