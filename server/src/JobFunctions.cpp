@@ -444,7 +444,7 @@ std::string Service::metricsText() {
         "vastray_jobs_finished_total{state=\"CANCELLED\"} " + std::to_string(metrics_.jobsCancelled) + "\n";
     add("vastray_scenes_uploaded_total", "counter", "New scenes stored.",
         std::to_string(metrics_.scenesUploaded));
-    add("vastray_upload_bytes_total", "counter", "Bytes received in scene uploads.",
+    add("vastray_upload_bytes_total", "counter", "Bytes received in uploads (scenes and environment maps).",
         std::to_string(metrics_.uploadBytes));
     add("vastray_rays_total", "counter", "Rays traced by finished jobs.", std::to_string(metrics_.rays));
     add("vastray_chunk_loads_total", "counter", "Scene chunks loaded from storage.",
