@@ -297,24 +297,14 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
     return options;
 }
 
-// Texture maps are imported and stored (docs/RENDERING.md, "Textures"); the Embree reference
-// renders base colour, metallic-roughness, emissive and normal maps, the Vulkan renderer none yet;
-// occlusion maps are applied by neither, by design (a path tracer finds the occlusion itself).
-// Say what a render leaves out, rather than let a textured scene render plain without a word.
-void noteUnrenderedMaps(const std::vector<Material>& materials, const std::string& input, bool vulkan) {
-    size_t textured = 0, occlusion = 0;
-    for (const Material& m : materials) {
-        textured += m.textures.any();
+// Texture maps are imported and stored (docs/RENDERING.md, "Textures"); both backends render base
+// colour, metallic-roughness, emissive and normal maps; occlusion maps are applied by neither, by
+// design (a path tracer finds the occlusion itself). Say so rather than leave a user to wonder.
+void noteUnrenderedMaps(const std::vector<Material>& materials, const std::string& input) {
+    size_t occlusion = 0;
+    for (const Material& m : materials)
         occlusion += m.textures.slots[uint32_t(TextureSlot::Occlusion)].texture != kNoTexture;
-    }
-    if (vulkan && textured > 0)
-        std::fprintf(stderr,
-                     "vastray render: note: %zu material%s of %s read texture maps, which the vulkan backend does "
-                     "not render yet (--backend embree renders base colour, metallic-roughness, emissive and "
-                     "normal maps): %s with %s factors alone\n",
-                     textured, textured == 1 ? "" : "s", input.c_str(), textured == 1 ? "it renders" : "they render",
-                     textured == 1 ? "its" : "their");
-    else if (!vulkan && occlusion > 0)
+    if (occlusion > 0)
         std::fprintf(stderr,
                      "vastray render: note: %zu material%s of %s read occlusion maps, which are stored but not "
                      "applied, by design (the path tracer computes occlusion itself; the map would count it "
@@ -534,7 +524,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     if (!reader) return reader.status();
     VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
     if (!args.noLights) applySceneLights((*reader)->info().lights, (*reader)->info().bounds, options);
-    noteUnrenderedMaps((*reader)->info().materials, args.input, true);
+    noteUnrenderedMaps((*reader)->info().materials, args.input);
     if (!(*reader)->info().volumes.empty()) {  // brick tables now, each brick when a ray needs it
         auto volumes = (*reader)->openVolumes();
         if (!volumes) return volumes.status();
@@ -604,7 +594,7 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
             return progress.fail(camera.message(), 2);
         options->volumes = scene->volumes;
         if (!args.noLights) applySceneLights(scene->mesh.lights, scene->bounds, *options);
-        noteUnrenderedMaps(scene->mesh.materials, args.input, false);
+        noteUnrenderedMaps(scene->mesh.materials, args.input);
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }
     if (!image) return progress.fail(image.message(), 1);

@@ -1,7 +1,8 @@
 // The AOVs of the tile's pixel-centre rays (one per pixel, walked like a closest-hit stream):
 // depth, facing unit normal, base colour, primitive, chunk and texture coordinates; miss values
 // where nothing was hit (and UV (0, 0) where the scene has none). The base colour has the
-// material's maps; with paged textures a pixel whose map reads an absent page asks for it, writes
+// material's maps, the normal its normal map; with paged textures a pixel whose map reads an
+// absent page asks for it, writes
 // nothing and joins kShadeWaitQueue; the host loads the pages and runs the kernel again over those
 // pixels (pc.mode kAovRetry: the pixels of kShadeQueue).
 #version 460
@@ -21,7 +22,7 @@ layout(local_size_x = kWavefrontWorkgroupSize) in;
 // Same values as vastray::AovFlags.
 const uint kAovDepth = 1u, kAovNormal = 2u, kAovAlbedo = 4u, kAovPrimId = 8u, kAovChunkId = 16u, kAovUv = 64u;
 
-// Pixel i's AOVs; false when its base colour waits for a texture page (nothing written).
+// Pixel i's AOVs; false when its base colour or normal waits for a texture page (nothing written).
 bool writeAovs(ParamsRef params, uint i) {
     const uint aovs = params.p.aovs;
     const uvec4 n = UVec4Array(params.p.hitNormal).v[i];
@@ -31,12 +32,15 @@ bool writeAovs(ParamsRef params, uint i) {
     vec3 normal = vec3(0.0), albedo = vec3(0.0);
     if (found) {
         // The shading normal and the base colour (times its map) times the vertex colour (white without).
-        normal = shadingNormalAt(n.w, facingNormal(uintBitsToFloat(n.xyz), Vec4Array(params.p.rayDirection).v[i].xyz));
+        const vec3 facing = facingNormal(uintBitsToFloat(n.xyz), Vec4Array(params.p.rayDirection).v[i].xyz);
+        normal = shadingNormalAt(n.w, facing);
         const WavefrontMaterial m = materialAt(params.p, ids.y);
         MaterialValues values = materialFactors(m);
-        if ((aovs & kAovAlbedo) != 0u && params.p.textures != 0ul && params.p.hitUv != 0ul && hasMaps(m) &&
-            !sampleMaterialMaps(params.p, m, hitUvOf(params.p, i), values))
+        if ((aovs & (kAovAlbedo | kAovNormal)) != 0u && params.p.textures != 0ul && params.p.hitUv != 0ul &&
+            hasMaps(m) && !sampleMaterialMaps(params.p, m, hitUvOf(params.p, i), values))
             return false;
+        if (values.normalMapped && params.p.hitFrame != 0ul)
+            normal = bentNormal(params.p, i, n, facing, values.tangentNormal);
         albedo = values.baseColor * unpackHitColor(ids.w);
     }
     if ((aovs & kAovDepth) != 0u) RwFloatArray(params.p.outDepth).v[i] = found ? position.w : kInfinity;

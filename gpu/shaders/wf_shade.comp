@@ -41,6 +41,7 @@ layout(constant_id = 7) const bool kMicrofacet = false;        // some material 
 layout(constant_id = 8) const bool kLights = false;            // the render has punctual lights
 layout(constant_id = 9) const bool kClearcoat = false;         // some material has a clear coat
 layout(constant_id = 10) const bool kTextures = false;         // some material has maps (and the hits UVs)
+layout(constant_id = 11) const bool kNormalMaps = false;       // some material has a normal map (and the hits frames)
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point).
@@ -163,6 +164,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 // and light or a bounce below the geometric surface is cut.
                 albedo = values.baseColor * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
                 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
+                if (kNormalMaps && values.normalMapped) ns = bentNormal(p, j, hitNormal, n, values.tangentNormal);
                 if (kEmission) radiance += throughput * values.emissive;
                 event = bounce < p.maxDepth;
                 // Without kClearcoat the coat is a constant 0 and its steps fold away.
@@ -232,7 +234,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             } else if (!glossy && survives) {
                 bounced = cosineDirection(ns, pixel, sampleIndex, bounce, p.seed);
                 bouncePdf = dot(ns, bounced) / kPi;
-                if (kShadingNormals && dot(bounced, n) <= 0.0) survives = false;
+                if ((kShadingNormals || kNormalMaps) && dot(bounced, n) <= 0.0) survives = false;
             }
             if (survives) {
                 Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? bouncePdf : 0.0);

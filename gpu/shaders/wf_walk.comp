@@ -28,6 +28,7 @@
 #include "common/Bvh4Traversal.glsl"
 #include "common/SlotTable.glsl"
 #include "common/Attributes.glsl"
+#include "common/NormalMap.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
@@ -48,7 +49,9 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 // (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them, and
 // the interpolated shading normal (hitNormal.w's bits) and colour (hitIds.w) when it holds
 // those (kNoNormal and white otherwise), and the interpolated UV (hitUv) when the slot holds UVs
-// (only when the render reads them): the chunk may be evicted before the path is shaded.
+// (only when the render reads them), with the triangle's UV derivatives in its normal map's
+// texture space (hitFrame) when its material has one: the chunk may be evicted before the path
+// is shaded.
 void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     const ChunkView c = chunkView(s);
     UintArray indices = UintArray(c.indices);
@@ -81,6 +84,13 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
         const vec2 uv = interpolateUv(uv0, uv1, uv2, h.u, h.v);
         RwFloatArray hitUv = RwFloatArray(params.p.hitUv);
         hitUv.v[2u * ray] = uv.x, hitUv.v[2u * ray + 1u] = uv.y;
+        if (params.p.hitFrame != 0ul && ray < params.p.pathCapacity) {
+            const WavefrontMaterial m = MaterialArray(params.p.materials).v[material < params.p.materialCount ? material : 0u];
+            vec3 dpdu = vec3(0.0), dpdv = vec3(0.0);
+            if (m.normalMap != kNoGpuTexture) uvDerivatives(m.normalUv, v0, v1, v2, uv0, uv1, uv2, dpdu, dpdv);
+            RwFloatArray frame = RwFloatArray(params.p.hitFrame);
+            for (uint c = 0u; c < 3u; ++c) frame.v[6u * ray + c] = dpdu[c], frame.v[6u * ray + 3u + c] = dpdv[c];
+        }
     }
     Vec4Array(params.p.hitPosition).v[ray] = vec4(position, h.t);
     // Written as words: a normal's code read back as a float could be flushed or canonicalized.

@@ -29,15 +29,16 @@ static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 
 // Device bytes of one path of a wave: its state, and at most one tile pixel's sum and outputs
 // when those are in device memory.
-// With `uvs` (ChunkAttributes::uvs) a path also keeps its hit's texture coordinates.
-uint64_t rayBytes(bool outputInDeviceMemory, bool uvs) {
-    return kBytesPerPath + (uvs ? 8 : 0) + (outputInDeviceMemory ? kBytesPerTilePixel : 0);
+// With `uvs` (ChunkAttributes::uvs) a path also keeps its hit's texture coordinates, and with
+// tangents too its triangle's UV derivatives.
+uint64_t rayBytes(bool outputInDeviceMemory, const ChunkAttributes& a) {
+    return kBytesPerPath + (a.uvs ? 8 : 0) + (a.uvs && a.tangents ? 24 : 0) + (outputInDeviceMemory ? kBytesPerTilePixel : 0);
 }
 
 // Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile
 // outputs the host reads when they are in device memory.
-uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory, uint64_t counterBytes, bool uvs) {
-    return granules(stateLayout(paths, uvs).totalBytes) +
+uint64_t batchBytes(uint64_t paths, bool outputInDeviceMemory, uint64_t counterBytes, const ChunkAttributes& a) {
+    return granules(stateLayout(paths, a.uvs, a.tangents).totalBytes) +
            (outputInDeviceMemory ? granules(outputLayout(paths, counterBytes).totalBytes) : 0);
 }
 
@@ -71,7 +72,8 @@ public:
                                       shadeConstants(package.materials, false, true, attributes_.normals,
                                                      attributes_.colors, false, !package.volumes.empty(),
                                                      !package.lights.empty(),
-                                                     attributes_.uvs && !package.textures.empty()));
+                                                     attributes_.uvs && !package.textures.empty(),
+                                                     attributes_.uvs && attributes_.tangents));
         const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly
@@ -94,7 +96,7 @@ public:
         table_ = std::move(table).value();
         if (topNodeCount_ > 0)
             VASTRAY_TRY(table_.upload(package.topTree.data(), topNodeCount_ * sizeof(KdNode), tables_.topNodes));
-        auto state = device_.createBuffer(stateLayout(plan_.batchRays, attributes_.uvs).totalBytes);
+        auto state = device_.createBuffer(stateLayout(plan_.batchRays, attributes_.uvs, attributes_.tangents).totalBytes);
         if (!state) return state.status();
         state_ = std::move(state).value();
         auto output = device_.createBuffer(outputLayout(plan_.batchRays, stepCounterBytes(tables_)).totalBytes,
@@ -206,6 +208,7 @@ public:
         b.bounds = bounds_;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors, b.uvs = attributes_.uvs;
+        b.frames = attributes_.uvs && attributes_.tangents;
         b.uploader = uploader_.get();
         VASTRAY_TRY(prepareEnvironment(job.options->environment, job.options->volumes, stats));
         VASTRAY_TRY(prepareVolumes(job.options->volumes, stats));
@@ -328,9 +331,9 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.outputInDeviceMemory = outputInDeviceMemory;
     const uint64_t counterBytes = stepCounterBytes(tableLayout(1, package));
     auto batchBytes = [=](uint64_t paths) {
-        return gpu::batchBytes(paths, outputInDeviceMemory, counterBytes, attributes.uvs);
+        return gpu::batchBytes(paths, outputInDeviceMemory, counterBytes, attributes);
     };
-    const uint64_t kRayBytes = rayBytes(outputInDeviceMemory, attributes.uvs);
+    const uint64_t kRayBytes = rayBytes(outputInDeviceMemory, attributes);
     uint64_t largest = 0;
     for (const ChunkInfo& c : package.chunks) largest = std::max(largest, chunkLayout(c, attributes).totalBytes);
     plan.slotBytes = largest;

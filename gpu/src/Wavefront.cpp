@@ -149,18 +149,20 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 }  // namespace
 
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
-                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures) {
-    bool emission = false, glossy = false, coated = false, mapped = false;
+                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures,
+                              bool frames) {
+    bool emission = false, glossy = false, coated = false, mapped = false, normalMapped = false;
     for (const Material& m : materials) {
         emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
         glossy = glossy || !isLambertian(m);
         coated = coated || m.clearcoat > 0;
-        mapped = mapped || materialMap(m, TextureSlot::BaseColor) != kNoTexture ||
+        normalMapped = normalMapped || materialMap(m, TextureSlot::Normal) != kNoTexture;
+        mapped = mapped || normalMapped || materialMap(m, TextureSlot::BaseColor) != kNoTexture ||
                  materialMap(m, TextureSlot::MetallicRoughness) != kNoTexture ||
                  materialMap(m, TextureSlot::Emissive) != kNoTexture;
     }
     return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated,
-            textures && mapped};
+            textures && mapped, textures && frames && normalMapped};
 }
 
 std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
@@ -249,7 +251,7 @@ public:
         const ShadeConstants constants =
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
                            sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights,
-                           b_.textures && b_.uvs);
+                           b_.textures && b_.uvs, b_.frames);
         const bool glossy = constants[7] != 0;
         auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();
@@ -331,7 +333,7 @@ private:
         dispatch(*kernels().generate, kGenerate, push, tile.count());
         push.mode = kWaveTiled;  // for the walk
         VASTRAY_TRY(walkWave(push, false));
-        DeviceTextures* textures = (image_.aovs & kAovAlbedo) ? pagedTextures() : nullptr;
+        DeviceTextures* textures = (image_.aovs & (kAovAlbedo | kAovNormal)) ? pagedTextures() : nullptr;
         if (textures) {
             clearQueue(kShadeWaitQueue);
             clearTextureCounters(*textures);
@@ -379,7 +381,7 @@ private:
 
     Status renderTile(const Tile& tile, uint32_t samplesPerWave) {
         const uint32_t count = tile.count();
-        const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs);
+        const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs, b_.frames);
         record([=, this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.state->handle(), state.accum, uint64_t(count) * 16, 0);
             barrier(cmd);
@@ -467,7 +469,7 @@ private:
     // shading just before may have added paths the host has not counted.
     void moveWaitingToShadeQueue() {
         record([this](VkCommandBuffer cmd) {
-            const uint64_t queues = stateLayout(b_.pathCapacity, b_.uvs).queues, capacity = b_.pathCapacity;
+            const uint64_t queues = stateLayout(b_.pathCapacity, b_.uvs, b_.frames).queues, capacity = b_.pathCapacity;
             const VkBufferCopy paths{queues + queueOffset(kShadeWaitQueue, capacity),
                                      queues + queueOffset(kShadeQueue, capacity), 4 * capacity};
             vkCmdCopyBuffer(cmd, b_.state->handle(), b_.state->handle(), 1, &paths);
@@ -704,7 +706,7 @@ private:
         // Paging bricks or pages: every path a step resumes runs to its end or its next park (walkWave).
         const uint32_t passes = volumes || textures ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u)
                                         : kPassesPerPagingStep;
-        const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs);
+        const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs, b_.frames);
         record([=, this](VkCommandBuffer cmd) {  // every group idle
             vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
             barrier(cmd);
@@ -881,7 +883,7 @@ private:
         p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
         p.touched = table + t.touched, p.demand = table + t.demand, p.ahead = table + t.ahead;
         p.materials = table + t.materials, p.microfacet = table + t.microfacet, p.lights = table + t.lights;
-        const StateLayout s = stateLayout(b_.pathCapacity, b_.uvs);
+        const StateLayout s = stateLayout(b_.pathCapacity, b_.uvs, b_.frames);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
         p.rayState = state + s.rayState;
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
@@ -894,6 +896,7 @@ private:
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
         p.outCost = out + o.cost, p.outUv = out + o.uv;
         p.hitUv = b_.uvs ? state + s.hitUv : 0;
+        p.hitFrame = b_.frames ? state + s.hitFrame : 0;
         setCamera(p, job_.camera, options_.width, options_.height);
         setEnvironment(p, options_.environment);
         if (b_.environment) {
@@ -926,10 +929,14 @@ private:
         p.chunkCount = b_.chunkCount, p.topNodeCount = b_.topNodeCount;
         std::vector<WavefrontMaterial> materials;
         for (const Material& m : job_.materials) {
-            WavefrontMaterial& r = materials.emplace_back(WavefrontMaterial{
-                m.baseColor[0], m.baseColor[1], m.baseColor[2], m.emissive[0], m.emissive[1], m.emissive[2],
-                m.doubleSided ? 1u : 0u, m.metallic, m.roughness, m.specular, m.specularColor[0], m.specularColor[1],
-                m.specularColor[2], m.clearcoat, m.clearcoatRoughness, 0u});
+            WavefrontMaterial& r = materials.emplace_back();
+            r.baseR = m.baseColor[0], r.baseG = m.baseColor[1], r.baseB = m.baseColor[2];
+            r.emitR = m.emissive[0], r.emitG = m.emissive[1], r.emitB = m.emissive[2];
+            r.doubleSided = m.doubleSided ? 1u : 0u;
+            r.metallic = m.metallic, r.roughness = m.roughness, r.specular = m.specular;
+            r.specularColorR = m.specularColor[0], r.specularColorG = m.specularColor[1];
+            r.specularColorB = m.specularColor[2];
+            r.clearcoat = m.clearcoat, r.clearcoatRoughness = m.clearcoatRoughness;
             setMaps(m, r);
         }
         VASTRAY_TRY(upload(materials, b_.tables.materials));
@@ -949,6 +956,9 @@ private:
         set(TextureSlot::BaseColor, r.baseColorMap, r.baseColorUv);
         set(TextureSlot::MetallicRoughness, r.metallicRoughnessMap, r.metallicRoughnessUv);
         set(TextureSlot::Emissive, r.emissiveMap, r.emissiveUv);
+        set(TextureSlot::Normal, r.normalMap, r.normalUv);
+        if (!b_.frames) r.normalMap = kNoGpuTexture;
+        r.normalScale = m.textures.normalScale;
     }
 
     // The render's punctual lights (core/Light.h's table, the same floats the Embree reference

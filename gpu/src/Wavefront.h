@@ -36,18 +36,21 @@ struct WavefrontBuffers {
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
     bool uvs = false;  // slots hold texture coordinates and the state buffer the hits' (StateLayout::hitUv)
+    bool frames = false;  // the state buffer holds the hits' UV derivatives (StateLayout::hitFrame)
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
     GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
     DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without
     DeviceTextures* textures = nullptr; // the package's textures (DeviceRenderJob::textures), in core or paged; none without
 };
 
-// wf_shade.comp's specialization constants (constant_id 0-10, in that order): what a render's
-// shading needs; kClearcoat says some material has a clear coat, kTextures (the last) that some
-// material has maps and the render has textures and the hits' UVs (`textures`).
-using ShadeConstants = std::array<uint32_t, 11>;
+// wf_shade.comp's specialization constants (constant_id 0-11, in that order): what a render's
+// shading needs; kClearcoat says some material has a clear coat, kTextures that some material has
+// maps and the render has textures and the hits' UVs (`textures`), kNormalMaps (the last) that
+// some material has a normal map and the hits keep their UV derivatives (`frames`).
+using ShadeConstants = std::array<uint32_t, 12>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
-                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false);
+                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false,
+                              bool frames = false);
 
 class Wavefront {
 public:

@@ -5,29 +5,27 @@
 #ifndef VASTRAY_MATERIAL_MAPS_GLSL
 #define VASTRAY_MATERIAL_MAPS_GLSL
 
-// What the shading reads of a material at a hit: its factors times its maps.
+#include "common/NormalMap.glsl"
+
+// What the shading reads of a material at a hit: its factors times its maps, and the normal
+// map's decoded texel (core/NormalMap.h decodeNormalTexel) when it has one.
 struct MaterialValues {
     vec3 baseColor;
     float metallic;
     float roughness;
     vec3 emissive;
+    bool normalMapped;
+    vec3 tangentNormal;
 };
 
 MaterialValues materialFactors(WavefrontMaterial m) {
-    return MaterialValues(vec3(m.baseR, m.baseG, m.baseB), m.metallic, m.roughness, vec3(m.emitR, m.emitG, m.emitB));
+    return MaterialValues(vec3(m.baseR, m.baseG, m.baseB), m.metallic, m.roughness, vec3(m.emitR, m.emitG, m.emitB),
+                          false, vec3(0.0, 0.0, 1.0));
 }
 
 bool hasMaps(WavefrontMaterial m) {
-    return m.baseColorMap != kNoGpuTexture || m.metallicRoughnessMap != kNoGpuTexture || m.emissiveMap != kNoGpuTexture;
-}
-
-// applyUvTransform (core/MaterialTextures.h): each product and sum rounded on its own, as the host's.
-vec2 mapUv(float t[6], vec2 uv) {
-    precise float u = t[0] * uv.x + t[1] * uv.y;
-    precise float v = t[3] * uv.x + t[4] * uv.y;
-    precise float tu = u + t[2];
-    precise float tv = v + t[5];
-    return vec2(tu, tv);
+    return m.baseColorMap != kNoGpuTexture || m.metallicRoughnessMap != kNoGpuTexture ||
+           m.emissiveMap != kNoGpuTexture || m.normalMap != kNoGpuTexture;
 }
 
 // Texture `texture` at uv mapped by t, level 0 (the reference's level: its pixel samples filter
@@ -47,7 +45,7 @@ vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, inout bool ab
 // absent ones to be loaded, the resident ones to be kept while it waits: DeviceTextures::page).
 bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, inout MaterialValues v) {
     bool absent = false;
-    uint base = kNoGpuTexture, metalRough = kNoGpuTexture, emissive = kNoGpuTexture;
+    uint base = kNoGpuTexture, metalRough = kNoGpuTexture, emissive = kNoGpuTexture, normal = kNoGpuTexture;
     if (m.baseColorMap != kNoGpuTexture) v.baseColor *= readMap(p, m.baseColorMap, m.baseColorUv, uv, absent, base).rgb;
     if (m.metallicRoughnessMap != kNoGpuTexture) {
         const vec4 t = readMap(p, m.metallicRoughnessMap, m.metallicRoughnessUv, uv, absent, metalRough);
@@ -55,12 +53,34 @@ bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, inout M
         v.metallic *= t.b;
     }
     if (m.emissiveMap != kNoGpuTexture) v.emissive *= readMap(p, m.emissiveMap, m.emissiveUv, uv, absent, emissive).rgb;
+    if (m.normalMap != kNoGpuTexture) {
+        const vec4 t = readMap(p, m.normalMap, m.normalUv, uv, absent, normal);
+        precise float x = (2.0 * t.r - 1.0) * m.normalScale;
+        precise float y = (2.0 * t.g - 1.0) * m.normalScale;
+        precise float z = 2.0 * t.b - 1.0;
+        v.normalMapped = true, v.tangentNormal = vec3(x, y, z);
+    }
     if (!absent || p.textureDemand == 0ul) return !absent;
     RwUintArray demand = RwUintArray(p.textureDemand);
     if (base != kNoGpuTexture) atomicAdd(demand.v[base], 1u);
     if (metalRough != kNoGpuTexture) atomicAdd(demand.v[metalRough], 1u);
     if (emissive != kNoGpuTexture) atomicAdd(demand.v[emissive], 1u);
+    if (normal != kNoGpuTexture) atomicAdd(demand.v[normal], 1u);
     return false;
+}
+
+// makeSurfacePoint's normal-mapped shading normal (docs/RENDERING.md, "Normal maps"): the front
+// side's (interpolated, or geometric) normal bent by the map in the hit's frame, then turned to
+// the ray's side (`facing`: the geometric normal on that side) when the unbent one is.
+vec3 bentNormal(WavefrontParams p, uint j, uvec4 hitNormal, vec3 facing, vec3 local) {
+    const vec3 front = normalize(uintBitsToFloat(hitNormal.xyz));
+    const vec3 n = hitNormal.w != kNoNormal ? decodeOctahedral(hitNormal.w) : front;
+    const bool turn = dot(n, facing) < 0.0;
+    FloatArray frame = FloatArray(p.hitFrame);
+    const vec3 dpdu = vec3(frame.v[6u * j], frame.v[6u * j + 1u], frame.v[6u * j + 2u]);
+    const vec3 dpdv = vec3(frame.v[6u * j + 3u], frame.v[6u * j + 4u], frame.v[6u * j + 5u]);
+    const vec3 bent = perturbNormal(n, dpdu, dpdv, local);
+    return turn ? -bent : bent;
 }
 
 // The hit's texture coordinates (WavefrontParams::hitUv) of ray `ray`.

@@ -97,14 +97,17 @@ struct WavefrontMaterial {
     float specularColorR, specularColorG, specularColorB;  // KHR_materials_specular's colour factor
     float clearcoat, clearcoatRoughness;                    // KHR_materials_clearcoat's factors
     uint padding0;
-    // Its maps (core/MaterialTextures.h, wf_shade.comp's materialMaps): the texture (an index into
-    // WavefrontParams::textures, or kNoTexture) and the UV transform (row-major 2 x 3) of the base
-    // colour, metallic-roughness and emissive maps. The normal and occlusion maps are not read.
-    uint baseColorMap, metallicRoughnessMap, emissiveMap, padding1;
+    // Its maps (core/MaterialTextures.h, common/MaterialMaps.glsl): the texture (an index into
+    // WavefrontParams::textures, or kNoGpuTexture) and the UV transform (row-major 2 x 3) of the
+    // base colour, metallic-roughness, emissive and normal maps, and the normal map's scale. The
+    // occlusion map is not applied (by design: docs/RENDERING.md, "Normal maps").
+    uint baseColorMap, metallicRoughnessMap, emissiveMap, normalMap;
     float baseColorUv[6];
     float metallicRoughnessUv[6];
     float emissiveUv[6];
-    uint padding2, padding3;
+    float normalUv[6];
+    float normalScale;
+    uint padding1, padding2, padding3;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type
@@ -221,6 +224,9 @@ struct WavefrontParams {
     uint64_t texturePages;    // the page table (a pool slot, or kTexturePageAbsent, per page of every
     uint64_t texturePool;     // texture), the pool (kGpuTexturePageWords per slot) and, paged, per page
     uint64_t textureDemand;   // the paths waiting that read it (0: in core, no page is ever absent)
+    uint64_t hitFrame;        // float[6] per path: dp/du and dp/dv of its closest hit's triangle in its
+                              // normal map's texture space (core/NormalMap.h uvDerivatives; zero: no
+                              // frame), written by the walk; 0 when no material has a normal map
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -293,10 +299,10 @@ struct WavefrontPush {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 3 * 6 * 4 + 2 * 4 &&
+static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 4 * 6 * 4 + 4 * 4 &&
               offsetof(WavefrontMaterial, baseColorMap) == 64);
 static_assert(sizeof(WavefrontLight) == 64);
-static_assert(offsetof(WavefrontParams, eyeX) == 45 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 46 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);

@@ -160,11 +160,13 @@ Status finalizeMesh(const std::string& fileName, const ImportOptions& options, I
         mesh.textures.clear();
         for (Material& m : mesh.materials) m.textures = MaterialTextures{};
     }
-    if (!mesh.textures.empty())
-        report.warnings.push_back(std::to_string(mesh.textures.size()) +
-                                  " textures stored in the package; the vulkan backend does not render them yet "
-                                  "(--backend embree renders base colour, metallic-roughness, emissive and normal "
-                                  "maps; occlusion maps are stored, not applied by design)");
+    uint64_t occluded = 0;
+    for (const Material& m : mesh.materials)
+        occluded += m.textures.slots[uint32_t(TextureSlot::Occlusion)].texture != kNoTexture;
+    if (occluded > 0)
+        report.warnings.push_back(std::to_string(occluded) +
+                                  " materials' occlusion maps: stored, not applied by design (the path tracer "
+                                  "computes occlusion itself; docs/RENDERING.md, \"Normal maps\")");
     shortenCameraNames(mesh, report);
     return Status::ok();
 }

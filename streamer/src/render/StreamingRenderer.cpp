@@ -73,6 +73,8 @@ ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions&
     // Read by the materials' maps (a package with UVs has textures: import keeps UVs only for
     // maps) and the uv AOV.
     a.uvs = info.hasUvs && (!info.textures.empty() || (options.aovs & kAovUv) != 0);
+    for (const Material& m : info.materials)
+        a.tangents |= a.uvs && m.textures.slots[uint32_t(TextureSlot::Normal)].texture < info.textures.size();
     return a;
 }
 
@@ -122,7 +124,8 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     const ChunkAttributes needed = requiredAttributes(info, options);
     if ((needed.primitiveIds && !st.attributes.primitiveIds) || (needed.materialIds && !st.attributes.materialIds) ||
         (needed.singleSided && !st.attributes.singleSided) || (needed.normals && !st.attributes.normals) ||
-        (needed.colors && !st.attributes.colors) || (needed.uvs && !st.attributes.uvs))
+        (needed.colors && !st.attributes.colors) || (needed.uvs && !st.attributes.uvs) ||
+        (needed.tangents && !st.attributes.tangents))
         return Status::error("this render needs chunk attributes the scene was not opened with (primid or uv AOV?)");
     std::optional<tbb::global_control> threadLimit;
     if (options.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);

@@ -31,7 +31,8 @@ struct ChunkAttributes {
     bool singleSided = false;   // some material is single-sided
     bool normals = false;       // the package has per-vertex shading normals
     bool colors = false;        // the package has per-vertex colours
-    bool uvs = false;           // the package has texture coordinates and the render reads them (uv AOV)
+    bool uvs = false;           // the package has texture coordinates and the render reads them (maps, uv AOV)
+    bool tangents = false;      // with uvs: some material has a normal map (hits keep their UV derivatives)
 };
 
 // Where each array of a chunk lies in a device slot: byte offsets of 16-byte aligned sections
