@@ -78,8 +78,9 @@ Status DeviceTextures::prepare(std::span<const PackageTexture> textures, const T
     if (pages >= kTexturePageAbsent) return Status::error("textures: " + std::to_string(pages) + " pages, too many to page");
     uint64_t slots = pages;
     if (inCoreTextureBytes(textures) > bytes) {
-        const uint64_t fixed = pagedTextureBytes(textures, 0);
-        slots = bytes > fixed ? (bytes - fixed) / kTexturePageBytes : 0;
+        // From above: the tables' allocation granules overlap the pool's, so bytes less the
+        // tables' own allocation would undercount.
+        slots = std::min<uint64_t>(bytes / kTexturePageBytes, pages - 1);
         while (slots > 0 && pagedTextureBytes(textures, slots) > bytes) --slots;
         if (slots < kMinTexturePageSlots)
             return Status::error("the textures need " + formatBytes(inCoreTextureBytes(textures)) +
@@ -87,7 +88,6 @@ Status DeviceTextures::prepare(std::span<const PackageTexture> textures, const T
                                  formatBytes(pagedTextureBytes(textures, kMinTexturePageSlots)) +
                                  " paged through the fewest page slots (" + std::to_string(kMinTexturePageSlots) +
                                  "); the pool kept " + formatBytes(bytes) + " for them");
-        slots = std::min(slots, pages - 1);  // paged: fewer slots than pages
     }
     Status built = build(textures, uint32_t(slots), stats);
     if (!built) {
