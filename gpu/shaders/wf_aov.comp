@@ -62,11 +62,11 @@ bool writeAovs(ParamsRef params, uint i) {
 void main() {
     ParamsRef params = ParamsRef(pc.params);
     uint i = gl_GlobalInvocationID.x;
-    bool active = i < pc.pixelCount;
+    bool live = i < pc.pixelCount;
     if (pc.mode == kAovRetry) {
-        active = i < queueCount(params, kShadeQueue);
-        if (active) i = queueOf(params, kShadeQueue).v[i];
+        live = i < queueCount(params, kShadeQueue);
+        if (live) i = queueOf(params, kShadeQueue).v[i];
     }
-    const bool waits = active && !writeAovs(params, i);
+    const bool waits = live && !writeAovs(params, i);
     if (params.p.textureDemand != 0ul) appendToQueue(params, kShadeWaitQueue, false, waits ? 1u : 0u, i, 0u);
 }
