@@ -88,7 +88,7 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
     // Metallic-roughness (tinygltf fills the spec's defaults, 1 and 1); KHR_materials_specular's
     // factor weights the dielectric layer (1 without it) and its colour factor scales the layer's
     // F0 (white without it). The types were checked (GltfSchema); out-of-range factors are refused
-    // by finalizeMesh; textures are not rendered yet (the importer warns).
+    // by finalizeMesh; the maps are read by GltfTextures.
     m.metallic = float(g.pbrMetallicRoughness.metallicFactor);
     m.roughness = float(g.pbrMetallicRoughness.roughnessFactor);
     m.specular = 1.0f;

@@ -15,8 +15,8 @@
 namespace vastray::import {
 namespace {
 
-// Textures are not rendered yet, so a required texture transform changes nothing we draw;
-// quantized (normalized integer) positions are read by GltfAccessor.
+// KHR_texture_transform is applied to every map (GltfTextures); quantized (normalized integer)
+// positions are read by GltfAccessor.
 const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
                                                   "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_clearcoat",
                                                   "KHR_texture_transform", "KHR_lights_punctual"};
