@@ -68,6 +68,19 @@ private:
     FrontEndOptions options_;
 };
 
+// An upload stream's data (its first message read already) appended to `upload`: every message's
+// data at most kMaxStreamChunkBytes; Cancelled when the client went away.
+template <typename Message, typename Upload>
+ServiceStatus appendStream(grpc::ServerContext* context, grpc::ServerReader<Message>* reader, Message& message,
+                           Upload& upload) {
+    do {
+        if (message.data().size() > kMaxStreamChunkBytes) return invalidArgument("data", "more than 1 MiB in one message");
+        if (auto s = upload.append(message.data().data(), message.data().size()); !s) return s;
+    } while (reader->Read(&message));
+    if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
+    return {};
+}
+
 class SceneServiceImpl final : public v1::SceneService::Service {
 public:
     explicit SceneServiceImpl(Adapter& adapter) : a_(adapter) {}
@@ -80,12 +93,7 @@ public:
             const bool async = message.async();
             auto upload = a_.service_.beginUpload(message.name(), 0);
             if (!upload) return upload.status();
-            do {
-                if (message.data().size() > kMaxStreamChunkBytes)
-                    return invalidArgument("data", "more than 1 MiB in one message");
-                if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
-            } while (reader->Read(&message));
-            if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
+            if (auto s = appendStream(context, reader, message, **upload); !s) return s;
             return Adapter::assign((*upload)->finish(async), response->mutable_scene());
         });
     }
@@ -118,12 +126,7 @@ public:
             if (!reader->Read(&message)) return invalidArgument("name", "the upload stream is empty");
             auto upload = a_.service_.beginEnvironmentUpload(message.name(), 0);
             if (!upload) return upload.status();
-            do {
-                if (message.data().size() > kMaxStreamChunkBytes)
-                    return invalidArgument("data", "more than 1 MiB in one message");
-                if (auto s = (*upload)->append(message.data().data(), message.data().size()); !s) return s;
-            } while (reader->Read(&message));
-            if (context->IsCancelled()) return {StatusCode::Cancelled, "the client cancelled the upload"};
+            if (auto s = appendStream(context, reader, message, **upload); !s) return s;
             return Adapter::assign((*upload)->finishEnvironment(), response->mutable_environment());
         });
     }
