@@ -398,9 +398,10 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
         std::printf("  volume bricks        %llu slots, %llu loads, %llu read from the package\n",
                     (unsigned long long)st->volumeBrickSlots, (unsigned long long)st->volumeBrickLoads,
                     (unsigned long long)st->volumeBricksRead);
-    if (st->texturePageSlots > 0)
-        std::printf("  texture pages        %llu slots, %llu loads\n", (unsigned long long)st->texturePageSlots,
-                    (unsigned long long)st->texturePageLoads);
+    if (st->texturePageSlots > 0 || st->texturePagesRead > 0)
+        std::printf("  texture pages        %llu slots, %llu loads, %llu read from the package\n",
+                    (unsigned long long)st->texturePageSlots, (unsigned long long)st->texturePageLoads,
+                    (unsigned long long)st->texturePagesRead);
 }
 
 // Where a `vastray render --backend vulkan` command's time goes besides the render itself
@@ -451,6 +452,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["volume_bricks_read"] = st->volumeBricksRead;
         j["texture_page_slots"] = st->texturePageSlots;
         j["texture_page_loads"] = st->texturePageLoads;
+        j["texture_pages_read"] = st->texturePagesRead;
         j["host_to_device_bytes"] = st->hostToDeviceBytes;
         j["device_to_host_bytes"] = st->deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k)

@@ -124,6 +124,9 @@ Status DeviceTextures::build(std::span<const PackageTexture> textures, uint32_t 
     slotEntry_.assign(slots, kTexturePageAbsent);
     slotUsed_.assign(slots, 0);
     step_ = 0;
+    cached_.assign(isPaged ? pageCount_ : 0, {});
+    cachedUse_.assign(cached_.size(), 0);
+    cacheOrder_.clear(), cachedBytes_ = 0;
     if (isPaged) {  // pages come in when asked for
         VASTRAY_TRY(buffer_.upload(table_.data(), table_.size() * 4, pageTableOffset_));
         const std::vector<uint32_t> zeros(pageCount_, 0);
@@ -168,29 +171,58 @@ Result<uint64_t> DeviceTextures::page(std::span<const uint32_t> demand, Streamin
     return uint64_t(loads);
 }
 
+void DeviceTextures::keepInHost(uint32_t entry, const uint8_t* bytes) {
+    if (kTexturePageBytes > hostCacheBytes_) return;
+    while (cachedBytes_ + kTexturePageBytes > hostCacheBytes_ && !cacheOrder_.empty()) {
+        const uint32_t oldest = cacheOrder_.begin()->second;
+        cacheOrder_.erase(cacheOrder_.begin());
+        std::vector<uint8_t>().swap(cached_[oldest]);
+        cachedBytes_ -= kTexturePageBytes;
+    }
+    cached_[entry].assign(bytes, bytes + kTexturePageBytes);
+    cachedUse_[entry] = step_;
+    cacheOrder_.insert({step_, entry});
+    cachedBytes_ += kTexturePageBytes;
+}
+
 Status DeviceTextures::load(std::span<const uint32_t> pages, std::span<const uint32_t> slots, StreamingStats& stats) {
     if (pages.empty()) return Status::ok();
-    // Read and inflate on worker threads, a batch at a time (a page is 65 KiB), then copy.
+    // Pages the host cache lacks are read and inflated on worker threads, a batch at a time (a
+    // page is 65 KiB), then every page is copied.
     constexpr size_t kBatch = 256;
+    const bool caching = !cached_.empty();
     std::vector<uint8_t> data(std::min(pages.size(), kBatch) * kTexturePageBytes);
     for (size_t first = 0; first < pages.size(); first += kBatch) {
         const size_t count = std::min(kBatch, pages.size() - first);
-        std::vector<Status> failures(count, Status::ok());
+        std::vector<size_t> reads;  // batch positions not in the host cache
+        for (size_t i = 0; i < count; ++i)
+            if (!caching || cached_[pages[first + i]].empty()) reads.push_back(i);
+        std::vector<Status> failures(reads.size(), Status::ok());
         std::atomic<bool> failed{false};
-        tbb::parallel_for(size_t(0), count, [&](size_t i) {
+        tbb::parallel_for(size_t(0), reads.size(), [&](size_t k) {
+            const size_t i = reads[k];
             const uint32_t e = pages[first + i];
             Status s = read_(entryTexture_[e], entryPage_[e], data.data() + i * kTexturePageBytes);
-            if (!s) failures[i] = std::move(s), failed = true;
+            if (!s) failures[k] = std::move(s), failed = true;
         });
         if (failed)
             for (const Status& s : failures)
                 if (!s) return s;
+        stats.texturePagesRead += reads.size();
         for (size_t i = 0; i < count; ++i) {
             const uint32_t e = pages[first + i], slot = slots[first + i];
+            const bool hit = caching && !cached_[e].empty();
+            const uint8_t* bytes = hit ? cached_[e].data() : data.data() + i * kTexturePageBytes;
             if (slotEntry_[slot] != kTexturePageAbsent) table_[slotEntry_[slot]] = kTexturePageAbsent;
             slotEntry_[slot] = e, table_[e] = slot, slotUsed_[slot] = step_;
-            VASTRAY_TRY(buffer_.upload(data.data() + i * kTexturePageBytes, kTexturePageBytes,
-                                       poolOffset_ + uint64_t(slot) * kTexturePageBytes));
+            VASTRAY_TRY(buffer_.upload(bytes, kTexturePageBytes, poolOffset_ + uint64_t(slot) * kTexturePageBytes));
+            if (hit) {  // used again: the most recent
+                cacheOrder_.erase({cachedUse_[e], e});
+                cachedUse_[e] = step_;
+                cacheOrder_.insert({step_, e});
+            } else if (caching) {
+                keepInHost(e, bytes);
+            }
         }
         stats.hostToDeviceBytes += count * kTexturePageBytes;
     }

@@ -8,7 +8,9 @@
 // DeviceVolumes does for bricks. docs/RENDERING.md, "Textures out of core".
 #include <cstdint>
 #include <functional>
+#include <set>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "shared/TextureTypes.h"
@@ -29,9 +31,14 @@ uint64_t pagedTextureBytes(std::span<const PackageTexture> textures, uint64_t sl
 // package reader's readTexturePage). Called from worker threads.
 using TexturePageReader = std::function<Status(uint32_t texture, uint32_t page, uint8_t* out)>;
 
+// Paged textures keep the pages they read, inflated, in a host cache of at most this many bytes,
+// so that a page paged in again is copied, not read and inflated again; least recently used out.
+constexpr uint64_t kTextureHostCacheBytes = 1ull << 30;
+
 class DeviceTextures {
 public:
-    explicit DeviceTextures(VulkanDevice& device) : device_(device) {}
+    explicit DeviceTextures(VulkanDevice& device, uint64_t hostCacheBytes = kTextureHostCacheBytes)
+        : device_(device), hostCacheBytes_(hostCacheBytes) {}
 
     // Puts `textures` on the device in at most `bytes`: every page when they fit, else a pool of
     // as many page slots as fit (an error below kMinTexturePageSlots, naming both sizes). Kept
@@ -62,8 +69,11 @@ public:
 
 private:
     Status build(std::span<const PackageTexture> textures, uint32_t slots, StreamingStats& stats);
-    // Reads `pages` (page-table entries) on worker threads and copies them into `slots`.
+    // Copies `pages` (page-table entries) into `slots`: from the host cache, or read and inflated
+    // on worker threads (then kept in the cache when paged).
     Status load(std::span<const uint32_t> pages, std::span<const uint32_t> slots, StreamingStats& stats);
+    // Keeps page `entry`'s bytes in the host cache, dropping the least recently used beyond its bound.
+    void keepInHost(uint32_t entry, const uint8_t* bytes);
 
     VulkanDevice& device_;
     TexturePageReader read_;
@@ -77,6 +87,11 @@ private:
     std::vector<uint32_t> entryTexture_, entryPage_, table_, slotEntry_;
     std::vector<uint64_t> slotUsed_;
     uint64_t step_ = 0;
+    // The host cache (paged): per entry its inflated bytes (empty: not kept) and last use; by use.
+    uint64_t hostCacheBytes_, cachedBytes_ = 0;
+    std::vector<std::vector<uint8_t>> cached_;
+    std::vector<uint64_t> cachedUse_;
+    std::set<std::pair<uint64_t, uint32_t>> cacheOrder_;
 };
 
 }  // namespace vastray::gpu

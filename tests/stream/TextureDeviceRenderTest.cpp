@@ -162,12 +162,15 @@ TEST(TextureDeviceRender, TexturesFourTimesThePoolRenderTheSame) {
     const uint64_t budget = textureBytes;
     auto paged = test::renderVulkan(path, o, budget, &tight);
     ASSERT_TRUE(paged) << paged.message();
-    std::printf("textures %llu bytes in core; budget %llu: %llu page slots, %llu page loads, peak %llu bytes\n",
+    std::printf("textures %llu bytes in core; budget %llu: %llu page slots, %llu page loads, %llu read, peak %llu bytes\n",
                 (unsigned long long)textureBytes, (unsigned long long)budget, (unsigned long long)tight.texturePageSlots,
-                (unsigned long long)tight.texturePageLoads, (unsigned long long)tight.peakDeviceBytes);
+                (unsigned long long)tight.texturePageLoads, (unsigned long long)tight.texturePagesRead,
+                (unsigned long long)tight.peakDeviceBytes);
     EXPECT_GE(tight.texturePageSlots, gpu::kMinTexturePageSlots);
     EXPECT_LE(tight.texturePageSlots * 4, pages) << "the pool holds at most a quarter of the pages";
     EXPECT_GT(tight.texturePageLoads, pages) << "pages paged in more than once";
+    EXPECT_LE(tight.texturePagesRead, pages) << "each read from the package once at most (the host cache)";
+    EXPECT_EQ(ample.texturePagesRead, pages) << "in core, every page once";
     EXPECT_LE(tight.peakDeviceBytes, budget);
     EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
     EXPECT_EQ(std::memcmp(paged->albedo.data(), inCore->albedo.data(), inCore->albedo.size() * 4), 0);

@@ -206,6 +206,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.volumeBricksRead = t.volumeBricksRead - before.volumeBricksRead;
         s.texturePageSlots = t.texturePageSlots;
         s.texturePageLoads = t.texturePageLoads - before.texturePageLoads;
+        s.texturePagesRead = t.texturePagesRead - before.texturePagesRead;
         s.hostToDeviceBytes = t.hostToDeviceBytes - before.hostToDeviceBytes;
         s.deviceToHostBytes = t.deviceToHostBytes - before.deviceToHostBytes;
         for (int k = 0; k < StreamingStats::kKernels; ++k) s.kernelSeconds[k] = t.kernelSeconds[k] - before.kernelSeconds[k];

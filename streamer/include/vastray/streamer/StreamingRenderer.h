@@ -203,7 +203,10 @@ struct StreamingStats {
     // read again). Older packages read their volumes whole when they open: 0.
     uint64_t volumeBricksRead = 0;
     uint64_t texturePageSlots = 0;  // texture_page_slots: the pool's page slots (0: textures in core or none)
-    uint64_t texturePageLoads = 0;  // texture_page_loads: pages read from the package into those slots
+    uint64_t texturePageLoads = 0;  // texture_page_loads: pages loaded into those slots
+    // texture_pages_read: pages read from the package and inflated (in core every page once;
+    // paged, those the host cache of inflated pages did not hold)
+    uint64_t texturePagesRead = 0;
     uint64_t hostToDeviceBytes = 0; // host_to_device_bytes
     uint64_t deviceToHostBytes = 0; // device_to_host_bytes
     // Device time per kernel of the device wavefront, from timestamp queries (kernel_seconds,
