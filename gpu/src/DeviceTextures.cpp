@@ -172,8 +172,9 @@ Result<uint64_t> DeviceTextures::page(std::span<const uint32_t> demand, Streamin
 }
 
 void DeviceTextures::keepInHost(uint32_t entry, const uint8_t* bytes) {
-    if (kTexturePageBytes > hostCacheBytes_) return;
-    while (cachedBytes_ + kTexturePageBytes > hostCacheBytes_ && !cacheOrder_.empty()) {
+    while (cachedBytes_ + kTexturePageBytes > hostCacheBytes_) {
+        // Pages this load copies from the cache (used this step) stay: then this one is not kept.
+        if (cacheOrder_.empty() || cacheOrder_.begin()->first == step_) return;
         const uint32_t oldest = cacheOrder_.begin()->second;
         cacheOrder_.erase(cacheOrder_.begin());
         std::vector<uint8_t>().swap(cached_[oldest]);
@@ -195,8 +196,19 @@ Status DeviceTextures::load(std::span<const uint32_t> pages, std::span<const uin
     for (size_t first = 0; first < pages.size(); first += kBatch) {
         const size_t count = std::min(kBatch, pages.size() - first);
         std::vector<size_t> reads;  // batch positions not in the host cache
-        for (size_t i = 0; i < count; ++i)
-            if (!caching || cached_[pages[first + i]].empty()) reads.push_back(i);
+        std::vector<bool> hits(count, false);
+        for (size_t i = 0; i < count; ++i) {
+            const uint32_t e = pages[first + i];
+            hits[i] = caching && !cached_[e].empty();
+            if (!hits[i]) {
+                reads.push_back(i);
+                continue;
+            }
+            // Used again: the most recent, so that keeping this batch's reads never drops it.
+            cacheOrder_.erase({cachedUse_[e], e});
+            cachedUse_[e] = step_;
+            cacheOrder_.insert({step_, e});
+        }
         std::vector<Status> failures(reads.size(), Status::ok());
         std::atomic<bool> failed{false};
         tbb::parallel_for(size_t(0), reads.size(), [&](size_t k) {
@@ -211,18 +223,11 @@ Status DeviceTextures::load(std::span<const uint32_t> pages, std::span<const uin
         stats.texturePagesRead += reads.size();
         for (size_t i = 0; i < count; ++i) {
             const uint32_t e = pages[first + i], slot = slots[first + i];
-            const bool hit = caching && !cached_[e].empty();
-            const uint8_t* bytes = hit ? cached_[e].data() : data.data() + i * kTexturePageBytes;
+            const uint8_t* bytes = hits[i] ? cached_[e].data() : data.data() + i * kTexturePageBytes;
             if (slotEntry_[slot] != kTexturePageAbsent) table_[slotEntry_[slot]] = kTexturePageAbsent;
             slotEntry_[slot] = e, table_[e] = slot, slotUsed_[slot] = step_;
             VASTRAY_TRY(buffer_.upload(bytes, kTexturePageBytes, poolOffset_ + uint64_t(slot) * kTexturePageBytes));
-            if (hit) {  // used again: the most recent
-                cacheOrder_.erase({cachedUse_[e], e});
-                cachedUse_[e] = step_;
-                cacheOrder_.insert({step_, e});
-            } else if (caching) {
-                keepInHost(e, bytes);
-            }
+            if (!hits[i] && caching) keepInHost(e, bytes);
         }
         stats.hostToDeviceBytes += count * kTexturePageBytes;
     }

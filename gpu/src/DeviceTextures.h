@@ -72,7 +72,8 @@ private:
     // Copies `pages` (page-table entries) into `slots`: from the host cache, or read and inflated
     // on worker threads (then kept in the cache when paged).
     Status load(std::span<const uint32_t> pages, std::span<const uint32_t> slots, StreamingStats& stats);
-    // Keeps page `entry`'s bytes in the host cache, dropping the least recently used beyond its bound.
+    // Keeps page `entry`'s bytes in the host cache, dropping the least recently used beyond its
+    // bound (never a page used this step: then this one is not kept).
     void keepInHost(uint32_t entry, const uint8_t* bytes);
 
     VulkanDevice& device_;
