@@ -157,12 +157,16 @@ ServiceResult<v1::DeleteEnvironmentResponse> Service::deleteEnvironment(const v1
     return v1::DeleteEnvironmentResponse();
 }
 
-ServiceResult<std::shared_ptr<const EnvironmentMap>> Service::jobEnvironmentMap(const v1::SubmitJobRequest& request) {
+ServiceResult<std::shared_ptr<const EnvironmentMap>> Service::jobEnvironmentMap(
+    const v1::SubmitJobRequest& request, std::string& name) {
     if (!request.has_environment()) return std::shared_ptr<const EnvironmentMap>();
     const v1::JobEnvironment& wanted = request.environment();
     const std::string key = wanted.id() + " " + std::to_string(std::bit_cast<uint32_t>(wanted.scale()));
     std::lock_guard<std::mutex> lock(environmentMutex_);
-    if (key == environmentKey_ && environmentMap_) return environmentMap_;
+    if (key == environmentKey_ && environmentMap_) {
+        name = environmentName_;
+        return environmentMap_;
+    }
     auto environment = stores_.environments->getEnvironment(wanted.id());
     if (!environment) return internalError(environment.message());
     if (!*environment) return notFound("environment.id: environment " + wanted.id() + " is no longer stored");
@@ -173,6 +177,8 @@ ServiceResult<std::shared_ptr<const EnvironmentMap>> Service::jobEnvironmentMap(
     environmentMap_.reset();  // the old map's memory goes before the next job's render
     environmentKey_ = key;
     environmentMap_ = std::move(map).value();
+    environmentName_ = "environment map " + wanted.id() + " (" + (*environment)->name() + ")";
+    name = environmentName_;
     return environmentMap_;
 }
 

@@ -108,17 +108,21 @@ ServiceStatus Service::renderRequest(Worker& worker, const v1::Job& job, std::op
         return {StatusCode::ResourceExhausted, memory.message()};
     auto scenePath = objects_->localPath(sceneKey(job.request().scene_id()));
     if (!scenePath) return notFound("scene " + job.request().scene_id() + " is no longer stored");
-    auto environment = jobEnvironmentMap(job.request());
+    std::string environmentName;
+    auto environment = jobEnvironmentMap(job.request(), environmentName);
     if (!environment) return environment.status();
     options->environment.map = std::move(*environment);
     JobRenderRequest request{scenePath->string(), *options, job.request().memory_budget_bytes(),
-                             job.request().scene_camera(), !job.request().no_lights()};
+                             job.request().scene_camera(), !job.request().no_lights(), environmentName};
     auto rendered = worker.renderer->render(
         request, [this, &worker](const JobRenderProgress& p) { onProgress(worker, p); }, worker.cancel, &stats);
     metrics_.chunkLoads += stats.chunkLoads;
     metrics_.notePeakDeviceBytes(stats.peakDeviceBytes);
     if (worker.cancel) return {StatusCode::Cancelled, "cancelled"};
-    if (!rendered) return {StatusCode::Internal, rendered.message()};
+    // A request its budget cannot hold would be refused again: RESOURCE_EXHAUSTED fails the job
+    // at once (finishJob runs only internal errors again).
+    if (!rendered)
+        return {stats.overBudget ? StatusCode::ResourceExhausted : StatusCode::Internal, rendered.message()};
     metrics_.rays += stats.render.rays;
     metrics_.renderMicroseconds += uint64_t(stats.render.renderSeconds * 1e6);
     static_assert(Metrics::kKernels == StreamingStats::kKernels);

@@ -11,8 +11,11 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <string_view>
 #include <vector>
 
+#include "vastray/core/ByteSize.h"
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
 #include "vastray/gpu/VulkanDevice.h"
 #include "vastray/server/JobRenderer.h"
@@ -94,6 +97,30 @@ private:
     JobRenderProgress now_;
 };
 
+// planPool's refusal of a job's budget in the service's words: the job's memory_budget_bytes
+// rather than the CLI's --memory-budget; and when the scene's smallest pool fits the budget
+// without the environment map, the map named, with its device bytes and what the budget leaves it.
+Status budgetRefusal(const PackageInfo& info, const ChunkAttributes& needed, const JobRenderRequest& request,
+                     uint64_t volumeBytes, const Status& refused) {
+    const uint64_t budget = request.memoryBudgetBytes;
+    const std::shared_ptr<const EnvironmentMap>& map = request.options.environment.map;
+    auto withoutMap = gpu::planPool(info, needed, budget, true, gpu::kWaveShareOutOfCore, 0, volumeBytes);
+    if (map && withoutMap) {
+        const uint64_t bytes = map->deviceBytes();
+        return Status::error(
+            (request.environmentName.empty() ? std::string("the environment map") : request.environmentName) +
+            " needs " + formatBytes(bytes) + " = " + std::to_string(bytes) +
+            " bytes of device memory; the job's memory_budget_bytes of " + formatBytes(budget) + " = " +
+            std::to_string(budget) + " bytes leaves it at most " +
+            formatBytes(budget - withoutMap->minimumBytes) + " beside this scene's smallest pool of " +
+            formatBytes(withoutMap->minimumBytes));
+    }
+    constexpr std::string_view kFlag = "--memory-budget ";
+    std::string message = refused.message();
+    if (message.starts_with(kFlag)) message = "memory_budget_bytes " + message.substr(kFlag.size());
+    return Status::error(message);
+}
+
 class StreamingJobRenderer final : public JobRenderer {
 public:
     StreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes, int deviceIndex,
@@ -112,8 +139,10 @@ public:
                                const std::atomic<bool>& cancel, JobRenderStats* stats) override {
         std::lock_guard<std::mutex> lock(mutex_);
         if (cancel) return Status::error("cancelled before loading the scene");
-        auto open = openScene(request);
+        bool overBudget = false;
+        auto open = openScene(request, overBudget);
         held_ = deviceInUse();
+        if (stats) stats->overBudget = overBudget;
         if (!open) return open.status();
         OpenScene& scene = **open;
         StreamingStats streaming;
@@ -169,7 +198,8 @@ private:
         return true;
     }
 
-    Result<OpenScene*> openScene(const JobRenderRequest& request) {
+    // A job whose request does not fit its budget is refused (overBudget).
+    Result<OpenScene*> openScene(const JobRenderRequest& request, bool& overBudget) {
         const uint64_t budget = request.memoryBudgetBytes;
         // The job's environment map is kept from the budget, as `vastray render --environment`
         // does: an open scene whose pool kept less for it is opened again.
@@ -200,7 +230,10 @@ private:
             entry.volumes = std::move(volumes).value();
         }
         auto plan = gpu::planPool(info, needed, budget, true, gpu::kWaveShareOutOfCore, 0, mapBytes + volumeBytes);
-        if (!plan) return plan.status();
+        if (!plan) {
+            overBudget = true;
+            return budgetRefusal(info, needed, request, volumeBytes, plan.status());
+        }
         entry.hostBytes = std::min(hostCacheBytes_, info.decodedBytes());
         while ((deviceInUse() + plan->totalBytes > devicePoolBytes_ || hostInUse() + entry.hostBytes > hostCacheBytes_) &&
                closeLeastRecentlyUsed()) {

@@ -389,14 +389,17 @@ TEST_F(EnvironmentTest, AQueuedJobRendersWithItsMapAfterARestart) {
 }
 
 // The map's device bytes are kept from the job's budget (vulkan): a job whose budget cannot hold
-// the map beside the pool fails naming the environment map, the same job without the map
-// renders in that budget, and a job with a map stays within its budget.
+// the map beside the scene's smallest pool fails at its first attempt (the same map would not fit
+// again: not retried, though --max-attempts allows 3), naming the map, its device bytes and the
+// budget; the same job without the map renders in that budget, and a job with a small map stays
+// within it. A budget below the scene's own minimum fails at once too, naming the job's field.
 TEST_F(EnvironmentTest, TheMapCountsAgainstTheJobsMemoryBudget) {
-    startServer({"--max-attempts", "1"});
+    startServer({"--max-attempts", "3"});
     const std::string sceneId = uploadSphere()["id"];
     writeExr(dir_ / "large.exr", 2048, 1024, kTexel);  // 2M texels: about 42 MB on the device
     const json large = uploadEnvironment("large.exr", readBytes(dir_ / "large.exr"));
-    ASSERT_GT(std::stoull(std::string(large["device_bytes"])), 40ull << 20);
+    const std::string mapBytes = large["device_bytes"];
+    ASSERT_GT(std::stoull(mapBytes), 40ull << 20);
     json body = smallJob(sceneId);
     body["memory_budget_bytes"] = std::to_string(32ull << 20);
     ASSERT_FALSE(render(body).empty()) << "the sphere renders in 32 MiB";
@@ -404,9 +407,13 @@ TEST_F(EnvironmentTest, TheMapCountsAgainstTheJobsMemoryBudget) {
     auto res = submit(body);
     ASSERT_TRUE(res && res->status == 202) << (res ? res->body : "");
     const json failed = waitForState(json::parse(res->body)["id"], "JOB_STATE_FAILED");
-    // planPool's refusal: the map is part of what the pool keeps, not found missing at render time.
-    EXPECT_NE(failed.value("error", "").find("is below this scene's minimum"), std::string::npos) << failed.dump();
-    EXPECT_NE(failed.value("error", "").find("plus the environment map's"), std::string::npos) << failed.dump();
+    EXPECT_EQ(failed["attempts"], 1) << "a map over the budget is not retried: " << failed.dump();
+    EXPECT_EQ(failed["attempt_errors"].size(), 1u) << failed.dump();
+    const std::string error = failed.value("error", "");
+    for (const std::string& part : {"environment map " + std::string(large["id"]) + " (large.exr)",
+                                    " = " + mapBytes + " bytes of device memory",
+                                    std::string("memory_budget_bytes of 32.0 MiB = 33554432 bytes")})
+        EXPECT_NE(error.find(part), std::string::npos) << "missing '" << part << "' in " << error;
 
     body["environment"] = {{"id", uploadConstantSky()}};
     auto small = submit(body);
@@ -415,6 +422,15 @@ TEST_F(EnvironmentTest, TheMapCountsAgainstTheJobsMemoryBudget) {
     const uint64_t peak = std::stoull(std::string(done["stats"]["peak_device_bytes"]));
     EXPECT_GT(peak, 0u);
     EXPECT_LE(peak, 32ull << 20);
+
+    body.erase("environment");
+    body["memory_budget_bytes"] = "65536";
+    auto tiny = submit(body);
+    ASSERT_TRUE(tiny && tiny->status == 202) << (tiny ? tiny->body : "");
+    const json refused = waitForState(json::parse(tiny->body)["id"], "JOB_STATE_FAILED");
+    EXPECT_EQ(refused["attempts"], 1) << "a budget below the minimum is not retried: " << refused.dump();
+    const std::string below = "memory_budget_bytes 64.0 KiB is below this scene's minimum of ";
+    EXPECT_NE(refused.value("error", "").find(below), std::string::npos) << refused.dump();
 }
 
 // gRPC: UploadEnvironment as a client stream, GetEnvironment, ListEnvironments, a job with the

@@ -40,6 +40,9 @@ struct JobRenderRequest {
     // The scene's punctual lights are rendered (applySceneLights) unless this is false
     // (SubmitJobRequest.no_lights, `vastray render --no-lights`).
     bool sceneLights = true;
+    // How an error names the environment map of `options` (`environment map ID (NAME)`); empty
+    // without one.
+    std::string environmentName;
 };
 
 struct JobRenderProgress {
@@ -60,6 +63,11 @@ struct JobRenderStats {
     // Device time per kernel of the device wavefront (StreamingStats::kernelSeconds, named by
     // StreamingStats::kKernelNames); zero for Embree.
     double kernelSeconds[StreamingStats::kKernels] = {};
+    // Set with a failed render() that was refused before rendering because the request does not
+    // fit its memory budget (the scene's smallest pool, the environment map beside it): the error
+    // names what and the budget, and the same request would be refused again, so the service
+    // fails the job at once instead of running it again.
+    bool overBudget = false;
 };
 
 using JobProgressCallback = std::function<void(const JobRenderProgress&)>;
@@ -88,8 +96,9 @@ std::unique_ptr<JobRenderer> makeEmbreeJobRenderer(uint64_t hostCacheBytes);
 // the job's budget, a host chunk cache, residency), several at a time: the sum of the open
 // scenes' device allocations stays within `devicePoolBytes` and the sum of their host caches
 // within `hostCacheBytes`; a scene that does not fit closes the least recently used ones. So a
-// job on a scene still open loads no chunk, also when jobs alternate between scenes. Stops
-// between ray streams when `cancel` is set.
+// job on a scene still open loads no chunk, also when jobs alternate between scenes. A job whose
+// budget cannot hold the scene's smallest pool, or its environment map beside it, is refused
+// (JobRenderStats::overBudget). Stops between ray streams when `cancel` is set.
 Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes,
                                                               int deviceIndex = -1);
 

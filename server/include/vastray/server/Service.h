@@ -199,8 +199,9 @@ private:
                                                     const std::string& digest, uint64_t bytes);
     // The job's environment map read as `vastray render --environment FILE --environment-scale S`
     // reads it (the last one read is kept for the next job that asks for the same), or null when
-    // the request has none.
-    ServiceResult<std::shared_ptr<const EnvironmentMap>> jobEnvironmentMap(const v1::SubmitJobRequest& request);
+    // the request has none; `name` is set to how errors name it (`environment map ID (NAME)`).
+    ServiceResult<std::shared_ptr<const EnvironmentMap>> jobEnvironmentMap(
+        const v1::SubmitJobRequest& request, std::string& name);
     ServiceResult<v1::Scene> storeUpload(const std::string& name, const std::filesystem::path& file,
                                          const std::string& digest, uint64_t bytes,
                                          const ImportProgress& progress = {});
@@ -279,6 +280,7 @@ private:
     std::mutex environmentMutex_;
     std::string environmentKey_;
     std::shared_ptr<const EnvironmentMap> environmentMap_;
+    std::string environmentName_;  // environmentMap_'s, as jobEnvironmentMap's `name`
 };
 
 }  // namespace vastray::server
