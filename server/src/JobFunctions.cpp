@@ -412,7 +412,11 @@ std::string Service::metricsText() {
     // Replicas' work waits in the task store; a single server's waits in its queue, a job a task.
     const std::optional<uint64_t> waiting = stores_.tasks ? waitingTiles_.read() : std::optional<uint64_t>(queued);
     uint64_t held = 0;
-    for (const auto& worker : workers_) held += worker->renderer->deviceBytesHeld();
+    uint64_t scenesOpen = 0;
+    for (const auto& worker : workers_) {
+        held += worker->renderer->deviceBytesHeld();
+        scenesOpen += worker->renderer->deviceScenesOpen();
+    }
     std::string text;
     auto add = [&text](const char* name, const char* type, const char* help, const std::string& value) {
         text += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n" + name +
@@ -466,6 +470,10 @@ std::string Service::metricsText() {
         "Device memory the open scenes hold now, all workers together (each pool is allocated when its "
         "scene opens); at most the budget times the workers.",
         std::to_string(held));
+    add("vastray_device_scenes_open", "gauge",
+        "Scenes open on the device between jobs, all workers together (each with its own pool; a "
+        "scene is open once at most per worker).",
+        std::to_string(scenesOpen));
     add("vastray_device_memory_budget_bytes", "gauge",
         "Device memory pool of each worker (--memory-budget): the most one job may use, and the most "
         "one worker's open scenes hold together.",

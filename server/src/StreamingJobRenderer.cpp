@@ -6,7 +6,8 @@
 // open scenes' device allocations stays within it) and the host chunk cache (the worker's share
 // of `--host-cache`: the sum of their host caches stays within it; a scene's cache is sized to
 // its decoded chunks when those are smaller). A scene that does not fit beside the others
-// closes the least recently used ones first.
+// closes the least recently used ones first. A scene is open once at most: a job that needs its
+// pool planned anew (another budget, a larger environment map) replaces the scene's open entry.
 #include <algorithm>
 #include <atomic>
 #include <memory>
@@ -130,6 +131,7 @@ public:
 
     std::string name() const override { return "vulkan"; }
     uint64_t deviceBytesHeld() const override { return held_; }
+    uint64_t deviceScenesOpen() const override { return scenesOpen_; }
     std::string deviceDescription() const override {
         return "Vulkan device " + (deviceIndex_ >= 0 ? "[" + std::to_string(deviceIndex_) + "] " : std::string()) +
                device_->info().name;
@@ -142,6 +144,7 @@ public:
         bool overBudget = false;
         auto open = openScene(request, overBudget);
         held_ = deviceInUse();
+        scenesOpen_ = open_.size();
         if (stats) stats->overBudget = overBudget;
         if (!open) return open.status();
         OpenScene& scene = **open;
@@ -198,7 +201,9 @@ private:
         return true;
     }
 
-    // A job whose request does not fit its budget is refused (overBudget).
+    // The scene's open entry when it was opened with the job's budget and kept enough for the
+    // job's map; else the scene opened anew, replacing that entry. A job whose request does not
+    // fit its budget is refused (overBudget) before anything open is closed.
     Result<OpenScene*> openScene(const JobRenderRequest& request, bool& overBudget) {
         const uint64_t budget = request.memoryBudgetBytes;
         // The job's environment map is kept from the budget, as `vastray render --environment`
@@ -209,8 +214,6 @@ private:
                 o.lastUse = ++tick_;
                 return &o;
             }
-        // The same scene under another budget is closed, not kept twice.
-        std::erase_if(open_, [&](const OpenScene& o) { return o.path == request.scenePath; });
         OpenScene entry;
         auto reader = PackageReader::open(request.scenePath);
         if (!reader) return reader.status();
@@ -234,6 +237,9 @@ private:
             overBudget = true;
             return budgetRefusal(info, needed, request, volumeBytes, plan.status());
         }
+        // The same scene under another budget, or whose pool kept less for the map, is closed
+        // before its new pool is allocated: never open twice.
+        std::erase_if(open_, [&](const OpenScene& o) { return o.path == request.scenePath; });
         entry.hostBytes = std::min(hostCacheBytes_, info.decodedBytes());
         while ((deviceInUse() + plan->totalBytes > devicePoolBytes_ || hostInUse() + entry.hostBytes > hostCacheBytes_) &&
                closeLeastRecentlyUsed()) {
@@ -265,6 +271,7 @@ private:
 
     std::mutex mutex_;
     std::atomic<uint64_t> held_{0};  // deviceInUse() after the last openScene, for /metrics
+    std::atomic<uint64_t> scenesOpen_{0};  // open_.size() after the last openScene, for /metrics
     const uint64_t hostCacheBytes_;
     const uint64_t devicePoolBytes_;
     const int deviceIndex_;

@@ -433,6 +433,46 @@ TEST_F(EnvironmentTest, TheMapCountsAgainstTheJobsMemoryBudget) {
     EXPECT_NE(refused.value("error", "").find(below), std::string::npos) << refused.dump();
 }
 
+// One open pool per scene (vulkan): a job whose map needs more than the scene's open pool kept
+// replaces that pool (closed, not left beside the new one until least recently used), and a job
+// refused because its map does not fit its budget leaves the open pool as it was: the next job
+// with a map that fits loads no chunk. /metrics vastray_device_scenes_open counts the open pools.
+TEST_F(EnvironmentTest, ALargerMapReplacesTheScenesPoolAndARefusedOneKeepsIt) {
+    startServer();
+    const std::string sceneId = uploadSphere()["id"];
+    const std::string smallId = uploadConstantSky();  // 16x8: about 3 KB on the device
+    writeExr(dir_ / "medium.exr", 256, 128, kTexel);  // about 640 KB
+    const std::string mediumId = uploadEnvironment("medium.exr", readBytes(dir_ / "medium.exr"))["id"];
+    writeExr(dir_ / "large.exr", 2048, 1024, kTexel);  // about 40 MB: over the 32 MiB budget
+    const std::string largeId = uploadEnvironment("large.exr", readBytes(dir_ / "large.exr"))["id"];
+    auto run = [&](const std::string& environmentId, const std::string& state) {
+        json body = smallJob(sceneId);
+        body["memory_budget_bytes"] = std::to_string(32ull << 20);
+        body["environment"] = {{"id", environmentId}};
+        auto res = submit(body);
+        EXPECT_TRUE(res && res->status == 202) << (res ? res->body : "no response");
+        return res && res->status == 202 ? waitForState(json::parse(res->body)["id"], state) : json();
+    };
+    auto loads = [](const json& job) {
+        return std::stoull(job.value("stats", json::object()).value("chunk_loads", std::string("0")));
+    };
+    auto scenesOpen = [&] {
+        auto metrics = http().Get("/metrics");
+        const std::string name = "\nvastray_device_scenes_open ";
+        const size_t at = metrics ? metrics->body.find(name) : std::string::npos;
+        return at == std::string::npos ? -1.0 : std::stod(metrics->body.substr(at + name.size()));
+    };
+    EXPECT_GT(loads(run(smallId, "JOB_STATE_SUCCEEDED")), 0u);
+    EXPECT_EQ(scenesOpen(), 1);
+    EXPECT_GT(loads(run(mediumId, "JOB_STATE_SUCCEEDED")), 0u) << "the open pool kept too little for the map";
+    EXPECT_EQ(scenesOpen(), 1) << "the scene's first pool should be closed, not kept beside the second";
+    EXPECT_EQ(run(largeId, "JOB_STATE_FAILED")["attempts"], 1);
+    EXPECT_EQ(scenesOpen(), 1);
+    EXPECT_EQ(loads(run(mediumId, "JOB_STATE_SUCCEEDED")), 0u) << "the refused job closed the open pool";
+    EXPECT_EQ(loads(run(smallId, "JOB_STATE_SUCCEEDED")), 0u) << "the pool keeps enough for a smaller map";
+    EXPECT_EQ(scenesOpen(), 1);
+}
+
 // gRPC: UploadEnvironment as a client stream, GetEnvironment, ListEnvironments, a job with the
 // map, DeleteEnvironment.
 TEST_F(EnvironmentTest, GrpcUploadListSubmitAndDelete) {

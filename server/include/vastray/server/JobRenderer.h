@@ -81,6 +81,9 @@ public:
     // Device memory held now by what stays open between jobs (the open scenes' pools); safe to
     // call while a job renders.
     virtual uint64_t deviceBytesHeld() const { return 0; }
+    // Scenes open on the device between jobs (each with a pool of its own, one at most per
+    // scene); safe to call while a job renders. 0 for a backend that keeps none (embree).
+    virtual uint64_t deviceScenesOpen() const { return 0; }
     virtual Result<RenderImage> render(const JobRenderRequest& request, const JobProgressCallback& progress,
                                        const std::atomic<bool>& cancel, JobRenderStats* stats) = 0;
 };
@@ -96,9 +99,10 @@ std::unique_ptr<JobRenderer> makeEmbreeJobRenderer(uint64_t hostCacheBytes);
 // the job's budget, a host chunk cache, residency), several at a time: the sum of the open
 // scenes' device allocations stays within `devicePoolBytes` and the sum of their host caches
 // within `hostCacheBytes`; a scene that does not fit closes the least recently used ones. So a
-// job on a scene still open loads no chunk, also when jobs alternate between scenes. A job whose
-// budget cannot hold the scene's smallest pool, or its environment map beside it, is refused
-// (JobRenderStats::overBudget). Stops between ray streams when `cancel` is set.
+// job on a scene still open loads no chunk, also when jobs alternate between scenes. A scene is
+// open once at most; a job whose budget cannot hold the scene's smallest pool, or its environment
+// map beside it, is refused (JobRenderStats::overBudget) and closes nothing. Stops between ray
+// streams when `cancel` is set.
 Result<std::unique_ptr<JobRenderer>> makeStreamingJobRenderer(uint64_t hostCacheBytes, uint64_t devicePoolBytes,
                                                               int deviceIndex = -1);
 
