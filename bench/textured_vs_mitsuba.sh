@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Textures on the device (issue 13, docs/PERFORMANCE.md "Textures on the device"): a textured
 # height field (bench/textured_scene.py) rendered by vastray with its texture in core, with the
-# texture pool four times over-subscribed, and without the texture (the same mesh, no material),
+# texture pool four times over-subscribed (each with ray cones, then --texture-lod finest: level 0
+# as Mitsuba samples), and without the texture (the same mesh, no material),
 # beside Mitsuba 3 on the same PLY, textured and plain, same camera, resolution, spp and depth.
 #
 #   usage (on the device machine, vastray on PATH, Mitsuba on PYTHONPATH):
@@ -26,11 +27,14 @@ vastray info "$work/terrain.vast" --json > "$out/info.json"
 # The budget whose quarter (the texture pool's share) holds a quarter of the texture's pages.
 texture_bytes=$(python3 -c "import json; t=json.load(open('$out/info.json'))['textures']; print(sum(x['pages'] for x in t) * 66564)")
 tight=$((texture_bytes))
-for row in "in-core terrain 8GiB" "pool-4x terrain $tight" "untextured plain 8GiB"; do
+rows="in-core terrain 8GiB cone|pool-4x terrain $tight cone|in-core-finest terrain 8GiB finest|pool-4x-finest terrain $tight finest|untextured plain 8GiB cone"
+IFS='|' read -ra row_list <<< "$rows"
+for row in "${row_list[@]}"; do
   set -- $row
   for run in 1 2 3; do
     vastray render "$work/$2.vast" -o "$work/$1.pfm" --resolution "${width}x${height}" --eye "$eye" --target "$target" \
-      --spp "$spp" --max-depth "$depth" --memory-budget "$3" --progress none --stats-json "$out/$1-$run.json" \
+      --spp "$spp" --max-depth "$depth" --memory-budget "$3" --texture-lod "$4" --progress none \
+      --stats-json "$out/$1-$run.json" \
       >> "$out/vastray.log" 2>&1 || echo "$1 run $run failed" >> "$out/vastray.log"
   done
 done
@@ -39,18 +43,19 @@ timeout 300 python3 "$here/mitsuba_textured.py" "$work/terrain.ply" "$work/albed
 python3 - "$out" <<'PY' > "$out/summary.md"
 import glob, json, statistics, sys
 out = sys.argv[1]
-print("| render | vastray render_seconds (median of 3) | texture page slots | page loads | peak device bytes |")
-print("|---|---|---|---|---|")
-for row in ("in-core", "pool-4x", "untextured"):
+print("| render | vastray render_seconds (median of 3) | texture page slots | page loads | pages read | peak device bytes |")
+print("|---|---|---|---|---|---|")
+for row in ("in-core", "pool-4x", "in-core-finest", "pool-4x-finest", "untextured"):
     runs = [json.load(open(f)) for f in sorted(glob.glob(f"{out}/{row}-*.json"))]
     if not runs:
-        print(f"| {row} | failed | | | |"); continue
+        print(f"| {row} | failed | | | | |"); continue
     s = [r.get("streaming", r) for r in runs]
     med = statistics.median(r["render_seconds"] for r in runs)
-    print(f"| {row} | {med:.4f} | {s[0].get('texture_page_slots')} | {s[0].get('texture_page_loads')} | {s[0].get('peak_device_bytes')} |")
+    print(f"| {row} | {med:.4f} | {s[0].get('texture_page_slots')} | {s[0].get('texture_page_loads')} | "
+          f"{s[0].get('texture_pages_read')} | {s[0].get('peak_device_bytes')} |")
 for line in open(f"{out}/mitsuba.jsonl"):
     m = json.loads(line)
-    print(f"| Mitsuba {m['material']} | {m['render_s_median']} (load {m['load_s']}, first {m['first_render_s']}) | | | GPU {m['gpu_mib_after']} MiB |")
+    print(f"| Mitsuba {m['material']} | {m['render_s_median']} (load {m['load_s']}, first {m['first_render_s']}) | | | | GPU {m['gpu_mib_after']} MiB |")
 PY
 cat "$out/summary.md"
 exit 0

@@ -48,7 +48,8 @@ struct RenderArgs {
     std::string input, output, backend = "vulkan", resolution = "640x480";
     std::string memoryBudget = "1GiB", hostCache = "auto";
     int64_t gpuDevice = -1;
-    std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto";
+    std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto",
+                textureLod = "cone";
     bool noSun = false;
     bool noLights = false;
     std::string environment;  // --environment FILE
@@ -264,6 +265,9 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
     auto integrator = parseIntegrator(args.integrator);
     if (!integrator) return integrator.status();
     options.integrator = *integrator;
+    if (args.textureLod != "cone" && args.textureLod != "finest")
+        return Status::error("--texture-lod '" + args.textureLod + "' is not one of cone, finest");
+    options.textureLod = args.textureLod == "cone" ? TextureLodMode::Cone : TextureLodMode::Finest;
     auto aovs = parseAovList(args.aovs);
     if (!aovs) return aovs.status();
     options.aovs = *aovs;
@@ -681,6 +685,11 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--fov", args->fov, "vertical field of view in degrees, [0.001, 180)")->capture_default_str();
     cmd->add_option("--integrator", args->integrator, "path | ao (ambient occlusion)")->capture_default_str();
+    cmd->add_option("--texture-lod", args->textureLod,
+                    "cone | finest: the level textures are sampled at; cone: the ray cone's footprint (trilinear, "
+                    "fewer pages read out of core); finest: level 0 (the pixel samples alone filter, as Mitsuba 3's "
+                    "bitmap does)")
+        ->capture_default_str();
     cmd->add_option("--max-depth", args->maxDepth, "scattering events per path, 0..1024")
         ->capture_default_str();
     cmd->add_option("--seed", args->seed, "random seed, 0..4294967295; same seed, same image")

@@ -80,6 +80,7 @@ CameraRays::CameraRays(const Camera& camera, uint32_t width, uint32_t height)
     const float halfHeight = std::tan(0.5f * camera.fovYDegrees * kDegrees);
     up_ = up * halfHeight;
     right_ = right * (halfHeight * width_ / height_);
+    spread_ = 2.0f * halfHeight / height_;
 }
 
 Ray CameraRays::primary(uint32_t x, uint32_t y, float jitterX, float jitterY) const {

@@ -50,14 +50,17 @@ MaterialSample materialFactors(const Material& m) {
 }
 
 MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture> textures, std::array<float, 2> uv,
-                              float lod) {
+                              const MapFootprint* footprint) {
     MaterialSample s = materialFactors(m);
     auto map = [&](TextureSlot slot, TextureSample* out) {
         const TextureBinding& b = m.textures.slots[uint32_t(slot)];
         if (b.texture == kNoTexture || b.texture >= textures.size()) return false;
         float u = 0.0f, v = 0.0f;
         applyUvTransform(b.transform, uv[0], uv[1], u, v);
-        *out = sampleTexture(textures[b.texture], u, v, lod);
+        const DecodedTexture& texture = textures[b.texture];
+        const float lod =
+            footprint ? mapLod(b.transform, texture.layout.width, texture.layout.height, *footprint) : 0.0f;
+        *out = sampleTexture(texture, u, v, lod);
         return true;
     };
     TextureSample t;

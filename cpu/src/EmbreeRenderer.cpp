@@ -38,7 +38,7 @@ void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, Re
     SceneHit hit;
     ++rays;
     if (!context.scene.intersect(ray, std::numeric_limits<float>::infinity(), &hit)) return;
-    const SurfacePoint point = surfaceAt(context, hit, ray.direction);
+    const SurfacePoint point = surfaceAt(context, hit, ray.direction, {0.0f, context.cameraSpread});
     if (image.aovs & kAovDepth) image.depth[pixel] = hit.t;
     if (image.aovs & kAovNormal)
         for (int c = 0; c < 3; ++c) image.normal[3 * pixel + c] = point.shadingNormal[c];
@@ -130,8 +130,11 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
                                                            float(options.width) / float(options.height), options.camera.up)
                                              : options.camera;
     VASTRAY_TRY(validateCamera(camera).withContext("camera: "));
-    const ShadingContext context{scene.mesh, **embree, options, normalize(options.environment.sunDirection),
-                                 scene.textures};
+    const CameraRays cameraRays(camera, options.width, options.height);
+    const bool cones = options.textureLod == TextureLodMode::Cone;
+    const ShadingContext context{scene.mesh,     **embree, options, normalize(options.environment.sunDirection),
+                                 scene.textures, cones ? cameraRays.coneSpread() : 0.0f,
+                                 cones ? kConeScatterSpread : 0.0f};
     const PixelBounds bounds = renderBounds(options);
     RenderImage image;
     image.allocate(bounds.width(), bounds.height(), options.aovs);
@@ -140,7 +143,7 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
 
     const Clock::time_point renderStart = Clock::now();
     const uint64_t rays =
-        renderTiles(context, CameraRays(camera, options.width, options.height), image, progress);
+        renderTiles(context, cameraRays, image, progress);
     if (image.aovs & kAovPrimId)
         for (uint32_t& id : image.primId)
             if (id != kMissPrimId) id = scene.primitiveId(id);

@@ -57,7 +57,7 @@ Vec3f directLight(const ShadingContext& context, const SurfacePoint* point, Vec3
 
 }  // namespace
 
-SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f rayDirection) {
+SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f rayDirection, RayCone cone) {
     const TriangleMesh& mesh = context.mesh;
     const Vec3f v0 = mesh.positions[mesh.indices[3 * hit.triangle]];
     const Vec3f v1 = mesh.positions[mesh.indices[3 * hit.triangle + 1]];
@@ -69,7 +69,9 @@ SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f
     const bool mapped = !mesh.uvs.empty() && !context.textures.empty() && material.textures.any();
     if (mapped) {
         const std::array<float, 2> t0 = mesh.uvs[corners[0]], t1 = mesh.uvs[corners[1]], t2 = mesh.uvs[corners[2]];
-        sample = sampleMaterial(material, context.textures, interpolateUv(t0, t1, t2, hit.u, hit.v), 0.0f);
+        const MapFootprint footprint{worldPerUvArea(v0, v1, v2, t0, t1, t2), coneWidthAt(cone, hit.t),
+                                     dot(rayDirection, normalize(geometricNormal(v0, v1, v2)))};
+        sample = sampleMaterial(material, context.textures, interpolateUv(t0, t1, t2, hit.u, hit.v), &footprint);
         if (sample.normalMapped)
             derivatives = uvDerivatives(material.textures.slots[uint32_t(TextureSlot::Normal)].transform, v0, v1, v2,
                                         t0, t1, t2);
@@ -85,6 +87,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
     SampleResult result;
     Vec3f throughput{1, 1, 1};
     float bouncePdf = 0;  // the solid-angle density of the last bounce; 0 for the camera ray
+    RayCone cone{0.0f, context.cameraSpread};  // the ray's (docs/RENDERING.md, "Texture level of detail")
     for (uint32_t bounce = 0;; ++bounce) {
         key.bounce = bounce;
         SceneHit hit;
@@ -116,6 +119,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
                                                            randomFloat(key, kDimDirectionU, options.seed),
                                                            randomFloat(key, kDimDirectionV, options.seed));
             bouncePdf = henyeyGreenstein(m.anisotropy, ray.direction, direction);
+            cone = scatterCone(cone, collision.t, bouncePdf, context.scatterSpread);
             ray = {position, direction};
             continue;
         }
@@ -126,7 +130,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
             break;
         }
         if (bounce == 0) result.cameraRayHit = true;
-        const SurfacePoint point = surfaceAt(context, hit, ray.direction);
+        const SurfacePoint point = surfaceAt(context, hit, ray.direction, cone);
         result.radiance = result.radiance + mul(throughput, point.emissive);
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
@@ -137,6 +141,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
             if (!scatterSurface(point, key, options.seed, &direction, &weight, &bouncePdf)) break;
             throughput = mul(throughput, weight);
             if (!surviveRoulette(throughput, bounce, key, options.seed)) break;
+            cone = scatterCone(cone, hit.t, bouncePdf, context.scatterSpread);
             ray = {origin, direction};
             continue;
         }
@@ -146,6 +151,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         Vec3f direction;
         if (!bounceDirection(point, key, options.seed, &direction)) break;
         bouncePdf = dot(point.shadingNormal, direction) / kPi;
+        cone = scatterCone(cone, hit.t, bouncePdf, context.scatterSpread);
         ray = {origin, direction};
     }
     return result;
@@ -161,7 +167,7 @@ SampleResult traceAmbientOcclusion(const ShadingContext& context, Ray ray, Rando
         return result;
     }
     result.cameraRayHit = true;
-    const SurfacePoint point = surfaceAt(context, hit, ray.direction);
+    const SurfacePoint point = surfaceAt(context, hit, ray.direction, {0.0f, context.cameraSpread});
     const Vec3f origin = offsetRayOrigin(point.position, point.normal);
     const float range = context.options.aoDistance > 0.0f ? context.options.aoDistance : kInfinity;
     ++rays;

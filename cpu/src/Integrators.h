@@ -19,11 +19,15 @@ struct ShadingContext {
     const RenderOptions& options;
     Vec3f sunDirection;  // unit, towards the sun
     std::span<const DecodedTexture> textures;  // the materials' maps' textures (RenderScene::textures)
+    // Ray cones (core/RayCone.h): a camera ray's spread (CameraRays::coneSpread) and the most a
+    // scattering event adds (kConeScatterSpread); both 0 with --texture-lod finest (level 0).
+    float cameraSpread = 0.0f, scatterSpread = 0.0f;
 };
 
-// The surface at a hit: its material's maps sampled at the hit's UV (finest level: the pixel's
-// samples filter the texture, docs/RENDERING.md "Textures") when the mesh has UVs.
-SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f rayDirection);
+// The surface at a hit of a ray whose cone is `cone`: its material's maps sampled at the hit's
+// UV, at the level the cone's footprint there asks for (docs/RENDERING.md, "Texture level of
+// detail"), when the mesh has UVs.
+SurfacePoint surfaceAt(const ShadingContext& context, const SceneHit& hit, Vec3f rayDirection, RayCone cone);
 
 struct SampleResult {
     Vec3f radiance;

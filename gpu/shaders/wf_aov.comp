@@ -1,7 +1,7 @@
 // The AOVs of the tile's pixel-centre rays (one per pixel, walked like a closest-hit stream):
 // depth, facing unit normal, base colour, primitive, chunk and texture coordinates; miss values
 // where nothing was hit (and UV (0, 0) where the scene has none). The base colour has the
-// material's maps, the normal its normal map; with paged textures a pixel whose map reads an
+// material's maps (at the level of the pixel's cone: core/RayCone.h), the normal its normal map; with paged textures a pixel whose map reads an
 // absent page asks for it, writes
 // nothing and joins kShadeWaitQueue; the host loads the pages and runs the kernel again over those
 // pixels (pc.mode kAovRetry: the pixels of kShadeQueue).
@@ -37,7 +37,11 @@ bool writeAovs(ParamsRef params, uint i) {
         const WavefrontMaterial m = materialAt(params.p, ids.y);
         MaterialValues values = materialFactors(m);
         if ((aovs & (kAovAlbedo | kAovNormal)) != 0u && params.p.textures != 0ul && params.p.hitUv != 0ul &&
-            hasMaps(m) && !sampleMaterialMaps(params.p, m, hitUvOf(params.p, i), values))
+            hasMaps(m) &&
+            !sampleMaterialMaps(params.p, m, hitUvOf(params.p, i),
+                                hitFootprint(params.p, i, Vec4Array(params.p.rayDirection).v[i].xyz, facing,
+                                             params.p.cameraSpread * position.w),
+                                values))
             return false;
         if (values.normalMapped && params.p.hitFrame != 0ul)
             normal = bentNormal(params.p, i, n, facing, values.tangentNormal);
@@ -53,8 +57,8 @@ bool writeAovs(ParamsRef params, uint i) {
     if ((aovs & kAovUv) != 0u) {
         const bool uvs = found && params.p.hitUv != 0ul;
         RwFloatArray uvOut = RwFloatArray(params.p.outUv);
-        uvOut.v[2u * i] = uvs ? RwFloatArray(params.p.hitUv).v[2u * i] : 0.0;
-        uvOut.v[2u * i + 1u] = uvs ? RwFloatArray(params.p.hitUv).v[2u * i + 1u] : 0.0;
+        uvOut.v[2u * i] = uvs ? RwFloatArray(params.p.hitUv).v[kHitUvFloats * i] : 0.0;
+        uvOut.v[2u * i + 1u] = uvs ? RwFloatArray(params.p.hitUv).v[kHitUvFloats * i + 1u] : 0.0;
     }
     return true;
 }

@@ -32,12 +32,12 @@ void startPath(ParamsRef params, uint j, uint pixel, uint sampleIndex, bool jitt
     const vec3 up = vec3(params.p.upX, params.p.upY, params.p.upZ);
     const vec3 direction = normalize(forward + right * sx + up * sy);
     const uint shadow = shadowRayIndex(params.p, j);
-    Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, 0.0);
+    Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, 0.0);  // w: cone width 0
     Vec4Array(params.p.rayDirection).v[j] = vec4(direction, kInfinity);
     UVec2Array(params.p.rayState).v[j] = uvec2(kRayPending, 0u);
     UVec2Array(params.p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
-    Vec4Array(params.p.radiance).v[j] = vec4(0.0);
+    Vec4Array(params.p.radiance).v[j] = vec4(0.0, 0.0, 0.0, params.p.cameraSpread);  // w: the ray cone's spread
     UVec2Array(params.p.pathInfo).v[j] = uvec2(pixel, pathWord(kPathAlive | (jitter ? kPathWalkClosest : 0u), 0u, sampleIndex));
 }
 

@@ -44,9 +44,10 @@ layout(constant_id = 10) const bool kTextures = false;         // some material 
 layout(constant_id = 11) const bool kNormalMaps = false;       // some material has a normal map (and the hits frames)
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
-// path's shadow ray and bounce leave the same point).
-void startRay(WavefrontParams p, uint j, uint ray, vec3 origin, vec3 direction, float tMax, bool fromSurface) {
-    Vec4Array(p.rayOrigin).v[j] = vec4(origin, 0.0);
+// path's shadow ray and bounce leave the same point), as does the ray cone's width there.
+void startRay(WavefrontParams p, uint j, uint ray, vec3 origin, float coneWidth, vec3 direction, float tMax,
+              bool fromSurface) {
+    Vec4Array(p.rayOrigin).v[j] = vec4(origin, coneWidth);
     Vec4Array(p.rayDirection).v[ray] = vec4(direction, tMax);
     UVec2Array(p.rayState).v[ray] = uvec2(kRayPending | (fromSurface ? kRayFromSurface : 0u), 0u);
 }
@@ -71,7 +72,10 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
     if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return true;
     const bool ao = kAmbientOcclusion;
     const uint shadow = shadowRayIndex(p, j);
-    vec3 radiance = Vec4Array(p.radiance).v[j].xyz;
+    const vec4 carriedRadiance = Vec4Array(p.radiance).v[j];
+    vec3 radiance = carriedRadiance.xyz;
+    // The ray cone (core/RayCone.h; textures only): its spread, and its width at this event.
+    float spread = kTextures ? carriedRadiance.w : 0.0, coneWidth = 0.0;
     const bool shadowDone = (flags & kPathShadowPending) != 0u;  // its walk state is cleared at the end
     if (shadowDone) {
         const bool blocked = (UVec2Array(p.rayState).v[shadow].x & kHitFound) != 0u;
@@ -89,6 +93,9 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 throughput = carried.xyz;
         const uint bounce = nextBounce, pixel = info.x, sampleIndex = pathSample(info.y);
         const bool hitFound = (UVec2Array(p.rayState).v[j].x & kHitFound) != 0u;
+        // Whole vectors are loaded: lavapipe read .w of `Vec4Array(...).v[j].w` as .x here.
+        const vec4 rayStart = Vec4Array(p.rayOrigin).v[j];
+        const float coneStart = kTextures ? rayStart.w : 0.0;
         // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
         // a real collision before it is this event's scattering point instead.
         // Paged: a tracking parked in the transmittance has its free flight's result in the park.
@@ -117,6 +124,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
             origin = Vec4Array(p.rayOrigin).v[j].xyz + direction * tCollision;
+            if (kTextures) coneWidth = coneStart + spread * tCollision;
             albedo = vec3(v.albedoR, v.albedoG, v.albedoB);
             g = v.anisotropy;
             if (bounce == 0u) flags |= kPathCameraHit;
@@ -142,11 +150,13 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 radiance += throughput * skyRadiance(p, direction);
         } else {
             n = facingNormal(uintBitsToFloat(hitNormal.xyz), direction);
-            origin = offsetRayOrigin(Vec4Array(p.hitPosition).v[j].xyz, n);
+            const vec4 hit = Vec4Array(p.hitPosition).v[j];
+            origin = offsetRayOrigin(hit.xyz, n);
+            if (kTextures) coneWidth = coneStart + spread * hit.w;
             if (bounce == 0u) flags |= kPathCameraHit;
             if (ao) {
                 const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
-                startRay(p, j, shadow, origin, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range, true);
+                startRay(p, j, shadow, origin, 0.0, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range, true);
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             } else {
@@ -157,7 +167,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 // again from the same state once its pages are loaded.
                 MaterialValues values = materialFactors(m);
                 if (kTextures && hasMaps(m) && !(kVolumes && volumeMissed) &&
-                    !sampleMaterialMaps(p, m, hitUvOf(p, j), values))
+                    !sampleMaterialMaps(p, m, hitUvOf(p, j), hitFootprint(p, j, direction, n, coneWidth), values))
                     return false;
                 // Vertex colour and shading normal (docs/RENDERING.md, "Vertex attributes"): the
                 // colour scales the base colour; the shading normal takes the Lambertian cosines,
@@ -207,7 +217,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             }
             if (shoots) {
                 Vec4Array(p.pendingSun).v[j] = vec4(scattered ? (throughput * albedo) * light : throughput * light, 0.0);
-                startRay(p, j, shadow, origin, toLight, lightDistance, !scattered);
+                startRay(p, j, shadow, origin, coneWidth, toLight, lightDistance, !scattered);
                 flags |= kPathShadowPending | kPathWalkShadow;
                 first = shadow, count = 1u;
             }
@@ -238,7 +248,8 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             }
             if (survives) {
                 Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? bouncePdf : 0.0);
-                startRay(p, j, j, origin, bounced, kInfinity, !scattered);
+                if (kTextures) spread += scatterSpread(bouncePdf, p.scatterSpread);
+                startRay(p, j, j, origin, coneWidth, bounced, kInfinity, !scattered);
                 flags |= kPathAlive | kPathWalkClosest;
                 nextBounce = bounce + 1u;
                 if (count == 0u) first = j; else second = j;
@@ -248,7 +259,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         if (kVolumes && resumed) storePark(p, j, noPark());
     }
     if (shadowDone && (flags & kPathShadowPending) == 0u) UVec2Array(p.rayState).v[shadow] = uvec2(0u);
-    Vec4Array(p.radiance).v[j] = vec4(radiance, 0.0);
+    Vec4Array(p.radiance).v[j] = vec4(radiance, spread);
     UVec2Array(p.pathInfo).v[j].y = pathWord(flags, nextBounce, pathSample(info.y));
     ended = count == 0u;
     return true;

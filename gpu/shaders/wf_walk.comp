@@ -48,8 +48,8 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 // The closest hit's record: position and geometric normal as core/PathShading.h evaluates them
 // (StreamHit.glsl's order, `precise`), primitive and material ids when the slot holds them, and
 // the interpolated shading normal (hitNormal.w's bits) and colour (hitIds.w) when it holds
-// those (kNoNormal and white otherwise), and the interpolated UV (hitUv) when the slot holds UVs
-// (only when the render reads them), with the triangle's UV derivatives in its normal map's
+// those (kNoNormal and white otherwise), and the interpolated UV with the triangle's world area
+// per UV area (hitUv) when the slot holds UVs (only when the render reads them), with the triangle's UV derivatives in its normal map's
 // texture space (hitFrame) when its material has one: the chunk may be evicted before the path
 // is shaded.
 void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
@@ -83,7 +83,8 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
         const vec2 uv2 = vec2(t.v[2u * corner.z], t.v[2u * corner.z + 1u]);
         const vec2 uv = interpolateUv(uv0, uv1, uv2, h.u, h.v);
         RwFloatArray hitUv = RwFloatArray(params.p.hitUv);
-        hitUv.v[2u * ray] = uv.x, hitUv.v[2u * ray + 1u] = uv.y;
+        hitUv.v[kHitUvFloats * ray] = uv.x, hitUv.v[kHitUvFloats * ray + 1u] = uv.y;
+        hitUv.v[kHitUvFloats * ray + 2u] = worldPerUvArea(vec3(nx, ny, nz), uv0, uv1, uv2);
         if (params.p.hitFrame != 0ul && ray < params.p.pathCapacity) {
             const WavefrontMaterial m = MaterialArray(params.p.materials).v[material < params.p.materialCount ? material : 0u];
             vec3 dpdu = vec3(0.0), dpdv = vec3(0.0);

@@ -68,9 +68,9 @@ inline uint64_t queueOffset(uint32_t q, uint64_t paths) {
 }
 // The 16-byte vectors first (per path, rays' directions per ray), then the 8-byte ones, then
 // the queues, so that every array is aligned for any count of paths; with `uvs` (the render reads
-// the scene's texture coordinates, ChunkAttributes::uvs) the hits' UVs last (else hitUv is 0 and
-// costs nothing), and after them with `frames` (ChunkAttributes::tangents) the hits' UV
-// derivatives (24 bytes a path).
+// the scene's texture coordinates, ChunkAttributes::uvs) the hits' UVs and footprints last (else
+// hitUv is 0 and costs nothing), and after them with `frames` (ChunkAttributes::tangents) the
+// hits' UV derivatives (kBytesPerPathFrame a path).
 struct StateLayout {
     uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, accum, rayState,
         pathInfo, groupState, queues, hitUv, hitFrame, totalBytes;
@@ -85,8 +85,9 @@ inline StateLayout stateLayout(uint64_t paths, bool uvs = false, bool frames = f
     s.groupState = s.pathInfo + paths * 8;
     s.queues = s.groupState + groupCapacity(paths) * 8;
     s.totalBytes = s.queues + queueOffset(kQueueCount, paths);
-    if (uvs) s.hitUv = (s.totalBytes + 15) / 16 * 16, s.totalBytes = s.hitUv + 8 * paths;
-    if (uvs && frames) s.hitFrame = (s.totalBytes + 15) / 16 * 16, s.totalBytes = s.hitFrame + 24 * paths;
+    if (uvs) s.hitUv = (s.totalBytes + 15) / 16 * 16, s.totalBytes = s.hitUv + kBytesPerPathUv * paths;
+    if (uvs && frames)
+        s.hitFrame = (s.totalBytes + 15) / 16 * 16, s.totalBytes = s.hitFrame + kBytesPerPathFrame * paths;
     return s;
 }
 // What a paging step ends with and the host reads: the table's touched flags, demand and

@@ -32,7 +32,8 @@ static_assert(kWalkNoHit == kMissPrimId && kWalkNoHit == kEmptyCell);
 // With `uvs` (ChunkAttributes::uvs) a path also keeps its hit's texture coordinates, and with
 // tangents too its triangle's UV derivatives.
 uint64_t rayBytes(bool outputInDeviceMemory, const ChunkAttributes& a) {
-    return kBytesPerPath + (a.uvs ? 8 : 0) + (a.uvs && a.tangents ? 24 : 0) + (outputInDeviceMemory ? kBytesPerTilePixel : 0);
+    return kBytesPerPath + (a.uvs ? kBytesPerPathUv : 0) + (a.uvs && a.tangents ? kBytesPerPathFrame : 0) +
+           (outputInDeviceMemory ? kBytesPerTilePixel : 0);
 }
 
 // Device bytes of the wavefront's buffers for `paths` paths: device-local state, and the tile

@@ -898,6 +898,11 @@ private:
         p.hitUv = b_.uvs ? state + s.hitUv : 0;
         p.hitFrame = b_.frames ? state + s.hitFrame : 0;
         setCamera(p, job_.camera, options_.width, options_.height);
+        // Ray cones pick the maps' levels (core/RayCone.h); zero spreads sample level 0.
+        if (options_.textureLod == TextureLodMode::Cone) {
+            p.cameraSpread = CameraRays(job_.camera, options_.width, options_.height).coneSpread();
+            p.scatterSpread = kConeScatterSpread;
+        }
         setEnvironment(p, options_.environment);
         if (b_.environment) {
             const uint64_t base = b_.environment->address();

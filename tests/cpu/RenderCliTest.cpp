@@ -52,6 +52,7 @@ TEST_F(RenderCli, BadInputIsAClearErrorBeforeAnyWork) {
         {"--eye 1,2,3", "--eye and --target"},
         {"--aovs depth,colour", "unknown AOV 'colour'"},
         {"--integrator whitted", "unknown integrator 'whitted'"},
+        {"--texture-lod blurry", "--texture-lod 'blurry' is not one of cone, finest"},
         {"--backend optix", "--backend 'optix': expected vulkan or embree"},
         {"--backend embree --aovs primid,chunkid", "need --backend vulkan"},
         {"--memory-budget 12XB", "--memory-budget"},

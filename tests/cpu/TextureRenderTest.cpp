@@ -78,7 +78,9 @@ TEST(TextureRender, TexelsLandOnThePixelsTheyCover) {
     const Rgba8Image image = test::noiseImage(kTexels, kTexels, 3);
     const RenderScene scene = texturedQuad(image, false);
     ASSERT_EQ(scene.textures.size(), 1u);
-    auto rendered = renderWithEmbree(scene, headOn(), nullptr, {});
+    RenderOptions o = headOn();
+    o.textureLod = TextureLodMode::Finest;  // level 0: one texel a pixel (cones: "ConesPick...")
+    auto rendered = renderWithEmbree(scene, o, nullptr, {});
     ASSERT_TRUE(rendered) << rendered.message();
     for (uint32_t y = 0; y < kTexels; ++y)
         for (uint32_t x = 0; x < kTexels; ++x) {
@@ -87,6 +89,40 @@ TEST(TextureRender, TexelsLandOnThePixelsTheyCover) {
             for (int c = 0; c < 3; ++c)
                 ASSERT_NEAR(albedo[c], srgb8ToLinear(texel[c]), 2e-3f) << "pixel " << x << "," << y << " channel " << c;
         }
+}
+
+// Ray cones (docs/RENDERING.md, "Texture level of detail"): a 32 x 32 texture over the quad that
+// fills an 8 x 8 image, 4 texels a pixel: the pixel-centre cone's footprint asks for level 2 (its
+// width at the quad is a pixel, 1/8 of the quad; the four centre pixels' rays are within 2.5 deg
+// of the normal, so within 0.002 of level 2), whose texels lie one a pixel. --texture-lod finest
+// samples level 0 there instead.
+TEST(TextureRender, ConesPickTheLevelTheFootprintAsksFor) {
+    const Rgba8Image image = test::noiseImage(4 * kTexels, 4 * kTexels, 29);
+    const RenderScene scene = texturedQuad(image, false);
+    ASSERT_EQ(scene.textures.size(), 1u);
+    const DecodedTexture& texture = scene.textures[0];
+    ASSERT_GE(texture.layout.levelCount, 3u);
+    RenderOptions o = headOn();
+    auto cones = renderWithEmbree(scene, o, nullptr, {});
+    ASSERT_TRUE(cones) << cones.message();
+    o.textureLod = TextureLodMode::Finest;
+    auto finest = renderWithEmbree(scene, o, nullptr, {});
+    ASSERT_TRUE(finest) << finest.message();
+    float apart = 0.0f;
+    for (uint32_t y = kTexels / 2 - 1; y <= kTexels / 2; ++y)
+        for (uint32_t x = kTexels / 2 - 1; x <= kTexels / 2; ++x) {
+            const float u = (float(x) + 0.5f) / kTexels, v = (float(y) + 0.5f) / kTexels;
+            const TextureSample level2 = sampleTexture(texture, u, v, 2.0f), level0 = sampleTexture(texture, u, v, 0.0f);
+            const float* a = &cones->albedo[3 * (size_t(y) * kTexels + x)];
+            const float* b = &finest->albedo[3 * (size_t(y) * kTexels + x)];
+            const float want[3] = {level2.r, level2.g, level2.b}, fine[3] = {level0.r, level0.g, level0.b};
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(a[c], want[c], 2e-3f) << "pixel " << x << "," << y << " channel " << c;
+                EXPECT_NEAR(b[c], fine[c], 1e-5f) << "pixel " << x << "," << y << " channel " << c;
+                apart = std::max(apart, std::fabs(want[c] - fine[c]));
+            }
+        }
+    EXPECT_GT(apart, 0.05f) << "levels 0 and 2 must differ for the test to tell them apart";
 }
 
 TEST(TextureRender, TheEmissiveMapIsTheRadianceSeenWithoutLight) {
@@ -120,11 +156,11 @@ TEST(TextureRender, MetallicRoughnessMapScalesTheFactors) {
     m.roughness = 0.6f;
     m.textures.slots[uint32_t(TextureSlot::MetallicRoughness)].texture = 0;
     const std::vector<DecodedTexture> textures{map};
-    const MaterialSample s = sampleMaterial(m, textures, {0.3f, 0.7f}, 0.0f);
+    const MaterialSample s = sampleMaterial(m, textures, {0.3f, 0.7f}, nullptr);
     EXPECT_NEAR(s.roughness, 0.6f * 128.0f / 255.0f, 1e-6f);
     EXPECT_NEAR(s.metallic, 0.8f * 64.0f / 255.0f, 1e-6f);
     EXPECT_EQ(s.baseColor.x, m.baseColor[0]);  // no base colour map: the factor
-    const MaterialSample plain = sampleMaterial(Material{}, textures, {0.3f, 0.7f}, 0.0f);
+    const MaterialSample plain = sampleMaterial(Material{}, textures, {0.3f, 0.7f}, nullptr);
     EXPECT_EQ(plain.roughness, 1.0f);
 }
 

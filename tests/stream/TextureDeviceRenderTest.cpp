@@ -100,6 +100,7 @@ TEST(TextureDeviceRender, TexelsLandOnThePixelsTheyCoverAsOnTheReference) {
         quadPackage("checker", mapped(false, false), {source(image, "checker.png", TextureWrap::Clamp, TextureEncoding::Srgb)});
     RenderOptions o = headOn(kTexels);
     o.aovs = kAovAlbedo;
+    o.textureLod = TextureLodMode::Finest;  // level 0: one texel a pixel (cones: the next test)
     auto device = test::renderVulkan(path, o, 256ull << 20);
     ASSERT_TRUE(device) << device.message();
     auto reference = test::renderEmbree(path, o);
@@ -113,6 +114,46 @@ TEST(TextureDeviceRender, TexelsLandOnThePixelsTheyCoverAsOnTheReference) {
                 EXPECT_NEAR(device->albedo[3 * p + c], reference->albedo[3 * p + c], 2e-5f)
                     << "pixel " << x << "," << y << " channel " << c;
             }
+}
+
+// Ray cones (docs/RENDERING.md, "Texture level of detail"): a 32 x 32 texture over an 8 x 8
+// image asks for level 2 at the pixel centres (the reference's test, TextureRender.ConesPick...):
+// the device's albedo equals the reference's at every pixel, and the beauty (cones through
+// bounces) too; the four centre pixels show level 2, not level 0.
+TEST(TextureDeviceRender, ConesPickTheLevelsTheReferencePicks) {
+    constexpr uint32_t kSide = 8;
+    const Rgba8Image image = test::noiseImage(4 * kSide, 4 * kSide, 31);
+    const TextureSource texture = source(image, "cones.png", TextureWrap::Clamp, TextureEncoding::Srgb);
+    const std::string path = quadPackage("cones", mapped(false, false), {texture});
+    auto decoded = decodeTexture(texture);
+    ASSERT_TRUE(decoded) << decoded.message();
+    RenderOptions o = headOn(kSide);
+    o.aovs = kAovAlbedo;
+    o.samplesPerPixel = 4;
+    o.maxDepth = 2;
+    auto device = test::renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(device) << device.message();
+    auto reference = test::renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    float largest = 0.0f, apart = 0.0f;
+    for (size_t i = 0; i < device->albedo.size(); ++i)
+        largest = std::max(largest, std::fabs(device->albedo[i] - reference->albedo[i]));
+    EXPECT_LE(largest, 2e-5f);
+    for (uint32_t y = kSide / 2 - 1; y <= kSide / 2; ++y)
+        for (uint32_t x = kSide / 2 - 1; x <= kSide / 2; ++x) {
+            const float u = (float(x) + 0.5f) / kSide, v = (float(y) + 0.5f) / kSide;
+            const TextureSample level2 = sampleTexture(*decoded, u, v, 2.0f), level0 = sampleTexture(*decoded, u, v, 0.0f);
+            const float want[3] = {level2.r, level2.g, level2.b}, fine[3] = {level0.r, level0.g, level0.b};
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(device->albedo[3 * (size_t(y) * kSide + x) + c], want[c], 2e-3f)
+                    << "pixel " << x << "," << y << " channel " << c;
+                apart = std::max(apart, std::fabs(want[c] - fine[c]));
+            }
+        }
+    EXPECT_GT(apart, 0.05f) << "levels 0 and 2 must differ for the test to tell them apart";
+    const double rmse = test::relativeRmse(device->rgb, reference->rgb);
+    std::printf("cones: device vs Embree relative RMSE %.2e\n", rmse);
+    EXPECT_LE(rmse, 1e-5);
 }
 
 // Base colour, metallic-roughness (transformed UVs, repeated) and emissive maps: the device's
@@ -154,6 +195,7 @@ TEST(TextureDeviceRender, TexturesFourTimesThePoolRenderTheSame) {
     ASSERT_EQ(pages, 99u);
     RenderOptions o = lit(64, 4);  // every page of level 0 in view
     o.aovs = kAovAlbedo;
+    o.textureLod = TextureLodMode::Finest;  // level 0 everywhere: the most pages (cones below)
     StreamingStats ample, tight;
     auto inCore = test::renderVulkan(path, o, 256ull << 20, &ample);
     ASSERT_TRUE(inCore) << inCore.message();
@@ -174,6 +216,19 @@ TEST(TextureDeviceRender, TexturesFourTimesThePoolRenderTheSame) {
     EXPECT_LE(tight.peakDeviceBytes, budget);
     EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
     EXPECT_EQ(std::memcmp(paged->albedo.data(), inCore->albedo.data(), inCore->albedo.size() * 4), 0);
+    // Ray cones read the coarser levels the footprints ask for: fewer pages, the same image paged
+    // as in core.
+    o.textureLod = TextureLodMode::Cone;
+    StreamingStats coneAmple, coneTight;
+    auto coneInCore = test::renderVulkan(path, o, 256ull << 20, &coneAmple);
+    ASSERT_TRUE(coneInCore) << coneInCore.message();
+    auto conePaged = test::renderVulkan(path, o, budget, &coneTight);
+    ASSERT_TRUE(conePaged) << conePaged.message();
+    std::printf("cones: %llu page loads (level 0: %llu)\n", (unsigned long long)coneTight.texturePageLoads,
+                (unsigned long long)tight.texturePageLoads);
+    EXPECT_LT(coneTight.texturePageLoads * 4, tight.texturePageLoads);
+    EXPECT_EQ(std::memcmp(conePaged->rgb.data(), coneInCore->rgb.data(), coneInCore->rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(conePaged->albedo.data(), coneInCore->albedo.data(), coneInCore->albedo.size() * 4), 0);
 }
 
 // A normal map of random tilts (scaled by 0.8, its UVs turned and scaled) over a base colour map:

@@ -77,4 +77,14 @@ vec2 interpolateUv(vec2 uv0, vec2 uv1, vec2 uv2, float u, float v) {
     return sum;
 }
 
+// core/RayCone.h's worldPerUvArea from the triangle's unnormalized geometric normal (e1 x e2) and
+// its corners' UVs: |e1 x e2| / |duv1 x duv2|, 0 when the UVs span no area or it is not finite.
+float worldPerUvArea(vec3 crossE, vec2 uv0, vec2 uv1, vec2 uv2) {
+    const float world = length(crossE);
+    const vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+    const float uv = abs(d1.x * d2.y - d1.y * d2.x);
+    const float ratio = world / uv;
+    return uv > 0.0 && !isinf(ratio) && !isnan(ratio) ? ratio : 0.0;
+}
+
 #endif  // VASTRAY_ATTRIBUTES_GLSL

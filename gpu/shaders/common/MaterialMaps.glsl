@@ -1,5 +1,5 @@
 // A material's maps at a hit: the GLSL twin of core/PathShading.h's sampleMaterial (the same
-// steps: the UV transform, the finest level, glTF's channels), reading pages through the render's
+// steps: the UV transform, the ray cone's level, glTF's channels), reading pages through the render's
 // page table (common/Texture.glsl). Paged textures: a hit whose page is absent asks for it.
 // Needs common/WavefrontPrelude.glsl, common/Attributes.glsl and common/Texture.glsl.
 #ifndef VASTRAY_MATERIAL_MAPS_GLSL
@@ -28,14 +28,32 @@ bool hasMaps(WavefrontMaterial m) {
            m.emissiveMap != kNoGpuTexture || m.normalMap != kNoGpuTexture;
 }
 
-// Texture `texture` at uv mapped by t, level 0 (the reference's level: its pixel samples filter
-// the texture); *entry: the page it reads; `absent` set when that page is not resident.
-vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, inout bool absent, out uint entry) {
+// A hit's footprint for the maps' levels (core/RayCone.h MapFootprint): the triangle's world
+// area per unit of UV area (hitUv's third float), the ray cone's width at the hit and the cosine
+// between the ray and the geometric normal. A zero footprint samples level 0.
+struct MapFootprint {
+    float worldPerUv;
+    float coneWidth;
+    float cosTheta;
+};
+
+// The pages a shading reads: two levels of each of the four maps at most.
+const uint kMaxMapPages = 8u;
+
+// Texture `texture` at uv mapped by t, at the level the footprint asks for (core/RayCone.h
+// mapLod); the page-table entries of the pages it reads are appended to pages[count], and
+// `absent` is set when one of them is not resident.
+vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, MapFootprint footprint, inout bool absent,
+             inout uint pages[kMaxMapPages], inout uint count) {
     const GpuTexture g = GpuTextureArray(p.textures).v[texture];
     const vec2 at = mapUv(t, uv);
-    entry = texturePageEntry(g, 0u, at);
+    const float texelArea = abs(t[0] * t[4] - t[1] * t[3]) * float(g.width) * float(g.height);
+    const float lod = clampedLod(g, coneLod(texelArea, footprint.worldPerUv, footprint.coneWidth, footprint.cosTheta));
+    const uint level = uint(lod);
+    pages[count++] = texturePageEntry(g, level, at);
+    if (lod > float(level)) pages[count++] = texturePageEntry(g, level + 1u, at);
     uint missing = kTexturePageAbsent;
-    const vec4 value = sampleTexture(g, at, 0.0, TextureWords(p.texturePages), TextureWords(p.texturePool), missing);
+    const vec4 value = sampleTexture(g, at, lod, TextureWords(p.texturePages), TextureWords(p.texturePool), missing);
     absent = absent || missing != kTexturePageAbsent;
     return value;
 }
@@ -43,18 +61,21 @@ vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, inout bool ab
 // v (the factors) times the material's maps at uv. false: a page it reads is absent (paged
 // textures; v is then not to be used): every page it reads is asked for in textureDemand (the
 // absent ones to be loaded, the resident ones to be kept while it waits: DeviceTextures::page).
-bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, inout MaterialValues v) {
+bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, MapFootprint footprint, inout MaterialValues v) {
     bool absent = false;
-    uint base = kNoGpuTexture, metalRough = kNoGpuTexture, emissive = kNoGpuTexture, normal = kNoGpuTexture;
-    if (m.baseColorMap != kNoGpuTexture) v.baseColor *= readMap(p, m.baseColorMap, m.baseColorUv, uv, absent, base).rgb;
+    uint pages[kMaxMapPages];
+    uint count = 0u;
+    if (m.baseColorMap != kNoGpuTexture)
+        v.baseColor *= readMap(p, m.baseColorMap, m.baseColorUv, uv, footprint, absent, pages, count).rgb;
     if (m.metallicRoughnessMap != kNoGpuTexture) {
-        const vec4 t = readMap(p, m.metallicRoughnessMap, m.metallicRoughnessUv, uv, absent, metalRough);
+        const vec4 t = readMap(p, m.metallicRoughnessMap, m.metallicRoughnessUv, uv, footprint, absent, pages, count);
         v.roughness *= t.g;
         v.metallic *= t.b;
     }
-    if (m.emissiveMap != kNoGpuTexture) v.emissive *= readMap(p, m.emissiveMap, m.emissiveUv, uv, absent, emissive).rgb;
+    if (m.emissiveMap != kNoGpuTexture)
+        v.emissive *= readMap(p, m.emissiveMap, m.emissiveUv, uv, footprint, absent, pages, count).rgb;
     if (m.normalMap != kNoGpuTexture) {
-        const vec4 t = readMap(p, m.normalMap, m.normalUv, uv, absent, normal);
+        const vec4 t = readMap(p, m.normalMap, m.normalUv, uv, footprint, absent, pages, count);
         precise float x = (2.0 * t.r - 1.0) * m.normalScale;
         precise float y = (2.0 * t.g - 1.0) * m.normalScale;
         precise float z = 2.0 * t.b - 1.0;
@@ -62,10 +83,7 @@ bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, inout M
     }
     if (!absent || p.textureDemand == 0ul) return !absent;
     RwUintArray demand = RwUintArray(p.textureDemand);
-    if (base != kNoGpuTexture) atomicAdd(demand.v[base], 1u);
-    if (metalRough != kNoGpuTexture) atomicAdd(demand.v[metalRough], 1u);
-    if (emissive != kNoGpuTexture) atomicAdd(demand.v[emissive], 1u);
-    if (normal != kNoGpuTexture) atomicAdd(demand.v[normal], 1u);
+    for (uint i = 0u; i < count; ++i) atomicAdd(demand.v[pages[i]], 1u);
     return false;
 }
 
@@ -86,7 +104,20 @@ vec3 bentNormal(WavefrontParams p, uint j, uvec4 hitNormal, vec3 facing, vec3 lo
 // The hit's texture coordinates (WavefrontParams::hitUv) of ray `ray`.
 vec2 hitUvOf(WavefrontParams p, uint ray) {
     FloatArray uvs = FloatArray(p.hitUv);
-    return vec2(uvs.v[2u * ray], uvs.v[2u * ray + 1u]);
+    return vec2(uvs.v[kHitUvFloats * ray], uvs.v[kHitUvFloats * ray + 1u]);
+}
+
+// core/RayCone.h's scatterSpread: maxSpread * min(1, 1 / (pi * pdf)), maxSpread for a pdf that is
+// not a positive finite number.
+float scatterSpread(float pdf, float maxSpread) {
+    if (!(pdf > 0.0) || isinf(pdf)) return maxSpread;
+    return maxSpread * min(1.0, 1.0 / (kPi * pdf));
+}
+
+// Path j's footprint at its closest hit (ray direction `direction`, unit; `normal` the unit
+// geometric normal, either side) for a cone of width coneWidth there.
+MapFootprint hitFootprint(WavefrontParams p, uint j, vec3 direction, vec3 normal, float coneWidth) {
+    return MapFootprint(FloatArray(p.hitUv).v[kHitUvFloats * j + 2u], coneWidth, dot(direction, normal));
 }
 
 #endif  // VASTRAY_MATERIAL_MAPS_GLSL

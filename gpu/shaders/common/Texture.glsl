@@ -70,11 +70,24 @@ vec4 bilinearTexture(GpuTexture t, uint level, vec2 uv, TextureWords pageTable, 
     return (1.0 - fx) * (1.0 - fy) * a + fx * (1.0 - fy) * b + (1.0 - fx) * fy * c + fx * fy * d;
 }
 
+// core/Texture.h's textureLod: 0.5 log2(texelArea / worldArea) + log2(coneWidth / |cos|), 0 for
+// degenerate inputs.
+float coneLod(float texelArea, float worldArea, float coneWidth, float cosTheta) {
+    const float c = abs(cosTheta);
+    if (!(texelArea > 0.0) || !(worldArea > 0.0) || !(coneWidth > 0.0) || !(c > 1e-6)) return 0.0;
+    const float lod = 0.5 * log2(texelArea / worldArea) + log2(coneWidth / c);
+    return (isnan(lod) || isinf(lod)) ? 0.0 : lod;
+}
+
+// lod clamped to the texture's levels (a non-finite one: 0), as sampleTexture clamps it.
+float clampedLod(GpuTexture t, float lod) {
+    return (isnan(lod) || isinf(lod)) ? 0.0 : clamp(lod, 0.0, float(t.levelCount - 1u));
+}
+
 // Trilinear at level of detail `lod` (clamped to the texture's levels). `missing` is left as it
 // was when every page was there.
 vec4 sampleTexture(GpuTexture t, vec2 uv, float lod, TextureWords pageTable, TextureWords pool, inout uint missing) {
-    const float top = float(t.levelCount - 1u);
-    lod = (isnan(lod) || isinf(lod)) ? 0.0 : clamp(lod, 0.0, top);
+    lod = clampedLod(t, lod);
     const uint l0 = uint(lod);
     const float f = lod - float(l0);
     const vec4 a = bilinearTexture(t, l0, uv, pageTable, pool, missing);

@@ -85,6 +85,12 @@ const uint kWaveStreamed = 1u;
 // colour and the AOVs at most). The host sizes waves from the budget with these.
 const uint kBytesPerPath = 16u + 2u * (16u + 8u) + 3u * 16u + 3u * 16u + 8u + 2u * 2u * 4u + 2u * 4u + (8u + 2u * 4u) / 2u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u + 8u;
+// Per path besides, when the render reads the scene's texture coordinates: the closest hit's UV
+// and its triangle's world area per unit of UV area (WavefrontParams::hitUv, kHitUvFloats
+// floats); with normal maps too, the hit's UV derivatives (hitFrame, 6 floats).
+const uint kHitUvFloats = 3u;
+const uint kBytesPerPathUv = 4u * kHitUvFloats;
+const uint kBytesPerPathFrame = 24u;
 
 // A material as the shading kernel reads it (vastray::Material).
 struct WavefrontMaterial {
@@ -165,7 +171,8 @@ struct WavefrontParams {
     uint64_t ahead;        // per chunk: parked rays (of the last walk pass) that wait for one of its
                            // cells besides the first one they wait for
     uint64_t materials;    // WavefrontMaterial per material
-    uint64_t rayOrigin;    // vec4 per path: the origin both its rays start from (w unused): a shadow
+    uint64_t rayOrigin;    // vec4 per path: the origin both its rays start from, and (w) its ray
+                           // cone's width there (core/RayCone.h; 0 without textures): a shadow
                            // ray and the bounce start at the same scattering event
     uint64_t rayDirection; // vec4 per ray: direction, tMax (the walk starts at t = 0)
     uint64_t rayState;     // uvec2: walk flags (kHitFound, kHitFrontFacing, kRayPending,
@@ -178,7 +185,7 @@ struct WavefrontParams {
                            // channels; white without vertex colours)
     uint64_t throughput;   // vec4 per path: throughput, and the solid-angle density of the bounce
                            // that started its closest-hit ray (environment maps' MIS weight)
-    uint64_t radiance;     // vec4 per path
+    uint64_t radiance;     // vec4 per path: radiance, and (w) its ray cone's spread angle (0 without textures)
     uint64_t pendingSun;   // vec4 per path: next-event estimation's light (the sun's or the
                            // environment map's), added if the shadow ray is unblocked
     uint64_t pathInfo;     // uvec2 per path: pixel, and its word: flags, the bounce of its closest-hit
@@ -217,8 +224,10 @@ struct WavefrontParams {
                            // outputs (ring slot * tilePixels + pixel in the tile)
     uint64_t stream;       // streamed waves (table buffer): StreamWindow
     uint64_t lights;       // WavefrontLight per punctual light (lightCount)
-    uint64_t hitUv;        // vec2 per path: texture coordinates at its closest hit, written when the
-                           // hit's slot holds UVs (kSlotUvs); 0 when the render reads none
+    uint64_t hitUv;        // kHitUvFloats floats per path: texture coordinates at its closest hit and
+                           // its triangle's world area per unit of UV area (core/RayCone.h
+                           // worldPerUvArea), written when the hit's slot holds UVs (kSlotUvs); 0
+                           // when the render reads none
     uint64_t outUv;        // float[2] per tile pixel: the uv AOV
     uint64_t textures;        // the render's textures (gpu/src/DeviceTextures.h): GpuTexture per texture,
     uint64_t texturePages;    // the page table (a pool slot, or kTexturePageAbsent, per page of every
@@ -261,6 +270,8 @@ struct WavefrontParams {
     uint lightCount;        // punctual lights (0: none)
     float punctualPick;     // the probability that next-event estimation picks a punctual light
                             // (punctualPickProbability; 0: never)
+    float cameraSpread;     // ray cones (core/RayCone.h): a camera ray's spread angle and the most a
+    float scatterSpread;    // scattering event adds; both 0 with --texture-lod finest (level 0)
     uint padding;
 };
 

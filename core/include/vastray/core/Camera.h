@@ -69,10 +69,13 @@ public:
     Vec3f forward() const { return forward_; }
     Vec3f right() const { return right_; }
     Vec3f up() const { return up_; }
+    // A camera ray's cone spread (core/RayCone.h): the angle of a pixel at the image's centre,
+    // 2 tan(fov / 2) / height.
+    float coneSpread() const { return spread_; }
 
 private:
     Vec3f eye_, forward_, right_, up_;
-    float width_, height_;
+    float width_, height_, spread_;
 };
 
 // Records in `image` the matrices of `camera` rendering a frameWidth x frameHeight frame

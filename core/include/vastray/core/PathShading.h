@@ -10,6 +10,7 @@
 #include "vastray/core/Mesh.h"
 #include "vastray/core/NormalMap.h"
 #include "vastray/core/Random.h"
+#include "vastray/core/RayCone.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/core/Texture.h"
 #include "vastray/core/Vec3.h"
@@ -58,7 +59,8 @@ HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const u
 // channels, the emissive factor times the emissive map, and the normal map's tangent-space
 // normal (linear texels, decodeNormalTexel with the material's normal scale; makeSurfacePoint
 // bends the shading normal with it: "Normal maps"). `uv` is the hit's; each map's
-// KHR_texture_transform applies to it. A material without maps gives its factors. Occlusion
+// KHR_texture_transform applies to it. Each map is sampled at the level the hit's `footprint`
+// asks for (mapLod: "Texture level of detail"), or at level 0 when footprint is null. A material without maps gives its factors. Occlusion
 // maps are stored but not applied, by design: a path tracer finds the occlusion itself, and a
 // baked map would count it twice (as Mitsuba 3 and Cycles do, they are ignored).
 struct MaterialSample {
@@ -69,7 +71,7 @@ struct MaterialSample {
     Vec3f tangentNormal{0, 0, 1};     // its decoded texel, when normalMapped
 };
 MaterialSample sampleMaterial(const Material& material, std::span<const DecodedTexture> textures,
-                              std::array<float, 2> uv, float lod);
+                              std::array<float, 2> uv, const MapFootprint* footprint);
 // The factors alone.
 MaterialSample materialFactors(const Material& material);
 

@@ -12,6 +12,7 @@
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/Light.h"
+#include "vastray/core/RayCone.h"
 #include "vastray/core/Result.h"
 
 namespace vastray {
@@ -85,6 +86,9 @@ struct RenderOptions {
     uint32_t aovs = kAovNone;
     uint32_t threads = 0;     // 0: all cores
     float aoDistance = 0.0f;  // occlusion range of `ao`; 0: unbounded
+    // How the maps' level of detail is picked (core/RayCone.h; docs/RENDERING.md "Texture level
+    // of detail"): ray cones, or level 0 everywhere.
+    TextureLodMode textureLod = TextureLodMode::Cone;
     bool frameScene = true;   // ignore `camera` and frame the scene bounds
     // Render only these pixels of the width x height frame (same camera, same per-pixel random
     // numbers, so the pixels equal the whole frame's bit for bit); none: the whole frame.
