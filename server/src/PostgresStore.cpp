@@ -491,7 +491,7 @@ public:
     }
 
     Status failTask(const Lease& lease, const std::string& owner, const std::string& reason,
-                    uint32_t maxAttempts) override {
+                    uint32_t maxAttempts, bool permanent) override {
         std::lock_guard<std::mutex> lock(mutex_);
         VASTRAY_TRY(run("BEGIN", Params()));
         auto freed = run(
@@ -511,8 +511,10 @@ public:
         if (!job) return rollback(job.status()).status();
         if (isFinal(job->state())) return run("ROLLBACK", Params()).status();
         job->add_attempt_errors(reason);
-        if (uint64_t(failures) >= maxAttempts) {
-            if (Status failed = failJobLocked(*job, lease, failures, maxAttempts); !failed) return failed;
+        if (permanent || uint64_t(failures) >= maxAttempts) {
+            if (Status failed = failJobLocked(*job, lease, failures, maxAttempts, permanent ? reason : "");
+                !failed)
+                return failed;
             return Status::ok();
         }
         if (Status stored = storeJobLocked(*job); !stored) return rollback(stored).status();
@@ -573,10 +575,13 @@ private:
 
     // In the open transaction: the job FAILED after `failures` failed attempts of one task (its
     // task freed, so that nothing leases it: the job is final), committed.
-    Status failJobLocked(v1::Job& job, const Lease& lease, int64_t failures, uint32_t maxAttempts) {
+    // `error`: the job's error; empty: the attempts that failed (failedAttemptsMessage).
+    Status failJobLocked(v1::Job& job, const Lease& lease, int64_t failures, uint32_t maxAttempts,
+                         const std::string& error = "") {
         job.set_state(v1::JOB_STATE_FAILED);
-        job.set_error(failedAttemptsMessage(job, maxAttempts) + " (" + taskName(lease.tile) + " failed " +
-                      std::to_string(failures) + " times)");
+        job.set_error(!error.empty() ? error
+                                     : failedAttemptsMessage(job, maxAttempts) + " (" + taskName(lease.tile) +
+                                           " failed " + std::to_string(failures) + " times)");
         *job.mutable_end_time() = nowTimestamp();
         auto freed = run("UPDATE tasks SET state = $3, owner = NULL, lease_until = NULL, failures = $4 "
                          "WHERE job_id = $1 AND tile = $2",

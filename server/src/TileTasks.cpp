@@ -146,7 +146,10 @@ void Service::runTask(Worker& worker, const TaskStore::Lease& lease) {
     if (!outcome.isOk()) {
         const std::string reason = taskName(lease.tile) + " attempt " + std::to_string(lease.attempt) + " (replica " +
                                    replicaId_ + "): " + outcome.message();
-        if (Status failed = stores_.tasks->failTask(lease, replicaId_, reason, options_.maxAttempts); !failed)
+        // As finishJob: only an internal error may not recur; any other fails the job now.
+        const bool permanent = outcome.code() != StatusCode::Internal;
+        if (Status failed = stores_.tasks->failTask(lease, replicaId_, reason, options_.maxAttempts, permanent);
+            !failed)
             std::fprintf(stderr, "vastray serve: %s: %s\n", name.c_str(), failed.message().c_str());
         std::lock_guard<std::mutex> lock(mutex_);
         notifyChangeLocked();

@@ -259,6 +259,38 @@ TEST_F(ReplicasTest, ATileThatKeepsFailingFailsTheJobAfterMaxAttempts) {
     EXPECT_EQ(client(0).Get("/healthz")->status, 200);
 }
 
+// A tile refused for the job's request (a memory_budget_bytes below the scene's minimum) would be
+// refused again: the job is FAILED at that first attempt (the default --max-attempts is 3), with
+// the tile's reason as its error, and nothing is left leased.
+TEST_F(ReplicasTest, ATileRefusedForItsBudgetFailsTheJobAtOnce) {
+    ASSERT_FALSE(startReplica(0).empty());
+    auto put = client(0).Put("/v1/scenes?name=sphere.ply", readBytes(spherePath_), "application/octet-stream");
+    ASSERT_TRUE(put && put->status == 200);
+    json body = smallJob(json::parse(put->body)["id"]);
+    body["tiles"] = {2, 1};
+    body["memory_budget_bytes"] = "65536";
+    auto res = client(0).Post("/v1/jobs", body.dump(), "application/json");
+    ASSERT_TRUE(res && res->status == 202) << (res ? res->body : "no response");
+    const std::string jobId = json::parse(res->body)["id"];
+    json job;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < deadline) {
+        job = json::parse(client(0).Get(("/v1/jobs/" + jobId).c_str())->body);
+        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ASSERT_EQ(job["state"], "JOB_STATE_FAILED") << job.dump();
+    EXPECT_EQ(job["attempts"], 1) << job.dump();
+    EXPECT_EQ(job["attempt_errors"].size(), 1u) << job.dump();
+    const std::string error = job.value("error", "");
+    EXPECT_EQ(error.find("tile "), 0u) << error;
+    EXPECT_NE(error.find(" attempt 1 (replica "), std::string::npos) << error;
+    EXPECT_NE(error.find("memory_budget_bytes 64.0 KiB is below this scene's minimum of "), std::string::npos)
+        << error;
+    EXPECT_EQ(sql("SELECT count(*) FROM tasks WHERE job_id = '" + jobId + "' AND state = 1"), "0")
+        << "nothing leased once the job failed";
+}
+
 // Replicas' queue is the tasks table (their vastray_jobs_queued stays 0): vastray_tasks_waiting
 // counts, on every replica, the tiles of all jobs that a replica could lease now: waiting, or
 // leased with an expired lease; not those leased and held, done, of a cancelled job, nor the

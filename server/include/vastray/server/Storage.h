@@ -145,8 +145,10 @@ public:
                                      const v1::Job& finished) = 0;
     // A failed attempt of a held task: `reason` is appended to the job's attempt_errors and the
     // task is free again, or, at `maxAttempts` failed attempts of the task, the job is FAILED.
+    // `permanent`: the attempt failed as any attempt would (an error of the request: its budget,
+    // its scene gone), so the job is FAILED now with `reason` as its error.
     virtual Status failTask(const Lease& lease, const std::string& owner, const std::string& reason,
-                            uint32_t maxAttempts) = 0;
+                            uint32_t maxAttempts, bool permanent) = 0;
     // The tiles a replica could lease now, over every job in the store: waiting, or leased with
     // an expired lease, of QUEUED and RUNNING jobs. Assemble tasks are not counted (they wait
     // for tiles, not for a replica). The queue depth that autoscaling reads (vastray_tasks_waiting).
