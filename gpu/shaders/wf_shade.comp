@@ -93,7 +93,9 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 throughput = carried.xyz;
         const uint bounce = nextBounce, pixel = info.x, sampleIndex = pathSample(info.y);
         const bool hitFound = (UVec2Array(p.rayState).v[j].x & kHitFound) != 0u;
-        // Whole vectors are loaded: lavapipe read .w of `Vec4Array(...).v[j].w` as .x here.
+        // Whole vectors are loaded once: Mesa 22's lavapipe read `Vec4Array(a).v[j].w` as .x after a
+        // load of `Vec4Array(a).v[j].xyz` (the SPIR-V asks for component 3).
+        const vec4 hit = Vec4Array(p.hitPosition).v[j];
         const vec4 rayStart = Vec4Array(p.rayOrigin).v[j];
         const float coneStart = kTextures ? rayStart.w : 0.0;
         // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
@@ -108,8 +110,8 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         if (kVolumes && park.phase == kParkTransmittance)
             scattered = park.found, tCollision = park.tCollision, which = park.which;
         else if (kVolumes && !ao)
-            scattered = sampleVolumeCollision(p, Vec4Array(p.rayOrigin).v[j].xyz, direction,
-                                              hitFound ? Vec4Array(p.hitPosition).v[j].w : kInfinity, rnd, tCollision,
+            scattered = sampleVolumeCollision(p, rayStart.xyz, direction,
+                                              hitFound ? hit.w : kInfinity, rnd, tCollision,
                                               which, park);
         // The scattering event's point, and what it does with the path (albedo, phase or bounce).
         vec3 origin, albedo, light, toLight = vec3(p.sunX, p.sunY, p.sunZ), n = vec3(0.0), ns = vec3(0.0);
@@ -123,7 +125,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0);
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
-            origin = Vec4Array(p.rayOrigin).v[j].xyz + direction * tCollision;
+            origin = rayStart.xyz + direction * tCollision;
             if (kTextures) coneWidth = coneStart + spread * tCollision;
             albedo = vec3(v.albedoR, v.albedoG, v.albedoB);
             g = v.anisotropy;
@@ -150,7 +152,6 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 radiance += throughput * skyRadiance(p, direction);
         } else {
             n = facingNormal(uintBitsToFloat(hitNormal.xyz), direction);
-            const vec4 hit = Vec4Array(p.hitPosition).v[j];
             origin = offsetRayOrigin(hit.xyz, n);
             if (kTextures) coneWidth = coneStart + spread * hit.w;
             if (bounce == 0u) flags |= kPathCameraHit;
