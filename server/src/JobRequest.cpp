@@ -4,11 +4,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <set>
 
 #include "vastray/core/Camera.h"
 #include "vastray/core/EnvironmentMap.h"
+#include "vastray/core/RayCone.h"
 #include "vastray/server/Sha256.h"
 
 namespace vastray::server {
@@ -93,6 +95,14 @@ ServiceStatus normalizeEnvironment(v1::SubmitJobRequest& r) {
     return {};
 }
 
+// SubmitJobRequest.texture_lod, as `vastray render --texture-lod` names the modes. "" is cone:
+// requests stored before the field existed render as they did then (cones were the default).
+std::optional<TextureLodMode> parseTextureLod(const std::string& name) {
+    if (name.empty() || name == textureLodModeName(TextureLodMode::Cone)) return TextureLodMode::Cone;
+    if (name == textureLodModeName(TextureLodMode::Finest)) return TextureLodMode::Finest;
+    return std::nullopt;
+}
+
 ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
     if (r.scene_id().empty()) return invalidArgument("scene_id", "required");
     if (!isSha256Hex(r.scene_id())) return invalidArgument("scene_id", "expected 64 lowercase hex digits");
@@ -104,6 +114,9 @@ ServiceStatus normalizeRender(v1::SubmitJobRequest& r) {
         return invalidArgument("integrator", "'" + r.integrator() + "': expected path or ao");
     if (!r.has_max_depth()) r.set_max_depth(kDefaultMaxDepth);
     if (auto s = checkRange("max_depth", r.max_depth(), 0, kMaxDepthLimit); !s) return s;
+    if (!parseTextureLod(r.texture_lod()))
+        return invalidArgument("texture_lod", "'" + r.texture_lod() + "': expected cone or finest");
+    if (r.texture_lod().empty()) r.set_texture_lod(textureLodModeName(TextureLodMode::Cone));
     if (r.up_axis().empty()) r.set_up_axis("y");
     if (r.up_axis() != "y" && r.up_axis() != "z")
         return invalidArgument("up_axis", "'" + r.up_axis() + "': expected y or z");
@@ -178,6 +191,9 @@ Result<RenderOptions> renderOptionsOf(const v1::SubmitJobRequest& r) {
     options.integrator = *integrator;
     options.maxDepth = r.max_depth();
     options.seed = r.seed();
+    auto textureLod = parseTextureLod(r.texture_lod());
+    if (!textureLod) return Status::error("texture_lod: '" + r.texture_lod() + "': expected cone or finest");
+    options.textureLod = *textureLod;
     std::string aovs;
     for (const std::string& aov : r.aovs()) aovs += (aovs.empty() ? "" : ",") + aov;
     auto flags = parseAovList(aovs);
