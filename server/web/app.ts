@@ -349,6 +349,7 @@ function renderRequest(): object {
     width: Number(input("width").value), height: Number(input("height").value),
     spp: Number(input("spp").value), max_depth: Number(input("max-depth").value),
     integrator: ($("integrator") as HTMLSelectElement).value,
+    texture_lod: selected("texture-lod"),
     memory_budget_bytes: String(Math.round(Number(input("budget").value) * 1048576)),
     aovs, ...lightingRequest(), ...cameraRequest(),
   };

@@ -401,9 +401,10 @@ class PageTest:
             fail(f"the job the form submitted carries {request}, expected {expected} and no {list(absent)}")
 
     def lit_job(self, scene_id):
-        """Up axis z, a sun of its own, the scene's lights off and an eye/target camera, all set from
-        the keyboard; Tab reaches only the boxes of the chosen sun and camera."""
+        """Finest texture levels, up axis z, a sun of its own, the scene's lights off and an eye/target
+        camera, all set from the keyboard; Tab reaches only the boxes of the chosen sun and camera."""
         self.fill(scene_id, 64, 64, 2)
+        self.choose("texture-lod", "finest")
         self.driver.find_element(By.CSS_SELECTOR, "#light-camera summary").send_keys(Keys.ENTER)
         self.wait(lambda: self.js("return document.getElementById('light-camera').open"),
                   "Enter on 'lighting and camera' to open it", 5)
@@ -430,7 +431,7 @@ class PageTest:
         self.stored_request(job_id, {
             "up_axis": "z", "sun": {"direction": [1, 2, 0.5], "intensity": 7.5}, "no_lights": True,
             "camera": {"eye": [0, -3, 1], "target": [0, 0, 0.25], "up": [0, 0, 1], "fov_y_degrees": 50},
-            "scene_camera": ""})
+            "scene_camera": "", "texture_lod": "finest"})
         final = ("JOB_STATE_SUCCEEDED", "JOB_STATE_FAILED", "JOB_STATE_CANCELLED")
         self.wait(lambda: self.card(job_id).get_attribute("data-state") in final, "the lit job to end", 120)
         if self.card(job_id).get_attribute("data-state") != "JOB_STATE_SUCCEEDED":
@@ -600,6 +601,7 @@ class PageTest:
         # chunkid and cost exist only in the streaming (vulkan) renderer.
         aovs = ["depth", "normal", "albedo"] + (["chunkid", "cost"] if backend == "vulkan" else [])
         job_id = self.render_and_watch(scene_id, aovs)
+        self.stored_request(job_id, {"texture_lod": "cone"})  # the select's first option
         self.view_aovs(job_id, aovs)
         self.download(job_id)
         self.driver.save_screenshot(os.path.join(self.work, "page.png"))
