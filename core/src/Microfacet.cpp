@@ -230,7 +230,8 @@ std::string materialFactorProblem(const Material& m) {
                                                      {"roughness", m.roughness},
                                                      {"specular", m.specular},
                                                      {"clearcoat", m.clearcoat},
-                                                     {"clearcoat roughness", m.clearcoatRoughness}};
+                                                     {"clearcoat roughness", m.clearcoatRoughness},
+                                                     {"alpha cutoff", m.alphaCutoff}};
     for (const auto& [what, v] : factors)
         if (!(v >= 0.0f && v <= 1.0f)) {
             char text[64];

@@ -77,6 +77,15 @@ MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture>
     return s;
 }
 
+bool cutOut(const Material& m, std::span<const DecodedTexture> textures, std::array<float, 2> uv) {
+    if (!(m.alphaCutoff > 0.0f)) return false;
+    const TextureBinding& b = m.textures.slots[uint32_t(TextureSlot::BaseColor)];
+    if (b.texture == kNoTexture || b.texture >= textures.size()) return false;
+    float u = 0.0f, v = 0.0f;
+    applyUvTransform(b.transform, uv[0], uv[1], u, v);
+    return m.baseColor[3] * sampleTexture(textures[b.texture], u, v, 0.0f).a < m.alphaCutoff;
+}
+
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material,
                               HitAttributes attributes, const MaterialSample* sample,
                               const UvDerivatives* uvDerivatives) {

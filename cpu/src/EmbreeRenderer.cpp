@@ -120,7 +120,7 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
 
     const Clock::time_point buildStart = Clock::now();
-    auto embree = EmbreeScene::build(scene.mesh);
+    auto embree = EmbreeScene::build(scene.mesh, scene.textures);
     if (!embree) return embree.status();
     const double buildSeconds = secondsSince(buildStart);
 

@@ -2,12 +2,15 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "vastray/core/PathShading.h"
 #include "vastray/core/VecMath.h"
+#include "vastray/core/VertexAttributes.h"
 
 namespace vastray {
 namespace {
@@ -18,6 +21,20 @@ struct TriangleData {
     std::vector<Vec3f> positions;
     std::vector<uint32_t> indices;
     std::vector<uint8_t> doubleSided;  // per triangle
+    // Cut-outs (only when a material has one): per triangle its material when that one cuts out,
+    // else kNoCutout; the UVs, materials and textures the alpha test reads.
+    static constexpr uint32_t kNoCutout = 0xFFFFFFFFu;
+    std::vector<uint32_t> cutoutMaterial;
+    std::vector<std::array<float, 2>> uvs;
+    std::vector<Material> materials;
+    std::span<const DecodedTexture> textures;
+
+    // Whether the hit at barycentrics (u, v) is cut out (core/PathShading.h cutOut).
+    bool cutAway(uint32_t triangle, float u, float v) const {
+        if (cutoutMaterial.empty() || cutoutMaterial[triangle] == kNoCutout) return false;
+        const uint32_t* c = &indices[3 * size_t(triangle)];
+        return cutOut(materials[cutoutMaterial[triangle]], textures, interpolateUv(uvs[c[0]], uvs[c[1]], uvs[c[2]], u, v));
+    }
 
     bool frontFacing(uint32_t triangle, Vec3f direction) const {
         const Vec3f v0 = positions[indices[3 * triangle]];
@@ -48,6 +65,10 @@ void intersectFilter(const RTCFilterFunctionNArguments* args) {
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
+        if (data->cutAway(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))) {
+            args->valid[i] = 0;
+            continue;
+        }
         if (data->frontFacing(triangle, rayDirection(args, i))) continue;
         args->valid[i] = 0;
         if (!data->doubleSided[triangle]) continue;
@@ -66,7 +87,8 @@ void occludedFilter(const RTCFilterFunctionNArguments* args) {
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
-        if (!data->doubleSided[triangle] && !data->frontFacing(triangle, rayDirection(args, i)))
+        if ((!data->doubleSided[triangle] && !data->frontFacing(triangle, rayDirection(args, i))) ||
+            data->cutAway(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
             args->valid[i] = 0;
     }
 }
@@ -138,7 +160,8 @@ Status EmbreeScene::Impl::attachGeometry() {
 EmbreeScene::EmbreeScene() : impl_(std::make_unique<Impl>()) {}
 EmbreeScene::~EmbreeScene() = default;
 
-Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh) {
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh,
+                                                        std::span<const DecodedTexture> textures) {
     if (mesh.triangleCount() > std::numeric_limits<uint32_t>::max() / 3)
         return Status::error("embree: " + std::to_string(mesh.triangleCount()) +
                              " triangles exceed 32-bit ids");
@@ -150,6 +173,19 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh
     for (uint64_t t = 0; t < mesh.triangleCount(); ++t) {
         const uint32_t m = mesh.materialOf(t);
         impl.triangles.doubleSided[t] = m < mesh.materials.size() ? mesh.materials[m].doubleSided : 1;
+    }
+    auto cuts = [&](const Material& m) {
+        const uint32_t map = m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture;
+        return m.alphaCutoff > 0.0f && map != kNoTexture && map < textures.size();
+    };
+    if (!mesh.uvs.empty() && std::any_of(mesh.materials.begin(), mesh.materials.end(), cuts)) {
+        TriangleData& d = impl.triangles;
+        d.uvs = mesh.uvs, d.materials = mesh.materials, d.textures = textures;
+        d.cutoutMaterial.resize(mesh.triangleCount());
+        for (uint64_t t = 0; t < mesh.triangleCount(); ++t) {
+            const uint32_t m = mesh.materialOf(t) < mesh.materials.size() ? mesh.materialOf(t) : 0;
+            d.cutoutMaterial[t] = cuts(mesh.materials[m]) ? m : TriangleData::kNoCutout;
+        }
     }
     impl.device = rtcNewDevice(nullptr);
     if (!impl.device)

@@ -24,17 +24,46 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "common/WavefrontPrelude.glsl"
+// Cut-outs (docs/RENDERING.md, "Cut-outs"): testTriangle (common/KdTraversal.glsl) asks cutAway,
+// defined below, about every hit it would keep.
+#define VASTRAY_CUTOUTS 1
+bool cutAway(uint tri, uvec3 corners, float u, float v);
 #include "common/KdTraversal.glsl"
 #include "common/Bvh4Traversal.glsl"
 #include "common/SlotTable.glsl"
 #include "common/Attributes.glsl"
 #include "common/NormalMap.glsl"
+#include "common/Texture.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
 // Specialization constants (Wavefront.cpp): what a render does not need is not compiled in.
 layout(constant_id = 0) const bool kCountCost = true;  // the cost AOV: cells and triangles traced per pixel
 layout(constant_id = 1) const bool kPaging = true;     // some chunk is not resident: rays may park
+layout(constant_id = 2) const bool kCutouts = false;   // some material is a cut-out (Material::alphaCutoff)
+
+// The slot whose chunk the walk traces (cutAway reads its materials and UVs).
+ChunkSlot cutoutSlot;
+
+// core/PathShading.h's cutOut for triangle `tri` of cutoutSlot's chunk (corners: its vertices)
+// at barycentrics (u, v): the material's base colour alpha times its map's alpha at level 0 below
+// its cutoff. The map's level-0 pages are pinned in the pool (DeviceTextures): never absent.
+bool cutAway(uint tri, uvec3 corners, float u, float v) {
+    if (!kCutouts || (cutoutSlot.flags & kSlotUvs) == 0u) return false;
+    ParamsRef params = ParamsRef(pc.params);
+    uint material = (cutoutSlot.flags & kSlotMaterialIds) != 0u ? UintArray(cutoutSlot.materialIds).v[tri] : 0u;
+    material = material < params.p.materialCount ? material : 0u;
+    const WavefrontMaterial m = MaterialArray(params.p.materials).v[material];
+    if (!(m.alphaCutoff > 0.0) || m.baseColorMap == kNoGpuTexture) return false;
+    FloatArray t = FloatArray(cutoutSlot.uvs);
+    const vec2 uv = interpolateUv(vec2(t.v[2u * corners.x], t.v[2u * corners.x + 1u]),
+                                  vec2(t.v[2u * corners.y], t.v[2u * corners.y + 1u]),
+                                  vec2(t.v[2u * corners.z], t.v[2u * corners.z + 1u]), u, v);
+    uint missing = kTexturePageAbsent;
+    const float alpha = sampleTexture(GpuTextureArray(params.p.textures).v[m.baseColorMap], mapUv(m.baseColorUv, uv), 0.0,
+                                      TextureWords(params.p.texturePages), TextureWords(params.p.texturePool), missing).a;
+    return missing == kTexturePageAbsent && m.baseAlpha * alpha < m.alphaCutoff;
+}
 
 bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, uint bestChunk) {
     if ((h.flags & kHitFound) == 0u) return false;
@@ -188,7 +217,9 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
                         RwUintArray(params.p.touched).v[chunk] = 1u;
                         const float tMinCell = cppMax(0.0, cellT0);
                         const float tMaxCell = cppMin(found ? bestT : tMax, cellT1);
-                        const TraceHit h = traverseBvh4(chunkView(slots.v[slot]), r, tMinCell, tMaxCell, anyHit);
+                        const ChunkSlot s = slots.v[slot];
+                        if (kCutouts) cutoutSlot = s;
+                        const TraceHit h = traverseBvh4(chunkView(s), r, tMinCell, tMaxCell, anyHit);
                         ++cells, traced = true;
                         triangles += h.trianglesTested;
                         if (anyHit ? (h.flags & kHitFound) != 0u : replaces(h, chunk, found, bestT, bestFront, bestChunk)) {

@@ -51,6 +51,24 @@ GpuTexture gpuTexture(const PackageTexture& t, uint32_t firstEntry) {
 
 }  // namespace
 
+std::vector<uint32_t> cutoutTextures(std::span<const Material> materials, uint64_t textureCount) {
+    std::vector<uint32_t> pinned;
+    for (const Material& m : materials) {
+        const uint32_t t = m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture;
+        if (m.alphaCutoff > 0.0f && t != kNoTexture && t < textureCount) pinned.push_back(t);
+    }
+    std::sort(pinned.begin(), pinned.end());
+    pinned.erase(std::unique(pinned.begin(), pinned.end()), pinned.end());
+    return pinned;
+}
+
+uint64_t pinnedPages(std::span<const PackageTexture> textures, std::span<const uint32_t> pinned) {
+    uint64_t pages = 0;
+    for (uint32_t t : pinned)
+        if (t < textures.size()) pages += textures[t].layout.levels[0].pagesX * textures[t].layout.levels[0].pagesY;
+    return pages;
+}
+
 uint64_t inCoreTextureBytes(std::span<const PackageTexture> textures) {
     if (textures.empty()) return 0;
     const uint64_t pages = pagesOf(textures);
@@ -64,8 +82,9 @@ uint64_t pagedTextureBytes(std::span<const PackageTexture> textures, uint64_t sl
 }
 
 Status DeviceTextures::prepare(std::span<const PackageTexture> textures, const TexturePageReader& read,
-                               uint64_t bytes, StreamingStats& stats) {
-    const bool same = textures.data() == textures_.data() && textures.size() == textures_.size() && present();
+                               uint64_t bytes, StreamingStats& stats, std::span<const uint32_t> pinned) {
+    const bool same = textures.data() == textures_.data() && textures.size() == textures_.size() && present() &&
+                      std::equal(pinned.begin(), pinned.end(), pinned_.begin(), pinned_.end());
     if (same && allocatedBytes() <= bytes) {
         stats.texturePageSlots = paged() ? slots_ : 0;
         return Status::ok();
@@ -74,7 +93,8 @@ Status DeviceTextures::prepare(std::span<const PackageTexture> textures, const T
     records_.clear(), textures_ = {};
     if (textures.empty()) return Status::ok();
     read_ = read;
-    const uint64_t pages = pagesOf(textures);
+    pinned_.assign(pinned.begin(), pinned.end());
+    const uint64_t pages = pagesOf(textures), fewest = kMinTexturePageSlots + pinnedPages(textures, pinned);
     if (pages >= kTexturePageAbsent) return Status::error("textures: " + std::to_string(pages) + " pages, too many to page");
     uint64_t slots = pages;
     if (inCoreTextureBytes(textures) > bytes) {
@@ -82,11 +102,13 @@ Status DeviceTextures::prepare(std::span<const PackageTexture> textures, const T
         // tables' own allocation would undercount.
         slots = std::min<uint64_t>(bytes / kTexturePageBytes, pages - 1);
         while (slots > 0 && pagedTextureBytes(textures, slots) > bytes) --slots;
-        if (slots < kMinTexturePageSlots)
+        if (slots < fewest)
             return Status::error("the textures need " + formatBytes(inCoreTextureBytes(textures)) +
-                                 " of device memory in core, or " +
-                                 formatBytes(pagedTextureBytes(textures, kMinTexturePageSlots)) +
+                                 " of device memory in core, or " + formatBytes(pagedTextureBytes(textures, fewest)) +
                                  " paged through the fewest page slots (" + std::to_string(kMinTexturePageSlots) +
+                                 (fewest > kMinTexturePageSlots
+                                      ? " and " + std::to_string(fewest - kMinTexturePageSlots) + " cut-out pages kept"
+                                      : std::string()) +
                                  "); the pool kept " + formatBytes(bytes) + " for them");
     }
     Status built = build(textures, uint32_t(slots), stats);
@@ -127,10 +149,18 @@ Status DeviceTextures::build(std::span<const PackageTexture> textures, uint32_t 
     cached_.assign(isPaged ? pageCount_ : 0, {});
     cachedUse_.assign(cached_.size(), 0);
     cacheOrder_.clear(), cachedBytes_ = 0;
-    if (isPaged) {  // pages come in when asked for
+    pinnedSlots_ = 0;
+    if (isPaged) {  // pages come in when asked for, but the cut-outs' level 0, which stays
         VASTRAY_TRY(buffer_.upload(table_.data(), table_.size() * 4, pageTableOffset_));
         const std::vector<uint32_t> zeros(pageCount_, 0);
-        return buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_);
+        VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_));
+        const std::vector<uint32_t> pins = pinnedEntries(textures);
+        if (pins.size() > slots) return Status::error("textures: the cut-outs' pages exceed the page slots");
+        std::vector<uint32_t> first(pins.size());
+        std::iota(first.begin(), first.end(), 0u);
+        VASTRAY_TRY(load(pins, first, stats));
+        pinnedSlots_ = uint32_t(pins.size());
+        return Status::ok();
     }
     std::vector<uint32_t> all(pageCount_);
     std::iota(all.begin(), all.end(), 0u);
@@ -158,9 +188,9 @@ Result<uint64_t> DeviceTextures::page(std::span<const uint32_t> demand, Streamin
     }
     if (wanted.empty()) return uint64_t(0);
     // Slots: empty ones, then those of pages outside the target, least recently used first, then
-    // (when the target holds every slot) those of its least read pages.
-    std::vector<uint32_t> order(slots_);
-    std::iota(order.begin(), order.end(), 0u);
+    // (when the target holds every slot) those of its least read pages; never a pinned one.
+    std::vector<uint32_t> order(slots_ - pinnedSlots_);
+    std::iota(order.begin(), order.end(), pinnedSlots_);
     auto rank = [&](uint32_t s) {
         const uint32_t e = slotEntry_[s];
         return std::tuple(e == kTexturePageAbsent ? 0 : inTarget[s] ? 2 : 1, inTarget[s] ? demand[e] : 0u, slotUsed_[s]);
@@ -184,6 +214,17 @@ void DeviceTextures::keepInHost(uint32_t entry, const uint8_t* bytes) {
     cachedUse_[entry] = step_;
     cacheOrder_.insert({step_, entry});
     cachedBytes_ += kTexturePageBytes;
+}
+
+std::vector<uint32_t> DeviceTextures::pinnedEntries(std::span<const PackageTexture> textures) const {
+    std::vector<uint32_t> entries;
+    for (uint32_t t : pinned_) {
+        if (t >= records_.size()) continue;
+        const TextureLevel& level = textures[t].layout.levels[0];
+        for (uint32_t p = 0; p < level.pagesX * level.pagesY; ++p)
+            entries.push_back(records_[t].pageTable + level.firstPage + p);
+    }
+    return entries;
 }
 
 Status DeviceTextures::load(std::span<const uint32_t> pages, std::span<const uint32_t> slots, StreamingStats& stats) {

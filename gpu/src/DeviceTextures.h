@@ -27,6 +27,13 @@ namespace vastray::gpu {
 uint64_t inCoreTextureBytes(std::span<const PackageTexture> textures);
 uint64_t pagedTextureBytes(std::span<const PackageTexture> textures, uint64_t slots);
 
+// Cut-outs (docs/RENDERING.md, "Cut-outs"): the walk tests a cut-out's base colour map at level 0
+// and cannot wait for a page, so those pages stay resident (pinned) while the others are paged.
+// The textures that are some cut-out material's base colour map (ascending), and their level-0
+// pages.
+std::vector<uint32_t> cutoutTextures(std::span<const Material> materials, uint64_t textureCount);
+uint64_t pinnedPages(std::span<const PackageTexture> textures, std::span<const uint32_t> pinned);
+
 // Reads page `page` of texture `texture` (kTexturePageBytes bytes, checked and inflated: the
 // package reader's readTexturePage). Called from worker threads.
 using TexturePageReader = std::function<Status(uint32_t texture, uint32_t page, uint8_t* out)>;
@@ -41,10 +48,11 @@ public:
         : device_(device), hostCacheBytes_(hostCacheBytes) {}
 
     // Puts `textures` on the device in at most `bytes`: every page when they fit, else a pool of
-    // as many page slots as fit (an error below kMinTexturePageSlots, naming both sizes). Kept
-    // while the next render asks for the same textures.
+    // as many page slots as fit, the level-0 pages of the `pinned` textures (cutoutTextures)
+    // resident in the first of them for good (an error below those and kMinTexturePageSlots more,
+    // naming both sizes). Kept while the next render asks for the same textures.
     Status prepare(std::span<const PackageTexture> textures, const TexturePageReader& read, uint64_t bytes,
-                   StreamingStats& stats);
+                   StreamingStats& stats, std::span<const uint32_t> pinned = {});
 
     bool present() const { return !records_.empty(); }
     bool paged() const { return present() && slots_ < pageCount_; }
@@ -69,6 +77,8 @@ public:
 
 private:
     Status build(std::span<const PackageTexture> textures, uint32_t slots, StreamingStats& stats);
+    // The page-table entries of the pinned textures' level-0 pages.
+    std::vector<uint32_t> pinnedEntries(std::span<const PackageTexture> textures) const;
     // Copies `pages` (page-table entries) into `slots`: from the host cache, or read and inflated
     // on worker threads (then kept in the cache when paged).
     Status load(std::span<const uint32_t> pages, std::span<const uint32_t> slots, StreamingStats& stats);
@@ -88,6 +98,8 @@ private:
     std::vector<uint32_t> entryTexture_, entryPage_, table_, slotEntry_;
     std::vector<uint64_t> slotUsed_;
     uint64_t step_ = 0;
+    std::vector<uint32_t> pinned_;  // textures whose level-0 pages stay resident (slots [0, pinnedSlots_))
+    uint32_t pinnedSlots_ = 0;
     // The host cache (paged): per entry its inflated bytes (empty: not kept) and last use; by use.
     uint64_t hostCacheBytes_, cachedBytes_ = 0;
     std::vector<std::vector<uint8_t>> cached_;

@@ -279,7 +279,8 @@ private:
     // pool of page slots: DeviceTextures); kept from one render to the next.
     Status prepareTextures(const DeviceRenderJob& job, StreamingStats& stats) {
         allocated_ -= textures_.allocatedBytes();
-        const Status s = textures_.prepare(job.textures, job.readTexturePage, plan_.textureBytes, stats);
+        const Status s = textures_.prepare(job.textures, job.readTexturePage, plan_.textureBytes, stats,
+                                           cutoutTextures(job.materials, job.textures.size()));
         allocated_ += textures_.allocatedBytes();
         peak_ = std::max(peak_, allocated_);
         return s;
@@ -412,7 +413,8 @@ uint64_t textureReserveBytes(const PackageInfo& package, uint64_t budget) {
     const uint64_t whole = inCoreTextureBytes(package.textures);
     const uint64_t share = uint64_t(double(budget) * kTextureShareOutOfCore) / kAllocationGranule * kAllocationGranule;
     if (whole <= share) return whole;
-    return std::max(share, pagedTextureBytes(package.textures, kMinTexturePageSlots));
+    const uint64_t pinned = pinnedPages(package.textures, cutoutTextures(package.materials, package.textures.size()));
+    return std::max(share, pagedTextureBytes(package.textures, kMinTexturePageSlots + pinned));
 }
 
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget) {

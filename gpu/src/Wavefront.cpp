@@ -172,8 +172,8 @@ std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, c
     w->pendingFixed_[0] = createAsync(device, kGenerateSpirv);
     w->pendingFixed_[1] = createAsync(device, kAccumulateSpirv);
     w->pendingFixed_[2] = createAsync(device, kAovSpirv);
-    w->startWalkVariants({{0u, 1u}});
-    if (inCore) w->startWalkVariants({{0u, 0u}});
+    w->startWalkVariants({{0u, 1u, 0u}});
+    if (inCore) w->startWalkVariants({{0u, 0u, 0u}});
     return w;
 }
 
@@ -189,11 +189,11 @@ Status Wavefront::ready() {
     return status;
 }
 
-void Wavefront::startWalkVariants(std::initializer_list<std::array<uint32_t, 2>> variants) {
+void Wavefront::startWalkVariants(std::initializer_list<WalkConstants> variants) {
     for (const auto& constants : variants) {
         const uint32_t key = variantKey(constants);
         if (pipelines_.walk.count(key) || pendingWalks_.count(key)) continue;
-        pendingWalks_.emplace(key, createAsync(device_, kWalkSpirv, {constants[0], constants[1]}));
+        pendingWalks_.emplace(key, createAsync(device_, kWalkSpirv, {constants[0], constants[1], constants[2]}));
     }
 }
 
@@ -246,8 +246,9 @@ public:
         // waits for them when they are first used): the paging one while a chunk is missing, the
         // resident one where every chunk gets a slot.
         const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
-        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u}});
-        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u}});
+        cutouts_ = b_.textures && b_.uvs && !cutoutTextures(job_.materials, job_.textures.size()).empty() ? 1u : 0u;
+        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_}});
+        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_}});
         const ShadeConstants constants =
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
                            sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights,
@@ -555,7 +556,7 @@ private:
         clearQueue(kShadeQueue);
         clearQueue(kShadeWaitQueue);
         // In core no ray parks: the walk without the paging code.
-        auto walk = w_.variant(true, std::array<uint32_t, 2>{(image_.aovs & kAovCost) != 0, !pager_.allResident()}, stats_);
+        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, !pager_.allResident(), cutouts_}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
@@ -697,7 +698,7 @@ private:
                 VASTRAY_TRY(readWalkedRays());
             }
         VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
-        auto walk = w_.variant(true, std::array<uint32_t, 2>{(image_.aovs & kAovCost) != 0, 1u}, stats_);
+        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, 1u, cutouts_}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         streamed_ = true;
@@ -964,6 +965,8 @@ private:
         set(TextureSlot::Normal, r.normalMap, r.normalUv);
         if (!b_.frames) r.normalMap = kNoGpuTexture;
         r.normalScale = m.textures.normalScale;
+        r.alphaCutoff = r.baseColorMap != kNoGpuTexture ? m.alphaCutoff : 0.0f;
+        r.baseAlpha = m.baseColor[3];
     }
 
     // The render's punctual lights (core/Light.h's table, the same floats the Embree reference
@@ -1102,6 +1105,7 @@ private:
     QueryPool queries_;
     const ComputePipeline* shade_ = nullptr;  // this render's specialization
     const ComputePipeline* walk_ = nullptr;   // this wave's (paging or not)
+    uint32_t cutouts_ = 0;                    // the walk's kCutouts: some material is a cut-out
     bool streamed_ = false;                   // renderStreamed runs: shading regenerates groups
 };
 

@@ -48,6 +48,8 @@ struct WavefrontBuffers {
 // maps and the render has textures and the hits' UVs (`textures`), kNormalMaps (the last) that
 // some material has a normal map and the hits keep their UV derivatives (`frames`).
 using ShadeConstants = std::array<uint32_t, 12>;
+// wf_walk.comp's specialization: the cost AOV, paging, cut-outs.
+using WalkConstants = std::array<uint32_t, 3>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false,
                               bool frames = false);
@@ -83,7 +85,7 @@ private:
     Result<const ComputePipeline*> variant(bool walk, std::span<const uint32_t> constants, StreamingStats& stats);
     // Starts creating these walk variants (kCountCost, kPaging) on threads of their own, while
     // the render thread goes on; variant() takes them when a render first asks for them.
-    void startWalkVariants(std::initializer_list<std::array<uint32_t, 2>> variants);
+    void startWalkVariants(std::initializer_list<WalkConstants> variants);
 
     VulkanDevice& device_;
     Pipelines pipelines_;

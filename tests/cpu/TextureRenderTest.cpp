@@ -125,6 +125,29 @@ TEST(TextureRender, ConesPickTheLevelTheFootprintAsksFor) {
     EXPECT_GT(apart, 0.05f) << "levels 0 and 2 must differ for the test to tell them apart";
 }
 
+// Cut-outs (docs/RENDERING.md, "Cut-outs"): a hit is cut where the base colour factor's alpha
+// times the map's alpha (level 0, the map's UV transform applied) is below the cutoff; never
+// without a cutoff or a map.
+TEST(TextureRender, CutOutWhereTheMapsAlphaFallsBelowTheCutoff) {
+    Rgba8Image image = test::noiseImage(kTexels, kTexels, 33);
+    for (uint32_t i = 0; i < kTexels * kTexels; ++i) image.texels[4 * i + 3] = (i % 2) ? 255 : 102;  // 0.4
+    const RenderScene scene = texturedQuad(image, false);
+    Material m = scene.mesh.materials[0];
+    const std::array<float, 2> dim{0.5f / kTexels, 0.5f / kTexels}, solid{1.5f / kTexels, 0.5f / kTexels};
+    EXPECT_FALSE(cutOut(m, scene.textures, dim)) << "no cutoff: opaque";
+    m.alphaCutoff = 0.5f;
+    EXPECT_TRUE(cutOut(m, scene.textures, dim));
+    EXPECT_FALSE(cutOut(m, scene.textures, solid));
+    m.alphaCutoff = 0.35f;
+    EXPECT_FALSE(cutOut(m, scene.textures, dim)) << "0.4 is not below 0.35";
+    m.baseColor[3] = 0.5f;
+    EXPECT_TRUE(cutOut(m, scene.textures, dim)) << "0.5 x 0.4 is";
+    m.textures.slots[uint32_t(TextureSlot::BaseColor)].transform = khrTextureTransform(1.0f / kTexels, 0, 0, 1, 1);
+    EXPECT_FALSE(cutOut(m, scene.textures, dim)) << "the transform moves the sample onto the solid texel";
+    m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture = kNoTexture;
+    EXPECT_FALSE(cutOut(m, scene.textures, dim)) << "no map: opaque";
+}
+
 TEST(TextureRender, TheEmissiveMapIsTheRadianceSeenWithoutLight) {
     // One colour: the beauty's camera rays are jittered inside their pixels, so bilinear filtering
     // blends neighbouring texels (the placement is the albedo test's).

@@ -293,6 +293,122 @@ TEST(TextureDeviceRender, AKhronosSampleRendersAsOnTheReference) {
     EXPECT_LE(rmse, 1e-2);
 }
 
+// A noise image whose alpha is a checker of `cell`-texel squares, 0 and 255 (a cut-out's mask).
+Rgba8Image checkerAlpha(uint32_t side, uint32_t cell, uint32_t seed) {
+    Rgba8Image image = test::noiseImage(side, side, seed);
+    for (uint32_t y = 0; y < side; ++y)
+        for (uint32_t x = 0; x < side; ++x) image.texels[4 * (size_t(y) * side + x) + 3] = ((x / cell + y / cell) % 2) ? 255 : 0;
+    return image;
+}
+
+// A cut-out quad [0, 1]^2 at z = 0.5 (material 0: its base colour map's alpha checkered, cutoff
+// `cutoff`) over an opaque quad [-1, 2]^2 at z = 0 (material 1: plain kBackColour, or with a
+// base colour map `back`), as NAME.vast.
+constexpr std::array<float, 4> kBackColour{0.1f, 0.9f, 0.2f, 1.0f};
+std::string cutoutPackage(const std::string& name, const Rgba8Image& mask, float cutoff, const Rgba8Image* back) {
+    TriangleMesh mesh;
+    mesh.positions = {{0, 0, 0.5f}, {1, 0, 0.5f}, {1, 1, 0.5f}, {0, 1, 0.5f}, {-1, -1, 0}, {2, -1, 0}, {2, 2, 0}, {-1, 2, 0}};
+    mesh.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    mesh.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}, {0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    mesh.materialIds = {0, 0, 1, 1};
+    Material front = mapped(false, false), under;
+    front.alphaCutoff = cutoff;
+    under.baseColor = kBackColour;
+    mesh.textures = {source(mask, name + "-mask.png", TextureWrap::Clamp, TextureEncoding::Srgb)};
+    if (back) {
+        under.baseColor = {1, 1, 1, 1};
+        under.textures.slots[uint32_t(TextureSlot::BaseColor)].texture = 1;
+        mesh.textures.push_back(source(*back, name + "-back.png", TextureWrap::Repeat, TextureEncoding::Srgb));
+    }
+    mesh.materials = {front, under};
+    const std::string path = (folder() / (name + ".vast")).string();
+    PackageBuildOptions options;
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
+
+// Cut-outs (docs/RENDERING.md, "Cut-outs"): where the mask's alpha is 0 the camera sees the quad
+// behind (its plain colour in the albedo AOV), where it is 255 the mask's colours; light passes
+// the holes (the beauty, sun from aside). The device agrees with the reference pixel for pixel
+// (a pixel whose bilinear alpha lies within rounding of the cutoff may differ: at most 0.5 %);
+// a cutoff of 0 (opaque) shows no hole.
+TEST(TextureDeviceRender, CutoutsLetRaysThroughTheirHolesAsOnTheReference) {
+    const Rgba8Image mask = checkerAlpha(64, 8, 37);
+    RenderOptions o = lit(64, 4);
+    o.aovs = kAovAlbedo;
+    o.environment.sunDirection = {0.3f, 0.2f, 1.0f};
+    const std::string path = cutoutPackage("cutout", mask, 0.5f, nullptr);
+    auto device = test::renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(device) << device.message();
+    auto reference = test::renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    auto isBack = [](const float* albedo) {
+        return std::fabs(albedo[0] - kBackColour[0]) < 1e-6f && std::fabs(albedo[1] - kBackColour[1]) < 1e-6f &&
+               std::fabs(albedo[2] - kBackColour[2]) < 1e-6f;
+    };
+    const size_t pixels = size_t(o.width) * o.height;
+    size_t holes = 0, differ = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        holes += isBack(&reference->albedo[3 * p]);
+        bool same = true;
+        for (int c = 0; c < 3; ++c) same = same && std::fabs(device->albedo[3 * p + c] - reference->albedo[3 * p + c]) <= 2e-5f;
+        differ += !same;
+    }
+    const double rmse = test::relativeRmse(device->rgb, reference->rgb);
+    std::printf("cut-out: %zu of %zu pixels see the quad behind; %zu differ; beauty relative RMSE %.2e\n", holes, pixels,
+                differ, rmse);
+    EXPECT_LE(differ * 200, pixels);
+    EXPECT_LE(rmse, 1e-2);
+    auto opaque = test::renderEmbree(cutoutPackage("cutout-opaque", mask, 0.0f, nullptr), o);
+    ASSERT_TRUE(opaque) << opaque.message();
+    auto opaqueDevice = test::renderVulkan(cutoutPackage("cutout-opaque", mask, 0.0f, nullptr), o, 256ull << 20);
+    ASSERT_TRUE(opaqueDevice) << opaqueDevice.message();
+    size_t outside = 0, opaqueDeviceOutside = 0;  // the quad behind where the front quad does not reach
+    for (size_t p = 0; p < pixels; ++p) {
+        outside += isBack(&opaque->albedo[3 * p]);
+        opaqueDeviceOutside += isBack(&opaqueDevice->albedo[3 * p]);
+    }
+    EXPECT_EQ(opaqueDeviceOutside, outside);
+    // The checker's holes are half the front quad's pixels.
+    const size_t inside = pixels - outside, seenThrough = holes - outside;
+    std::printf("cut-out: the front quad covers %zu pixels, %zu of them holes\n", inside, seenThrough);
+    EXPECT_GT(seenThrough * 4, inside) << "the holes show the quad behind";
+    EXPECT_LT(seenThrough * 4, inside * 3);
+}
+
+// Paged textures (the back quad's map four times the pool): the cut-out's level-0 pages stay
+// resident (the walk tests them and cannot wait), the others are paged, and the image equals the
+// in-core one bit for bit; at a budget whose quarter holds the fewest slots alone, the texture
+// reserve grows to hold the mask's four level-0 pages beside them.
+TEST(TextureDeviceRender, CutoutMasksStayResidentWhileOtherPagesArePaged) {
+    const Rgba8Image mask = checkerAlpha(256, 16, 41), back = test::noiseImage(1024, 1024, 43);
+    const std::string path = cutoutPackage("cutout-paged", mask, 0.5f, &back);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const uint64_t textureBytes = gpu::textureBytes((*reader)->info());
+    RenderOptions o = lit(48, 2);
+    o.aovs = kAovAlbedo;
+    o.textureLod = TextureLodMode::Finest;  // level 0: the back map's pages all read
+    StreamingStats ample, tight;
+    auto inCore = test::renderVulkan(path, o, 256ull << 20, &ample);
+    ASSERT_TRUE(inCore) << inCore.message();
+    auto paged = test::renderVulkan(path, o, textureBytes, &tight);
+    ASSERT_TRUE(paged) << paged.message();
+    std::printf("cut-out paged: %llu slots, %llu page loads\n", (unsigned long long)tight.texturePageSlots,
+                (unsigned long long)tight.texturePageLoads);
+    EXPECT_GT(tight.texturePageSlots, 0u) << "paged";
+    EXPECT_GT(tight.texturePageLoads, tight.texturePageSlots) << "pages paged in more than once";
+    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(paged->albedo.data(), inCore->albedo.data(), inCore->albedo.size() * 4), 0);
+    StreamingStats fewest;
+    auto small = test::renderVulkan(path, o, 16 * kTexturePageBytes * 4, &fewest);
+    ASSERT_TRUE(small) << small.message();
+    EXPECT_GE(fewest.texturePageSlots, gpu::kMinTexturePageSlots + 4);
+    EXPECT_EQ(std::memcmp(small->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+}
+
 // A budget whose quarter is below the fewest page slots' bytes: the textures get exactly those
 // (textureReserveBytes), and the pool holds kMinTexturePageSlots pages (the allocation granules
 // of its tables and its pool overlap: counted from above, not from the tables' own allocation).

@@ -181,6 +181,9 @@ bool testTriangle(ChunkView c, TraversalRay r, uint tri, float tMin, float tMax,
     } else if (!betterHit(h, tri, found, best)) {
         return false;
     }
+#ifdef VASTRAY_CUTOUTS
+    if (cutAway(tri, i, h.u, h.v)) return false;  // a cut-out's hole (the including kernel's test)
+#endif
     best.t = h.t, best.u = h.u, best.v = h.v, best.triangle = tri;
     best.flags = kHitFound | (h.frontFacing ? kHitFrontFacing : 0u);
     found = true;

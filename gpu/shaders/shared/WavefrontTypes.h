@@ -113,7 +113,9 @@ struct WavefrontMaterial {
     float emissiveUv[6];
     float normalUv[6];
     float normalScale;
-    uint padding1, padding2, padding3;
+    float alphaCutoff;  // a cut-out's (Material::alphaCutoff; 0: opaque): the walk's any-hit test
+    float baseAlpha;    // the base colour factor's alpha, which the cut-out test multiplies
+    uint padding1;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type

@@ -114,6 +114,11 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
         m.clearcoat = factor("clearcoatFactor");
         m.clearcoatRoughness = factor("clearcoatRoughnessFactor");
     }
+    // alphaMode MASK with a base colour map: the map's alpha cuts the surface out where the
+    // product falls below alphaCutoff (docs/RENDERING.md, "Cut-outs"); a factor alone below it
+    // hides the triangles (hiddenByAlpha, left out at import).
+    if (g.alphaMode == "MASK" && g.pbrMetallicRoughness.baseColorTexture.index >= 0)
+        m.alphaCutoff = float(std::clamp(g.alphaCutoff, 0.0, 1.0));
     return m;
 }
 
@@ -129,13 +134,13 @@ bool hiddenByAlpha(const tinygltf::Material& g) {
     return (g.alphaMode == "MASK" && alpha < g.alphaCutoff) || (g.alphaMode == "BLEND" && alpha <= 0.0);
 }
 
-// A material whose alpha the renderer cannot honour: a cut-out (MASK) whose texture's alpha would
-// decide, or a blend with some alpha of its own; rendered opaque (warned).
+// A material whose alpha the renderer cannot honour: a blend with some alpha of its own; rendered
+// opaque (warned). Textured cut-outs (MASK) are rendered (Material::alphaCutoff).
 bool alphaNotRendered(const tinygltf::Material& g) {
     if (hiddenByAlpha(g)) return false;
     const double alpha = factorAlpha(g);
     const bool textured = g.pbrMetallicRoughness.baseColorTexture.index >= 0;
-    return (g.alphaMode == "MASK" && textured) || (g.alphaMode == "BLEND" && (alpha < 1.0 || textured));
+    return g.alphaMode == "BLEND" && (alpha < 1.0 || textured);
 }
 
 class GltfFlattener {
@@ -532,7 +537,7 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
             others += count;
     }
     report.warnUnused("other material extensions", others, "rendered without them");
-    report.warnUnused("materials with alphaMode MASK (textured) or BLEND", alphaModes, "rendered opaque");
+    report.warnUnused("materials with alphaMode BLEND", alphaModes, "rendered opaque");
 }
 
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {

@@ -42,7 +42,11 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //     of the file) and materials that name them (156 bytes more each: per map its texture and
 //     UV transform, the normal scale and occlusion strength; a version 3 to 9 package, which
 //     has none, is still read).
-constexpr uint32_t kVersion = 10;
+// 11: materials may carry an alpha cut-out's cutoff (glTF alphaMode MASK with a base colour map),
+//     an f32 in the word after the specular factor, reserved (zero) before; a version 3 to 10
+//     package, which has none, is still read.
+constexpr uint32_t kVersion = 11;
+constexpr uint32_t kFirstCutoutVersion = 11;
 constexpr uint32_t kFirstUvVersion = 9;
 constexpr uint32_t kFirstTextureVersion = 10;
 constexpr uint32_t kFirstLightsVersion = 7;

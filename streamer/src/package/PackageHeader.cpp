@@ -172,7 +172,7 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.put(m.baseColor);
         out.put(m.emissive);
         out.put(uint32_t(m.doubleSided ? 1 : 0));
-        out.put(m.metallic), out.put(m.roughness), out.put(m.specular), out.put(uint32_t(0));
+        out.put(m.metallic), out.put(m.roughness), out.put(m.specular), out.put(m.alphaCutoff);
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
         out.put(m.specularColor), out.put(m.clearcoat), out.put(m.clearcoatRoughness);
         for (int i = 0; i < 3; ++i) out.put(uint32_t(0));
@@ -217,7 +217,10 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         in.get(m.emissive);
         in.get(doubleSided);
         uint32_t reserved[4] = {0, 0, 0, 0};
-        if (version >= 5) in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(reserved[0]);
+        if (version >= format::kFirstCutoutVersion)
+            in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(m.alphaCutoff);
+        else if (version >= 5)
+            in.get(m.metallic), in.get(m.roughness), in.get(m.specular), in.get(reserved[0]);
         in.getFixedString(m.name, format::kMaterialNameBytes);
         m.name = validUtf8(m.name);  // a forged or older package may hold a split character
         if (version >= format::kFirstSpecularColorVersion) {

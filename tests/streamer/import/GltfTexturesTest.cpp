@@ -168,6 +168,25 @@ TEST(GltfTextures, ImageBytesAreTheSameFromAFileADataUriAndABufferView) {
     }
 }
 
+// alphaMode MASK with a base colour map is a cut-out (docs/RENDERING.md, "Cut-outs"): the cutoff
+// (glTF's default 0.5) is carried, and nothing is warned; OPAQUE and BLEND carry none.
+TEST(GltfTextures, TexturedMasksCarryTheirCutoff) {
+    const std::string json = texturedGltf(
+        R"([{"name":"leaf","alphaMode":"MASK","alphaCutoff":0.3,"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+           {"name":"fence","alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+           {"name":"wall","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+           {"name":"glass","alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])",
+        std::string(R"("textures":[{"source":0}],"images":[{"uri":")") + kPngUri + R"("}])");
+    auto imported = importGltf(writeFile("masks.gltf", json));
+    ASSERT_TRUE(imported) << imported.message();
+    ASSERT_EQ(imported->mesh.materials.size(), 4u);
+    EXPECT_FLOAT_EQ(imported->mesh.materials[0].alphaCutoff, 0.3f);
+    EXPECT_FLOAT_EQ(imported->mesh.materials[1].alphaCutoff, 0.5f);
+    EXPECT_EQ(imported->mesh.materials[2].alphaCutoff, 0.0f);
+    EXPECT_EQ(imported->mesh.materials[3].alphaCutoff, 0.0f);
+    for (const std::string& w : imported->report.warnings) EXPECT_EQ(w.find("MASK"), std::string::npos) << w;
+}
+
 TEST(GltfTextures, ImportCarriesTheMapsAndTheirTexturesWithTheMesh) {
     const std::string file = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
     if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";

@@ -1,5 +1,6 @@
 // Issue 13 ("Real assets"): a package's material records (format version 8 adds
-// KHR_materials_specular's colour factor and KHR_materials_clearcoat's factors). Materials round-trip exactly; a forged record (a
+// KHR_materials_specular's colour factor and KHR_materials_clearcoat's factors, 11 the alpha
+// cut-out's cutoff). Materials round-trip exactly; a forged record (a
 // forger who recomputes the materials' checksum) is refused naming the material and the field;
 // packages of older versions still read, their specular colour glTF's default, white.
 #include <gtest/gtest.h>
@@ -24,11 +25,14 @@ constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 constexpr size_t kSpecularColorAt = format::kMaterialBytesBefore8;
 constexpr size_t kClearcoatAt = kSpecularColorAt + 12;
 constexpr size_t kReservedAt = kClearcoatAt + 8;
+// The cutoff (version 11): after the colours, the double-sided word and the three factors.
+constexpr size_t kAlphaCutoffAt = 4 * 4 + 3 * 4 + 4 + 3 * 4;
 
 std::vector<Material> threeMaterials() {
     Material plastic{"Plastic", {0.2f, 0.4f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.3f, 1.0f, {0.5f, 1.0f, 2.0f}, 0.0f, 0.0f, true};
     Material colourless{"Colourless", {0.8f, 0.8f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.6f, 0.5f, {0, 0, 0}, 1.0f, 0.125f, false};
     Material saturated{"Saturated", {1, 1, 1, 1}, {1, 2, 3}, 0.25f, 1.0f, 1.0f, {25, 1000, 0.125f}, 0.5f, 1.0f, true};
+    saturated.alphaCutoff = 0.375f;
     return {plastic, colourless, saturated};
 }
 
@@ -75,6 +79,7 @@ TEST_F(MaterialPackage, MaterialsRoundTripExactly) {
         EXPECT_EQ(read[i].clearcoat, expected[i].clearcoat);
         EXPECT_EQ(read[i].clearcoatRoughness, expected[i].clearcoatRoughness);
         EXPECT_EQ(read[i].doubleSided, expected[i].doubleSided);
+        EXPECT_EQ(read[i].alphaCutoff, expected[i].alphaCutoff);
     }
 }
 
@@ -96,6 +101,13 @@ TEST_F(MaterialPackage, ForgedFactorsAreRefusedByMaterial) {
           std::tuple{2u, 0u, -0.25f, "material 2 ('Saturated'): clearcoat -0.25 is outside [0, 1]"}}) {
         std::vector<uint8_t> bytes = *bytes_;
         putAt(bytes, recordAt(material) + kClearcoatAt + 4 * field, value);
+        expectRefused(bytes, expected);
+    }
+    for (const auto& [material, value, expected] :
+         {std::tuple{0u, 1.5f, "material 0 ('Plastic'): alpha cutoff 1.5 is outside [0, 1]"},
+          std::tuple{2u, nan, "material 2 ('Saturated'): alpha cutoff nan is outside [0, 1]"}}) {
+        std::vector<uint8_t> bytes = *bytes_;
+        putAt(bytes, recordAt(material) + kAlphaCutoffAt, value);
         expectRefused(bytes, expected);
     }
     for (uint32_t word = 0; word < 3; ++word) {
@@ -123,6 +135,7 @@ TEST(MaterialPackageVersions, OlderPackagesReadWithAWhiteSpecularColour) {
         for (const Material& m : (*reader)->info().materials)
             EXPECT_EQ(m.specularColor, (std::array<float, 3>{1, 1, 1})) << seed << " " << m.name;
         for (const Material& m : (*reader)->info().materials) EXPECT_EQ(m.clearcoat, 0.0f) << seed << " " << m.name;
+        for (const Material& m : (*reader)->info().materials) EXPECT_EQ(m.alphaCutoff, 0.0f) << seed << " " << m.name;
     }
 }
 

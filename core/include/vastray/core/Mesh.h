@@ -32,6 +32,11 @@ struct Material {
     float clearcoat = 0.0f;
     float clearcoatRoughness = 0.0f;
     bool doubleSided = true;
+    // glTF alphaMode MASK with a base colour map: where baseColor[3] times the map's alpha (level
+    // 0) is below alphaCutoff the surface is cut out, for every ray (docs/RENDERING.md,
+    // "Cut-outs"). 0: opaque. In [0, 1]; without a base colour map the importers leave it 0 (a
+    // factor alone below the cutoff removes the triangles at import).
+    float alphaCutoff = 0.0f;
     // The maps it reads (glTF's five), each a texture of the mesh's `textures` or kNoTexture.
     MaterialTextures textures{};
 };

@@ -74,6 +74,10 @@ MaterialSample sampleMaterial(const Material& material, std::span<const DecodedT
                               std::array<float, 2> uv, const MapFootprint* footprint);
 // The factors alone.
 MaterialSample materialFactors(const Material& material);
+// Cut-outs (docs/RENDERING.md, "Cut-outs"): whether a hit at `uv` on a triangle of `material`
+// is no hit: its alphaCutoff is above 0, it has a base colour map, and baseColor[3] times the
+// map's alpha at level 0 (the map's UV transform applied) is below the cutoff.
+bool cutOut(const Material& material, std::span<const DecodedTexture> textures, std::array<float, 2> uv);
 
 // v0 + (v1 - v0) * u + (v2 - v0) * v, evaluated in exactly this order (the GPU kernel too).
 Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v);

@@ -2,13 +2,16 @@
 // One Embree scene over every triangle of a mesh, in robust (watertight) mode, with the
 // geometry semantics of docs/GEOMETRY.md: single-sided triangles are invisible from
 // behind; where a front face and a back face lie at the same distance the front face wins.
-// Embree types stay inside cpu/src.
+// A material's alpha cut-out (Material::alphaCutoff) makes the hits its map's alpha cuts no hits
+// for every query (docs/RENDERING.md, "Cut-outs"). Embree types stay inside cpu/src.
 #include <cstdint>
 #include <memory>
+#include <span>
 
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Ray.h"
 #include "vastray/core/Result.h"
+#include "vastray/core/Texture.h"
 
 namespace vastray {
 
@@ -21,8 +24,10 @@ struct SceneHit {
 
 class EmbreeScene {
 public:
-    // Copies positions and indices; `mesh` need not outlive the scene.
-    static Result<std::unique_ptr<EmbreeScene>> build(const TriangleMesh& mesh);
+    // Copies positions and indices (and, when a material cuts out, the UVs and materials); `mesh`
+    // need not outlive the scene, `textures` (the maps' textures, RenderScene::textures) must.
+    static Result<std::unique_ptr<EmbreeScene>> build(const TriangleMesh& mesh,
+                                                      std::span<const DecodedTexture> textures = {});
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;

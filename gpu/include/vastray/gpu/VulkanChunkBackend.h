@@ -128,14 +128,16 @@ constexpr double kVolumeShareOutOfCore = 0.5;
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget);
 // What a render of the package at this budget keeps for its textures (planPool adds it to the
 // reserve itself): every page when that is at most kTextureShareOutOfCore of the budget; else
-// that share (at least the tables and the fewest page slots), through which the pages are paged
-// (docs/RENDERING.md, "Textures out of core"). 0 without textures.
+// that share (at least the tables, the fewest page slots and the cut-outs' level-0 pages, which
+// stay resident), through which the pages are paged (docs/RENDERING.md, "Textures out of core").
+// 0 without textures.
 constexpr double kTextureShareOutOfCore = 0.25;
 uint64_t textureReserveBytes(const PackageInfo& package, uint64_t budget);
 // The device bytes the package's textures take in core (every page); 0 without textures.
 uint64_t textureBytes(const PackageInfo& package);
-// A texture pool holds at least this many pages: a path's maps read one page each (three at
-// most), and waiting paths keep the pages they read while they wait.
+// A texture pool holds at least this many pages (besides the cut-outs' pinned ones): a shading
+// reads two levels' pages of each of its maps (eight at most), and waiting paths keep the pages
+// they read while they wait.
 constexpr uint64_t kMinTexturePageSlots = 16;
 
 // device must outlive the backend. Every buffer is allocated here, once, but the environment
