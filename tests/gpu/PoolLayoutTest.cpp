@@ -56,7 +56,7 @@ TEST(PoolLayout, HitUvsAreAppendedOnlyWhenTheRenderReadsThem) {
         EXPECT_EQ(uvs.queues, plain.queues);
         EXPECT_GE(uvs.hitUv, plain.totalBytes) << paths;
         EXPECT_EQ(uvs.hitUv % 8, 0u) << paths;
-        EXPECT_EQ(uvs.totalBytes, uvs.hitUv + 8 * paths) << paths;
+        EXPECT_EQ(uvs.totalBytes, uvs.hitUv + kBytesPerPathUv * paths) << paths;  // UV and footprint
         EXPECT_LT(uvs.hitUv - plain.totalBytes, 16u) << paths;
     }
 }
