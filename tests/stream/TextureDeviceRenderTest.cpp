@@ -78,6 +78,29 @@ RenderOptions lit(uint32_t side, uint32_t spp) {
     return o;
 }
 
+// A render with every page resident and one through a pool of `budget` bytes (stats of each).
+struct InCoreAndPaged {
+    RenderImage inCore, paged;
+    StreamingStats ample, tight;
+};
+Result<InCoreAndPaged> renderInCoreAndPaged(const std::string& path, const RenderOptions& o, uint64_t budget) {
+    InCoreAndPaged r;
+    auto inCore = test::renderVulkan(path, o, 256ull << 20, &r.ample);
+    if (!inCore) return inCore.status();
+    auto paged = test::renderVulkan(path, o, budget, &r.tight);
+    if (!paged) return paged.status();
+    r.inCore = std::move(inCore).value(), r.paged = std::move(paged).value();
+    return r;
+}
+
+// The same beauty and albedo, bit for bit.
+void expectSameImages(const RenderImage& a, const RenderImage& b) {
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    ASSERT_EQ(a.albedo.size(), b.albedo.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * 4), 0);
+    EXPECT_EQ(std::memcmp(a.albedo.data(), b.albedo.data(), a.albedo.size() * 4), 0);
+}
+
 Material mapped(bool metalRough, bool emissive) {
     Material m;
     m.baseColor = {1, 1, 1, 1};
@@ -196,14 +219,12 @@ TEST(TextureDeviceRender, TexturesFourTimesThePoolRenderTheSame) {
     RenderOptions o = lit(64, 4);  // every page of level 0 in view
     o.aovs = kAovAlbedo;
     o.textureLod = TextureLodMode::Finest;  // level 0 everywhere: the most pages (cones below)
-    StreamingStats ample, tight;
-    auto inCore = test::renderVulkan(path, o, 256ull << 20, &ample);
-    ASSERT_TRUE(inCore) << inCore.message();
-    EXPECT_EQ(ample.texturePageSlots, 0u) << "every page resident";
     // The textures' share (a quarter of the budget) a quarter of their bytes.
     const uint64_t budget = textureBytes;
-    auto paged = test::renderVulkan(path, o, budget, &tight);
-    ASSERT_TRUE(paged) << paged.message();
+    auto finest = renderInCoreAndPaged(path, o, budget);
+    ASSERT_TRUE(finest) << finest.message();
+    const StreamingStats &ample = finest->ample, &tight = finest->tight;
+    EXPECT_EQ(ample.texturePageSlots, 0u) << "every page resident";
     std::printf("textures %llu bytes in core; budget %llu: %llu page slots, %llu page loads, %llu read, peak %llu bytes\n",
                 (unsigned long long)textureBytes, (unsigned long long)budget, (unsigned long long)tight.texturePageSlots,
                 (unsigned long long)tight.texturePageLoads, (unsigned long long)tight.texturePagesRead,
@@ -214,21 +235,16 @@ TEST(TextureDeviceRender, TexturesFourTimesThePoolRenderTheSame) {
     EXPECT_LE(tight.texturePagesRead, pages) << "each read from the package once at most (the host cache)";
     EXPECT_EQ(ample.texturePagesRead, pages) << "in core, every page once";
     EXPECT_LE(tight.peakDeviceBytes, budget);
-    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
-    EXPECT_EQ(std::memcmp(paged->albedo.data(), inCore->albedo.data(), inCore->albedo.size() * 4), 0);
+    expectSameImages(finest->paged, finest->inCore);
     // Ray cones read the coarser levels the footprints ask for: fewer pages, the same image paged
     // as in core.
     o.textureLod = TextureLodMode::Cone;
-    StreamingStats coneAmple, coneTight;
-    auto coneInCore = test::renderVulkan(path, o, 256ull << 20, &coneAmple);
-    ASSERT_TRUE(coneInCore) << coneInCore.message();
-    auto conePaged = test::renderVulkan(path, o, budget, &coneTight);
-    ASSERT_TRUE(conePaged) << conePaged.message();
-    std::printf("cones: %llu page loads (level 0: %llu)\n", (unsigned long long)coneTight.texturePageLoads,
+    auto cones = renderInCoreAndPaged(path, o, budget);
+    ASSERT_TRUE(cones) << cones.message();
+    std::printf("cones: %llu page loads (level 0: %llu)\n", (unsigned long long)cones->tight.texturePageLoads,
                 (unsigned long long)tight.texturePageLoads);
-    EXPECT_LT(coneTight.texturePageLoads * 4, tight.texturePageLoads);
-    EXPECT_EQ(std::memcmp(conePaged->rgb.data(), coneInCore->rgb.data(), coneInCore->rgb.size() * 4), 0);
-    EXPECT_EQ(std::memcmp(conePaged->albedo.data(), coneInCore->albedo.data(), coneInCore->albedo.size() * 4), 0);
+    EXPECT_LT(cones->tight.texturePageLoads * 4, tight.texturePageLoads);
+    expectSameImages(cones->paged, cones->inCore);
 }
 
 // A normal map of random tilts (scaled by 0.8, its UVs turned and scaled) over a base colour map:
@@ -391,22 +407,19 @@ TEST(TextureDeviceRender, CutoutMasksStayResidentWhileOtherPagesArePaged) {
     RenderOptions o = lit(48, 2);
     o.aovs = kAovAlbedo;
     o.textureLod = TextureLodMode::Finest;  // level 0: the back map's pages all read
-    StreamingStats ample, tight;
-    auto inCore = test::renderVulkan(path, o, 256ull << 20, &ample);
-    ASSERT_TRUE(inCore) << inCore.message();
-    auto paged = test::renderVulkan(path, o, textureBytes, &tight);
-    ASSERT_TRUE(paged) << paged.message();
+    auto r = renderInCoreAndPaged(path, o, textureBytes);
+    ASSERT_TRUE(r) << r.message();
+    const StreamingStats& tight = r->tight;
     std::printf("cut-out paged: %llu slots, %llu page loads\n", (unsigned long long)tight.texturePageSlots,
                 (unsigned long long)tight.texturePageLoads);
     EXPECT_GT(tight.texturePageSlots, 0u) << "paged";
     EXPECT_GT(tight.texturePageLoads, tight.texturePageSlots) << "pages paged in more than once";
-    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
-    EXPECT_EQ(std::memcmp(paged->albedo.data(), inCore->albedo.data(), inCore->albedo.size() * 4), 0);
+    expectSameImages(r->paged, r->inCore);
     StreamingStats fewest;
     auto small = test::renderVulkan(path, o, 16 * kTexturePageBytes * 4, &fewest);
     ASSERT_TRUE(small) << small.message();
     EXPECT_GE(fewest.texturePageSlots, gpu::kMinTexturePageSlots + 4);
-    EXPECT_EQ(std::memcmp(small->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+    expectSameImages(*small, r->inCore);
 }
 
 // A budget whose quarter is below the fewest page slots' bytes: the textures get exactly those

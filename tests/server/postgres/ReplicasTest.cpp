@@ -74,6 +74,18 @@ protected:
         return value;
     }
 
+    // Job `id` as replica 0 reports it once it is neither queued nor running (or after 60 s).
+    json finishedJob(const std::string& id) {
+        json job;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (std::chrono::steady_clock::now() < deadline) {
+            job = json::parse(client(0).Get(("/v1/jobs/" + id).c_str())->body);
+            if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        return job;
+    }
+
     PostgresCluster cluster_;
     std::array<std::unique_ptr<ServerProcess>, kReplicas> replicas_;
 };
@@ -204,13 +216,7 @@ TEST_F(ReplicasTest, TilesNeedReplicasAndReplicasNeedADatabase) {
     context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
     const grpc::Status status = renders->SubmitJob(&context, request, &submitted);
     ASSERT_TRUE(status.ok()) << status.error_message();
-    json job;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (std::chrono::steady_clock::now() < deadline) {
-        job = json::parse(client(0).Get(("/v1/jobs/" + submitted.job().id()).c_str())->body);
-        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    json job = finishedJob(submitted.job().id());
     ASSERT_EQ(job["state"], "JOB_STATE_SUCCEEDED") << job.dump();
     EXPECT_EQ(job["request"]["tiles"], json({2, 2})) << job.dump();
     const auto out = dir_ / "whole32.png";
@@ -242,13 +248,7 @@ TEST_F(ReplicasTest, ATileThatKeepsFailingFailsTheJobAfterMaxAttempts) {
     auto res = client(0).Post("/v1/jobs", body.dump(), "application/json");
     ASSERT_TRUE(res && res->status == 202) << (res ? res->body : "no response");
     const std::string jobId = json::parse(res->body)["id"];
-    json job;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (std::chrono::steady_clock::now() < deadline) {
-        job = json::parse(client(0).Get(("/v1/jobs/" + jobId).c_str())->body);
-        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    json job = finishedJob(jobId);
     ASSERT_EQ(job["state"], "JOB_STATE_FAILED") << job.dump();
     const std::string error = job.value("error", "");
     EXPECT_EQ(error.find("failed 2 times (--max-attempts 2); not run again: tile 0 attempt 1 (replica "), 0u) << error;
@@ -272,13 +272,7 @@ TEST_F(ReplicasTest, ATileRefusedForItsBudgetFailsTheJobAtOnce) {
     auto res = client(0).Post("/v1/jobs", body.dump(), "application/json");
     ASSERT_TRUE(res && res->status == 202) << (res ? res->body : "no response");
     const std::string jobId = json::parse(res->body)["id"];
-    json job;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (std::chrono::steady_clock::now() < deadline) {
-        job = json::parse(client(0).Get(("/v1/jobs/" + jobId).c_str())->body);
-        if (job["state"] != "JOB_STATE_QUEUED" && job["state"] != "JOB_STATE_RUNNING") break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    json job = finishedJob(jobId);
     ASSERT_EQ(job["state"], "JOB_STATE_FAILED") << job.dump();
     EXPECT_EQ(job["attempts"], 1) << job.dump();
     EXPECT_EQ(job["attempt_errors"].size(), 1u) << job.dump();
