@@ -35,6 +35,16 @@ std::vector<uint8_t> pngBytes(const Rgba8Image& image, const std::string& name) 
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// `mesh` as the package NAME.vast in the test's folder.
+std::string writePackage(const std::string& name, TriangleMesh mesh) {
+    const std::string path = (folder() / (name + ".vast")).string();
+    PackageBuildOptions options;
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
+
 // The unit quad [0, 1]^2 at z = 0 facing +z, its UVs in glTF's space (v down from the image's
 // top), material `m` (its maps name `textures`), as the package NAME.vast.
 std::string quadPackage(const std::string& name, const Material& m, std::vector<TextureSource> textures) {
@@ -44,12 +54,7 @@ std::string quadPackage(const std::string& name, const Material& m, std::vector<
     mesh.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
     mesh.materials = {m};
     mesh.textures = std::move(textures);
-    const std::string path = (folder() / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return writePackage(name, std::move(mesh));
 }
 
 TextureSource source(const Rgba8Image& image, const std::string& name, TextureWrap wrap, TextureEncoding encoding) {
@@ -76,6 +81,18 @@ RenderOptions lit(uint32_t side, uint32_t spp) {
     o.frameScene = false;
     o.camera = {{0.2f, -0.6f, 1.4f}, {0.5f, 0.5f, 0}, {0, 0, 1}, 50.0f};
     return o;
+}
+
+// The device's render (every page resident) and the Embree reference's.
+struct BothBackends {
+    RenderImage device, reference;
+};
+Result<BothBackends> renderBothBackends(const std::string& path, const RenderOptions& o) {
+    auto device = test::renderVulkan(path, o, 256ull << 20);
+    if (!device) return device.status().withContext("vulkan: ");
+    auto reference = test::renderEmbree(path, o);
+    if (!reference) return reference.status().withContext("embree: ");
+    return BothBackends{std::move(device).value(), std::move(reference).value()};
 }
 
 // A render with every page resident and one through a pool of `budget` bytes (stats of each).
@@ -124,10 +141,9 @@ TEST(TextureDeviceRender, TexelsLandOnThePixelsTheyCoverAsOnTheReference) {
     RenderOptions o = headOn(kTexels);
     o.aovs = kAovAlbedo;
     o.textureLod = TextureLodMode::Finest;  // level 0: one texel a pixel (cones: the next test)
-    auto device = test::renderVulkan(path, o, 256ull << 20);
-    ASSERT_TRUE(device) << device.message();
-    auto reference = test::renderEmbree(path, o);
-    ASSERT_TRUE(reference) << reference.message();
+    auto both = renderBothBackends(path, o);
+    ASSERT_TRUE(both) << both.message();
+    const RenderImage *device = &both->device, *reference = &both->reference;
     for (uint32_t y = 0; y < kTexels; ++y)
         for (uint32_t x = 0; x < kTexels; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -154,10 +170,9 @@ TEST(TextureDeviceRender, ConesPickTheLevelsTheReferencePicks) {
     o.aovs = kAovAlbedo;
     o.samplesPerPixel = 4;
     o.maxDepth = 2;
-    auto device = test::renderVulkan(path, o, 256ull << 20);
-    ASSERT_TRUE(device) << device.message();
-    auto reference = test::renderEmbree(path, o);
-    ASSERT_TRUE(reference) << reference.message();
+    auto both = renderBothBackends(path, o);
+    ASSERT_TRUE(both) << both.message();
+    const RenderImage *device = &both->device, *reference = &both->reference;
     float largest = 0.0f, apart = 0.0f;
     for (size_t i = 0; i < device->albedo.size(); ++i)
         largest = std::max(largest, std::fabs(device->albedo[i] - reference->albedo[i]));
@@ -188,10 +203,9 @@ TEST(TextureDeviceRender, MapsRenderAsOnTheReference) {
                                         source(metalRough, "mr.png", TextureWrap::Repeat, TextureEncoding::Linear)};
     const std::string path = quadPackage("maps", mapped(true, true), textures);
     const RenderOptions o = lit(40, 8);
-    auto device = test::renderVulkan(path, o, 256ull << 20);
-    ASSERT_TRUE(device) << device.message();
-    auto reference = test::renderEmbree(path, o);
-    ASSERT_TRUE(reference) << reference.message();
+    auto both = renderBothBackends(path, o);
+    ASSERT_TRUE(both) << both.message();
+    const RenderImage *device = &both->device, *reference = &both->reference;
     const double rmse = test::relativeRmse(device->rgb, reference->rgb);
     std::printf("textured quad: device vs Embree relative RMSE %.2e\n", rmse);
     EXPECT_LE(rmse, 1e-2);
@@ -260,10 +274,9 @@ TEST(TextureDeviceRender, NormalMapsBendAsOnTheReference) {
                                           source(normals, "normals.png", TextureWrap::Mirror, TextureEncoding::Linear)});
     RenderOptions o = lit(40, 8);
     o.aovs = kAovNormal;
-    auto device = test::renderVulkan(path, o, 256ull << 20);
-    ASSERT_TRUE(device) << device.message();
-    auto reference = test::renderEmbree(path, o);
-    ASSERT_TRUE(reference) << reference.message();
+    auto both = renderBothBackends(path, o);
+    ASSERT_TRUE(both) << both.message();
+    const RenderImage *device = &both->device, *reference = &both->reference;
     const double rmse = test::relativeRmse(device->rgb, reference->rgb);
     float normalError = 0;
     for (size_t i = 0; i < device->normal.size(); ++i)
@@ -300,10 +313,9 @@ TEST(TextureDeviceRender, AKhronosSampleRendersAsOnTheReference) {
     o.width = o.height = 64;
     o.samplesPerPixel = 4;
     o.maxDepth = 3;
-    auto device = test::renderVulkan(package, o, 256ull << 20);
-    ASSERT_TRUE(device) << device.message();
-    auto reference = test::renderEmbree(package, o);
-    ASSERT_TRUE(reference) << reference.message();
+    auto both = renderBothBackends(package, o);
+    ASSERT_TRUE(both) << both.message();
+    const RenderImage *device = &both->device, *reference = &both->reference;
     const double rmse = test::relativeRmse(device->rgb, reference->rgb);
     std::printf("ClearCoatTest: device vs Embree relative RMSE %.2e\n", rmse);
     EXPECT_LE(rmse, 1e-2);
@@ -337,12 +349,7 @@ std::string cutoutPackage(const std::string& name, const Rgba8Image& mask, float
         mesh.textures.push_back(source(*back, name + "-back.png", TextureWrap::Repeat, TextureEncoding::Srgb));
     }
     mesh.materials = {front, under};
-    const std::string path = (folder() / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return writePackage(name, std::move(mesh));
 }
 
 // Cut-outs (docs/RENDERING.md, "Cut-outs"): where the mask's alpha is 0 the camera sees the quad
@@ -356,10 +363,9 @@ TEST(TextureDeviceRender, CutoutsLetRaysThroughTheirHolesAsOnTheReference) {
     o.aovs = kAovAlbedo;
     o.environment.sunDirection = {0.3f, 0.2f, 1.0f};
     const std::string path = cutoutPackage("cutout", mask, 0.5f, nullptr);
-    auto device = test::renderVulkan(path, o, 256ull << 20);
-    ASSERT_TRUE(device) << device.message();
-    auto reference = test::renderEmbree(path, o);
-    ASSERT_TRUE(reference) << reference.message();
+    auto both = renderBothBackends(path, o);
+    ASSERT_TRUE(both) << both.message();
+    const RenderImage *device = &both->device, *reference = &both->reference;
     auto isBack = [](const float* albedo) {
         return std::fabs(albedo[0] - kBackColour[0]) < 1e-6f && std::fabs(albedo[1] - kBackColour[1]) < 1e-6f &&
                std::fabs(albedo[2] - kBackColour[2]) < 1e-6f;
