@@ -1,6 +1,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -57,6 +58,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"clearcoat", m.clearcoat},
                              {"clearcoat_roughness", m.clearcoatRoughness},
                              {"double_sided", m.doubleSided},
+                             {"alpha_cutoff", m.alphaCutoff},
                              {"maps", maps},
                              {"normal_scale", m.textures.normalScale},
                              {"occlusion_strength", m.textures.occlusionStrength}});
@@ -155,7 +157,13 @@ void printHuman(const std::string& path, const PackageInfo& info) {
                                  {info.hasUvs, "texture coordinates"}})
         if (present) attributes += (attributes.empty() ? "" : ", ") + std::string(name);
     std::printf("  vertex attributes    %s\n", attributes.empty() ? "none" : attributes.c_str());
-    std::printf("  materials            %zu\n", info.materials.size());
+    const auto cutouts = std::count_if(info.materials.begin(), info.materials.end(), [](const Material& m) {
+        return m.alphaCutoff > 0.0f && m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture != kNoTexture;
+    });
+    if (cutouts > 0)
+        std::printf("  materials            %zu (%zu alpha cut-outs)\n", info.materials.size(), size_t(cutouts));
+    else
+        std::printf("  materials            %zu\n", info.materials.size());
     for (uint32_t t = 0; t < info.textures.size(); ++t) {
         const PackageTexture& x = info.textures[t];
         std::printf("  texture %-12u '%s': %u x %u texels, %u levels, %u pages (%s stored), %s, wrap %s/%s\n", t,

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -79,6 +80,32 @@ TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
     for (const char* key : {"\"name\": \"lacquer\"", "\"specular_color\"", "0.5", "2.0", "\"clearcoat\": 0.75",
                             "\"clearcoat_roughness\": 0.125"})
         EXPECT_NE(r.output.find(key), std::string::npos) << key << " in " << r.output;
+}
+
+// BoxTextured made a cut-out (alphaMode MASK, cutoff 0.3; its texture is opaque, so nothing is cut):
+// import warns of nothing, info counts the cut-out in text and gives its cutoff in JSON.
+TEST_F(Cli, InfoCountsAlphaCutouts) {
+    const std::filesystem::path box = "/usr/share/assimp/models/glTF2/BoxTextured-glTF";
+    if (!std::filesystem::exists(box)) GTEST_SKIP() << box << " is absent (assimp-testmodels not installed)";
+    const std::filesystem::path dir = tmp("masked-box");
+    std::filesystem::create_directories(dir);
+    for (const char* f : {"BoxTextured0.bin", "CesiumLogoFlat.png"})
+        std::filesystem::copy_file(box / f, dir / f, std::filesystem::copy_options::overwrite_existing);
+    std::ifstream in(box / "BoxTextured.gltf");
+    std::string gltf{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::string name = "\"name\": \"Texture\"";
+    ASSERT_NE(gltf.find(name), std::string::npos);
+    gltf.replace(gltf.find(name), name.size(), name + ", \"alphaMode\": \"MASK\", \"alphaCutoff\": 0.3");
+    std::ofstream((dir / "masked.gltf").string()) << gltf;
+    CommandResult i = run("import " + (dir / "masked.gltf").string() + " -o " + tmp("masked.vast") + " --progress none");
+    ASSERT_EQ(i.exitCode, 0) << i.output;
+    EXPECT_EQ(i.output.find("MASK"), std::string::npos) << i.output;
+    CommandResult text = run("info " + tmp("masked.vast"));
+    ASSERT_EQ(text.exitCode, 0) << text.output;
+    EXPECT_NE(text.output.find("materials            1 (1 alpha cut-outs)"), std::string::npos) << text.output;
+    CommandResult json = run("info " + tmp("masked.vast") + " --json");
+    ASSERT_EQ(json.exitCode, 0) << json.output;
+    EXPECT_NE(json.output.find("\"alpha_cutoff\": 0.30000001192092896"), std::string::npos) << json.output;
 }
 
 // A textured glTF (Debian's assimp-testmodels BoxTextured): import stores its texture, info lists
