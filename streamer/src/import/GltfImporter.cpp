@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -498,11 +499,50 @@ int chooseUvSet(const tinygltf::Model& model, const std::string& name, ImportRep
     return most->first;
 }
 
-// What the file holds that the package does not carry, once per kind.
-void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
+// Warns once per name (what(name) read but not used, with `consequence`), the most used first
+// (then by name); a hostile file may name thousands: past eight, one line for the others.
+void warnByName(const std::map<std::string, uint64_t>& counts, const std::function<std::string(const std::string&)>& what,
+                const std::string& consequence, const std::string& others, const std::string& othersConsequence,
+                ImportReport& report) {
+    constexpr size_t kNamed = 8;
+    std::vector<std::pair<std::string, uint64_t>> byUse(counts.begin(), counts.end());
+    std::stable_sort(byUse.begin(), byUse.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    uint64_t rest = 0;
+    size_t named = 0;
+    for (const auto& [name, count] : byUse) {
+        if (named++ < kNamed)
+            report.warnUnused(what(cutUtf8(validUtf8(name), 64)), count, consequence);
+        else
+            rest += count;
+    }
+    report.warnUnused(others, rest, othersConsequence);
+}
+
+// What the file holds that the package does not carry, once per kind. `uvSet`: the TEXCOORD set
+// kept (chooseUvSet; -1: none).
+void warnAboutUnused(const tinygltf::Model& model, int uvSet, ImportReport& report) {
     uint64_t morphs = 0;
+    // Vertex attributes the package does not carry, per primitive (skins' JOINTS_n and WEIGHTS_n
+    // are the skins' warning; UVs without a texture map, Import.cpp's).
+    std::map<std::string, uint64_t> attributes;
+    const std::string keptUvs = "TEXCOORD_" + std::to_string(uvSet);
     for (const tinygltf::Mesh& mesh : model.meshes)
-        for (const tinygltf::Primitive& prim : mesh.primitives) morphs += prim.targets.size();
+        for (const tinygltf::Primitive& prim : mesh.primitives) {
+            morphs += prim.targets.size();
+            for (const auto& [name, accessor] : prim.attributes)
+                if (name != "POSITION" && name != "NORMAL" && name != "COLOR_0" && name != keptUvs &&
+                    !(uvSet < 0 && name.starts_with("TEXCOORD_")) &&  // "no material has a texture map"
+                    !name.starts_with("JOINTS_") && !name.starts_with("WEIGHTS_"))
+                    ++attributes[name];
+        }
+    if (const auto tangents = attributes.find("TANGENT"); tangents != attributes.end()) {
+        report.warnUnused("primitives' TANGENT attributes", tangents->second,
+                          "normal maps take their frames from the UVs: docs/RENDERING.md, \"Normal maps\"");
+        attributes.erase(tangents);
+    }
+    warnByName(
+        attributes, [](const std::string& name) { return "primitives' " + name + " attributes"; },
+        "not stored in the package", "primitives' other vertex attributes", "not stored in the package", report);
     report.warnUnused("morph targets", morphs);
     report.warnUnused("skins", model.skins.size());
     report.warnUnused("animations", model.animations.size());
@@ -523,20 +563,9 @@ void warnAboutUnused(const tinygltf::Model& model, ImportReport& report) {
                 ++extensions[name];
         alphaModes += alphaNotRendered(m);
     }
-    // The most used first (then by name); a hostile file may name thousands: past eight, one line.
-    constexpr size_t kNamedExtensions = 8;
-    std::vector<std::pair<std::string, uint64_t>> byUse(extensions.begin(), extensions.end());
-    std::stable_sort(byUse.begin(), byUse.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-    uint64_t others = 0;
-    size_t named = 0;
-    for (const auto& [name, count] : byUse) {
-        if (named++ < kNamedExtensions)
-            report.warnUnused("materials' " + cutUtf8(validUtf8(name), 64) + " extensions", count,
-                              "the material is rendered without it");
-        else
-            others += count;
-    }
-    report.warnUnused("other material extensions", others, "rendered without them");
+    warnByName(
+        extensions, [](const std::string& name) { return "materials' " + name + " extensions"; },
+        "the material is rendered without it", "other material extensions", "rendered without them", report);
     report.warnUnused("materials with alphaMode BLEND", alphaModes, "rendered opaque");
 }
 
@@ -555,13 +584,14 @@ Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOp
     auto lights = readLights(*model);
     if (!lights) return lights.status().withContext(name + ": ");
     GltfFlattener flattener(*model, std::move(lights).value(), imported);
-    flattener.keepUvSet(chooseUvSet(*model, name, imported.report));
+    const int uvSet = chooseUvSet(*model, name, imported.report);
+    flattener.keepUvSet(uvSet);
     if (Status s = flattener.run(); !s.isOk()) return s.withContext(name + ": ");
     auto textures = import::readGltfTextures(*model, name, import::directoryOf(path), imported.report);
     if (!textures) return textures.status();
     for (size_t i = 0; i < textures->materials.size(); ++i) imported.mesh.materials[i].textures = textures->materials[i];
     imported.mesh.textures = std::move(textures->textures);
-    warnAboutUnused(*model, imported.report);
+    warnAboutUnused(*model, uvSet, imported.report);
     imported.report.warnUnused("cameras", flattener.camerasNotUsed(), "orthographic, or placed degenerately");
     imported.report.warnUnused("KHR_lights_punctual lights", flattener.lightsNotUsed(), "placed by no node, or placed degenerately");
     if (flattener.hiddenTriangles() > 0) {

@@ -167,6 +167,32 @@ TEST(GltfImport, SpecularColourFactor) {
 // KHR_materials_clearcoat's factors (no coat without it); a factor outside [0, 1] is refused
 // naming the material, a value of the wrong JSON type naming its JSON path; its textures are
 // warned about once, as unused.
+// Vertex attributes the package does not carry are warned about once per name: TANGENT (normal
+// maps take their frames from the UVs), custom attributes; POSITION, NORMAL and COLOR_0 are
+// carried, skins' JOINTS_n/WEIGHTS_n are the skins' warning, and UV sets without a texture map
+// Import.cpp's "texture coordinates" one.
+TEST(GltfImport, VertexAttributesNotCarriedAreWarnedOncePerName) {
+    GltfBuilder b;
+    const int pos = b.addPositions(kTriangle);
+    const std::string p = std::to_string(pos);
+    const std::string path = writeFile("attributes.gltf", b.json(R"("meshes":[{"primitives":[
+        {"attributes":{"POSITION":)" + p + R"(,"TANGENT":)" + p + R"(,"TEXCOORD_1":)" + p + R"(,"_TEMPERATURE":)" + p +
+                                                                   R"(,"JOINTS_0":)" + p + R"(}},
+        {"attributes":{"POSITION":)" + p + R"(,"TANGENT":)" + p + R"(,"TEXCOORD_0":)" + p + R"(}}]}],
+        "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])"));
+    auto r = importGltf(path);
+    ASSERT_TRUE(r.isOk()) << r.message();
+    auto count = [&](const std::string& text) {
+        return std::count_if(r->report.warnings.begin(), r->report.warnings.end(),
+                             [&](const std::string& w) { return w.find(text) != std::string::npos; });
+    };
+    EXPECT_EQ(count("2 primitives' TANGENT attributes read but not used (normal maps take their frames from the UVs"), 1);
+    EXPECT_EQ(count("1 primitives' _TEMPERATURE attributes read but not used"), 1);
+    EXPECT_EQ(count("JOINTS_0"), 0);
+    EXPECT_EQ(count("TEXCOORD_"), 0) << "no material has a texture: Import.cpp's warning covers every UV set";
+    EXPECT_EQ(count("POSITION"), 0);
+}
+
 // Material extensions without a model in the renderer are warned about once per extension name
 // (a glass rendered opaque is not a surprise), at most eight by name. Alpha: a material whose
 // alpha hides it (MASK below its cutoff, BLEND at 0) has its triangles left out, whatever a texture
