@@ -90,16 +90,19 @@ std::string parseMap(const char* p, const char* end, MtlMap& map, MtlUnused& unu
     return map.file.empty() ? "the map names no file" : "";
 }
 
-// The glTF slot of a map statement, or -1 with the kind it is counted as in `unused`.
+// map_d's code from mapSlot: kept in MtlEntry::alphaMap (a cut-out when it is map_Kd's image).
+constexpr int kAlphaMapSlot = int(kTextureSlotCount);
+
+// The glTF slot of a map statement (or kAlphaMapSlot), or -1 with the kind it is counted as in
+// `unused`.
 int mapSlot(std::string_view keyword, MtlUnused& unused) {
     ++unused.maps;
     if (keyword == "map_Kd") return int(TextureSlot::BaseColor);
+    if (keyword == "map_d") return kAlphaMapSlot;
     if (keyword == "norm") return int(TextureSlot::Normal);
     if (keyword == "map_Ke") return int(TextureSlot::Emissive);
     if (keyword == "bump" || keyword == "map_Bump" || keyword == "map_bump")
         unused.add("bump (height) maps", "not rendered: only norm normal maps are read");
-    else if (keyword == "map_d")
-        unused.add("alpha maps (map_d)", "rendered opaque");
     else if (keyword == "map_Pr" || keyword == "map_Pm")
         unused.add("roughness and metallic maps (map_Pr, map_Pm)",
                    "glTF's one metallic-roughness image is not assembled from two files");
@@ -144,7 +147,7 @@ Status parseMtlFile(const std::string& path, const std::string& libraryName, Mtl
                 map.line = line;
                 if (std::string problem = parseMap(p, eol, map, unused); !problem.empty())
                     return errorIn(name, "line " + std::to_string(line) + ": " + std::string(keyword) + ": " + problem);
-                current->maps[size_t(slot)] = std::move(map);
+                (slot == kAlphaMapSlot ? current->alphaMap : current->maps[size_t(slot)]) = std::move(map);
             }
         } else if (current && (keyword == "d" || keyword == "Tr")) {
             float value = 0.0f;  // opacity (d) or transparency (Tr = 1 - d); a malformed one is left alone

@@ -34,6 +34,9 @@ struct MtlEntry {
     float exponent = 0.0f;  // Ns
     int illumination = 2;   // illum: 0 and 1 have no highlight (Ks unused)
     std::array<MtlMap, kTextureSlotCount> maps{};  // by TextureSlot; MetallicRoughness and Occlusion stay empty
+    // map_d: a cut-out when it names map_Kd's image with map_Kd's options (its alpha then cuts:
+    // docs/RENDERING.md, "Cut-outs"); another image is warned and left out.
+    MtlMap alphaMap;
     std::string library;  // the mtllib name that defined it: map files are relative to its folder
 };
 
@@ -52,7 +55,7 @@ struct MtlUnused {
 };
 
 // Adds the materials of `path` (named `libraryName` in the OBJ's mtllib) to `library`. Maps
-// without a glTF slot (map_Ka, map_Ks, bump: a height map, map_d, map_Pr and map_Pm: two images
+// without a glTF slot (map_Ka, map_Ks, bump: a height map, map_Pr and map_Pm: two images
 // where glTF has one, ...), map options that change the look and are not read (-mm, -t, -cc on,
 // ...), transparency (d below 1, Tr above 0) and the PBR extension's statements (Pr, Pm, ...)
 // are counted in `unused`; other statements are ignored.

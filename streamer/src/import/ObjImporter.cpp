@@ -284,6 +284,7 @@ Status ObjParser::applyMaterialLibraries() {
     out_.report.textureMaps = unused.maps;
     for (const auto& [kind, counted] : unused.kinds) out_.report.warnUnused("MTL " + kind, counted.first, counted.second);
     import::TextureFiles files(folder, name_);
+    uint64_t alphaMapsLeftOut = 0;
     for (Material& m : out_.mesh.materials) {
         if (m.name.empty()) m.name = "default";
         const auto it = library.find(m.name);
@@ -295,7 +296,20 @@ Status ObjParser::applyMaterialLibraries() {
         if (e.illumination >= 2) import::setPhongSpecular(m, std::max({e.specular[0], e.specular[1], e.specular[2]}), e.exponent);
         if (Status s = bindMaps(e, files, m.textures); !s.isOk())
             return import::errorIn(import::fileNameOf(e.library), "material '" + m.name + "' " + s.message());
+        // map_d naming map_Kd's image (with its options): that image's alpha cuts the surface out,
+        // at glTF's default cutoff (MTL has none); another image is not read.
+        const import::MtlMap &alpha = e.alphaMap, &base = e.maps[uint32_t(TextureSlot::BaseColor)];
+        if (!alpha.file.empty()) {
+            const bool same = alpha.file == base.file && alpha.scale == base.scale && alpha.offset == base.offset &&
+                              alpha.clamp == base.clamp;
+            if (same && m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture != kNoTexture)
+                m.alphaCutoff = 0.5f;
+            else
+                ++alphaMapsLeftOut;
+        }
     }
+    out_.report.warnUnused("MTL alpha maps (map_d) naming another image than map_Kd", alphaMapsLeftOut,
+                           "rendered opaque; map_d on map_Kd's own image cuts out with its alpha");
     files.warn(out_.report);
     out_.mesh.textures = std::move(files.textures());
     return Status::ok();

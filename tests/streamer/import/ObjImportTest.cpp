@@ -82,7 +82,8 @@ TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
         "1 MTL texture maps without a glTF slot (map_Ka, map_Ks, map_Ns, disp, decal, refl, ...) read but not used "
         "(materials use their colours there)",
         "2 MTL bump (height) maps read but not used (not rendered: only norm normal maps are read)",
-        "1 MTL alpha maps (map_d) read but not used (rendered opaque)",
+        "1 MTL alpha maps (map_d) naming another image than map_Kd read but not used (rendered opaque; map_d on "
+        "map_Kd's own image cuts out with its alpha)",
         "2 MTL roughness and metallic maps (map_Pr, map_Pm) read but not used (glTF's one metallic-roughness image "
         "is not assembled from two files)",
         "1 MTL map options -mm (value range) read but not used (the map is read without it)",
@@ -103,6 +104,29 @@ TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
 // MTL space, v up; in the package's space (v down) its v is 1 minus that.
 std::array<float, 2> mtlTexel(float u, float v, float su, float sv, float ou, float ov) {
     return {su * u + ou, 1.0f - (sv * v + ov)};
+}
+
+// map_d naming map_Kd's own image (with the same options) makes the material a cut-out at
+// glTF's default cutoff (docs/RENDERING.md, "Cut-outs"): that image's alpha cuts; map_d on
+// another image, or with other options, is warned and left out (the material stays opaque).
+TEST(ObjImport, MapDOnTheBaseColourImageIsACutout) {
+    writeFile("leaf.png", tinyPng());
+    writeFile("mask.png", tinyPng());
+    writeFile("cutouts.mtl", "newmtl leaf\nmap_Kd -s 2 2 1 leaf.png\nmap_d -s 2 2 1 leaf.png\n"
+                             "newmtl masked\nmap_Kd leaf.png\nmap_d mask.png\n"
+                             "newmtl shifted\nmap_Kd leaf.png\nmap_d -o 0.5 leaf.png\n");
+    auto r = importObj(writeFile("cutouts.obj", "mtllib cutouts.mtl\n" + std::string(kSquareVertices) +
+                                                    "vt 0 0\nvt 1 1\nusemtl leaf\nf 1/1 2/2 3/1\nusemtl masked\nf 1/1 3/2 4/1\n"
+                                                    "usemtl shifted\nf 2/1 3/2 4/1\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.materials.size(), 3u);
+    EXPECT_EQ(r->mesh.materials[0].alphaCutoff, 0.5f);
+    EXPECT_EQ(r->mesh.materials[1].alphaCutoff, 0.0f);
+    EXPECT_EQ(r->mesh.materials[2].alphaCutoff, 0.0f);
+    EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(),
+                         "2 MTL alpha maps (map_d) naming another image than map_Kd read but not used (rendered "
+                         "opaque; map_d on map_Kd's own image cuts out with its alpha)"),
+              1);
 }
 
 // map_Kd, norm and map_Ke become base colour (sRGB), normal (linear) and emissive (sRGB) maps
