@@ -11,6 +11,7 @@
 #include "CellExport.h"
 #include "Commands.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/PathShading.h"
 #include "vastray/streamer/ScenePackage.h"
 
 namespace vastray::cli {
@@ -157,9 +158,8 @@ void printHuman(const std::string& path, const PackageInfo& info) {
                                  {info.hasUvs, "texture coordinates"}})
         if (present) attributes += (attributes.empty() ? "" : ", ") + std::string(name);
     std::printf("  vertex attributes    %s\n", attributes.empty() ? "none" : attributes.c_str());
-    const auto cutouts = std::count_if(info.materials.begin(), info.materials.end(), [](const Material& m) {
-        return m.alphaCutoff > 0.0f && m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture != kNoTexture;
-    });
+    const auto cutouts = std::count_if(info.materials.begin(), info.materials.end(),
+                                       [&](const Material& m) { return isCutout(m, info.textures.size()); });
     if (cutouts > 0)
         std::printf("  materials            %zu (%zu alpha cut-outs)\n", info.materials.size(), size_t(cutouts));
     else

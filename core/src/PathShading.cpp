@@ -77,10 +77,14 @@ MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture>
     return s;
 }
 
+bool isCutout(const Material& m, uint64_t textureCount) {
+    const uint32_t map = m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture;
+    return m.alphaCutoff > 0.0f && map != kNoTexture && map < textureCount;
+}
+
 bool cutOut(const Material& m, std::span<const DecodedTexture> textures, std::array<float, 2> uv) {
-    if (!(m.alphaCutoff > 0.0f)) return false;
+    if (!isCutout(m, textures.size())) return false;
     const TextureBinding& b = m.textures.slots[uint32_t(TextureSlot::BaseColor)];
-    if (b.texture == kNoTexture || b.texture >= textures.size()) return false;
     float u = 0.0f, v = 0.0f;
     applyUvTransform(b.transform, uv[0], uv[1], u, v);
     return m.baseColor[3] * sampleTexture(textures[b.texture], u, v, 0.0f).a < m.alphaCutoff;

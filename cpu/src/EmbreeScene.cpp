@@ -174,10 +174,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh
         const uint32_t m = mesh.materialOf(t);
         impl.triangles.doubleSided[t] = m < mesh.materials.size() ? mesh.materials[m].doubleSided : 1;
     }
-    auto cuts = [&](const Material& m) {
-        const uint32_t map = m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture;
-        return m.alphaCutoff > 0.0f && map != kNoTexture && map < textures.size();
-    };
+    auto cuts = [&](const Material& m) { return isCutout(m, textures.size()); };
     if (!mesh.uvs.empty() && std::any_of(mesh.materials.begin(), mesh.materials.end(), cuts)) {
         TriangleData& d = impl.triangles;
         d.uvs = mesh.uvs, d.materials = mesh.materials, d.textures = textures;

@@ -9,6 +9,7 @@
 
 #include "PoolLayout.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/PathShading.h"
 
 namespace vastray::gpu {
 namespace {
@@ -53,10 +54,8 @@ GpuTexture gpuTexture(const PackageTexture& t, uint32_t firstEntry) {
 
 std::vector<uint32_t> cutoutTextures(std::span<const Material> materials, uint64_t textureCount) {
     std::vector<uint32_t> pinned;
-    for (const Material& m : materials) {
-        const uint32_t t = m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture;
-        if (m.alphaCutoff > 0.0f && t != kNoTexture && t < textureCount) pinned.push_back(t);
-    }
+    for (const Material& m : materials)
+        if (isCutout(m, textureCount)) pinned.push_back(m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture);
     std::sort(pinned.begin(), pinned.end());
     pinned.erase(std::unique(pinned.begin(), pinned.end()), pinned.end());
     return pinned;

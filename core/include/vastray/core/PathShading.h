@@ -74,6 +74,9 @@ MaterialSample sampleMaterial(const Material& material, std::span<const DecodedT
                               std::array<float, 2> uv, const MapFootprint* footprint);
 // The factors alone.
 MaterialSample materialFactors(const Material& material);
+// Whether `material` is a cut-out: an alphaCutoff above 0 and a base colour map among the scene's
+// `textureCount` textures (docs/RENDERING.md, "Cut-outs").
+bool isCutout(const Material& material, uint64_t textureCount);
 // Cut-outs (docs/RENDERING.md, "Cut-outs"): whether a hit at `uv` on a triangle of `material`
 // is no hit: its alphaCutoff is above 0, it has a base colour map, and baseColor[3] times the
 // map's alpha at level 0 (the map's UV transform applied) is below the cutoff.
