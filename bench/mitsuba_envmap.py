@@ -28,19 +28,14 @@ variant = sys.argv[10] if len(sys.argv) > 10 else "cuda_ad_rgb"
 
 import mitsuba as mi
 import drjit as dr
-from mitsuba_timing import time_renders
+from mitsuba_timing import perspective_sensor, time_renders
 
 mi.set_variant(variant)
 t0 = time.perf_counter()
 scene = mi.load_dict({
     "type": "scene",
     "integrator": {"type": "path", "max_depth": depth + 1},
-    "sensor": {
-        "type": "perspective", "fov": 45, "fov_axis": "y",
-        "to_world": mi.ScalarTransform4f().look_at(origin=eye, target=target, up=[0, 1, 0]),
-        "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        "sampler": {"type": "independent", "sample_count": spp},
-    },
+    "sensor": perspective_sensor(mi, eye, target, w, h, spp, pixel_format="rgb"),
     "sky": {"type": "envmap", "filename": envmap},
     # face_normals: Mitsuba would otherwise smooth the normals of a PLY without any over shared
     # vertices (a generated city's box corners), which vastray does not do.

@@ -13,6 +13,7 @@ target = [float(x) for x in sys.argv[8].split(",")]
 
 import mitsuba as mi
 import drjit as dr
+from mitsuba_timing import perspective_sensor, time_renders
 
 mi.set_variant("cuda_ad_rgb")
 
@@ -33,27 +34,16 @@ for name, reflectance in (("textured", {"type": "bitmap", "filename": png, "filt
     scene = mi.load_dict({
         "type": "scene",
         "integrator": {"type": "path", "max_depth": depth + 1},
-        "sensor": {
-            "type": "perspective", "fov": 45, "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(origin=eye, target=target, up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}},
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": perspective_sensor(mi, eye, target, w, h, spp),
         "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.8, 0.9, 1.0]}},
         "sun": {"type": "directional", "direction": [-0.3, -1.0, -0.2], "irradiance": {"type": "rgb", "value": [3.0, 3.0, 3.0]}},
         "mesh": {"type": "ply", "filename": ply, "bsdf": {"type": "diffuse", "reflectance": reflectance}},
     })
     load_s = time.perf_counter() - t0
-    times = []
-    for i in range(4):
-        t = time.perf_counter()
-        img = mi.render(scene, spp=spp, seed=i)
-        dr.eval(img)
-        dr.sync_thread()
-        times.append(time.perf_counter() - t)
-    later = sorted(times[1:])
+    figures, _ = time_renders(mi, dr, scene, spp)
     print(json.dumps({"material": name, "resolution": f"{w}x{h}", "spp": spp, "vastray_depth": depth,
-                      "load_s": round(load_s, 3), "first_render_s": round(times[0], 3),
-                      "render_s_median": round(later[1], 4), "gpu_mib_before": before, "gpu_mib_after": gpu_used_mib()}),
+                      "load_s": round(load_s, 3), "first_render_s": figures["first_render_s"],
+                      "render_s_median": figures["render_s_median"], "gpu_mib_before": before,
+                      "gpu_mib_after": gpu_used_mib()}),
           flush=True)
     del scene

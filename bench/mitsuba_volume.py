@@ -22,7 +22,7 @@ variant = sys.argv[13] if len(sys.argv) > 13 else "cuda_ad_rgb"
 
 import mitsuba as mi
 import drjit as dr
-from mitsuba_timing import time_renders
+from mitsuba_timing import perspective_sensor, time_renders
 
 mi.set_variant(variant)
 T = mi.ScalarTransform4f
@@ -42,12 +42,7 @@ t0 = time.perf_counter()
 scene = mi.load_dict({
     "type": "scene",
     "integrator": {"type": "volpath", "max_depth": depth + 1},
-    "sensor": {
-        "type": "perspective", "fov": fov, "fov_axis": "y",
-        "to_world": T().look_at(origin=eye, target=target, up=[0, 1, 0]),
-        "film": {"type": "hdrfilm", "width": w, "height": h, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        "sampler": {"type": "independent", "sample_count": spp},
-    },
+    "sensor": perspective_sensor(mi, eye, target, w, h, spp, fov=fov, pixel_format="rgb"),
     "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
     "cloud": {
         "type": "cube",
