@@ -41,8 +41,9 @@ struct MapFootprint {
 const uint kMaxMapPages = 8u;
 
 // Texture `texture` at uv mapped by t, at the level the footprint asks for (core/RayCone.h
-// mapLod); the page-table entries of the pages it reads are appended to pages[count], and
-// `absent` is set when one of them is not resident.
+// mapLod); with paged textures the page-table entries of the pages it reads are appended to
+// pages[count] (in core no page is ever absent: nothing to ask for), and `absent` is set when one
+// of them is not resident.
 vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, MapFootprint footprint, inout bool absent,
              inout uint pages[kMaxMapPages], inout uint count) {
     const GpuTexture g = GpuTextureArray(p.textures).v[texture];
@@ -50,8 +51,10 @@ vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, MapFootprint 
     const float texelArea = abs(t[0] * t[4] - t[1] * t[3]) * float(g.width) * float(g.height);
     const float lod = clampedLod(g, coneLod(texelArea, footprint.worldPerUv, footprint.coneWidth, footprint.cosTheta));
     const uint level = uint(lod);
-    pages[count++] = texturePageEntry(g, level, at);
-    if (lod > float(level)) pages[count++] = texturePageEntry(g, level + 1u, at);
+    if (p.textureDemand != 0ul) {
+        pages[count++] = texturePageEntry(g, level, at);
+        if (lod > float(level)) pages[count++] = texturePageEntry(g, level + 1u, at);
+    }
     uint missing = kTexturePageAbsent;
     const vec4 value = sampleTexture(g, at, lod, TextureWords(p.texturePages), TextureWords(p.texturePool), missing);
     absent = absent || missing != kTexturePageAbsent;
