@@ -64,7 +64,11 @@ std::string parseMapOption(std::string_view option, const char*& p, const char* 
         if (changesLook) unused.add("map options " + name + " " + std::string(value), notRead);
         return "";
     }
-    if (option == "-imfchan") unused.add("map options -imfchan (channel)", notRead);
+    if (option == "-imfchan") {
+        if (value.size() != 1 || std::string_view("rgbmlz").find(value[0]) == std::string_view::npos)
+            return "-imfchan must be r, g, b, m, l or z";
+        map.channel = value[0];
+    }
     return "";  // -imfchan, -type
 }
 
@@ -90,7 +94,7 @@ std::string parseMap(const char* p, const char* end, MtlMap& map, MtlUnused& unu
     return map.file.empty() ? "the map names no file" : "";
 }
 
-// map_d's code from mapSlot: kept in MtlEntry::alphaMap (a cut-out when it is map_Kd's image).
+// map_d's code from mapSlot: kept in MtlEntry::alphaMap (a cut-out's mask).
 constexpr int kAlphaMapSlot = int(kTextureSlotCount);
 
 // The glTF slot of a map statement (or kAlphaMapSlot), or -1 with the kind it is counted as in
@@ -147,6 +151,9 @@ Status parseMtlFile(const std::string& path, const std::string& libraryName, Mtl
                 map.line = line;
                 if (std::string problem = parseMap(p, eol, map, unused); !problem.empty())
                     return errorIn(name, "line " + std::to_string(line) + ": " + std::string(keyword) + ": " + problem);
+                // A channel picks a scalar map's values; only map_d is read as one.
+                if (map.channel != 0 && slot != kAlphaMapSlot)
+                    unused.add("map options -imfchan (channel) on other maps than map_d", "the map is read without it");
                 (slot == kAlphaMapSlot ? current->alphaMap : current->maps[size_t(slot)]) = std::move(map);
             }
         } else if (current && (keyword == "d" || keyword == "Tr")) {

@@ -24,6 +24,7 @@ struct MtlMap {
     std::array<float, 2> scale{1.0f, 1.0f};
     std::array<float, 2> offset{0.0f, 0.0f};
     bool clamp = false;  // -clamp on; repeat otherwise
+    char channel = 0;    // -imfchan r, g, b, m, l or z; 0 without (read for map_d only)
 };
 
 
@@ -34,8 +35,8 @@ struct MtlEntry {
     float exponent = 0.0f;  // Ns
     int illumination = 2;   // illum: 0 and 1 have no highlight (Ks unused)
     std::array<MtlMap, kTextureSlotCount> maps{};  // by TextureSlot; MetallicRoughness and Occlusion stay empty
-    // map_d: a cut-out when it names map_Kd's image with map_Kd's options (its alpha then cuts:
-    // docs/RENDERING.md, "Cut-outs"); another image is warned and left out.
+    // map_d: a cut-out's mask (docs/RENDERING.md, "Cut-outs"; its -imfchan picks the channel):
+    // map_Kd's own image's alpha cuts as it is, another image is baked into map_Kd's alpha.
     MtlMap alphaMap;
     std::string library;  // the mtllib name that defined it: map files are relative to its folder
 };
@@ -57,7 +58,7 @@ struct MtlUnused {
 // Adds the materials of `path` (named `libraryName` in the OBJ's mtllib) to `library`. Maps
 // without a glTF slot (map_Ka, map_Ks, bump: a height map, map_Pr and map_Pm: two images
 // where glTF has one, ...), map options that change the look and are not read (-mm, -t, -cc on,
-// ...), transparency (d below 1, Tr above 0) and the PBR extension's statements (Pr, Pm, ...)
+// ..., -imfchan on other maps than map_d), transparency (d below 1, Tr above 0) and the PBR extension's statements (Pr, Pm, ...)
 // are counted in `unused`; other statements are ignored.
 Status parseMtlFile(const std::string& path, const std::string& libraryName, MtlLibrary& library, MtlUnused& unused);
 

@@ -3,7 +3,8 @@
 // and texture coordinates are indexed apart from positions: a position used with several
 // normals or UVs becomes several vertices (splitVertices), as every renderer's vertex arrays
 // want. UVs are kept only when the MTL library has a texture map (ImportReport::textureMaps);
-// map_Kd, norm and map_Ke become the materials' maps (MtlLibrary.h, TextureFiles.h).
+// map_Kd, norm and map_Ke become the materials' maps (MtlLibrary.h, TextureFiles.h), map_d a
+// cut-out's mask (AlphaMask.h).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "import/AlphaMask.h"
 #include "import/ImportCommon.h"
 #include "import/MtlLibrary.h"
 #include "import/TextScan.h"
@@ -223,8 +225,15 @@ private:
         return static_cast<uint32_t>(current_);
     }
 
+    // map_d statements left out, by why.
+    struct AlphaMapsLeftOut {
+        uint64_t sampling = 0, depth = 0;
+    };
+
     Status applyMaterialLibraries();
     Status bindMaps(const import::MtlEntry& entry, import::TextureFiles& files, MaterialTextures& out);
+    Status addAlphaMask(uint32_t material, const import::MtlEntry& e, import::TextureFiles& files,
+                        std::vector<import::AlphaMaskRequest>& masks, AlphaMapsLeftOut& leftOut);
 
     // "mtllib a.mtl b.mtl" names two files, but some exporters write one name with spaces.
     std::vector<std::string> libraryFiles() const {
@@ -284,8 +293,10 @@ Status ObjParser::applyMaterialLibraries() {
     out_.report.textureMaps = unused.maps;
     for (const auto& [kind, counted] : unused.kinds) out_.report.warnUnused("MTL " + kind, counted.first, counted.second);
     import::TextureFiles files(folder, name_);
-    uint64_t alphaMapsLeftOut = 0;
-    for (Material& m : out_.mesh.materials) {
+    std::vector<import::AlphaMaskRequest> masks;
+    AlphaMapsLeftOut leftOut;
+    for (uint32_t i = 0; i < out_.mesh.materials.size(); ++i) {
+        Material& m = out_.mesh.materials[i];
         if (m.name.empty()) m.name = "default";
         const auto it = library.find(m.name);
         if (it == library.end()) continue;
@@ -294,25 +305,17 @@ Status ObjParser::applyMaterialLibraries() {
         m.emissive = e.emissive;
         // Ks and Ns: a dielectric specular layer (illum 0 and 1 have no highlight).
         if (e.illumination >= 2) import::setPhongSpecular(m, std::max({e.specular[0], e.specular[1], e.specular[2]}), e.exponent);
-        if (Status s = bindMaps(e, files, m.textures); !s.isOk())
-            return import::errorIn(import::fileNameOf(e.library), "material '" + m.name + "' " + s.message());
-        // map_d naming map_Kd's image (with its options): that image's alpha cuts the surface out,
-        // at glTF's default cutoff (MTL has none); another image is not read.
-        const import::MtlMap &alpha = e.alphaMap, &base = e.maps[uint32_t(TextureSlot::BaseColor)];
-        if (!alpha.file.empty()) {
-            const bool same = alpha.file == base.file && alpha.scale == base.scale && alpha.offset == base.offset &&
-                              alpha.clamp == base.clamp;
-            if (same && m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture != kNoTexture)
-                m.alphaCutoff = 0.5f;
-            else
-                ++alphaMapsLeftOut;
-        }
+        Status s = bindMaps(e, files, m.textures);
+        if (s.isOk()) s = addAlphaMask(i, e, files, masks, leftOut);
+        if (!s.isOk()) return import::errorIn(import::fileNameOf(e.library), "material '" + m.name + "' " + s.message());
     }
-    out_.report.warnUnused("MTL alpha maps (map_d) naming another image than map_Kd", alphaMapsLeftOut,
-                           "rendered opaque; map_d on map_Kd's own image cuts out with its alpha");
+    out_.report.warnUnused("MTL alpha maps (map_d) with other -s, -o or -clamp than map_Kd", leftOut.sampling,
+                           "rendered opaque: a mask is baked into map_Kd's alpha texel for texel");
+    out_.report.warnUnused("MTL alpha maps (map_d) of channel -imfchan z (depth)", leftOut.depth,
+                           "rendered opaque: PNG and JPEG images have no depth channel");
     files.warn(out_.report);
     out_.mesh.textures = std::move(files.textures());
-    return Status::ok();
+    return import::bakeAlphaMasks(out_.mesh, masks).withContext(name_ + ": ");
 }
 
 // An MTL map's -s and -o in the package's texture space. MTL maps v up (OBJ's vt): u' = s_u u +
@@ -322,22 +325,69 @@ UvTransform mtlUvTransform(const import::MtlMap& map) {
     return import::vUpToVDown({map.scale[0], 0.0f, map.offset[0], 0.0f, map.scale[1], map.offset[1]});
 }
 
-// The material's map_Kd, norm and map_Ke, each a texture of `files` (its file is relative to
-// the library's folder); a map whose image is missing or not PNG/JPEG is left out (warned).
+// The binding of `map` (its file relative to the library's folder), kNoTexture when its image is
+// missing or not PNG/JPEG (counted by `files`, warned).
+Result<TextureBinding> bindMap(const import::MtlMap& map, const std::string& library, import::TextureFiles& files,
+                               TextureEncoding encoding) {
+    const std::filesystem::path libraryFolder = std::filesystem::path(library).parent_path();
+    const TextureWrap wrap = map.clamp ? TextureWrap::Clamp : TextureWrap::Repeat;
+    std::string why;
+    if (!import::isSafeRelativeUri(map.file, why))
+        return Status::error("line " + std::to_string(map.line) + ": image '" + map.file + "' " + why);
+    auto texture = files.addFile((libraryFolder / map.file).generic_string(), wrap, wrap, encoding);
+    if (!texture) return texture.status().withContext("line " + std::to_string(map.line) + ": ");
+    return TextureBinding{*texture, mtlUvTransform(map)};
+}
+
+// The material's map_Kd, norm and map_Ke, each a texture of `files`.
 Status ObjParser::bindMaps(const import::MtlEntry& entry, import::TextureFiles& files, MaterialTextures& out) {
-    const std::filesystem::path libraryFolder = std::filesystem::path(entry.library).parent_path();
     for (uint32_t slot = 0; slot < kTextureSlotCount; ++slot) {
-        const import::MtlMap& map = entry.maps[slot];
-        if (map.file.empty()) continue;
-        const TextureWrap wrap = map.clamp ? TextureWrap::Clamp : TextureWrap::Repeat;
-        std::string why;
-        if (!import::isSafeRelativeUri(map.file, why))
-            return Status::error("line " + std::to_string(map.line) + ": image '" + map.file + "' " + why);
-        auto texture = files.addFile((libraryFolder / map.file).generic_string(), wrap, wrap,
-                                     slotEncoding(TextureSlot(slot)));
-        if (!texture) return texture.status().withContext("line " + std::to_string(map.line) + ": ");
-        out.slots[slot] = {*texture, mtlUvTransform(map)};
+        if (entry.maps[slot].file.empty()) continue;
+        auto binding = bindMap(entry.maps[slot], entry.library, files, slotEncoding(TextureSlot(slot)));
+        if (!binding) return binding.status();
+        out.slots[slot] = *binding;
     }
+    return Status::ok();
+}
+
+// -imfchan's letter as a mask channel (z, depth, is left out before).
+import::MaskChannel maskChannel(char imfchan) {
+    switch (imfchan) {
+        case 'r': return import::MaskChannel::Red;
+        case 'g': return import::MaskChannel::Green;
+        case 'b': return import::MaskChannel::Blue;
+        case 'm': return import::MaskChannel::Alpha;
+        case 'l': return import::MaskChannel::Luminance;
+        default: return import::MaskChannel::Auto;
+    }
+}
+
+// One image name as TextureFiles keys it: '\' read as '/', lexically normal.
+std::string imageKey(const std::string& file) {
+    std::string name = file;
+    std::replace(name.begin(), name.end(), '\\', '/');
+    return std::filesystem::path(name).lexically_normal().generic_string();
+}
+
+// map_d: the mask of a cut-out (docs/RENDERING.md, "Cut-outs"), baked into map_Kd's alpha by
+// bakeAlphaMasks (map_Kd's own image and its alpha: no baking). With a map_Kd the mask must share
+// its -s, -o and -clamp (it is baked texel for texel); without one (or with its image missing)
+// the mask goes on white with its own options. A missing or unknown mask image is counted by
+// `files` (warned) and left out.
+Status ObjParser::addAlphaMask(uint32_t material, const import::MtlEntry& e, import::TextureFiles& files,
+                               std::vector<import::AlphaMaskRequest>& masks, AlphaMapsLeftOut& leftOut) {
+    const import::MtlMap &alpha = e.alphaMap, &base = e.maps[uint32_t(TextureSlot::BaseColor)];
+    if (alpha.file.empty()) return Status::ok();
+    if (alpha.channel == 'z') return ++leftOut.depth, Status::ok();
+    const bool hasBase =
+        out_.mesh.materials[material].textures.slots[uint32_t(TextureSlot::BaseColor)].texture != kNoTexture;
+    if (hasBase && (alpha.scale != base.scale || alpha.offset != base.offset || alpha.clamp != base.clamp))
+        return ++leftOut.sampling, Status::ok();
+    auto mask = bindMap(alpha, e.library, files, TextureEncoding::Linear);
+    if (!mask) return mask.status();
+    if (mask->texture == kNoTexture) return Status::ok();
+    masks.push_back({material, mask->texture, maskChannel(alpha.channel), mask->transform,
+                     hasBase && imageKey(alpha.file) == imageKey(base.file)});
     return Status::ok();
 }
 

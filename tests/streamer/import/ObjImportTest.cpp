@@ -67,8 +67,8 @@ std::string mtlRefusal(const std::string& stem, const std::string& mtl) {
 }
 
 // What a library says and the renderer does not use is warned about once per kind: maps without
-// a glTF slot, bump (height) maps, alpha maps, map_Pr/map_Pm, map options that change the look,
-// a map whose file is missing (a bump map's options are not even read), transparency (d below 1, Tr above 0; d 1 and Tr 0 are opaque
+// a glTF slot, bump (height) maps, map_Pr/map_Pm, map options that change the look,
+// maps whose file is missing (map_Kd's and map_d's; a bump map's options are not even read), transparency (d below 1, Tr above 0; d 1 and Tr 0 are opaque
 // and say nothing), the PBR extension's statements.
 TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
     writeFile("unused.mtl", "newmtl a\nKd 1 0 0\nd 0.5\nmap_Kd -mm 0.2 2 -t 1 1 -blendv off gone.png\nbump a-n.png\nPr 0.3\nPm 1\n"
@@ -82,14 +82,12 @@ TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
         "1 MTL texture maps without a glTF slot (map_Ka, map_Ks, map_Ns, disp, decal, refl, ...) read but not used "
         "(materials use their colours there)",
         "2 MTL bump (height) maps read but not used (not rendered: only norm normal maps are read)",
-        "1 MTL alpha maps (map_d) naming another image than map_Kd read but not used (rendered opaque; map_d on "
-        "map_Kd's own image cuts out with its alpha)",
         "2 MTL roughness and metallic maps (map_Pr, map_Pm) read but not used (glTF's one metallic-roughness image "
         "is not assembled from two files)",
         "1 MTL map options -mm (value range) read but not used (the map is read without it)",
         "1 MTL map options -t (turbulence) read but not used (the map is read without it)",
         "1 MTL map options -blendv off read but not used (the map is read without it)",
-        "1 texture maps whose image file is missing or unreadable read but not used (their maps are rendered "
+        "2 texture maps whose image file is missing or unreadable read but not used (their maps are rendered "
         "without them)",
         "2 MTL transparency statements (d below 1, Tr above 0) read but not used (rendered opaque)"};
     for (const std::string& w : expected)
@@ -107,8 +105,9 @@ std::array<float, 2> mtlTexel(float u, float v, float su, float sv, float ou, fl
 }
 
 // map_d naming map_Kd's own image (with the same options) makes the material a cut-out at
-// glTF's default cutoff (docs/RENDERING.md, "Cut-outs"): that image's alpha cuts; map_d on
-// another image, or with other options, is warned and left out (the material stays opaque).
+// glTF's default cutoff (docs/RENDERING.md, "Cut-outs"): that image's alpha cuts, and nothing is
+// baked (one texture); map_d on another image is baked into map_Kd's alpha (AlphaMaskTest.cpp);
+// map_d with other options than map_Kd's is warned and left out (the material stays opaque).
 TEST(ObjImport, MapDOnTheBaseColourImageIsACutout) {
     writeFile("leaf.png", tinyPng());
     writeFile("mask.png", tinyPng());
@@ -121,11 +120,14 @@ TEST(ObjImport, MapDOnTheBaseColourImageIsACutout) {
     ASSERT_TRUE(r.isOk()) << r.message();
     ASSERT_EQ(r->mesh.materials.size(), 3u);
     EXPECT_EQ(r->mesh.materials[0].alphaCutoff, 0.5f);
-    EXPECT_EQ(r->mesh.materials[1].alphaCutoff, 0.0f);
+    EXPECT_EQ(r->mesh.materials[1].alphaCutoff, 0.5f);
     EXPECT_EQ(r->mesh.materials[2].alphaCutoff, 0.0f);
+    // leaf.png (read with repeat and with -s), and the baked leaf.png with mask.png's alpha.
+    EXPECT_EQ(r->mesh.textures.size(), 2u);
+    EXPECT_EQ(r->mesh.materials[0].textures.slots[0].texture, r->mesh.materials[2].textures.slots[0].texture);
     EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(),
-                         "2 MTL alpha maps (map_d) naming another image than map_Kd read but not used (rendered "
-                         "opaque; map_d on map_Kd's own image cuts out with its alpha)"),
+                         "1 MTL alpha maps (map_d) with other -s, -o or -clamp than map_Kd read but not used (rendered "
+                         "opaque: a mask is baked into map_Kd's alpha texel for texel)"),
               1);
 }
 
