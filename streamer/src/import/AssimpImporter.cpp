@@ -3,7 +3,8 @@
 // importers: node transforms baked into world space, polygons triangulated by assimp,
 // points and lines skipped and counted, then finalizeMesh's validation and named errors.
 // Cameras and punctual lights are placed by their nodes (lights: AssimpLights.h); materials'
-// texture maps and their images travel with the mesh (AssimpTextures.h).
+// texture maps and their images travel with the mesh (AssimpTextures.h); opacity masks on
+// another image are baked in the parent (AlphaMask.h).
 // Files assimp opens besides the model (a Collada's external parts, say) must lie inside
 // the model's folder, as glTF URIs and OBJ mtllib names must.
 // assimp runs in a child process (fork): its readers crash on hostile files (the fuzzer found a
@@ -241,7 +242,7 @@ Status appendMeshes(const aiScene& scene, ImportedMesh& out) {
 }
 
 // The child's part: assimp's read and the conversion to our mesh, without finalizeMesh.
-Result<ImportedMesh> readWithAssimp(const std::string& path) {
+Result<ImportedMesh> readWithAssimp(const std::string& path, std::vector<import::AlphaMaskRequest>& masks) {
     const std::string name = import::fileNameOf(path);
     auto fd = import::openRegularFile(path);  // a FIFO or a folder is refused before assimp sees it
     if (!fd) return fd.status();
@@ -288,8 +289,12 @@ Result<ImportedMesh> readWithAssimp(const std::string& path) {
     if (Status s = appendMeshes(*scene, imported); !s.isOk()) return s.withContext(name + ": ");
     auto textures = import::assimpTextures(*scene, import::directoryOf(path), name, imported.report);
     if (!textures) return textures.status();
-    for (size_t i = 0; i < textures->materials.size(); ++i) imported.mesh.materials[i].textures = textures->materials[i];
+    for (size_t i = 0; i < textures->materials.size(); ++i) {
+        imported.mesh.materials[i].textures = textures->materials[i];
+        imported.mesh.materials[i].alphaCutoff = textures->alphaCutoffs[i];
+    }
     imported.mesh.textures = std::move(textures->textures);
+    masks = std::move(textures->masks);
     return imported;
 }
 
@@ -317,7 +322,8 @@ bool getCounted(ByteReader& r, std::vector<T>& values) {
     return r.get(count) && r.getArray(values, count);
 }
 
-std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
+std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result,
+                                  const std::vector<import::AlphaMaskRequest>& masks = {}) {
     ByteWriter w;
     if (!result) {
         w.put(uint8_t(0));
@@ -336,7 +342,7 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
     for (const Material& material : m.mesh.materials) {
         putText(w, material.name);
         w.put(material.baseColor), w.put(material.emissive), w.put(uint8_t(material.doubleSided));
-        w.put(material.metallic), w.put(material.roughness), w.put(material.specular);
+        w.put(material.metallic), w.put(material.roughness), w.put(material.specular), w.put(material.alphaCutoff);
     }
     putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
     putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors), putCounted(w, m.mesh.uvs);
@@ -360,6 +366,10 @@ std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result) {
         for (const TextureBinding& b : material.textures.slots) w.put(b.texture), w.put(b.transform);
         w.put(material.textures.normalScale), w.put(material.textures.occlusionStrength);
     }
+    w.put(uint64_t(masks.size()));
+    for (const import::AlphaMaskRequest& mask : masks)
+        w.put(mask.material), w.put(mask.mask), w.put(uint8_t(mask.channel)), w.put(mask.transform),
+            w.put(uint8_t(mask.sameImageAsBase));
     return std::move(w.bytes());
 }
 
@@ -386,6 +396,23 @@ bool decodeTextures(ByteReader& r, size_t answerBytes, TriangleMesh& mesh) {
     return true;
 }
 
+// The opacity masks encodeAnswer wrote, each of a material and a texture there are.
+bool decodeMasks(ByteReader& r, size_t answerBytes, const TriangleMesh& mesh,
+                 std::vector<import::AlphaMaskRequest>& masks) {
+    uint64_t count = 0;
+    if (!r.get(count) || count > answerBytes || count > mesh.materials.size()) return false;
+    masks.resize(count);
+    for (import::AlphaMaskRequest& mask : masks) {
+        uint8_t channel = 0, same = 0;
+        if (!r.get(mask.material) || !r.get(mask.mask) || !r.get(channel) || !r.get(mask.transform) || !r.get(same) ||
+            mask.material >= mesh.materials.size() || mask.mask >= mesh.textures.size() ||
+            channel > import::kMaskChannelMax || same > 1)
+            return false;
+        mask.channel = import::MaskChannel(channel), mask.sameImageAsBase = same != 0;
+    }
+    return true;
+}
+
 // The lights encodeAnswer wrote, each within validateLight's limits (the child checked them).
 bool decodeLights(ByteReader& r, size_t answerBytes, std::vector<PunctualLight>& lights) {
     uint64_t count = 0;
@@ -402,7 +429,8 @@ bool decodeLights(ByteReader& r, size_t answerBytes, std::vector<PunctualLight>&
     return true;
 }
 
-Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uint8_t>& bytes) {
+Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uint8_t>& bytes,
+                                  std::vector<import::AlphaMaskRequest>& masks) {
     const Status malformed = import::errorIn(name, "the assimp reader process sent a malformed answer");
     ByteReader r(bytes.data(), bytes.size());
     uint8_t ok = 0;
@@ -426,7 +454,8 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
     for (Material& material : m.mesh.materials) {
         uint8_t doubleSided = 1;
         if (!getText(r, material.name) || !r.get(material.baseColor) || !r.get(material.emissive) ||
-            !r.get(doubleSided) || !r.get(material.metallic) || !r.get(material.roughness) || !r.get(material.specular))
+            !r.get(doubleSided) || !r.get(material.metallic) || !r.get(material.roughness) || !r.get(material.specular) ||
+            !r.get(material.alphaCutoff) || !(material.alphaCutoff >= 0.0f && material.alphaCutoff <= 1.0f))
             return malformed;
         material.doubleSided = doubleSided != 0;
     }
@@ -439,7 +468,8 @@ Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uin
         if (!getText(r, camera.name) || !r.get(camera.camera.eye) || !r.get(camera.camera.target) ||
             !r.get(camera.camera.up) || !r.get(camera.camera.fovYDegrees) || !validateCamera(camera.camera).isOk())
             return malformed;
-    if (!decodeLights(r, bytes.size(), m.mesh.lights) || !decodeTextures(r, bytes.size(), m.mesh) || r.remaining() != 0)
+    if (!decodeLights(r, bytes.size(), m.mesh.lights) || !decodeTextures(r, bytes.size(), m.mesh) ||
+        !decodeMasks(r, bytes.size(), m.mesh, masks) || r.remaining() != 0)
         return malformed;
     return m;
 }
@@ -453,7 +483,9 @@ constexpr int kAssimpSecondsLimit = 600;
 void childReads(int fd, const std::string& path) {
     std::vector<uint8_t> answer;
     try {
-        answer = encodeAnswer(readWithAssimp(path));
+        std::vector<import::AlphaMaskRequest> masks;
+        Result<ImportedMesh> read = readWithAssimp(path, masks);
+        answer = encodeAnswer(read, masks);
     } catch (const std::exception& e) {
         answer = encodeAnswer(import::errorIn(import::fileNameOf(path), std::string("assimp: ") + e.what()));
     } catch (...) {
@@ -467,15 +499,18 @@ void childReads(int fd, const std::string& path) {
 Result<ImportedMesh> readInChildProcess(const std::string& path) {
     const std::string name = import::fileNameOf(path);
     Result<ImportedMesh> imported = Status::error("no answer");
+    std::vector<import::AlphaMaskRequest> masks;
     const Status status = import::runInChildProcess(
         name, {"assimp", "assimp", kAssimpSecondsLimit}, [&](int fd) { childReads(fd, path); },
         [&](import::ChildAnswer& in) {
             std::vector<uint8_t> answer;
             if (!in.readToEnd(answer)) return import::errorIn(name, "reading the assimp process's answer: " + in.error());
-            imported = decodeAnswer(name, answer);
+            imported = decodeAnswer(name, answer, masks);
             return imported.status();
         });
     if (!status.isOk()) return status;
+    // The masks are baked here, where the image module may be loaded (the child is a fork).
+    if (Status s = import::bakeAlphaMasks(imported->mesh, masks); !s.isOk()) return s.withContext(name + ": ");
     return imported;
 }
 

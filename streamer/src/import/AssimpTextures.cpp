@@ -1,5 +1,6 @@
 #include "import/AssimpTextures.h"
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
@@ -37,11 +38,20 @@ public:
             const std::string where = "material " + std::to_string(i) + " ('" + material.GetName().C_Str() + "') ";
             auto textures = readMaterial(material, where);
             if (!textures) return textures.status();
+            if (Status st = readOpacity(material, i, *textures, out.masks); !st.isOk())
+                return st.withContext(fileName_ + ": " + where + "opacity map: ");
+            const bool masked = !out.masks.empty() && out.masks.back().material == i;
+            out.alphaCutoffs.push_back(gltfAlphaCutoff(material, *textures, masked));
             out.materials.push_back(*textures);
         }
         files_.warn(report_);
         const char* without = "their maps are rendered without them";
-        report_.warnUnused("texture maps without a glTF slot (specular, height, opacity, lightmap, ...)", otherMaps_,
+        report_.warnUnused("opacity maps with another UV transform or wrap mode than the base colour map",
+                           opacitySampling_, "rendered opaque: a mask is baked into the base colour map texel for texel");
+        report_.warnUnused("materials with glTF alphaMode MASK without a base colour map", maskWithoutMap_,
+                           "rendered opaque");
+        report_.warnUnused("materials with glTF alphaMode BLEND", blend_, "rendered opaque");
+        report_.warnUnused("texture maps without a glTF slot (specular, height, lightmap, ...)", otherMaps_,
                            "materials use their factors there");
         report_.warnUnused("metalness and roughness maps in two images", separatePbr_,
                            "glTF's one metallic-roughness image is not assembled from two");
@@ -57,13 +67,15 @@ public:
 private:
     Result<MaterialTextures> readMaterial(const aiMaterial& material, const std::string& where) {
         MaterialTextures t;
-        std::set<aiTextureType> read;
+        std::set<aiTextureType> read = {aiTextureType_OPACITY};  // readOpacity's
+        baseColorType_ = aiTextureType_NONE;
         for (const SlotTypes& s : kSlots) {
             const aiTextureType type =
                 material.GetTextureCount(s.preferred) > 0 ? s.preferred : s.fallback;
             if (material.GetTextureCount(type) == 0) continue;
             read.insert(type);
-            if (Status st = bind(material, type, s.slot, t.slots[uint32_t(s.slot)]); !st.isOk())
+            if (s.slot == TextureSlot::BaseColor) baseColorType_ = type;
+            if (Status st = bind(material, type, slotEncoding(s.slot), t.slots[uint32_t(s.slot)]); !st.isOk())
                 return st.withContext(fileName_ + ": " + where + textureSlotName(s.slot) + ": ");
         }
         aiString metal, rough;
@@ -73,7 +85,8 @@ private:
             read.insert(aiTextureType_METALNESS);
             read.insert(aiTextureType_DIFFUSE_ROUGHNESS);
             TextureBinding& b = t.slots[uint32_t(TextureSlot::MetallicRoughness)];
-            if (Status st = bind(material, aiTextureType_METALNESS, TextureSlot::MetallicRoughness, b); !st.isOk())
+            if (Status st = bind(material, aiTextureType_METALNESS, slotEncoding(TextureSlot::MetallicRoughness), b);
+                !st.isOk())
                 return st.withContext(fileName_ + ": " + where + "metallicRoughnessTexture: ");
         } else if (hasMetal || hasRough) {
             read.insert(aiTextureType_METALNESS);
@@ -90,8 +103,47 @@ private:
         return t;
     }
 
+    // An opacity map (the first): a mask for bakeAlphaMasks, its channel the alpha when its image
+    // has one, else the luminance. With a base colour map it must share its UV transform and wrap
+    // modes (it is baked texel for texel); the same file name as the base colour map's is its own
+    // image (its alpha then cuts as it is).
+    Status readOpacity(const aiMaterial& material, uint32_t index, const MaterialTextures& t,
+                       std::vector<AlphaMaskRequest>& masks) {
+        if (material.GetTextureCount(aiTextureType_OPACITY) == 0) return Status::ok();
+        TextureBinding mask;
+        if (Status st = bind(material, aiTextureType_OPACITY, TextureEncoding::Linear, mask); !st.isOk()) return st;
+        if (mask.texture == kNoTexture) return Status::ok();  // counted by bind
+        const TextureBinding& base = t.slots[uint32_t(TextureSlot::BaseColor)];
+        bool same = false;
+        if (base.texture != kNoTexture) {
+            const TextureSource &b = files_.textures()[base.texture], &m = files_.textures()[mask.texture];
+            if (base.transform != mask.transform || b.wrapS != m.wrapS || b.wrapT != m.wrapT)
+                return ++opacitySampling_, Status::ok();
+            aiString basePath, maskPath;
+            material.GetTexture(baseColorType_, 0, &basePath);
+            material.GetTexture(aiTextureType_OPACITY, 0, &maskPath);
+            same = std::strcmp(basePath.C_Str(), maskPath.C_Str()) == 0;
+        }
+        masks.push_back({index, mask.texture, MaskChannel::Auto, mask.transform, same});
+        return Status::ok();
+    }
+
+    // glTF 2.0's alphaMode through assimp: MASK with a base colour map (or an opacity mask, which
+    // makes one: `masked`) is a cut-out at alphaCutoff (default 0.5, clamped to [0, 1]); MASK without one and
+    // BLEND are counted (rendered opaque).
+    float gltfAlphaCutoff(const aiMaterial& material, const MaterialTextures& t, bool masked) {
+        aiString mode;
+        if (material.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) != AI_SUCCESS) return 0.0f;
+        if (std::strcmp(mode.C_Str(), "BLEND") == 0) return ++blend_, 0.0f;
+        if (std::strcmp(mode.C_Str(), "MASK") != 0) return 0.0f;
+        if (t.slots[uint32_t(TextureSlot::BaseColor)].texture == kNoTexture && !masked) return ++maskWithoutMap_, 0.0f;
+        float cutoff = 0.5f;
+        material.Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff);
+        return std::isfinite(cutoff) ? std::clamp(cutoff, 0.0f, 1.0f) : 0.5f;
+    }
+
     // The binding of the first map of `type`: kNoTexture (counted) when it cannot be read here.
-    Status bind(const aiMaterial& material, aiTextureType type, TextureSlot slot, TextureBinding& out) {
+    Status bind(const aiMaterial& material, aiTextureType type, TextureEncoding encoding, TextureBinding& out) {
         aiString path;
         aiTextureMapping mapping = aiTextureMapping_UV;
         unsigned uvIndex = 0;
@@ -110,7 +162,7 @@ private:
                                               uv.mRotation);
         }
         const TextureWrap wrapS = wrapOf(modes[0]), wrapT = wrapOf(modes[1]);
-        auto texture = textureOf(path.C_Str(), wrapS, wrapT, slotEncoding(slot));
+        auto texture = textureOf(path.C_Str(), wrapS, wrapT, encoding);
         if (!texture) return texture.status();
         out.texture = *texture;
         return Status::ok();
@@ -145,7 +197,8 @@ private:
     ImportReport& report_;
     TextureFiles files_;
     uint64_t otherMaps_ = 0, separatePbr_ = 0, layered_ = 0, otherUvSet_ = 0, projected_ = 0, uncompressed_ = 0,
-             outside_ = 0;
+             outside_ = 0, opacitySampling_ = 0, maskWithoutMap_ = 0, blend_ = 0;
+    aiTextureType baseColorType_ = aiTextureType_NONE;  // the current material's base colour map's kind
 };
 
 }  // namespace
