@@ -3,7 +3,7 @@
 // Ns (a specular layer: its weight the largest Ks component, its roughness from the Phong
 // exponent, docs/RENDERING.md "Materials"), and the maps that have a glTF slot: map_Kd (base
 // colour), norm (a tangent-space normal map) and map_Ke (emissive), with their -s, -o and
-// -clamp options.
+// -clamp options, and map_d (a cut-out's mask, with its -imfchan channel).
 #include <array>
 #include <cstdint>
 #include <map>
