@@ -37,7 +37,9 @@ std::string maskedQuadPackage() {
     PackageBuildOptions build;
     build.quantizeBits = 0;
     build.progress = Progress::Mode::None;
-    if (imported) EXPECT_TRUE(buildPackage(imported->mesh, package, build));
+    if (imported) {
+        EXPECT_TRUE(buildPackage(imported->mesh, package, build));
+    }
     return package;
 }
 

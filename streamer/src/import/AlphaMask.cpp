@@ -69,9 +69,16 @@ std::vector<float> resampledMask(const Rgba8Image& mask, MaskChannel channel, ui
     return out;
 }
 
-// A texture's texels, within the package's texture limit.
+// A texture's texels, within the package's texture limits (kMaxTextureSide a side, checked here
+// too: a mask baked on white keeps its size, and the limit is better named at its own image).
 Result<Rgba8Image> decoded(const TextureSource& source) {
-    return decodeRgba8Image(source.name, source.extension, source.bytes, uint64_t(kMaxTextureSide) * kMaxTextureSide);
+    auto image =
+        decodeRgba8Image(source.name, source.extension, source.bytes, uint64_t(kMaxTextureSide) * kMaxTextureSide);
+    if (image && (image->width > kMaxTextureSide || image->height > kMaxTextureSide))
+        return Status::error(source.name + ": " + std::to_string(image->width) + " x " +
+                             std::to_string(image->height) + " texels is outside 1.." +
+                             std::to_string(kMaxTextureSide) + " per side");
+    return image;
 }
 
 // The baked texture of one (base, mask, channel): its PNG bytes as a TextureSource.

@@ -11,6 +11,7 @@
 #include "import/AlphaMask.h"
 #include "import/PngWriter.h"
 #include "vastray/core/ImageFile.h"
+#include "vastray/core/Texture.h"
 
 namespace vastray::test {
 namespace {
@@ -152,8 +153,8 @@ TEST(ObjAlphaMask, OneBaseAndMaskAreBakedOnce) {
 
 // Hostile or broken masks are handled as map_Kd's images are: a missing file is warned and left
 // out (the material stays opaque); a name out of the folder fails the import naming library,
-// material and line; a corrupt PNG fails it naming the image (as a corrupt map_Kd fails the
-// package's import); a map_d whose -s differs from map_Kd's, or of channel z, is warned.
+// material and line; a corrupt PNG, or one wider than a texture may be, fails it naming the image
+// (as such a map_Kd fails the package's import); a map_d whose -s differs from map_Kd's, or of channel z, is warned.
 TEST(ObjAlphaMask, MissingOutsideCorruptAndMismatchedMasks) {
     writeFile("ho-base.png", png(1, 1, 4, {1, 2, 3, 255}));
     auto missing = importQuad("ho-missing", "newmtl m\nmap_Kd ho-base.png\nmap_d ho-gone.png\n");
@@ -196,6 +197,10 @@ TEST(ObjAlphaMask, MissingOutsideCorruptAndMismatchedMasks) {
     EXPECT_EQ(depth->report.warnings,
               std::vector<std::string>{"1 MTL alpha maps (map_d) of channel -imfchan z (depth) read but not used "
                                        "(rendered opaque: PNG and JPEG images have no depth channel)"});
+    writeFile("ho-wide.png", png(kMaxTextureSide + 1, 1, 1, std::vector<uint8_t>(kMaxTextureSide + 1, 9)));
+    auto wide = importQuad("ho-wide", "newmtl m\nmap_d ho-wide.png\n");
+    EXPECT_IMPORT_ERROR(wide, "ho-wide.obj: material 'm' alpha mask: 'ho-wide.png' of ho-wide.obj",
+                        "16385 x 1 texels is outside 1..16384 per side");
     auto badChannel = importQuad("ho-channel", "newmtl m\nmap_d -imfchan q ho-mask.png\n");
     EXPECT_IMPORT_ERROR(badChannel, "ho-channel.mtl", "line 2: map_d: -imfchan must be r, g, b, m, l or z");
 }
