@@ -4,6 +4,7 @@
 
 #include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/Microfacet.h"
+#include "vastray/core/RayOffset.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
 #include "vastray/core/Volume.h"
@@ -217,6 +218,58 @@ float environmentHitWeight(const Environment& env, Vec3f direction, float bounce
     if (bouncePdf <= 0.0f || !env.map || !env.map->sampleable) return 1.0f;
     const Frame frame = environmentFrame(env.up, env.mapRotationDegrees);
     return powerHeuristic(bouncePdf, (1.0f - sunPickProbability(env)) * environmentPdf(*env.map, frame, direction));
+}
+
+float emitterPickProbability(const Environment& env, std::span<const LightEntry> lights, const EmitterTable* emitters) {
+    if (!emitters || emitters->entries.empty()) return 0.0f;
+    const bool sun = maxComponent(toVec(env.sunIrradiance)) > 0.0f;
+    return sun || (env.map && env.map->sampleable) || !lights.empty() ? 0.5f : 1.0f;
+}
+
+bool sampleEmitter(const EmitterTable& table, std::span<const Material> materials, float emitterPick, Vec3f origin,
+                   RandomKey key, uint32_t seed, EmitterSample* sample) {
+    const EmitterEntry& e = table.entries[pickEmitter(table, randomBits(key, kDimEmitterPick, seed),
+                                                      randomFloat(key, kDimEmitterKeep, seed))];
+    const Vec3f y = emitterPoint(e, randomFloat(key, kDimEmitterU, seed), randomFloat(key, kDimEmitterV, seed));
+    const Material& m = materialAt(materials, e.material);
+    const Vec3f front = normalize(geometricNormal(e.v0, e.v1, e.v2));
+    const bool frontSeen = dot(front, origin - y) > 0.0f;
+    if (!frontSeen && !m.doubleSided) return false;
+    const Vec3f facing = frontSeen ? front : front * -1.0f;
+    const Vec3f toPoint = offsetRayOrigin(y, facing) - origin;
+    const float squared = dot(toPoint, toPoint);
+    if (!(squared > 0.0f)) return false;
+    sample->distance = std::sqrt(squared);
+    sample->direction = toPoint * (1.0f / sample->distance);
+    const float cosine = -dot(facing, sample->direction);
+    if (!(cosine > 0.0f)) return false;
+    sample->radiance = emission(m);
+    sample->pdf = emitterPick * table.areaDensity[e.material] * (squared / cosine);
+    return sample->pdf > 0.0f;
+}
+
+bool emitterSurfaceLight(const SurfacePoint& point, const EmitterSample& s, Vec3f* light) {
+    const float cosine = dot(point.shadingNormal, s.direction);
+    if (cosine <= 0.0f || dot(point.normal, s.direction) <= 0.0f) return false;
+    if (point.glossy) {
+        float bsdfPdf;
+        const Vec3f reflection = glossyReflection(point, s.direction, &bsdfPdf);
+        *light = mul(reflection, s.radiance) * (powerHeuristic(s.pdf, bsdfPdf) / s.pdf);
+        return maxComponent(*light) > 0.0f;
+    }
+    const float weight = powerHeuristic(s.pdf, cosine / kPi) / s.pdf;
+    *light = mul(point.albedo, s.radiance) * ((cosine / kPi) * weight);
+    return true;
+}
+
+Vec3f emitterMediumLight(const EmitterSample& s, Vec3f travel, float g) {
+    const float phase = henyeyGreenstein(g, travel, s.direction);
+    return s.radiance * (phase * powerHeuristic(s.pdf, phase) / s.pdf);
+}
+
+float emitterHitWeight(float emitterPick, float areaDensity, float t, float cosine, float bouncePdf) {
+    if (bouncePdf <= 0.0f || !(areaDensity > 0.0f) || !(emitterPick > 0.0f)) return 1.0f;
+    return powerHeuristic(bouncePdf, emitterPick * areaDensity * (t * t / cosine));
 }
 
 Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed) {

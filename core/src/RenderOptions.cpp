@@ -56,6 +56,14 @@ void applySceneLights(std::span<const PunctualLight> lights, const Aabb& bounds,
     if (!lights.empty()) options.lights = std::make_shared<const std::vector<LightEntry>>(makeLightTable(lights, bounds));
 }
 
+void applySceneEmitters(std::span<const EmissiveTriangle> emitters, std::span<const Material> materials,
+                        RenderOptions& options) {
+    options.emitters.reset();
+    if (emitters.empty()) return;
+    auto table = std::make_shared<EmitterTable>(makeEmitterTable(emitters, materials));
+    if (!table->entries.empty()) options.emitters = std::move(table);
+}
+
 PixelBounds renderBounds(const RenderOptions& options) {
     return options.region.value_or(PixelBounds{0, 0, options.width, options.height});
 }

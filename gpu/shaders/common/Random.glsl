@@ -13,6 +13,11 @@ const uint kDimLightU = 6u;
 const uint kDimLightV = 7u;
 const uint kDimLobe = 8u;
 const uint kDimPunctual = 9u;
+const uint kDimEmitter = 10u;
+const uint kDimEmitterPick = 11u;
+const uint kDimEmitterKeep = 12u;
+const uint kDimEmitterU = 13u;
+const uint kDimEmitterV = 14u;
 
 uint pcgHash(uint v) {
     const uint state = v * 747796405u + 2891336453u;

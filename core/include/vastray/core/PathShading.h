@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 
+#include "vastray/core/Emitters.h"
 #include "vastray/core/Light.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/NormalMap.h"
@@ -149,6 +150,37 @@ bool unshadowedMediumLight(const Environment& environment, Vec3f sunDirection, V
 // `bouncePdf` (0: a camera ray, weight 1): with a map that next-event estimation samples, the
 // power heuristic against it; else 1.
 float environmentHitWeight(const Environment& environment, Vec3f direction, float bouncePdf);
+
+// Emissive triangles (docs/RENDERING.md, "Emissive triangles"). The probability with which
+// next-event estimation picks one, before any other choice (kDimEmitter): 0 without `emitters`
+// or with an empty table; 1 when nothing else brings light (no sun, no map to sample, no
+// punctual lights); else 1/2. The other choices' light is then divided by 1 - it.
+float emitterPickProbability(const Environment& environment, std::span<const LightEntry> lights,
+                             const EmitterTable* emitters);
+
+// A point next-event estimation drew on an emissive triangle, seen from a shadow ray's origin.
+struct EmitterSample {
+    Vec3f direction;     // unit, from the origin to the point moved off its triangle towards the origin
+    float distance = 0;  // to that point: the shadow ray's tMax
+    Vec3f radiance;      // its material's emission
+    float pdf = 0;       // the solid-angle density of the direction, emitterPick included
+};
+// Picks a triangle (kDimEmitterPick, kDimEmitterKeep) and a point on it (kDimEmitterU/V). false:
+// the point brings nothing to `origin` (its triangle seen edge on, from behind when its material
+// is single-sided, or the point at the origin).
+bool sampleEmitter(const EmitterTable& table, std::span<const Material> materials, float emitterPick, Vec3f origin,
+                   RandomKey key, uint32_t seed, EmitterSample* sample);
+// The light `point` reflects from the sample towards its outgoing direction, weighted by the power
+// heuristic against the bounce's density in that direction. false: none (below either normal).
+bool emitterSurfaceLight(const SurfacePoint& point, const EmitterSample& sample, Vec3f* light);
+// The light a point in a volume scatters from the sample (Henyey-Greenstein g, light travelling
+// along `travel` before), weighted as above against the phase function's density.
+Vec3f emitterMediumLight(const EmitterSample& sample, Vec3f travel, float g);
+// The weight of the emission a bounce of solid-angle density `bouncePdf` (0: a camera ray, weight
+// 1) finds at distance t on a triangle whose material has `areaDensity` (EmitterTable; 0: not
+// sampled, weight 1), `cosine` its |cos| with the ray: the power heuristic against next-event
+// estimation's density emitterPick x areaDensity x t^2 / cosine.
+float emitterHitWeight(float emitterPick, float areaDensity, float t, float cosine, float bouncePdf);
 
 // A cosine-distributed direction about `normal`, from the key's direction dimensions.
 Vec3f cosineDirection(Vec3f normal, RandomKey key, uint32_t seed);

@@ -26,7 +26,9 @@ struct RandomKey {
 // bounce, 2 and 3 pick the scattered (or ambient occlusion) direction, 4 decides Russian
 // roulette; with an environment map, 5 picks the light of next-event estimation (sun or map,
 // when both shine) and 6 and 7 the map's direction; with punctual lights, 9 picks between them
-// and the sun or map, and which of them; volumes draw from 16 up.
+// and the sun or map, and which of them; with sampled emissive triangles, 10 picks between them
+// and the other lights, 11 and 12 which triangle (the alias method's column bits and its keep
+// test) and 13 and 14 the point on it; volumes draw from 16 up.
 enum RandomDimension : uint32_t {
     kDimPixelX = 0,
     kDimPixelY = 1,
@@ -38,6 +40,11 @@ enum RandomDimension : uint32_t {
     kDimLightV = 7,
     kDimLobe = 8,  // the metallic-roughness BSDF's choice of lobe
     kDimPunctual = 9,  // next-event estimation: a punctual light (and which), or the sun or map
+    kDimEmitter = 10,      // next-event estimation: an emissive triangle, or the other lights
+    kDimEmitterPick = 11,  // which triangle: the alias column (all 32 bits, randomBits)
+    kDimEmitterKeep = 12,  // which triangle: the column's own, or its alias
+    kDimEmitterU = 13,     // the point on it
+    kDimEmitterV = 14,
     // Volumes: tracking takes dimensions kDimVolume, kDimVolume + 1, ... in the order it draws
     // them (free flight along the ray, then transmittance towards the light).
     kDimVolume = 16,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vastray/core/Camera.h"
+#include "vastray/core/Emitters.h"
 #include "vastray/core/Light.h"
 #include "vastray/core/RayCone.h"
 #include "vastray/core/Result.h"
@@ -101,6 +102,10 @@ struct RenderOptions {
     // The scene's punctual lights as next-event estimation picks them (makeLightTable,
     // applySceneLights); none or empty: no punctual-light code runs.
     std::shared_ptr<const std::vector<LightEntry>> lights;
+    // The scene's emissive triangles as next-event estimation samples them (makeEmitterTable,
+    // applySceneEmitters); none or empty: they are found only by the paths that hit them, and no
+    // emitter code runs.
+    std::shared_ptr<const EmitterTable> emitters;
 };
 
 // Turns the world's up to the unit vector `up` (+Y or +Z from --up-axis): the sky's zenith,
@@ -119,6 +124,11 @@ Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string&
 // The scene's punctual lights (a package's or an imported file's) for a scene within `bounds`;
 // none sets no table.
 void applySceneLights(std::span<const PunctualLight> lights, const Aabb& bounds, RenderOptions& options);
+
+// The scene's emissive triangles (a package's, or an imported mesh's collectEmitters) with its
+// materials; none sets no table.
+void applySceneEmitters(std::span<const EmissiveTriangle> emitters, std::span<const Material> materials,
+                        RenderOptions& options);
 
 // The pixels a render produces: `region`, or the whole frame.
 PixelBounds renderBounds(const RenderOptions& options);
