@@ -177,6 +177,10 @@ void printBuildReport(const std::string& output, const PackageBuildReport& r, co
         std::printf("\n  textures: %u (%llu pages of 128 x 128 texels with their mip levels, %s stored; decoded and "
                     "paged during the write)",
                     r.textures, (unsigned long long)r.texturePages, formatBytes(r.textureBytes).c_str());
+    if (r.emitters)
+        std::printf("\n  emissive triangles: %llu, sampled as lights by next-event estimation",
+                    (unsigned long long)r.emitters);
+    for (const std::string& warning : r.warnings) std::printf("\n  warning: %s", warning.c_str());
     std::printf("\n  %.2f s total (%.1f M triangles/s): quantize %.2f s; summed over threads: partition %.2f s, "
                 "%s encode %.2f s, decode %.2f s, BVHs %.2f s; write %.2f s\n",
                 r.totalSeconds, double(r.triangles) / r.totalSeconds * 1e-6, r.quantizeSeconds, r.partitionSeconds,

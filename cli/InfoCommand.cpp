@@ -131,6 +131,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"vertex_uvs", info.hasUvs},
             {"cameras", cameras},
             {"lights", lights},
+            {"sampled_emissive_triangles", info.emitters.size()},
             {"volumes", volumes},
             {"textures", textures},
             {"degenerate_dropped", info.degenerateDropped},
@@ -164,6 +165,8 @@ void printHuman(const std::string& path, const PackageInfo& info) {
         std::printf("  materials            %zu (%zu alpha cut-outs)\n", info.materials.size(), size_t(cutouts));
     else
         std::printf("  materials            %zu\n", info.materials.size());
+    if (!info.emitters.empty())
+        std::printf("  emissive triangles   %zu (sampled as lights)\n", info.emitters.size());
     for (uint32_t t = 0; t < info.textures.size(); ++t) {
         const PackageTexture& x = info.textures[t];
         std::printf("  texture %-12u '%s': %u x %u texels, %u levels, %u pages (%s stored), %s, wrap %s/%s\n", t,

@@ -77,7 +77,8 @@ ServiceStatus importMeshFile(const fs::path& mesh, const fs::path& package,
             };
         auto report = buildPackage(std::move(imported->mesh), package.string(), build);
         if (!report) imported = report.status();
-        else if (progress) progress(95);
+        else warnings.insert(warnings.end(), report->warnings.begin(), report->warnings.end());
+        if (report && progress) progress(95);
     }
     if (imported) return {};
     std::string message = imported.message();

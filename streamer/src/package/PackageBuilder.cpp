@@ -308,6 +308,17 @@ Result<PackageBuildReport> buildPackage(TriangleMesh mesh, const std::string& ou
     info.materials = mesh.materials;
     info.cameras = mesh.cameras;
     info.lights = mesh.lights;
+    // The emissive triangles next-event estimation samples, at the positions quantization left.
+    info.emitters = collectEmitters(mesh, mesh.textures.size(), scene.triangles);
+    if (info.emitters.size() > std::min(options.maxEmitters, kMaxEmitters)) {
+        report.emittersLeftOut = info.emitters.size();
+        report.warnings.push_back(std::to_string(info.emitters.size()) + " emissive triangles are more than the " +
+                                  std::to_string(std::min(options.maxEmitters, kMaxEmitters)) +
+                                  " next-event estimation samples: none is sampled, they light the scene only where "
+                                  "paths hit them (right, but slower to converge)");
+        info.emitters.clear();
+    }
+    report.emitters = info.emitters.size();
     for (const Volume& volume : options.volumes) info.volumes.push_back({volume});
     info.topTree = std::move(flat.nodes);
     info.chunks = std::move(flat.chunks);

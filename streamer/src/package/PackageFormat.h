@@ -9,6 +9,8 @@
 //   volumes    volumeCount × kVolumeRecordBytes (version 4)
 //   lights     lightCount × kLightBytes, then the XXH64 of those records (version 7; the count
 //              is the header's field after the camera count, 0 before version 7)
+//   emitters   (version 12) the emitter count (u32) and a 0 word, then count × kEmitterBytes, then
+//              the XXH64 of the count, the word and the records
 //   textures   the texture head, kTextureHeadBytes (version 10; TextureSection.h)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
 //   volume data  one per volume (brick table, voxels), at the offsets its record gives; from
@@ -45,7 +47,10 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 11: materials may carry an alpha cut-out's cutoff (glTF alphaMode MASK with a base colour map),
 //     an f32 in the word after the specular factor, reserved (zero) before; a version 3 to 10
 //     package, which has none, is still read.
-constexpr uint32_t kVersion = 11;
+// 12: the emissive triangles next-event estimation samples, in a section after the lights (a
+//     version 3 to 11 package, which has none, is still read: its emitters are hit by chance only).
+constexpr uint32_t kVersion = 12;
+constexpr uint32_t kFirstEmittersVersion = 12;
 constexpr uint32_t kFirstCutoutVersion = 11;
 constexpr uint32_t kFirstUvVersion = 9;
 constexpr uint32_t kFirstTextureVersion = 10;
@@ -77,6 +82,13 @@ constexpr uint32_t kLightBytes = kLightNameBytes + 4 + 3 * 4 + 4 * 4 + 6 * 4 + 2
 // The lights section: its records and their XXH64 (version 7; before, nothing).
 constexpr uint64_t lightsSectionBytes(uint32_t version, uint64_t lights) {
     return version >= kFirstLightsVersion ? lights * kLightBytes + 8 : 0;
+}
+// An emitter: its three corners (9 × f32) and its material (u32).
+constexpr uint32_t kEmitterBytes = 10 * 4;
+// The emitters section (version 12; before, nothing): its head (count, a 0 word), the records, their XXH64.
+constexpr uint64_t kEmittersHeadBytes = 8;
+constexpr uint64_t emittersSectionBytes(uint32_t version, uint64_t emitters) {
+    return version >= kFirstEmittersVersion ? kEmittersHeadBytes + emitters * kEmitterBytes + 8 : 0;
 }
 constexpr uint32_t kVolumeNameBytes = 64;
 constexpr uint32_t kVolumeRecordBytes = 256;

@@ -317,6 +317,56 @@ Result<std::vector<PunctualLight>> parseLights(const std::vector<uint8_t>& bytes
     return lights;
 }
 
+std::vector<uint8_t> serializeEmitters(const std::vector<EmissiveTriangle>& emitters) {
+    ByteWriter out;
+    out.put(uint32_t(emitters.size())), out.put(uint32_t(0));
+    for (const EmissiveTriangle& e : emitters) out.put(e.v0), out.put(e.v1), out.put(e.v2), out.put(e.material);
+    out.put(checksum64(out.bytes().data(), out.size()));
+    return std::move(out.bytes());
+}
+
+Result<uint32_t> parseEmittersHead(const std::vector<uint8_t>& bytes) {
+    ByteReader in(bytes.data(), bytes.size());
+    uint32_t count = 0, reserved = 0;
+    in.get(count), in.get(reserved);
+    if (!in.ok()) return Status::error("truncated emitters");
+    if (reserved != 0) return Status::error("emitters: the word after the count is not 0");
+    if (count > kMaxEmitters)
+        return Status::error("emitters: count " + std::to_string(count) + " exceeds the limit of " +
+                             std::to_string(kMaxEmitters));
+    return count;
+}
+
+Result<std::vector<EmissiveTriangle>> parseEmitters(const std::vector<uint8_t>& bytes, uint32_t count,
+                                                    const std::vector<Material>& materials, uint64_t textureCount) {
+    const uint64_t covered = format::kEmittersHeadBytes + uint64_t(count) * format::kEmitterBytes;
+    if (bytes.size() != covered + 8) return Status::error("truncated emitters");
+    uint64_t stored = 0;
+    std::memcpy(&stored, bytes.data() + covered, 8);
+    if (const uint64_t computed = checksum64(bytes.data(), covered); computed != stored)
+        return checksumMismatch("emitters", stored, computed);
+    ByteReader in(bytes.data() + format::kEmittersHeadBytes, covered - format::kEmittersHeadBytes);
+    std::vector<EmissiveTriangle> emitters(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        EmissiveTriangle& e = emitters[i];
+        in.get(e.v0), in.get(e.v1), in.get(e.v2), in.get(e.material);
+        if (!in.ok()) return Status::error("truncated emitters");
+        const std::string what = "emitter " + std::to_string(i) + ": ";
+        for (const Vec3f& v : {e.v0, e.v1, e.v2})
+            for (int axis = 0; axis < 3; ++axis)
+                if (!(std::fabs(v[axis]) <= kMaxAbsCoordinate))
+                    return Status::error(what + "corner coordinate " + std::to_string(v[axis]) + " is not within +-" +
+                                         std::to_string(kMaxAbsCoordinate));
+        if (e.material >= materials.size())
+            return Status::error(what + "material " + std::to_string(e.material) + " of " +
+                                 std::to_string(materials.size()));
+        if (!isSampledEmitter(materials[e.material], textureCount))
+            return Status::error(what + "material " + std::to_string(e.material) + " ('" + materials[e.material].name +
+                                 "') is not an emitter next-event estimation samples");
+    }
+    return emitters;
+}
+
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes) {
     ByteWriter out;
     for (const PackageVolume& p : volumes) {

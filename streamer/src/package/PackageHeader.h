@@ -55,6 +55,17 @@ std::vector<uint8_t> serializeLights(const std::vector<PunctualLight>& lights);
 // Checks the section's checksum and each light (validateLight): "light 2 'Lamp': ..." otherwise.
 Result<std::vector<PunctualLight>> parseLights(const std::vector<uint8_t>& bytes, uint32_t count);
 
+// The emitters section (format::emittersSectionBytes): the count and a 0 word, the records, then
+// the XXH64 of all of that.
+std::vector<uint8_t> serializeEmitters(const std::vector<EmissiveTriangle>& emitters);
+// The count from the section's first kEmittersHeadBytes (at most kMaxEmitters, the word after it 0).
+Result<uint32_t> parseEmittersHead(const std::vector<uint8_t>& bytes);
+// The whole section: its checksum, each corner finite within +-kMaxAbsCoordinate, each material
+// one of `materials` that isSampledEmitter among `textureCount` textures ("emitter 4: material 9
+// of 3").
+Result<std::vector<EmissiveTriangle>> parseEmitters(const std::vector<uint8_t>& bytes, uint32_t count,
+                                                    const std::vector<Material>& materials, uint64_t textureCount);
+
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes);
 // Each record's fields checked (limits, map, material, the data's size for the format `version`);
 // data offsets are checked by the reader.

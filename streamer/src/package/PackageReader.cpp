@@ -114,13 +114,26 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     const uint64_t volumesOffset = info.formatVersion >= 4 ? l.volumesOffset : l.camerasOffset + cameraBytes;
     const uint64_t lightsOffset = volumesOffset + volumeBytes;
     const uint64_t lightsBytes = format::lightsSectionBytes(info.formatVersion, l.lightCount);
-    const uint64_t textureHeadOffset = lightsOffset + lightsBytes;
+    // The emitters (version 12): their count heads their section; it is checked once the
+    // sections' offsets agree with it.
+    const uint64_t emittersOffset = lightsOffset + lightsBytes;
+    uint32_t emitterCount = 0;
+    std::vector<uint8_t> emittersHead;
+    if (info.formatVersion >= format::kFirstEmittersVersion) {
+        if (emittersOffset > fileSize || !reader->file_->read(emittersOffset, format::kEmittersHeadBytes, emittersHead))
+            return fail(Status::error("cannot read the emitters' count"));
+        std::memcpy(&emitterCount, emittersHead.data(), 4);
+    }
+    const uint64_t emittersBytes = format::emittersSectionBytes(info.formatVersion, emitterCount);
+    const uint64_t textureHeadOffset = emittersOffset + emittersBytes;
     const uint64_t textureHeadBytes = format::textureHeadBytes(info.formatVersion);
     if (l.materialsOffset != format::kHeaderBytes || l.treeOffset != l.materialsOffset + materialsBytes ||
         l.directoryOffset != l.treeOffset + treeBytes || l.camerasOffset != l.directoryOffset + directoryBytes ||
         volumesOffset != l.camerasOffset + cameraBytes || l.blobsOffset != textureHeadOffset + textureHeadBytes ||
         l.blobsOffset > fileSize)
         return fail(Status::error("section offsets are inconsistent"));
+    if (!emittersHead.empty())
+        if (auto count = parseEmittersHead(emittersHead); !count) return fail(count.status());
     // The texture head first: the materials name its textures.
     TextureHead textureHead;
     textureHead.tableOffset = fileSize;
@@ -168,6 +181,12 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
         auto lights = parseLights(bytes, l.lightCount);
         if (!lights) return fail(lights.status());
         info.lights = std::move(*lights);
+    }
+    if (emittersBytes > 0) {
+        if (!reader->file_->read(emittersOffset, emittersBytes, bytes)) return fail(Status::error("cannot read emitters"));
+        auto emitters = parseEmitters(bytes, emitterCount, info.materials, textureHead.count);
+        if (!emitters) return fail(emitters.status());
+        info.emitters = std::move(*emitters);
     }
     auto dataEnd = validateDirectory(info.chunks, info.volumes, l.blobsOffset, fileSize);
     if (!dataEnd) return fail(dataEnd.status());

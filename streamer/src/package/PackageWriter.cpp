@@ -110,8 +110,10 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     layout.volumesOffset = layout.camerasOffset + cameras.size();
     const std::vector<uint8_t> lights = serializeLights(info.lights);
     layout.lightCount = uint32_t(info.lights.size());
-    const uint64_t textureHeadOffset =
-        layout.volumesOffset + uint64_t(layout.volumeCount) * format::kVolumeRecordBytes + lights.size();
+    const std::vector<uint8_t> emitters = serializeEmitters(info.emitters);
+    const uint64_t textureHeadOffset = layout.volumesOffset +
+                                       uint64_t(layout.volumeCount) * format::kVolumeRecordBytes + lights.size() +
+                                       emitters.size();
     layout.blobsOffset = textureHeadOffset + format::textureHeadBytes(format::kVersion);
     uint64_t offset = layout.blobsOffset;
     for (size_t i = 0; i < info.chunks.size(); ++i) {
@@ -140,7 +142,7 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
     // The header and the volume records hold the volumes' checksums: written again at the end.
     bool ok = file.write(serializeHeader(info, layout)) && file.write(materials) && file.write(tree) &&
               file.write(directory) && file.write(cameras) && file.write(serializeVolumeRecords(info.volumes)) &&
-              file.write(lights) && file.write(std::vector<uint8_t>(format::textureHeadBytes(format::kVersion), 0));
+              file.write(lights) && file.write(emitters) && file.write(std::vector<uint8_t>(format::textureHeadBytes(format::kVersion), 0));
     for (size_t i = 0; ok && i < blobs.size(); ++i) ok = file.write(blobs[i]);
     if (!ok) return writeFailed(path);
     for (PackageVolume& p : info.volumes) VASTRAY_TRY(writeVolumeData(file, path, p));

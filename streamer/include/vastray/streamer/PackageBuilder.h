@@ -4,6 +4,7 @@
 // it again and build its KD-tree on the decoder's output, write the .vast atomically.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Progress.h"
@@ -24,6 +25,9 @@ struct PackageBuildOptions {
     // ladder), and keeps the last if none fits. Hits are unchanged; rays test more triangles.
     // 0: no cap (leaves of about 2 triangles). Default 32 bytes per triangle.
     double residentBytesPerTriangle = 32;
+    // The most emissive triangles stored for next-event estimation (core/Emitters.h); a scene with
+    // more stores none (warned). At most kMaxEmitters, what a reader accepts.
+    uint32_t maxEmitters = kMaxEmitters;
     bool defaultDoubleSided = true;         // recorded in the header for tools
     Progress::Mode progress = Progress::Mode::Auto;
     Progress::Observer observer;            // told the triangles placed, from worker threads
@@ -47,6 +51,11 @@ struct PackageBuildReport {
     // pages and the pages' compressed bytes.
     uint32_t textures = 0;
     uint64_t texturePages = 0, textureBytes = 0;
+    // The emissive triangles stored for next-event estimation (core/Emitters.h), and those left
+    // out because there were more than kMaxEmitters (all of them then: they are hit by chance only).
+    uint64_t emitters = 0, emittersLeftOut = 0;
+    // What the build left out that the renders would have used (each says what and why).
+    std::vector<std::string> warnings;
     double quantizeSeconds = 0, partitionSeconds = 0, encodeSeconds = 0, decodeSeconds = 0,
            bvhBuildSeconds = 0, writeSeconds = 0, totalSeconds = 0;
 };

@@ -11,6 +11,7 @@
 #include "vastray/core/Aabb.h"
 #include "vastray/core/Bvh4.h"
 #include "vastray/core/KdTree.h"
+#include "vastray/core/Emitters.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Result.h"
 #include "vastray/core/Texture.h"
@@ -112,6 +113,9 @@ struct PackageInfo {
     std::vector<Material> materials;
     std::vector<SceneCamera> cameras;  // the imported file's cameras (glTF), in its order
     std::vector<PunctualLight> lights;  // the imported file's placed lights (version 7), in its order
+    // The emissive triangles next-event estimation samples (version 12; core/Emitters.h), in
+    // primitive-id order, their corners as the chunks decode them.
+    std::vector<EmissiveTriangle> emitters;
     std::vector<KdNode> topTree;
     std::vector<ChunkInfo> chunks;
     std::vector<PackageVolume> volumes;  // density grids (version 4), in import order
