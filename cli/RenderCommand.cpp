@@ -530,6 +530,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
     if (!reader) return reader.status();
     VASTRAY_TRY(applySceneCamera((*reader)->info().cameras, args.camera, options));
     if (!args.noLights) applySceneLights((*reader)->info().lights, (*reader)->info().bounds, options);
+    applySceneEmitters((*reader)->info().emitters, (*reader)->info().materials, options);
     noteUnrenderedMaps((*reader)->info().materials, args.input);
     if (!(*reader)->info().volumes.empty()) {  // brick tables now, each brick when a ray needs it
         auto volumes = (*reader)->openVolumes();
@@ -600,6 +601,7 @@ int runRenderChecked(const RenderArgs& args, RenderProgressView& progress) {
             return progress.fail(camera.message(), 2);
         options->volumes = scene->volumes;
         if (!args.noLights) applySceneLights(scene->mesh.lights, scene->bounds, *options);
+        applySceneEmitters(scene->emitters, scene->mesh.materials, *options);
         noteUnrenderedMaps(scene->mesh.materials, args.input);
         image = renderWithEmbree(*scene, *options, &stats, progress.callback());
     }

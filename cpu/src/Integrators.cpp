@@ -25,15 +25,33 @@ Vec3f shadowedLight(const ShadingContext& context, Vec3f light, Vec3f origin, Ve
     return light;
 }
 
+std::span<const LightEntry> lightsOf(const RenderOptions& options) {
+    return options.lights ? std::span<const LightEntry>(*options.lights) : std::span<const LightEntry>();
+}
+
+// Next-event estimation's probability of picking an emissive triangle (emitterPickProbability).
+float emitterPick(const RenderOptions& options) {
+    return emitterPickProbability(options.environment, lightsOf(options), options.emitters.get());
+}
+
 // Next-event estimation's light at a surface `point` or (point null) at a point in a volume
-// scattering light that travels along `travel` with anisotropy g: a punctual light's, or the
-// sun's or the environment map's (docs/RENDERING.md, "Lights"); zero when the shadow ray from
-// `origin` is blocked.
+// scattering light that travels along `travel` with anisotropy g: an emissive triangle's, a
+// punctual light's, or the sun's or the environment map's (docs/RENDERING.md, "Lights" and
+// "Emissive triangles"); zero when the shadow ray from `origin` is blocked.
 Vec3f directLight(const ShadingContext& context, const SurfacePoint* point, Vec3f travel, float g, Vec3f origin,
                   RandomKey key, uint32_t* counter, uint64_t& rays) {
     const RenderOptions& options = context.options;
-    const std::span<const LightEntry> lights =
-        options.lights ? std::span<const LightEntry>(*options.lights) : std::span<const LightEntry>();
+    const std::span<const LightEntry> lights = lightsOf(options);
+    const float pickEmitter = emitterPick(options);
+    if (pickEmitter > 0.0f && randomFloat(key, kDimEmitter, options.seed) < pickEmitter) {
+        EmitterSample s;
+        if (!sampleEmitter(*options.emitters, context.mesh.materials, pickEmitter, origin, key, options.seed, &s))
+            return {};
+        Vec3f light;
+        if (!point) light = emitterMediumLight(s, travel, g);
+        else if (!emitterSurfaceLight(*point, s, &light)) return {};
+        return shadowedLight(context, light, origin, s.direction, s.distance, key, counter, rays);
+    }
     const float punctualPick = punctualPickProbability(options.environment, lights);
     Vec3f light, direction, irradiance;
     float distance = kInfinity;
@@ -52,6 +70,7 @@ Vec3f directLight(const ShadingContext& context, const SurfacePoint* point, Vec3
             if (punctualPick > 0.0f) light = light * (1.0f / (1.0f - punctualPick));
             break;
     }
+    if (pickEmitter > 0.0f) light = light * (1.0f / (1.0f - pickEmitter));
     return shadowedLight(context, light, origin, direction, distance, key, counter, rays);
 }
 
@@ -131,7 +150,17 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         }
         if (bounce == 0) result.cameraRayHit = true;
         const SurfacePoint point = surfaceAt(context, hit, ray.direction, cone);
-        result.radiance = result.radiance + mul(throughput, point.emissive);
+        // Emission, weighted against next-event estimation where it samples this triangle.
+        float weight = 1.0f;
+        if (options.emitters && bouncePdf > 0.0f) {
+            const uint32_t material = context.mesh.materialOf(hit.triangle);
+            weight = emitterHitWeight(emitterPick(options),
+                                      material < options.emitters->areaDensity.size()
+                                          ? options.emitters->areaDensity[material]
+                                          : 0.0f,
+                                      hit.t, -dot(point.normal, ray.direction), bouncePdf);
+        }
+        result.radiance = result.radiance + mul(throughput, point.emissive) * weight;
         if (bounce == options.maxDepth) break;
         const Vec3f origin = offsetRayOrigin(point.position, point.normal);
         result.radiance = result.radiance + mul(throughput, directLight(context, &point, ray.direction, 0.0f, origin, key, &counter, rays));

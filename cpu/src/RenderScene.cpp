@@ -47,6 +47,7 @@ Result<RenderScene> renderSceneFromPackage(const PackageReader& reader) {
     scene.mesh.materials = info.materials;
     scene.mesh.cameras = info.cameras;
     scene.mesh.lights = info.lights;
+    scene.emitters = info.emitters;
     if (scene.mesh.materials.empty()) scene.mesh.materials.push_back(Material{"default"});
     // Ids count every imported triangle, those that quantization collapsed included.
     std::vector<uint8_t> seen(info.triangleCount + info.collapsedDropped, 0);
@@ -89,6 +90,8 @@ Result<RenderScene> loadRenderScene(const std::string& path) {
         scene.textures.push_back(std::move(texture).value());
     }
     scene.bounds = scene.mesh.bounds();
+    scene.emitters = collectEmitters(scene.mesh, scene.textures.size());
+    if (scene.emitters.size() > kMaxEmitters) scene.emitters.clear();  // as import leaves them out
     return scene;
 }
 

@@ -24,6 +24,7 @@
 #include "common/Environment.glsl"
 #include "common/Volume.glsl"
 #include "common/Lights.glsl"
+#include "common/Emitters.glsl"
 #include "common/Texture.glsl"
 #include "common/MaterialMaps.glsl"
 
@@ -42,6 +43,7 @@ layout(constant_id = 8) const bool kLights = false;            // the render has
 layout(constant_id = 9) const bool kClearcoat = false;         // some material has a clear coat
 layout(constant_id = 10) const bool kTextures = false;         // some material has maps (and the hits UVs)
 layout(constant_id = 11) const bool kNormalMaps = false;       // some material has a normal map (and the hits frames)
+layout(constant_id = 12) const bool kEmitters = false;         // next-event estimation samples emissive triangles
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point), as does the ray cone's width there.
@@ -116,9 +118,12 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         // The scattering event's point, and what it does with the path (albedo, phase or bounce).
         vec3 origin, albedo, light, toLight = vec3(p.sunX, p.sunY, p.sunZ), n = vec3(0.0), ns = vec3(0.0);
         float g = 0.0, lightDistance = kInfinity;
-        // Next-event estimation's first choice (docs/RENDERING.md, "Lights"): a punctual light's
-        // direction, distance and irradiance, or the sun or map (kChoiceEnvironment).
+        // Next-event estimation's first choice (docs/RENDERING.md, "Emissive triangles"): an
+        // emissive triangle (kChoiceEmitter); then ("Lights") a punctual light's direction,
+        // distance and irradiance, or the sun or map (kChoiceEnvironment).
         uint choice = kChoiceEnvironment;
+        vec3 emitterRadiance;
+        float emitterPdf;
         vec3 punctualDirection, punctualIrradiance;
         float punctualDistance;
         bool event = false, shoots = false;
@@ -133,7 +138,12 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             // The absorbed share glows (an emission grid): sigma_a / sigma_t = 1 - albedo.
             radiance += (throughput * (vec3(1.0) - albedo)) * volumeEmission(v, origin);
             event = bounce < p.maxDepth;
-            if (event && kLights)
+            if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {
+                choice = kChoiceEmitter;
+                shoots = sampleEmitter(p, origin, pixel, sampleIndex, bounce, toLight, lightDistance, emitterRadiance,
+                                       emitterPdf);
+                if (shoots) light = emitterMediumLight(toLight, emitterRadiance, emitterPdf, direction, g);
+            } else if (event && kLights)
                 choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection, punctualDistance,
                                              punctualIrradiance);
             if (event && choice == kChoicePunctual) {
@@ -176,7 +186,12 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 albedo = values.baseColor * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
                 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
                 if (kNormalMaps && values.normalMapped) ns = bentNormal(p, j, hitNormal, n, values.tangentNormal);
-                if (kEmission) radiance += throughput * values.emissive;
+                // Emission, weighted against next-event estimation where it samples this triangle.
+                if (kEmission)
+                    radiance += (throughput * values.emissive) *
+                                (kEmitters ? emitterHitWeight(p, m.emitterDensity, hit.w, -dot(n, direction),
+                                                              bounce == 0u ? 0.0 : carried.w)
+                                           : 1.0);
                 event = bounce < p.maxDepth;
                 // Without kClearcoat the coat is a constant 0 and its steps fold away.
                 const float coat = kClearcoat ? m.clearcoat : 0.0;
@@ -185,8 +200,14 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                                   kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || coat > 0.0), values.metallic,
                                   values.roughness, m.specular, vec3(m.specularColorR, m.specularColorG, m.specularColorB),
                                   coat, m.clearcoatRoughness);
-                // Next-event estimation: a punctual light, or the sun, or with a map the sun or the map.
-                if (event && kLights)
+                // Next-event estimation: an emissive triangle, a punctual light, or the sun, or with a
+                // map the sun or the map.
+                if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {
+                    choice = kChoiceEmitter;
+                    shoots = sampleEmitter(p, origin, pixel, sampleIndex, bounce, toLight, lightDistance,
+                                           emitterRadiance, emitterPdf) &&
+                             emitterSurfaceLight(p, surface, toLight, emitterRadiance, emitterPdf, light);
+                } else if (event && kLights)
                     choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection,
                                                  punctualDistance, punctualIrradiance);
                 if (event && choice == kChoicePunctual) {
@@ -206,6 +227,9 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             // The sun's or map's share of next-event estimation is 1 - punctualPick.
             if (kLights && shoots && choice == kChoiceEnvironment && p.punctualPick > 0.0)
                 light = light * (1.0 / (1.0 - p.punctualPick));
+            // The other lights' share is 1 - emitterPick.
+            if (kEmitters && shoots && choice != kChoiceEmitter && p.emitterPick > 0.0)
+                light = light * (1.0 / (1.0 - p.emitterPick));
             // A volume's light arrives through the volumes; the surface's light has its albedo.
             if (kVolumes && shoots) {
                 light *= volumeTransmittance(p, origin, toLight, lightDistance, rnd, park);
@@ -248,7 +272,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 if ((kShadingNormals || kNormalMaps) && dot(bounced, n) <= 0.0) survives = false;
             }
             if (survives) {
-                Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap ? bouncePdf : 0.0);
+                Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap || kEmitters ? bouncePdf : 0.0);
                 if (kTextures) spread += scatterSpread(bouncePdf, p.scatterSpread);
                 startRay(p, j, j, origin, coneWidth, bounced, kInfinity, !scattered);
                 flags |= kPathAlive | kPathWalkClosest;

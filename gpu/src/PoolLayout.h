@@ -1,8 +1,9 @@
 #pragma once
 // Where the Vulkan backend's small tables lie in its one table buffer: the slot table, the
 // package's top-level tree, per chunk its slot, touched flag, demand and look-ahead counters, the
-// wavefront's parameters, the material table, the metallic-roughness BSDF's albedo tables and
-// the streamed waves' window (byte offsets, 16-byte aligned).
+// wavefront's parameters, the material table, the metallic-roughness BSDF's albedo tables, the
+// streamed waves' window, the punctual lights and the sampled emissive triangles (byte offsets,
+// 16-byte aligned).
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -29,8 +30,9 @@ inline uint64_t granules(uint64_t bytes) {
 
 struct TableLayout {
     uint64_t topNodes = 0, chunkSlots = 0, touched = 0, demand = 0, ahead = 0, queueCounts = 0, queueArgs = 0, params = 0,
-             materials = 0, microfacet = 0, stream = 0, lights = 0;
+             materials = 0, microfacet = 0, stream = 0, lights = 0, emitters = 0;
     uint64_t lightCapacity = 0;  // WavefrontLight records the light section holds (the package's lights)
+    uint64_t emitterCapacity = 0;  // WavefrontEmitter records the emitter section holds (the package's)
     uint64_t totalBytes = 0;
 };
 
@@ -51,7 +53,9 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.stream = t.microfacet + align(kMicrofacetTableFloats * sizeof(float));
     t.lights = t.stream + align(sizeof(StreamWindow));
     t.lightCapacity = package.lights.size();
-    t.totalBytes = t.lights + align(t.lightCapacity * sizeof(WavefrontLight));
+    t.emitters = t.lights + align(t.lightCapacity * sizeof(WavefrontLight));
+    t.emitterCapacity = package.emitters.size();
+    t.totalBytes = t.emitters + align(t.emitterCapacity * sizeof(WavefrontEmitter));
     return t;
 }
 

@@ -74,7 +74,8 @@ public:
                                                      attributes_.colors, false, !package.volumes.empty(),
                                                      !package.lights.empty(),
                                                      attributes_.uvs && !package.textures.empty(),
-                                                     attributes_.uvs && attributes_.tangents));
+                                                     attributes_.uvs && attributes_.tangents,
+                                                     !package.emitters.empty()));
         const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly

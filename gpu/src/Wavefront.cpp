@@ -150,7 +150,7 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights, bool textures,
-                              bool frames) {
+                              bool frames, bool emitters) {
     bool emission = false, glossy = false, coated = false, mapped = false, normalMapped = false;
     for (const Material& m : materials) {
         emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
@@ -162,7 +162,7 @@ ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientO
                  materialMap(m, TextureSlot::Emissive) != kNoTexture;
     }
     return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated,
-            textures && mapped, textures && frames && normalMapped};
+            textures && mapped, textures && frames && normalMapped, emission && emitters};
 }
 
 std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
@@ -249,10 +249,17 @@ public:
         cutouts_ = b_.textures && b_.uvs && !cutoutTextures(job_.materials, job_.textures.size()).empty() ? 1u : 0u;
         if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_}});
         if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_}});
+        const bool emitters = options_.emitters && !options_.emitters->entries.empty();
+        if (emitters && (options_.emitters->entries.size() > b_.tables.emitterCapacity ||
+                         options_.emitters->areaDensity.size() != job_.materials.size()))
+            return Status::error("device render: " + std::to_string(options_.emitters->entries.size()) +
+                                 " emissive triangles over " + std::to_string(options_.emitters->areaDensity.size()) +
+                                 " materials, the package's tables hold " + std::to_string(b_.tables.emitterCapacity) +
+                                 " over " + std::to_string(job_.materials.size()));
         const ShadeConstants constants =
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
                            sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights,
-                           b_.textures && b_.uvs, b_.frames);
+                           b_.textures && b_.uvs, b_.frames, emitters);
         const bool glossy = constants[7] != 0;
         auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();
@@ -884,6 +891,7 @@ private:
         p.slotTable = table, p.topNodes = table + t.topNodes, p.chunkSlots = table + t.chunkSlots;
         p.touched = table + t.touched, p.demand = table + t.demand, p.ahead = table + t.ahead;
         p.materials = table + t.materials, p.microfacet = table + t.microfacet, p.lights = table + t.lights;
+        p.emitters = table + t.emitters;
         const StateLayout s = stateLayout(b_.pathCapacity, b_.uvs, b_.frames);
         p.rayOrigin = state + s.rayOrigin, p.rayDirection = state + s.rayDirection;
         p.rayState = state + s.rayState;
@@ -945,6 +953,7 @@ private:
             r.clearcoat = m.clearcoat, r.clearcoatRoughness = m.clearcoatRoughness;
             setMaps(m, r);
         }
+        VASTRAY_TRY(uploadEmitters(p, materials));
         VASTRAY_TRY(upload(materials, b_.tables.materials));
         VASTRAY_TRY(uploadLights(p));
         return uploadBytes(&p, sizeof(p), b_.tables.params);
@@ -982,6 +991,25 @@ private:
                               e.direction.z, e.cdf, e.radiant.x, e.radiant.y, e.radiant.z, e.pick, e.coneScale,
                               e.coneOffset, 0u, 0u});
         return upload(lights, b_.tables.lights);
+    }
+
+    // The render's emissive triangles (core/Emitters.h's table, the same floats the Embree
+    // reference reads) into the table buffer's emitter section, which the package's emitter count
+    // sized, and each material's density.
+    Status uploadEmitters(WavefrontParams& p, std::vector<WavefrontMaterial>& materials) {
+        if (!options_.emitters || options_.emitters->entries.empty()) return Status::ok();
+        const EmitterTable& table = *options_.emitters;
+        p.emitterCount = uint32_t(table.entries.size());
+        p.emitterPick = emitterPickProbability(
+            options_.environment,
+            options_.lights ? std::span<const LightEntry>(*options_.lights) : std::span<const LightEntry>(), &table);
+        for (size_t m = 0; m < materials.size(); ++m) materials[m].emitterDensity = table.areaDensity[m];
+        std::vector<WavefrontEmitter> emitters;
+        emitters.reserve(table.entries.size());
+        for (const EmitterEntry& e : table.entries)
+            emitters.push_back({e.v0.x, e.v0.y, e.v0.z, e.material, e.v1.x, e.v1.y, e.v1.z, e.keep, e.v2.x, e.v2.y,
+                                e.v2.z, e.alias});
+        return upload(emitters, b_.tables.emitters);
     }
 
     Status uploadResidency() {

@@ -43,16 +43,17 @@ struct WavefrontBuffers {
     DeviceTextures* textures = nullptr; // the package's textures (DeviceRenderJob::textures), in core or paged; none without
 };
 
-// wf_shade.comp's specialization constants (constant_id 0-11, in that order): what a render's
+// wf_shade.comp's specialization constants (constant_id 0-12, in that order): what a render's
 // shading needs; kClearcoat says some material has a clear coat, kTextures that some material has
-// maps and the render has textures and the hits' UVs (`textures`), kNormalMaps (the last) that
-// some material has a normal map and the hits keep their UV derivatives (`frames`).
-using ShadeConstants = std::array<uint32_t, 12>;
+// maps and the render has textures and the hits' UVs (`textures`), kNormalMaps that some material
+// has a normal map and the hits keep their UV derivatives (`frames`), kEmitters (the last) that
+// next-event estimation samples emissive triangles (`emitters`).
+using ShadeConstants = std::array<uint32_t, 13>;
 // wf_walk.comp's specialization: the cost AOV, paging, cut-outs.
 using WalkConstants = std::array<uint32_t, 3>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false,
-                              bool frames = false);
+                              bool frames = false, bool emitters = false);
 
 class Wavefront {
 public:

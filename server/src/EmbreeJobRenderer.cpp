@@ -96,6 +96,7 @@ public:
         VASTRAY_TRY(applySceneCamera((*scene)->mesh.cameras, request.sceneCamera, options));
         if (request.sceneLights)
             applySceneLights((*scene)->mesh.lights, (*scene)->bounds, options);
+        applySceneEmitters((*scene)->emitters, (*scene)->mesh.materials, options);
         RenderStats render;
         auto image = renderWithEmbree(**scene, options, &render, tilesCounted);
         if (stats) stats->passes = passes, stats->render = render;

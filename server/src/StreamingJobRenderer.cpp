@@ -155,6 +155,7 @@ public:
         options.volumes = scene.volumes;
         if (request.sceneLights)
             applySceneLights(scene.reader->info().lights, scene.reader->info().bounds, options);
+        applySceneEmitters(scene.reader->info().emitters, scene.reader->info().materials, options);
         RenderProgressReporter reporter(progress, *scene.backend, *scene.scene);
         auto image = scene.scene->render(options, stats ? &stats->render : nullptr, &streaming,
                                           reporter.passReporter(), &cancel);

@@ -115,7 +115,21 @@ struct WavefrontMaterial {
     float normalScale;
     float alphaCutoff;  // a cut-out's (Material::alphaCutoff; 0: opaque): the walk's any-hit test
     float baseAlpha;    // the base colour factor's alpha, which the cut-out test multiplies
-    uint padding1;
+    // Sampled emissive triangles (core/Emitters.h): the density per unit area with which
+    // next-event estimation's emitter branch draws a point on a triangle of this material
+    // (EmitterTable::areaDensity); 0: not sampled (its emission is found by chance alone).
+    float emitterDensity;
+};
+
+// An emissive triangle as next-event estimation picks it (vastray::EmitterEntry): its corners,
+// its material, and its alias column (kept when u < keep, else `alias`).
+struct WavefrontEmitter {
+    float v0x, v0y, v0z;
+    uint material;
+    float v1x, v1y, v1z;
+    float keep;
+    float v2x, v2y, v2z;
+    uint alias;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type
@@ -238,6 +252,7 @@ struct WavefrontParams {
     uint64_t hitFrame;        // float[6] per path: dp/du and dp/dv of its closest hit's triangle in its
                               // normal map's texture space (core/NormalMap.h uvDerivatives; zero: no
                               // frame), written by the walk; 0 when no material has a normal map
+    uint64_t emitters;        // WavefrontEmitter per sampled emissive triangle (emitterCount)
     float eyeX, eyeY, eyeZ;
     float forwardX, forwardY, forwardZ;
     float rightX, rightY, rightZ;  // scaled by the half width of the image plane
@@ -274,6 +289,9 @@ struct WavefrontParams {
                             // (punctualPickProbability; 0: never)
     float cameraSpread;     // ray cones (core/RayCone.h): a camera ray's spread angle and the most a
     float scatterSpread;    // scattering event adds; both 0 with --texture-lod finest (level 0)
+    uint emitterCount;      // sampled emissive triangles (0: none)
+    float emitterPick;      // the probability that next-event estimation picks one
+                            // (emitterPickProbability; 0: never)
     uint padding;
 };
 
@@ -315,7 +333,8 @@ struct WavefrontPush {
 static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 4 * 6 * 4 + 4 * 4 &&
               offsetof(WavefrontMaterial, baseColorMap) == 64);
 static_assert(sizeof(WavefrontLight) == 64);
-static_assert(offsetof(WavefrontParams, eyeX) == 46 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(sizeof(WavefrontEmitter) == 48);
+static_assert(offsetof(WavefrontParams, eyeX) == 47 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);

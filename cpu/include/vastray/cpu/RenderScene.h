@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "vastray/core/Emitters.h"
 #include "vastray/core/Mesh.h"
 #include "vastray/core/Texture.h"
 #include "vastray/core/Result.h"
@@ -29,6 +30,9 @@ struct RenderScene {
     // The textures the materials' maps name, every page decoded (a package's pages, or an
     // imported file's images made into pages as import does); empty without maps.
     std::vector<DecodedTexture> textures;
+    // The emissive triangles next-event estimation samples (core/Emitters.h): a package's, or an
+    // imported file's as import would store them (applySceneEmitters makes the table).
+    std::vector<EmissiveTriangle> emitters;
 
     uint32_t primitiveId(uint32_t triangle) const {
         return primitiveIds.empty() ? triangle : primitiveIds[triangle];
