@@ -4,13 +4,16 @@
 // centre, F the form factor of the square from a point below its centre (four corner-rectangle
 // factors). Sampled and found by chance only, both backends agree with it; sampling lowers the
 // noise; the device agrees with the Embree reference; a lamp seen from behind (single-sided) is
-// dark; a streamed render equals the in-core one; an emissive map keeps its triangles unsampled.
+// dark; a streamed render equals the in-core one; an emissive map keeps its triangles unsampled;
+// beside the sun and a punctual light, and in fog, sampling keeps the expectation.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
+#include "../VolumePackageForge.h"
+#include "../VolumeTestSupport.h"
 #include "StreamTestSupport.h"
 #include "TestTmp.h"
 #include "vastray/streamer/PackageBuilder.h"
@@ -221,6 +224,80 @@ TEST(EmitterRender, StreamedEqualsInCoreWithSampledEmitters) {
     auto inCore = test::renderVulkan(path, o, 512ull << 20);
     ASSERT_TRUE(inCore) << inCore.message();
     test::expectTwoSlotRenderEquals(path, o, 0, *inCore, chunks);
+}
+
+// The sum and share of every light, sampled and by chance: the sun (half of next-event
+// estimation's picks go to the lamp, the rest is divided between the point light and the sun),
+// a point light and the lamp; several bounces.
+TEST(EmitterRender, BesideTheSunAndAPointLightTheExpectationHolds) {
+    TriangleMesh mesh = lampOverPlane(true);
+    PunctualLight bulb{"bulb", LightType::Point, {1, 1, 1}, 3.0f};
+    bulb.position = {0.5f, 0.6f, 1.5f};
+    mesh.lights = {bulb};
+    const std::string path = package("lamp-sun-bulb", std::move(mesh));
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    auto lit = [&](bool sampled) {
+        RenderOptions o = slantView(path, sampled, 256);
+        o.environment = Environment{};  // the default sky and sun
+        o.maxDepth = 3;
+        applySceneLights((*reader)->info().lights, (*reader)->info().bounds, o);
+        return o;
+    };
+    auto sampled = test::renderVulkan(path, lit(true), 256ull << 20);
+    auto byChance = test::renderVulkan(path, lit(false), 256ull << 20);
+    auto reference = test::renderEmbree(path, lit(true));
+    ASSERT_TRUE(sampled && byChance && reference) << sampled.message() << byChance.message() << reference.message();
+    const Mean s = pixelMean(*sampled), c = pixelMean(*byChance);
+    std::printf("lamp, sun and bulb: sampled %.5f +- %.5f, by chance %.5f +- %.5f\n", s.mean, s.standardError, c.mean,
+                c.standardError);
+    EXPECT_NEAR(s.mean, c.mean, 4 * std::hypot(s.standardError, c.standardError));
+    EXPECT_GT(s.mean, expectedMean()) << "the sun and the bulb add to the lamp";
+    EXPECT_LE(test::relativeRmse(sampled->rgb, reference->rgb), 1e-3);
+}
+
+// Fog between the lamp and the plane: next-event estimation from points in the volume (the phase
+// function against the lamp's density) and through it (ratio tracking), hits after a volume
+// bounce weighted by the phase function's density.
+TEST(EmitterRender, FogUnderTheLampScattersItsLightOnBothBackends) {
+    VolumeMaterial fog;
+    fog.albedo = {0.9f, 0.9f, 0.9f};
+    fog.anisotropy = 0.4f;
+    fog.densityScale = 0.8f;
+    // Between the plane and the lamp, touching neither (tests/stream/VolumeFaceTest.cpp has a
+    // surface on a volume's face).
+    Volume slab = test::makeVolume({0, 0, 0}, {15, 3, 15},
+                                   [](int32_t i, int32_t, int32_t k) { return 0.6f + 0.4f * float((i / 4 + k / 4) % 2); },
+                                   0.125f, {-1, 0.25f, -1}, fog);
+    const std::string path =
+        test::writeVolumePackage("emitters", "lamp-fog", lampOverPlane(true), {std::move(slab)});
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    auto volumes = (*reader)->readVolumes();
+    ASSERT_TRUE(volumes) << volumes.message();
+    auto foggy = [&](bool sampled) {
+        RenderOptions o = slantView(path, sampled, 64);
+        o.camera = {{0, 0.5f, 3}, {0, 0.3f, 0}, {0, 1, 0}, 40.0f};
+        o.maxDepth = 3;
+        o.volumes = *volumes;
+        return o;
+    };
+    auto sampled = test::renderVulkan(path, foggy(true), 256ull << 20);
+    auto byChance = test::renderVulkan(path, foggy(false), 256ull << 20);
+    auto reference = test::renderEmbree(path, foggy(true));
+    ASSERT_TRUE(sampled && byChance && reference) << sampled.message() << byChance.message() << reference.message();
+    const Mean s = pixelMean(*sampled), c = pixelMean(*byChance);
+    std::printf("lamp in fog: sampled %.5f +- %.5f, by chance %.5f +- %.5f\n", s.mean, s.standardError, c.mean,
+                c.standardError);
+    EXPECT_GT(s.mean, 0.01);
+    EXPECT_NEAR(s.mean, c.mean, 4 * std::hypot(s.standardError, c.standardError));
+    auto referenceByChance = test::renderEmbree(path, foggy(false));
+    ASSERT_TRUE(referenceByChance) << referenceByChance.message();
+    const double error = test::relativeRmse(sampled->rgb, reference->rgb);
+    const double chanceError = test::relativeRmse(byChance->rgb, referenceByChance->rgb);
+    std::printf("lamp in fog: device against Embree, relative RMSE %.2e sampled, %.2e by chance\n", error, chanceError);
+    EXPECT_LE(error, 1e-4);
+    EXPECT_LE(chanceError, 1e-4);
 }
 
 TEST(EmitterRender, AnEmissiveMapKeepsItsTrianglesUnsampled) {
