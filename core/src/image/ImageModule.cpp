@@ -1,7 +1,8 @@
-// writeImageFile (but for .pfm, PfmFile.h), diffImageFiles, readImageChannels, writeRgba8Png, readStoredImage and
-// writeStoredImage forward to the OpenImageIO
-// module, loaded once on first use.
+// writeImageFile (but for .pfm, PfmFile.h), diffImageFiles, readImageChannels, writeRgba8Png, readStoredImage,
+// writeStoredImage, readRgba8Image and decodeRgba8Image (but for .ktx2, Ktx2Image.h) forward to the
+// OpenImageIO module, loaded once on first use.
 #include "ImageModule.h"
+#include "Ktx2Image.h"
 #include "PfmFile.h"
 
 #include <dlfcn.h>
@@ -107,6 +108,7 @@ Status writeStoredImage(const std::string& path, const StoredImage& image) {
 }
 
 Result<Rgba8Image> readRgba8Image(const std::string& path, uint64_t maxPixels) {
+    if (lowerExtension(path) == ".ktx2") return readKtx2Image(path, maxPixels);
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(path + ": cannot read: ");
     return m.api->readRgba8Image(path, maxPixels);
@@ -114,6 +116,7 @@ Result<Rgba8Image> readRgba8Image(const std::string& path, uint64_t maxPixels) {
 
 Result<Rgba8Image> decodeRgba8Image(const std::string& name, const std::string& extension,
                                     const std::vector<uint8_t>& bytes, uint64_t maxPixels) {
+    if (extension == ".ktx2") return decodeKtx2Image(name, bytes, maxPixels);
     const LoadedModule& m = module();
     if (!m.api) return m.status.withContext(name + ": cannot read: ");
     return m.api->decodeRgba8Image(name, extension, bytes, maxPixels);

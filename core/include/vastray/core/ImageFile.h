@@ -82,9 +82,30 @@ struct Rgba8Image {
 // naming it and the limit before its pixels are read. decodeRgba8Image reads the file's bytes
 // from memory (an image embedded in a glTF buffer or data URI); `extension` (".png", ".jpg")
 // picks the reader.
+// ".ktx2" (either function; read without OpenImageIO) reads level 0 of a 2D KTX 2.0 texture:
+// R8, R8G8, R8G8B8 or R8G8B8A8 (UNORM or SRGB), stored as it is or Zstandard-supercompressed, or
+// Basis Universal (ETC1S/BasisLZ, UASTC with or without Zstandard) transcoded to RGBA. Its
+// texels are taken as they are stored, whatever the transfer function (the caller decides the
+// encoding, as for a PNG); channels map as Vulkan samples them (R8: R, 0, 0, 255), or through
+// the file's KTXswizzle; a KTXorientation other than "rd" is flipped to row 0 at the top. Errors
+// name the image and the field: see describeKtx2Image.
 Result<Rgba8Image> readRgba8Image(const std::string& path, uint64_t maxPixels);
 Result<Rgba8Image> decodeRgba8Image(const std::string& name, const std::string& extension,
                                     const std::vector<uint8_t>& bytes, uint64_t maxPixels);
+
+// What an importer needs to know of a KTX2 image before decoding it.
+struct Ktx2Description {
+    std::string format;     // "R8G8B8A8_SRGB", "UASTC", "ETC1S", "vkFormat 131 (a BC1-BC7 block format)"
+    bool readable = false;  // decodeRgba8Image(".ktx2") reads this format and supercompression
+    bool srgb = false;      // the DFD's transfer function is sRGB (else linear, or another)
+};
+
+// Reads and checks a KTX2 container (not its texels). Errors name `name` and the field ("image 2
+// ('x.ktx2') of model.gltf: KTX2 level 0 byte length 99 at offset 80 exceeds the file's 150
+// bytes"): a wrong identifier, a header, index, level index, DFD or key/value data past the end
+// of the file, sides of 0 or beyond kMaxTextureSide (core/Texture.h), a 1D, 3D, array or cube map
+// texture, more levels than its sides allow, an unknown supercompression scheme.
+Result<Ktx2Description> describeKtx2Image(const std::string& name, const std::vector<uint8_t>& bytes);
 
 // Writes 8-bit sRGB RGBA pixels (4 bytes per pixel, row 0 at the top) as a PNG file.
 Status writeRgba8Png(const std::string& path, uint32_t width, uint32_t height,
