@@ -6,7 +6,9 @@
 #include <map>
 #include <tuple>
 
+#include "import/DataUri.h"
 #include "import/ImportCommon.h"
+#include "vastray/core/ImageFile.h"
 
 namespace vastray::import {
 namespace {
@@ -110,10 +112,15 @@ public:
         }
         report_.warnUnused("texture maps whose image file is missing or unreadable", missing_,
                            "their maps are rendered without them");
-        report_.warnUnused("texture maps with a KTX2 image", ktx2_, "their maps are rendered without them");
-        report_.warnUnused("texture maps with an image neither PNG nor JPEG", unknown_,
+        for (const auto& [format, count] : unreadableKtx2_)
+            report_.warnUnused("texture maps with a KTX2 image in " + format, count,
+                               "a format not read here; their maps are rendered without them");
+        report_.warnUnused("texture maps whose KTX2 image's transfer function is not the map's (sRGB for base colour "
+                           "and emissive, linear for the others)",
+                           ktx2TransferMismatch_, "their texels are read as the map's, as glTF says");
+        report_.warnUnused("texture maps with an image neither PNG, JPEG nor KTX2", unknown_,
                            "their maps are rendered without them");
-        report_.warnUnused("texture maps whose image only an extension names (KHR_texture_basisu, EXT_texture_webp, ...)",
+        report_.warnUnused("texture maps whose image only an extension names (EXT_texture_webp, EXT_texture_avif, ...)",
                            extensionOnly_, "their maps are rendered without them");
         return std::move(out_);
     }
@@ -129,13 +136,16 @@ private:
         auto transform = transformOf(extensions);
         if (!transform) return transform.status();
         binding.transform = *transform;
-        if (texture.source < 0) {
+        auto basisSource = basisuSource(texture);
+        if (!basisSource) return basisSource.status().withContext("texture " + std::to_string(index) + " ");
+        if (texture.source < 0 && *basisSource < 0) {
             ++extensionOnly_;
             return binding;
         }
-        if (size_t(texture.source) >= model_.images.size())
-            return Status::error("texture " + std::to_string(index) + "'s image " + std::to_string(texture.source) +
-                                 " does not exist (the file has " + std::to_string(model_.images.size()) + ")");
+        for (int source : {*basisSource, texture.source})
+            if (source >= 0 && size_t(source) >= model_.images.size())
+                return Status::error("texture " + std::to_string(index) + "'s image " + std::to_string(source) +
+                                     " does not exist (the file has " + std::to_string(model_.images.size()) + ")");
         TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
         if (texture.sampler >= 0) {
             if (size_t(texture.sampler) >= model_.samplers.size())
@@ -148,31 +158,19 @@ private:
             wrapS = *s;
             wrapT = *t;
         }
-        auto bytes = imageBytes(texture.source);
-        if (!bytes) return bytes.status();
-        if (bytes->empty()) {
-            ++missing_;
-            return binding;
-        }
-        const std::string extension = imageSignatureExtension(*bytes);
-        if (extension == ".ktx2") {
-            ++ktx2_;
-            return binding;
-        }
-        if (extension.empty()) {
-            ++unknown_;
-            return binding;
-        }
-        const auto key = std::make_tuple(texture.source, wrapS, wrapT, slotEncoding(slot));
+        auto picked = pickImage(*basisSource, texture.source, slot);
+        if (!picked) return picked.status();
+        if (picked->image < 0) return binding;
+        const auto key = std::make_tuple(picked->image, wrapS, wrapT, slotEncoding(slot));
         auto found = textureOf_.find(key);
         if (found == textureOf_.end()) {
             if (out_.textures.size() >= kMaxSceneTextures)
                 return Status::error("more than " + std::to_string(kMaxSceneTextures) +
                                      " textures (image, sampler and encoding) in one scene");
             TextureSource source;
-            source.name = imageName(model_, texture.source, fileName_);
-            source.extension = extension;
-            source.bytes = std::move(*bytes);
+            source.name = imageName(model_, picked->image, fileName_);
+            source.extension = picked->extension;
+            source.bytes = std::move(picked->bytes);
             source.wrapS = wrapS;
             source.wrapT = wrapT;
             source.encoding = slotEncoding(slot);
@@ -183,10 +181,65 @@ private:
         return binding;
     }
 
-    // The image's bytes: as the loader kept them, or its file's (empty when that is missing).
+    // KHR_texture_basisu's source (a KTX2 image), or -1 when the texture has no such extension.
+    static Result<int> basisuSource(const tinygltf::Texture& texture) {
+        const auto it = texture.extensions.find("KHR_texture_basisu");
+        if (it == texture.extensions.end()) return -1;
+        const tinygltf::Value& source = it->second.Get("source");
+        if (!source.IsInt() || source.GetNumberAsInt() < 0)
+            return Status::error("KHR_texture_basisu source is not an image index");
+        return source.GetNumberAsInt();
+    }
+
+    struct PickedImage {
+        int image = -1;  // -1: none read here (counted in a warning)
+        std::string extension;
+        std::vector<uint8_t> bytes;
+    };
+
+    // The image a map reads: KHR_texture_basisu's KTX2 where its format is read here, else the
+    // texture's own source (glTF's fallback for readers without the extension). picked.image is
+    // -1 when neither is read here, counted once by why.
+    Result<PickedImage> pickImage(int basisSource, int source, TextureSlot slot) {
+        uint64_t* unread = nullptr;
+        if (basisSource >= 0) {
+            auto picked = readImage(basisSource, slot, unread);
+            if (!picked || picked->image >= 0 || source < 0) {
+                if (picked && unread) ++*unread;
+                return picked;
+            }
+        }
+        auto picked = readImage(source, slot, unread);
+        if (picked && unread) ++*unread;
+        return picked;
+    }
+
+    // Image `index` if it is read here; else picked.image -1 and `unread` the counter of why.
+    Result<PickedImage> readImage(int index, TextureSlot slot, uint64_t*& unread) {
+        PickedImage picked;
+        auto bytes = imageBytes(index);
+        if (!bytes) return bytes.status();
+        unread = bytes->empty() ? &missing_ : nullptr;
+        picked.extension = bytes->empty() ? "" : imageSignatureExtension(*bytes);
+        if (!unread && picked.extension.empty()) unread = &unknown_;
+        if (!unread && picked.extension == ".ktx2") {
+            auto ktx2 = describeKtx2Image(imageName(model_, index, fileName_), *bytes);
+            if (!ktx2) return ktx2.status();
+            if (!ktx2->readable) unread = &unreadableKtx2_[ktx2->format];
+            else if (ktx2->srgb != (slotEncoding(slot) == TextureEncoding::Srgb)) ++ktx2TransferMismatch_;
+        }
+        if (unread) return picked;
+        picked.image = index;
+        picked.bytes = std::move(*bytes);
+        return picked;
+    }
+
+    // The image's bytes: as the loader kept them, from a data URI of a media type the loader does
+    // not decode ("data:image/ktx2;base64,..."), or its file's (empty when that is missing).
     Result<std::vector<uint8_t>> imageBytes(int index) {
         const tinygltf::Image& image = model_.images[size_t(index)];
-        if (!image.image.empty() || image.uri.empty() || image.uri.rfind("data:", 0) == 0) return image.image;
+        if (!image.image.empty() || image.uri.empty()) return image.image;
+        if (image.uri.rfind("data:", 0) == 0) return base64DataUriBytes(image.uri);
         const std::string uri = percentDecoded(image.uri);
         std::string why;
         if (!isSafeRelativeUri(uri, why)) return Status::error("image " + std::to_string(index) + " uri '" + uri + "' " + why);
@@ -204,7 +257,8 @@ private:
     ImportReport& report_;
     GltfTextures out_;
     std::map<std::tuple<int, TextureWrap, TextureWrap, TextureEncoding>, uint32_t> textureOf_;
-    uint64_t missing_ = 0, ktx2_ = 0, unknown_ = 0, extensionOnly_ = 0;
+    uint64_t missing_ = 0, unknown_ = 0, extensionOnly_ = 0, ktx2TransferMismatch_ = 0;
+    std::map<std::string, uint64_t> unreadableKtx2_;  // by format ("vkFormat 131 (...)")
 };
 
 }  // namespace

@@ -14,10 +14,10 @@ namespace {
 
 using import::GltfTextures;
 
-// A 1 x 1 PNG and the start of a KTX2 file (its 12-byte signature), as data URIs.
+// A 1 x 1 PNG and the start of a WebP file ("RIFF", a size, "WEBPVP8 "), as data URIs.
 constexpr const char* kPngUri =
     "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNkYPhfDwAChwGA60e6kgAAAABJRU5ErkJggg==";
-constexpr const char* kKtx2Uri = "data:application/octet-stream;base64,q0tUWCAyMLsNChoK";
+constexpr const char* kWebpUri = "data:application/octet-stream;base64,UklGRhoAAABXRUJQVlA4IA==";
 
 // A triangle whose materials, textures, samplers and images are the caller's.
 std::string texturedGltf(const std::string& materials, const std::string& rest) {
@@ -85,16 +85,17 @@ TEST(GltfTextures, MapsSamplersAndTransformsAreReadAndSharedTexturesStored) {
 TEST(GltfTextures, ImagesNotReadHereAreWarnedAndTheirMapsLeftOut) {
     const std::string json = texturedGltf(
         R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"normalTexture":{"index":1}}])",
-        std::string(R"("textures":[{"source":0},{"extensions":{"KHR_texture_basisu":{"source":0}}}],
-           "extensionsUsed":["KHR_texture_basisu"],"images":[{"uri":")") + kKtx2Uri + R"("}])");
+        std::string(R"("textures":[{"source":0},{"extensions":{"EXT_texture_webp":{"source":0}}}],
+           "extensionsUsed":["EXT_texture_webp"],"images":[{"uri":")") + kWebpUri + R"("}])");
     ImportReport report;
-    auto textures = readTextures("ktx2.gltf", json, report);
+    auto textures = readTextures("webp.gltf", json, report);
     ASSERT_TRUE(textures) << textures.message();
     EXPECT_TRUE(textures->textures.empty());
     EXPECT_FALSE(textures->materials[0].any());
     ASSERT_EQ(report.warnings.size(), 2u);
-    EXPECT_NE(report.warnings[0].find("1 texture maps with a KTX2 image"), std::string::npos) << report.warnings[0];
-    EXPECT_NE(report.warnings[1].find("KHR_texture_basisu"), std::string::npos) << report.warnings[1];
+    EXPECT_NE(report.warnings[0].find("1 texture maps with an image neither PNG, JPEG nor KTX2"), std::string::npos)
+        << report.warnings[0];
+    EXPECT_NE(report.warnings[1].find("EXT_texture_webp"), std::string::npos) << report.warnings[1];
 }
 
 TEST(GltfTextures, BadReferencesSamplersAndTransformsAreRefusedByMaterialAndMap) {
