@@ -115,12 +115,19 @@ void walkCells(const Volume& v, const CellRay& r, float tMax, Visit&& visit) {
 
 // Tracks one volume along the ray within [0, tMax), cell by cell with the cells' majorants:
 // without `transmittance`, delta tracking (returns the first real collision's t, or tMax); with
-// it, ratio tracking (multiplies *transmittance, returns tMax). Each tentative collision draws
-// the step, then (delta tracking) the acceptance.
+// it, ratio tracking (multiplies *transmittance, returns tMax). The optical depth to the next
+// tentative collision is drawn once on entry (whether or not the ray meets the grid) and after
+// each tentative collision, and spent cell by cell (majorant x length): which numbers a ray
+// draws depends on its collisions alone, not on the cells it crosses, so a ray that ends on a
+// cell boundary (a surface on a volume's face) draws the same numbers whether rounding ends it
+// just before the boundary or in a sliver past it. Delta tracking draws, at each tentative
+// collision, the acceptance and then (rejected) the next depth.
 float trackVolume(const Volume& v, Vec3f origin, Vec3f direction, float tMax, RandomKey key, uint32_t seed,
                   uint32_t* counter, float* transmittance) {
     const CellRay r = cellRay(v, origin, direction);
     const float scale = v.material.densityScale;
+    auto depth = [&] { return -std::log(1.0f - randomFloat(key, kDimVolume + (*counter)++, seed)); };
+    float tau = depth();  // the majorant's optical depth to the next tentative collision
     float result = tMax;
     uint32_t steps = 0;
     walkCells(v, r, tMax, [&](uint64_t cell, float t0, float t1) {
@@ -128,8 +135,12 @@ float trackVolume(const Volume& v, Vec3f origin, Vec3f direction, float tMax, Ra
         if (!(majorant > 0.0f)) return true;
         float t = t0;
         for (;;) {
-            t -= std::log(1.0f - randomFloat(key, kDimVolume + (*counter)++, seed)) / majorant;
-            if (!(t < t1)) return true;
+            const float next = t + tau / majorant;
+            if (!(next < t1)) {
+                tau = std::fmax(0.0f, tau - majorant * (t1 - t));
+                return true;
+            }
+            t = next;
             if (!transmittance && ++steps > kMaxVolumeSteps) {
                 result = t;
                 return false;
@@ -143,6 +154,7 @@ float trackVolume(const Volume& v, Vec3f origin, Vec3f direction, float tMax, Ra
                 result = t;
                 return false;
             }
+            tau = depth();
         }
     });
     return result;

@@ -31,6 +31,9 @@ struct VolumeRandom {
 float nextVolumeRandom(inout VolumeRandom r) {
     return randomFloat(r.pixel, r.sampleIndex, r.bounce, kDimVolume + r.counter++, r.seed);
 }
+// The majorant's optical depth to the next tentative collision (core's trackVolume: drawn on
+// entry and after each tentative collision, spent cell by cell).
+float nextVolumeDepth(inout VolumeRandom r) { return -log(1.0 - nextVolumeRandom(r)); }
 
 uvec3 volumeCells(WavefrontVolume v) { return uvec3(v.cellsX, v.cellsY, v.cellsZ); }
 
@@ -144,7 +147,8 @@ void keepCell(WavefrontVolume v, ivec3 cell) {
 // phase: kParkNone, or the tracking it parked in: free flight (value: the nearest collision so
 // far, found/which/tCollision: its volume and t) or transmittance (value: the transmittance so
 // far, found/which/tCollision: the free flight's result); volume: the volume being tracked;
-// counter, steps, cell, tNext, t: the walk's state at the start of the cell it waits at.
+// counter, steps, cell, tNext, t, tau (the optical depth left to the next tentative collision):
+// the walk's state at the start of the cell it waits at.
 const uint kParkNone = 0u, kParkFreeFlight = 1u, kParkTransmittance = 2u;
 // Cells along the ray past the one a tracking parks at whose bricks it asks for too.
 const uint kPrefetchCells = 4u;
@@ -156,16 +160,17 @@ struct VolumePark {
     float value, tCollision;
     uint which;
     bool found;
+    float tau;
 };
 
-VolumePark noPark() { return VolumePark(kParkNone, 0u, 0u, 0u, ivec3(0), 0.0, vec3(0.0), 0.0, 0.0, 0u, false); }
+VolumePark noPark() { return VolumePark(kParkNone, 0u, 0u, 0u, ivec3(0), 0.0, vec3(0.0), 0.0, 0.0, 0u, false, 0.0); }
 
 VolumePark loadPark(WavefrontParams p, uint j) {
     if (p.volumePark == 0ul) return noPark();
     UVec4Array a = UVec4Array(p.volumePark);
     const uvec4 w0 = a.v[4u * j], w1 = a.v[4u * j + 1u], w2 = a.v[4u * j + 2u], w3 = a.v[4u * j + 3u];
     return VolumePark(w0.x, w0.y, w0.z, w0.w, ivec3(w1.xyz), uintBitsToFloat(w1.w), uintBitsToFloat(w2.xyz),
-                      uintBitsToFloat(w2.w), uintBitsToFloat(w3.x), w3.y, w3.z != 0u);
+                      uintBitsToFloat(w2.w), uintBitsToFloat(w3.x), w3.y, w3.z != 0u, uintBitsToFloat(w3.w));
 }
 
 void storePark(WavefrontParams p, uint j, VolumePark k) {
@@ -173,12 +178,14 @@ void storePark(WavefrontParams p, uint j, VolumePark k) {
     a.v[4u * j] = uvec4(k.phase, k.volume, k.counter, k.steps);
     a.v[4u * j + 1u] = uvec4(uvec3(k.cell), floatBitsToUint(k.t));
     a.v[4u * j + 2u] = uvec4(floatBitsToUint(k.tNext), floatBitsToUint(k.value));
-    a.v[4u * j + 3u] = uvec4(floatBitsToUint(k.tCollision), k.which, k.found ? 1u : 0u, 0u);
+    a.v[4u * j + 3u] = uvec4(floatBitsToUint(k.tCollision), k.which, k.found ? 1u : 0u, floatBitsToUint(k.tau));
 }
 
 // Tracks one volume along the world ray within [0, tMax): with `ratio` false, delta tracking;
 // returns the first real collision's t, or tMax. With `ratio` true, ratio tracking: multiplies
-// `transmittance` and returns tMax. Cells are walked front to back (cellRay and walkCells).
+// `transmittance` and returns tMax. Cells are walked front to back (cellRay and walkCells); the
+// optical depth to the next tentative collision is drawn first (whether or not the ray meets the
+// grid) and after each tentative collision, and spent cell by cell, as core does.
 // Paged: with `resume` the walk starts at park's cell and state instead of the ray's entry; at
 // a cell with an absent brick it parks (fills park's walk state, rnd's counter and
 // transmittance back at the cell's start), asks for the
@@ -192,6 +199,7 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
     const vec3 d = vec3(w[0] * direction.x + w[1] * direction.y + w[2] * direction.z,
                         w[4] * direction.x + w[5] * direction.y + w[6] * direction.z,
                         w[8] * direction.x + w[9] * direction.y + w[10] * direction.z);
+    float tau = resume ? park.tau : nextVolumeDepth(rnd);
     const float inverse = 1.0 / float(kVolumeBrickSize);
     const vec3 ro = (p - vec3(float(v.originX), float(v.originY), float(v.originZ))) * inverse, rd = d * inverse;
     const uvec3 cells = volumeCells(v);
@@ -244,12 +252,16 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
             } else if (majorant > 0.0) {
                 // The cell's start: where a walk that misses a brick in it parks.
                 const uint startCounter = rnd.counter, startSteps = steps;
-                const float startTransmittance = transmittance;
+                const float startTransmittance = transmittance, startTau = tau;
                 if (paged) pageCell(v, cell, kWaitAsk);
                 float s = t;
                 while (!volumeMissed) {
-                    s -= log(1.0 - nextVolumeRandom(rnd)) / majorant;
-                    if (!(s < end)) break;
+                    const float next = s + tau / majorant;
+                    if (!(next < end)) {
+                        tau = max(0.0, tau - majorant * (end - s));
+                        break;
+                    }
+                    s = next;
                     if (!ratio && ++steps > kMaxVolumeSteps) return s;
                     const float density = relativeDensity(v, (ro + rd * s) * float(kVolumeBrickSize)) * scale;
                     if (volumeMissed) break;
@@ -260,10 +272,12 @@ float trackVolume(WavefrontVolume v, vec3 origin, vec3 direction, float tMax, bo
                     } else if (nextVolumeRandom(rnd) * majorant < density) {
                         return s;
                     }
+                    tau = nextVolumeDepth(rnd);
                 }
                 if (volumeMissed) {
-                    rnd.counter = startCounter, steps = startSteps, transmittance = startTransmittance;
+                    rnd.counter = startCounter, steps = startSteps, transmittance = startTransmittance, tau = startTau;
                     park.cell = cell, park.tNext = tNext, park.t = t, park.steps = steps, park.counter = rnd.counter;
+                    park.tau = tau;
                     keepCell(v, cell);
                 }
             }
