@@ -79,7 +79,7 @@ TEST(Ktx2Image, FewerChannelsReadAsVulkanSamplesThem) {
 }
 
 TEST(Ktx2Image, SwizzleAndOrientationKeysAreApplied) {
-    // toktx writes a grey PNG as R8 with KTXswizzle "rrr1"; "ru" stores the bottom row first.
+    // A grey image stored as R8 carries KTXswizzle "rrr1"; "ru" stores the bottom row first.
     Ktx2Spec s = spec(9, 1);
     s.keyValues = {{"KTXorientation", "ru"}, {"KTXswizzle", "rrr1"}};
     auto image = decode(writeKtx2(s));

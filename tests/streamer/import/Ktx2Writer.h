@@ -79,7 +79,7 @@ inline std::vector<uint8_t> writeKtx2(const Ktx2Spec& s) {
     b[dfdOffset + 17] = s.colorModel >= 160 ? 3 : 0;
     b[dfdOffset + 20] = s.colorModel >= 160 ? 16 : uint8_t(s.vkFormat == 43 || s.vkFormat == 37 ? 4 : 1);
     putU32(b, dfdOffset + 28, uint32_t(s.channelId) << 24);
-    std::memcpy(b.data() + kvdOffset, kvd.data(), kvd.size());
+    if (!kvd.empty()) std::memcpy(b.data() + kvdOffset, kvd.data(), kvd.size());
     if (!s.globalData.empty()) std::memcpy(b.data() + sgdOffset, s.globalData.data(), s.globalData.size());
     if (!s.level.empty()) std::memcpy(b.data() + levelOffset, s.level.data(), s.level.size());
     return b;
