@@ -118,6 +118,39 @@ inline std::vector<uint8_t> withoutLightSection(std::vector<uint8_t> bytes) {
     return bytes;
 }
 
+// A format 12 package without emitters laid out as format 11: its emitter section (a count of 0, a
+// reserved word and the checksum: 16 bytes right after the light section, which ends 8 bytes after
+// the volume records when there are no lights) taken out and every offset after it moved back by 16
+// (the blobs' in the header and the directory, each volume's data in its record, the texture table's
+// in the texture head right before the blobs), with the directory's, the records', the texture
+// head's and the header's checksums recomputed. Header fields as withoutLightSection's.
+inline std::vector<uint8_t> withoutEmitterSection(std::vector<uint8_t> bytes) {
+    auto get = [&](uint64_t at) {
+        uint64_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 8);
+        return v;
+    };
+    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    uint32_t chunks = 0, volumes = 0;
+    std::memcpy(&chunks, bytes.data() + 88, 4);
+    std::memcpy(&volumes, bytes.data() + 92, 4);
+    const uint64_t records = get(232), directory = get(168), emitters = records + 256ull * volumes + 8;
+    bytes.erase(bytes.begin() + int64_t(emitters), bytes.begin() + int64_t(emitters + 16));
+    set(16, bytes.size());
+    set(176, get(176) - 16);
+    for (uint64_t c = 0; c < chunks; ++c) set(directory + 72 * c, get(directory + 72 * c) - 16);
+    for (uint64_t v = 0; v < volumes; ++v) set(records + 256 * v + 164, get(records + 256 * v + 164) - 16);
+    const uint64_t head = get(176) - 32;  // the texture head: count, reserved, table offset and size, XXH64
+    set(head + 8, get(head + 8) - 16);
+    set(head + 24, checksum64(bytes.data() + head, 24));
+    const uint32_t eleven = 11;
+    std::memcpy(bytes.data() + 8, &eleven, 4);
+    set(200, checksum64(bytes.data() + directory, 72ull * chunks));
+    set(240, checksum64(bytes.data() + records, 256ull * volumes));
+    set(248, checksum64(bytes.data(), 248));
+    return bytes;
+}
+
 // A format 10 package without textures laid out as format 9: each material record's last 156
 // bytes (its maps, none here) and the 32-byte texture head (right before the first blob) taken
 // out, every offset after them moved back (the tree's, the directory's, the blobs', the cameras'
@@ -202,9 +235,11 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
 inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& current, PackageVolume p) {
     uint32_t materials = 0;
     std::memcpy(&materials, current.data() + 80, 4);
-    const std::vector<uint8_t> bytes = withoutLightSection(withoutSpecularColours(withoutTextures(current)));
-    // The light section's checksum, the texture head, the colours and the maps no longer lie before it.
-    p.offset -= 8 + 32 + (32ull + 156ull) * materials;
+    const std::vector<uint8_t> bytes =
+        withoutLightSection(withoutSpecularColours(withoutTextures(withoutEmitterSection(current))));
+    // The light section's checksum, the emitter section, the texture head, the colours and the maps
+    // no longer lie before it.
+    p.offset -= 8 + 16 + 32 + (32ull + 156ull) * materials;
     const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
     std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
     for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)

@@ -10,6 +10,7 @@
 #include <limits>
 #include <set>
 
+#include "../../VolumePackageForge.h"
 #include "PackageTestUtil.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
@@ -131,6 +132,21 @@ TEST_F(EmitterPackage, CountBeyondTheLimitOrTheSectionsIsRefused) {
     expectRefused(bytes, false, "section offsets are inconsistent");
     putAt(bytes, size_t(emittersAt_), count_ + 1);
     expectRefused(bytes, false, "section offsets are inconsistent");
+}
+
+// A version 11 package (no emitter section) still opens: its emitters are found by chance only.
+TEST(EmitterPackageBuild, VersionElevenPackageOpensWithoutEmitters) {
+    TriangleMesh mesh = soupWithLamps();
+    const std::string path = tempPath("no-section.vast");
+    PackageBuildOptions options;
+    options.maxEmitters = 0;  // an empty section, which a version 11 package lacks
+    ASSERT_TRUE(buildAndOpen(std::move(mesh), path, options));
+    writeFile(tempPath("version11.vast"), withoutEmitterSection(readFile(path)));
+    auto reader = PackageReader::open(tempPath("version11.vast"));
+    ASSERT_TRUE(reader) << reader.message();
+    EXPECT_EQ((*reader)->info().formatVersion, 11u);
+    EXPECT_TRUE((*reader)->info().emitters.empty());
+    EXPECT_TRUE((*reader)->verify().empty());
 }
 
 TEST(EmitterPackageBuild, MoreEmittersThanTheLimitStoresNoneAndWarns) {
