@@ -60,6 +60,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"clearcoat_roughness", m.clearcoatRoughness},
                              {"double_sided", m.doubleSided},
                              {"alpha_cutoff", m.alphaCutoff},
+                             {"alpha_blend", m.alphaBlend},
                              {"maps", maps},
                              {"normal_scale", m.textures.normalScale},
                              {"occlusion_strength", m.textures.occlusionStrength}});
@@ -161,8 +162,13 @@ void printHuman(const std::string& path, const PackageInfo& info) {
     std::printf("  vertex attributes    %s\n", attributes.empty() ? "none" : attributes.c_str());
     const auto cutouts = std::count_if(info.materials.begin(), info.materials.end(),
                                        [&](const Material& m) { return isCutout(m, info.textures.size()); });
-    if (cutouts > 0)
-        std::printf("  materials            %zu (%zu alpha cut-outs)\n", info.materials.size(), size_t(cutouts));
+    const auto blends = std::count_if(info.materials.begin(), info.materials.end(),
+                                      [&](const Material& m) { return isBlended(m, info.textures.size()); });
+    std::string alpha;
+    if (cutouts > 0) alpha = std::to_string(cutouts) + " alpha cut-outs";
+    if (blends > 0) alpha += (alpha.empty() ? "" : ", ") + std::to_string(blends) + " blended";
+    if (!alpha.empty())
+        std::printf("  materials            %zu (%s)\n", info.materials.size(), alpha.c_str());
     else
         std::printf("  materials            %zu\n", info.materials.size());
     if (!info.emitters.empty())

@@ -91,6 +91,36 @@ bool cutOut(const Material& m, std::span<const DecodedTexture> textures, std::ar
     return m.baseColor[3] * sampleTexture(textures[b.texture], u, v, 0.0f).a < m.alphaCutoff;
 }
 
+bool isBlended(const Material& m, uint64_t textureCount) {
+    const uint32_t map = m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture;
+    return m.alphaBlend && (m.baseColor[3] < 1.0f || (map != kNoTexture && map < textureCount));
+}
+
+bool isAlphaTested(const Material& m, uint64_t textureCount) {
+    return isCutout(m, textureCount) || isBlended(m, textureCount);
+}
+
+uint32_t alphaRayBase(RandomKey key, bool shadow, uint32_t seed) {
+    return randomBits(key, kDimAlpha, seed) ^ (shadow ? kShadowAlphaSalt : 0u);
+}
+
+float alphaCoin(uint32_t rayBase, uint32_t primitive) {
+    return float(pcgHash(rayBase ^ primitive) >> 8u) * (1.0f / 16777216.0f);
+}
+
+bool alphaDiscards(const Material& m, std::span<const DecodedTexture> textures, std::array<float, 2> uv,
+                   uint32_t rayBase, uint32_t primitive) {
+    if (!isBlended(m, textures.size())) return cutOut(m, textures, uv);
+    float alpha = m.baseColor[3];
+    const TextureBinding& b = m.textures.slots[uint32_t(TextureSlot::BaseColor)];
+    if (b.texture != kNoTexture && b.texture < textures.size()) {
+        float u = 0.0f, v = 0.0f;
+        applyUvTransform(b.transform, uv[0], uv[1], u, v);
+        alpha *= sampleTexture(textures[b.texture], u, v, 0.0f).a;
+    }
+    return !(alphaCoin(rayBase, primitive) < alpha);
+}
+
 SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirection, const Material& material,
                               HitAttributes attributes, const MaterialSample* sample,
                               const UvDerivatives* uvDerivatives) {

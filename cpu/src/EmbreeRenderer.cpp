@@ -33,11 +33,13 @@ Tile tileAt(uint32_t index, const PixelBounds& b) {
 
 // The AOVs come from one unjittered ray through the pixel centre, so they are exact
 // rather than averaged over samples (a primid cannot be averaged).
-void shadeAovs(const ShadingContext& context, const Ray& ray, uint64_t pixel, RenderImage& image,
+void shadeAovs(const ShadingContext& context, const Ray& ray, uint32_t framePixel, uint64_t pixel, RenderImage& image,
                uint64_t& rays) {
     SceneHit hit;
     ++rays;
-    if (!context.scene.intersect(ray, std::numeric_limits<float>::infinity(), &hit)) return;
+    // Keyed as the device keys its AOV rays: the pixel, sample 0, bounce 0.
+    const uint32_t alphaBase = alphaRayBase({framePixel, 0, 0}, false, context.options.seed);
+    if (!context.scene.intersect(ray, std::numeric_limits<float>::infinity(), &hit, alphaBase)) return;
     const SurfacePoint point = surfaceAt(context, hit, ray.direction, {0.0f, context.cameraSpread});
     if (image.aovs & kAovDepth) image.depth[pixel] = hit.t;
     if (image.aovs & kAovNormal)
@@ -74,7 +76,7 @@ void renderPixel(const ShadingContext& context, const CameraRays& camera, uint32
     }
     for (int c = 0; c < 3; ++c) image.rgb[3 * pixel + c] = float(sum[c] / options.samplesPerPixel);
     image.alpha[pixel] = float(double(hits) / options.samplesPerPixel);
-    if (image.aovs != kAovNone) shadeAovs(context, camera.primary(x, y, 0.5f, 0.5f), pixel, image, rays);
+    if (image.aovs != kAovNone) shadeAovs(context, camera.primary(x, y, 0.5f, 0.5f), framePixel, pixel, image, rays);
 }
 
 uint64_t renderTiles(const ShadingContext& context, const CameraRays& camera, RenderImage& image,
@@ -120,7 +122,7 @@ Result<RenderImage> renderWithEmbree(const RenderScene& scene, const RenderOptio
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
 
     const Clock::time_point buildStart = Clock::now();
-    auto embree = EmbreeScene::build(scene.mesh, scene.textures);
+    auto embree = EmbreeScene::build(scene.mesh, scene.textures, scene.primitiveIds);
     if (!embree) return embree.status();
     const double buildSeconds = secondsSince(buildStart);
 

@@ -21,19 +21,25 @@ struct TriangleData {
     std::vector<Vec3f> positions;
     std::vector<uint32_t> indices;
     std::vector<uint8_t> doubleSided;  // per triangle
-    // Cut-outs (only when a material has one): per triangle its material when that one cuts out,
-    // else kNoCutout; the UVs, materials and textures the alpha test reads.
-    static constexpr uint32_t kNoCutout = 0xFFFFFFFFu;
-    std::vector<uint32_t> cutoutMaterial;
+    // Cut-outs and blends (only when a material has one): per triangle its material when that one
+    // is alpha-tested, else kNoAlpha; the UVs (none without them), materials, textures and
+    // primitive ids (the blends' coins) the alpha test reads.
+    static constexpr uint32_t kNoAlpha = 0xFFFFFFFFu;
+    std::vector<uint32_t> alphaMaterial;
     std::vector<std::array<float, 2>> uvs;
     std::vector<Material> materials;
     std::span<const DecodedTexture> textures;
+    std::vector<uint32_t> primitiveIds;  // empty: the identity
 
-    // Whether the hit at barycentrics (u, v) is cut out (core/PathShading.h cutOut).
-    bool cutAway(uint32_t triangle, float u, float v) const {
-        if (cutoutMaterial.empty() || cutoutMaterial[triangle] == kNoCutout) return false;
+    // Whether the hit at barycentrics (u, v) is no hit for the ray keyed rayBase
+    // (core/PathShading.h alphaDiscards).
+    bool cutAway(uint32_t triangle, float u, float v, uint32_t rayBase) const {
+        if (alphaMaterial.empty() || alphaMaterial[triangle] == kNoAlpha) return false;
         const uint32_t* c = &indices[3 * size_t(triangle)];
-        return cutOut(materials[cutoutMaterial[triangle]], textures, interpolateUv(uvs[c[0]], uvs[c[1]], uvs[c[2]], u, v));
+        const std::array<float, 2> uv =
+            uvs.empty() ? std::array<float, 2>{0, 0} : interpolateUv(uvs[c[0]], uvs[c[1]], uvs[c[2]], u, v);
+        return alphaDiscards(materials[alphaMaterial[triangle]], textures, uv, rayBase,
+                             primitiveIds.empty() ? triangle : primitiveIds[triangle]);
     }
 
     bool frontFacing(uint32_t triangle, Vec3f direction) const {
@@ -49,6 +55,7 @@ struct TriangleData {
 // front face at the same distance always wins whatever order the BVH visits them in.
 struct HitContext {
     RTCIntersectContext base;
+    uint32_t alphaBase = 0;  // the ray's key for its blend coins (alphaRayBase)
     float backT = std::numeric_limits<float>::infinity();
     uint32_t backTriangle = RTC_INVALID_GEOMETRY_ID;
     float backU = 0, backV = 0;
@@ -65,7 +72,8 @@ void intersectFilter(const RTCFilterFunctionNArguments* args) {
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
-        if (data->cutAway(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))) {
+        if (data->cutAway(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i),
+                          context->alphaBase)) {
             args->valid[i] = 0;
             continue;
         }
@@ -82,13 +90,20 @@ void intersectFilter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+// rtcOccluded1 context extended with the ray's key for its blend coins.
+struct OcclusionContext {
+    RTCIntersectContext base;
+    uint32_t alphaBase = 0;
+};
+
 void occludedFilter(const RTCFilterFunctionNArguments* args) {
     const auto* data = static_cast<const TriangleData*>(args->geometryUserPtr);
+    const uint32_t alphaBase = reinterpret_cast<const OcclusionContext*>(args->context)->alphaBase;
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
         if ((!data->doubleSided[triangle] && !data->frontFacing(triangle, rayDirection(args, i))) ||
-            data->cutAway(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
+            data->cutAway(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i), alphaBase))
             args->valid[i] = 0;
     }
 }
@@ -161,7 +176,8 @@ EmbreeScene::EmbreeScene() : impl_(std::make_unique<Impl>()) {}
 EmbreeScene::~EmbreeScene() = default;
 
 Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh,
-                                                        std::span<const DecodedTexture> textures) {
+                                                        std::span<const DecodedTexture> textures,
+                                                        std::span<const uint32_t> primitiveIds) {
     if (mesh.triangleCount() > std::numeric_limits<uint32_t>::max() / 3)
         return Status::error("embree: " + std::to_string(mesh.triangleCount()) +
                              " triangles exceed 32-bit ids");
@@ -174,14 +190,17 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh
         const uint32_t m = mesh.materialOf(t);
         impl.triangles.doubleSided[t] = m < mesh.materials.size() ? mesh.materials[m].doubleSided : 1;
     }
-    auto cuts = [&](const Material& m) { return isCutout(m, textures.size()); };
-    if (!mesh.uvs.empty() && std::any_of(mesh.materials.begin(), mesh.materials.end(), cuts)) {
+    // Without UVs no map is read: a cut-out is opaque, a blend has its factor's alpha.
+    const uint64_t mapped = mesh.uvs.empty() ? 0 : textures.size();
+    auto tested = [&](const Material& m) { return isAlphaTested(m, mapped); };
+    if (std::any_of(mesh.materials.begin(), mesh.materials.end(), tested)) {
         TriangleData& d = impl.triangles;
-        d.uvs = mesh.uvs, d.materials = mesh.materials, d.textures = textures;
-        d.cutoutMaterial.resize(mesh.triangleCount());
+        d.uvs = mesh.uvs, d.materials = mesh.materials, d.textures = textures.first(mapped);
+        d.primitiveIds.assign(primitiveIds.begin(), primitiveIds.end());
+        d.alphaMaterial.resize(mesh.triangleCount());
         for (uint64_t t = 0; t < mesh.triangleCount(); ++t) {
             const uint32_t m = mesh.materialOf(t) < mesh.materials.size() ? mesh.materialOf(t) : 0;
-            d.cutoutMaterial[t] = cuts(mesh.materials[m]) ? m : TriangleData::kNoCutout;
+            d.alphaMaterial[t] = tested(mesh.materials[m]) ? m : TriangleData::kNoAlpha;
         }
     }
     impl.device = rtcNewDevice(nullptr);
@@ -199,9 +218,10 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(const TriangleMesh& mesh
     return self;
 }
 
-bool EmbreeScene::intersect(const Ray& ray, float tMax, SceneHit* hit) const {
+bool EmbreeScene::intersect(const Ray& ray, float tMax, SceneHit* hit, uint32_t alphaBase) const {
     HitContext context;
     rtcInitIntersectContext(&context.base);
+    context.alphaBase = alphaBase;
     RTCRayHit rh = makeRayHit(ray, tMax);
     rtcIntersect1(impl_->scene, &context.base, &rh);
     const bool front = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
@@ -215,11 +235,12 @@ bool EmbreeScene::intersect(const Ray& ray, float tMax, SceneHit* hit) const {
     return true;
 }
 
-bool EmbreeScene::occluded(const Ray& ray, float tMax) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+bool EmbreeScene::occluded(const Ray& ray, float tMax, uint32_t alphaBase) const {
+    OcclusionContext context;
+    rtcInitIntersectContext(&context.base);
+    context.alphaBase = alphaBase;
     RTCRay r = makeRayHit(ray, tMax).ray;
-    rtcOccluded1(impl_->scene, &context, &r);
+    rtcOccluded1(impl_->scene, &context.base, &r);
     return r.tfar < 0.0f;  // Embree sets tfar to -inf on an occluded ray
 }
 

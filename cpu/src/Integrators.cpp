@@ -18,7 +18,7 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 Vec3f shadowedLight(const ShadingContext& context, Vec3f light, Vec3f origin, Vec3f direction, float distance,
                     RandomKey key, uint32_t* counter, uint64_t& rays) {
     ++rays;
-    if (context.scene.occluded({origin, direction}, distance)) return {};
+    if (context.scene.occluded({origin, direction}, distance, alphaRayBase(key, true, context.options.seed))) return {};
     if (context.options.volumes)
         light = light * volumeTransmittance(*context.options.volumes, origin, direction, distance, key,
                                             context.options.seed, counter);
@@ -111,7 +111,7 @@ SampleResult tracePath(const ShadingContext& context, Ray ray, RandomKey key, ui
         key.bounce = bounce;
         SceneHit hit;
         ++rays;
-        const bool surface = context.scene.intersect(ray, kInfinity, &hit);
+        const bool surface = context.scene.intersect(ray, kInfinity, &hit, alphaRayBase(key, false, options.seed));
         // Volumes (docs/RENDERING.md, "Volumes"): free flight up to the surface (or to infinity);
         // a real collision before it is this event's scattering point instead.
         uint32_t counter = 0;
@@ -191,7 +191,7 @@ SampleResult traceAmbientOcclusion(const ShadingContext& context, Ray ray, Rando
     SceneHit hit;
     ++rays;
     key.bounce = 0;
-    if (!context.scene.intersect(ray, kInfinity, &hit)) {
+    if (!context.scene.intersect(ray, kInfinity, &hit, alphaRayBase(key, false, context.options.seed))) {
         result.radiance = {1, 1, 1};
         return result;
     }
@@ -200,8 +200,8 @@ SampleResult traceAmbientOcclusion(const ShadingContext& context, Ray ray, Rando
     const Vec3f origin = offsetRayOrigin(point.position, point.normal);
     const float range = context.options.aoDistance > 0.0f ? context.options.aoDistance : kInfinity;
     ++rays;
-    const bool blocked =
-        context.scene.occluded({origin, cosineDirection(point.normal, key, context.options.seed)}, range);
+    const bool blocked = context.scene.occluded({origin, cosineDirection(point.normal, key, context.options.seed)}, range,
+                                                alphaRayBase(key, true, context.options.seed));
     result.radiance = blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
     return result;
 }

@@ -24,8 +24,8 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "common/WavefrontPrelude.glsl"
-// Cut-outs (docs/RENDERING.md, "Cut-outs"): testTriangle (common/KdTraversal.glsl) asks cutAway,
-// defined below, about every hit it would keep.
+// Cut-outs and blends (docs/RENDERING.md, "Blending"): testTriangle
+// (common/KdTraversal.glsl) asks cutAway, defined below, about every hit it would keep.
 #define VASTRAY_CUTOUTS 1
 bool cutAway(uint tri, uvec3 corners, float u, float v);
 #include "common/KdTraversal.glsl"
@@ -34,35 +34,60 @@ bool cutAway(uint tri, uvec3 corners, float u, float v);
 #include "common/Attributes.glsl"
 #include "common/NormalMap.glsl"
 #include "common/Texture.glsl"
+#include "common/Random.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
 // Specialization constants (Wavefront.cpp): what a render does not need is not compiled in.
 layout(constant_id = 0) const bool kCountCost = true;  // the cost AOV: cells and triangles traced per pixel
 layout(constant_id = 1) const bool kPaging = true;     // some chunk is not resident: rays may park
-layout(constant_id = 2) const bool kCutouts = false;   // some material is a cut-out (Material::alphaCutoff)
+layout(constant_id = 2) const bool kCutouts = false;   // some material is a cut-out or a blend (core isAlphaTested)
 
-// The slot whose chunk the walk traces (cutAway reads its materials and UVs).
+// The slot whose chunk the walk traces (cutAway reads its materials, UVs and primitive ids).
 ChunkSlot cutoutSlot;
+// The walked ray's key for its blend coins (core/PathShading.h alphaRayBase).
+uint alphaBase;
 
-// core/PathShading.h's cutOut for triangle `tri` of cutoutSlot's chunk (corners: its vertices)
-// at barycentrics (u, v): the material's base colour alpha times its map's alpha at level 0 below
-// its cutoff. The map's level-0 pages are pinned in the pool (DeviceTextures): never absent.
+// core/PathShading.h's alphaDiscards for triangle `tri` of cutoutSlot's chunk (corners: its
+// vertices) at barycentrics (u, v): a blend's coin (alphaCoin: its primitive id hashed with the
+// ray's key) at or above the base colour alpha times its map's alpha at level 0; a cut-out's
+// product below its cutoff. The map's level-0 pages are pinned in the pool (DeviceTextures): never
+// absent.
 bool cutAway(uint tri, uvec3 corners, float u, float v) {
-    if (!kCutouts || (cutoutSlot.flags & kSlotUvs) == 0u) return false;
+    if (!kCutouts) return false;
     ParamsRef params = ParamsRef(pc.params);
     uint material = (cutoutSlot.flags & kSlotMaterialIds) != 0u ? UintArray(cutoutSlot.materialIds).v[tri] : 0u;
     material = material < params.p.materialCount ? material : 0u;
     const WavefrontMaterial m = MaterialArray(params.p.materials).v[material];
-    if (!(m.alphaCutoff > 0.0) || m.baseColorMap == kNoGpuTexture) return false;
-    FloatArray t = FloatArray(cutoutSlot.uvs);
-    const vec2 uv = interpolateUv(vec2(t.v[2u * corners.x], t.v[2u * corners.x + 1u]),
-                                  vec2(t.v[2u * corners.y], t.v[2u * corners.y + 1u]),
-                                  vec2(t.v[2u * corners.z], t.v[2u * corners.z + 1u]), u, v);
-    uint missing = kTexturePageAbsent;
-    const float alpha = sampleTexture(GpuTextureArray(params.p.textures).v[m.baseColorMap], mapUv(m.baseColorUv, uv), 0.0,
-                                      TextureWords(params.p.texturePages), TextureWords(params.p.texturePool), missing).a;
-    return missing == kTexturePageAbsent && m.baseAlpha * alpha < m.alphaCutoff;
+    const bool blended = m.alphaBlend != 0u;
+    const bool mapped = m.baseColorMap != kNoGpuTexture && (cutoutSlot.flags & kSlotUvs) != 0u;
+    if (!blended && (!(m.alphaCutoff > 0.0) || !mapped)) return false;
+    float alpha = m.baseAlpha;
+    if (mapped) {
+        FloatArray t = FloatArray(cutoutSlot.uvs);
+        const vec2 uv = interpolateUv(vec2(t.v[2u * corners.x], t.v[2u * corners.x + 1u]),
+                                      vec2(t.v[2u * corners.y], t.v[2u * corners.y + 1u]),
+                                      vec2(t.v[2u * corners.z], t.v[2u * corners.z + 1u]), u, v);
+        uint missing = kTexturePageAbsent;
+        alpha *= sampleTexture(GpuTextureArray(params.p.textures).v[m.baseColorMap], mapUv(m.baseColorUv, uv), 0.0,
+                               TextureWords(params.p.texturePages), TextureWords(params.p.texturePool), missing).a;
+        if (missing != kTexturePageAbsent) return false;
+    }
+    if (!blended) return alpha < m.alphaCutoff;
+    const uint primitive = (cutoutSlot.flags & kSlotPrimitiveIds) != 0u ? UintArray(cutoutSlot.primitiveIds).v[tri] : tri;
+    return !(float(pcgHash(alphaBase ^ primitive) >> 8u) * (1.0 / 16777216.0) < alpha);
+}
+
+const uint kShadowAlphaSalt = 0x9E3779B9u;  // core/PathShading.h
+
+// alphaRayBase of ray `ray` (anyHit: path j's shadow ray): keyed by its path's pixel, sample and
+// bounce; a shadow ray's bounce is the event that started it (the path's field, less one when its
+// bounce ray was started too).
+uint rayAlphaBase(ParamsRef params, uint j, bool anyHit) {
+    const uvec2 info = UVec2Array(params.p.pathInfo).v[j];
+    const uint field = pathBounce(info.y);
+    const uint bounce = anyHit && (pathFlags(info.y) & kPathAlive) != 0u ? field - 1u : field;
+    return randomBits(info.x, pathSample(info.y), bounce, kDimAlpha, params.p.seed) ^ (anyHit ? kShadowAlphaSalt : 0u);
 }
 
 bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, uint bestChunk) {
@@ -144,6 +169,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     UintArray topNodes = UintArray(params.p.topNodes);
     UintArray chunkSlots = UintArray(params.p.chunkSlots);
     const uint parkWord = state.y;  // the leaf of the first cell it waits for + 1, or 0
+    if (kCutouts) alphaBase = rayAlphaBase(params, j, anyHit);
     if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // nothing came since its walk: queued again
         const uint chunk = topNodes.v[2u * (parkWord - 1u)];
         if (chunkSlots.v[chunk] == kWalkNoHit) {

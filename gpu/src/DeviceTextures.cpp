@@ -55,7 +55,8 @@ GpuTexture gpuTexture(const PackageTexture& t, uint32_t firstEntry) {
 std::vector<uint32_t> cutoutTextures(std::span<const Material> materials, uint64_t textureCount) {
     std::vector<uint32_t> pinned;
     for (const Material& m : materials)
-        if (isCutout(m, textureCount)) pinned.push_back(m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture);
+        if (isAlphaTested(m, textureCount) && m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture < textureCount)
+            pinned.push_back(m.textures.slots[uint32_t(TextureSlot::BaseColor)].texture);
     std::sort(pinned.begin(), pinned.end());
     pinned.erase(std::unique(pinned.begin(), pinned.end()), pinned.end());
     return pinned;

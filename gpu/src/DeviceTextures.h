@@ -29,8 +29,8 @@ uint64_t pagedTextureBytes(std::span<const PackageTexture> textures, uint64_t sl
 
 // Cut-outs (docs/RENDERING.md, "Cut-outs"): the walk tests a cut-out's base colour map at level 0
 // and cannot wait for a page, so those pages stay resident (pinned) while the others are paged.
-// The textures that are some cut-out material's base colour map (ascending), and their level-0
-// pages.
+// The textures that are some cut-out or blended material's base colour map (ascending), and their
+// level-0 pages.
 std::vector<uint32_t> cutoutTextures(std::span<const Material> materials, uint64_t textureCount);
 uint64_t pinnedPages(std::span<const PackageTexture> textures, std::span<const uint32_t> pinned);
 

@@ -246,7 +246,11 @@ public:
         // waits for them when they are first used): the paging one while a chunk is missing, the
         // resident one where every chunk gets a slot.
         const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
-        cutouts_ = b_.textures && b_.uvs && !cutoutTextures(job_.materials, job_.textures.size()).empty() ? 1u : 0u;
+        const uint64_t mapped = b_.textures && b_.uvs ? job_.textures.size() : 0;
+        cutouts_ = std::any_of(job_.materials.begin(), job_.materials.end(),
+                               [&](const Material& m) { return isAlphaTested(m, mapped); })
+                       ? 1u
+                       : 0u;
         if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_}});
         if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_}});
         const bool emitters = options_.emitters && !options_.emitters->entries.empty();
@@ -976,6 +980,7 @@ private:
         r.normalScale = m.textures.normalScale;
         r.alphaCutoff = r.baseColorMap != kNoGpuTexture ? m.alphaCutoff : 0.0f;
         r.baseAlpha = m.baseColor[3];
+        r.alphaBlend = isBlended(m, textures) ? 1u : 0u;
     }
 
     // The render's punctual lights (core/Light.h's table, the same floats the Embree reference

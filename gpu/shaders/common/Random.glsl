@@ -18,6 +18,7 @@ const uint kDimEmitterPick = 11u;
 const uint kDimEmitterKeep = 12u;
 const uint kDimEmitterU = 13u;
 const uint kDimEmitterV = 14u;
+const uint kDimAlpha = 15u;
 
 uint pcgHash(uint v) {
     const uint state = v * 747796405u + 2891336453u;

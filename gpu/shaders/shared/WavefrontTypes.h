@@ -102,7 +102,7 @@ struct WavefrontMaterial {
     float specular;
     float specularColorR, specularColorG, specularColorB;  // KHR_materials_specular's colour factor
     float clearcoat, clearcoatRoughness;                    // KHR_materials_clearcoat's factors
-    uint padding0;
+    uint alphaBlend;  // 1: a blend (core isBlended): the walk keeps a hit with the probability of its alpha
     // Its maps (core/MaterialTextures.h, common/MaterialMaps.glsl): the texture (an index into
     // WavefrontParams::textures, or kNoGpuTexture) and the UV transform (row-major 2 x 3) of the
     // base colour, metallic-roughness, emissive and normal maps, and the normal map's scale. The

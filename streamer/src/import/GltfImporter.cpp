@@ -120,6 +120,9 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
     // hides the triangles (hiddenByAlpha, left out at import).
     if (g.alphaMode == "MASK" && g.pbrMetallicRoughness.baseColorTexture.index >= 0)
         m.alphaCutoff = float(std::clamp(g.alphaCutoff, 0.0, 1.0));
+    // alphaMode BLEND: the surface is there with the probability of its alpha ("Cut-outs and
+    // blending"); at alpha 0 it is left out (hiddenByAlpha).
+    m.alphaBlend = g.alphaMode == "BLEND";
     return m;
 }
 
@@ -133,15 +136,6 @@ double factorAlpha(const tinygltf::Material& g) {
 bool hiddenByAlpha(const tinygltf::Material& g) {
     const double alpha = factorAlpha(g);
     return (g.alphaMode == "MASK" && alpha < g.alphaCutoff) || (g.alphaMode == "BLEND" && alpha <= 0.0);
-}
-
-// A material whose alpha the renderer cannot honour: a blend with some alpha of its own; rendered
-// opaque (warned). Textured cut-outs (MASK) are rendered (Material::alphaCutoff).
-bool alphaNotRendered(const tinygltf::Material& g) {
-    if (hiddenByAlpha(g)) return false;
-    const double alpha = factorAlpha(g);
-    const bool textured = g.pbrMetallicRoughness.baseColorTexture.index >= 0;
-    return g.alphaMode == "BLEND" && (alpha < 1.0 || textured);
 }
 
 class GltfFlattener {
@@ -553,20 +547,16 @@ void warnAboutUnused(const tinygltf::Model& model, int uvSet, ImportReport& repo
                 coatTextures += coat->second.Has(name) ? 1 : 0;
     report.warnUnused("KHR_materials_clearcoat textures", coatTextures, "the coat uses its factors only");
     // Material extensions the renderer has no model for (transmission, sheen, volume, ior, ...),
-    // and alpha modes: each counted by name, so that glass rendered opaque is not a surprise.
+    // each counted by name, so that glass rendered opaque is not a surprise.
     std::map<std::string, uint64_t> extensions;
-    uint64_t alphaModes = 0;
-    for (const tinygltf::Material& m : model.materials) {
+    for (const tinygltf::Material& m : model.materials)
         for (const auto& [name, value] : m.extensions)
             if (name != "KHR_materials_emissive_strength" && name != "KHR_materials_specular" &&
                 name != "KHR_materials_clearcoat")
                 ++extensions[name];
-        alphaModes += alphaNotRendered(m);
-    }
     warnByName(
         extensions, [](const std::string& name) { return "materials' " + name + " extensions"; },
         "the material is rendered without it", "other material extensions", "rendered without them", report);
-    report.warnUnused("materials with alphaMode BLEND", alphaModes, "rendered opaque");
 }
 
 Result<ImportedMesh> importGltfUnguarded(const std::string& path, const ImportOptions& options) {

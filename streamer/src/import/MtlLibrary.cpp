@@ -1,5 +1,6 @@
 #include "import/MtlLibrary.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -158,8 +159,8 @@ Status parseMtlFile(const std::string& path, const std::string& libraryName, Mtl
             }
         } else if (current && (keyword == "d" || keyword == "Tr")) {
             float value = 0.0f;  // opacity (d) or transparency (Tr = 1 - d); a malformed one is left alone
-            if (parseField(p, eol, value) && (keyword == "d" ? value < 1.0f : value > 0.0f))
-                unused.add("transparency statements (d below 1, Tr above 0)", "rendered opaque");
+            if (parseField(p, eol, value) && std::isfinite(value))
+                current->opacity = std::clamp(keyword == "d" ? value : 1.0f - value, 0.0f, 1.0f);
         } else if (current && (keyword == "Pr" || keyword == "Pm" || keyword == "Ps" || keyword == "Pc" ||
                                keyword == "Pcr" || keyword == "aniso" || keyword == "anisor")) {
             unused.add("PBR statements (Pr, Pm, Ps, Pc, Pcr, aniso)", "Kd, Ks and Ns decide the material");

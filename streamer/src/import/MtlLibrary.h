@@ -34,6 +34,8 @@ struct MtlEntry {
     std::array<float, 3> specular{0.0f, 0.0f, 0.0f};
     float exponent = 0.0f;  // Ns
     int illumination = 2;   // illum: 0 and 1 have no highlight (Ks unused)
+    // d (or 1 - Tr), clamped to [0, 1]: below 1 the material blends (Material::alphaBlend).
+    float opacity = 1.0f;
     std::array<MtlMap, kTextureSlotCount> maps{};  // by TextureSlot; MetallicRoughness and Occlusion stay empty
     // map_d: a cut-out's mask (docs/RENDERING.md, "Cut-outs"; its -imfchan picks the channel):
     // map_Kd's own image's alpha cuts as it is, another image is baked into map_Kd's alpha.

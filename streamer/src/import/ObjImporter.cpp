@@ -301,7 +301,9 @@ Status ObjParser::applyMaterialLibraries() {
         const auto it = library.find(m.name);
         if (it == library.end()) continue;
         const import::MtlEntry& e = it->second;
-        m.baseColor = {e.diffuse[0], e.diffuse[1], e.diffuse[2], 1.0f};
+        // d below 1 (or Tr above 0) blends: the surface is there with that probability.
+        m.baseColor = {e.diffuse[0], e.diffuse[1], e.diffuse[2], e.opacity};
+        m.alphaBlend = e.opacity < 1.0f;
         m.emissive = e.emissive;
         // Ks and Ns: a dielectric specular layer (illum 0 and 1 have no highlight).
         if (e.illumination >= 2) import::setPhongSpecular(m, std::max({e.specular[0], e.specular[1], e.specular[2]}), e.exponent);

@@ -48,9 +48,12 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //     an f32 in the word after the specular factor, reserved (zero) before; a version 3 to 10
 //     package, which has none, is still read.
 // 12: the emissive triangles next-event estimation samples, in a section after the lights (a
-//     version 3 to 11 package, which has none, is still read: its emitters are hit by chance only).
+//     version 3 to 11 package, which has none, is still read: its emitters are hit by chance only);
+//     a material's first reserved word after the coat holds flags (bit 0: alpha blending).
 constexpr uint32_t kVersion = 12;
 constexpr uint32_t kFirstEmittersVersion = 12;
+constexpr uint32_t kMaterialAlphaBlend = 1u;  // Material::alphaBlend (version 12)
+constexpr uint32_t kKnownMaterialFlags = kMaterialAlphaBlend;
 constexpr uint32_t kFirstCutoutVersion = 11;
 constexpr uint32_t kFirstUvVersion = 9;
 constexpr uint32_t kFirstTextureVersion = 10;

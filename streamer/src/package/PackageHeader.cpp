@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
@@ -175,7 +176,8 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.put(m.metallic), out.put(m.roughness), out.put(m.specular), out.put(m.alphaCutoff);
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
         out.put(m.specularColor), out.put(m.clearcoat), out.put(m.clearcoatRoughness);
-        for (int i = 0; i < 3; ++i) out.put(uint32_t(0));
+        out.put(m.alphaBlend ? format::kMaterialAlphaBlend : 0u);  // flags (version 12)
+        for (int i = 0; i < 2; ++i) out.put(uint32_t(0));
         for (const TextureBinding& b : m.textures.slots) out.put(b.texture), out.put(b.transform);
         out.put(m.textures.normalScale), out.put(m.textures.occlusionStrength), out.put(uint32_t(0)), out.put(uint32_t(0));
     }
@@ -227,6 +229,9 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
             in.get(m.specularColor), in.get(m.clearcoat), in.get(m.clearcoatRoughness);
             for (int r = 1; r < 4; ++r) in.get(reserved[r]);
         }
+        // Version 12: the first word after the coat holds flags.
+        uint32_t flags = 0;
+        if (version >= format::kFirstEmittersVersion) std::swap(flags, reserved[1]);
         uint32_t mapsReserved[2] = {0, 0};
         if (version >= format::kFirstTextureVersion) {
             for (TextureBinding& b : m.textures.slots) in.get(b.texture), in.get(b.transform);
@@ -236,6 +241,8 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         m.doubleSided = doubleSided != 0;
         if (!in.ok()) break;
         const std::string what = "material " + std::to_string(i) + " ('" + m.name + "')";
+        if (flags & ~format::kKnownMaterialFlags) return Status::error(what + " has unknown flags " + std::to_string(flags));
+        m.alphaBlend = (flags & format::kMaterialAlphaBlend) != 0;
         if (const std::string problem = materialFactorProblem(m); !problem.empty())
             return Status::error(what + ": " + problem);
         for (uint32_t r : reserved)

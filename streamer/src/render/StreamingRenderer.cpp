@@ -12,6 +12,7 @@
 #include "render/ChunkCache.h"
 #include "render/DemandPager.h"
 #include "vastray/core/Camera.h"
+#include "vastray/core/PathShading.h"
 #include "vastray/core/RenderMemory.h"
 #include "vastray/core/Volume.h"
 #include "vastray/streamer/StreamingRenderer.h"
@@ -73,6 +74,8 @@ ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions&
     // Read by the materials' maps (a package with UVs has textures: import keeps UVs only for
     // maps) and the uv AOV.
     a.uvs = info.hasUvs && (!info.textures.empty() || (options.aovs & kAovUv) != 0);
+    // A blend's coins are keyed by the primitive id (core/PathShading.h alphaCoin).
+    for (const Material& m : info.materials) a.primitiveIds |= isBlended(m, a.uvs ? info.textures.size() : 0);
     for (const Material& m : info.materials)
         a.tangents |= a.uvs && m.textures.slots[uint32_t(TextureSlot::Normal)].texture < info.textures.size();
     return a;

@@ -196,8 +196,8 @@ TEST(GltfImport, VertexAttributesNotCarriedAreWarnedOncePerName) {
 // Material extensions without a model in the renderer are warned about once per extension name
 // (a glass rendered opaque is not a surprise), at most eight by name. Alpha: a material whose
 // alpha hides it (MASK below its cutoff, BLEND at 0) has its triangles left out, whatever a texture
-// would say; an untextured MASK above its cutoff is exactly opaque; a BLEND with some alpha is
-// rendered opaque and warned about.
+// would say; an untextured MASK above its cutoff is exactly opaque; a BLEND with some alpha
+// blends (Material::alphaBlend) and is not warned about.
 TEST(GltfImport, UnsupportedMaterialExtensionsAndAlphaModesAreWarnedOncePerKind) {
     GltfBuilder b;
     b.addPositions(kTriangle);
@@ -226,8 +226,12 @@ TEST(GltfImport, UnsupportedMaterialExtensionsAndAlphaModesAreWarnedOncePerKind)
     };
     EXPECT_EQ(count("2 materials' KHR_materials_transmission extensions read but not used"), 1);
     EXPECT_EQ(count("KHR_materials_specular"), 0) << "specular is rendered";
-    EXPECT_EQ(count("1 materials with alphaMode BLEND read but not used (rendered opaque)"), 1)
-        << "only the glass: the untextured MASK above its cutoff is exactly opaque";
+    EXPECT_EQ(count("alphaMode BLEND"), 0) << "BLEND blends";
+    EXPECT_EQ(count("read but not used (rendered opaque)"), 0) << "the untextured MASK above its cutoff is exactly opaque";
+    ASSERT_EQ(r->mesh.materials[0].name, "glass");
+    EXPECT_TRUE(r->mesh.materials[0].alphaBlend);
+    EXPECT_EQ(r->mesh.materials[0].baseColor[3], 0.3f);
+    EXPECT_FALSE(r->mesh.materials[1].alphaBlend) << "MASK";
     for (const Material& m : r->mesh.materials) EXPECT_EQ(m.alphaCutoff, 0.0f) << m.name << ": no base colour map";
     EXPECT_EQ(count("2 triangles left out: their material's alpha hides them"), 1);
     EXPECT_EQ(count("materials' EXT_made_up_"), 7) << "eight names at most, transmission among them";

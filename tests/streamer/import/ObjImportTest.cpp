@@ -52,7 +52,10 @@ TEST(ObjImport, UsemtlGivesMaterialsInFirstUseOrderWithMtlColours) {
     EXPECT_EQ(m[1].name, "lamp");
     EXPECT_EQ(m[2].name, "red");
     EXPECT_EQ(r->mesh.materialIds, (std::vector<uint32_t>{0, 1, 2, 1}));
-    EXPECT_EQ(m[2].baseColor, (std::array<float, 4>{1, 0, 0, 1}));  // d ignored: alpha stays 1
+    EXPECT_EQ(m[2].baseColor, (std::array<float, 4>{1, 0, 0, 0.5f}));  // d: the alpha of a blend
+    EXPECT_TRUE(m[2].alphaBlend);
+    EXPECT_NEAR(m[1].baseColor[3], 0.9f, 1e-6f);  // Tr 0.1
+    EXPECT_FALSE(m[0].alphaBlend);
     EXPECT_EQ(m[1].emissive, (std::array<float, 3>{4, 3, 2}));
     EXPECT_TRUE(m[0].doubleSided);  // OBJ has no sidedness: Material's default
 }
@@ -68,8 +71,9 @@ std::string mtlRefusal(const std::string& stem, const std::string& mtl) {
 
 // What a library says and the renderer does not use is warned about once per kind: maps without
 // a glTF slot, bump (height) maps, map_Pr/map_Pm, map options that change the look,
-// maps whose file is missing (map_Kd's and map_d's; a bump map's options are not even read), transparency (d below 1, Tr above 0; d 1 and Tr 0 are opaque
-// and say nothing), the PBR extension's statements.
+// maps whose file is missing (map_Kd's and map_d's; a bump map's options are not even read), the
+// PBR extension's statements. Transparency (d below 1, Tr above 0) blends, unwarned; d 1 and Tr 0
+// are opaque.
 TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
     writeFile("unused.mtl", "newmtl a\nKd 1 0 0\nd 0.5\nmap_Kd -mm 0.2 2 -t 1 1 -blendv off gone.png\nbump a-n.png\nPr 0.3\nPm 1\n"
                             "map_Pr r.png\nmap_Pm m.png\nmap_d -texres 64 a.png\n"
@@ -88,14 +92,20 @@ TEST(ObjImport, MtlMapsTransparencyAndPbrStatementsAreWarnedOncePerKind) {
         "1 MTL map options -t (turbulence) read but not used (the map is read without it)",
         "1 MTL map options -blendv off read but not used (the map is read without it)",
         "2 texture maps whose image file is missing or unreadable read but not used (their maps are rendered "
-        "without them)",
-        "2 MTL transparency statements (d below 1, Tr above 0) read but not used (rendered opaque)"};
+        "without them)"};
     for (const std::string& w : expected)
         EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(), w), 1) << w;
     EXPECT_EQ(r->report.warnings.size(), expected.size());
     EXPECT_EQ(r->report.textureMaps, 7u);  // every map statement keeps the UVs, read or not
     EXPECT_TRUE(r->mesh.textures.empty());
     EXPECT_FALSE(r->mesh.materials[0].textures.any());  // the missing map_Kd is left out
+    // d below 1 (or Tr above 0) blends with that alpha; d 1 and Tr 0 are opaque.
+    ASSERT_EQ(r->mesh.materials.size(), 2u);
+    EXPECT_EQ(r->mesh.materials[0].name, "a");
+    EXPECT_TRUE(r->mesh.materials[0].alphaBlend);
+    EXPECT_EQ(r->mesh.materials[0].baseColor[3], 0.5f);
+    EXPECT_FALSE(r->mesh.materials[1].alphaBlend);
+    EXPECT_EQ(r->mesh.materials[1].baseColor[3], 1.0f);
 }
 
 // The texel an OBJ vt (u, v) reads through an MTL map's -s and -o: (s_u u + o_u, s_v v + o_v) in

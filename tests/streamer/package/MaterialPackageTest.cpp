@@ -33,6 +33,7 @@ std::vector<Material> threeMaterials() {
     Material colourless{"Colourless", {0.8f, 0.8f, 0.8f, 1}, {0, 0, 0}, 0.0f, 0.6f, 0.5f, {0, 0, 0}, 1.0f, 0.125f, false};
     Material saturated{"Saturated", {1, 1, 1, 1}, {1, 2, 3}, 0.25f, 1.0f, 1.0f, {25, 1000, 0.125f}, 0.5f, 1.0f, true};
     saturated.alphaCutoff = 0.375f;
+    plastic.alphaBlend = true;
     return {plastic, colourless, saturated};
 }
 
@@ -51,9 +52,13 @@ protected:
 
     static size_t recordAt(uint32_t index) { return format::kHeaderBytes + size_t(index) * format::kMaterialBytes; }
 
-    static void expectRefused(std::vector<uint8_t> bytes, const std::string& expected) {
+    // Recomputes the materials' and the header's checksums, as a forger would.
+    static void reseal(std::vector<uint8_t>& bytes) {
         putAt(bytes, kMaterialsChecksumAt, checksum64(bytes.data() + format::kHeaderBytes, 3 * format::kMaterialBytes));
         putAt(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
+    }
+    static void expectRefused(std::vector<uint8_t> bytes, const std::string& expected) {
+        reseal(bytes);
         expectOpenRefused(bytes, tempPath("forged-materials.vast"), expected);
     }
 
@@ -80,6 +85,7 @@ TEST_F(MaterialPackage, MaterialsRoundTripExactly) {
         EXPECT_EQ(read[i].clearcoatRoughness, expected[i].clearcoatRoughness);
         EXPECT_EQ(read[i].doubleSided, expected[i].doubleSided);
         EXPECT_EQ(read[i].alphaCutoff, expected[i].alphaCutoff);
+        EXPECT_EQ(read[i].alphaBlend, expected[i].alphaBlend);
     }
 }
 
@@ -110,11 +116,29 @@ TEST_F(MaterialPackage, ForgedFactorsAreRefusedByMaterial) {
         putAt(bytes, recordAt(material) + kAlphaCutoffAt, value);
         expectRefused(bytes, expected);
     }
-    for (uint32_t word = 0; word < 3; ++word) {
+    // Version 12: the first word after the coat holds flags (bit 0: alpha blending); the others
+    // stay reserved.
+    for (uint32_t word = 1; word < 3; ++word) {
         std::vector<uint8_t> bytes = *bytes_;
         putAt(bytes, recordAt(1) + kReservedAt + 4 * word, uint32_t(1));
         expectRefused(bytes, "material 1 ('Colourless') has a non-zero reserved field");
     }
+    std::vector<uint8_t> bytes = *bytes_;
+    putAt(bytes, recordAt(1) + kReservedAt, uint32_t(2));
+    expectRefused(bytes, "material 1 ('Colourless') has unknown flags 2");
+}
+
+// The blend flag round-trips (and a forger's flag on an opaque material is read as set).
+TEST_F(MaterialPackage, AlphaBlendFlagIsReadFromTheFlagsWord) {
+    std::vector<uint8_t> bytes = *bytes_;
+    putAt(bytes, recordAt(1) + kReservedAt, uint32_t(format::kMaterialAlphaBlend));
+    reseal(bytes);
+    const std::string path = tempPath("forged-materials.vast");
+    writeFile(path, bytes);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    EXPECT_TRUE((*reader)->info().materials[1].alphaBlend);
+    EXPECT_FALSE((*reader)->info().materials[2].alphaBlend);
 }
 
 // A changed record without a recomputed checksum is refused before its fields are read.

@@ -37,6 +37,11 @@ struct Material {
     // "Cut-outs"). 0: opaque. In [0, 1]; without a base colour map the importers leave it 0 (a
     // factor alone below the cutoff removes the triangles at import).
     float alphaCutoff = 0.0f;
+    // glTF alphaMode BLEND (and MTL d below 1, assimp opacity below 1): the surface is there with
+    // probability baseColor[3] times the base colour map's alpha (level 0) where it has one, for
+    // every ray (stochastic transparency: docs/RENDERING.md, "Blending"). A blend
+    // whose alpha is 1 with no map is opaque.
+    bool alphaBlend = false;
     // The maps it reads (glTF's five), each a texture of the mesh's `textures` or kNoTexture.
     MaterialTextures textures{};
 };

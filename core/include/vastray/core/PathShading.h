@@ -83,6 +83,24 @@ bool isCutout(const Material& material, uint64_t textureCount);
 // map's alpha at level 0 (the map's UV transform applied) is below the cutoff.
 bool cutOut(const Material& material, std::span<const DecodedTexture> textures, std::array<float, 2> uv);
 
+// Blending (docs/RENDERING.md, "Blending"): whether `material` blends, with some
+// alpha below 1 (its factor's, or a base colour map among `textureCount` textures).
+bool isBlended(const Material& material, uint64_t textureCount);
+// Whether the walk must test hits on `material` at all: a cut-out or a blend.
+bool isAlphaTested(const Material& material, uint64_t textureCount);
+// A ray's key for its coins: randomBits(key, kDimAlpha, seed), with a shadow ray's bits flipped by
+// kShadowAlphaSalt (a path's shadow ray and its bounce at one event draw different coins).
+constexpr uint32_t kShadowAlphaSalt = 0x9E3779B9u;
+uint32_t alphaRayBase(RandomKey key, bool shadow, uint32_t seed);
+// The coin of the ray keyed `rayBase` for the triangle of primitive id `primitive`:
+// float(pcgHash(rayBase ^ primitive) >> 8) * 2^-24, in [0, 1).
+float alphaCoin(uint32_t rayBase, uint32_t primitive);
+// Whether the hit at `uv` on primitive `primitive` of `material` is no hit: cut out (cutOut), or
+// blended with the coin at or above its alpha (baseColor[3] times the base colour map's alpha at
+// level 0).
+bool alphaDiscards(const Material& material, std::span<const DecodedTexture> textures, std::array<float, 2> uv,
+                   uint32_t rayBase, uint32_t primitive);
+
 // v0 + (v1 - v0) * u + (v2 - v0) * v, evaluated in exactly this order (the GPU kernel too).
 Vec3f barycentricPosition(Vec3f v0, Vec3f v1, Vec3f v2, float u, float v);
 // cross(v1 - v0, v2 - v0), not normalized.

@@ -28,7 +28,8 @@ struct RandomKey {
 // when both shine) and 6 and 7 the map's direction; with punctual lights, 9 picks between them
 // and the sun or map, and which of them; with sampled emissive triangles, 10 picks between them
 // and the other lights, 11 and 12 which triangle (the alias method's column bits and its keep
-// test) and 13 and 14 the point on it; volumes draw from 16 up.
+// test) and 13 and 14 the point on it; with blended materials, 15 keys each ray's coins (one per
+// triangle it meets); volumes draw from 16 up.
 enum RandomDimension : uint32_t {
     kDimPixelX = 0,
     kDimPixelY = 1,
@@ -45,6 +46,7 @@ enum RandomDimension : uint32_t {
     kDimEmitterKeep = 12,  // which triangle: the column's own, or its alias
     kDimEmitterU = 13,     // the point on it
     kDimEmitterV = 14,
+    kDimAlpha = 15,  // blended materials: the key of a ray's coin per triangle (alphaRayBase)
     // Volumes: tracking takes dimensions kDimVolume, kDimVolume + 1, ... in the order it draws
     // them (free flight along the ray, then transmittance towards the light).
     kDimVolume = 16,

@@ -3,7 +3,8 @@
 // geometry semantics of docs/GEOMETRY.md: single-sided triangles are invisible from
 // behind; where a front face and a back face lie at the same distance the front face wins.
 // A material's alpha cut-out (Material::alphaCutoff) makes the hits its map's alpha cuts no hits
-// for every query (docs/RENDERING.md, "Cut-outs"). Embree types stay inside cpu/src.
+// for every query; a blended material's hits are hits with the probability of its alpha, by a coin
+// per ray and triangle (docs/RENDERING.md, "Blending"). Embree types stay inside cpu/src.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -24,18 +25,21 @@ struct SceneHit {
 
 class EmbreeScene {
 public:
-    // Copies positions and indices (and, when a material cuts out, the UVs and materials); `mesh`
-    // need not outlive the scene, `textures` (the maps' textures, RenderScene::textures) must.
+    // Copies positions and indices (and, when a material cuts out or blends, the UVs, materials
+    // and primitive ids: RenderScene::primitiveIds, empty for the identity); `mesh` need not
+    // outlive the scene, `textures` (the maps' textures, RenderScene::textures) must.
     static Result<std::unique_ptr<EmbreeScene>> build(const TriangleMesh& mesh,
-                                                      std::span<const DecodedTexture> textures = {});
+                                                      std::span<const DecodedTexture> textures = {},
+                                                      std::span<const uint32_t> primitiveIds = {});
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-    // Closest visible hit with t in [0, tMax]; thread-safe.
-    bool intersect(const Ray& ray, float tMax, SceneHit* hit) const;
+    // Closest visible hit with t in [0, tMax]; thread-safe. alphaBase: the ray's key for the coins
+    // of blended materials (core/PathShading.h alphaRayBase).
+    bool intersect(const Ray& ray, float tMax, SceneHit* hit, uint32_t alphaBase = 0) const;
     // Whether any visible triangle lies at t in [0, tMax]; thread-safe.
-    bool occluded(const Ray& ray, float tMax) const;
+    bool occluded(const Ray& ray, float tMax, uint32_t alphaBase = 0) const;
 
 private:
     EmbreeScene();
