@@ -19,10 +19,11 @@ PARALLEL=${FUZZ_PARALLEL:-$(nproc)}
 [[ "$PARALLEL" =~ ^[1-9][0-9]{0,2}$ ]] || { echo "FUZZ_PARALLEL '$PARALLEL': expected 1 to 999 targets at once" >&2; exit 2; }
 declare -A SEEDS=([fuzz_import_obj]=obj [fuzz_import_ply]=ply [fuzz_import_gltf]=gltf
                   [fuzz_import_glb]=glb [fuzz_import_assimp]=assimp [fuzz_package]=vast [fuzz_chunk]=chunk
-                  [fuzz_http_json]=json [fuzz_volume_manifest]=volumes [fuzz_environment_map]=envmap [fuzz_pfm]=pfm)
+                  [fuzz_http_json]=json [fuzz_volume_manifest]=volumes [fuzz_environment_map]=envmap [fuzz_pfm]=pfm
+                  [fuzz_ktx2]=ktx2)
 TARGETS=("$@")
 [ ${#TARGETS[@]} -eq 0 ] && TARGETS=(fuzz_import_obj fuzz_import_ply fuzz_import_gltf fuzz_import_glb fuzz_import_assimp fuzz_package fuzz_chunk
-                                    fuzz_http_json fuzz_volume_manifest fuzz_environment_map fuzz_pfm)
+                                    fuzz_http_json fuzz_volume_manifest fuzz_environment_map fuzz_pfm fuzz_ktx2)
 
 if [ ! -f "$BUILD/build.ninja" ]; then
   cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 -DVASTRAY_FUZZ=ON

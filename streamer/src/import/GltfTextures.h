@@ -25,9 +25,10 @@ struct GltfTextures {
 
 // Errors name the file, the material, the map and the limit ("scene.gltf: material 2 ('Brick')
 // normalTexture: texture 9 does not exist"); an image URI outside `folder` is refused as a
-// buffer's is. A map whose image is in a format not read here (KTX2, WebP, anything but PNG and
-// JPEG) or whose file is missing is left out, warned once per kind in `report`; so is a texture
-// a material reads through an extension only (KHR_texture_basisu).
+// buffer's is. Images are PNG, JPEG or KTX2 (KHR_texture_basisu's source first, the texture's own
+// source its fallback where the KTX2's format is not read: core/ImageFile.h). A map whose image is
+// in a format not read here (WebP, a KTX2 block format, ...) or whose file is missing is left out,
+// warned once per kind in `report`.
 Result<GltfTextures> readGltfTextures(const tinygltf::Model& model, const std::string& fileName,
                                       const std::string& folder, ImportReport& report);
 
