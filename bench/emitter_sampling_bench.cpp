@@ -6,6 +6,8 @@
 //
 //   emitter_sampling_bench [--resolution 128x128] [--depth 5] [--spp 1,4,16] [--reference-spp 1024]
 //                          [--lamps 1] [--device I] [--no-embree] [--out FILE.md]
+//                          [--reference-out FILE.pfm]  (the reference image, for bench/mitsuba_emitters.py)
+//                          [--reference-only]  (render and write the reference, nothing else)
 //
 // Prints a Markdown table: backend, emitters sampled or not, spp, render seconds (the render
 // alone: the scene is open and its pipelines built), relative RMSE against the reference, and
@@ -21,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "vastray/core/ImageFile.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
@@ -43,7 +46,8 @@ struct Args {
     std::vector<uint32_t> spp{1, 4, 16};
     int device = -1;
     bool embree = true;
-    std::string out;
+    std::string out, referenceOut;
+    bool referenceOnly = false;
 };
 
 Args parseArgs(int argc, char** argv) {
@@ -66,6 +70,8 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--device") a.device = std::stoi(value());
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--out") a.out = value();
+        else if (flag == "--reference-out") a.referenceOut = value();
+        else if (flag == "--reference-only") a.referenceOnly = true;
         else fail("unknown flag " + flag + " (see the comment at the top of bench/emitter_sampling_bench.cpp)");
     }
     return a;
@@ -150,6 +156,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "reference: Embree, %u spp, emitters sampled...\n", args.referenceSpp);
     auto reference = renderWithEmbree(*scene, withEmitters(view(args, args.referenceSpp, 1000), true));
     if (!reference) fail(reference.message());
+    if (!args.referenceOut.empty())
+        if (Status s = writeImageFile(args.referenceOut, *reference); !s) fail(s.message());
+    if (args.referenceOnly) return 0;
 
     gpu::VulkanDeviceOptions deviceOptions;
     deviceOptions.deviceIndex = args.device;

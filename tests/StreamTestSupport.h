@@ -118,6 +118,19 @@ inline double relativeRmse(const std::vector<float>& a, const std::vector<float>
     return std::sqrt(se / std::max(energy, 1e-30));
 }
 
+// The mean of an image's channel 0 over its pixels, and its standard error from their spread
+// (noise and the image's own variation both count: a loose bound for an image that varies).
+struct Mean {
+    double mean = 0, standardError = 0;
+};
+inline Mean pixelMean(const RenderImage& image) {
+    const size_t n = image.rgb.size() / 3;
+    double sum = 0, squares = 0;
+    for (size_t i = 0; i < n; ++i) sum += image.rgb[3 * i], squares += double(image.rgb[3 * i]) * image.rgb[3 * i];
+    const double mean = sum / double(n);
+    return {mean, std::sqrt(std::max(0.0, squares / double(n) - mean * mean) / double(n))};
+}
+
 // The Embree reference of the same package (without the streaming-only AOVs).
 inline Result<RenderImage> renderEmbree(const std::string& path, RenderOptions options) {
     auto scene = loadRenderScene(path);

@@ -172,6 +172,20 @@ bool reflectedLight(const SurfacePoint& point, Vec3f direction, Vec3f irradiance
     return true;
 }
 
+bool lightSampleReflection(const SurfacePoint& point, Vec3f direction, Vec3f radiance, float lightPdf, Vec3f* light) {
+    const float cosine = dot(point.shadingNormal, direction);
+    if (cosine <= 0.0f || dot(point.normal, direction) <= 0.0f) return false;
+    if (point.glossy) {
+        float bsdfPdf;
+        const Vec3f reflection = glossyReflection(point, direction, &bsdfPdf);
+        *light = mul(reflection, radiance) * (powerHeuristic(lightPdf, bsdfPdf) / lightPdf);
+        return maxComponent(*light) > 0.0f;
+    }
+    const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
+    *light = mul(point.albedo, radiance) * ((cosine / kPi) * weight);
+    return true;
+}
+
 bool unshadowedSunLight(const Environment& env, Vec3f sunDirection, const SurfacePoint& point, Vec3f* light) {
     return reflectedLight(point, sunDirection, toVec(env.sunIrradiance), light);
 }
@@ -209,19 +223,9 @@ bool unshadowedDirectLight(const Environment& env, Vec3f sunDirection, const Sur
     }
     const EnvironmentSample s = sampleEnvironment(*env.map, environmentFrame(env.up, env.mapRotationDegrees),
                                                   randomFloat(key, kDimLightU, seed), randomFloat(key, kDimLightV, seed));
-    const float cosine = dot(point.shadingNormal, s.direction);
-    if (!(s.pdf > 0.0f) || cosine <= 0.0f || dot(point.normal, s.direction) <= 0.0f) return false;
-    const float lightPdf = (1.0f - pickSun) * s.pdf;
+    if (!(s.pdf > 0.0f)) return false;
     *direction = s.direction;
-    if (point.glossy) {
-        float bsdfPdf;
-        const Vec3f reflection = glossyReflection(point, s.direction, &bsdfPdf);
-        *light = mul(reflection, s.radiance) * (powerHeuristic(lightPdf, bsdfPdf) / lightPdf);
-        return maxComponent(*light) > 0.0f;
-    }
-    const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
-    *light = mul(point.albedo, s.radiance) * ((cosine / kPi) * weight);
-    return true;
+    return lightSampleReflection(point, s.direction, s.radiance, (1.0f - pickSun) * s.pdf, light);
 }
 
 bool unshadowedMediumLight(const Environment& env, Vec3f sunDirection, Vec3f travel, float g, RandomKey key,
@@ -279,17 +283,7 @@ bool sampleEmitter(const EmitterTable& table, std::span<const Material> material
 }
 
 bool emitterSurfaceLight(const SurfacePoint& point, const EmitterSample& s, Vec3f* light) {
-    const float cosine = dot(point.shadingNormal, s.direction);
-    if (cosine <= 0.0f || dot(point.normal, s.direction) <= 0.0f) return false;
-    if (point.glossy) {
-        float bsdfPdf;
-        const Vec3f reflection = glossyReflection(point, s.direction, &bsdfPdf);
-        *light = mul(reflection, s.radiance) * (powerHeuristic(s.pdf, bsdfPdf) / s.pdf);
-        return maxComponent(*light) > 0.0f;
-    }
-    const float weight = powerHeuristic(s.pdf, cosine / kPi) / s.pdf;
-    *light = mul(point.albedo, s.radiance) * ((cosine / kPi) * weight);
-    return true;
+    return lightSampleReflection(point, s.direction, s.radiance, s.pdf, light);
 }
 
 Vec3f emitterMediumLight(const EmitterSample& s, Vec3f travel, float g) {

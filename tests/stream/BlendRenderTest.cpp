@@ -85,16 +85,8 @@ RenderOptions view(Vec3f eye, Vec3f target, float fov, Vec3f sun, uint32_t spp) 
     return o;
 }
 
-struct Mean {
-    double mean = 0, standardError = 0;
-};
-Mean pixelMean(const RenderImage& image) {
-    const size_t n = image.rgb.size() / 3;
-    double sum = 0, squares = 0;
-    for (size_t i = 0; i < n; ++i) sum += image.rgb[3 * i], squares += double(image.rgb[3 * i]) * image.rgb[3 * i];
-    const double mean = sum / n;
-    return {mean, std::sqrt(std::max(0.0, squares / n - mean * mean) / n)};
-}
+using test::Mean;
+using test::pixelMean;
 
 // Renders on both backends, expects the closed form within 4 standard errors of the samples
 // (each pixel averages spp binary outcomes: the standard error is sqrt(p (1 - p) / samples)

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "../VolumePackageForge.h"
 #include "../VolumeTestSupport.h"
@@ -126,16 +127,33 @@ double expectedMean() {
     return sum / (kSide * kSide);
 }
 
-struct Mean {
-    double mean = 0, standardError = 0;
-};
-// The pixels' mean of channel 0, and its standard error from their spread.
-Mean pixelMean(const RenderImage& image) {
-    const size_t n = image.rgb.size() / 3;
-    double sum = 0, squares = 0;
-    for (size_t i = 0; i < n; ++i) sum += image.rgb[3 * i], squares += double(image.rgb[3 * i]) * image.rgb[3 * i];
-    const double mean = sum / n;
-    return {mean, std::sqrt(std::max(0.0, squares / n - mean * mean) / n)};
+using test::Mean;
+using test::pixelMean;
+
+// Renders options(true) and options(false) (emitters sampled, and found by chance only) on the
+// device and on the Embree reference: the two device images have one expectation (their means
+// within 4 combined standard errors), and each follows the reference within `tolerance` relative
+// RMSE (the same random numbers, the same steps). Returns the sampled device image's mean.
+Mean expectSampledAsByChance(const std::string& path, const std::function<RenderOptions(bool)>& options,
+                             double tolerance, const char* what) {
+    auto sampled = test::renderVulkan(path, options(true), 256ull << 20);
+    auto byChance = test::renderVulkan(path, options(false), 256ull << 20);
+    auto reference = test::renderEmbree(path, options(true));
+    auto referenceByChance = test::renderEmbree(path, options(false));
+    if (!sampled || !byChance || !reference || !referenceByChance) {
+        ADD_FAILURE() << sampled.message() << byChance.message() << reference.message() << referenceByChance.message();
+        return {};
+    }
+    const Mean s = pixelMean(*sampled), c = pixelMean(*byChance);
+    const double error = test::relativeRmse(sampled->rgb, reference->rgb);
+    const double chanceError = test::relativeRmse(byChance->rgb, referenceByChance->rgb);
+    std::printf("%s: sampled %.5f +- %.5f, by chance %.5f +- %.5f; device against Embree, relative RMSE %.2e "
+                "sampled, %.2e by chance\n",
+                what, s.mean, s.standardError, c.mean, c.standardError, error, chanceError);
+    EXPECT_NEAR(s.mean, c.mean, 4 * std::hypot(s.standardError, c.standardError)) << what;
+    EXPECT_LE(error, tolerance) << what;
+    EXPECT_LE(chanceError, tolerance) << what;
+    return s;
 }
 
 TEST(EmitterRender, LampOverAPlaneShowsTheFormFactorOnBothBackends) {
@@ -180,15 +198,7 @@ TEST(EmitterRender, GlossyPlaneUnderTheLampMatchesWithAndWithoutSampling) {
     const std::string path = package("lamp-glossy", std::move(mesh));
     // The power heuristic between the lamp's density and the GGX lobe's: both estimators have one
     // expectation.
-    auto sampled = test::renderVulkan(path, slantView(path, true, 256), 256ull << 20);
-    auto byChance = test::renderVulkan(path, slantView(path, false, 256), 256ull << 20);
-    auto reference = test::renderEmbree(path, slantView(path, true, 256));
-    ASSERT_TRUE(sampled && byChance && reference) << sampled.message() << byChance.message() << reference.message();
-    const Mean s = pixelMean(*sampled), c = pixelMean(*byChance);
-    std::printf("glossy lamp: sampled %.5f +- %.5f, by chance %.5f +- %.5f\n", s.mean, s.standardError, c.mean,
-                c.standardError);
-    EXPECT_NEAR(s.mean, c.mean, 4 * std::hypot(s.standardError, c.standardError));
-    EXPECT_LE(test::relativeRmse(sampled->rgb, reference->rgb), 1e-3);
+    expectSampledAsByChance(path, [&](bool sampled) { return slantView(path, sampled, 256); }, 1e-3, "glossy lamp");
 }
 
 TEST(EmitterRender, SingleSidedLampSeenFromBehindIsDark) {
@@ -244,16 +254,8 @@ TEST(EmitterRender, BesideTheSunAndAPointLightTheExpectationHolds) {
         applySceneLights((*reader)->info().lights, (*reader)->info().bounds, o);
         return o;
     };
-    auto sampled = test::renderVulkan(path, lit(true), 256ull << 20);
-    auto byChance = test::renderVulkan(path, lit(false), 256ull << 20);
-    auto reference = test::renderEmbree(path, lit(true));
-    ASSERT_TRUE(sampled && byChance && reference) << sampled.message() << byChance.message() << reference.message();
-    const Mean s = pixelMean(*sampled), c = pixelMean(*byChance);
-    std::printf("lamp, sun and bulb: sampled %.5f +- %.5f, by chance %.5f +- %.5f\n", s.mean, s.standardError, c.mean,
-                c.standardError);
-    EXPECT_NEAR(s.mean, c.mean, 4 * std::hypot(s.standardError, c.standardError));
+    const Mean s = expectSampledAsByChance(path, lit, 1e-3, "lamp, sun and bulb");
     EXPECT_GT(s.mean, expectedMean()) << "the sun and the bulb add to the lamp";
-    EXPECT_LE(test::relativeRmse(sampled->rgb, reference->rgb), 1e-3);
 }
 
 // Fog between the lamp and the plane: next-event estimation from points in the volume (the phase
@@ -282,22 +284,7 @@ TEST(EmitterRender, FogUnderTheLampScattersItsLightOnBothBackends) {
         o.volumes = *volumes;
         return o;
     };
-    auto sampled = test::renderVulkan(path, foggy(true), 256ull << 20);
-    auto byChance = test::renderVulkan(path, foggy(false), 256ull << 20);
-    auto reference = test::renderEmbree(path, foggy(true));
-    ASSERT_TRUE(sampled && byChance && reference) << sampled.message() << byChance.message() << reference.message();
-    const Mean s = pixelMean(*sampled), c = pixelMean(*byChance);
-    std::printf("lamp in fog: sampled %.5f +- %.5f, by chance %.5f +- %.5f\n", s.mean, s.standardError, c.mean,
-                c.standardError);
-    EXPECT_GT(s.mean, 0.01);
-    EXPECT_NEAR(s.mean, c.mean, 4 * std::hypot(s.standardError, c.standardError));
-    auto referenceByChance = test::renderEmbree(path, foggy(false));
-    ASSERT_TRUE(referenceByChance) << referenceByChance.message();
-    const double error = test::relativeRmse(sampled->rgb, reference->rgb);
-    const double chanceError = test::relativeRmse(byChance->rgb, referenceByChance->rgb);
-    std::printf("lamp in fog: device against Embree, relative RMSE %.2e sampled, %.2e by chance\n", error, chanceError);
-    EXPECT_LE(error, 1e-4);
-    EXPECT_LE(chanceError, 1e-4);
+    EXPECT_GT(expectSampledAsByChance(path, foggy, 1e-4, "lamp in fog").mean, 0.01);
 }
 
 TEST(EmitterRender, AnEmissiveMapKeepsItsTrianglesUnsampled) {

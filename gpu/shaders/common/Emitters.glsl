@@ -57,18 +57,7 @@ bool sampleEmitter(WavefrontParams p, vec3 origin, uint pixel, uint sampleIndex,
 // emitterSurfaceLight: what surface s reflects of the drawn point's radiance arriving along
 // `direction`, weighted by the power heuristic against the bounce's density. false: none.
 bool emitterSurfaceLight(WavefrontParams p, Surface s, vec3 direction, vec3 radiance, float pdf, out vec3 light) {
-    light = vec3(0.0);
-    const float cosine = dot(s.ns, direction);
-    if (cosine <= 0.0 || dot(s.n, direction) <= 0.0) return false;
-    if (s.glossy) {
-        float bsdfDensity;
-        const vec3 reflection = glossyReflection(p, s, direction, bsdfDensity);
-        light = (reflection * radiance) * (powerHeuristic(pdf, bsdfDensity) / pdf);
-        return maxComponent(light) > 0.0;
-    }
-    const float weight = powerHeuristic(pdf, cosine / kPi) / pdf;
-    light = (s.base * radiance) * ((cosine / kPi) * weight);
-    return true;
+    return lightSampleReflection(p, s, direction, radiance, pdf, light);
 }
 
 // emitterMediumLight: what a point in a volume scatters of it (phase function g, light that

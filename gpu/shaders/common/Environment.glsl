@@ -82,6 +82,23 @@ float powerHeuristic(float chosen, float other) {
     return 1.0 / (1.0 + ratio * ratio);
 }
 
+// lightSampleReflection: f cos radiance times the power heuristic against the bounce's density,
+// over lightPdf, for a direction a light sampler drew; false: none (below either normal).
+bool lightSampleReflection(WavefrontParams p, Surface s, vec3 direction, vec3 radiance, float lightPdf, out vec3 light) {
+    light = vec3(0.0);
+    const float cosine = dot(s.ns, direction);
+    if (cosine <= 0.0 || dot(s.n, direction) <= 0.0) return false;
+    if (s.glossy) {
+        float bsdfDensity;
+        const vec3 reflection = glossyReflection(p, s, direction, bsdfDensity);
+        light = (reflection * radiance) * (powerHeuristic(lightPdf, bsdfDensity) / lightPdf);
+        return maxComponent(light) > 0.0;
+    }
+    const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
+    light = (s.base * radiance) * ((cosine / kPi) * weight);
+    return true;
+}
+
 // unshadowedDirectLight with a map: the light reflected towards the ray (base colour applied,
 // the path's throughput not yet) and the shadow ray's direction; false: no shadow ray.
 bool environmentDirectLight(WavefrontParams p, Surface s, uint pixel, uint sampleIndex, uint bounce, out vec3 light,
@@ -97,18 +114,8 @@ bool environmentDirectLight(WavefrontParams p, Surface s, uint pixel, uint sampl
     float pdf;
     direction = sampleEnvironment(p, randomFloat(pixel, sampleIndex, bounce, kDimLightU, p.seed),
                                   randomFloat(pixel, sampleIndex, bounce, kDimLightV, p.seed), radiance, pdf);
-    const float cosine = dot(s.ns, direction);
-    if (!(pdf > 0.0) || cosine <= 0.0 || dot(s.n, direction) <= 0.0) return false;
-    const float lightPdf = (1.0 - pickSun) * pdf;
-    if (s.glossy) {
-        float bsdfDensity;
-        const vec3 reflection = glossyReflection(p, s, direction, bsdfDensity);
-        light = (reflection * radiance) * (powerHeuristic(lightPdf, bsdfDensity) / lightPdf);
-        return maxComponent(light) > 0.0;
-    }
-    const float weight = powerHeuristic(lightPdf, cosine / kPi) / lightPdf;
-    light = (s.base * radiance) * ((cosine / kPi) * weight);
-    return true;
+    if (!(pdf > 0.0)) return false;
+    return lightSampleReflection(p, s, direction, radiance, (1.0 - pickSun) * pdf, light);
 }
 
 // environmentHitWeight: bouncePdf 0 is a camera ray.

@@ -132,6 +132,11 @@ bool unshadowedSunLight(const Environment& environment, Vec3f sunDirection, cons
 // on a surface facing it (Lambertian, or the metallic-roughness BSDF). false: none (the light lies
 // below either normal).
 bool reflectedLight(const SurfacePoint& point, Vec3f direction, Vec3f irradiance, Vec3f* light);
+// The light reflected at `point` from `radiance` arriving along unit `direction`, which a light
+// sampler drew with solid-angle density `lightPdf` (> 0), weighted by the power heuristic against
+// the bounce's density there (cos / pi, or the glossy BSDF's): f cos radiance w / lightPdf. false:
+// none (below either normal). The environment map's and the emitters' next-event estimation.
+bool lightSampleReflection(const SurfacePoint& point, Vec3f direction, Vec3f radiance, float lightPdf, Vec3f* light);
 
 // The probability with which next-event estimation picks a punctual light rather than the sun or
 // the environment map: 0 without lights, 1 when neither the sun nor a map brings light, else 1/2
