@@ -383,7 +383,8 @@ bool decodeTextures(ByteReader& r, size_t answerBytes, TriangleMesh& mesh) {
         uint32_t wrapS = 0, wrapT = 0, encoding = 0;
         if (!getText(r, t.name) || !getText(r, t.extension) || !getCounted(r, t.bytes) || !r.get(wrapS) ||
             !r.get(wrapT) || !r.get(encoding) || wrapS > 2 || wrapT > 2 || encoding > 1 ||
-            imageSignatureExtension(t.bytes) != t.extension || (t.extension != ".png" && t.extension != ".jpg"))
+            imageSignatureExtension(t.bytes) != t.extension ||
+            (t.extension != ".png" && t.extension != ".jpg" && t.extension != ".ktx2"))
             return false;
         t.wrapS = TextureWrap(wrapS), t.wrapT = TextureWrap(wrapT), t.encoding = TextureEncoding(encoding);
     }

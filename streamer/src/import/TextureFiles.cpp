@@ -4,6 +4,7 @@
 
 #include "import/GltfTextures.h"
 #include "import/ImportCommon.h"
+#include "vastray/core/ImageFile.h"
 
 namespace vastray::import {
 
@@ -35,7 +36,14 @@ Result<uint32_t> TextureFiles::addFile(const std::string& relative, TextureWrap 
 Result<uint32_t> TextureFiles::addBytes(const std::string& key, const std::string& label, std::vector<uint8_t> bytes,
                                         TextureWrap wrapS, TextureWrap wrapT, TextureEncoding encoding) {
     const std::string extension = imageSignatureExtension(bytes);
-    if (extension != ".png" && extension != ".jpg") {
+    if (extension == ".ktx2") {  // read where its format is (core/ImageFile.h); a broken one fails
+        auto ktx2 = describeKtx2Image(label, bytes);
+        if (!ktx2) return ktx2.status();
+        if (!ktx2->readable) {
+            ++unknown_;
+            return kNoTexture;
+        }
+    } else if (extension != ".png" && extension != ".jpg") {
         ++unknown_;
         return kNoTexture;
     }
@@ -60,7 +68,7 @@ Result<uint32_t> TextureFiles::addBytes(const std::string& key, const std::strin
 void TextureFiles::warn(ImportReport& report) const {
     report.warnUnused("texture maps whose image file is missing or unreadable", missing_,
                       "their maps are rendered without them");
-    report.warnUnused("texture maps with an image neither PNG nor JPEG", unknown_,
+    report.warnUnused("texture maps with an image neither PNG, JPEG nor a KTX2 of a format read here", unknown_,
                       "their maps are rendered without them");
 }
 

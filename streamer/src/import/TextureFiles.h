@@ -32,7 +32,8 @@ public:
         : folder_(std::move(folder)), modelName_(std::move(modelName)) {}
 
     // The texture of the image file `relative` (to the model's folder; '\' is read as '/'), or
-    // kNoTexture when the file is missing or neither PNG nor JPEG (counted, see warn). A name
+    // kNoTexture when the file is missing or neither PNG, JPEG nor a KTX2 of a format read
+    // (counted, see warn); a broken KTX2 container is an error naming it. A name
     // that leaves the folder is an error naming it.
     Result<uint32_t> addFile(const std::string& relative, TextureWrap wrapS, TextureWrap wrapT,
                              TextureEncoding encoding);

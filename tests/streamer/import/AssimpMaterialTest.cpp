@@ -117,7 +117,7 @@ TEST(AssimpMaterials, MapsNotReadableHereAreWarnedAndLeftOut) {
     writeFile("x-picture.tga", "not a PNG or JPEG");
     const std::pair<const char*, const char*> cases[] = {
         {"x-gone.png", "1 texture maps whose image file is missing or unreadable read but not used"},
-        {"x-picture.tga", "1 texture maps with an image neither PNG nor JPEG read but not used"},
+        {"x-picture.tga", "1 texture maps with an image neither PNG, JPEG nor a KTX2 of a format read here read but not used"},
         {"../x-outside.png", "1 texture maps whose file lies outside the model's folder read but not used"},
         {"/etc/hostname", "1 texture maps whose file lies outside the model's folder read but not used"}};
     for (const auto& [texture, warning] : cases) {

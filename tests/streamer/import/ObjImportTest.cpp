@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "ImportTestFiles.h"
+#include "Ktx2Writer.h"
 
 namespace vastray::test {
 namespace {
@@ -227,6 +228,37 @@ TEST(ObjImport, MtlMapsOutsideTheFolderAndBadOptionsAreRefused) {
     }
 }
 
+// A KTX2 map_Kd of a format read here is stored as the map's texture (decoded at the package's
+// build like a PNG); one of a block format is warned and left out; a broken container fails the
+// import naming it.
+TEST(ObjImport, MtlMapsMayBeKtx2) {
+    test::Ktx2Spec rgba;
+    rgba.width = 2, rgba.level = {255, 0, 0, 255, 0, 255, 0, 255};
+    const std::vector<uint8_t> good = test::writeKtx2(rgba);
+    writeFile("red-green.ktx2", std::string(good.begin(), good.end()));
+    test::Ktx2Spec block = rgba;
+    block.vkFormat = 145;  // BC7_SRGB_BLOCK: not read here
+    const std::vector<uint8_t> bc7 = test::writeKtx2(block);
+    writeFile("block.ktx2", std::string(bc7.begin(), bc7.end()));
+    writeFile("ktx2.mtl", "newmtl x\nmap_Kd red-green.ktx2\nnewmtl y\nmap_Kd block.ktx2\n");
+    auto r = importObj(writeFile("ktx2.obj", "mtllib ktx2.mtl\n" + std::string(kSquareVertices) +
+                                                 "vt 0 0\nvt 1 0\nvt 1 1\nusemtl x\nf 1/1 2/2 3/3\nusemtl y\nf 1/1 3/3 4/2\n"));
+    ASSERT_TRUE(r.isOk()) << r.message();
+    ASSERT_EQ(r->mesh.textures.size(), 1u);
+    EXPECT_EQ(r->mesh.textures[0].extension, ".ktx2");
+    EXPECT_EQ(r->mesh.materials[0].textures.slots[uint32_t(TextureSlot::BaseColor)].texture, 0u);
+    EXPECT_EQ(r->mesh.materials[1].textures.slots[uint32_t(TextureSlot::BaseColor)].texture, kNoTexture);
+    EXPECT_EQ(std::count(r->report.warnings.begin(), r->report.warnings.end(),
+                         "1 texture maps with an image neither PNG, JPEG nor a KTX2 of a format read here read but not "
+                         "used (their maps are rendered without them)"),
+              1);
+    std::vector<uint8_t> broken = good;
+    broken.resize(broken.size() - 4);  // level 0 runs past the end
+    writeFile("broken.ktx2", std::string(broken.begin(), broken.end()));
+    const std::string refusal = mtlRefusal("broken-ktx2", "newmtl x\nmap_Kd broken.ktx2\n");
+    EXPECT_NE(refusal.find("broken.ktx2"), std::string::npos) << refusal;
+}
+
 // A map whose image is neither PNG nor JPEG is left out, warned once; a link out of the
 // folder is refused like a '..' name.
 TEST(ObjImport, MtlMapsNotPngOrJpegAreWarnedAndLinksOutRefused) {
@@ -237,7 +269,8 @@ TEST(ObjImport, MtlMapsNotPngOrJpegAreWarnedAndLinksOutRefused) {
     ASSERT_TRUE(r.isOk()) << r.message();
     ASSERT_EQ(r->report.warnings.size(), 1u);
     EXPECT_EQ(r->report.warnings[0],
-              "1 texture maps with an image neither PNG nor JPEG read but not used (their maps are rendered without them)");
+              "1 texture maps with an image neither PNG, JPEG nor a KTX2 of a format read here read but not used (their maps "
+              "are rendered without them)");
     EXPECT_TRUE(r->mesh.textures.empty());
     const std::string link = tmpPath("link-out.png");
     std::filesystem::remove(link);
