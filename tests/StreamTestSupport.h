@@ -25,27 +25,34 @@
 
 namespace vastray::test {
 
+// `mesh`'s package NAME.vast in the test folder `folder`, cut into chunks of `chunkBytes`.
+inline std::string meshPackage(const std::string& folder, const std::string& name, TriangleMesh mesh,
+                               uint64_t chunkBytes = 64 << 10) {
+    const std::filesystem::path dir = testTmpDir(folder);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / (name + ".vast")).string();
+    PackageBuildOptions options;
+    options.chunkSizeBytes = chunkBytes;
+    options.progress = Progress::Mode::None;
+    auto report = buildPackage(std::move(mesh), path, options);
+    EXPECT_TRUE(report) << report.message();
+    return path;
+}
+
 // A generated mesh's package NAME.vast in the test folder `folder` (64 KiB chunks); `material`
 // (when given) replaces every material, their names kept.
 inline std::string generatedMaterialPackage(const std::string& folder, const std::string& name, GeneratorKind kind,
                                             uint64_t triangles, const Material* material = nullptr) {
-    const std::filesystem::path dir = testTmpDir(folder);
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
     auto mesh = generateMesh({kind, triangles, 1});
     EXPECT_TRUE(mesh) << mesh.message();
+    if (!mesh) return {};
     if (material)
         for (Material& m : mesh->materials) {
             const std::string kept = m.name;
             m = *material;
             m.name = kept;
         }
-    PackageBuildOptions options;
-    options.chunkSizeBytes = 64 << 10;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh).value(), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return meshPackage(folder, name, std::move(mesh).value());
 }
 
 // One device for the whole binary (a Vulkan instance per test costs ~0.1 s on lavapipe). These

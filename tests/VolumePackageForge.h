@@ -89,6 +89,14 @@ inline std::vector<uint8_t> forgeVolumeData(std::vector<uint8_t> bytes, const Pa
     return bytes;
 }
 
+// A package's u64 at byte `at`, and setting one (the forgers below move offsets).
+inline uint64_t word64(const std::vector<uint8_t>& bytes, uint64_t at) {
+    uint64_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 8);
+    return v;
+}
+inline void setWord64(std::vector<uint8_t>& bytes, uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); }
+
 // A format 7 package without lights laid out as before format 7: its light section (no records,
 // only their 8-byte checksum, right after the volume records) taken out and every offset after it
 // moved back by 8 (the blobs' in the header and the directory, each volume's data in its record),
@@ -97,12 +105,8 @@ inline std::vector<uint8_t> forgeVolumeData(std::vector<uint8_t> bytes, const Pa
 // the directory's XXH64 at 200, the records' offset and XXH64 at 232 and 240; a directory entry
 // starts with its blob's offset, a volume record keeps its data's offset at byte 164.
 inline std::vector<uint8_t> withoutLightSection(std::vector<uint8_t> bytes) {
-    auto get = [&](uint64_t at) {
-        uint64_t v = 0;
-        std::memcpy(&v, bytes.data() + at, 8);
-        return v;
-    };
-    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    auto get = [&](uint64_t at) { return word64(bytes, at); };
+    auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
     uint32_t chunks = 0, volumes = 0;
     std::memcpy(&chunks, bytes.data() + 88, 4);
     std::memcpy(&volumes, bytes.data() + 92, 4);
@@ -125,12 +129,8 @@ inline std::vector<uint8_t> withoutLightSection(std::vector<uint8_t> bytes) {
 // in the texture head right before the blobs), with the directory's, the records', the texture
 // head's and the header's checksums recomputed. Header fields as withoutLightSection's.
 inline std::vector<uint8_t> withoutEmitterSection(std::vector<uint8_t> bytes) {
-    auto get = [&](uint64_t at) {
-        uint64_t v = 0;
-        std::memcpy(&v, bytes.data() + at, 8);
-        return v;
-    };
-    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    auto get = [&](uint64_t at) { return word64(bytes, at); };
+    auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
     uint32_t chunks = 0, volumes = 0;
     std::memcpy(&chunks, bytes.data() + 88, 4);
     std::memcpy(&volumes, bytes.data() + 92, 4);
@@ -159,12 +159,8 @@ inline std::vector<uint8_t> withoutEmitterSection(std::vector<uint8_t> bytes) {
 // directory's, records' and header's checksums recomputed; the material count is at 80. A package
 // without textures has no texture table, so nothing else changes.
 inline std::vector<uint8_t> withoutTextures(std::vector<uint8_t> bytes) {
-    auto get = [&](uint64_t at) {
-        uint64_t v = 0;
-        std::memcpy(&v, bytes.data() + at, 8);
-        return v;
-    };
-    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    auto get = [&](uint64_t at) { return word64(bytes, at); };
+    auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
     uint32_t materials = 0, chunks = 0, volumes = 0;
     std::memcpy(&materials, bytes.data() + 80, 4);
     std::memcpy(&chunks, bytes.data() + 88, 4);
@@ -199,12 +195,8 @@ inline std::vector<uint8_t> withoutTextures(std::vector<uint8_t> bytes) {
 // volume's data in its record), with the materials' checksum (at 184), the directory's, the
 // records' and the header's recomputed; the material count is at 80.
 inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
-    auto get = [&](uint64_t at) {
-        uint64_t v = 0;
-        std::memcpy(&v, bytes.data() + at, 8);
-        return v;
-    };
-    auto set = [&](uint64_t at, uint64_t v) { std::memcpy(bytes.data() + at, &v, 8); };
+    auto get = [&](uint64_t at) { return word64(bytes, at); };
+    auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
     uint32_t materials = 0, chunks = 0, volumes = 0;
     std::memcpy(&materials, bytes.data() + 80, 4);
     std::memcpy(&chunks, bytes.data() + 88, 4);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "HeadOnView.h"
 #include "TestScenes.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -43,12 +44,7 @@ std::string writeMaskedQuadObj() {
 // Looking straight at the front quad from +z, the quad filling the image: pixel centres are
 // texel centres.
 RenderOptions headOn() {
-    RenderOptions o;
-    o.width = o.height = kPixels;
-    o.samplesPerPixel = 1;
-    o.frameScene = false;
-    const float fov = 40.0f;
-    o.camera = {{0.5f, 0.5f, 0.5f / std::tan(fov * 0.5f * float(M_PI) / 180.0f)}, {0.5f, 0.5f, 0}, {0, 1, 0}, fov};
+    RenderOptions o = test::headOnUnitQuad(kPixels);
     o.aovs = kAovAlbedo;
     return o;
 }

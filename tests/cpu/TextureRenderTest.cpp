@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "HeadOnView.h"
 #include "TestScenes.h"
 #include "TestTextures.h"
 #include "vastray/core/ImageFile.h"
@@ -57,12 +58,7 @@ RenderScene texturedQuad(const Rgba8Image& image, bool emissive) {
 // Looking straight at the quad from +z, the quad exactly filling a kTexels x kTexels image: each
 // pixel centre is a texel centre.
 RenderOptions headOn() {
-    RenderOptions o;
-    o.width = o.height = kTexels;
-    o.samplesPerPixel = 1;
-    o.frameScene = false;
-    const float fov = 40.0f;
-    o.camera = {{0.5f, 0.5f, 0.5f / std::tan(fov * 0.5f * float(M_PI) / 180.0f)}, {0.5f, 0.5f, 0}, {0, 1, 0}, fov};
+    RenderOptions o = test::headOnUnitQuad(kTexels);
     o.aovs = kAovAlbedo;
     return o;
 }

@@ -30,13 +30,7 @@ std::filesystem::path folder() {
 }
 
 std::string package(const std::string& name, TriangleMesh mesh, uint64_t chunkBytes = 64 << 10) {
-    const std::string path = (folder() / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.chunkSizeBytes = chunkBytes;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::meshPackage("blend", name, std::move(mesh), chunkBytes);
 }
 
 // Appends the square of half side s centred on `centre` in the plane spanned by axes a and b

@@ -43,15 +43,7 @@ double radianceAt(double x, double z) {
 double expectedRadiance() { return radianceAt(0, 0); }
 
 std::string package(const std::string& name, TriangleMesh mesh, uint64_t chunkBytes = 64 << 10) {
-    const std::filesystem::path dir = test::testTmpDir("emitters");
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.chunkSizeBytes = chunkBytes;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::meshPackage("emitters", name, std::move(mesh), chunkBytes);
 }
 
 // The plane y = 0 over [-20, 20]^2 in cells x cells squares (white, albedo kAlbedo), and the

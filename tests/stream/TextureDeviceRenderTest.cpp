@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "HeadOnView.h"
 #include "StreamTestSupport.h"
 #include "TestTextures.h"
 #include "TestTmp.h"
@@ -63,15 +64,7 @@ TextureSource source(const Rgba8Image& image, const std::string& name, TextureWr
 }
 
 // Looking straight at the quad from +z, the quad exactly filling a side x side image.
-RenderOptions headOn(uint32_t side) {
-    RenderOptions o;
-    o.width = o.height = side;
-    o.samplesPerPixel = 1;
-    o.frameScene = false;
-    const float fov = 40.0f;
-    o.camera = {{0.5f, 0.5f, 0.5f / std::tan(fov * 0.5f * float(M_PI) / 180.0f)}, {0.5f, 0.5f, 0}, {0, 1, 0}, fov};
-    return o;
-}
+RenderOptions headOn(uint32_t side) { return test::headOnUnitQuad(side); }
 
 // Seen from above and aside, lit by the sky and the sun: glossy and Lambertian, emission.
 RenderOptions lit(uint32_t side, uint32_t spp) {
