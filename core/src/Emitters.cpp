@@ -20,7 +20,8 @@ double triangleArea(Vec3f v0, Vec3f v1, Vec3f v2) { return 0.5 * double(length(g
 bool isSampledEmitter(const Material& m, uint64_t textureCount) {
     const uint32_t map = m.textures.slots[uint32_t(TextureSlot::Emissive)].texture;
     const bool mapped = map != kNoTexture && map < textureCount;
-    return emissionWeight(m) > 0.0 && std::isfinite(emissionWeight(m)) && !mapped && !isCutout(m, textureCount);
+    return emissionWeight(m) > 0.0 && std::isfinite(emissionWeight(m)) && !mapped && !isCutout(m, textureCount) &&
+           !isBlended(m, textureCount);
 }
 
 std::vector<EmissiveTriangle> collectEmitters(const TriangleMesh& mesh, uint64_t textureCount,

@@ -91,6 +91,11 @@ TEST(EmitterTable, ZeroWeightTrianglesAndNonEmittersAreLeftOut) {
     EXPECT_FALSE(isSampledEmitter(mapped, 1)) << "an emissive map makes the radiance vary";
     EXPECT_TRUE(isSampledEmitter(mapped, 0)) << "a map the scene does not have is not read";
     EXPECT_FALSE(isSampledEmitter(cut, 1)) << "a cut-out's holes would shine";
+    Material blend = emitter("veil", {1, 1, 1});
+    blend.alphaBlend = true;
+    EXPECT_TRUE(isSampledEmitter(blend, 1)) << "a blend of alpha 1 without a map is opaque";
+    blend.baseColor[3] = 0.5f;
+    EXPECT_FALSE(isSampledEmitter(blend, 1)) << "rays meet a blend with its alpha only";
     mesh.materialIds = {0, 0, 0};
     const std::vector<EmissiveTriangle> all = collectEmitters(mesh, 1);
     ASSERT_EQ(all.size(), 2u) << "the degenerate second triangle is left out";

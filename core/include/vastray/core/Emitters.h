@@ -28,8 +28,8 @@ struct EmissiveTriangle {
 
 // Whether next-event estimation samples triangles of `material` (among a scene's `textureCount`
 // textures): it emits (a channel of its emissive factor above 0), its emission is the factor
-// alone (no emissive map, which would make the radiance vary over the triangle) and it is not a
-// cut-out (whose holes would shine).
+// alone (no emissive map, which would make the radiance vary over the triangle) and it is neither a
+// cut-out (whose holes would shine) nor a blend (which rays meet only with its alpha).
 bool isSampledEmitter(const Material& material, uint64_t textureCount);
 
 // The sampled emitters among `triangles` of `mesh` (all of them when empty), in that order;
