@@ -38,13 +38,7 @@ std::vector<uint8_t> pngBytes(const Rgba8Image& image, const std::string& name) 
 
 // `mesh` as the package NAME.vast in the test's folder, in chunks of at most chunkSizeBytes.
 std::string writePackage(const std::string& name, TriangleMesh mesh, uint64_t chunkSizeBytes = 16ull << 20) {
-    const std::string path = (folder() / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.chunkSizeBytes = chunkSizeBytes;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::meshPackage("device-textures", name, std::move(mesh), chunkSizeBytes);
 }
 
 // The unit quad [0, 1]^2 at z = 0 facing +z, its UVs in glTF's space (v down from the image's
