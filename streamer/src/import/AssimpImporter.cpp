@@ -10,8 +10,8 @@
 // assimp runs in a child process (fork): its readers crash on hostile files (the fuzzer found a
 // 794-byte Collada file that segfaults assimp 5.2.5), and a crash or a hang there must fail the
 // import, not the CLI or the server that called it. The child sends the triangles back through
-// a pipe (ChildProcess.h); finalizeMesh's validation runs in the caller, as for every other
-// importer.
+// a pipe (ChildProcess.h; the answer's encoding: AssimpAnswer.h); finalizeMesh's validation runs
+// in the caller, as for every other importer.
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/camera.h>
 #include <assimp/Importer.hpp>
@@ -24,12 +24,11 @@
 #include <filesystem>
 #include <limits>
 
+#include "import/AssimpAnswer.h"
 #include "import/AssimpLights.h"
 #include "import/AssimpTextures.h"
 #include "import/ChildProcess.h"
-#include "import/GltfTextures.h"
 #include "import/ImportCommon.h"
-#include "package/ByteIo.h"
 #include "vastray/core/Camera.h"
 #include "vastray/core/VecMath.h"
 #include "vastray/core/VertexAttributes.h"
@@ -298,183 +297,6 @@ Result<ImportedMesh> readWithAssimp(const std::string& path, std::vector<import:
     return imported;
 }
 
-// The child's answer on the pipe: a byte (1: a mesh follows, 0: an error message follows),
-// then the fields in this order, strings and arrays each after their uint64 length (the
-// package's ByteWriter/ByteReader, whose reads never pass the end).
-void putText(ByteWriter& w, const std::string& text) {
-    w.put(uint64_t(text.size()));
-    w.putBytes(text.data(), text.size());
-}
-template <typename T>
-void putCounted(ByteWriter& w, const std::vector<T>& values) {
-    w.put(uint64_t(values.size()));
-    w.putArray(values);
-}
-bool getText(ByteReader& r, std::string& text) {
-    uint64_t size = 0;
-    if (!r.get(size) || size > r.remaining()) return false;
-    text.assign(reinterpret_cast<const char*>(r.current()), size);
-    return r.skip(size);
-}
-template <typename T>
-bool getCounted(ByteReader& r, std::vector<T>& values) {
-    uint64_t count = 0;
-    return r.get(count) && r.getArray(values, count);
-}
-
-std::vector<uint8_t> encodeAnswer(const Result<ImportedMesh>& result,
-                                  const std::vector<import::AlphaMaskRequest>& masks = {}) {
-    ByteWriter w;
-    if (!result) {
-        w.put(uint8_t(0));
-        putText(w, result.message());
-        return std::move(w.bytes());
-    }
-    const ImportedMesh& m = *result;
-    w.put(uint8_t(1));
-    putText(w, m.report.format);
-    w.put(m.report.verticesRead), w.put(m.report.normalsRead), w.put(m.report.coloursRead),
-        w.put(m.report.texcoordsRead), w.put(m.report.textureMaps);
-    w.put(m.report.primitivesSkipped);
-    w.put(uint64_t(m.report.warnings.size()));
-    for (const std::string& warning : m.report.warnings) putText(w, warning);
-    w.put(uint64_t(m.mesh.materials.size()));
-    for (const Material& material : m.mesh.materials) {
-        putText(w, material.name);
-        w.put(material.baseColor), w.put(material.emissive), w.put(uint8_t(material.doubleSided));
-        w.put(material.metallic), w.put(material.roughness), w.put(material.specular), w.put(material.alphaCutoff);
-    }
-    putCounted(w, m.mesh.positions), putCounted(w, m.mesh.indices), putCounted(w, m.mesh.materialIds);
-    putCounted(w, m.mesh.normals), putCounted(w, m.mesh.colors), putCounted(w, m.mesh.uvs);
-    w.put(uint64_t(m.mesh.cameras.size()));
-    for (const SceneCamera& camera : m.mesh.cameras) {
-        putText(w, camera.name);
-        w.put(camera.camera.eye), w.put(camera.camera.target), w.put(camera.camera.up), w.put(camera.camera.fovYDegrees);
-    }
-    w.put(uint64_t(m.mesh.lights.size()));
-    for (const PunctualLight& l : m.mesh.lights) {
-        putText(w, l.name);
-        w.put(uint32_t(l.type)), w.put(l.color), w.put(l.intensity), w.put(l.range);
-        w.put(l.innerConeAngle), w.put(l.outerConeAngle), w.put(l.position), w.put(l.direction);
-    }
-    w.put(uint64_t(m.mesh.textures.size()));
-    for (const TextureSource& t : m.mesh.textures) {
-        putText(w, t.name), putText(w, t.extension), putCounted(w, t.bytes);
-        w.put(uint32_t(t.wrapS)), w.put(uint32_t(t.wrapT)), w.put(uint32_t(t.encoding));
-    }
-    for (const Material& material : m.mesh.materials) {
-        for (const TextureBinding& b : material.textures.slots) w.put(b.texture), w.put(b.transform);
-        w.put(material.textures.normalScale), w.put(material.textures.occlusionStrength);
-    }
-    w.put(uint64_t(masks.size()));
-    for (const import::AlphaMaskRequest& mask : masks)
-        w.put(mask.material), w.put(mask.mask), w.put(uint8_t(mask.channel)), w.put(mask.transform),
-            w.put(uint8_t(mask.sameImageAsBase));
-    return std::move(w.bytes());
-}
-
-// The textures and the materials' maps encodeAnswer wrote: PNG or JPEG, known wrap modes and
-// encodings, each map's texture one of them.
-bool decodeTextures(ByteReader& r, size_t answerBytes, TriangleMesh& mesh) {
-    uint64_t count = 0;
-    if (!r.get(count) || count > answerBytes || count > import::kMaxSceneTextures) return false;
-    mesh.textures.resize(count);
-    for (TextureSource& t : mesh.textures) {
-        uint32_t wrapS = 0, wrapT = 0, encoding = 0;
-        if (!getText(r, t.name) || !getText(r, t.extension) || !getCounted(r, t.bytes) || !r.get(wrapS) ||
-            !r.get(wrapT) || !r.get(encoding) || wrapS > 2 || wrapT > 2 || encoding > 1 ||
-            imageSignatureExtension(t.bytes) != t.extension ||
-            (t.extension != ".png" && t.extension != ".jpg" && t.extension != ".ktx2"))
-            return false;
-        t.wrapS = TextureWrap(wrapS), t.wrapT = TextureWrap(wrapT), t.encoding = TextureEncoding(encoding);
-    }
-    for (Material& material : mesh.materials) {
-        for (TextureBinding& b : material.textures.slots)
-            if (!r.get(b.texture) || !r.get(b.transform) || (b.texture != kNoTexture && b.texture >= count))
-                return false;
-        if (!r.get(material.textures.normalScale) || !r.get(material.textures.occlusionStrength)) return false;
-    }
-    return true;
-}
-
-// The opacity masks encodeAnswer wrote, each of a material and a texture there are.
-bool decodeMasks(ByteReader& r, size_t answerBytes, const TriangleMesh& mesh,
-                 std::vector<import::AlphaMaskRequest>& masks) {
-    uint64_t count = 0;
-    if (!r.get(count) || count > answerBytes || count > mesh.materials.size()) return false;
-    masks.resize(count);
-    for (import::AlphaMaskRequest& mask : masks) {
-        uint8_t channel = 0, same = 0;
-        if (!r.get(mask.material) || !r.get(mask.mask) || !r.get(channel) || !r.get(mask.transform) || !r.get(same) ||
-            mask.material >= mesh.materials.size() || mask.mask >= mesh.textures.size() ||
-            channel > import::kMaskChannelMax || same > 1)
-            return false;
-        mask.channel = import::MaskChannel(channel), mask.sameImageAsBase = same != 0;
-    }
-    return true;
-}
-
-// The lights encodeAnswer wrote, each within validateLight's limits (the child checked them).
-bool decodeLights(ByteReader& r, size_t answerBytes, std::vector<PunctualLight>& lights) {
-    uint64_t count = 0;
-    if (!r.get(count) || count > answerBytes || count > kMaxLights) return false;
-    lights.resize(count);
-    for (PunctualLight& l : lights) {
-        uint32_t type = 0;
-        if (!getText(r, l.name) || !r.get(type) || !r.get(l.color) || !r.get(l.intensity) || !r.get(l.range) ||
-            !r.get(l.innerConeAngle) || !r.get(l.outerConeAngle) || !r.get(l.position) || !r.get(l.direction))
-            return false;
-        l.type = LightType(type);
-        if (!validateLight(l).isOk()) return false;
-    }
-    return true;
-}
-
-Result<ImportedMesh> decodeAnswer(const std::string& name, const std::vector<uint8_t>& bytes,
-                                  std::vector<import::AlphaMaskRequest>& masks) {
-    const Status malformed = import::errorIn(name, "the assimp reader process sent a malformed answer");
-    ByteReader r(bytes.data(), bytes.size());
-    uint8_t ok = 0;
-    if (!r.get(ok)) return malformed;
-    if (!ok) {
-        std::string message;
-        if (!getText(r, message) || r.remaining() != 0) return malformed;
-        return Status::error(message);
-    }
-    ImportedMesh m;
-    uint64_t warnings = 0, materials = 0;
-    if (!getText(r, m.report.format) || !r.get(m.report.verticesRead) || !r.get(m.report.normalsRead) ||
-        !r.get(m.report.coloursRead) || !r.get(m.report.texcoordsRead) || !r.get(m.report.textureMaps) || !r.get(m.report.primitivesSkipped) || !r.get(warnings) ||
-        warnings > bytes.size())
-        return malformed;
-    m.report.warnings.resize(warnings);
-    for (std::string& warning : m.report.warnings)
-        if (!getText(r, warning)) return malformed;
-    if (!r.get(materials) || materials > bytes.size()) return malformed;
-    m.mesh.materials.resize(materials);
-    for (Material& material : m.mesh.materials) {
-        uint8_t doubleSided = 1;
-        if (!getText(r, material.name) || !r.get(material.baseColor) || !r.get(material.emissive) ||
-            !r.get(doubleSided) || !r.get(material.metallic) || !r.get(material.roughness) || !r.get(material.specular) ||
-            !r.get(material.alphaCutoff) || !(material.alphaCutoff >= 0.0f && material.alphaCutoff <= 1.0f))
-            return malformed;
-        material.doubleSided = doubleSided != 0;
-    }
-    uint64_t cameras = 0;
-    if (!getCounted(r, m.mesh.positions) || !getCounted(r, m.mesh.indices) || !getCounted(r, m.mesh.materialIds) ||
-        !getCounted(r, m.mesh.normals) || !getCounted(r, m.mesh.colors) || !getCounted(r, m.mesh.uvs) || !r.get(cameras) || cameras > bytes.size())
-        return malformed;
-    m.mesh.cameras.resize(cameras);
-    for (SceneCamera& camera : m.mesh.cameras)
-        if (!getText(r, camera.name) || !r.get(camera.camera.eye) || !r.get(camera.camera.target) ||
-            !r.get(camera.camera.up) || !r.get(camera.camera.fovYDegrees) || !validateCamera(camera.camera).isOk())
-            return malformed;
-    if (!decodeLights(r, bytes.size(), m.mesh.lights) || !decodeTextures(r, bytes.size(), m.mesh) ||
-        !decodeMasks(r, bytes.size(), m.mesh, masks) || r.remaining() != 0)
-        return malformed;
-    return m;
-}
-
 // How long assimp may take on one file before its process is killed and the import fails.
 constexpr int kAssimpSecondsLimit = 600;
 
@@ -486,11 +308,11 @@ void childReads(int fd, const std::string& path) {
     try {
         std::vector<import::AlphaMaskRequest> masks;
         Result<ImportedMesh> read = readWithAssimp(path, masks);
-        answer = encodeAnswer(read, masks);
+        answer = import::encodeAssimpAnswer(read, masks);
     } catch (const std::exception& e) {
-        answer = encodeAnswer(import::errorIn(import::fileNameOf(path), std::string("assimp: ") + e.what()));
+        answer = import::encodeAssimpAnswer(import::errorIn(import::fileNameOf(path), std::string("assimp: ") + e.what()));
     } catch (...) {
-        answer = encodeAnswer(import::errorIn(import::fileNameOf(path), "assimp: unknown exception"));
+        answer = import::encodeAssimpAnswer(import::errorIn(import::fileNameOf(path), "assimp: unknown exception"));
     }
     import::writeToParent(fd, answer.data(), answer.size());
 }
@@ -506,7 +328,7 @@ Result<ImportedMesh> readInChildProcess(const std::string& path) {
         [&](import::ChildAnswer& in) {
             std::vector<uint8_t> answer;
             if (!in.readToEnd(answer)) return import::errorIn(name, "reading the assimp process's answer: " + in.error());
-            imported = decodeAnswer(name, answer, masks);
+            imported = import::decodeAssimpAnswer(name, answer, masks);
             return imported.status();
         });
     if (!status.isOk()) return status;
