@@ -28,15 +28,7 @@ constexpr float kEyeHeight = 4.0f;   // the camera looks down at the plane y = 0
 constexpr float kFovDegrees = 60.0f;
 
 std::string package(const std::string& name, TriangleMesh mesh) {
-    const std::filesystem::path dir = test::testTmpDir("punctual-lights");
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".vast")).string();
-    PackageBuildOptions options;
-    options.chunkSizeBytes = 64 << 10;
-    options.progress = Progress::Mode::None;
-    auto report = buildPackage(std::move(mesh), path, options);
-    EXPECT_TRUE(report) << report.message();
-    return path;
+    return test::meshPackage("punctual-lights", name, std::move(mesh));
 }
 
 // The square [-50, 50]^2 of the plane y = 0, facing +y, white Lambertian of albedo kAlbedo.
