@@ -214,11 +214,7 @@ TEST(VolumeRender, GlowingSlabMatchesTheQuadrature) {
     for (const char* backend : {"vulkan", "embree"}) {
         auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
         ASSERT_TRUE(image) << backend << ": " << image.message();
-        double sum = 0, squares = 0;
-        const size_t pixels = image->alpha.size();
-        for (size_t p = 0; p < pixels; ++p) sum += image->rgb[3 * p], squares += double(image->rgb[3 * p]) * image->rgb[3 * p];
-        const double mean = sum / double(pixels);
-        const double standardError = std::sqrt(std::max(0.0, squares / double(pixels) - mean * mean) / double(pixels));
+        const auto [mean, standardError] = test::pixelMean(*image);
         std::printf("%s: mean %.5f, standard error %.5f\n", backend, mean, standardError);
         EXPECT_LT(standardError, 0.01 * integral);
         EXPECT_NEAR(mean, integral, 4 * standardError + 1e-3 * integral) << backend;
@@ -272,11 +268,7 @@ TEST(VolumeRender, SingleScatteringMatchesTheQuadrature) {
     for (const char* backend : {"vulkan", "embree"}) {
         auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
         ASSERT_TRUE(image) << backend << ": " << image.message();
-        double sum = 0, squares = 0;
-        const size_t pixels = image->alpha.size();
-        for (size_t p = 0; p < pixels; ++p) sum += image->rgb[3 * p], squares += double(image->rgb[3 * p]) * image->rgb[3 * p];
-        const double mean = sum / double(pixels);
-        const double standardError = std::sqrt(std::max(0.0, squares / double(pixels) - mean * mean) / double(pixels));
+        const auto [mean, standardError] = test::pixelMean(*image);
         std::printf("%s: mean %.6f, quadrature %.6f, standard error %.6f\n", backend, mean, expected, standardError);
         EXPECT_LT(standardError, 0.01 * expected);
         EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected) << backend;
