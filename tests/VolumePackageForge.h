@@ -188,13 +188,16 @@ inline std::vector<uint8_t> withoutTextures(std::vector<uint8_t> bytes) {
     return bytes;
 }
 
-// A format 8 package laid out as format 7: each material record's last 32 bytes (the specular
-// colour, white here, and five zero words) taken out and every offset after the materials moved
-// back by 32 per material (the tree's, the directory's, the blobs', the cameras' and the volume
-// records' in the header at 160, 168, 176, 208 and 232, the blobs' in the directory, each
-// volume's data in its record), with the materials' checksum (at 184), the directory's, the
-// records' and the header's recomputed; the material count is at 80.
-inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
+// The package with `cut` bytes taken out of each material record (of `recordBytes`) at `from`
+// within it, laid out as format `version`: every offset after the materials moved back by `cut`
+// per material (the tree's, the directory's, the blobs', the cameras' and the volume records' in
+// the header at 160, 168, 176, 208 and 232, the blobs' in the directory, each volume's data in
+// its record, and from format 10 the texture table's in the texture head right before the blobs),
+// with the materials' checksum (at 184), the directory's, the records', the texture head's and the
+// header's recomputed; the material count is at 80. A package without textures (no texture table)
+// has no other offset to move.
+inline std::vector<uint8_t> withoutMaterialBytes(std::vector<uint8_t> bytes, uint64_t recordBytes, uint64_t from,
+                                                 uint64_t cut, uint32_t version) {
     auto get = [&](uint64_t at) { return word64(bytes, at); };
     auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
     uint32_t materials = 0, chunks = 0, volumes = 0;
@@ -202,22 +205,40 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
     std::memcpy(&chunks, bytes.data() + 88, 4);
     std::memcpy(&volumes, bytes.data() + 92, 4);
     for (uint32_t m = materials; m-- > 0;) {
-        const int64_t end = 256 + 144 * int64_t(m + 1);
-        bytes.erase(bytes.begin() + end - 32, bytes.begin() + end);
+        const int64_t at = 256 + int64_t(recordBytes) * int64_t(m) + int64_t(from);
+        bytes.erase(bytes.begin() + at, bytes.begin() + at + int64_t(cut));
     }
-    const uint64_t moved = 32ull * materials;
+    const uint64_t moved = cut * materials;
     for (uint64_t at : {160, 168, 176, 208, 232}) set(at, get(at) - moved);
     const uint64_t directory = get(168), records = get(232);
     for (uint64_t c = 0; c < chunks; ++c) set(directory + 72 * c, get(directory + 72 * c) - moved);
     for (uint64_t v = 0; v < volumes; ++v) set(records + 256 * v + 164, get(records + 256 * v + 164) - moved);
-    const uint32_t seven = 7;
-    std::memcpy(bytes.data() + 8, &seven, 4);
+    uint32_t stored = 0;  // the version it had
+    std::memcpy(&stored, bytes.data() + 8, 4);
+    if (stored >= 10) {
+        const uint64_t head = get(176) - 32;  // count, reserved, table offset and size, XXH64
+        set(head + 8, get(head + 8) - moved);
+        set(head + 24, checksum64(bytes.data() + head, 24));
+    }
+    std::memcpy(bytes.data() + 8, &version, 4);
     set(16, bytes.size());
-    set(184, checksum64(bytes.data() + 256, 112ull * materials));
+    set(184, checksum64(bytes.data() + 256, (recordBytes - cut) * materials));
     set(200, checksum64(bytes.data() + directory, 72ull * chunks));
     set(240, checksum64(bytes.data() + records, 256ull * volumes));
     set(248, checksum64(bytes.data(), 248));
     return bytes;
+}
+
+// A format 8 package laid out as format 7: each material record's last 32 bytes (the specular
+// colour, white here, and five zero words) taken out (withoutMaterialBytes).
+inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
+    return withoutMaterialBytes(std::move(bytes), 144, 112, 32, 7);
+}
+
+// A format 13 package laid out as format 12: each material record's coat maps (two of 28 bytes,
+// after the five maps of format 10, none here) taken out (withoutMaterialBytes).
+inline std::vector<uint8_t> withoutCoatMaps(std::vector<uint8_t> bytes) {
+    return withoutMaterialBytes(std::move(bytes), 356, 144 + 5 * 28, 2 * 28, 12);
 }
 
 // The same package in format version 5, whose only volume is `p` (the last bytes of the file): its
@@ -228,10 +249,10 @@ inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& current, Pack
     uint32_t materials = 0;
     std::memcpy(&materials, current.data() + 80, 4);
     const std::vector<uint8_t> bytes =
-        withoutLightSection(withoutSpecularColours(withoutTextures(withoutEmitterSection(current))));
+        withoutLightSection(withoutSpecularColours(withoutTextures(withoutEmitterSection(withoutCoatMaps(current)))));
     // The light section's checksum, the emitter section, the texture head, the colours and the maps
-    // no longer lie before it.
-    p.offset -= 8 + 16 + 32 + (32ull + 156ull) * materials;
+    // (the coat's and the five before them) no longer lie before it.
+    p.offset -= 8 + 16 + 32 + (32ull + 156ull + 56ull) * materials;
     const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
     std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
     for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)

@@ -12,6 +12,8 @@ const char* textureSlotName(TextureSlot slot) {
         case TextureSlot::Normal: return "normalTexture";
         case TextureSlot::Emissive: return "emissiveTexture";
         case TextureSlot::Occlusion: return "occlusionTexture";
+        case TextureSlot::Clearcoat: return "clearcoatTexture";
+        case TextureSlot::ClearcoatRoughness: return "clearcoatRoughnessTexture";
     }
     return "unknown texture";
 }

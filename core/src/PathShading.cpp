@@ -15,8 +15,8 @@ Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
 
 Bsdf bsdfOf(const SurfacePoint& point) {
     const Material& m = *point.material;
-    return {point.albedo, point.metallic, point.roughness, m.specular, toVec(m.specularColor), m.clearcoat,
-            m.clearcoatRoughness};
+    return {point.albedo, point.metallic, point.roughness, m.specular, toVec(m.specularColor), point.clearcoat,
+            point.clearcoatRoughness};
 }
 
 // wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it
@@ -47,7 +47,9 @@ HitAttributes hitAttributes(std::span<const uint32_t> normals, std::span<const u
 }
 
 MaterialSample materialFactors(const Material& m) {
-    return {baseColor(m), m.metallic, m.roughness, toVec(m.emissive)};
+    MaterialSample s{baseColor(m), m.metallic, m.roughness, toVec(m.emissive)};
+    s.clearcoat = m.clearcoat, s.clearcoatRoughness = m.clearcoatRoughness;
+    return s;
 }
 
 MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture> textures, std::array<float, 2> uv,
@@ -71,6 +73,9 @@ MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture>
         s.metallic *= t.b;
     }
     if (map(TextureSlot::Emissive, &t)) s.emissive = mul(s.emissive, Vec3f{t.r, t.g, t.b});
+    // A coat weight of 0 stays 0 (no coat: its maps are not read, as the device's kClearcoat folds them away).
+    if (s.clearcoat > 0.0f && map(TextureSlot::Clearcoat, &t)) s.clearcoat *= t.r;
+    if (s.clearcoat > 0.0f && map(TextureSlot::ClearcoatRoughness, &t)) s.clearcoatRoughness *= t.g;
     if (map(TextureSlot::Normal, &t)) {
         s.normalMapped = true;
         s.tangentNormal = decodeNormalTexel(t.r, t.g, t.b, m.textures.normalScale);
@@ -142,6 +147,7 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
     point.albedo = mul(factors.baseColor, unpackHitColor(attributes.color));
     point.metallic = factors.metallic;
     point.roughness = factors.roughness;
+    point.clearcoat = factors.clearcoat, point.clearcoatRoughness = factors.clearcoatRoughness;
     point.emissive = factors.emissive;
     point.outgoing = rayDirection * -1.0f;
     point.glossy = !isLambertian(material);

@@ -194,12 +194,13 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                                            : 1.0);
                 event = bounce < p.maxDepth;
                 // Without kClearcoat the coat is a constant 0 and its steps fold away.
-                const float coat = kClearcoat ? m.clearcoat : 0.0;
+                const float coat = kClearcoat ? values.clearcoat : 0.0;
                 // Glossy or Lambertian by the factors (core isLambertian), as the reference decides.
                 surface = Surface(n, ns, albedo, -direction,
-                                  kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || coat > 0.0), values.metallic,
-                                  values.roughness, m.specular, vec3(m.specularColorR, m.specularColorG, m.specularColorB),
-                                  coat, m.clearcoatRoughness);
+                                  kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || (kClearcoat && m.clearcoat > 0.0)),
+                                  values.metallic, values.roughness, m.specular,
+                                  vec3(m.specularColorR, m.specularColorG, m.specularColorB), coat,
+                                  values.clearcoatRoughness);
                 // Next-event estimation: an emissive triangle, a punctual light, or the sun, or with a
                 // map the sun or the map.
                 if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {

@@ -159,7 +159,9 @@ ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientO
         normalMapped = normalMapped || materialMap(m, TextureSlot::Normal) != kNoTexture;
         mapped = mapped || normalMapped || materialMap(m, TextureSlot::BaseColor) != kNoTexture ||
                  materialMap(m, TextureSlot::MetallicRoughness) != kNoTexture ||
-                 materialMap(m, TextureSlot::Emissive) != kNoTexture;
+                 materialMap(m, TextureSlot::Emissive) != kNoTexture ||
+                 (m.clearcoat > 0 && (materialMap(m, TextureSlot::Clearcoat) != kNoTexture ||
+                                      materialMap(m, TextureSlot::ClearcoatRoughness) != kNoTexture));
     }
     return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated,
             textures && mapped, textures && frames && normalMapped, emission && emitters};
@@ -976,6 +978,9 @@ private:
         set(TextureSlot::MetallicRoughness, r.metallicRoughnessMap, r.metallicRoughnessUv);
         set(TextureSlot::Emissive, r.emissiveMap, r.emissiveUv);
         set(TextureSlot::Normal, r.normalMap, r.normalUv);
+        set(TextureSlot::Clearcoat, r.clearcoatMap, r.clearcoatUv);
+        set(TextureSlot::ClearcoatRoughness, r.clearcoatRoughnessMap, r.clearcoatRoughnessUv);
+        if (!(m.clearcoat > 0)) r.clearcoatMap = r.clearcoatRoughnessMap = kNoGpuTexture;
         if (!b_.frames) r.normalMap = kNoGpuTexture;
         r.normalScale = m.textures.normalScale;
         r.alphaCutoff = r.baseColorMap != kNoGpuTexture ? m.alphaCutoff : 0.0f;

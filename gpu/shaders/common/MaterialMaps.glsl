@@ -16,16 +16,19 @@ struct MaterialValues {
     vec3 emissive;
     bool normalMapped;
     vec3 tangentNormal;
+    float clearcoat, clearcoatRoughness;  // KHR_materials_clearcoat's factors times their maps
 };
 
 MaterialValues materialFactors(WavefrontMaterial m) {
     return MaterialValues(vec3(m.baseR, m.baseG, m.baseB), m.metallic, m.roughness, vec3(m.emitR, m.emitG, m.emitB),
-                          false, vec3(0.0, 0.0, 1.0));
+                          false, vec3(0.0, 0.0, 1.0), m.clearcoat, m.clearcoatRoughness);
 }
 
+// The coat's maps are kNoGpuTexture where its factor is 0 (Wavefront.cpp setMaps).
 bool hasMaps(WavefrontMaterial m) {
     return m.baseColorMap != kNoGpuTexture || m.metallicRoughnessMap != kNoGpuTexture ||
-           m.emissiveMap != kNoGpuTexture || m.normalMap != kNoGpuTexture;
+           m.emissiveMap != kNoGpuTexture || m.normalMap != kNoGpuTexture || m.clearcoatMap != kNoGpuTexture ||
+           m.clearcoatRoughnessMap != kNoGpuTexture;
 }
 
 // A hit's footprint for the maps' levels (core/RayCone.h MapFootprint): the triangle's world
@@ -37,8 +40,8 @@ struct MapFootprint {
     float cosTheta;
 };
 
-// The pages a shading reads: two levels of each of the four maps at most.
-const uint kMaxMapPages = 8u;
+// The pages a shading reads: two levels of each of the six maps at most.
+const uint kMaxMapPages = 12u;
 
 // Texture `texture` at uv mapped by t, at the level the footprint asks for (core/RayCone.h
 // mapLod); with paged textures the page-table entries of the pages it reads are appended to
@@ -77,6 +80,11 @@ bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, MapFoot
     }
     if (m.emissiveMap != kNoGpuTexture)
         v.emissive *= readMap(p, m.emissiveMap, m.emissiveUv, uv, footprint, absent, pages, count).rgb;
+    if (m.clearcoatMap != kNoGpuTexture)
+        v.clearcoat *= readMap(p, m.clearcoatMap, m.clearcoatUv, uv, footprint, absent, pages, count).r;
+    if (m.clearcoatRoughnessMap != kNoGpuTexture)
+        v.clearcoatRoughness *= readMap(p, m.clearcoatRoughnessMap, m.clearcoatRoughnessUv, uv, footprint, absent, pages,
+                                        count).g;
     if (m.normalMap != kNoGpuTexture) {
         const vec4 t = readMap(p, m.normalMap, m.normalUv, uv, footprint, absent, pages, count);
         precise float x = (2.0 * t.r - 1.0) * m.normalScale;

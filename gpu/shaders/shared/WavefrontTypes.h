@@ -119,6 +119,12 @@ struct WavefrontMaterial {
     // next-event estimation's emitter branch draws a point on a triangle of this material
     // (EmitterTable::areaDensity); 0: not sampled (its emission is found by chance alone).
     float emitterDensity;
+    // KHR_materials_clearcoat's maps (package format 13): the coat weight's (R) and the coat
+    // roughness's (G), as the maps above; read only where the coat's factor is above 0.
+    uint clearcoatMap, clearcoatRoughnessMap;
+    float clearcoatUv[6];
+    float clearcoatRoughnessUv[6];
+    uint padding0, padding1;
 };
 
 // An emissive triangle as next-event estimation picks it (vastray::EmitterEntry): its corners,
@@ -330,8 +336,8 @@ struct WavefrontPush {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 4 * 6 * 4 + 4 * 4 &&
-              offsetof(WavefrontMaterial, baseColorMap) == 64);
+static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 4 * 6 * 4 + 4 * 4 + 2 * 4 + 2 * 6 * 4 + 2 * 4 &&
+              offsetof(WavefrontMaterial, baseColorMap) == 64 && offsetof(WavefrontMaterial, clearcoatMap) == 192);
 static_assert(sizeof(WavefrontLight) == 64);
 static_assert(sizeof(WavefrontEmitter) == 48);
 static_assert(offsetof(WavefrontParams, eyeX) == 47 * 8 && sizeof(WavefrontParams) % 8 == 0);

@@ -470,20 +470,14 @@ Result<std::vector<PunctualLight>> readLights(const tinygltf::Model& model) {
     return lights;
 }
 
-// The UV set the materials' textures use (textureInfo.texCoord of the five core maps), the
+// The UV set the materials' textures use (textureInfo.texCoord of the maps read: gltfMaterialMaps), the
 // most used when they differ (warned, naming the file), -1 when no material has a texture:
 // then no UVs are kept. Counts the maps into report.textureMaps.
 int chooseUvSet(const tinygltf::Model& model, const std::string& name, ImportReport& report) {
     std::map<int, uint64_t> uses;
-    for (const tinygltf::Material& m : model.materials) {
-        const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
-        for (auto [index, set] : {std::pair{pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord},
-                                  {pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord},
-                                  {m.normalTexture.index, m.normalTexture.texCoord},
-                                  {m.occlusionTexture.index, m.occlusionTexture.texCoord},
-                                  {m.emissiveTexture.index, m.emissiveTexture.texCoord}})
-            if (index >= 0) ++uses[std::max(set, 0)], ++report.textureMaps;
-    }
+    for (const tinygltf::Material& m : model.materials)
+        for (const import::GltfMapInfo& map : import::gltfMaterialMaps(m))
+            if (map.index >= 0) ++uses[std::max(map.texCoord, 0)], ++report.textureMaps;
     if (uses.empty()) return -1;
     const auto most = std::max_element(uses.begin(), uses.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
     if (uses.size() > 1)
@@ -543,9 +537,9 @@ void warnAboutUnused(const tinygltf::Model& model, int uvSet, ImportReport& repo
     uint64_t coatTextures = 0;
     for (const tinygltf::Material& m : model.materials)
         if (const auto coat = m.extensions.find("KHR_materials_clearcoat"); coat != m.extensions.end())
-            for (const char* name : {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
-                coatTextures += coat->second.Has(name) ? 1 : 0;
-    report.warnUnused("KHR_materials_clearcoat textures", coatTextures, "the coat uses its factors only");
+            coatTextures += coat->second.Has("clearcoatNormalTexture") ? 1 : 0;
+    report.warnUnused("KHR_materials_clearcoat normal textures", coatTextures,
+                      "the coat takes the surface's shading normal");
     // Material extensions the renderer has no model for (transmission, sheen, volume, ior, ...),
     // each counted by name, so that glass rendered opaque is not a surprise.
     std::map<std::string, uint64_t> extensions;

@@ -70,6 +70,20 @@ std::string percentDecoded(const std::string& uri) {
     return out;
 }
 
+// A textureInfo object of an extension (a tinygltf::Value): its index, texCoord and extensions.
+GltfMapInfo extensionMap(TextureSlot slot, const tinygltf::Value& info) {
+    GltfMapInfo map;
+    map.slot = slot;
+    if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) return map;
+    map.index = info.Get("index").GetNumberAsInt();
+    if (info.Has("texCoord") && info.Get("texCoord").IsInt()) map.texCoord = info.Get("texCoord").GetNumberAsInt();
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+        const tinygltf::Value& extensions = info.Get("extensions");
+        for (const std::string& key : extensions.Keys()) map.extensions[key] = extensions.Get(key);
+    }
+    return map;
+}
+
 class Reader {
 public:
     Reader(const tinygltf::Model& model, const std::string& fileName, const std::string& folder,
@@ -82,18 +96,7 @@ public:
             const std::string where =
                 "material " + std::to_string(m) + (g.name.empty() ? "" : " ('" + g.name + "')") + " ";
             MaterialTextures t;
-            const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
-            const struct {
-                TextureSlot slot;
-                int index;
-                const tinygltf::ExtensionMap& extensions;
-            } maps[] = {{TextureSlot::BaseColor, pbr.baseColorTexture.index, pbr.baseColorTexture.extensions},
-                        {TextureSlot::MetallicRoughness, pbr.metallicRoughnessTexture.index,
-                         pbr.metallicRoughnessTexture.extensions},
-                        {TextureSlot::Normal, g.normalTexture.index, g.normalTexture.extensions},
-                        {TextureSlot::Emissive, g.emissiveTexture.index, g.emissiveTexture.extensions},
-                        {TextureSlot::Occlusion, g.occlusionTexture.index, g.occlusionTexture.extensions}};
-            for (const auto& map : maps) {
+            for (const GltfMapInfo& map : gltfMaterialMaps(g)) {
                 if (map.index < 0) continue;
                 const std::string at = where + textureSlotName(map.slot) + ": ";
                 auto binding = bind(map.index, map.slot, map.extensions);
@@ -262,6 +265,23 @@ private:
 };
 
 }  // namespace
+
+std::vector<GltfMapInfo> gltfMaterialMaps(const tinygltf::Material& g) {
+    const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
+    std::vector<GltfMapInfo> maps{
+        {TextureSlot::BaseColor, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+         pbr.baseColorTexture.extensions},
+        {TextureSlot::MetallicRoughness, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+         pbr.metallicRoughnessTexture.extensions},
+        {TextureSlot::Normal, g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.extensions},
+        {TextureSlot::Emissive, g.emissiveTexture.index, g.emissiveTexture.texCoord, g.emissiveTexture.extensions},
+        {TextureSlot::Occlusion, g.occlusionTexture.index, g.occlusionTexture.texCoord, g.occlusionTexture.extensions}};
+    const auto coat = g.extensions.find("KHR_materials_clearcoat");
+    for (auto [slot, name] : {std::pair{TextureSlot::Clearcoat, "clearcoatTexture"},
+                              {TextureSlot::ClearcoatRoughness, "clearcoatRoughnessTexture"}})
+        if (coat != g.extensions.end() && coat->second.Has(name)) maps.push_back(extensionMap(slot, coat->second.Get(name)));
+    return maps;
+}
 
 Result<GltfTextures> readGltfTextures(const tinygltf::Model& model, const std::string& fileName,
                                       const std::string& folder, ImportReport& report) {

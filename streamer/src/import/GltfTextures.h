@@ -1,6 +1,6 @@
 #pragma once
 // The textures of a glTF model's materials (core/MaterialTextures.h): each material's five
-// maps with their KHR_texture_transform, and the scene's textures they name, one per image,
+// core maps and KHR_materials_clearcoat's coat and coat roughness maps, with their KHR_texture_transform, and the scene's textures they name, one per image,
 // sampler wrap modes and encoding. The images' encoded bytes come from the loader (GltfLoader.cpp
 // keeps them, from a data URI or a buffer view) or, for an image in a file of its own, from
 // that file, read here for the images a map uses only, inside the model's folder only (the
@@ -14,6 +14,20 @@
 #include "vastray/streamer/Import.h"
 
 namespace vastray::import {
+
+// One map of a glTF material as its textureInfo gives it: the texture index (-1: none), the UV
+// set and the textureInfo's extensions (KHR_texture_transform).
+struct GltfMapInfo {
+    TextureSlot slot;
+    int index = -1;
+    int texCoord = 0;
+    tinygltf::ExtensionMap extensions;
+};
+// The maps of material `g` the renderer reads, by TextureSlot: glTF's five, then
+// KHR_materials_clearcoat's clearcoatTexture and clearcoatRoughnessTexture (its
+// clearcoatNormalTexture is not read). A coat textureInfo that is not an object with an integer
+// index counts as none (GltfSchema has refused such a file before).
+std::vector<GltfMapInfo> gltfMaterialMaps(const tinygltf::Material& g);
 
 // At most this many distinct textures (image, wrap modes, encoding) in one scene.
 constexpr uint32_t kMaxSceneTextures = 4096;

@@ -50,7 +50,11 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 12: the emissive triangles next-event estimation samples, in a section after the lights (a
 //     version 3 to 11 package, which has none, is still read: its emitters are hit by chance only);
 //     a material's first reserved word after the coat holds flags (bit 0: alpha blending).
-constexpr uint32_t kVersion = 12;
+// 13: materials carry KHR_materials_clearcoat's two maps after the five of version 10 (56 bytes
+//     more each: the coat's and the coat roughness's texture and UV transform; a version 3 to 12
+//     package is still read, its coats unmapped).
+constexpr uint32_t kVersion = 13;
+constexpr uint32_t kFirstCoatMapsVersion = 13;
 constexpr uint32_t kFirstEmittersVersion = 12;
 constexpr uint32_t kMaterialAlphaBlend = 1u;  // Material::alphaBlend (version 12)
 constexpr uint32_t kKnownMaterialFlags = kMaterialAlphaBlend;
@@ -67,9 +71,15 @@ constexpr uint32_t kFirstSpecularColorVersion = 8;
 constexpr uint32_t kMaterialBytesBefore10 = kMaterialBytesBefore8 + 3 * 4 + 2 * 4 + 3 * 4;
 // Per map (core/MaterialTextures.h, kTextureSlotCount of them): texture index, UV transform (6 × f32).
 constexpr uint32_t kMaterialMapBytes = 4 + 6 * 4;
-constexpr uint32_t kMaterialBytes = kMaterialBytesBefore10 + 5 * kMaterialMapBytes + 4 * 4;
+// Maps a material record holds: glTF's five (version 10), then the coat's two (version 13).
+constexpr uint32_t materialMaps(uint32_t version) {
+    return version >= kFirstCoatMapsVersion ? 7 : version >= kFirstTextureVersion ? 5 : 0;
+}
+constexpr uint32_t kMaterialBytesBefore13 = kMaterialBytesBefore10 + 5 * kMaterialMapBytes + 4 * 4;
+constexpr uint32_t kMaterialBytes = kMaterialBytesBefore10 + 7 * kMaterialMapBytes + 4 * 4;
 constexpr uint32_t materialBytes(uint32_t version) {
-    return version >= kFirstTextureVersion         ? kMaterialBytes
+    return version >= kFirstCoatMapsVersion        ? kMaterialBytes
+           : version >= kFirstTextureVersion       ? kMaterialBytesBefore13
            : version >= kFirstSpecularColorVersion ? kMaterialBytesBefore10
            : version >= 5                          ? kMaterialBytesBefore8
                                                    : kMaterialBytesBefore5;

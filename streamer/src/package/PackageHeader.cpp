@@ -234,7 +234,8 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
         if (version >= format::kFirstEmittersVersion) std::swap(flags, reserved[1]);
         uint32_t mapsReserved[2] = {0, 0};
         if (version >= format::kFirstTextureVersion) {
-            for (TextureBinding& b : m.textures.slots) in.get(b.texture), in.get(b.transform);
+            for (uint32_t slot = 0; slot < format::materialMaps(version); ++slot)
+                in.get(m.textures.slots[slot].texture), in.get(m.textures.slots[slot].transform);
             in.get(m.textures.normalScale), in.get(m.textures.occlusionStrength);
             in.get(mapsReserved[0]), in.get(mapsReserved[1]);
         }
@@ -260,6 +261,7 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
 }
 
 static_assert(format::kCameraNameBytes == kMaxSceneCameraNameBytes);
+static_assert(format::materialMaps(format::kVersion) == kTextureSlotCount);
 
 std::vector<uint8_t> serializeCameras(const std::vector<SceneCamera>& cameras) {
     ByteWriter out;

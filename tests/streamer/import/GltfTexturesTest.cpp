@@ -82,6 +82,35 @@ TEST(GltfTextures, MapsSamplersAndTransformsAreReadAndSharedTexturesStored) {
     EXPECT_TRUE(report.warnings.empty());
 }
 
+// KHR_materials_clearcoat's clearcoatTexture and clearcoatRoughnessTexture are bound like the
+// core maps (linear data, their own KHR_texture_transform); its clearcoatNormalTexture is not read.
+TEST(GltfTextures, CoatMapsAreBoundWithTheirTransforms) {
+    const std::string json = texturedGltf(
+        R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"extensions":{"KHR_materials_clearcoat":
+              {"clearcoatFactor":1,"clearcoatTexture":{"index":1,"extensions":{"KHR_texture_transform":{"scale":[2,2]}}},
+               "clearcoatRoughnessTexture":{"index":1},"clearcoatNormalTexture":{"index":0}}}}])",
+        std::string(R"("extensionsUsed":["KHR_materials_clearcoat","KHR_texture_transform"],
+           "textures":[{"source":0},{"source":1}],"images":[{"uri":")") + kPngUri + R"("},{"uri":")" + kPngUri + R"("}])");
+    ImportReport report;
+    auto textures = readTextures("coat.gltf", json, report);
+    ASSERT_TRUE(textures) << textures.message();
+    const MaterialTextures& t = textures->materials[0];
+    const uint32_t coat = t.slots[uint32_t(TextureSlot::Clearcoat)].texture;
+    ASSERT_NE(coat, kNoTexture);
+    EXPECT_EQ(t.slots[uint32_t(TextureSlot::ClearcoatRoughness)].texture, coat);
+    EXPECT_EQ(textures->textures[coat].encoding, TextureEncoding::Linear);
+    EXPECT_EQ(t.slots[uint32_t(TextureSlot::Clearcoat)].transform, khrTextureTransform(0, 0, 0, 2, 2));
+    EXPECT_EQ(t.slots[uint32_t(TextureSlot::ClearcoatRoughness)].transform, kIdentityUvTransform);
+    EXPECT_EQ(t.slots[uint32_t(TextureSlot::Normal)].texture, kNoTexture);  // not the coat's normal map
+    // A coat map naming a texture the file lacks is refused by material and map.
+    const std::string bad = texturedGltf(
+        R"([{"extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1,"clearcoatRoughnessTexture":{"index":4}}}}])",
+        std::string(R"("textures":[{"source":0}],"images":[{"uri":")") + kPngUri + R"("}])");
+    auto refused = readTextures("badcoat.gltf", bad, report);
+    ASSERT_FALSE(refused.isOk());
+    EXPECT_EQ(refused.message(), "badcoat.gltf: material 0 clearcoatRoughnessTexture: texture 4 does not exist (the file has 1)");
+}
+
 TEST(GltfTextures, ImagesNotReadHereAreWarnedAndTheirMapsLeftOut) {
     const std::string json = texturedGltf(
         R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"normalTexture":{"index":1}}])",

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "PackageTestUtil.h"
+#include "VolumePackageForge.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
@@ -146,6 +147,24 @@ TEST_F(MaterialPackage, ChangedRecordWithoutItsChecksumIsRefused) {
     std::vector<uint8_t> bytes = *bytes_;
     putAt(bytes, recordAt(0) + kSpecularColorAt, 0.75f);
     expectOpenRefused(bytes, tempPath("forged-materials.vast"), "materials checksum mismatch");
+}
+
+// A version 12 package (five maps a material, no coat maps) still reads, its coats unmapped.
+TEST_F(MaterialPackage, VersionTwelvePackageReadsWithItsCoatsUnmapped) {
+    writeFile(tempPath("version12.vast"), withoutCoatMaps(*bytes_));
+    auto reader = PackageReader::open(tempPath("version12.vast"));
+    ASSERT_TRUE(reader) << reader.message();
+    EXPECT_EQ((*reader)->info().formatVersion, 12u);
+    EXPECT_TRUE((*reader)->verify().empty());
+    const std::vector<Material> expected = threeMaterials();
+    ASSERT_EQ((*reader)->info().materials.size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i) {
+        const Material& m = (*reader)->info().materials[i];
+        EXPECT_EQ(m.clearcoat, expected[i].clearcoat) << m.name;
+        EXPECT_EQ(m.clearcoatRoughness, expected[i].clearcoatRoughness) << m.name;
+        EXPECT_EQ(m.alphaBlend, expected[i].alphaBlend) << m.name;
+        EXPECT_FALSE(m.textures.any()) << m.name;
+    }
 }
 
 // The seed corpus keeps packages of versions 5 (glossy: metallic-roughness materials) and 7

@@ -31,6 +31,8 @@ TriangleMesh texturedQuad(const std::string& png) {
     m.name = "painted";
     m.textures.slots[uint32_t(TextureSlot::BaseColor)] = {0, khrTextureTransform(0.25f, 0, 0, 1, 1)};
     m.textures.slots[uint32_t(TextureSlot::MetallicRoughness)] = {1, kIdentityUvTransform};
+    m.textures.slots[uint32_t(TextureSlot::ClearcoatRoughness)] = {1, khrTextureTransform(0, 0.5f, 0, 2, 2)};
+    m.clearcoat = 1.0f;
     m.textures.occlusionStrength = 0.5f;
     mesh.materials = {m};
     const std::vector<uint8_t> bytes = readFile(png);
@@ -80,6 +82,9 @@ TEST_F(TexturePackage, EveryPageReadsBackAsTheImagesPyramidAndMaterialsKeepTheir
     EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::BaseColor)].transform[2], 0.25f);
     EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::MetallicRoughness)].texture, 1u);
     EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::Normal)].texture, kNoTexture);
+    EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::Clearcoat)].texture, kNoTexture);
+    EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::ClearcoatRoughness)].texture, 1u);  // format 13
+    EXPECT_EQ(m.textures.slots[uint32_t(TextureSlot::ClearcoatRoughness)].transform, khrTextureTransform(0, 0.5f, 0, 2, 2));
     EXPECT_EQ(m.textures.occlusionStrength, 0.5f);
     EXPECT_FALSE(reader->readTexturePage(2, 0, page.data()));
     EXPECT_FALSE(reader->readTexturePage(0, info.textures[0].layout.pageCount, page.data()));

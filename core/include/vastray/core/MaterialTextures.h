@@ -1,5 +1,6 @@
 #pragma once
-// The textures a material reads (docs/RENDERING.md, "Textures"): glTF's five maps, each a
+// The textures a material reads (docs/RENDERING.md, "Textures"): glTF's five core maps and
+// KHR_materials_clearcoat's coat and coat roughness maps, each a
 // texture of the scene and an affine map of the mesh's UVs (KHR_texture_transform), and the
 // textures themselves as an importer finds them (an image, its wrap modes and how its texels
 // are encoded). core/Texture.h says how a texture is stored and sampled.
@@ -12,8 +13,19 @@
 
 namespace vastray {
 
-enum class TextureSlot : uint32_t { BaseColor = 0, MetallicRoughness = 1, Normal = 2, Emissive = 3, Occlusion = 4 };
-constexpr uint32_t kTextureSlotCount = 5;
+// Clearcoat: KHR_materials_clearcoat's clearcoatTexture (its R channel scales the coat's weight);
+// ClearcoatRoughness: its clearcoatRoughnessTexture (G scales the coat's roughness). Package
+// format 13 brought those two.
+enum class TextureSlot : uint32_t {
+    BaseColor = 0,
+    MetallicRoughness = 1,
+    Normal = 2,
+    Emissive = 3,
+    Occlusion = 4,
+    Clearcoat = 5,
+    ClearcoatRoughness = 6
+};
+constexpr uint32_t kTextureSlotCount = 7;
 constexpr uint32_t kNoTexture = 0xFFFFFFFFu;
 
 const char* textureSlotName(TextureSlot slot);

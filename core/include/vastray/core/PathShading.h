@@ -34,6 +34,7 @@ struct SurfacePoint {
     Vec3f albedo;    // base colour (times its map) times the vertex colour
     // The material's factors times their maps where it has them (MaterialSample).
     float metallic = 0.0f, roughness = 1.0f;
+    float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
     Vec3f emissive;  // radiance
     Vec3f outgoing;  // unit, towards where the ray came from
     // Not the Lambertian base alone (core/Microfacet.h): the metallic-roughness BSDF's steps
@@ -68,6 +69,9 @@ struct MaterialSample {
     Vec3f baseColor;
     float metallic = 0.0f, roughness = 1.0f;
     Vec3f emissive;
+    // KHR_materials_clearcoat: the coat's weight times its map's R, its roughness times its
+    // roughness map's G (the factors without maps).
+    float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
     bool normalMapped = false;        // the material has a normal map
     Vec3f tangentNormal{0, 0, 1};     // its decoded texel, when normalMapped
 };
