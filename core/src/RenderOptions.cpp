@@ -56,12 +56,17 @@ void applySceneLights(std::span<const PunctualLight> lights, const Aabb& bounds,
     if (!lights.empty()) options.lights = std::make_shared<const std::vector<LightEntry>>(makeLightTable(lights, bounds));
 }
 
+std::shared_ptr<const EmitterTable> sceneEmitterTable(std::span<const EmissiveTriangle> emitters,
+                                                      std::span<const Material> materials) {
+    if (emitters.empty()) return nullptr;
+    auto table = std::make_shared<EmitterTable>(makeEmitterTable(emitters, materials));
+    if (table->entries.empty()) return nullptr;
+    return table;
+}
+
 void applySceneEmitters(std::span<const EmissiveTriangle> emitters, std::span<const Material> materials,
                         RenderOptions& options) {
-    options.emitters.reset();
-    if (emitters.empty()) return;
-    auto table = std::make_shared<EmitterTable>(makeEmitterTable(emitters, materials));
-    if (!table->entries.empty()) options.emitters = std::move(table);
+    options.emitters = sceneEmitterTable(emitters, materials);
 }
 
 PixelBounds renderBounds(const RenderOptions& options) {

@@ -42,6 +42,7 @@ layout(local_size_x = kWavefrontWorkgroupSize) in;
 layout(constant_id = 0) const bool kCountCost = true;  // the cost AOV: cells and triangles traced per pixel
 layout(constant_id = 1) const bool kPaging = true;     // some chunk is not resident: rays may park
 layout(constant_id = 2) const bool kCutouts = false;   // some material is a cut-out or a blend (core isAlphaTested)
+layout(constant_id = 3) const bool kBlends = false;    // some material is a blend (core isBlended): rays draw coins
 
 // The slot whose chunk the walk traces (cutAway reads its materials, UVs and primitive ids).
 ChunkSlot cutoutSlot;
@@ -59,7 +60,7 @@ bool cutAway(uint tri, uvec3 corners, float u, float v) {
     uint material = (cutoutSlot.flags & kSlotMaterialIds) != 0u ? UintArray(cutoutSlot.materialIds).v[tri] : 0u;
     material = material < params.p.materialCount ? material : 0u;
     const WavefrontMaterial m = MaterialArray(params.p.materials).v[material];
-    const bool blended = m.alphaBlend != 0u;
+    const bool blended = kBlends && m.alphaBlend != 0u;
     const bool mapped = m.baseColorMap != kNoGpuTexture && (cutoutSlot.flags & kSlotUvs) != 0u;
     if (!blended && (!(m.alphaCutoff > 0.0) || !mapped)) return false;
     float alpha = m.baseAlpha;
@@ -169,7 +170,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     UintArray topNodes = UintArray(params.p.topNodes);
     UintArray chunkSlots = UintArray(params.p.chunkSlots);
     const uint parkWord = state.y;  // the leaf of the first cell it waits for + 1, or 0
-    if (kCutouts) alphaBase = rayAlphaBase(params, j, anyHit);
+    if (kBlends) alphaBase = rayAlphaBase(params, j, anyHit);
     if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // nothing came since its walk: queued again
         const uint chunk = topNodes.v[2u * (parkWord - 1u)];
         if (chunkSlots.v[chunk] == kWalkNoHit) {

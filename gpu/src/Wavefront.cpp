@@ -174,8 +174,8 @@ std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, c
     w->pendingFixed_[0] = createAsync(device, kGenerateSpirv);
     w->pendingFixed_[1] = createAsync(device, kAccumulateSpirv);
     w->pendingFixed_[2] = createAsync(device, kAovSpirv);
-    w->startWalkVariants({{0u, 1u, 0u}});
-    if (inCore) w->startWalkVariants({{0u, 0u, 0u}});
+    w->startWalkVariants({{0u, 1u, 0u, 0u}});
+    if (inCore) w->startWalkVariants({{0u, 0u, 0u, 0u}});
     return w;
 }
 
@@ -195,7 +195,7 @@ void Wavefront::startWalkVariants(std::initializer_list<WalkConstants> variants)
     for (const auto& constants : variants) {
         const uint32_t key = variantKey(constants);
         if (pipelines_.walk.count(key) || pendingWalks_.count(key)) continue;
-        pendingWalks_.emplace(key, createAsync(device_, kWalkSpirv, {constants[0], constants[1], constants[2]}));
+        pendingWalks_.emplace(key, createAsync(device_, kWalkSpirv, {constants.begin(), constants.end()}));
     }
 }
 
@@ -253,8 +253,12 @@ public:
                                [&](const Material& m) { return isAlphaTested(m, mapped); })
                        ? 1u
                        : 0u;
-        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_}});
-        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_}});
+        blends_ = std::any_of(job_.materials.begin(), job_.materials.end(),
+                              [&](const Material& m) { return isBlended(m, mapped); })
+                      ? 1u
+                      : 0u;
+        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_, blends_}});
+        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_, blends_}});
         const bool emitters = options_.emitters && !options_.emitters->entries.empty();
         if (emitters && (options_.emitters->entries.size() > b_.tables.emitterCapacity ||
                          options_.emitters->areaDensity.size() != job_.materials.size()))
@@ -569,7 +573,7 @@ private:
         clearQueue(kShadeQueue);
         clearQueue(kShadeWaitQueue);
         // In core no ray parks: the walk without the paging code.
-        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, !pager_.allResident(), cutouts_}, stats_);
+        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, !pager_.allResident(), cutouts_, blends_}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
@@ -711,7 +715,7 @@ private:
                 VASTRAY_TRY(readWalkedRays());
             }
         VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
-        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, 1u, cutouts_}, stats_);
+        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, 1u, cutouts_, blends_}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         streamed_ = true;
@@ -1014,12 +1018,18 @@ private:
             options_.environment,
             options_.lights ? std::span<const LightEntry>(*options_.lights) : std::span<const LightEntry>(), &table);
         for (size_t m = 0; m < materials.size(); ++m) materials[m].emitterDensity = table.areaDensity[m];
+        Wavefront::UploadedEmitters& uploaded = w_.uploadedEmitters_;
+        if (uploaded.table == options_.emitters && uploaded.buffer == b_.table && uploaded.offset == b_.tables.emitters)
+            return Status::ok();
+        uploaded = {};
         std::vector<WavefrontEmitter> emitters;
         emitters.reserve(table.entries.size());
         for (const EmitterEntry& e : table.entries)
             emitters.push_back({e.v0.x, e.v0.y, e.v0.z, e.material, e.v1.x, e.v1.y, e.v1.z, e.keep, e.v2.x, e.v2.y,
                                 e.v2.z, e.alias});
-        return upload(emitters, b_.tables.emitters);
+        VASTRAY_TRY(upload(emitters, b_.tables.emitters));
+        uploaded = {options_.emitters, b_.table, b_.tables.emitters};
+        return Status::ok();
     }
 
     Status uploadResidency() {
@@ -1143,7 +1153,8 @@ private:
     QueryPool queries_;
     const ComputePipeline* shade_ = nullptr;  // this render's specialization
     const ComputePipeline* walk_ = nullptr;   // this wave's (paging or not)
-    uint32_t cutouts_ = 0;                    // the walk's kCutouts: some material is a cut-out
+    uint32_t cutouts_ = 0;                    // the walk's kCutouts: some material is a cut-out or a blend
+    uint32_t blends_ = 0;                     // the walk's kBlends: some material is a blend
     bool streamed_ = false;                   // renderStreamed runs: shading regenerates groups
 };
 

@@ -49,8 +49,8 @@ struct WavefrontBuffers {
 // has a normal map and the hits keep their UV derivatives (`frames`), kEmitters (the last) that
 // next-event estimation samples emissive triangles (`emitters`).
 using ShadeConstants = std::array<uint32_t, 13>;
-// wf_walk.comp's specialization: the cost AOV, paging, cut-outs.
-using WalkConstants = std::array<uint32_t, 3>;
+// wf_walk.comp's specialization: the cost AOV, paging, cut-outs (or blends), blends.
+using WalkConstants = std::array<uint32_t, 4>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false,
                               bool frames = false, bool emitters = false);
@@ -93,6 +93,13 @@ private:
     std::map<uint32_t, std::future<Result<std::unique_ptr<ComputePipeline>>>> pendingWalks_;
     std::map<uint32_t, std::future<Result<std::unique_ptr<ComputePipeline>>>> pendingShades_;
     std::future<Result<std::unique_ptr<ComputePipeline>>> pendingFixed_[3];  // generate, accumulate, aov
+    // The emitter table last uploaded, and where: a render of the same table (a kept-open scene's,
+    // RenderOptions::emitters shared between its renders) into the same buffer uploads none.
+    struct UploadedEmitters {
+        std::shared_ptr<const EmitterTable> table;
+        const GpuBuffer* buffer = nullptr;
+        uint64_t offset = 0;
+    } uploadedEmitters_;
 };
 
 }  // namespace vastray::gpu

@@ -155,7 +155,7 @@ public:
         options.volumes = scene.volumes;
         if (request.sceneLights)
             applySceneLights(scene.reader->info().lights, scene.reader->info().bounds, options);
-        applySceneEmitters(scene.reader->info().emitters, scene.reader->info().materials, options);
+        options.emitters = scene.emitters;
         RenderProgressReporter reporter(progress, *scene.backend, *scene.scene);
         auto image = scene.scene->render(options, stats ? &stats->render : nullptr, &streaming,
                                           reporter.passReporter(), &cancel);
@@ -181,6 +181,7 @@ private:
         std::unique_ptr<StreamingScene> scene;
         LoadCountingBackend* backend = nullptr;  // owned by scene
         std::shared_ptr<const std::vector<Volume>> volumes;  // the package's; null: none
+        std::shared_ptr<const EmitterTable> emitters;        // made once (sceneEmitterTable); null: none
     };
 
     uint64_t deviceInUse() const {
@@ -262,6 +263,7 @@ private:
                                           });
         if (!scene) return scene.status();
         entry.scene = std::move(scene).value();
+        entry.emitters = sceneEmitterTable(info.emitters, info.materials);
         entry.path = request.scenePath;
         entry.budget = budget;
         entry.mapBytes = mapBytes;

@@ -17,6 +17,7 @@
 #include "../VolumeTestSupport.h"
 #include "StreamTestSupport.h"
 #include "TestTmp.h"
+#include "shared/WavefrontTypes.h"
 #include "vastray/streamer/PackageBuilder.h"
 
 namespace vastray {
@@ -226,6 +227,35 @@ TEST(EmitterRender, StreamedEqualsInCoreWithSampledEmitters) {
     auto inCore = test::renderVulkan(path, o, 512ull << 20);
     ASSERT_TRUE(inCore) << inCore.message();
     test::expectTwoSlotRenderEquals(path, o, 0, *inCore, chunks);
+}
+
+// A kept-open scene's renders share its emitter table (the service makes it once per open scene):
+// the device uploads it at the first render only; a new table, even of the same triangles, is
+// uploaded again. Each render is the same image.
+TEST(EmitterRender, AKeptOpenSceneUploadsItsEmitterTableOnce) {
+    const std::string path = package("lamp-kept-open", lampOverPlane(true, 4));
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    const RenderOptions o = slantView(path, true, 2);
+    ASSERT_TRUE(o.emitters);
+    const uint64_t tableBytes = o.emitters->entries.size() * sizeof(gpu::WavefrontEmitter);
+    auto scene = StreamingScene::open(**reader, requiredAttributes((*reader)->info(), o), StreamingOptions{},
+                                      [&](const PackageInfo& info, const ChunkAttributes& a) {
+                                          return gpu::createVulkanChunkBackend(test::sharedVulkanDevice(), info, a,
+                                                                               256ull << 20);
+                                      });
+    ASSERT_TRUE(scene) << scene.message();
+    StreamingStats first, second, renewed;
+    auto a = (*scene)->render(o, nullptr, &first);
+    auto b = (*scene)->render(o, nullptr, &second);
+    RenderOptions fresh = o;
+    fresh.emitters = sceneEmitterTable((*reader)->info().emitters, (*reader)->info().materials);
+    auto c = (*scene)->render(fresh, nullptr, &renewed);
+    ASSERT_TRUE(a && b && c) << a.message() << b.message() << c.message();
+    EXPECT_EQ(second.hostToDeviceBytes + tableBytes, renewed.hostToDeviceBytes);
+    EXPECT_GE(first.hostToDeviceBytes, renewed.hostToDeviceBytes);
+    EXPECT_EQ(a->rgb, b->rgb);
+    EXPECT_EQ(a->rgb, c->rgb);
 }
 
 // The sum and share of every light, sampled and by chance: the sun (half of next-event

@@ -125,8 +125,13 @@ Status applySceneCamera(std::span<const SceneCamera> cameras, const std::string&
 // none sets no table.
 void applySceneLights(std::span<const PunctualLight> lights, const Aabb& bounds, RenderOptions& options);
 
-// The scene's emissive triangles (a package's, or an imported mesh's collectEmitters) with its
-// materials; none sets no table.
+// The emitter table of the scene's emissive triangles (a package's, or an imported mesh's
+// collectEmitters) with its materials; null when none is sampled. A caller that renders one scene
+// again (the service's open scenes) makes it once and shares it: the device backend then uploads
+// it once too.
+std::shared_ptr<const EmitterTable> sceneEmitterTable(std::span<const EmissiveTriangle> emitters,
+                                                      std::span<const Material> materials);
+// options.emitters = sceneEmitterTable(emitters, materials).
 void applySceneEmitters(std::span<const EmissiveTriangle> emitters, std::span<const Material> materials,
                         RenderOptions& options);
 
