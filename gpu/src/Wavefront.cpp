@@ -248,7 +248,7 @@ public:
         // waits for them when they are first used): the paging one while a chunk is missing, the
         // resident one where every chunk gets a slot.
         const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
-        const uint64_t mapped = b_.textures && b_.uvs ? job_.textures.size() : 0;
+        const uint64_t mapped = readableTextures();
         cutouts_ = std::any_of(job_.materials.begin(), job_.materials.end(),
                                [&](const Material& m) { return isAlphaTested(m, mapped); })
                        ? 1u
@@ -969,10 +969,17 @@ private:
         return uploadBytes(&p, sizeof(p), b_.tables.params);
     }
 
+    // The textures the maps can read: the package's when the device holds them and the hits' UVs; else none.
+    uint64_t readableTextures() const { return b_.textures && b_.uvs ? job_.textures.size() : 0; }
+    // The render's punctual lights (none: empty).
+    std::span<const LightEntry> lights() const {
+        return options_.lights ? std::span<const LightEntry>(*options_.lights) : std::span<const LightEntry>();
+    }
+
     // The material's maps in its record: each map's texture (kNoGpuTexture without textures on the
     // device, the hits' UVs or a texture the package has) and UV transform.
     void setMaps(const Material& m, WavefrontMaterial& r) const {
-        const uint64_t textures = b_.textures && b_.uvs ? job_.textures.size() : 0;
+        const uint64_t textures = readableTextures();
         auto set = [&](TextureSlot slot, uint32_t& texture, float* uv) {
             const TextureBinding& binding = m.textures.slots[uint32_t(slot)];
             texture = binding.texture < textures ? binding.texture : kNoGpuTexture;
@@ -997,7 +1004,7 @@ private:
     Status uploadLights(WavefrontParams& p) {
         if (!options_.lights || options_.lights->empty()) return Status::ok();
         p.lightCount = uint32_t(options_.lights->size());
-        const std::span<const LightEntry> entries(*options_.lights);
+        const std::span<const LightEntry> entries = lights();
         p.punctualPick = punctualPickProbability(options_.environment, entries);
         std::vector<WavefrontLight> lights;
         for (const LightEntry& e : entries)
@@ -1014,9 +1021,7 @@ private:
         if (!options_.emitters || options_.emitters->entries.empty()) return Status::ok();
         const EmitterTable& table = *options_.emitters;
         p.emitterCount = uint32_t(table.entries.size());
-        p.emitterPick = emitterPickProbability(
-            options_.environment,
-            options_.lights ? std::span<const LightEntry>(*options_.lights) : std::span<const LightEntry>(), &table);
+        p.emitterPick = emitterPickProbability(options_.environment, lights(), &table);
         for (size_t m = 0; m < materials.size(); ++m) materials[m].emitterDensity = table.areaDensity[m];
         Wavefront::UploadedEmitters& uploaded = w_.uploadedEmitters_;
         if (uploaded.table == options_.emitters && uploaded.buffer == b_.table && uploaded.offset == b_.tables.emitters)
