@@ -58,6 +58,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
                              {"specular_color", m.specularColor},
                              {"clearcoat", m.clearcoat},
                              {"clearcoat_roughness", m.clearcoatRoughness},
+                             {"ior", m.ior},
                              {"double_sided", m.doubleSided},
                              {"alpha_cutoff", m.alphaCutoff},
                              {"alpha_blend", m.alphaBlend},

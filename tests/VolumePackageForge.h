@@ -235,9 +235,13 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
     return withoutMaterialBytes(std::move(bytes), 144, 112, 32, 7);
 }
 
-// A format 13 package laid out as format 12: each material record's coat maps (two of 28 bytes,
-// after the five maps of format 10, none here) taken out (withoutMaterialBytes).
+// A format 13 package laid out as format 12: each material record's ior (the word at 136,
+// reserved before 13) zeroed and its coat maps (two of 28 bytes, after the five maps of format
+// 10, none here) taken out (withoutMaterialBytes).
 inline std::vector<uint8_t> withoutCoatMaps(std::vector<uint8_t> bytes) {
+    uint32_t materials = 0;
+    std::memcpy(&materials, bytes.data() + 80, 4);
+    for (uint32_t m = 0; m < materials; ++m) std::memset(bytes.data() + 256 + 356 * size_t(m) + 136, 0, 4);
     return withoutMaterialBytes(std::move(bytes), 356, 144 + 5 * 28, 2 * 28, 12);
 }
 

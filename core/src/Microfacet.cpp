@@ -73,10 +73,10 @@ float fresnelWeightAlbedo(float e, float ed) {
 // (1 + f0 (1 / E - 1)), 1 at f0 = 1, Ed at f0 = 0.04.
 float layerAlbedo(float f0, float e, float w) { return (f0 * e + (1.0f - f0) * w) * (1.0f + f0 * (1.0f / e - 1.0f)); }
 
-// The dielectric layer's F0 per channel: min(0.04 specularColor, 1).
+// The dielectric layer's F0 per channel: min(F0(ior) specularColor, 1).
 Vec3f layerF0(const Bsdf& b) {
     Vec3f f0;
-    for (int c = 0; c < 3; ++c) f0[c] = std::fmin(kDielectricF0 * b.specularColor[c], 1.0f);
+    for (int c = 0; c < 3; ++c) f0[c] = std::fmin(b.dielectricF0 * b.specularColor[c], 1.0f);
     return f0;
 }
 
@@ -225,6 +225,12 @@ std::vector<float> computeTables() {
 
 }  // namespace
 
+float iorF0(float ior) {
+    if (ior == 1.5f) return kDielectricF0;
+    const float r = (ior - 1.0f) / (ior + 1.0f);
+    return r * r;
+}
+
 std::string materialFactorProblem(const Material& m) {
     const std::pair<const char*, float> factors[] = {{"metallic", m.metallic},
                                                      {"roughness", m.roughness},
@@ -238,6 +244,11 @@ std::string materialFactorProblem(const Material& m) {
             std::snprintf(text, sizeof text, "%s %g is outside [0, 1]", what, double(v));
             return text;
         }
+    if (!(m.ior == 0.0f || (m.ior >= 1.0f && m.ior <= kMaxIor))) {
+        char text[96];
+        std::snprintf(text, sizeof text, "ior %g is neither 0 nor in [1, %g]", double(m.ior), double(kMaxIor));
+        return text;
+    }
     for (float v : m.specularColor)
         if (!(v >= 0.0f && v <= kMaxSpecularColor)) {
             char text[128];

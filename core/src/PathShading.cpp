@@ -15,8 +15,8 @@ Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
 
 Bsdf bsdfOf(const SurfacePoint& point) {
     const Material& m = *point.material;
-    return {point.albedo, point.metallic, point.roughness, m.specular, toVec(m.specularColor), point.clearcoat,
-            point.clearcoatRoughness};
+    return {point.albedo,    point.metallic,        point.roughness,          m.specular, toVec(m.specularColor),
+            point.clearcoat, point.clearcoatRoughness, iorF0(m.ior)};
 }
 
 // wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it

@@ -127,7 +127,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 punctualDirection, punctualIrradiance;
         float punctualDistance;
         bool event = false, shoots = false;
-        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0);
+        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0, 0.04);
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
             origin = rayStart.xyz + direction * tCollision;
@@ -200,7 +200,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                                   kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || (kClearcoat && m.clearcoat > 0.0)),
                                   values.metallic, values.roughness, m.specular,
                                   vec3(m.specularColorR, m.specularColorG, m.specularColorB), coat,
-                                  values.clearcoatRoughness);
+                                  values.clearcoatRoughness, m.dielectricF0);
                 // Next-event estimation: an emissive triangle, a punctual light, or the sun, or with a
                 // map the sun or the map.
                 if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {

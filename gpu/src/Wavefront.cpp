@@ -961,6 +961,7 @@ private:
             r.specularColorR = m.specularColor[0], r.specularColorG = m.specularColor[1];
             r.specularColorB = m.specularColor[2];
             r.clearcoat = m.clearcoat, r.clearcoatRoughness = m.clearcoatRoughness;
+            r.dielectricF0 = iorF0(m.ior);
             setMaps(m, r);
         }
         VASTRAY_TRY(uploadEmitters(p, materials));

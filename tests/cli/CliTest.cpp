@@ -59,18 +59,19 @@ TEST_F(Cli, InfoJsonHasTheDocumentedFields) {
         EXPECT_NE(r.output.find(key), std::string::npos) << key;
 }
 
-// glTF material extensions (KHR_materials_specular's colour, KHR_materials_clearcoat) reach the
-// package and `info --json` lists them per material; the coat's normal texture (not read) is
+// glTF material extensions (KHR_materials_specular's colour, KHR_materials_clearcoat,
+// KHR_materials_ior) reach the package and `info --json` lists them per material; the coat's normal texture (not read) is
 // warned about.
 TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
     // One triangle (0,0,0), (1,0,0), (0,1,0) as base64 floats.
     const std::string gltf = R"({"asset":{"version":"2.0"},
-        "extensionsUsed":["KHR_materials_specular","KHR_materials_clearcoat"],
+        "extensionsUsed":["KHR_materials_specular","KHR_materials_clearcoat","KHR_materials_ior"],
         "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
         "bufferViews":[{"buffer":0,"byteLength":36}],
         "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
         "materials":[{"name":"lacquer","extensions":{"KHR_materials_specular":{"specularColorFactor":[0.5,1,2]},
-            "KHR_materials_clearcoat":{"clearcoatFactor":0.75,"clearcoatRoughnessFactor":0.125,"clearcoatNormalTexture":{"index":0}}}}],
+            "KHR_materials_clearcoat":{"clearcoatFactor":0.75,"clearcoatRoughnessFactor":0.125,"clearcoatNormalTexture":{"index":0}},
+            "KHR_materials_ior":{"ior":1.25}}}],
         "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
     std::ofstream(tmp("coat.gltf")) << gltf;
     CommandResult i = run("import " + tmp("coat.gltf") + " -o " + tmp("coat.vast") + " --progress none");
@@ -79,7 +80,7 @@ TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
     CommandResult r = run("info " + tmp("coat.vast") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* key : {"\"name\": \"lacquer\"", "\"specular_color\"", "0.5", "2.0", "\"clearcoat\": 0.75",
-                            "\"clearcoat_roughness\": 0.125"})
+                            "\"clearcoat_roughness\": 0.125", "\"ior\": 1.25"})
         EXPECT_NE(r.output.find(key), std::string::npos) << key << " in " << r.output;
 }
 

@@ -116,6 +116,20 @@ TEST(Microfacet, WhiteFurnaceHoldsUnderAClearcoat) {
 // specularColorFactor 0 is not specularFactor 0: glTF's layer keeps F90 = specularFactor, so
 // F0 = 0 leaves Schlick's grazing term (1 - cos)^5 alone. Over a black base: next to nothing
 // at normal incidence (where specularFactor 0 gives exactly nothing), a visible share at grazing.
+// KHR_materials_ior's F0: exactly the constant at glTF's default 1.5 (the default material's
+// steps stay what they were), ((ior - 1) / (ior + 1))^2 elsewhere, 1 at the extension's 0.
+TEST(Microfacet, IorSetsTheLayersF0) {
+    EXPECT_EQ(iorF0(1.5f), kDielectricF0);
+    EXPECT_FLOAT_EQ(iorF0(2.0f), 1.0f / 9.0f);
+    EXPECT_FLOAT_EQ(iorF0(1.0f), 0.0f);
+    EXPECT_FLOAT_EQ(iorF0(0.0f), 1.0f);
+    Material m;
+    m.ior = 0.99f;
+    EXPECT_EQ(materialFactorProblem(m), "ior 0.99 is neither 0 nor in [1, 1000]");
+    m.ior = 1000.0f;
+    EXPECT_EQ(materialFactorProblem(m), "");
+}
+
 TEST(Microfacet, ZeroSpecularColourKeepsOnlyTheGrazingFresnel) {
     Bsdf colourless{{0, 0, 0}, 0.0f, 0.3f, 1.0f};
     colourless.specularColor = {0, 0, 0};

@@ -20,8 +20,9 @@ struct Surface {
     vec3 n, ns, base, wo;
     bool glossy;
     float metallic, roughness, specular;
-    vec3 specularColor;  // the layer's F0 is min(0.04 this, 1)
+    vec3 specularColor;  // the layer's F0 is min(dielectricF0 this, 1)
     float clearcoat, clearcoatRoughness;  // the coat over it all (0: none)
+    float dielectricF0;                   // core iorF0 of the material's ior (the coat's is kDielectricF0)
 };
 
 float microfacetAlpha(float roughness) { return max(roughness * roughness, kMinMicrofacetAlpha); }
@@ -104,7 +105,7 @@ BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
     const float w = fresnelWeightAlbedo(o.metalAlbedo, microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness));
     const float wAverage = microfacetAverage(p, kMicrofacetFresnelAverageTable, s.roughness);
     const float mixAverage = microfacetAverage(p, kMicrofacetMixAverageTable, s.roughness);
-    o.f0 = min(kDielectricF0 * s.specularColor, vec3(1.0));
+    o.f0 = min(s.dielectricF0 * s.specularColor, vec3(1.0));
     o.layerAlbedo = layerAlbedo(o.f0, o.metalAlbedo, w);
     o.layerAverage = o.f0 * o.f0 + (vec3(1.0) - o.f0) * (vec3(1.0) - o.f0) * wAverage + o.f0 * (vec3(1.0) - o.f0) * mixAverage;
     const float base = (s.base.x + s.base.y + s.base.z) / 3.0;

@@ -124,7 +124,8 @@ struct WavefrontMaterial {
     uint clearcoatMap, clearcoatRoughnessMap;
     float clearcoatUv[6];
     float clearcoatRoughnessUv[6];
-    uint padding0, padding1;
+    float dielectricF0;  // the specular layer's F0 for its ior (core iorF0: KHR_materials_ior)
+    uint padding0;
 };
 
 // An emissive triangle as next-event estimation picks it (vastray::EmitterEntry): its corners,

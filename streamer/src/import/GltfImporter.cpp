@@ -105,6 +105,11 @@ Material convertMaterial(const tinygltf::Material& g, size_t index) {
                                      ? float(colour.Get(c).GetNumberAsDouble())
                                      : std::numeric_limits<float>::quiet_NaN();
     }
+    // KHR_materials_ior's index of refraction (1.5 without it; its range: finalizeMesh).
+    if (const auto ior = g.extensions.find("KHR_materials_ior"); ior != g.extensions.end() && ior->second.Has("ior")) {
+        const tinygltf::Value& v = ior->second.Get("ior");
+        m.ior = v.IsNumber() ? float(v.GetNumberAsDouble()) : std::numeric_limits<float>::quiet_NaN();
+    }
     // KHR_materials_clearcoat's factors (0 and 0 without it: no coat).
     if (const auto coat = g.extensions.find("KHR_materials_clearcoat"); coat != g.extensions.end()) {
         const auto factor = [&](const char* name) {
@@ -546,7 +551,7 @@ void warnAboutUnused(const tinygltf::Model& model, int uvSet, ImportReport& repo
     for (const tinygltf::Material& m : model.materials)
         for (const auto& [name, value] : m.extensions)
             if (name != "KHR_materials_emissive_strength" && name != "KHR_materials_specular" &&
-                name != "KHR_materials_clearcoat")
+                name != "KHR_materials_clearcoat" && name != "KHR_materials_ior")
                 ++extensions[name];
     warnByName(
         extensions, [](const std::string& name) { return "materials' " + name + " extensions"; },

@@ -17,9 +17,10 @@ namespace {
 
 // KHR_texture_transform is applied to every map (GltfTextures); quantized (normalized integer)
 // positions are read by GltfAccessor.
-const std::set<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
-                                                  "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_clearcoat",
-                                                  "KHR_texture_transform", "KHR_lights_punctual", "KHR_texture_basisu"};
+const std::set<std::string> kSupportedRequired = {
+    "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "KHR_materials_emissive_strength",
+    "KHR_materials_specular",     "KHR_materials_clearcoat", "KHR_materials_ior",     "KHR_texture_transform",
+    "KHR_lights_punctual",        "KHR_texture_basisu"};
 
 // glTF's own structure nests about 6 deep (extensions and extras a few more). tinygltf and
 // nlohmann walk the JSON recursively: 20,000 levels (40 KB of '[') overflowed the stack.

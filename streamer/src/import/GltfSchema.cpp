@@ -194,8 +194,10 @@ const Schema kClearcoatExtension{{{"clearcoatFactor", Kind::Number}, {"clearcoat
                                   {"clearcoatRoughnessFactor", Kind::Number},
                                   {"clearcoatRoughnessTexture", Kind::Object, &kTextureInfo},
                                   {"clearcoatNormalTexture", Kind::Object, &kTextureInfo}}};
+const Schema kIorExtension{{{"ior", Kind::Number}}};
 const std::pair<const char*, const Schema*> kMaterialExtensions[] = {{"KHR_materials_specular", &kSpecularExtension},
-                                                                     {"KHR_materials_clearcoat", &kClearcoatExtension}};
+                                                                     {"KHR_materials_clearcoat", &kClearcoatExtension},
+                                                                     {"KHR_materials_ior", &kIorExtension}};
 
 Status checkMaterialExtensionTypes(const Json& doc) {
     if (!doc.contains("materials")) return Status::ok();

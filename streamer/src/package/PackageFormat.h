@@ -51,8 +51,9 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //     version 3 to 11 package, which has none, is still read: its emitters are hit by chance only);
 //     a material's first reserved word after the coat holds flags (bit 0: alpha blending).
 // 13: materials carry KHR_materials_clearcoat's two maps after the five of version 10 (56 bytes
-//     more each: the coat's and the coat roughness's texture and UV transform; a version 3 to 12
-//     package is still read, its coats unmapped).
+//     more each: the coat's and the coat roughness's texture and UV transform) and
+//     KHR_materials_ior's index of refraction (an f32 in the second word after the coat, reserved
+//     before); a version 3 to 12 package is still read, its coats unmapped and its ior 1.5.
 constexpr uint32_t kVersion = 13;
 constexpr uint32_t kFirstCoatMapsVersion = 13;
 constexpr uint32_t kFirstEmittersVersion = 12;

@@ -177,7 +177,7 @@ std::vector<uint8_t> serializeMaterials(const std::vector<Material>& materials) 
         out.putFixedString(cutUtf8(m.name, format::kMaterialNameBytes), format::kMaterialNameBytes);  // whole characters
         out.put(m.specularColor), out.put(m.clearcoat), out.put(m.clearcoatRoughness);
         out.put(m.alphaBlend ? format::kMaterialAlphaBlend : 0u);  // flags (version 12)
-        for (int i = 0; i < 2; ++i) out.put(uint32_t(0));
+        out.put(m.ior), out.put(uint32_t(0));                       // ior (version 13), a reserved word
         for (const TextureBinding& b : m.textures.slots) out.put(b.texture), out.put(b.transform);
         out.put(m.textures.normalScale), out.put(m.textures.occlusionStrength), out.put(uint32_t(0)), out.put(uint32_t(0));
     }
@@ -229,9 +229,10 @@ Result<std::vector<Material>> parseMaterials(const std::vector<uint8_t>& bytes, 
             in.get(m.specularColor), in.get(m.clearcoat), in.get(m.clearcoatRoughness);
             for (int r = 1; r < 4; ++r) in.get(reserved[r]);
         }
-        // Version 12: the first word after the coat holds flags.
+        // Version 12: the first word after the coat holds flags; 13: the second the ior (else 1.5).
         uint32_t flags = 0;
         if (version >= format::kFirstEmittersVersion) std::swap(flags, reserved[1]);
+        if (version >= format::kFirstCoatMapsVersion) std::memcpy(&m.ior, &reserved[2], 4), reserved[2] = 0;
         uint32_t mapsReserved[2] = {0, 0};
         if (version >= format::kFirstTextureVersion) {
             for (uint32_t slot = 0; slot < format::materialMaps(version); ++slot)

@@ -248,6 +248,37 @@ TEST(GltfImport, UnsupportedMaterialExtensionsAndAlphaModesAreWarnedOncePerKind)
                               "hides them (alphaMode MASK below alphaCutoff, or BLEND at alpha 0)");
 }
 
+// KHR_materials_ior: the index of refraction reaches the material (1.5 without it, 0 accepted as
+// the extension allows); outside 0 and [1, 1000] it is refused naming the material, a value of
+// the wrong JSON type naming its JSON path; the extension is not warned about as unused.
+TEST(GltfImport, IorReachesTheMaterial) {
+    const auto document = [](const std::string& ior) {
+        GltfBuilder b;
+        b.addPositions(kTriangle);
+        return b.json(R"("extensionsUsed":["KHR_materials_ior"],"extensionsRequired":["KHR_materials_ior"],
+           "materials":[{"name":"glass","extensions":{"KHR_materials_ior":)" + ior + R"(}},{"name":"plain"}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+    };
+    for (const auto& [ior, expected] : {std::pair{R"({"ior":2.25})", 2.25f}, std::pair{R"({"ior":0})", 0.0f},
+                                        std::pair{R"({})", 1.5f}}) {
+        auto r = importGltf(writeFile("ior.gltf", document(ior)));
+        ASSERT_TRUE(r.isOk()) << r.message();
+        EXPECT_EQ(r->mesh.materials[0].ior, expected) << ior;
+        EXPECT_EQ(r->mesh.materials[1].ior, 1.5f);
+        for (const std::string& w : r->report.warnings) EXPECT_EQ(w.find("KHR_materials_ior"), std::string::npos) << w;
+    }
+    for (const auto& [ior, expected] :
+         {std::pair{R"({"ior":0.5})", "material 0 ('glass'): ior 0.5 is neither 0 nor in [1, 1000]"},
+          std::pair{R"({"ior":1e9})", "material 0 ('glass'): ior 1e+09 is neither 0 nor in [1, 1000]"},
+          std::pair{R"({"ior":"high"})",
+                    R"(JSON /materials/0/extensions/KHR_materials_ior/ior: expected a number, found string "high")"}}) {
+        auto refused = importGltf(writeFile("badior.gltf", document(ior)));
+        ASSERT_FALSE(refused.isOk()) << ior;
+        EXPECT_NE(refused.message().find(expected), std::string::npos) << refused.message();
+    }
+}
+
 TEST(GltfImport, ClearcoatFactors) {
     const auto document = [](const std::string& coat) {
         GltfBuilder b;

@@ -35,6 +35,7 @@ std::vector<Material> threeMaterials() {
     Material saturated{"Saturated", {1, 1, 1, 1}, {1, 2, 3}, 0.25f, 1.0f, 1.0f, {25, 1000, 0.125f}, 0.5f, 1.0f, true};
     saturated.alphaCutoff = 0.375f;
     plastic.alphaBlend = true;
+    colourless.ior = 2.25f, saturated.ior = 0.0f;  // KHR_materials_ior (version 13)
     return {plastic, colourless, saturated};
 }
 
@@ -87,6 +88,7 @@ TEST_F(MaterialPackage, MaterialsRoundTripExactly) {
         EXPECT_EQ(read[i].doubleSided, expected[i].doubleSided);
         EXPECT_EQ(read[i].alphaCutoff, expected[i].alphaCutoff);
         EXPECT_EQ(read[i].alphaBlend, expected[i].alphaBlend);
+        EXPECT_EQ(read[i].ior, expected[i].ior);
     }
 }
 
@@ -117,11 +119,19 @@ TEST_F(MaterialPackage, ForgedFactorsAreRefusedByMaterial) {
         putAt(bytes, recordAt(material) + kAlphaCutoffAt, value);
         expectRefused(bytes, expected);
     }
-    // Version 12: the first word after the coat holds flags (bit 0: alpha blending); the others
-    // stay reserved.
-    for (uint32_t word = 1; word < 3; ++word) {
+    // Version 12: the first word after the coat holds flags (bit 0: alpha blending); 13: the
+    // second the ior; the third stays reserved.
+    for (const auto& [value, expected] :
+         {std::pair{0.5f, "material 1 ('Colourless'): ior 0.5 is neither 0 nor in [1, 1000]"},
+          std::pair{nan, "material 1 ('Colourless'): ior nan is neither 0 nor in [1, 1000]"},
+          std::pair{1001.0f, "material 1 ('Colourless'): ior 1001 is neither 0 nor in [1, 1000]"}}) {
         std::vector<uint8_t> bytes = *bytes_;
-        putAt(bytes, recordAt(1) + kReservedAt + 4 * word, uint32_t(1));
+        putAt(bytes, recordAt(1) + kReservedAt + 4, value);
+        expectRefused(bytes, expected);
+    }
+    {
+        std::vector<uint8_t> bytes = *bytes_;
+        putAt(bytes, recordAt(1) + kReservedAt + 8, uint32_t(1));
         expectRefused(bytes, "material 1 ('Colourless') has a non-zero reserved field");
     }
     std::vector<uint8_t> bytes = *bytes_;
@@ -149,7 +159,8 @@ TEST_F(MaterialPackage, ChangedRecordWithoutItsChecksumIsRefused) {
     expectOpenRefused(bytes, tempPath("forged-materials.vast"), "materials checksum mismatch");
 }
 
-// A version 12 package (five maps a material, no coat maps) still reads, its coats unmapped.
+// A version 12 package (five maps a material, no coat maps, no ior) still reads, its coats
+// unmapped and its ior glTF's default.
 TEST_F(MaterialPackage, VersionTwelvePackageReadsWithItsCoatsUnmapped) {
     writeFile(tempPath("version12.vast"), withoutCoatMaps(*bytes_));
     auto reader = PackageReader::open(tempPath("version12.vast"));
@@ -163,6 +174,7 @@ TEST_F(MaterialPackage, VersionTwelvePackageReadsWithItsCoatsUnmapped) {
         EXPECT_EQ(m.clearcoat, expected[i].clearcoat) << m.name;
         EXPECT_EQ(m.clearcoatRoughness, expected[i].clearcoatRoughness) << m.name;
         EXPECT_EQ(m.alphaBlend, expected[i].alphaBlend) << m.name;
+        EXPECT_EQ(m.ior, 1.5f) << m.name;  // the word was reserved (zero) before version 13
         EXPECT_FALSE(m.textures.any()) << m.name;
     }
 }

@@ -42,7 +42,11 @@ struct Material {
     // every ray (stochastic transparency: docs/RENDERING.md, "Blending"). A blend
     // whose alpha is 1 with no map is opaque.
     bool alphaBlend = false;
-    // The maps it reads (glTF's five), each a texture of the mesh's `textures` or kNoTexture.
+    // KHR_materials_ior: the dielectric layer's index of refraction, which sets its F0 (((ior - 1) /
+    // (ior + 1))^2, 0.04 at glTF's default 1.5; core/Microfacet.h iorF0); 0 (the extension's
+    // value for a layer that reflects everything: F0 1) or in [1, kMaxIor]. The coat keeps 1.5.
+    float ior = 1.5f;
+    // The maps it reads (glTF's five and the coat's two), each a texture of the mesh's `textures` or kNoTexture.
     MaterialTextures textures{};
 };
 

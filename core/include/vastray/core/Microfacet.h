@@ -58,14 +58,23 @@ float microfacetAverageLookup(const float* tables, float roughness, uint32_t tab
 // 1 from 25 on (0.04 x 25); beyond 1,000 a value is taken for an error in the file.
 constexpr float kMaxSpecularColor = 1000.0f;
 
+// KHR_materials_ior's largest index of refraction (F0 0.996); beyond it a value is taken for an
+// error in the file.
+constexpr float kMaxIor = 1000.0f;
+// The dielectric layer's F0 for index of refraction `ior` (Material::ior): ((ior - 1) / (ior + 1))^2,
+// exactly kDielectricF0 at 1.5 (so that the default material's steps are the ones before the
+// extension), 1 at 0.
+float iorF0(float ior);
+
 struct Bsdf {
     Vec3f base;          // base colour times the vertex colour
     float metallic = 0;  // [0, 1]
     float roughness = 1; // [0, 1], perceptual (alpha = roughness^2)
     float specular = 0;  // [0, 1], the dielectric layer's weight
-    Vec3f specularColor{1, 1, 1};  // [0, kMaxSpecularColor]: the layer's F0 is min(0.04 this, 1)
+    Vec3f specularColor{1, 1, 1};  // [0, kMaxSpecularColor]: the layer's F0 is min(dielectricF0 this, 1)
     float clearcoat = 0;           // [0, 1], the coat's weight (0: none)
     float clearcoatRoughness = 0;  // [0, 1], perceptual
+    float dielectricF0 = kDielectricF0;  // the layer's, iorF0(Material::ior); the coat's is kDielectricF0
 };
 
 // "metallic 1.5 is outside [0, 1]" for the first factor that is not a fraction (or a specular
