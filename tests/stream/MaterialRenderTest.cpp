@@ -68,6 +68,15 @@ void expectBackendsAgree(const std::string& path, const RenderOptions& o, const 
     EXPECT_LE(rmse, 1e-2) << what;
 }
 
+// The generated city from the default camera, lit by the sky and sun: 48 x 36 pixels, 4 spp, depth 3.
+RenderOptions cityView() {
+    RenderOptions o;
+    o.width = 48, o.height = 36;
+    o.samplesPerPixel = 4;
+    o.maxDepth = 3;
+    return o;
+}
+
 Material whiteDielectric(float roughness) {
     Material m;
     m.baseColor = {1, 1, 1, 1};
@@ -100,10 +109,7 @@ TEST(MaterialRender, SpecularColourWhiteFurnaceVanishes) {
 // specularFactor 0 (glTF keeps F90 = specularFactor: the grazing reflection stays), but it is
 // close to it (normal incidence reflects nothing).
 TEST(MaterialRender, SpecularColourDeviceAgreesWithEmbree) {
-    RenderOptions o;
-    o.width = 48, o.height = 36;
-    o.samplesPerPixel = 4;
-    o.maxDepth = 3;
+    const RenderOptions o = cityView();
     Material tinted = whiteDielectric(0.25f);
     tinted.baseColor = {0.1f, 0.1f, 0.12f, 1.0f};
     tinted.specularColor = {2.0f, 0.5f, 10.0f};
@@ -154,10 +160,7 @@ TEST(MaterialRender, ClearcoatWhiteFurnaceVanishes) {
 // A red base under a sharp coat and a metal under a half, rougher one, on the city with the sky
 // and sun and with a map: the device matches the reference; the coat shows.
 TEST(MaterialRender, ClearcoatDeviceAgreesWithEmbree) {
-    RenderOptions o;
-    o.width = 48, o.height = 36;
-    o.samplesPerPixel = 4;
-    o.maxDepth = 3;
+    const RenderOptions o = cityView();
     Material red = whiteDielectric(0.7f);
     red.baseColor = {0.6f, 0.05f, 0.05f, 1.0f};
     red.clearcoat = 1.0f, red.clearcoatRoughness = 0.08f;
@@ -194,10 +197,7 @@ TEST(MaterialRender, IorFurnaceVanishesAndTheDeviceAgreesWithEmbree) {
             expectFurnaceVanishes(*image, std::string(backend) + " ior " + std::to_string(ior));
         }
     }
-    RenderOptions o;
-    o.width = 48, o.height = 36;
-    o.samplesPerPixel = 4;
-    o.maxDepth = 3;
+    const RenderOptions o = cityView();
     Material dense = whiteDielectric(0.2f);
     dense.baseColor = {0.1f, 0.1f, 0.12f, 1.0f};
     dense.ior = 2.5f;
