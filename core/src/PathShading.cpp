@@ -73,7 +73,7 @@ MaterialSample sampleMaterial(const Material& m, std::span<const DecodedTexture>
         s.metallic *= t.b;
     }
     if (map(TextureSlot::Emissive, &t)) s.emissive = mul(s.emissive, Vec3f{t.r, t.g, t.b});
-    // A coat weight of 0 stays 0 (no coat: its maps are not read, as the device's kClearcoat folds them away).
+    // A coat weight of 0 stays 0: no coat, its maps are not read (the device's material records drop them).
     if (s.clearcoat > 0.0f && map(TextureSlot::Clearcoat, &t)) s.clearcoat *= t.r;
     if (s.clearcoat > 0.0f && map(TextureSlot::ClearcoatRoughness, &t)) s.clearcoatRoughness *= t.g;
     if (map(TextureSlot::Normal, &t)) {

@@ -249,14 +249,12 @@ public:
         // resident one where every chunk gets a slot.
         const uint32_t cost = (image_.aovs & kAovCost) != 0 ? 1u : 0u;
         const uint64_t mapped = readableTextures();
-        cutouts_ = std::any_of(job_.materials.begin(), job_.materials.end(),
-                               [&](const Material& m) { return isAlphaTested(m, mapped); })
-                       ? 1u
-                       : 0u;
-        blends_ = std::any_of(job_.materials.begin(), job_.materials.end(),
-                              [&](const Material& m) { return isBlended(m, mapped); })
-                      ? 1u
-                      : 0u;
+        auto anyMaterial = [&](bool (*test)(const Material&, uint64_t)) {
+            return std::any_of(job_.materials.begin(), job_.materials.end(),
+                               [&](const Material& m) { return test(m, mapped); }) ? 1u : 0u;
+        };
+        cutouts_ = anyMaterial(isAlphaTested);
+        blends_ = anyMaterial(isBlended);
         if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_, blends_}});
         if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_, blends_}});
         const bool emitters = options_.emitters && !options_.emitters->entries.empty();

@@ -545,7 +545,7 @@ void warnAboutUnused(const tinygltf::Model& model, int uvSet, ImportReport& repo
             coatTextures += coat->second.Has("clearcoatNormalTexture") ? 1 : 0;
     report.warnUnused("KHR_materials_clearcoat normal textures", coatTextures,
                       "the coat takes the surface's shading normal");
-    // Material extensions the renderer has no model for (transmission, sheen, volume, ior, ...),
+    // Material extensions the renderer has no model for (transmission, sheen, volume, ...),
     // each counted by name, so that glass rendered opaque is not a surprise.
     std::map<std::string, uint64_t> extensions;
     for (const tinygltf::Material& m : model.materials)

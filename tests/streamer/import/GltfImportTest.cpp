@@ -129,16 +129,25 @@ TEST(GltfImport, MetallicRoughnessFactors) {
     }
 }
 
+// A triangle drawn twice: with material 0 (`name`, whose extensions hold `extension`: `value`)
+// and with material 1 (`other`, without it). The extension is used, and required when `required`.
+std::string extensionMaterialGltf(const std::string& extension, const std::string& name, const std::string& value,
+                                  const std::string& other, bool required) {
+    GltfBuilder b;
+    b.addPositions(kTriangle);
+    const std::string listed = "[\"" + extension + "\"]";
+    return b.json(R"("extensionsUsed":)" + listed + (required ? R"(,"extensionsRequired":)" + listed : "") +
+                  R"(,"materials":[{"name":")" + name + R"(","extensions":{")" + extension + R"(":)" + value +
+                  R"(}},{"name":")" + other + R"("}],
+           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
+           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+}
+
 // KHR_materials_specular's specularColorFactor (white without it); a value outside [0, 1000]
 // is refused naming the material, a value of the wrong JSON type naming its JSON path.
 TEST(GltfImport, SpecularColourFactor) {
     const auto document = [](const std::string& specular) {
-        GltfBuilder b;
-        b.addPositions(kTriangle);
-        return b.json(R"("extensionsUsed":["KHR_materials_specular"],
-           "materials":[{"name":"tinted","extensions":{"KHR_materials_specular":)" + specular + R"(}},{"name":"plain"}],
-           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
-           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+        return extensionMaterialGltf("KHR_materials_specular", "tinted", specular, "plain", false);
     };
     auto r = importGltf(writeFile("specularcolour.gltf", document(R"({"specularFactor":0.5,"specularColorFactor":[0.25,1,24.5]})")));
     ASSERT_TRUE(r.isOk()) << r.message();
@@ -253,12 +262,7 @@ TEST(GltfImport, UnsupportedMaterialExtensionsAndAlphaModesAreWarnedOncePerKind)
 // the wrong JSON type naming its JSON path; the extension is not warned about as unused.
 TEST(GltfImport, IorReachesTheMaterial) {
     const auto document = [](const std::string& ior) {
-        GltfBuilder b;
-        b.addPositions(kTriangle);
-        return b.json(R"("extensionsUsed":["KHR_materials_ior"],"extensionsRequired":["KHR_materials_ior"],
-           "materials":[{"name":"glass","extensions":{"KHR_materials_ior":)" + ior + R"(}},{"name":"plain"}],
-           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
-           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+        return extensionMaterialGltf("KHR_materials_ior", "glass", ior, "plain", true);
     };
     for (const auto& [ior, expected] : {std::pair{R"({"ior":2.25})", 2.25f}, std::pair{R"({"ior":0})", 0.0f},
                                         std::pair{R"({})", 1.5f}}) {
@@ -281,12 +285,7 @@ TEST(GltfImport, IorReachesTheMaterial) {
 
 TEST(GltfImport, ClearcoatFactors) {
     const auto document = [](const std::string& coat) {
-        GltfBuilder b;
-        b.addPositions(kTriangle);
-        return b.json(R"("extensionsUsed":["KHR_materials_clearcoat"],"extensionsRequired":["KHR_materials_clearcoat"],
-           "materials":[{"name":"lacquer","extensions":{"KHR_materials_clearcoat":)" + coat + R"(}},{"name":"bare"}],
-           "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0},{"attributes":{"POSITION":0},"material":1}]}],
-           "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}])");
+        return extensionMaterialGltf("KHR_materials_clearcoat", "lacquer", coat, "bare", true);
     };
     auto r = importGltf(writeFile("clearcoat.gltf", document(R"({"clearcoatFactor":0.75,"clearcoatRoughnessFactor":0.125,
         "clearcoatNormalTexture":{"index":0}})")));
