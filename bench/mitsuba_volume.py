@@ -3,7 +3,8 @@ grid imported with `--volume` (docs/PERFORMANCE.md, "Volumes").
 
 usage: python3 mitsuba_volume.py CLOUD.vol N WIDTH HEIGHT SPP MAX_DEPTH EYE TARGET FOV DENSITY ALBEDO G [VARIANT]
 A `heterogeneous` medium (sigma_t: a trilinear `gridvolume` of the .vol scaled by DENSITY, albedo
-ALBEDO, Henyey-Greenstein G) inside a `cube` with a `null` BSDF, lit by a `constant` emitter of
+ALBEDO, Henyey-Greenstein G) inside a cube (an OBJ of [-1, 1]^3 written beside the grid, since
+the peer bundle's Mitsuba has no `cube` plugin) with a `null` BSDF, lit by a `constant` emitter of
 radiance 1 (vastray: a constant --environment map of 1, no sun). vastray's voxel ijk sits at the
 world point ijk * 2/N - 1; Mitsuba's voxel i at the grid's local (i + 0.5) / N, so the grid's
 to_world is scale 2 then translate -1 - 1/N. max_depth is vastray's --max-depth + 1. Prints one
@@ -38,6 +39,28 @@ if os.environ.get("MEDIUM") == "homogeneous":
     cube = T().scale(half)
     homogeneous = {"type": "homogeneous", "sigma_t": density, "albedo": {"type": "rgb", "value": [albedo] * 3},
                    "phase": {"type": "hg", "g": g}}
+
+
+def write_cube(path):
+    """[-1, 1]^3 as 12 triangles wound counter-clockwise seen from outside (outward normals)."""
+    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+    index = {c: i + 1 for i, c in enumerate(corners)}
+    faces = []
+    for axis in range(3):
+        for sign in (-1, 1):
+            u, v = (axis + 1) % 3, (axis + 2) % 3
+            quad = []
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                c = [0, 0, 0]
+                c[axis], c[u], c[v] = sign, a * sign, b
+                quad.append(index[tuple(c)])
+            faces += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+    with open(path, "w") as f:
+        f.writelines("v %d %d %d\n" % c for c in corners)
+        f.writelines("f %d %d %d\n" % t for t in faces)
+    return path
+
+
 t0 = time.perf_counter()
 scene = mi.load_dict({
     "type": "scene",
@@ -45,7 +68,9 @@ scene = mi.load_dict({
     "sensor": perspective_sensor(mi, eye, target, w, h, spp, fov=fov, pixel_format="rgb"),
     "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
     "cloud": {
-        "type": "cube",
+        "type": "obj",
+        "filename": write_cube(vol + ".cube.obj"),
+        "face_normals": True,
         "to_world": cube,
         "bsdf": {"type": "null"},
         "interior": homogeneous if homogeneous else {

@@ -46,7 +46,7 @@ out = sys.argv[1]
 print("| render | vastray render_seconds (median of 3) | texture page slots | page loads | pages read | peak device bytes |")
 print("|---|---|---|---|---|---|")
 for row in ("in-core", "pool-4x", "in-core-finest", "pool-4x-finest", "untextured"):
-    runs = [json.load(open(f)) for f in sorted(glob.glob(f"{out}/{row}-*.json"))]
+    runs = [json.load(open(f)) for f in sorted(glob.glob(f"{out}/{row}-[0-9].json"))]  # in-core-[0-9]: not in-core-finest-N
     if not runs:
         print(f"| {row} | failed | | | | |"); continue
     s = [r.get("streaming", r) for r in runs]

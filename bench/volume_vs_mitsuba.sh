@@ -57,8 +57,10 @@ print(f"vastray out of core r{sys.argv[4]} (--memory-budget {sys.argv[2]}, volum
       f"volume_brick_loads {s['volume_brick_loads']}, submits {s['submits']}, peak_device_bytes {s['peak_device_bytes']}")
 PY
 done
-cmp -s "$out/vastray.pfm" "$out/vastray-ooc.pfm" && echo "out-of-core image equals the in-core one bit for bit" \
-  || echo "out-of-core image DIFFERS from the in-core one"
+if [ "${OOC_ROUNDS:-2}" -gt 0 ]; then
+  cmp -s "$out/vastray.pfm" "$out/vastray-ooc.pfm" && echo "out-of-core image equals the in-core one bit for bit" \
+    || echo "out-of-core image DIFFERS from the in-core one"
+fi
 [ "$kind" = box ] && export MEDIUM=homogeneous
 timeout 400 python3 "$mitsuba" "$out/cloud.vol" "$n" "$w" "$h" "$spp" "$depth" "$eye" "$target" "$fov" "$density" \
   "$albedo" "$g" 2>&1 | tail -1
