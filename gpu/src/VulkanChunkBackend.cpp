@@ -108,6 +108,10 @@ public:
         allocated_ += table_.allocatedBytes() + state_.allocatedBytes() +
                      (plan_.outputInDeviceMemory ? output_.allocatedBytes() : 0);
         for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
+        // The budget less what init allocated (the plan counts whole granules; the device may round
+        // up or not) and the reserve: what the volumes may take besides their reserve.
+        const uint64_t budget = plan_.totalBytes + plan_.spareBytes;
+        spare_ = budget - std::min(budget, allocated_ + plan_.reservedBytes);
         const std::vector<ChunkSlot> empty(plan_.slots, ChunkSlot{});
         VASTRAY_TRY(table_.upload(empty.data(), empty.size() * sizeof(ChunkSlot)));
         const std::vector<uint32_t> none(chunkCount_, kEmptyCell);
@@ -263,13 +267,14 @@ private:
                              " for them (createVulkanChunkBackend's reservedBytes)");
     }
 
-    // The volumes in the bytes the plan kept besides the map's: in core when they fit, else paged
-    // (DeviceVolumes); kept while the next render uses the same ones.
+    // The volumes in the bytes the plan kept besides the map's, and in what the plan left of the
+    // budget (spare_: more brick slots, fewer region turnovers when paged): in core when they fit,
+    // else paged (DeviceVolumes); kept while the next render uses the same ones.
     Status prepareVolumes(const std::shared_ptr<const std::vector<Volume>>& volumes, StreamingStats& stats) {
         VASTRAY_TRY(checkReserve(Environment{}, volumes));
         const uint64_t map = environment_ ? environmentBuffer_.allocatedBytes() : 0;
         allocated_ -= volumes_.allocatedBytes();
-        const uint64_t kept = plan_.reservedBytes - plan_.textureBytes;
+        const uint64_t kept = plan_.reservedBytes - plan_.textureBytes + spare_;
         const Status s = volumes_.prepare(volumes, kept - std::min(map, kept), plan_.batchRays, stats);
         allocated_ += volumes_.allocatedBytes();
         peak_ = std::max(peak_, allocated_);
@@ -319,6 +324,7 @@ private:
     std::unique_ptr<ChunkUploader> uploader_;  // Dma; destroyed first: its copies write the slots
     ChunkUploadFigures figures_;
     uint64_t allocated_ = 0, peak_ = 0, uploaded_ = 0;
+    uint64_t spare_ = 0;  // the budget less what init allocated and the reserve
     double uploadSeconds_ = 0, deviceSeconds_ = 0;
 };
 
@@ -387,6 +393,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.reservedBytes = reserved;
     plan.textureBytes = textures;
     plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes + staging + reserved;
+    plan.spareBytes = budget - (slots * slotAllocation + plan.rayBytes + plan.tableBytes);
     return plan;
 }
 

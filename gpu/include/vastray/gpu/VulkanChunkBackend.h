@@ -33,6 +33,10 @@ struct PoolPlan {
     uint64_t reservedBytes = 0;
     // Of reservedBytes, the textures' (textureReserveBytes); the rest is the map's and volumes'.
     uint64_t textureBytes = 0;
+    // What the plan leaves of the budget (budget - totalBytes: the wave grows by doubling, and
+    // slots beyond the chunk count are not made): paged volumes take it for brick slots besides
+    // their reserve (docs/RENDERING.md, "Volumes out of core").
+    uint64_t spareBytes = 0;
 };
 
 // How chunk data reaches the slots (gpu/src/ChunkUploader.h). Mapped: the host writes each chunk
