@@ -1,15 +1,17 @@
 """Mitsuba 3 on bench/textured_scene.py's terrain: the PLY (with u, v) under a bitmap texture, or
-under the texture's mean colour ("plain"), the same camera and lighting as mitsuba_bench.py.
+under the texture's mean colour ("plain"), or textured under a `normalmap` of NORMAL.png
+("normal-mapped"), the same camera and lighting as mitsuba_bench.py.
 
-usage: python3 mitsuba_textured.py TERRAIN.ply ALBEDO.png WIDTH HEIGHT SPP MAX_DEPTH EYE TARGET
+usage: python3 mitsuba_textured.py TERRAIN.ply ALBEDO.png NORMAL.png WIDTH HEIGHT SPP MAX_DEPTH EYE TARGET
 Prints one JSON line per material (textured, plain): load time, the median of three renders
 after a first (JIT) one, GPU memory from nvidia-smi.
 """
 import json, subprocess, sys, time
 
-ply, png, w, h, spp, depth = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6])
-eye = [float(x) for x in sys.argv[7].split(",")]
-target = [float(x) for x in sys.argv[8].split(",")]
+ply, png, normal_png = sys.argv[1], sys.argv[2], sys.argv[3]
+w, h, spp, depth = int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6]), int(sys.argv[7])
+eye = [float(x) for x in sys.argv[8].split(",")]
+target = [float(x) for x in sys.argv[9].split(",")]
 
 import mitsuba as mi
 import drjit as dr
@@ -27,8 +29,13 @@ def gpu_used_mib():
         return None
 
 
-for name, reflectance in (("textured", {"type": "bitmap", "filename": png, "filter_type": "bilinear"}),
-                          ("plain", {"type": "rgb", "value": [0.5, 0.5, 0.5]})):
+textured = {"type": "bitmap", "filename": png, "filter_type": "bilinear"}
+for name, bsdf in (("textured", {"type": "diffuse", "reflectance": textured}),
+                   ("plain", {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.5, 0.5, 0.5]}}),
+                   ("normal-mapped", {"type": "normalmap",
+                                      "normalmap": {"type": "bitmap", "filename": normal_png, "raw": True,
+                                                    "filter_type": "bilinear"},
+                                      "bsdf": {"type": "diffuse", "reflectance": textured}})):
     before = gpu_used_mib()
     t0 = time.perf_counter()
     scene = mi.load_dict({
@@ -37,7 +44,7 @@ for name, reflectance in (("textured", {"type": "bitmap", "filename": png, "filt
         "sensor": perspective_sensor(mi, eye, target, w, h, spp),
         "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.8, 0.9, 1.0]}},
         "sun": {"type": "directional", "direction": [-0.3, -1.0, -0.2], "irradiance": {"type": "rgb", "value": [3.0, 3.0, 3.0]}},
-        "mesh": {"type": "ply", "filename": ply, "bsdf": {"type": "diffuse", "reflectance": reflectance}},
+        "mesh": {"type": "ply", "filename": ply, "bsdf": bsdf},
     })
     load_s = time.perf_counter() - t0
     figures, _ = time_renders(mi, dr, scene, spp)
