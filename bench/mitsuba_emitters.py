@@ -44,6 +44,8 @@ def main():
     p.add_argument("--resolution", default="128x128")
     p.add_argument("--spp", type=int, default=1024)
     p.add_argument("--depth", type=int, default=5, help="vastray's path depth (Mitsuba's max_depth is one more)")
+    p.add_argument("--rr-depth", type=int, default=5,
+                   help="Mitsuba's rr_depth (its default 5; 3 is vastray's: roulette from the 3rd scattering event)")
     p.add_argument("--out", default="box-mitsuba.pfm")
     p.add_argument("--compare", default="")
     a = p.parse_args()
@@ -58,7 +60,7 @@ def main():
     white, red, green = [0.7, 0.7, 0.7], [0.6, 0.1, 0.1], [0.1, 0.6, 0.1]
     scene = mi.load_dict({
         "type": "scene",
-        "integrator": {"type": "path", "max_depth": a.depth + 1},
+        "integrator": {"type": "path", "max_depth": a.depth + 1, "rr_depth": a.rr_depth},
         "sensor": perspective_sensor(mi, [0, 0, 0.95], [0, 0, -1], w, h, a.spp, fov=75, pixel_format="rgb"),
         "floor": wall(T().translate([0, -1, 0]) @ T().rotate([1, 0, 0], -90), white),
         "ceiling": wall(T().translate([0, 1, 0]) @ T().rotate([1, 0, 0], 90), white),
@@ -77,7 +79,7 @@ def main():
     write_pfm(a.out, w, h, pixels)
     n = w * h
     mean = [sum(pixels[c::3]) / n for c in range(3)]
-    result = {"variant": a.variant, "resolution": a.resolution, "spp": a.spp, "max_depth": a.depth + 1,
+    result = {"variant": a.variant, "resolution": a.resolution, "spp": a.spp, "max_depth": a.depth + 1, "rr_depth": a.rr_depth,
               "mean_rgb": [round(m, 5) for m in mean], **timing}
     if a.compare:
         cw, ch, theirs = read_pfm(a.compare)
