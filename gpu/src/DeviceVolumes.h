@@ -37,14 +37,15 @@ uint64_t pagedVolumeBytes(std::span<const VolumeShape> shapes, uint64_t slots, u
 uint64_t minimumVolumeBytes(std::span<const VolumeShape> shapes, uint64_t paths);
 
 // The paging regions of one volume for a pool of `slots` brick slots (at least 27): boxes of
-// brick cells cut in two (across the longest axis, where half the box's stored bricks lie on
-// either side) until the box grown by one cell on every side holds at most `slots` stored
-// bricks. Every stored brick lies in one box, its home (home: per brick of the volume, its
-// region); a region's `bricks` are the stored bricks of its grown box (the volume's brick
-// numbers): with them resident, a walk parked at a cell whose bricks have their home there can
-// sample that cell (its trilinear reads touch the cell and the cells after it, all within one
-// cell of any of them). DeviceVolumes::page loads one when the pool has no slot for the bricks
-// walks wait for.
+// brick cells cut in two across the longest axis until the box grown by one cell on every side
+// holds at most `slots` stored bricks; the cut leaves half the box's stored bricks on either
+// side, or 1/k of them before it, k the pools the grown box would fill, whichever way gives the
+// fewer regions (ties: the fewer bricks, then halves). Every stored brick lies in one box, its
+// home (home: per brick of the volume, its region); a region's `bricks` are the stored bricks
+// of its grown box (the volume's brick numbers): with them resident, a walk parked at a cell
+// whose bricks have their home there can sample that cell (its trilinear reads touch the cell
+// and the cells after it, all within one cell of any of them). DeviceVolumes::page loads one
+// when the pool has no slot for the bricks walks wait for.
 struct VolumeRegions {
     std::vector<uint32_t> home;
     std::vector<std::vector<uint32_t>> bricks;

@@ -5,7 +5,9 @@
 // cache lost it), and every resident slot holds its brick's voxels, whatever the cache evicted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <tuple>
 
 #include "DeviceVolumes.h"
 #include "GpuTestSupport.h"
@@ -207,6 +209,35 @@ TEST(DeviceVolumes, RegionStepFillsEmptySlotsFirst) {
     uint64_t evicted = 0;
     for (const uint32_t c : column) evicted += (table[c] & kBrickAbsent) != 0;
     EXPECT_EQ(evicted, loads > empty ? loads - empty : 0) << "a region evicted bricks while slots were empty";
+}
+
+// A volume of nx x 4 x 4 cells, each with its own brick (in the source: no voxels in memory).
+Volume denseVolume(uint32_t nx) {
+    Volume v;
+    v.brickCells = {nx, 4, 4};
+    v.brickOf.resize(v.cellCount());
+    for (uint32_t c = 0; c < v.cellCount(); ++c) v.brickOf[c] = c;
+    v.bricks = {std::make_shared<const CountingBricks>(), 0, v.cellCount(), false};
+    return v;
+}
+
+// The paging regions: every brick has its home in one, whose bricks (its box grown by a cell)
+// hold it and fit the pool; and the volume is cut into the fewest regions of the two ways tried.
+// Halves: 16 x 4 x 4 cells at 100 slots become 4 regions (cutting off a third first gives 5);
+// 24 x 4 x 4 at 160 slots become 3 regions cut by thirds (halves give 4).
+TEST(DeviceVolumes, RegionsFitThePoolAndAreTheFewestOfTwoCuts) {
+    for (const auto& [nx, slots, fewest] : {std::tuple{16u, 100u, 4u}, std::tuple{24u, 160u, 3u}}) {
+        const Volume v = denseVolume(nx);
+        const VolumeRegions regions = volumeRegions(v, slots);
+        EXPECT_EQ(regions.bricks.size(), fewest) << nx << " x 4 x 4 cells, " << slots << " slots";
+        ASSERT_EQ(regions.home.size(), v.brickCount());
+        for (const std::vector<uint32_t>& r : regions.bricks) EXPECT_LE(r.size(), slots);
+        for (uint32_t b = 0; b < regions.home.size(); ++b) {
+            ASSERT_LT(regions.home[b], regions.bricks.size()) << "brick " << b << " has no home";
+            const std::vector<uint32_t>& r = regions.bricks[regions.home[b]];
+            EXPECT_NE(std::find(r.begin(), r.end(), b), r.end()) << "brick " << b << " is not in its home";
+        }
+    }
 }
 
 }  // namespace
