@@ -11,9 +11,19 @@
 #   ratios, default 4,16), REPEAT (renders per row, default 3), RESIDENT_ONLY=1 (resident rows and
 #   Embree only), WORK (scratch folder), IMPORT_ARGS (extra `vastray import` options, e.g.
 #   "--resident-bytes-per-triangle 0"), NO_MITSUBA=1 (skip the Mitsuba rows), COLD_BUDGET (the cold
-#   render's --memory-budget, default 8GiB: the scene in core, as Mitsuba holds it).
+#   render's --memory-budget, default 8GiB: the scene in core, as Mitsuba holds it), MITSUBA_RR_DEPTH
+#   (3 by default: Mitsuba's path integrator starts Russian roulette where vastray does, at the 3rd
+#   scattering event, so both trace the same bounces per sample; Mitsuba's own default is 5 —
+#   PERF_NOTES 73; empty: MITSUBA_BENCH.py unchanged).
 set -uo pipefail
 out=$1 mitsuba=$2 triangles=${3:-10000000} configs=${4:-"1:2 16:5"}
+mkdir -p "$out"
+rrDepth=${MITSUBA_RR_DEPTH-3}
+if [ -n "$rrDepth" ]; then  # a copy of the Mitsuba script whose integrator carries rr_depth
+  sed "s/\"max_depth\": depth + 1}/\"max_depth\": depth + 1, \"rr_depth\": $rrDepth}/" "$mitsuba" > "$out/mitsuba_bench_rr.py"
+  grep -q '"rr_depth"' "$out/mitsuba_bench_rr.py" || { echo "$mitsuba: no integrator line to give rr_depth" >&2; exit 2; }
+  mitsuba=$out/mitsuba_bench_rr.py
+fi
 ratios=${RATIOS:-4,16} repeat=${REPEAT:-3} only=${RESIDENT_ONLY:+--resident-only}
 eye=1.6,1.1,1.9 target=0,0,0 width=1920 height=1080
 work=${WORK:-/tmp/vastray-bench}
