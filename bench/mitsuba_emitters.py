@@ -44,8 +44,9 @@ def main():
     p.add_argument("--resolution", default="128x128")
     p.add_argument("--spp", type=int, default=1024)
     p.add_argument("--depth", type=int, default=5, help="vastray's path depth (Mitsuba's max_depth is one more)")
-    p.add_argument("--rr-depth", type=int, default=5,
-                   help="Mitsuba's rr_depth (its default 5; 3 is vastray's: roulette from the 3rd scattering event)")
+    p.add_argument("--rr-depth", type=int, default=3,
+                   help="Mitsuba's rr_depth: 3, vastray's roulette from the 3rd scattering event, by default "
+                        "(Mitsuba's own default is 5; PERF_NOTES 73)")
     p.add_argument("--out", default="box-mitsuba.pfm")
     p.add_argument("--compare", default="")
     a = p.parse_args()

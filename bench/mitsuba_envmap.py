@@ -34,7 +34,7 @@ mi.set_variant(variant)
 t0 = time.perf_counter()
 scene = mi.load_dict({
     "type": "scene",
-    "integrator": {"type": "path", "max_depth": depth + 1},
+    "integrator": {"type": "path", "max_depth": depth + 1, "rr_depth": 3},  # vastray's roulette (PERF_NOTES 73)
     "sensor": perspective_sensor(mi, eye, target, w, h, spp, pixel_format="rgb"),
     "sky": {"type": "envmap", "filename": envmap},
     # face_normals: Mitsuba would otherwise smooth the normals of a PLY without any over shared

@@ -40,7 +40,7 @@ for name, bsdf in (("textured", {"type": "diffuse", "reflectance": textured}),
     t0 = time.perf_counter()
     scene = mi.load_dict({
         "type": "scene",
-        "integrator": {"type": "path", "max_depth": depth + 1},
+        "integrator": {"type": "path", "max_depth": depth + 1, "rr_depth": 3},  # vastray's roulette (PERF_NOTES 73)
         "sensor": perspective_sensor(mi, eye, target, w, h, spp),
         "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.8, 0.9, 1.0]}},
         "sun": {"type": "directional", "direction": [-0.3, -1.0, -0.2], "irradiance": {"type": "rgb", "value": [3.0, 3.0, 3.0]}},

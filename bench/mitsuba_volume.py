@@ -64,7 +64,7 @@ def write_cube(path):
 t0 = time.perf_counter()
 scene = mi.load_dict({
     "type": "scene",
-    "integrator": {"type": "volpath", "max_depth": depth + 1},
+    "integrator": {"type": "volpath", "max_depth": depth + 1, "rr_depth": 3},  # vastray's roulette (PERF_NOTES 73)
     "sensor": perspective_sensor(mi, eye, target, w, h, spp, fov=fov, pixel_format="rgb"),
     "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
     "cloud": {
