@@ -130,9 +130,11 @@ uint64_t volumeBytes(const PackageInfo& package);
 // which the bricks are paged, and the backend adds what the wave and the chunk slots leave
 // (PoolPlan::spareBytes; docs/RENDERING.md, "Volumes out of core"). Paged, the share sets the
 // wave too (what the share leaves, the mesh's slots taken): 0.4 against 0.5 gave the wave up to
-// a fifth more paths and the pool up to a tenth fewer slots, and 4-16 % fewer brick loads and
-// 0-8 % fewer paging steps in every lavapipe render measured (dense fBm clouds of 1,998 and
-// 14,076 bricks, 64x64 to 128x128 pixels, 4 and 16 spp); 0.35 traded steps for loads.
+// a fifth more paths and the pool up to a tenth fewer slots; on lavapipe (dense fBm clouds of
+// 1,998 and 14,076 bricks, 64x64 to 128x128 pixels) at 16 spp, the bench's, 4-16 % fewer brick
+// loads and 0-8 % fewer paging steps, and at 4 spp with a fifth of the bricks resident 1-4 %
+// fewer of each, but with half of them resident 12-14 % more steps (84 -> 96, 243 -> 278); 0.35
+// traded steps for loads. Not measured: scenes whose mesh is out of core too.
 constexpr double kVolumeShareInCore = 0.5;
 constexpr double kVolumeShareOutOfCore = 0.4;
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget);
