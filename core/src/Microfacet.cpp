@@ -83,14 +83,35 @@ Vec3f layerF0(const Bsdf& b) {
 // What depends on wo alone, looked up once per shading event: alpha, E(mu_o), the layer's albedo
 // per channel at mu_o and its cosine-weighted average, and the probability of drawing the
 // specular lobe (its albedo's share of the two lobes').
+// The coat normal's frame (Bsdf::coatNormal): tilted false when it is +z, and then every
+// direction is its own in it.
+struct CoatFrame {
+    bool tilted = false;
+    Frame frame;
+    Vec3f in(Vec3f v) const {
+        return tilted ? Vec3f{dot(frame.tangent, v), dot(frame.bitangent, v), dot(frame.normal, v)} : v;
+    }
+    Vec3f out(Vec3f v) const { return tilted ? frame.toWorld(v) : v; }
+};
+CoatFrame coatFrameOf(const Bsdf& b) {
+    CoatFrame c;
+    c.tilted = !(b.coatNormal.x == 0.0f && b.coatNormal.y == 0.0f && b.coatNormal.z == 1.0f);
+    if (c.tilted) c.frame = frameAround(b.coatNormal);
+    return c;
+}
+
 struct Outgoing {
     float alpha = 0, metalAlbedo = 0, pick = 0;
     Vec3f f0, layerAlbedo, layerAverage;
-    // The coat (clearcoat > 0): alpha, E and Ed at its roughness and mu_o, and its lobe's pick.
+    // The coat (clearcoat > 0): alpha, E and Ed at its roughness and mu_o, and its lobe's pick;
+    // its frame and wo in it (lifted to a grazing 1e-4 when the coat normal turns wo below it).
     float coatAlpha = 0, coatMetalAlbedo = 1, coatAlbedo = 0, coatPick = 0;
+    CoatFrame coat;
+    Vec3f coatWo;
 };
 Outgoing outgoingTerms(const Bsdf& b, Vec3f wo, const float* tables) {
     Outgoing o;
+    o.coatWo = wo;
     o.alpha = alphaOf(b.roughness);
     o.metalAlbedo = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.roughness);
     const float w = fresnelWeightAlbedo(
@@ -111,9 +132,14 @@ Outgoing outgoingTerms(const Bsdf& b, Vec3f wo, const float* tables) {
     const float diffuse = (1.0f - b.metallic) * left;
     o.pick = spec + diffuse > 0.0f ? spec / (spec + diffuse) : 0.5f;
     if (b.clearcoat > 0.0f) {
+        o.coat = coatFrameOf(b);
+        if (o.coat.tilted) {
+            o.coatWo = o.coat.in(wo);
+            if (o.coatWo.z < 1e-4f) o.coatWo = normalize(Vec3f{o.coatWo.x, o.coatWo.y, 1e-4f});
+        }
         o.coatAlpha = alphaOf(b.clearcoatRoughness);
-        o.coatMetalAlbedo = microfacetTableLookup(tables + kMicrofacetMetalTable, wo.z, b.clearcoatRoughness);
-        o.coatAlbedo = microfacetTableLookup(tables + kMicrofacetDielectricTable, wo.z, b.clearcoatRoughness);
+        o.coatMetalAlbedo = microfacetTableLookup(tables + kMicrofacetMetalTable, o.coatWo.z, b.clearcoatRoughness);
+        o.coatAlbedo = microfacetTableLookup(tables + kMicrofacetDielectricTable, o.coatWo.z, b.clearcoatRoughness);
         const float coat = b.clearcoat * o.coatAlbedo, under = (1.0f - coat) * (spec + diffuse);
         o.coatPick = coat + under > 0.0f ? coat / (coat + under) : 1.0f;
     }
@@ -151,11 +177,14 @@ BsdfValue evalBase(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const f
 BsdfValue evalWith(const Bsdf& b, const Outgoing& o, Vec3f wo, Vec3f wi, const float* tables) {
     const BsdfValue base = evalBase(b, o, wo, wi, tables);
     if (!(b.clearcoat > 0.0f) || wi.z <= 0) return base;
-    const Lobe lobe = lobeAt(wo, wi, o.coatAlpha);
+    const Vec3f coatWi = o.coat.in(wi);
+    const Vec3f under = base.f * (1.0f - b.clearcoat * o.coatAlbedo);
+    if (coatWi.z <= 0) return {under, (1.0f - o.coatPick) * base.pdf};  // below the coat (tilted only)
+    const Lobe lobe = lobeAt(o.coatWo, coatWi, o.coatAlpha);
     const float fresnel = kDielectricF0 + (1.0f - kDielectricF0) * schlickWeight(lobe.cosineOH);
-    const float coat = b.clearcoat * fresnel * lobe.specular * (1.0f + kDielectricF0 * (1.0f / o.coatMetalAlbedo - 1.0f));
-    return {base.f * (1.0f - b.clearcoat * o.coatAlbedo) + Vec3f{coat, coat, coat},
-            o.coatPick * lobe.pdf + (1.0f - o.coatPick) * base.pdf};
+    float coat = b.clearcoat * fresnel * lobe.specular * (1.0f + kDielectricF0 * (1.0f / o.coatMetalAlbedo - 1.0f));
+    if (o.coat.tilted) coat *= coatWi.z / wi.z;  // the caller's cosine is the base's
+    return {under + Vec3f{coat, coat, coat}, o.coatPick * lobe.pdf + (1.0f - o.coatPick) * base.pdf};
 }
 
 // A Hammersley point set of n points: (i + 1/2) / n and the base-2 radical inverse of i.
@@ -299,8 +328,10 @@ bool sampleBsdf(const Bsdf& b, Vec3f wo, float uLobe, float u1, float u2, const 
     if (wo.z <= 0) return false;
     const Outgoing o = outgoingTerms(b, wo, tables);
     if (uLobe < o.coatPick) {
-        const Vec3f h = sampleVisibleNormal(wo, o.coatAlpha, u1, u2);
-        *wi = normalize(h * (2.0f * dot(wo, h)) - wo);
+        const Vec3f h = sampleVisibleNormal(o.coatWo, o.coatAlpha, u1, u2);
+        const Vec3f coatWi = h * (2.0f * dot(o.coatWo, h)) - o.coatWo;
+        if (coatWi.z <= 0) return false;  // below the coat, where its lobe has no density
+        *wi = normalize(o.coat.out(coatWi));
     } else if ((o.coatPick > 0.0f ? (uLobe - o.coatPick) / (1.0f - o.coatPick) : uLobe) < o.pick) {
         const Vec3f h = sampleVisibleNormal(wo, o.alpha, u1, u2);
         *wi = normalize(h * (2.0f * dot(wo, h)) - wo);

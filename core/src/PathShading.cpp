@@ -13,10 +13,17 @@ namespace vastray {
 namespace {
 Vec3f toVec(const std::array<float, 3>& c) { return {c[0], c[1], c[2]}; }
 
-Bsdf bsdfOf(const SurfacePoint& point) {
+// The BSDF at `point`, its directions local to `frame` (the shading normal's): the coat's normal
+// in that frame, exactly +z unless a normal map bent the shading normal away from it.
+Bsdf bsdfOf(const SurfacePoint& point, const Frame& frame) {
     const Material& m = *point.material;
-    return {point.albedo,    point.metallic,        point.roughness,          m.specular, toVec(m.specularColor),
-            point.clearcoat, point.clearcoatRoughness, iorF0(m.ior)};
+    Bsdf b{point.albedo,    point.metallic,        point.roughness,          m.specular, toVec(m.specularColor),
+           point.clearcoat, point.clearcoatRoughness, iorF0(m.ior)};
+    const Vec3f c = point.coatNormal;
+    if (point.clearcoat > 0.0f && !(c.x == point.shadingNormal.x && c.y == point.shadingNormal.y &&
+                                    c.z == point.shadingNormal.z))
+        b.coatNormal = normalize(Vec3f{dot(frame.tangent, c), dot(frame.bitangent, c), dot(frame.normal, c)});
+    return b;
 }
 
 // wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it
@@ -133,13 +140,14 @@ SurfacePoint makeSurfacePoint(Vec3f position, Vec3f geometric, Vec3f rayDirectio
     point.position = position;
     const Vec3f front = normalize(geometric);
     point.normal = dot(front, rayDirection) > 0.0f ? front * -1.0f : front;
-    point.shadingNormal = point.normal;
+    point.shadingNormal = point.coatNormal = point.normal;
     const bool interpolated = attributes.normal != kNoNormal;
     const bool bent = sample && sample->normalMapped && uvDerivatives && uvDerivatives->valid;
     if (interpolated || bent) {
         // The map bends the front side's normal; the turn to the ray's side is the unbent one's.
         Vec3f n = interpolated ? decodeOctahedral(attributes.normal) : front;
         const bool turn = dot(n, point.normal) < 0.0f;
+        point.coatNormal = turn ? n * -1.0f : n;
         if (bent) n = perturbNormal(n, *uvDerivatives, sample->tangentNormal);
         point.shadingNormal = turn ? n * -1.0f : n;
     }
@@ -319,7 +327,7 @@ Vec3f glossyReflection(const SurfacePoint& point, Vec3f wi, float* pdf) {
     const Frame frame = frameAround(point.shadingNormal);
     const Vec3f wo = localOutgoing(frame, point.outgoing);
     const Vec3f local{dot(frame.tangent, wi), dot(frame.bitangent, wi), dot(frame.normal, wi)};
-    const BsdfValue v = evalBsdf(bsdfOf(point), wo, local, microfacetTables().data());
+    const BsdfValue v = evalBsdf(bsdfOf(point, frame), wo, local, microfacetTables().data());
     *pdf = v.pdf;
     return v.f * local.z;
 }
@@ -328,7 +336,7 @@ bool scatterSurface(const SurfacePoint& point, RandomKey key, uint32_t seed, Vec
                     float* pdf) {
     const Frame frame = frameAround(point.shadingNormal);
     Vec3f local;
-    if (!sampleBsdf(bsdfOf(point), localOutgoing(frame, point.outgoing), randomFloat(key, kDimLobe, seed),
+    if (!sampleBsdf(bsdfOf(point, frame), localOutgoing(frame, point.outgoing), randomFloat(key, kDimLobe, seed),
                     randomFloat(key, kDimDirectionU, seed), randomFloat(key, kDimDirectionV, seed),
                     microfacetTables().data(), &local, weight, pdf))
         return false;

@@ -127,7 +127,8 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 punctualDirection, punctualIrradiance;
         float punctualDistance;
         bool event = false, shoots = false;
-        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0, 0.04);
+        Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0, 0.04,
+                                  vec3(0.0));
         if (scattered) {
             const WavefrontVolume v = VolumeArray(p.volumes).v[which];
             origin = rayStart.xyz + direction * tCollision;
@@ -185,6 +186,8 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 // and light or a bounce below the geometric surface is cut.
                 albedo = values.baseColor * (kVertexColors ? unpackHitColor(ids.w) : vec3(1.0));
                 ns = kShadingNormals ? shadingNormalAt(hitNormal.w, n) : n;
+                // The coat keeps the unbent normal (glTF: a base normal map does not apply to it).
+                const vec3 nc = ns;
                 if (kNormalMaps && values.normalMapped) ns = bentNormal(p, j, hitNormal, n, values.tangentNormal);
                 // Emission, weighted against next-event estimation where it samples this triangle.
                 if (kEmission)
@@ -200,7 +203,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                                   kMicrofacet && (m.metallic > 0.0 || m.specular > 0.0 || (kClearcoat && m.clearcoat > 0.0)),
                                   values.metallic, values.roughness, m.specular,
                                   vec3(m.specularColorR, m.specularColorG, m.specularColorB), coat,
-                                  values.clearcoatRoughness, m.dielectricF0);
+                                  values.clearcoatRoughness, m.dielectricF0, nc);
                 // Next-event estimation: an emissive triangle, a punctual light, or the sun, or with a
                 // map the sun or the map.
                 if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {

@@ -23,6 +23,7 @@ struct Surface {
     vec3 specularColor;  // the layer's F0 is min(dielectricF0 this, 1)
     float clearcoat, clearcoatRoughness;  // the coat over it all (0: none)
     float dielectricF0;                   // core iorF0 of the material's ior (the coat's is kDielectricF0)
+    vec3 nc;  // the coat's normal (core SurfacePoint::coatNormal): ns before a normal map bent it
 };
 
 float microfacetAlpha(float roughness) { return max(roughness * roughness, kMinMicrofacetAlpha); }
@@ -93,13 +94,26 @@ vec3 layerAlbedo(vec3 f0, float e, float w) { return (f0 * e + (vec3(1.0) - f0) 
 
 // outgoingTerms: alpha, E(mu_o), the layer's F0, albedo at mu_o and average per channel, and the
 // specular lobe's pick, looked up once per event.
+// The coat's frame (core CoatFrame): coatTilted false when the coat normal is +z, and then every
+// direction is its own in it; coatWo: wo in it, lifted to a grazing 1e-4 below the coat.
 struct BsdfOutgoing {
     float alpha, metalAlbedo, pick;
     vec3 f0, layerAlbedo, layerAverage;
     float coatAlpha, coatMetalAlbedo, coatAlbedo, coatPick;
+    bool coatTilted;
+    vec3 coatT, coatB, coatN, coatWo;
 };
-BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
+vec3 coatIn(BsdfOutgoing o, vec3 v) { return o.coatTilted ? vec3(dot(o.coatT, v), dot(o.coatB, v), dot(o.coatN, v)) : v; }
+vec3 coatOut(BsdfOutgoing o, vec3 v) { return o.coatTilted ? o.coatT * v.x + o.coatB * v.y + o.coatN * v.z : v; }
+// The coat normal in the shading frame (core bsdfOf): exactly +z unless it differs from ns.
+vec3 localCoatNormal(Surface s, vec3 tangent, vec3 bitangent) {
+    if (!(s.clearcoat > 0.0) || s.nc == s.ns) return vec3(0.0, 0.0, 1.0);
+    return normalize(vec3(dot(tangent, s.nc), dot(bitangent, s.nc), dot(s.ns, s.nc)));
+}
+BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo, vec3 coatNormal) {
     BsdfOutgoing o;
+    o.coatTilted = false, o.coatT = vec3(1.0, 0.0, 0.0), o.coatB = vec3(0.0, 1.0, 0.0), o.coatN = vec3(0.0, 0.0, 1.0);
+    o.coatWo = wo;
     o.alpha = microfacetAlpha(s.roughness);
     o.metalAlbedo = microfacetTable(p, 0u, wo.z, s.roughness);
     const float w = fresnelWeightAlbedo(o.metalAlbedo, microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.roughness));
@@ -116,9 +130,16 @@ BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo) {
     o.pick = spec + diffuse > 0.0 ? spec / (spec + diffuse) : 0.5;
     o.coatAlpha = 0.0, o.coatMetalAlbedo = 1.0, o.coatAlbedo = 0.0, o.coatPick = 0.0;
     if (s.clearcoat > 0.0) {
+        o.coatTilted = !(coatNormal.x == 0.0 && coatNormal.y == 0.0 && coatNormal.z == 1.0);
+        if (o.coatTilted) {
+            frameAround(coatNormal, o.coatT, o.coatB);
+            o.coatN = coatNormal;
+            o.coatWo = coatIn(o, wo);
+            if (o.coatWo.z < 1e-4) o.coatWo = normalize(vec3(o.coatWo.x, o.coatWo.y, 1e-4));
+        }
         o.coatAlpha = microfacetAlpha(s.clearcoatRoughness);
-        o.coatMetalAlbedo = microfacetTable(p, 0u, wo.z, s.clearcoatRoughness);
-        o.coatAlbedo = microfacetTable(p, kMicrofacetDielectricTable, wo.z, s.clearcoatRoughness);
+        o.coatMetalAlbedo = microfacetTable(p, 0u, o.coatWo.z, s.clearcoatRoughness);
+        o.coatAlbedo = microfacetTable(p, kMicrofacetDielectricTable, o.coatWo.z, s.clearcoatRoughness);
         const float coat = s.clearcoat * o.coatAlbedo, under = (1.0 - coat) * (spec + diffuse);
         o.coatPick = coat + under > 0.0 ? coat / (coat + under) : 1.0;
     }
@@ -151,11 +172,14 @@ BsdfValue evalBase(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 w
 BsdfValue evalWith(WavefrontParams p, Surface s, BsdfOutgoing o, vec3 wo, vec3 wi) {
     const BsdfValue base = evalBase(p, s, o, wo, wi);
     if (!(s.clearcoat > 0.0) || wi.z <= 0.0) return base;
-    const vec3 lobe = microfacetLobe(wo, wi, o.coatAlpha);
+    const vec3 coatWi = coatIn(o, wi);
+    const vec3 under = base.f * (1.0 - s.clearcoat * o.coatAlbedo);
+    if (coatWi.z <= 0.0) return BsdfValue(under, (1.0 - o.coatPick) * base.pdf);  // below the coat (tilted only)
+    const vec3 lobe = microfacetLobe(o.coatWo, coatWi, o.coatAlpha);
     const float fresnel = kDielectricF0 + (1.0 - kDielectricF0) * schlickWeight(lobe.y);
-    const float coat = s.clearcoat * fresnel * lobe.x * (1.0 + kDielectricF0 * (1.0 / o.coatMetalAlbedo - 1.0));
-    return BsdfValue(base.f * (1.0 - s.clearcoat * o.coatAlbedo) + vec3(coat),
-                     o.coatPick * lobe.z + (1.0 - o.coatPick) * base.pdf);
+    float coat = s.clearcoat * fresnel * lobe.x * (1.0 + kDielectricF0 * (1.0 / o.coatMetalAlbedo - 1.0));
+    if (o.coatTilted) coat *= coatWi.z / wi.z;  // the caller's cosine is the base's
+    return BsdfValue(under + vec3(coat), o.coatPick * lobe.z + (1.0 - o.coatPick) * base.pdf);
 }
 
 vec3 localOutgoing(vec3 tangent, vec3 bitangent, vec3 n, vec3 wo) {
@@ -172,7 +196,7 @@ vec3 glossyReflection(WavefrontParams p, Surface s, vec3 wi, out float pdf) {
     frameAround(s.ns, tangent, bitangent);
     const vec3 wo = localOutgoing(tangent, bitangent, s.ns, s.wo);
     const vec3 local = vec3(dot(tangent, wi), dot(bitangent, wi), dot(s.ns, wi));
-    const BsdfValue v = evalWith(p, s, outgoingTerms(p, s, wo), wo, local);
+    const BsdfValue v = evalWith(p, s, outgoingTerms(p, s, wo, localCoatNormal(s, tangent, bitangent)), wo, local);
     pdf = v.pdf;
     return v.f * local.z;
 }
@@ -186,12 +210,14 @@ bool scatterSurface(WavefrontParams p, Surface s, uint pixel, uint sampleIndex, 
     const vec3 wo = localOutgoing(tangent, bitangent, s.ns, s.wo);
     const float u1 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionU, p.seed);
     const float u2 = randomFloat(pixel, sampleIndex, bounce, kDimDirectionV, p.seed);
-    const BsdfOutgoing o = outgoingTerms(p, s, wo);
+    const BsdfOutgoing o = outgoingTerms(p, s, wo, localCoatNormal(s, tangent, bitangent));
     vec3 wi;
     const float uLobe = randomFloat(pixel, sampleIndex, bounce, kDimLobe, p.seed);
     if (uLobe < o.coatPick) {
-        const vec3 h = sampleVisibleNormal(wo, o.coatAlpha, u1, u2);
-        wi = normalize(h * (2.0 * dot(wo, h)) - wo);
+        const vec3 h = sampleVisibleNormal(o.coatWo, o.coatAlpha, u1, u2);
+        const vec3 coatWi = h * (2.0 * dot(o.coatWo, h)) - o.coatWo;
+        if (coatWi.z <= 0.0) return false;  // below the coat, where its lobe has no density
+        wi = normalize(coatOut(o, coatWi));
     } else if ((o.coatPick > 0.0 ? (uLobe - o.coatPick) / (1.0 - o.coatPick) : uLobe) < o.pick) {
         const vec3 h = sampleVisibleNormal(wo, o.alpha, u1, u2);
         wi = normalize(h * (2.0 * dot(wo, h)) - wo);

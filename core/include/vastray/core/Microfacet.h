@@ -15,6 +15,10 @@
 // f = (1 - k Ec(mu_o)) f_base + k Fresnel(0.04) specular_coat (1 + 0.04 (1 / E - 1)), Ec the
 // coat's directional albedo (the Ed table at the coat's roughness): the base gets what the coat
 // does not reflect towards the viewer, so a white base under any coat reflects all it receives.
+// The coat has a normal of its own (Bsdf::coatNormal): where a normal map bends the base's, the
+// coat keeps the unbent one (glTF: a base normal map does not apply to the clear coat). Its lobe,
+// albedo and pick are then taken in the coat normal's frame, with the coat lobe's cosine to that
+// normal (its f is scaled by cos_coat / cos_base, so that f cos is the coat's own).
 // Directions are local: +z is the shading normal, wo points away from the surface (towards
 // the viewer), both unit.
 #include <cstdint>
@@ -75,6 +79,9 @@ struct Bsdf {
     float clearcoat = 0;           // [0, 1], the coat's weight (0: none)
     float clearcoatRoughness = 0;  // [0, 1], perceptual
     float dielectricF0 = kDielectricF0;  // the layer's, iorF0(Material::ior); the coat's is kDielectricF0
+    // The coat's normal in the same local frame, unit: exactly +z unless the coat's normal differs
+    // from the shading normal (a base normal map; then every step is the one before coat normals).
+    Vec3f coatNormal{0, 0, 1};
 };
 
 // "metallic 1.5 is outside [0, 1]" for the first factor that is not a fraction (or a specular

@@ -31,6 +31,9 @@ struct SurfacePoint {
     // the material's normal map where it has one): the Lambertian cosines and the bounce use it;
     // light and bounces below `normal` are cut.
     Vec3f shadingNormal;
+    // The clear coat's normal: the shading normal before the normal map bent it (glTF: a base
+    // normal map does not apply to the coat); shadingNormal itself where no map bends it.
+    Vec3f coatNormal;
     Vec3f albedo;    // base colour (times its map) times the vertex colour
     // The material's factors times their maps where it has them (MaterialSample).
     float metallic = 0.0f, roughness = 1.0f;
