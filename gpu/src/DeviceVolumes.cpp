@@ -28,6 +28,16 @@ uint64_t blackbodyBytes(std::span<const VolumeShape> shapes) {
 // How much the pager wants an absent brick: kWaitScore per parked walk waiting for it, 1 per walk
 // asking for it ahead (common/Volume.glsl's requestBrick).
 constexpr uint64_t kWaitScore = 4;
+
+// A step loads a region rather than the waited bricks when those would take more than this
+// fraction's inverse of the slots free of kept bricks: scattered waited bricks filling most of
+// the free slots serve each walk a cell, where a region serves its walks a box. On lavapipe
+// (bench/volume_cloud clouds of 1,998 and 14,076 bricks, a fifth to a half of them resident, 4
+// and 16 spp, 64x64 to 128x128 pixels) 3 took 0-32 % fewer loads and 2-31 % fewer steps than 1
+// (a region only when the waited bricks outnumber the free slots) in all ten renders measured;
+// 2 and 4 did about as well, 1.4 worse, 5 more loads at 4 spp; a third of the whole pool instead
+// of the free slots took 3 % more steps over eight of them.
+constexpr uint64_t kRegionAboveFreeShare = 3;
 uint64_t askWeight(std::span<const uint32_t> waits, std::span<const uint32_t> ahead, uint32_t brick) {
     return kWaitScore * waits[brick] + ahead[brick];
 }
@@ -426,10 +436,11 @@ Status DeviceVolumes::placeInHost(Move& move, std::vector<std::pair<uint32_t, ui
 // parked walk keeps (keepCell in common/Volume.glsl: the resident bricks a parked walk reads when
 // it resumes), least recently used first. A brick a parked walk keeps is not evicted, so a walk's
 // bricks gather until it goes on, and a brick no ray reaches is never read. When the bricks walks
-// wait for outnumber those slots (walks all over a dense cloud), the step loads a region instead
-// (regionLoads, in the slots of the bricks outside it): every walk waiting in it can go on, so a
-// render cannot stall. PERF_NOTES 61 measured the choices (loading a region every step: PERF_NOTES
-// 52; neighbours of the waited bricks besides the asks ahead: more bricks read, no fewer steps).
+// wait for would take more than 1/kRegionAboveFreeShare of those slots (walks all over a dense
+// cloud), the step loads a region instead (regionLoads, in the slots of the bricks outside it):
+// every walk waiting in it can go on, so a render cannot stall. PERF_NOTES 61 measured the choices
+// (loading a region every step: PERF_NOTES 52; neighbours of the waited bricks besides the asks
+// ahead: more bricks read, no fewer steps).
 Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, StreamingStats& stats) {
     const uint64_t bricks = brickVolume_.size();
     if (!paged() || demand.size() != demandCount())
@@ -443,7 +454,7 @@ Result<uint64_t> DeviceVolumes::page(std::span<const uint32_t> demand, Streaming
         else if (brickSlot_[b] == kNoBrick && ahead[b] > 0) later.push_back(b);
     if (wanted.empty()) return uint64_t(0);
     const std::vector<uint32_t> slots = slotsToFill(kept);
-    if (wanted.size() > slots.size()) {
+    if (kRegionAboveFreeShare * wanted.size() > slots.size()) {
         const auto [region, outside] = regionLoads(waits, ahead);
         return load(region, outside, stats);
     }

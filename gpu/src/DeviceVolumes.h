@@ -108,7 +108,7 @@ private:
     std::vector<uint32_t> slotsToFill(std::span<const uint32_t> kept);
     // The absent bricks of the region (volumeRegions) whose absent bricks walks ask for most among
     // those some walk waits in, and as many slots for them: empty ones, then those of bricks
-    // outside it (when the waited bricks outnumber the slots not kept).
+    // outside it (when the waited bricks would take more than a third of the slots not kept).
     std::pair<std::vector<uint32_t>, std::vector<uint32_t>> regionLoads(std::span<const uint32_t> waits,
                                                                         std::span<const uint32_t> ahead);
     // Puts `bricks` (absent) into `slots` (one each, in order) and reads and copies their voxels.

@@ -78,8 +78,9 @@ struct SourcedPool {
     bool ready = false;
 };
 
-// Walks wait for the bricks of columns x0 to x0 + 3 (64 bricks, a pool's worth), then of 12 to 15,
-// then of 0 to 3 again, and every resident slot's voxels are checked.
+// Walks wait for the bricks of columns x0 to x0 + 3 (64 bricks, a pool's worth; a column of 16 a
+// step, since more than a third of the free slots would load a region), then of 12 to 15, then of
+// 0 to 3 again, and every resident slot's voxels are checked.
 Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
     SourcedPool sourced(device, hostCacheBytes);
     auto& [source, volumes, pool, stats, ready] = sourced;
@@ -89,13 +90,15 @@ Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
     EXPECT_EQ(source->reads.load(), 0u) << "nothing is read before a walk asks";
     const Volume& v = sourced.volume();
     for (const uint32_t x0 : {0u, 12u, 0u}) {
-        std::vector<uint32_t> demand(pool.demandCount(), 0);
-        for (uint32_t c = 0; c < v.cellCount(); ++c)
-            if (c % 16 >= x0 && c % 16 < x0 + 4) demand[v.brickOf[c]] = 1;
         const uint64_t before = source->reads.load();
-        auto loads = pool.page(demand, stats);
-        EXPECT_TRUE(loads) << loads.message();
-        EXPECT_EQ(loads ? *loads : 0, kMinVolumeSlots);
+        for (uint32_t x = x0; x < x0 + 4; ++x) {
+            std::vector<uint32_t> demand(pool.demandCount(), 0);
+            for (uint32_t c = 0; c < v.cellCount(); ++c)
+                if (c % 16 == x) demand[v.brickOf[c]] = 1;
+            auto loads = pool.page(demand, stats);
+            EXPECT_TRUE(loads) << loads.message();
+            EXPECT_EQ(loads ? *loads : 0, kMinVolumeSlots / 4);
+        }
         steps.reads.push_back(source->reads.load() - before);
     }
     EXPECT_EQ(stats.volumeBricksRead, source->reads.load());
@@ -161,30 +164,59 @@ TEST(DeviceVolumes, EmptySlotsFillFirstAndKeptBricksStay) {
     EXPECT_EQ(step({a}, {}), 1u) << "only the brick a walk waits for is loaded";
     EXPECT_EQ(step({b}, {}), 1u);
     EXPECT_TRUE(resident(a)) << "a brick was evicted while slots were empty";
-    std::vector<uint32_t> rest;  // fills the pool: a and b, then cells 1 to 62
-    for (uint32_t c = 1; rest.size() + 2 < slots; ++c) rest.push_back(c);
-    EXPECT_EQ(step(rest, {}), slots - 2);
+    // Fills the pool: a and b, then cells 1 to 62, at most a third of the free slots a step (more
+    // would load a region).
+    for (uint32_t c = 1; c + 2 <= slots;) {
+        std::vector<uint32_t> some;
+        for (; c + 2 <= slots && 3 * (some.size() + 1) <= slots; ++c) some.push_back(c);
+        EXPECT_EQ(step(some, {}), some.size());
+    }
     EXPECT_TRUE(resident(a) && resident(b)) << "a brick was evicted while slots were empty";
+    for (uint32_t c = 1; c + 2 <= slots; ++c) EXPECT_TRUE(resident(c)) << "cell " << c;
     // Full: the least recently used goes (a, loaded first), unless a parked walk keeps it.
     EXPECT_EQ(step({100}, {}), 1u);
     EXPECT_FALSE(resident(a)) << "not the least recently used brick was evicted";
-    std::vector<uint32_t> keptAllBut1 = {b, 100};  // every resident brick but cell 1's
-    for (uint32_t c = 2; c <= 62; ++c) keptAllBut1.push_back(c);
-    EXPECT_EQ(step({101}, keptAllBut1), 1u);
-    EXPECT_FALSE(resident(1)) << "a brick a parked walk keeps was evicted";
-    for (const uint32_t c : keptAllBut1) EXPECT_TRUE(resident(c)) << "cell " << c << " was kept, but evicted";
+    std::vector<uint32_t> keptAllBut3 = {b, 100};  // every resident brick but cells 1 to 3's
+    for (uint32_t c = 4; c <= 62; ++c) keptAllBut3.push_back(c);
+    EXPECT_EQ(step({101}, keptAllBut3), 1u);
+    EXPECT_FALSE(resident(1) && resident(2) && resident(3)) << "a brick a parked walk keeps was evicted";
+    for (const uint32_t c : keptAllBut3) EXPECT_TRUE(resident(c)) << "cell " << c << " was kept, but evicted";
     // Every slot kept and more bricks waited for than the pool holds: a region loads anyway.
-    std::vector<uint32_t> all(bricks), keptAll = keptAllBut1;
+    std::vector<uint32_t> all(bricks), keptAll = keptAllBut3;
     for (uint32_t c = 0; c < bricks; ++c) all[c] = c;
     keptAll.push_back(101);
+    for (const uint32_t c : {1u, 2u, 3u})
+        if (resident(c)) keptAll.push_back(c);
     const uint64_t loads = step(all, keptAll);
     EXPECT_GT(loads, 0u) << "a step loaded nothing while walks wait";
     EXPECT_LE(loads, slots);
     EXPECT_EQ(stats.volumeBrickLoads, slots + 2 + loads);
 }
 
-// A region step (the waited bricks outnumber the slots not kept) fills the empty slots before it
-// evicts a brick, kept or not.
+// A step loads the waited bricks while they take at most a third of the slots free of kept bricks
+// (21 of 64: exactly those), and a region beyond (22: the region of 48 bricks they lie in).
+TEST(DeviceVolumes, RegionStepWhenTheWaitedBricksTakeMoreThanAThirdOfTheFreeSlots) {
+    VASTRAY_REQUIRE_DEVICE(device);
+    for (const uint64_t waitedCount : {21u, 22u}) {
+        SourcedPool sourced(device);
+        ASSERT_TRUE(sourced.ready);
+        const Volume& v = sourced.volume();
+        ASSERT_EQ(sourced.pool.slotCount(), 64u);
+        std::vector<uint32_t> waited;  // columns x = 0 and 1: the home of one region
+        for (uint32_t c = 0; waited.size() < waitedCount; ++c)
+            if (c % 16 < 2) waited.push_back(c);
+        std::vector<uint32_t> demand(sourced.pool.demandCount(), 0);
+        for (const uint32_t c : waited) demand[v.brickOf[c]] = 1;
+        const uint64_t loads = sourced.pool.page(demand, sourced.stats).value();
+        const std::vector<uint32_t> table = cellTable(sourced.pool, v);
+        for (const uint32_t c : waited) EXPECT_EQ(table[c] & kBrickAbsent, 0u) << "cell " << c << " is absent";
+        if (waitedCount == 21) EXPECT_EQ(loads, 21u) << "a step loaded more than the waited bricks";
+        else EXPECT_EQ(loads, 48u) << "no region loaded (cells x < 3: the region of columns 0 and 1)";
+    }
+}
+
+// A region step (the waited bricks take more than a third of the slots not kept) fills the empty
+// slots before it evicts a brick, kept or not.
 TEST(DeviceVolumes, RegionStepFillsEmptySlotsFirst) {
     VASTRAY_REQUIRE_DEVICE(device);
     SourcedPool sourced(device);
