@@ -427,11 +427,8 @@ uint64_t textureReserveBytes(const PackageInfo& package, uint64_t budget) {
 
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget) {
     const uint64_t whole = volumeBytes(package);
-    auto granulesOf = [&](double share) {
-        return uint64_t(double(budget) * share) / kAllocationGranule * kAllocationGranule;
-    };
-    if (whole <= granulesOf(kVolumeShareInCore)) return whole;
-    const uint64_t share = granulesOf(kVolumeShareOutOfCore);
+    const uint64_t share = uint64_t(double(budget) * kVolumeShareOutOfCore) / kAllocationGranule * kAllocationGranule;
+    if (whole <= share) return whole;
     // The fewest slots, and the park records of a minimal wave (a larger wave takes slots).
     return std::max(share, pagedVolumeBytes(volumeShapes(package), kMinVolumeSlots, kMinBatchRays));
 }

@@ -328,8 +328,8 @@ const std::string& cloudedTown() {
     return path;
 }
 
-// Bricks paged through a pool about a fifth of their size (--memory-budget at two fifths of the
-// volume's bytes keeps 40 % of it for the volume, its tables and park records, and the volume takes
+// Bricks paged through a pool about a quarter of their size (--memory-budget at two fifths of the
+// volume's bytes keeps half of it for the volume, its tables and park records, and the volume takes
 // what the wave and the mesh leave): the image equals the in-core one bit for bit, the bricks are
 // loaded (some more than once) and the device bytes stay within the budget.
 TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {

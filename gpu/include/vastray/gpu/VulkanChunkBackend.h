@@ -125,18 +125,14 @@ uint64_t environmentBytes(const Environment& environment);
 // The device bytes the package's volumes take in core; 0 without volumes.
 uint64_t volumeBytes(const PackageInfo& package);
 // What a render of the package at this budget keeps for its volumes (reservedBytes below,
-// besides the map's): all of volumeBytes when that is at most kVolumeShareInCore of the budget;
-// else kVolumeShareOutOfCore of it (at least the tables and the fewest brick slots), through
-// which the bricks are paged, and the backend adds what the wave and the chunk slots leave
-// (PoolPlan::spareBytes; docs/RENDERING.md, "Volumes out of core"). Paged, the share sets the
-// wave too (what the share leaves, the mesh's slots taken): 0.4 against 0.5 gave the wave up to
-// a fifth more paths and the pool up to a tenth fewer slots; on lavapipe (dense fBm clouds of
-// 1,998 and 14,076 bricks, 64x64 to 128x128 pixels) at 16 spp, the bench's, 4-16 % fewer brick
-// loads and 0-8 % fewer paging steps, and at 4 spp with a fifth of the bricks resident 1-4 %
-// fewer of each, but with half of them resident 12-14 % more steps (84 -> 96, 243 -> 278); 0.35
-// traded steps for loads. Not measured: scenes whose mesh is out of core too.
-constexpr double kVolumeShareInCore = 0.5;
-constexpr double kVolumeShareOutOfCore = 0.4;
+// besides the map's): all of volumeBytes when that is at most kVolumeShareOutOfCore of the
+// budget; else that share (at least the tables and the fewest brick slots), through which the
+// bricks are paged, and the backend adds what the wave and the chunk slots leave
+// (PoolPlan::spareBytes; docs/RENDERING.md, "Volumes out of core"). Paged, the share also sets
+// the wave (what it leaves); 0.4 (a fifth more paths, a tenth fewer slots) took 8 % fewer loads
+// and 2 % more paging steps over nine lavapipe cloud renders, more steps where half the bricks
+// were resident (61 -> 80, 190 -> 225): not kept.
+constexpr double kVolumeShareOutOfCore = 0.5;
 uint64_t volumeReserveBytes(const PackageInfo& package, uint64_t budget);
 // What a render of the package at this budget keeps for its textures (planPool adds it to the
 // reserve itself): every page when that is at most kTextureShareOutOfCore of the budget; else
