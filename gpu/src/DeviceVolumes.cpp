@@ -33,10 +33,11 @@ constexpr uint64_t kWaitScore = 4;
 // fraction's inverse of the slots free of kept bricks: scattered waited bricks filling most of
 // the free slots serve each walk a cell, where a region serves its walks a box. On lavapipe
 // (bench/volume_cloud clouds of 1,998 and 14,076 bricks, a fifth to a half of them resident, 4
-// and 16 spp, 64x64 to 128x128 pixels) 3 took 0-32 % fewer loads and 2-31 % fewer steps than 1
+// and 16 spp, 64x64 to 128x128 pixels) 3 took 0.4-36 % fewer loads and 2-40 % fewer steps than 1
 // (a region only when the waited bricks outnumber the free slots) in all ten renders measured;
-// 2 and 4 did about as well, 1.4 worse, 5 more loads at 4 spp; a third of the whole pool instead
-// of the free slots took 3 % more steps over eight of them.
+// in a build that kept 40 % of the budget for the volumes, 2 and 4 did about as well, 1.4 worse,
+// 5 more loads at 4 spp, and a third of the whole pool instead of the free slots took 3 % more
+// steps over eight of them.
 constexpr uint64_t kRegionAboveFreeShare = 3;
 uint64_t askWeight(std::span<const uint32_t> waits, std::span<const uint32_t> ahead, uint32_t brick) {
     return kWaitScore * waits[brick] + ahead[brick];
