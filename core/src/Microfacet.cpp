@@ -80,9 +80,6 @@ Vec3f layerF0(const Bsdf& b) {
     return f0;
 }
 
-// What depends on wo alone, looked up once per shading event: alpha, E(mu_o), the layer's albedo
-// per channel at mu_o and its cosine-weighted average, and the probability of drawing the
-// specular lobe (its albedo's share of the two lobes').
 // The coat normal's frame (Bsdf::coatNormal): tilted false when it is +z, and then every
 // direction is its own in it.
 struct CoatFrame {
@@ -100,6 +97,9 @@ CoatFrame coatFrameOf(const Bsdf& b) {
     return c;
 }
 
+// What depends on wo alone, looked up once per shading event: alpha, E(mu_o), the layer's albedo
+// per channel at mu_o and its cosine-weighted average, and the probability of drawing the
+// specular lobe (its albedo's share of the two lobes').
 struct Outgoing {
     float alpha = 0, metalAlbedo = 0, pick = 0;
     Vec3f f0, layerAlbedo, layerAverage;
