@@ -648,7 +648,7 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--memory-budget", args->memoryBudget,
                     "vulkan: device memory for chunk slots, the path state of a wave, tables and volumes, all of it (KiB/MiB/GiB); "
-                    "volumes bigger than half of it page their bricks through a pool of that half")
+                    "volumes bigger than half of it page their bricks through a pool of that half, plus what the wave and the chunk slots leave")
         ->capture_default_str();
     cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (KiB/MiB/GiB; 0 = none; auto = the whole decoded scene, up to a quarter of this machine's memory)")
         ->capture_default_str();
