@@ -328,18 +328,24 @@ const std::string& cloudedTown() {
     return path;
 }
 
+// The clouded town at width x height, spp, depth, its volumes opened as `vastray render` opens
+// them: brick tables now, each brick read when a render needs it.
+RenderOptions cloudedTownView(const std::string& path, uint32_t width, uint32_t height, uint32_t spp, uint32_t depth) {
+    RenderOptions o;
+    o.width = width, o.height = height;
+    o.samplesPerPixel = spp;
+    o.maxDepth = depth;
+    o.volumes = PackageReader::open(path).value()->openVolumes().value();
+    return o;
+}
+
 // Bricks paged through a pool about a quarter of their size (--memory-budget at two fifths of the
 // volume's bytes keeps half of it for the volume, its tables and park records, and the volume takes
 // what the wave and the mesh leave): the image equals the in-core one bit for bit, the bricks are
 // loaded (some more than once) and the device bytes stay within the budget.
 TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
     const std::string& path = cloudedTown();
-    RenderOptions o;
-    o.width = 32, o.height = 24;
-    o.samplesPerPixel = 4;
-    o.maxDepth = 3;
-    // As `vastray render` opens them: brick tables now, each brick read when a render needs it.
-    o.volumes = PackageReader::open(path).value()->openVolumes().value();
+    const RenderOptions o = cloudedTownView(path, 32, 24, 4, 3);
     ASSERT_EQ(o.volumes->size(), 1u);
     const uint64_t bricks = (*o.volumes)[0].brickCount();
     ASSERT_EQ(bricks, 2048u);
@@ -377,11 +383,7 @@ TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
 // the budget.
 TEST(VolumeRender, PagedVolumesTakeWhatTheWaveAndTheMeshLeave) {
     const std::string& path = cloudedTown();
-    RenderOptions o;
-    o.width = 16, o.height = 12;
-    o.samplesPerPixel = 2;
-    o.maxDepth = 1;
-    o.volumes = PackageReader::open(path).value()->openVolumes().value();
+    const RenderOptions o = cloudedTownView(path, 16, 12, 2, 1);
     const PackageInfo info = PackageReader::open(path).value()->info();
     const uint64_t budget = gpu::volumeBytes(info) / 2, share = gpu::volumeReserveBytes(info, budget);
     ASSERT_LT(share, gpu::volumeBytes(info));
