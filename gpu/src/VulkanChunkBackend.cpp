@@ -231,8 +231,10 @@ private:
     Status prepareEnvironment(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes,
                               StreamingStats& stats) {
         if (environment.map == environment_) return Status::ok();
+        uint64_t oldMap = 0;
         if (environment_) {
-            allocated_ -= environmentBuffer_.allocatedBytes();
+            oldMap = environmentBuffer_.allocatedBytes();
+            allocated_ -= oldMap;
             environmentBuffer_ = GpuBuffer();
             environment_.reset();
         }
@@ -240,6 +242,13 @@ private:
         const EnvironmentMap& map = *environment.map;
         VASTRAY_TRY(checkReserve(environment, volumes));
         const EnvironmentLayout layout = environmentLayout(map.width, map.height);
+        // Kept volumes hold what the last map left of the reserve and the spare: before a larger
+        // map is allocated they give it back (prepareVolumes builds them again in what this map
+        // leaves), so that the map and the volumes never hold more than the budget together.
+        if (layout.totalBytes > oldMap && volumes_.allocatedBytes() > 0) {
+            allocated_ -= volumes_.allocatedBytes();
+            VASTRAY_TRY(volumes_.prepare(nullptr, 0, plan_.batchRays, stats));
+        }
         auto buffer = device_.createBuffer(layout.totalBytes);
         if (!buffer) return buffer.status().withContext("environment map: ");
         environmentBuffer_ = std::move(buffer).value();
