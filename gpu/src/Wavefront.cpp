@@ -289,12 +289,21 @@ public:
         const uint32_t samplesPerWave = std::min(spp, b_.pathCapacity);
         // Tiles of the image (the frame, or a region of it); the device sees frame pixels.
         const uint32_t width = image_.width, height = image_.height;
-        const TileGrid grid = planTiles(width, height, std::max<uint64_t>(1, b_.pathCapacity / samplesPerWave));
         // Out of core (chunks, volume bricks or texture pages paged), waves are streamed
         // (renderStreamed) when a group of a pixel's samples leaves room for a window of two tiles
-        // or more.
+        // or more. With volume bricks paged and the chunks resident, a streamed tile holds the
+        // pixels of at most a kMaxWindowTiles-th of the wave's paths, so that below 16 spp the
+        // window still has 16 tiles and a closing tile (which waits for its slowest path) holds
+        // back a sixteenth of the wave, not 1/spp of it (PERF_NOTES 75: the 256^3 cloud at 4 spp
+        // 226 -> 149 steps; chunks paged the same way took more loads and time, 16x over budget
+        // 4,976 -> 7,741 loads: a window of more tiles spreads their demand over more chunks).
         const bool paged = b_.outOfCore || (volumes && b_.volumes->paged()) || pagedTextures();
-        if (job_.streamWaves && paged && samplesPerWave >= 2) {
+        const bool streamed = job_.streamWaves && paged && samplesPerWave >= 2;
+        const bool fineTiles = streamed && !b_.outOfCore && volumes && b_.volumes->paged();
+        const TileGrid grid = planTiles(
+            width, height,
+            std::max<uint64_t>(1, b_.pathCapacity / (fineTiles ? std::max(samplesPerWave, kMaxWindowTiles) : samplesPerWave)));
+        if (streamed) {
             VASTRAY_TRY(renderStreamed(grid, samplesPerWave));
         } else {
             for (uint64_t tile = 0; tile < grid.count(); ++tile) {
