@@ -86,13 +86,13 @@ struct CoatFrame {
     bool tilted = false;
     Frame frame;
     Vec3f in(Vec3f v) const {
-        return tilted ? Vec3f{dot(frame.tangent, v), dot(frame.bitangent, v), dot(frame.normal, v)} : v;
+        return tilted ? frame.toLocal(v) : v;
     }
     Vec3f out(Vec3f v) const { return tilted ? frame.toWorld(v) : v; }
 };
 CoatFrame coatFrameOf(const Bsdf& b) {
     CoatFrame c;
-    c.tilted = !(b.coatNormal.x == 0.0f && b.coatNormal.y == 0.0f && b.coatNormal.z == 1.0f);
+    c.tilted = !(b.coatNormal == Vec3f{0, 0, 1});
     if (c.tilted) c.frame = frameAround(b.coatNormal);
     return c;
 }

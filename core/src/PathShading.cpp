@@ -19,17 +19,15 @@ Bsdf bsdfOf(const SurfacePoint& point, const Frame& frame) {
     const Material& m = *point.material;
     Bsdf b{point.albedo,    point.metallic,        point.roughness,          m.specular, toVec(m.specularColor),
            point.clearcoat, point.clearcoatRoughness, iorF0(m.ior)};
-    const Vec3f c = point.coatNormal;
-    if (point.clearcoat > 0.0f && !(c.x == point.shadingNormal.x && c.y == point.shadingNormal.y &&
-                                    c.z == point.shadingNormal.z))
-        b.coatNormal = normalize(Vec3f{dot(frame.tangent, c), dot(frame.bitangent, c), dot(frame.normal, c)});
+    if (point.clearcoat > 0.0f && !(point.coatNormal == point.shadingNormal))
+        b.coatNormal = normalize(frame.toLocal(point.coatNormal));
     return b;
 }
 
 // wo in the shading normal's frame, lifted to a grazing 1e-4 when a shading normal turns it
 // below the surface.
 Vec3f localOutgoing(const Frame& frame, Vec3f wo) {
-    Vec3f local{dot(frame.tangent, wo), dot(frame.bitangent, wo), dot(frame.normal, wo)};
+    Vec3f local = frame.toLocal(wo);
     if (local.z < 1e-4f) local = normalize(Vec3f{local.x, local.y, 1e-4f});
     return local;
 }
@@ -326,7 +324,7 @@ Vec3f glossyReflection(const SurfacePoint& point, Vec3f wi, float* pdf) {
     if (dot(point.shadingNormal, wi) <= 0.0f || dot(point.normal, wi) <= 0.0f) return {0, 0, 0};
     const Frame frame = frameAround(point.shadingNormal);
     const Vec3f wo = localOutgoing(frame, point.outgoing);
-    const Vec3f local{dot(frame.tangent, wi), dot(frame.bitangent, wi), dot(frame.normal, wi)};
+    const Vec3f local = frame.toLocal(wi);
     const BsdfValue v = evalBsdf(bsdfOf(point, frame), wo, local, microfacetTables().data());
     *pdf = v.pdf;
     return v.f * local.z;

@@ -130,7 +130,7 @@ BsdfOutgoing outgoingTerms(WavefrontParams p, Surface s, vec3 wo, vec3 coatNorma
     o.pick = spec + diffuse > 0.0 ? spec / (spec + diffuse) : 0.5;
     o.coatAlpha = 0.0, o.coatMetalAlbedo = 1.0, o.coatAlbedo = 0.0, o.coatPick = 0.0;
     if (s.clearcoat > 0.0) {
-        o.coatTilted = !(coatNormal.x == 0.0 && coatNormal.y == 0.0 && coatNormal.z == 1.0);
+        o.coatTilted = coatNormal != vec3(0.0, 0.0, 1.0);
         if (o.coatTilted) {
             frameAround(coatNormal, o.coatT, o.coatB);
             o.coatN = coatNormal;

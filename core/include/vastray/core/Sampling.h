@@ -13,6 +13,7 @@ constexpr float kPi = 3.14159265358979323846f;
 struct Frame {
     Vec3f tangent, bitangent, normal;
     Vec3f toWorld(Vec3f local) const { return tangent * local.x + bitangent * local.y + normal * local.z; }
+    Vec3f toLocal(Vec3f world) const { return {dot(tangent, world), dot(bitangent, world), dot(normal, world)}; }
 };
 
 // Duff et al.'s branchless basis. The sign test is n.z >= 0, not copysign: a face parallel to
