@@ -11,6 +11,7 @@
 #include "Commands.h"
 #include "OutputPath.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/VolumeLeaf.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/PackageBuilder.h"
 #include "vastray/streamer/VolumeImport.h"
@@ -33,6 +34,7 @@ struct ImportArgs {
     // --volume FILE.vdb[:GRID], and each material option once (every volume) or once per volume.
     std::vector<std::string> volumes, volumeAlbedo, volumeEmission, volumeTemperature, volumeEmissionScale;
     std::vector<float> volumeDensity, volumeAnisotropy;
+    std::vector<std::string> volumeCodec;
 };
 
 // One value per volume from an option given never (the default), once (every volume) or once
@@ -114,6 +116,12 @@ Result<std::vector<VolumeSource>> volumeSources(const ImportArgs& args) {
         auto g = perVolume(args.volumeAnisotropy, i, count, "--volume-anisotropy", 0.0f);
         if (!g) return g.status();
         material.anisotropy = *g;
+        auto codec = perVolume(args.volumeCodec, i, count, "--volume-codec", std::string("float"));
+        if (!codec) return codec.status();
+        const std::optional<VolumeCodec> parsedCodec = parseVolumeCodec(*codec);
+        if (!parsedCodec)
+            return Status::error("--volume-codec '" + *codec + "' is not a brick codec (expected float, fp16 or fp8)");
+        source.codec = *parsedCodec;
         sources.push_back(std::move(source));
     }
     return sources;
@@ -239,6 +247,11 @@ CommandRun addImportCommand(CLI::App& app) {
     cmd->add_option("--volume-emission-scale", args->volumeEmissionScale,
                     "R,G,B (or one value) in [0, 1e18]: radiance per unit of the emission grid, or the factor on a "
                     "temperature grid's blackbody radiance (default 1); once or per --volume");
+    cmd->add_option("--volume-codec", args->volumeCodec,
+                    "float | fp16 | fp8: how the package stores the volume's bricks and the device holds them, as "
+                    "NanoVDB leaves: float exact (2,144 bytes a brick), or NanoVDB's quantized Fp16 (1,120) and Fp8 "
+                    "(608), which keep each voxel within its brick's (max - min) / 131,070 or / 510 (default float); "
+                    "once or per --volume");
     cmd->add_option("--progress", args->progress, "auto (bar on a terminal, lines otherwise) | bar | lines | none")
         ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
         ->capture_default_str();
@@ -256,9 +269,12 @@ CommandRun addImportCommand(CLI::App& app) {
         }
         for (const Volume& v : *volumes) {
             const char* glow = !v.hasEmission() ? "" : (v.material.temperature ? ", with temperature" : ", with emission");
-            std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels)%s\n", v.name.c_str(),
-                        v.brickCells[0], v.brickCells[1], v.brickCells[2], (unsigned long long)v.brickCount(),
-                        formatBytes(v.brickCount() * kVolumeBrickVoxels * 4).c_str(), glow);
+            std::printf("read volume '%s': %u x %u x %u brick cells, %llu bricks (%s of voxels, stored as %s of NanoVDB "
+                        "%s leaves)%s\n",
+                        v.name.c_str(), v.brickCells[0], v.brickCells[1], v.brickCells[2],
+                        (unsigned long long)v.brickCount(), formatBytes(v.brickCount() * kVolumeBrickVoxels * 4).c_str(),
+                        formatBytes(v.brickCount() * volumeLeafBytes(v.codec) * (v.hasEmission() ? 2 : 1)).c_str(),
+                        volumeCodecName(v.codec), glow);
         }
         options->volumes = std::move(volumes).value();
         ImportOptions importOptions;

@@ -11,6 +11,7 @@
 #include "CellExport.h"
 #include "Commands.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/VolumeLeaf.h"
 #include "vastray/core/PathShading.h"
 #include "vastray/streamer/ScenePackage.h"
 
@@ -84,6 +85,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
         volumes.push_back({{"name", v.name},
                            {"brick_cells", {v.brickCells[0], v.brickCells[1], v.brickCells[2]}},
                            {"bricks", p.brickCount},
+                           {"codec", volumeCodecName(v.codec)},  // (before format 14: f32 bricks, "float")
                            {"device_bytes", p.deviceBytes()},
                            {"bounds", boundsJson(v.worldBounds)},
                            {"albedo", {v.material.albedo[0], v.material.albedo[1], v.material.albedo[2]}},
@@ -203,10 +205,13 @@ void printHuman(const std::string& path, const PackageInfo& info) {
     for (size_t i = 0; i < info.volumes.size(); ++i) {
         const PackageVolume& p = info.volumes[i];
         const Volume& v = p.volume;
-        std::printf("  volume %-13zu '%s': %u x %u x %u brick cells, %u bricks (%s), albedo (%g, %g, %g), density x%g, "
-                    "anisotropy %g",
+        std::printf("  volume %-13zu '%s': %u x %u x %u brick cells, %u bricks (%s, %s), albedo (%g, %g, "
+                    "%g), density x%g, anisotropy %g",
                     i, v.name.c_str(), v.brickCells[0], v.brickCells[1], v.brickCells[2], p.brickCount,
-                    formatBytes(p.size).c_str(), v.material.albedo[0], v.material.albedo[1], v.material.albedo[2],
+                    formatBytes(p.size).c_str(),
+                    info.formatVersion >= 14 ? (std::string("NanoVDB ") + volumeCodecName(v.codec) + " leaves").c_str()
+                                             : "f32 bricks",
+                    v.material.albedo[0], v.material.albedo[1], v.material.albedo[2],
                     v.material.densityScale, v.material.anisotropy);
         if (p.hasEmission)
             std::printf(", %s x(%g, %g, %g)", v.material.temperature ? "blackbody of a temperature grid" : "emission",

@@ -1,5 +1,5 @@
 #pragma once
-// Forged volume data for tests of the package reader's checks (format 6 to 8, docs/PACKAGE_FORMAT.md,
+// Forged volume data for tests of the package reader's checks (format 14, docs/PACKAGE_FORMAT.md,
 // "Volumes").
 #include <gtest/gtest.h>
 
@@ -13,6 +13,7 @@
 
 #include "TestTmp.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/VolumeLeaf.h"
 #include "vastray/streamer/PackageBuilder.h"
 #include "vastray/streamer/ScenePackage.h"
 
@@ -61,13 +62,22 @@ inline void resealRecordsAndHeader(std::vector<uint8_t>& bytes, uint64_t recordA
     std::memcpy(bytes.data() + 248, &header, 8);
 }
 
-// The file offset of brick `brick`'s first voxel in the data of volume `p`.
+// A stored brick's bytes in volume `p` (format 14: its leaves in the volume's codec).
+inline uint64_t storedBrickBytes(const PackageVolume& p) {
+    return uint64_t(volumeLeafBytes(p.volume.codec)) * (p.hasEmission ? 2 : 1);
+}
+// The file offset of brick `brick`'s first byte (its density leaf's) in the data of volume `p`.
 inline uint64_t brickOffset(const PackageVolume& p, uint64_t brick) {
-    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels * (p.hasEmission ? 2 : 1);
-    return p.offset + 4 * p.volume.cellCount() + 16ull * p.brickCount + brick * brickBytes;
+    return p.offset + 4 * p.volume.cellCount() + 16ull * p.brickCount + brick * storedBrickBytes(p);
+}
+// The file offset of voxel `index` (x fastest) of brick `brick` of a float-codec volume `p`: in
+// the NanoVDB float leaf, the f32 at byte 96 + 4 * (x * 64 + y * 8 + z) (NanoVDB orders z fastest).
+inline uint64_t voxelOffset(const PackageVolume& p, uint64_t brick, uint32_t index) {
+    const uint32_t x = index % 8, y = index / 8 % 8, z = index / 64;
+    return brickOffset(p, brick) + 96 + 4 * (x * 64 + y * 8 + z);
 }
 
-// The bytes of a format 6 package whose only volume is `p`, changed by `change`, then with every
+// The bytes of a format 14 package whose only volume is `p`, changed by `change`, then with every
 // checksum over the volume recomputed as a forger would: each brick's in the brick index, the
 // table's in the record, the records' and the header's. Offsets: the header keeps the records'
 // offset 24 bytes and their checksum 16 bytes before its own checksum (bytes 248..255); a record
@@ -75,7 +85,7 @@ inline uint64_t brickOffset(const PackageVolume& p, uint64_t brick) {
 inline std::vector<uint8_t> forgeVolumeData(std::vector<uint8_t> bytes, const PackageVolume& p,
                                             const std::function<void(std::vector<uint8_t>&)>& change) {
     change(bytes);
-    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels * (p.hasEmission ? 2 : 1);
+    const uint64_t brickBytes = storedBrickBytes(p);
     const uint64_t index = p.offset + 4 * p.volume.cellCount();
     for (uint64_t b = 0; b < p.brickCount; ++b) {
         const uint64_t sum = checksum64(bytes.data() + brickOffset(p, b), brickBytes);
@@ -257,12 +267,15 @@ inline std::vector<uint8_t> asVersion5(const std::vector<uint8_t>& current, Pack
     // The light section's checksum, the emitter section, the texture head, the colours and the maps
     // (the coat's and the five before them) no longer lie before it.
     p.offset -= 8 + 16 + 32 + (32ull + 156ull + 56ull) * materials;
-    const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels;
+    // Version 14's leaves decoded (NanoVDB's float leaves: the values exactly) into 512 f32 a brick.
+    const uint64_t voxelBytes = 4ull * kVolumeBrickVoxels, leafBytes = volumeLeafBytes(p.volume.codec);
     std::vector<uint8_t> out(bytes.begin(), bytes.begin() + int64_t(p.offset + 4 * p.volume.cellCount()));
+    std::vector<float> voxels(kVolumeBrickVoxels);
     for (int part = 0; part < (p.hasEmission ? 2 : 1); ++part)
         for (uint64_t b = 0; b < p.brickCount; ++b) {
-            const auto at = bytes.begin() + int64_t(brickOffset(p, b) + part * voxelBytes);
-            out.insert(out.end(), at, at + int64_t(voxelBytes));
+            EXPECT_EQ(decodeVolumeLeaf(p.volume.codec, bytes.data() + brickOffset(p, b) + part * leafBytes, voxels.data()), "");
+            const auto* at = reinterpret_cast<const uint8_t*>(voxels.data());
+            out.insert(out.end(), at, at + voxelBytes);
         }
     const uint32_t five = 5;
     const uint64_t fileBytes = out.size(), size = out.size() - p.offset;

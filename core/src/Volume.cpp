@@ -7,6 +7,7 @@
 #include "vastray/core/Blackbody.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/core/VecMath.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray {
 namespace {
@@ -246,15 +247,49 @@ void computeVolumeMajorants(Volume& v, std::span<const float> brickMaximum) {
             }
 }
 
+namespace {
+
+Status checkBrickNumber(const Volume& v, uint64_t brick) {
+    if (brick < v.brickCount()) return Status::ok();
+    return Status::error("volume '" + v.name + "': brick " + std::to_string(brick) + " does not exist (" +
+                         std::to_string(v.brickCount()) + " bricks)");
+}
+
+}  // namespace
+
 Status readVolumeBrick(const Volume& v, uint64_t brick, float* density, float* emission) {
-    if (brick >= v.brickCount())
-        return Status::error("volume '" + v.name + "': brick " + std::to_string(brick) + " does not exist (" +
-                             std::to_string(v.brickCount()) + " bricks)");
-    if (v.bricks.source) return v.bricks.source->readBrick(v.bricks.volume, uint32_t(brick), density, emission);
+    VASTRAY_TRY(checkBrickNumber(v, brick));
+    if (v.bricks.source)
+        return v.bricks.source->readBrick(v.bricks.volume, uint32_t(brick), density, emission, nullptr);
     const uint64_t first = brick * kVolumeBrickVoxels;
     std::copy_n(v.voxels.data() + first, kVolumeBrickVoxels, density);
     if (!v.emissionVoxels.empty()) std::copy_n(v.emissionVoxels.data() + first, kVolumeBrickVoxels, emission);
     return Status::ok();
+}
+
+Status readVolumeLeaves(const Volume& v, VolumeCodec codec, uint64_t brick, std::array<int32_t, 3> origin,
+                        float* density, float* emission, uint8_t* leaves) {
+    VASTRAY_TRY(checkBrickNumber(v, brick));
+    if (v.bricks.source && v.bricks.source->leafCodec(v.bricks.volume) == codec)
+        return v.bricks.source->readBrick(v.bricks.volume, uint32_t(brick), density, emission, leaves);
+    VASTRAY_TRY(readVolumeBrick(v, brick, density, emission));
+    encodeVolumeLeaf(codec, origin, density, leaves);
+    if (v.hasEmission()) encodeVolumeLeaf(codec, origin, emission, leaves + volumeLeafBytes(codec));
+    return Status::ok();
+}
+
+std::array<int32_t, 3> volumeCellOrigin(const Volume& v, uint64_t cell) {
+    const uint64_t nx = v.brickCells[0], nxy = nx * v.brickCells[1];
+    const int32_t size = int32_t(kVolumeBrickSize);
+    return {v.origin[0] + size * int32_t(cell % nx), v.origin[1] + size * int32_t(cell % nxy / nx),
+            v.origin[2] + size * int32_t(cell / nxy)};
+}
+
+std::vector<std::array<int32_t, 3>> volumeBrickOrigins(const Volume& v) {
+    std::vector<std::array<int32_t, 3>> origins(v.brickCount());
+    for (uint64_t c = 0; c < v.brickOf.size(); ++c)
+        if (v.brickOf[c] != kNoBrick && v.brickOf[c] < origins.size()) origins[v.brickOf[c]] = volumeCellOrigin(v, c);
+    return origins;
 }
 
 std::string checkBrickTable(std::span<const uint32_t> brickOf, uint64_t bricks) {
@@ -285,6 +320,8 @@ std::string checkVolume(const Volume& v) {
                std::to_string(kMaxVolumeBrickCells);
     if (v.brickOf.size() != v.cellCount()) return "the brick table does not have one entry per cell";
     if (v.voxels.size() % kVolumeBrickVoxels != 0) return "the voxels are not whole bricks";
+    if (uint32_t(v.codec) >= kVolumeCodecCount)
+        return "its codec " + std::to_string(uint32_t(v.codec)) + " is not one vastray knows";
     if (v.brickCount() > kMaxVolumeBricks)
         return std::to_string(v.brickCount()) + " bricks, more than the limit of " + std::to_string(kMaxVolumeBricks);
     if (std::string problem = checkBrickTable(v.brickOf, v.brickCount()); !problem.empty()) return problem;

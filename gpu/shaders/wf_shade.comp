@@ -44,6 +44,7 @@ layout(constant_id = 9) const bool kClearcoat = false;         // some material 
 layout(constant_id = 10) const bool kTextures = false;         // some material has maps (and the hits UVs)
 layout(constant_id = 11) const bool kNormalMaps = false;       // some material has a normal map (and the hits frames)
 layout(constant_id = 12) const bool kEmitters = false;         // next-event estimation samples emissive triangles
+// (13-15, which leaf codecs the volumes use: common/Volume.glsl)
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point), as does the ray cone's width there.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <array>
 #include <numeric>
 #include <string>
@@ -12,6 +13,7 @@
 #include "PoolLayout.h"
 #include "vastray/core/Blackbody.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray::gpu {
 namespace {
@@ -49,17 +51,22 @@ uint64_t slotsFitting(std::span<const VolumeShape> shapes, uint64_t bytes, uint6
     if (bytes < base) return 0;
     bool emission = false;
     for (const VolumeShape& s : shapes) emission = emission || s.emission;
-    const uint64_t perSlot = 4ull * kVolumeBrickVoxels * (emission ? 2 : 1);
-    uint64_t slots = (bytes - base) / perSlot;
-    while (slots > 0 && pagedVolumeBytes(shapes, slots, paths) > bytes) slots -= std::max<uint64_t>(1, slots / 1024);
-    return slots;
+    // The bytes grow with the slots (in whole granules): the most that fit, by bisection.
+    const uint64_t perSlot = volumeSlotBytes(shapes) * (emission ? 2 : 1);
+    uint64_t fits = 0, over = bytes / perSlot + 1;  // (over: more than `bytes` in the pool alone)
+    while (over - fits > 1) {
+        const uint64_t middle = fits + (over - fits) / 2;
+        (pagedVolumeBytes(shapes, middle, paths) <= bytes ? fits : over) = middle;
+    }
+    return fits;
 }
 
 }  // namespace
 
 std::vector<VolumeShape> volumeShapes(std::span<const Volume> volumes) {
     std::vector<VolumeShape> shapes;
-    for (const Volume& v : volumes) shapes.push_back({v.cellCount(), v.brickCount(), v.hasEmission()});
+    for (const Volume& v : volumes)
+        shapes.push_back({v.cellCount(), v.brickCount(), v.hasEmission(), volumeDeviceLeafBytes(deviceVolumeCodec(v))});
     return shapes;
 }
 
@@ -207,7 +214,8 @@ Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& 
             Status built = Status::ok();
             if (inCoreVolumeBytes(shapes) <= bytes) {
                 built = buildInCore(*volumes, stats);
-            } else if (const uint64_t slots = std::min<uint64_t>(slotsFitting(shapes, bytes, paths), kNoBrick - 1);
+            } else if (const uint64_t slots = std::min<uint64_t>(slotsFitting(shapes, bytes, paths),
+                                                                 slotLimit_ > 0 ? slotLimit_ : kNoBrick - 1);
                        slots >= kMinVolumeSlots) {
                 built = buildPaged(*volumes, uint32_t(slots), paths, stats);
             } else {
@@ -232,7 +240,7 @@ Status DeviceVolumes::prepare(const std::shared_ptr<const std::vector<Volume>>& 
 
 Status DeviceVolumes::writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                                    std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
-                                   std::span<const uint64_t> emission, uint64_t blackbody) {
+                                   std::span<const uint64_t> emission, uint64_t slotBytes, uint64_t blackbody) {
     const uint64_t base = buffer_.address();
     std::vector<WavefrontVolume> records;
     uint32_t bricks = 0;
@@ -248,6 +256,9 @@ Status DeviceVolumes::writeRecords(const std::vector<Volume>& volumes, std::span
         r.densityScale = v.material.densityScale, r.anisotropy = v.material.anisotropy;
         r.emitR = v.material.emission[0], r.emitG = v.material.emission[1], r.emitB = v.material.emission[2];
         r.brickBase = bricks;
+        // Its leaves' stride (a multiple of 16) and codec in the low bits.
+        const VolumeCodec codec = deviceVolumeCodec(v);
+        r.leaves = uint32_t(slotBytes > 0 ? slotBytes : volumeDeviceLeafBytes(codec)) | uint32_t(codec);
         r.blackbody = v.hasEmission() && v.material.temperature ? base + blackbody : 0;
         bricks += uint32_t(v.brickCount());
     }
@@ -265,29 +276,33 @@ Status DeviceVolumes::allocate(const std::vector<Volume>& volumes, uint64_t byte
 }
 
 Status DeviceVolumes::uploadAllBricks(const Volume& v, uint64_t voxels, uint64_t emission, StreamingStats& stats) {
-    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels, bricks = v.brickCount();
-    if (!v.bricks.source) {
-        if (v.hasEmission()) VASTRAY_TRY(buffer_.upload(v.emissionVoxels.data(), v.emissionVoxels.size() * 4, emission));
-        if (bricks > 0)  // a grid whose active values are all 0 has no bricks
-            VASTRAY_TRY(buffer_.upload(v.voxels.data(), v.voxels.size() * 4, voxels));
-        return Status::ok();
-    }
-    // Read from the package a batch at a time (16 MiB of host memory at most), on all cores.
+    const VolumeCodec codec = deviceVolumeCodec(v);
+    const uint64_t leafBytes = volumeLeafBytes(codec), deviceBytes = volumeDeviceLeafBytes(codec), bricks = v.brickCount();
+    const std::vector<std::array<int32_t, 3>> origins = volumeBrickOrigins(v);
+    // Read (from the package, or encoded from memory) a batch at a time (35 MiB of host memory at
+    // most: the whole leaves, then what the device keeps of them), on all cores.
     constexpr uint64_t kBatch = 4096;
-    std::vector<float> density(std::min(bricks, kBatch) * kVolumeBrickVoxels);
-    std::vector<float> glow(v.hasEmission() ? density.size() : 0);
+    const uint64_t perBrick = leafBytes * (v.hasEmission() ? 2 : 1);
+    std::vector<uint8_t> leaves(std::min(bricks, kBatch) * perBrick);
+    std::vector<uint8_t> density(std::min(bricks, kBatch) * deviceBytes), glow(v.hasEmission() ? density.size() : 0);
     for (uint64_t first = 0; first < bricks; first += kBatch) {
         const uint64_t count = std::min(kBatch, bricks - first);
         std::vector<Status> failed(count);
         tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 64), [&](const tbb::blocked_range<uint64_t>& r) {
-            for (uint64_t i = r.begin(); i != r.end(); ++i)
-                failed[i] = readVolumeBrick(v, first + i, density.data() + i * kVolumeBrickVoxels,
-                                            glow.empty() ? nullptr : glow.data() + i * kVolumeBrickVoxels);
+            float values[2 * kVolumeBrickVoxels];
+            for (uint64_t i = r.begin(); i != r.end(); ++i) {
+                uint8_t* at = leaves.data() + i * perBrick;
+                failed[i] = readVolumeLeaves(v, codec, first + i, origins[first + i], values,
+                                             glow.empty() ? nullptr : values + kVolumeBrickVoxels, at);
+                const uint8_t* kept = at + kVolumeLeafDeviceOffset;
+                std::memcpy(density.data() + i * deviceBytes, kept, deviceBytes);
+                if (!glow.empty()) std::memcpy(glow.data() + i * deviceBytes, kept + leafBytes, deviceBytes);
+            }
         });
         for (const Status& f : failed) VASTRAY_TRY(f);
-        stats.volumeBricksRead += count;
-        VASTRAY_TRY(buffer_.upload(density.data(), count * brickBytes, voxels + first * brickBytes));
-        if (!glow.empty()) VASTRAY_TRY(buffer_.upload(glow.data(), count * brickBytes, emission + first * brickBytes));
+        if (v.bricks.source) stats.volumeBricksRead += count;
+        VASTRAY_TRY(buffer_.upload(density.data(), count * deviceBytes, voxels + first * deviceBytes));
+        if (!glow.empty()) VASTRAY_TRY(buffer_.upload(glow.data(), count * deviceBytes, emission + first * deviceBytes));
     }
     return Status::ok();
 }
@@ -312,10 +327,10 @@ Status DeviceVolumes::buildInCore(const std::vector<Volume>& volumes, StreamingS
         VASTRAY_TRY(uploadAllBricks(v, layout.voxels[i], layout.emission[i], stats));
         VASTRAY_TRY(buffer_.upload(v.brickOf.data(), v.brickOf.size() * 4, layout.brickOf[i]));
         VASTRAY_TRY(buffer_.upload(v.majorant.data(), v.majorant.size() * 4, layout.majorant[i]));
-        stats.hostToDeviceBytes +=
-            (v.brickOf.size() + v.majorant.size() + v.brickCount() * kVolumeBrickVoxels * (v.hasEmission() ? 2 : 1)) * 4;
+        stats.hostToDeviceBytes += (v.brickOf.size() + v.majorant.size()) * 4 +
+                                   v.brickCount() * volumeDeviceLeafBytes(deviceVolumeCodec(v)) * (v.hasEmission() ? 2 : 1);
     }
-    return writeRecords(volumes, layout.brickOf, layout.majorant, layout.voxels, layout.emission, layout.totalBytes);
+    return writeRecords(volumes, layout.brickOf, layout.majorant, layout.voxels, layout.emission, 0, layout.totalBytes);
 }
 
 Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t slots, uint64_t paths,
@@ -363,16 +378,17 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
             regionBricks_.push_back(std::move(bricks));
         }
     }
-    // The host cache, for the bricks that stay in the package.
-    uint64_t stored = 0;
+    // The host cache of whole leaves (read from the package, or encoded from the voxels in memory).
     bool glows = false;
+    uint64_t leafBytes = 0;
     for (const Volume& v : volumes)
-        if (v.bricks.source) stored += v.brickCount(), glows = glows || v.hasEmission();
-    cacheStride_ = uint64_t(kVolumeBrickVoxels) * (glows ? 2 : 1);
-    const uint64_t entries = std::min(stored, std::max<uint64_t>(slots, hostCacheBytes_ / (4 * cacheStride_)));
+        glows = glows || v.hasEmission(), leafBytes = std::max<uint64_t>(leafBytes, volumeLeafBytes(deviceVolumeCodec(v)));
+    slotBytes_ = volumeSlotBytes(shapes);
+    cacheStride_ = leafBytes * (glows ? 2 : 1);
+    const uint64_t entries = std::min<uint64_t>(brickVolume_.size(), std::max<uint64_t>(slots, hostCacheBytes_ / cacheStride_));
     // Not value-initialized: the pages of entries never used are never touched (host memory grows
     // with the bricks read, up to the bound).
-    cache_.reset(entries > 0 ? new float[entries * cacheStride_] : nullptr);
+    cache_.reset(entries > 0 ? new uint8_t[entries * cacheStride_] : nullptr);
     entryBrick_.assign(entries, kNoBrick), entryStep_.assign(entries, 0), entryReferenced_.assign(entries, 0);
     brickEntry_.assign(entries > 0 ? brickVolume_.size() : 0, kNoBrick);
     hand_ = 0, step_ = 0;
@@ -381,13 +397,14 @@ Status DeviceVolumes::buildPaged(const std::vector<Volume>& volumes, uint32_t sl
     const std::vector<uint32_t> zeros(demandCount(), 0);  // no brick asked for
     VASTRAY_TRY(buffer_.upload(zeros.data(), zeros.size() * 4, demandOffset_));
     const std::vector<uint64_t> density(volumes.size(), layout.density), emission(volumes.size(), layout.emission);
-    return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission, layout.totalBytes);
+    return writeRecords(volumes, layout.brickOf, layout.majorant, density, emission, slotBytes_, layout.totalBytes);
 }
 
 Status DeviceVolumes::copyBrick(const Move& move) {
-    const uint64_t brickBytes = 4ull * kVolumeBrickVoxels;
-    VASTRAY_TRY(buffer_.upload(move.density, brickBytes, densityOffset_ + move.slot * brickBytes));
-    if (move.emission) VASTRAY_TRY(buffer_.upload(move.emission, brickBytes, emissionOffset_ + move.slot * brickBytes));
+    const uint64_t bytes = volumeDeviceLeafBytes(deviceVolumeCodec((*volumes_)[brickVolume_[move.brick]]));
+    VASTRAY_TRY(buffer_.upload(move.density + kVolumeLeafDeviceOffset, bytes, densityOffset_ + move.slot * slotBytes_));
+    if (move.emission)
+        VASTRAY_TRY(buffer_.upload(move.emission + kVolumeLeafDeviceOffset, bytes, emissionOffset_ + move.slot * slotBytes_));
     return Status::ok();
 }
 
@@ -412,12 +429,6 @@ uint32_t DeviceVolumes::takeCacheEntry() {
 
 Status DeviceVolumes::placeInHost(Move& move, std::vector<std::pair<uint32_t, uint32_t>>& reads) {
     const Volume& v = (*volumes_)[brickVolume_[move.brick]];
-    const uint64_t local = move.brick - volumeFirstBrick_[brickVolume_[move.brick]];
-    if (!v.bricks.source) {
-        move.density = v.voxels.data() + local * kVolumeBrickVoxels;
-        move.emission = v.hasEmission() ? v.emissionVoxels.data() + local * kVolumeBrickVoxels : nullptr;
-        return Status::ok();
-    }
     uint32_t e = brickEntry_[move.brick];
     if (e == kNoBrick) {
         e = takeCacheEntry();
@@ -427,7 +438,7 @@ Status DeviceVolumes::placeInHost(Move& move, std::vector<std::pair<uint32_t, ui
     }
     entryStep_[e] = step_, entryReferenced_[e] = 1;
     move.density = cache_.get() + uint64_t(e) * cacheStride_;
-    move.emission = v.hasEmission() ? move.density + kVolumeBrickVoxels : nullptr;
+    move.emission = v.hasEmission() ? move.density + volumeLeafBytes(deviceVolumeCodec(v)) : nullptr;
     return Status::ok();
 }
 
@@ -530,20 +541,25 @@ Result<uint64_t> DeviceVolumes::load(std::span<const uint32_t> bricks, std::span
             volumes_.reset();  // the cell tables name slots that will not be filled
             return placed;
         }
-        stats.hostToDeviceBytes += 4ull * kVolumeBrickVoxels * (move.emission ? 2 : 1) + 4;
+        stats.hostToDeviceBytes += volumeDeviceLeafBytes(deviceVolumeCodec((*volumes_)[brickVolume_[brick]])) * (move.emission ? 2 : 1) + 4;
     }
-    // The bricks not in host memory, from their package (pread, checksum, voxel checks).
+    // The bricks not in the host cache: from their package (pread, checksum, voxel checks), or
+    // encoded from the voxels in memory.
     std::vector<Status> readFailed(reads.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, reads.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        float values[2 * kVolumeBrickVoxels];
         for (size_t i = r.begin(); i != r.end(); ++i) {
             const auto [brick, entry] = reads[i];
-            const Volume& v = (*volumes_)[brickVolume_[brick]];
-            float* at = cache_.get() + uint64_t(entry) * cacheStride_;
-            readFailed[i] = readVolumeBrick(v, brick - volumeFirstBrick_[brickVolume_[brick]], at,
-                                            v.hasEmission() ? at + kVolumeBrickVoxels : nullptr);
+            const uint32_t volume = brickVolume_[brick];
+            const Volume& v = (*volumes_)[volume];
+            readFailed[i] = readVolumeLeaves(v, deviceVolumeCodec(v), brick - volumeFirstBrick_[volume],
+                                             volumeCellOrigin(v, brickCell_[brick]), values,
+                                             v.hasEmission() ? values + kVolumeBrickVoxels : nullptr,
+                                             cache_.get() + uint64_t(entry) * cacheStride_);
         }
     });
-    stats.volumeBricksRead += reads.size();
+    for (const auto& [brick, entry] : reads)
+        if ((*volumes_)[brickVolume_[brick]].bricks.source) ++stats.volumeBricksRead;
     for (const Status& f : readFailed)
         if (!f) {
             volumes_.reset();  // slots and cache entries name bricks they do not hold: built anew next time

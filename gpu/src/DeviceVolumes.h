@@ -22,9 +22,9 @@ namespace vastray::gpu {
 
 // A pool holds at least this many bricks: a trilinear read needs 8, a ray through a cloud more.
 constexpr uint64_t kMinVolumeSlots = 64;
-// Paged volumes whose bricks stay in the package (Volume::bricks) keep the bricks they read in a
-// host cache of at most this many bytes (at least a pool's worth), so that a brick paged in again
-// is not read and checked again; least recently used first out (clock).
+// Paged volumes keep the leaves they read from the package (Volume::bricks) or encoded from the
+// voxels in memory in a host cache of at most this many bytes (at least a pool's worth), so that
+// a brick paged in again is not read and checked again; least recently used first out (clock).
 constexpr uint64_t kVolumeHostCacheBytes = 1ull << 30;
 
 // The one place the volumes' device bytes are counted (the backend's reserve and DeviceVolumes
@@ -55,9 +55,10 @@ VolumeRegions volumeRegions(const Volume& volume, uint32_t slots);
 class DeviceVolumes {
 public:
     // hostCacheBytes: the host brick cache's bound (kVolumeHostCacheBytes; at least a pool's worth
-    // is kept whatever it says).
-    explicit DeviceVolumes(VulkanDevice& device, uint64_t hostCacheBytes = kVolumeHostCacheBytes)
-        : device_(device), hostCacheBytes_(hostCacheBytes) {}
+    // is kept whatever it says). slotLimit: the most slots a pool takes (0: as many as the bytes
+    // hold; a test's pool of a known size).
+    explicit DeviceVolumes(VulkanDevice& device, uint64_t hostCacheBytes = kVolumeHostCacheBytes, uint32_t slotLimit = 0)
+        : device_(device), hostCacheBytes_(hostCacheBytes), slotLimit_(slotLimit) {}
 
     // Puts `volumes` (none: empty or null) on the device in at most `bytes`: every brick when they
     // fit, else a pool of as many brick slots as fit besides the park records of waves of up to
@@ -96,12 +97,12 @@ private:
     // Uploads every brick of volume `i` (in memory, or read from its package in batches) to
     // `voxels` and `emission` (0: none) in buffer_.
     Status uploadAllBricks(const Volume& volume, uint64_t voxels, uint64_t emission, StreamingStats& stats);
-    // A brick paged into a slot this step, and where its voxels (and emission: null without) are
-    // in host memory.
+    // A brick paged into a slot this step, and where its leaves (and the emission's: null without)
+    // are in host memory.
     struct Move {
         uint32_t brick = 0, slot = 0;
-        const float* density = nullptr;
-        const float* emission = nullptr;
+        const uint8_t* density = nullptr;
+        const uint8_t* emission = nullptr;
     };
     // The slots page() fills this step, in order: the empty ones, then those of bricks no parked
     // walk keeps, least recently used first.
@@ -111,24 +112,27 @@ private:
     // outside it (when the waited bricks would take more than a third of the slots not kept).
     std::pair<std::vector<uint32_t>, std::vector<uint32_t>> regionLoads(std::span<const uint32_t> waits,
                                                                         std::span<const uint32_t> ahead);
-    // Puts `bricks` (absent) into `slots` (one each, in order) and reads and copies their voxels.
+    // Puts `bricks` (absent) into `slots` (one each, in order) and reads and copies their leaves.
     Result<uint64_t> load(std::span<const uint32_t> bricks, std::span<const uint32_t> slots, StreamingStats& stats);
-    // Sets the move's host pointers: the volume's voxels, or a host cache entry (a new entry also
-    // goes to `reads` as (brick, entry): its brick is read from the package before the copies).
+    // Sets the move's host pointers: a host cache entry (a new entry also goes to `reads` as
+    // (brick, entry): its leaves are read from the package, or encoded from the voxels in memory,
+    // before the copies).
     Status placeInHost(Move& move, std::vector<std::pair<uint32_t, uint32_t>>& reads);
     uint32_t takeCacheEntry();
     Status copyBrick(const Move& move);
     // The blackbody table (core/Blackbody.h) at `offset` in buffer_ when a volume has a
     // temperature grid.
     Status uploadBlackbody(const std::vector<Volume>& volumes, uint64_t offset, StreamingStats& stats);
-    // The WavefrontVolume records, each volume's arrays at these offsets in buffer_ (`blackbody`:
-    // the table's, for volumes with a temperature grid).
+    // The WavefrontVolume records, each volume's arrays at these offsets in buffer_, its leaves
+    // `slotBytes` apart (0: its own codec's leaf bytes) (`blackbody`: the table's, for volumes
+    // with a temperature grid).
     Status writeRecords(const std::vector<Volume>& volumes, std::span<const uint64_t> brickOf,
                         std::span<const uint64_t> majorant, std::span<const uint64_t> voxels,
-                        std::span<const uint64_t> emission, uint64_t blackbody);
+                        std::span<const uint64_t> emission, uint64_t slotBytes, uint64_t blackbody);
 
     VulkanDevice& device_;
     uint64_t hostCacheBytes_;
+    uint32_t slotLimit_;
     std::shared_ptr<const std::vector<Volume>> volumes_;  // the volumes in buffer_
     GpuBuffer buffer_, readback_;
     uint32_t slots_ = 0;
@@ -141,10 +145,11 @@ private:
     std::vector<std::vector<uint32_t>> regionBricks_;
     std::vector<uint64_t> tableOffset_;
     uint64_t densityOffset_ = 0, emissionOffset_ = 0, demandOffset_ = 0, parkOffset_ = 0, parkBytes_ = 0;
-    // The host brick cache (paged, bricks left in the package): per entry cacheStride_ floats
-    // (densities, then emission), the brick it holds, the step that last used it and its clock
-    // bit; per brick its entry (kNoBrick: none).
-    std::unique_ptr<float[]> cache_;
+    uint64_t slotBytes_ = 0;  // a pool slot: the largest leaf of the volumes' codecs
+    // The host brick cache (paged): per entry cacheStride_ bytes (the density's whole leaf, then
+    // the emission's; the largest codec's), the brick it holds, the step that last used it and its clock bit; per brick
+    // its entry (kNoBrick: none).
+    std::unique_ptr<uint8_t[]> cache_;
     uint64_t cacheStride_ = 0;
     std::vector<uint32_t> entryBrick_, brickEntry_;
     std::vector<uint64_t> entryStep_;

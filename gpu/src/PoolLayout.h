@@ -128,11 +128,18 @@ inline EnvironmentLayout environmentLayout(uint64_t width, uint64_t height) {
     return e;
 }
 // The volumes' buffer: WavefrontVolume per volume, then per volume its brick table, majorants,
-// voxels and emission voxels (16-byte aligned; emission 0 when it has no emission grid).
+// density leaves and emission leaves (16-byte aligned; emission 0 when it has no emission grid).
 struct VolumeShape {
     uint64_t cells = 0, bricks = 0;
     bool emission = false;
+    uint64_t leafBytes = 2064;  // what the device keeps of a brick's leaf in its codec (volumeDeviceLeafBytes)
 };
+// A paged pool's slot: the largest leaf of the volumes'.
+inline uint64_t volumeSlotBytes(std::span<const VolumeShape> volumes) {
+    uint64_t bytes = 0;
+    for (const VolumeShape& v : volumes) bytes = std::max(bytes, v.leafBytes);
+    return bytes;
+}
 struct VolumeLayout {
     std::vector<uint64_t> brickOf, majorant, voxels, emission;
     uint64_t totalBytes = 0;
@@ -142,7 +149,7 @@ inline VolumeLayout volumeLayout(std::span<const VolumeShape> volumes) {
     VolumeLayout l;
     uint64_t at = align(volumes.size() * sizeof(WavefrontVolume));
     for (const VolumeShape& v : volumes) {
-        const uint64_t voxelBytes = 4 * uint64_t(kVolumeBrickVoxels) * v.bricks;
+        const uint64_t voxelBytes = v.leafBytes * v.bricks;
         l.brickOf.push_back(at), at = align(at + 4 * v.cells);
         l.majorant.push_back(at), at = align(at + 4 * v.cells);
         l.voxels.push_back(at), at = align(at + voxelBytes);
@@ -153,8 +160,8 @@ inline VolumeLayout volumeLayout(std::span<const VolumeShape> volumes) {
 }
 // Paged volumes (gpu/src/DeviceVolumes.h): WavefrontVolume per volume, per volume its cell table
 // (a slot or kBrickAbsent | brick per cell) and majorants, then the pools of `slots` bricks
-// (density, and emission when a volume has an emission grid; a slot holds the same brick in
-// both), the demand counters (per brick of all volumes the parked walks waiting for it, then per
+// (density leaves, and emission leaves when a volume has an emission grid, volumeSlotBytes each; a
+// slot holds the same brick in both), the demand counters (per brick of all volumes the parked walks waiting for it, then per
 // brick those asking for it ahead, then per slot whether a parked walk keeps it: common/Volume.glsl's
 // requestBrick and keepCell), and per path of a wave where its tracking parked (four uvec4,
 // VolumePark).
@@ -173,7 +180,7 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
         l.majorant.push_back(at), at = align(at + 4 * v.cells);
         bricks += v.bricks, emission = emission || v.emission;
     }
-    const uint64_t poolBytes = 4 * uint64_t(kVolumeBrickVoxels) * slots;
+    const uint64_t poolBytes = volumeSlotBytes(volumes) * slots;
     l.density = at, at = align(at + poolBytes);
     l.emission = emission ? at : 0, at = emission ? align(at + poolBytes) : at;
     l.demand = at, at = align(at + 8 * bricks + 4 * slots);

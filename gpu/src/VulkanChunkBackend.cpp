@@ -13,6 +13,7 @@
 #include "DeviceVolumes.h"
 #include "shared/StreamTypes.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/VolumeLeaf.h"
 #include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/RenderMemory.h"
 #include "vastray/core/Volume.h"
@@ -69,9 +70,11 @@ public:
     Status init(const PackageInfo& package) {
         // The kernels compile while the pools are made; the shade variant guessed from the scene
         // and the default options (path integrator, the default sky's sun, no environment map).
+        uint32_t codecs = 0;
+        for (const PackageVolume& v : package.volumes) codecs |= 1u << uint32_t(v.volume.codec);
         wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_,
                                       shadeConstants(package.materials, false, true, attributes_.normals,
-                                                     attributes_.colors, false, !package.volumes.empty(),
+                                                     attributes_.colors, false, codecs,
                                                      !package.lights.empty(),
                                                      attributes_.uvs && !package.textures.empty(),
                                                      attributes_.uvs && attributes_.tangents,
@@ -417,7 +420,8 @@ uint64_t environmentBytes(const Environment& environment) {
 namespace {
 std::vector<VolumeShape> volumeShapes(const PackageInfo& package) {
     std::vector<VolumeShape> shapes;
-    for (const PackageVolume& v : package.volumes) shapes.push_back({v.volume.cellCount(), v.brickCount, v.hasEmission});
+    for (const PackageVolume& v : package.volumes)
+        shapes.push_back({v.volume.cellCount(), v.brickCount, v.hasEmission, volumeDeviceLeafBytes(v.volume.codec)});
     return shapes;
 }
 }  // namespace

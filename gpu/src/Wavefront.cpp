@@ -149,7 +149,7 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 }  // namespace
 
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
-                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures,
+                              bool colors, bool environmentMap, uint32_t volumeCodecs, bool lights, bool textures,
                               bool frames, bool emitters) {
     bool emission = false, glossy = false, coated = false, mapped = false, normalMapped = false;
     for (const Material& m : materials) {
@@ -163,8 +163,16 @@ ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientO
                  (m.clearcoat > 0 && (materialMap(m, TextureSlot::Clearcoat) != kNoTexture ||
                                       materialMap(m, TextureSlot::ClearcoatRoughness) != kNoTexture));
     }
-    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumes, glossy, lights, coated,
-            textures && mapped, textures && frames && normalMapped, emission && emitters};
+    return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumeCodecs != 0, glossy, lights, coated,
+            textures && mapped, textures && frames && normalMapped, emission && emitters,
+            (volumeCodecs >> uint32_t(VolumeCodec::Float)) & 1u, (volumeCodecs >> uint32_t(VolumeCodec::Fp16)) & 1u,
+            (volumeCodecs >> uint32_t(VolumeCodec::Fp8)) & 1u};
+}
+
+uint32_t volumeCodecs(std::span<const Volume> volumes) {
+    uint32_t codecs = 0;
+    for (const Volume& v : volumes) codecs |= 1u << uint32_t(deviceVolumeCodec(v));
+    return codecs;
 }
 
 std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
@@ -266,7 +274,8 @@ public:
                                  " over " + std::to_string(job_.materials.size()));
         const ShadeConstants constants =
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
-                           sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap, volumes, lights,
+                           sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap,
+                           volumes ? volumeCodecs(*options_.volumes) : 0u, lights,
                            b_.textures && b_.uvs, b_.frames, emitters);
         const bool glossy = constants[7] != 0;
         auto shade = w_.variant(false, constants, stats_);

@@ -43,17 +43,22 @@ struct WavefrontBuffers {
     DeviceTextures* textures = nullptr; // the package's textures (DeviceRenderJob::textures), in core or paged; none without
 };
 
-// wf_shade.comp's specialization constants (constant_id 0-12, in that order): what a render's
-// shading needs; kClearcoat says some material has a clear coat, kTextures that some material has
-// maps and the render has textures and the hits' UVs (`textures`), kNormalMaps that some material
-// has a normal map and the hits keep their UV derivatives (`frames`), kEmitters (the last) that
-// next-event estimation samples emissive triangles (`emitters`).
-using ShadeConstants = std::array<uint32_t, 13>;
+// wf_shade.comp's specialization constants (constant_id 0-15, in that order): what a render's
+// shading needs; kVolumes says the render has volumes (`volumeCodecs`, a bit per VolumeCodec its
+// volumes use: 0 none), kClearcoat that some material has a clear coat, kTextures that some
+// material has maps and the render has textures and the hits' UVs (`textures`), kNormalMaps that
+// some material has a normal map and the hits keep their UV derivatives (`frames`), kEmitters
+// that next-event estimation samples emissive triangles (`emitters`), and the last three
+// (common/Volume.glsl) which of the float, Fp16 and Fp8 leaf reads the volumes need.
+using ShadeConstants = std::array<uint32_t, 16>;
 // wf_walk.comp's specialization: the cost AOV, paging, cut-outs (or blends), blends.
 using WalkConstants = std::array<uint32_t, 4>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
-                              bool colors, bool environmentMap, bool volumes, bool lights, bool textures = false,
+                              bool colors, bool environmentMap, uint32_t volumeCodecs, bool lights, bool textures = false,
                               bool frames = false, bool emitters = false);
+
+// The bits of volumeCodecs for shadeConstants: a bit per VolumeCodec the volumes use.
+uint32_t volumeCodecs(std::span<const Volume> volumes);
 
 class Wavefront {
 public:

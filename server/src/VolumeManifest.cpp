@@ -9,6 +9,7 @@
 
 #include "ZipArchive.h"
 #include "vastray/core/FilePath.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray::server {
 namespace {
@@ -82,10 +83,15 @@ VolumeSource volumeSource(const json& entry, const std::string& what, const fs::
         else if (key == "emission_grid") source.emissionGrid = text(value, field);
         else if (key == "temperature_grid") temperatureGrid = text(value, field);
         else if (key == "emission_scale") source.material.emission = color(value, field);
-        else
+        else if (key == "codec") {
+            const std::string name = text(value, field);
+            const std::optional<VolumeCodec> codec = parseVolumeCodec(name);
+            if (!codec) refuse(field, "'" + name.substr(0, 200) + "' is not a brick codec (expected float, fp16 or fp8)");
+            source.codec = *codec;
+        } else
             refuse(what, "has an unknown key '" + key.substr(0, 200) +
                              "' (expected file, grid, albedo, density, anisotropy, emission_grid, temperature_grid, "
-                             "emission_scale)");
+                             "emission_scale, codec)");
     }
     if (!temperatureGrid.empty() && !source.emissionGrid.empty())
         refuse(what, "has both \"emission_grid\" and \"temperature_grid\"; give one of them");

@@ -79,6 +79,38 @@ TEST_F(VolumeCli, ImportInfoAndRenderOnBothBackends) {
     EXPECT_LT(agree * 10, fogged);
 }
 
+// --volume-codec: the package stores NanoVDB Fp16 or Fp8 leaves (info says so, and the device
+// bytes shrink to about a half and a quarter of the float leaves'), and both backends render it.
+TEST_F(VolumeCli, ImportsQuantizedBricks) {
+    auto deviceBytes = [&](const std::string& package) -> uint64_t {
+        CommandResult info = run("info " + package + " --json");
+        EXPECT_EQ(info.exitCode, 0) << info.output;
+        const size_t at = info.output.find("\"device_bytes\": ");
+        return at == std::string::npos ? 0 : std::stoull(info.output.substr(at + 16));
+    };
+    CommandResult plain = run("import " + tmp("floor.ply") + " -o " + tmp("float.vast") + " --chunk-size 64KiB --volume " +
+                              tmp("fog.vdb"));
+    ASSERT_EQ(plain.exitCode, 0) << plain.output;
+    const uint64_t floatBytes = deviceBytes(tmp("float.vast"));
+    ASSERT_GT(floatBytes, 0u);
+    for (const char* codec : {"fp16", "fp8"}) {
+        const std::string package = tmp(std::string(codec) + ".vast");
+        CommandResult i = run("import " + tmp("floor.ply") + " -o " + package + " --chunk-size 64KiB --volume " +
+                              tmp("fog.vdb") + " --volume-codec " + codec);
+        ASSERT_EQ(i.exitCode, 0) << i.output;
+        CommandResult info = run("info " + package + " --json");
+        EXPECT_NE(info.output.find(std::string("\"codec\": \"") + codec + "\""), std::string::npos) << info.output;
+        CommandResult text = run("info " + package);
+        EXPECT_NE(text.output.find(std::string("NanoVDB ") + codec + " leaves"), std::string::npos) << text.output;
+        EXPECT_LT(double(deviceBytes(package)), floatBytes * (codec == std::string("fp16") ? 0.55 : 0.32)) << codec;
+        for (const char* backend : {"vulkan", "embree"}) {
+            CommandResult r = run("render " + package + " -o " + tmp(std::string(codec) + backend + ".exr") +
+                                  " --resolution 16x12 --spp 2 --backend " + backend);
+            EXPECT_EQ(r.exitCode, 0) << codec << " " << backend << ": " << r.output;
+        }
+    }
+}
+
 // A temperature grid (here the density, 0 to 1 K: valid, if cold) is stored with its flag.
 TEST_F(VolumeCli, ImportsATemperatureGrid) {
     CommandResult i = run("import " + tmp("floor.ply") + " -o " + tmp("hot.vast") + " --chunk-size 64KiB --volume " +
@@ -107,7 +139,9 @@ TEST_F(VolumeCli, BadVolumeOptionsAreNamed) {
              {tmp("fog.vdb") + " --volume-emission density --volume-emission-scale -2", "--volume-emission-scale '-2'"},
              {tmp("fog.vdb") + " --volume-emission density --volume-temperature density",
               "--volume-emission 'density' and --volume-temperature 'density'"},
-             {tmp("fog.vdb") + " --volume-temperature heat", "no grid named 'heat'"}}) {
+             {tmp("fog.vdb") + " --volume-temperature heat", "no grid named 'heat'"},
+             {tmp("fog.vdb") + " --volume-codec fp4", "--volume-codec 'fp4' is not a brick codec (expected float, fp16 or fp8)"},
+             {tmp("fog.vdb") + " --volume-codec fp8 --volume-codec fp16", "--volume-codec is given 2 times for 1 volumes"}}) {
         CommandResult r = run(base + c.arguments);
         EXPECT_NE(r.exitCode, 0) << c.arguments;
         EXPECT_NE(r.output.find(c.words), std::string::npos) << c.arguments << ": " << r.output;

@@ -12,6 +12,7 @@
 #include "DeviceVolumes.h"
 #include "GpuTestSupport.h"
 #include "PoolLayout.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray::gpu {
 namespace {
@@ -21,7 +22,7 @@ float voxelOf(uint32_t brick, uint32_t i) { return float(brick) + float(i) / 102
 
 class CountingBricks final : public VolumeBrickSource {
 public:
-    Status readBrick(uint32_t, uint32_t brick, float* density, float*) const override {
+    Status readBrick(uint32_t, uint32_t brick, float* density, float*, uint8_t*) const override {
         reads.fetch_add(1);
         for (uint32_t i = 0; i < kVolumeBrickVoxels; ++i) density[i] = voxelOf(brick, i);
         return Status::ok();
@@ -63,7 +64,7 @@ struct SourcedPool {
     explicit SourcedPool(VulkanDevice& device, uint64_t hostCacheBytes = kVolumeHostCacheBytes)
         : source(std::make_shared<const CountingBricks>()),
           volumes(sourcedVolume(source)),
-          pool(device, hostCacheBytes) {
+          pool(device, hostCacheBytes, kMinVolumeSlots) {  // (the budget's last granule would hold more)
         const Status prepared = pool.prepare(
             volumes, pagedVolumeBytes(volumeShapes(*volumes), kMinVolumeSlots, kPaths), kPaths, stats);
         EXPECT_TRUE(prepared) << prepared.message();
@@ -111,8 +112,11 @@ Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
         if (table[c] & kBrickAbsent) continue;
         ++resident;
         EXPECT_LT(c % 16, 4u) << "cell " << c << " is resident, but no walk waits for it";
-        EXPECT_TRUE(pool.buffer()->download(voxels.data(), voxels.size() * 4,
-                                            layout.density + uint64_t(table[c]) * 4 * kVolumeBrickVoxels));
+        // Each slot holds the brick's NanoVDB float leaf from its minimum on (core/VolumeLeaf.h):
+        // the values from byte 16, z fastest.
+        std::vector<float> kept(volumeDeviceLeafBytes(VolumeCodec::Float) / 4);
+        EXPECT_TRUE(pool.buffer()->download(kept.data(), kept.size() * 4, layout.density + uint64_t(table[c]) * kept.size() * 4));
+        for (uint32_t i = 0; i < kVolumeBrickVoxels; ++i) voxels[i] = kept[4 + (i % 8) * 64 + (i / 8 % 8) * 8 + i / 64];
         for (uint32_t i = 0; i < kVolumeBrickVoxels; i += 37) EXPECT_EQ(voxels[i], voxelOf(c, i)) << "cell " << c;
     }
     EXPECT_EQ(resident, kMinVolumeSlots);

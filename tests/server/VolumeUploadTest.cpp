@@ -26,9 +26,10 @@ const char* kFloor =
 
 // The manifest of the main test, and the CLI options that say the same.
 const char* kManifest = R"({"volumes": [{"file": "smoke/fog.vdb", "grid": "density", "density": 4,
-  "albedo": [0.9, 0.8, 0.7], "anisotropy": 0.3, "emission_grid": "density", "emission_scale": [0.5, 0.2, 0.1]}]})";
+  "albedo": [0.9, 0.8, 0.7], "anisotropy": 0.3, "emission_grid": "density", "emission_scale": [0.5, 0.2, 0.1],
+  "codec": "fp16"}]})";
 const char* kCliOptions = ":density --volume-density 4 --volume-albedo 0.9,0.8,0.7 --volume-anisotropy 0.3 "
-                          "--volume-emission density --volume-emission-scale 0.5,0.2,0.1";
+                          "--volume-emission density --volume-emission-scale 0.5,0.2,0.1 --volume-codec fp16";
 
 fs::path cloudDir() { return testTmpDir("server") / "volume-upload"; }
 
@@ -128,6 +129,7 @@ TEST_F(VolumeUploadTest, ZipWithAVdbAndItsManifestCarriesTheVolumeLikeTheCli) {
     EXPECT_EQ(v.material.anisotropy, 0.3f);
     EXPECT_EQ(v.material.emission, (std::array<float, 3>{0.5f, 0.2f, 0.1f}));
     EXPECT_TRUE(volumes[0].hasEmission);
+    EXPECT_EQ(v.codec, VolumeCodec::Fp16);
 
     // `vastray import` of the same files with the same material: equal volumes, voxel for voxel.
     std::ofstream(dir_ / "floor.ply") << kFloor;
@@ -147,6 +149,7 @@ TEST_F(VolumeUploadTest, ZipWithAVdbAndItsManifestCarriesTheVolumeLikeTheCli) {
     EXPECT_EQ(c.material.densityScale, v.material.densityScale);
     EXPECT_EQ(c.material.anisotropy, v.material.anisotropy);
     EXPECT_EQ(c.material.emission, v.material.emission);
+    EXPECT_EQ(c.codec, v.codec);
     const auto servedData = volumeData(served), cliData = volumeData(dir_ / "cli.vast");
     ASSERT_EQ(servedData.size(), 1u);
     ASSERT_EQ(cliData.size(), 1u);
@@ -202,6 +205,10 @@ TEST_F(VolumeUploadTest, HostileManifestsAreRefusedByElementAndLimit) {
                   {m + "volumes[0].albedo is an array of 2; expected a number or an array of 3 numbers"});
     expectRefused("unknownkey", R"({"volumes": [{"file": "fog.vdb", "colour": 1}]})",
                   {m + "volumes[0] has an unknown key 'colour'"});
+    expectRefused("codec", R"({"volumes": [{"file": "fog.vdb", "codec": "fp4"}]})",
+                  {m + "volumes[0].codec 'fp4' is not a brick codec (expected float, fp16 or fp8)"});
+    expectRefused("codectype", R"({"volumes": [{"file": "fog.vdb", "codec": 16}]})",
+                  {m + "volumes[0].codec is a number; expected a string"});
     expectRefused("deep", R"({"volumes": [[[[[[[[[[1]]]]]]]]]]})", {m + "is nested more than 8 levels deep"});
     std::string many = R"({"volumes": [)";
     for (uint32_t i = 0; i <= kMaxVolumes; ++i) many += std::string(i ? "," : "") + R"({"file": "fog.vdb"})";

@@ -96,15 +96,17 @@ TEST(TemperatureVolume, PackageKeepsTheFlagAndRefusesItAlone) {
     const std::vector<uint8_t> original = test::fileBytes(path);
     uint64_t recordAt = 0;
     std::memcpy(&recordAt, original.data() + 256 - 24, 8);
-    for (const uint32_t flags : {2u, 4u, 7u}) {
+    for (const uint32_t flags : {2u, 12u, 16u, 23u}) {
         const std::string forged = path + ".flags" + std::to_string(flags) + ".vast";
         test::writeBytes(forged, test::forgeVolumeData(original, info.volumes[0], [&](std::vector<uint8_t>& bytes) {
             std::memcpy(bytes.data() + recordAt + 160, &flags, 4);  // the record's flags word
         }));
         auto refused = PackageReader::open(forged);
         ASSERT_FALSE(refused) << flags;
-        const std::string words = flags == 2 ? "volume 0 'test': flags 2: a temperature grid without an emission grid"
-                                             : "volume 0 'test': unknown flags " + std::to_string(flags);
+        // Bits 2-3 are the codec (3: none); above them nothing is defined.
+        const std::string words = flags == 2    ? "volume 0 'test': flags 2: a temperature grid without an emission grid"
+                                  : flags == 12 ? "volume 0 'test': unknown brick codec 3"
+                                                : "volume 0 'test': unknown flags " + std::to_string(flags & ~12u);
         EXPECT_NE(refused.message().find(words), std::string::npos) << refused.message();
     }
 }

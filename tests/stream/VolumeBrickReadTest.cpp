@@ -227,12 +227,18 @@ TEST(VolumeBrickRead, DamagedBricksFailTheRenderByNameUnlessNoRayReachesThem) {
     // the brick index records (the majorants were computed from it).
     auto withVoxel = [&](float value) {
         return test::forgeVolumeData(original, p, [&](std::vector<uint8_t>& b) {
-            std::memcpy(b.data() + test::brickOffset(p, reached) + 4 * 9, &value, 4);
+            std::memcpy(b.data() + test::voxelOffset(p, reached, 9), &value, 4);
         });
     };
     refused = render(withVoxel(std::nanf("")), &stats);
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.message().find(name + " voxel 9 has density nan"), std::string::npos) << refused.message();
+    // A leaf header other than the one a writer writes (NanoVDB's flags byte, 15).
+    refused = render(test::forgeVolumeData(original, p, [&](std::vector<uint8_t>& b) { b[test::brickOffset(p, reached) + 15] = 7; }),
+                     &stats);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find(name + " (a NanoVDB float leaf): its flags are 7, not 2"), std::string::npos)
+        << refused.message();
     // The brick index itself is checked when the volumes open, before any brick is read.
     refused = render(test::forgeVolumeData(original, p,
                                            [&](std::vector<uint8_t>& b) {
@@ -298,7 +304,7 @@ TEST(VolumeBrickRead, TruncatedPackageFailsTheRenderNamingTheBrick) {
     auto refused = renderOpen(**reader, lookingDown(volumes), pagedBudget((*reader)->info()), &stats);
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.message().find("truncated.vast: volume 0 'slab': brick "), std::string::npos) << refused.message();
-    EXPECT_NE(refused.message().find("cannot read its 2048 bytes"), std::string::npos) << refused.message();
+    EXPECT_NE(refused.message().find("cannot read its 2144 bytes"), std::string::npos) << refused.message();
 }
 
 // A version 5 package (the slab's data whole under one checksum) still opens and renders, paged,

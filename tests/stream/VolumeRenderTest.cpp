@@ -131,7 +131,7 @@ TEST(VolumeRender, PackageKeepsTheVolume) {
         << refused.message();
     const std::string nanVoxel = forge([&](std::vector<uint8_t>& b) {
         const float nan = std::nanf("");
-        std::memcpy(b.data() + test::brickOffset(p, 0) + 4 * 9, &nan, 4);
+        std::memcpy(b.data() + test::voxelOffset(p, 0, 9), &nan, 4);
     });
     opened = PackageReader::open(nanVoxel);
     ASSERT_TRUE(opened) << opened.message();
@@ -311,21 +311,27 @@ TEST(VolumeRender, DeviceAgreesWithEmbreeAndStreamsTheSame) {
                                     stats.chunksTotal);
 }
 
-// A 2,000-triangle town under a cloud of 128 x 64 x 128 voxels (2,048 bricks, every one stored).
-const std::string& cloudedTown() {
-    static const std::string path = cityUnder("clouded-town", 2000, 3, [](const Aabb& b) {
+// A 2,000-triangle town under a cloud of 128 x 64 x 128 voxels (2,048 bricks, every one stored),
+// the bricks stored as NanoVDB leaves of `codec`.
+std::string cloudedTownOf(VolumeCodec codec) {
+    return cityUnder(std::string("clouded-town-") + volumeCodecName(codec), 2000, 3, [codec](const Aabb& b) {
         VolumeMaterial cloud;
         cloud.albedo = {0.95f, 0.95f, 0.9f};
         cloud.anisotropy = 0.3f;
         const float voxel = b.extent().x / 128.0f;
         cloud.densityScale = 3.0f / (64.0f * voxel);  // an optical depth of ~1.5 from top to bottom
-        return test::makeVolume({0, 0, 0}, {127, 63, 127},
+        Volume v = test::makeVolume({0, 0, 0}, {127, 63, 127},
                                 [](int32_t i, int32_t j, int32_t k) {
                                     return 0.2f + 0.4f * (1.0f + std::sin(0.21f * float(i)) * std::cos(0.17f * float(k))) *
                                                       (1.0f - float(j) / 80.0f);
                                 },
                                 voxel, b.lo, cloud);
+        v.codec = codec;  // the package writer quantizes
+        return v;
     });
+}
+const std::string& cloudedTown() {
+    static const std::string path = cloudedTownOf(VolumeCodec::Float);
     return path;
 }
 
@@ -376,6 +382,58 @@ TEST(VolumeRender, PagedBricksRenderTheSameBitForBit) {
     EXPECT_LE(stats.peakDeviceBytes, budget);
     EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
     EXPECT_EQ(std::memcmp(paged->alpha.data(), inCore->alpha.data(), inCore->alpha.size() * 4), 0);
+}
+
+// The clouded town with its bricks stored as NanoVDB's quantized Fp16 and Fp8 leaves: the package
+// and the device hold about a half and a quarter of the float leaves' bytes; paged through a pool
+// the image equals the in-core one bit for bit;
+// the Embree reference, which reads the voxels the leaves decode to (NanoVDB's C++ access), agrees
+// with the device as closely as with float bricks; and the quantized cloud differs from the float
+// one by no more than its quantization.
+TEST(VolumeRender, QuantizedBricksPageTheSameAndAgreeWithEmbree) {
+    const std::string& floatPath = cloudedTown();
+    const RenderOptions floatView = cloudedTownView(floatPath, 32, 24, 4, 3);
+    auto floatImage = test::renderVulkan(floatPath, floatView, 256ull << 20);
+    ASSERT_TRUE(floatImage) << floatImage.message();
+    const uint64_t floatBytes = gpu::volumeBytes(PackageReader::open(floatPath).value()->info());
+    for (const VolumeCodec codec : {VolumeCodec::Fp16, VolumeCodec::Fp8}) {
+        SCOPED_TRACE(volumeCodecName(codec));
+        const std::string path = cloudedTownOf(codec);
+        const PackageInfo info = PackageReader::open(path).value()->info();
+        ASSERT_EQ(info.volumes.size(), 1u);
+        EXPECT_EQ(info.volumes[0].volume.codec, codec);
+        const uint64_t bytes = gpu::volumeBytes(info);
+        EXPECT_LT(bytes, floatBytes * (codec == VolumeCodec::Fp16 ? 0.55 : 0.3));
+        const RenderOptions o = cloudedTownView(path, 32, 24, 4, 3);
+        EXPECT_EQ((*o.volumes)[0].codec, codec);
+        StreamingStats inCoreStats;
+        auto inCore = test::renderVulkan(path, o, 256ull << 20, &inCoreStats);
+        ASSERT_TRUE(inCore) << inCore.message();
+        EXPECT_EQ(inCoreStats.volumeBrickSlots, 0u);
+        // Two fifths of the float cloud's bytes (Fp16), three tenths (Fp8): below the quantized
+        // cloud's bytes besides the wave's and the mesh's, above the scene's minimum.
+        const uint64_t budget = floatBytes * (codec == VolumeCodec::Fp16 ? 4 : 3) / 10;
+        StreamingStats stats;
+        auto paged = test::renderVulkan(path, o, budget, &stats);
+        ASSERT_TRUE(paged) << paged.message();
+        EXPECT_GT(stats.volumeBrickSlots, 0u);
+        EXPECT_GT(stats.volumeBrickLoads, stats.volumeBrickSlots) << "slots were reused";
+        EXPECT_LE(stats.peakDeviceBytes, budget);
+        EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
+
+        RenderOptions reference = o;
+        reference.volumes = PackageReader::open(path).value()->readVolumes().value();
+        auto embree = test::renderEmbree(path, reference);
+        ASSERT_TRUE(embree) << embree.message();
+        const double rmse = test::relativeRmse(inCore->rgb, embree->rgb);
+        const double quantized = test::relativeRmse(inCore->rgb, floatImage->rgb);
+        std::printf("%s: device vs Embree relative RMSE %.2e, against the float cloud %.2e; paged: %llu slots, %llu loads\n",
+                    volumeCodecName(codec), rmse, quantized, (unsigned long long)stats.volumeBrickSlots,
+                    (unsigned long long)stats.volumeBrickLoads);
+        EXPECT_LE(rmse, 5e-3);
+        EXPECT_GT(quantized, 0.0) << "the quantized cloud is another cloud";
+        EXPECT_LE(quantized, codec == VolumeCodec::Fp16 ? 2e-3 : 3e-2);
+    }
 }
 
 // A kept-open scene (as the service keeps one) whose volumes are paged, rendered under a small

@@ -16,6 +16,7 @@
 #include "../VolumeTestSupport.h"
 #include "TestTmp.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/VolumeLeaf.h"
 #include "vastray/streamer/VolumeImport.h"
 
 namespace vastray::test {
@@ -74,20 +75,26 @@ std::string gridsFile() {
     return path;
 }
 
-// A version 6+ volume data section from the voxels, as docs/PACKAGE_FORMAT.md lays it out.
+// A version 14 volume data section from the voxels, as docs/PACKAGE_FORMAT.md lays it out: each
+// brick a NanoVDB float leaf (core/VolumeLeaf.h; its layout is checked in VolumeLeafTest).
 std::vector<uint8_t> expectedVolumeData(const Volume& v) {
     std::vector<uint8_t> out(v.brickOf.size() * 4);
     std::memcpy(out.data(), v.brickOf.data(), out.size());
     const bool emission = !v.emissionVoxels.empty();
-    const size_t brickBytes = 4 * kVolumeBrickVoxels * (emission ? 2 : 1);
+    const size_t leafBytes = volumeLeafBytes(VolumeCodec::Float), brickBytes = leafBytes * (emission ? 2 : 1);
+    const std::vector<std::array<int32_t, 3>> origins = volumeBrickOrigins(v);
     std::vector<uint8_t> bricks;
     for (uint64_t b = 0; b < v.brickCount(); ++b) {
         std::vector<uint8_t> brick(brickBytes);
-        const float* density = v.voxels.data() + b * kVolumeBrickVoxels;
-        std::memcpy(brick.data(), density, 4 * kVolumeBrickVoxels);
-        if (emission) std::memcpy(brick.data() + 4 * kVolumeBrickVoxels, &v.emissionVoxels[b * kVolumeBrickVoxels], 4 * kVolumeBrickVoxels);
+        std::vector<float> density(v.voxels.begin() + b * kVolumeBrickVoxels, v.voxels.begin() + (b + 1) * kVolumeBrickVoxels);
+        encodeVolumeLeaf(VolumeCodec::Float, origins[b], density.data(), brick.data());
+        if (emission) {
+            std::vector<float> glow(v.emissionVoxels.begin() + b * kVolumeBrickVoxels,
+                                    v.emissionVoxels.begin() + (b + 1) * kVolumeBrickVoxels);
+            encodeVolumeLeaf(VolumeCodec::Float, origins[b], glow.data(), brick.data() + leafBytes);
+        }
         const uint64_t sum = checksum64(brick.data(), brick.size());
-        const float largest = *std::max_element(density, density + kVolumeBrickVoxels);
+        const float largest = *std::max_element(density.begin(), density.end());
         const uint32_t reserved = 0;
         for (auto [p, n] : {std::pair<const void*, size_t>{&sum, 8}, {&largest, 4}, {&reserved, 4}})
             out.insert(out.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + n);
@@ -156,7 +163,7 @@ TEST(VolumeStreamWrite, StreamedBricksGiveTheBytesOfTheWholeVolume) {
 class FailingBricks final : public VolumeBrickSource {
 public:
     FailingBricks(Volume whole, uint32_t failAt) : whole_(std::move(whole)), failAt_(failAt) {}
-    Status readBrick(uint32_t, uint32_t brick, float* density, float* emission) const override {
+    Status readBrick(uint32_t, uint32_t brick, float* density, float* emission, uint8_t*) const override {
         if (brick == failAt_) return Status::error("slab.vdb: brick " + std::to_string(brick) + " is unreadable");
         ++served;
         return readVolumeBrick(whole_, brick, density, emission);

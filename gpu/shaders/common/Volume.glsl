@@ -24,6 +24,49 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Vol
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer VolumeUints { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer VolumeFloats { float v[]; };
 
+// Bricks are NanoVDB leaf nodes (core/VolumeLeaf.h), read with NanoVDB's own GLSL access
+// (PNanoVDB.h) over buffer device addresses: a pnanovdb_buf_t is the address of one leaf.
+#define PNANOVDB_GLSL
+#define PNANOVDB_BUF_CUSTOM
+#define pnanovdb_buf_t uint64_t
+uint pnanovdb_buf_read_uint32(pnanovdb_buf_t buf, uint byte_offset) { return VolumeUints(buf).v[byte_offset >> 2u]; }
+uvec2 pnanovdb_buf_read_uint64(pnanovdb_buf_t buf, uint byte_offset) {
+    return uvec2(pnanovdb_buf_read_uint32(buf, byte_offset), pnanovdb_buf_read_uint32(buf, byte_offset + 4u));
+}
+#define pnanovdb_grid_type_t uint
+#define PNANOVDB_GRID_TYPE_GET(grid_typeIn, nameIn) pnanovdb_grid_type_constants[grid_typeIn].nameIn
+#include "nanovdb/PNanoVDB.h"
+
+// Codecs (core/Volume.h's VolumeCodec), in the low bits of WavefrontVolume::leaves.
+const uint kCodecFloat = 0u, kCodecFp16 = 1u, kCodecFp8 = 2u;
+// Where a leaf's value table starts in what the device keeps of it (the leaf from its minimum on,
+// core/VolumeLeaf.h's kVolumeLeafDeviceOffset = 80): NanoVDB's leaf_off_table, 96 for float, Fp16
+// and Fp8 alike, less 80 (VolumeLeafTest checks both against PNanoVDB's tables); a quantized
+// leaf's minimum and quantum, which PNanoVDB reads 16 and 12 bytes before the table, are the
+// slot's first 8 bytes. The kernels do not index PNanoVDB's per-grid-type table
+// (pnanovdb_grid_type_constants), which unoptimized SPIR-V copies (2.2 KB) into each call that
+// reads it (the H100's driver removed it: no difference, PERF_NOTES 76).
+const uint kLeafTableOffset = 16u;
+
+// Which codecs the render's volumes use (wf_shade.comp's specialization constants 13-15, after its
+// own; Wavefront.cpp's shadeConstants): a scene of one codec compiles that one read only.
+layout(constant_id = 13) const bool kVolumeFloat = true;
+layout(constant_id = 14) const bool kVolumeFp16 = true;
+layout(constant_id = 15) const bool kVolumeFp8 = true;
+const bool kOneVolumeCodec = uint(kVolumeFloat) + uint(kVolumeFp16) + uint(kVolumeFp8) == 1u;
+
+// The value of voxel `o` (0-7 per axis) of the leaf at `leaf`, in the volume's codec, read as
+// PNanoVDB reads a leaf's value: float at the table plus 4 per voxel in NanoVDB's order
+// (pnanovdb_leaf_coord_to_offset), Fp16 and Fp8 through pnanovdb_leaf_fp16/fp8_read_float.
+float leafValue(uint leaves, uint64_t leaf, ivec3 o) {
+    pnanovdb_address_t table;
+    table.byte_offset = kLeafTableOffset;
+    const uint codec = leaves & 15u;
+    if (kVolumeFp16 && (kOneVolumeCodec || codec == kCodecFp16)) return pnanovdb_leaf_fp16_read_float(leaf, table, o);
+    if (kVolumeFp8 && (kOneVolumeCodec || codec == kCodecFp8)) return pnanovdb_leaf_fp8_read_float(leaf, table, o);
+    return pnanovdb_read_float(leaf, pnanovdb_address_offset(table, 4u * pnanovdb_leaf_coord_to_offset(o)));
+}
+
 // The random numbers of one path vertex: key and the next dimension's offset from kDimVolume.
 struct VolumeRandom {
     uint pixel, sampleIndex, bounce, seed, counter;
@@ -51,7 +94,7 @@ void requestBrick(WavefrontVolume v, uint entry, uint kind) {
     volumeMissed = true;
 }
 
-// relativeVoxel: the voxel of `voxels` (the density's or the emission grid's) at index
+// relativeVoxel: the voxel of `voxels` (the density's or the emission grid's leaves) at index
 // coordinates from the brick grid's origin; 0 outside.
 float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
     const uvec3 cells = volumeCells(v);
@@ -63,7 +106,7 @@ float relativeVoxel(WavefrontVolume v, uint64_t voxels, ivec3 r) {
         requestBrick(v, brick, kWaitAsk);
         return 0.0;
     }
-    return VolumeFloats(voxels).v[brick * 512u + o.x + kVolumeBrickSize * (o.y + kVolumeBrickSize * o.z)];
+    return leafValue(v.leaves, voxels + uint64_t(brick) * (v.leaves & ~15u), ivec3(o));
 }
 
 // relativeValue: trilinear, the same order of operations.

@@ -158,8 +158,8 @@ struct WavefrontLight {
 const uint kMicrofacetSide = 32u;
 
 // A density volume as the shading kernel reads it (core/Volume.h): its brick table (uint per
-// cell), majorants (float per cell), voxels (kVolumeBrickVoxels floats per brick) and emission
-// grid's voxels in the same bricks (0: none), its map from world to index space (row-major
+// cell), majorants (float per cell), bricks as NanoVDB leaves of its codec (`leaves` bytes apart)
+// and the emission grid's leaves of the same bricks (0: none), its map from world to index space (row-major
 // 3 x 4), brick grid and material. Paged (a pool of brick slots): the table holds each cell's
 // slot (or kBrickAbsent | brick), voxels and emissionVoxels are the pools' slot arrays, and
 // brickBase is the volume's first brick among all volumes' (WavefrontParams::volumeDemand).
@@ -176,7 +176,7 @@ struct WavefrontVolume {
     float anisotropy;
     float emitR, emitG, emitB;
     uint brickBase;
-    uint padding;
+    uint leaves;  // its bricks' NanoVDB leaves from their minimum on: their stride in bytes (a multiple of 16) | codec
     uint64_t blackbody;  // a temperature grid's table (core/Blackbody.h, vec3 per node); 0: radiance
 };
 

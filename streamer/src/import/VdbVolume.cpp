@@ -28,6 +28,7 @@
 #include "vastray/core/Blackbody.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/core/Utf8.h"
+#include "vastray/core/VolumeLeaf.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/VolumeImport.h"
 
@@ -463,7 +464,6 @@ Result<std::vector<uint64_t>> emissionSources(const std::string& where, vdb::Gri
         for (auto on = mask.beginOn(); on; ++on)
             consider(cell, brickIndex(on.pos()), leaf->offsetToGlobalCoord(on.pos()), values[on.pos()]);
     }
-    const uint64_t nx = volume.brickCells[0], nxy = nx * volume.brickCells[1];
     for (auto tile = activeTiles(g.grid()); tile; ++tile) {
         if (!tile.isTileValue()) continue;
         CoordBBox box;
@@ -471,10 +471,8 @@ Result<std::vector<uint64_t>> emissionSources(const std::string& where, vdb::Gri
         forTileCells(volume, box, [&](uint64_t cell) {
             if (volume.brickOf[cell] == kNoBrick) return;
             sources[volume.brickOf[cell]] = tileSource(*tile);
-            const int32_t size = int32_t(kVolumeBrickSize);
-            const Coord first(volume.origin[0] + size * int32_t(cell % nx), volume.origin[1] + size * int32_t(cell % nxy / nx),
-                              volume.origin[2] + size * int32_t(cell / nxy));
-            consider(cell, 0, first, *tile);
+            const std::array<int32_t, 3> o = volumeCellOrigin(volume, cell);
+            consider(cell, 0, Coord(o[0], o[1], o[2]), *tile);
         });
     }
     if (!firstFault.empty()) return Status::error(where + firstFault);
@@ -495,7 +493,7 @@ public:
         : fileName_(std::move(fileName)), density_(std::move(density)), emission_(std::move(emission)),
           temperature_(temperature) {}
 
-    Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const override {
+    Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission, uint8_t*) const override {
         if (volume != 0 || brick >= density_.sources.size())
             return errorIn(fileName_, "volume " + std::to_string(volume) + " brick " + std::to_string(brick) +
                                           " does not exist (1 volume of " +
@@ -647,12 +645,22 @@ Status readVolumeIntoMemory(Volume& volume) {
     const uint64_t bricks = volume.brickCount();
     const bool emission = volume.hasEmission();
     std::vector<float> voxels(bricks * kVolumeBrickVoxels), glow(emission ? voxels.size() : 0);
-    for (uint64_t b = 0; b < bricks; ++b)
-        VASTRAY_TRY(readVolumeBrick(volume, b, &voxels[b * kVolumeBrickVoxels],
-                                    emission ? &glow[b * kVolumeBrickVoxels] : nullptr));
+    // A quantized codec: the values its leaves decode to (those a package of it would hold).
+    const std::vector<std::array<int32_t, 3>> origins =
+        volume.codec == VolumeCodec::Float ? std::vector<std::array<int32_t, 3>>{} : volumeBrickOrigins(volume);
+    std::vector<uint8_t> leaves(2 * kMaxVolumeLeafBytes);
+    for (uint64_t b = 0; b < bricks; ++b) {
+        float* density = &voxels[b * kVolumeBrickVoxels];
+        float* glowing = emission ? &glow[b * kVolumeBrickVoxels] : nullptr;
+        if (origins.empty())
+            VASTRAY_TRY(readVolumeBrick(volume, b, density, glowing));
+        else
+            VASTRAY_TRY(readVolumeLeaves(volume, volume.codec, b, origins[b], density, glowing, leaves.data()));
+    }
     volume.voxels = std::move(voxels);
     volume.emissionVoxels = std::move(glow);
     volume.bricks = {};
+    volume.codec = VolumeCodec::Float;  // in memory: exact
     return Status::ok();
 }
 

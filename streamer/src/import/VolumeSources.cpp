@@ -77,7 +77,7 @@ public:
           temperature_(temperature) {}
     ~SpooledBricks() override { std::fclose(file_); }
 
-    Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const override {
+    Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission, uint8_t*) const override {
         const std::string name = name_ + "brick " + std::to_string(brick);
         if (volume != 0 || brick >= maximum_.size()) return Status::error(name + " does not exist");
         const uint64_t bytes = 4ull * kVolumeBrickVoxels;
@@ -236,6 +236,7 @@ Result<std::vector<Volume>> readVolumes(const std::vector<VolumeSource>& sources
                           : openVdbVolume(source.path, source.grid, source.material, source.emissionGrid);
         if (!volume && !source.label.empty()) return relabel(volume.message(), source);
         if (!volume) return volume.status();
+        volume->codec = source.codec;  // the package writer quantizes (core/VolumeLeaf.h)
         volumes.push_back(std::move(volume).value());
     }
     return volumes;

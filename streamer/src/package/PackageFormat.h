@@ -54,7 +54,11 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 //     more each: the coat's and the coat roughness's texture and UV transform) and
 //     KHR_materials_ior's index of refraction (an f32 in the second word after the coat, reserved
 //     before); a version 3 to 12 package is still read, its coats unmapped and its ior 1.5.
-constexpr uint32_t kVersion = 13;
+// 14: a volume's bricks are NanoVDB leaf nodes of its codec (float, Fp16 or Fp8: record flags bits
+//     2-3; core/VolumeLeaf.h) where they were 512 f32 each; a version 3 to 13 package is still
+//     read, its bricks float.
+constexpr uint32_t kVersion = 14;
+constexpr uint32_t kFirstLeafBricksVersion = 14;
 constexpr uint32_t kFirstCoatMapsVersion = 13;
 constexpr uint32_t kFirstEmittersVersion = 12;
 constexpr uint32_t kMaterialAlphaBlend = 1u;  // Material::alphaBlend (version 12)
@@ -108,15 +112,23 @@ constexpr uint32_t kVolumeNameBytes = 64;
 constexpr uint32_t kVolumeRecordBytes = 256;
 constexpr uint32_t kFirstBrickwiseVersion = 6;
 constexpr uint32_t kVolumeBrickEntryBytes = 16;  // version 6 brick index: XXH64, largest density (f32), 0 (u32)
-// A stored brick's bytes: its densities, then (with an emission grid) its emission values.
-constexpr uint64_t volumeBrickBytes(bool emission) { return 4ull * kVolumeBrickVoxels * (emission ? 2 : 1); }
+// A stored brick's bytes: its densities, then (with an emission grid) its emission values: 512 f32
+// each before version 14, a leaf of the volume's codec each from it (volumeLeafBytes).
+constexpr uint64_t volumeBrickBytes(uint32_t version, VolumeCodec codec, bool emission) {
+    const uint64_t one = version >= kFirstLeafBricksVersion ? (codec == VolumeCodec::Float ? 2144u
+                                                               : codec == VolumeCodec::Fp16 ? 1120u
+                                                                                             : 608u)
+                                                            : 4ull * kVolumeBrickVoxels;
+    return one * (emission ? 2 : 1);
+}
 // The part of a volume's data its record's checksum covers: the cell table, and from version 6
 // the brick index (before: the whole data).
 constexpr uint64_t volumeTableBytes(uint32_t version, uint64_t cells, uint64_t bricks) {
     return 4 * cells + (version >= kFirstBrickwiseVersion ? kVolumeBrickEntryBytes * bricks : 0);
 }
-constexpr uint64_t volumeDataBytes(uint32_t version, uint64_t cells, uint64_t bricks, bool emission) {
-    return volumeTableBytes(version, cells, bricks) + bricks * volumeBrickBytes(emission);
+constexpr uint64_t volumeDataBytes(uint32_t version, uint64_t cells, uint64_t bricks, VolumeCodec codec,
+                                   bool emission) {
+    return volumeTableBytes(version, cells, bricks) + bricks * volumeBrickBytes(version, codec, emission);
 }
 
 // Upper bounds a reader enforces before allocating anything.

@@ -390,7 +390,8 @@ std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& vo
         out.put(v.material.albedo);
         out.put(v.material.densityScale);
         out.put(v.material.anisotropy);
-        out.put(uint32_t((p.hasEmission ? 1 : 0) | (p.hasEmission && v.material.temperature ? 2 : 0)));
+        out.put(uint32_t((p.hasEmission ? 1 : 0) | (p.hasEmission && v.material.temperature ? 2 : 0) |
+                         (uint32_t(v.codec) << 2)));
         out.put(p.offset), out.put(p.size), out.put(p.checksum);
         out.put(v.material.emission);
         out.padTo(start + format::kVolumeRecordBytes);
@@ -422,17 +423,23 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
         const std::string name = "volume " + std::to_string(i) + " '" + v.name + "': ";
         if (!in.ok()) return Status::error(name + "truncated record");
         // Bit 0: an emission grid; bit 1: it is a temperature in kelvin (a reader before bit 1
-        // was defined refuses it as unknown, so format 6 carries it).
+        // was defined refuses it as unknown, so format 6 carries it); from version 14 bits 2-3:
+        // the bricks' codec (core/VolumeLeaf.h).
+        uint32_t codec = 0;
+        if (version >= format::kFirstLeafBricksVersion) codec = (flags >> 2) & 3u, flags &= ~(3u << 2);
+        if (codec >= kVolumeCodecCount) return Status::error(name + "unknown brick codec " + std::to_string(codec));
         if (flags > 3) return Status::error(name + "unknown flags " + std::to_string(flags));
         if (flags == 2) return Status::error(name + "flags 2: a temperature grid without an emission grid");
         p.hasEmission = (flags & 1) != 0;
         v.material.temperature = (flags & 2) != 0;
+        v.codec = VolumeCodec(codec);
         if (p.brickCount > kMaxVolumeBricks)
             return Status::error(name + std::to_string(p.brickCount) + " bricks exceed the limit of " +
                                  std::to_string(kMaxVolumeBricks));
         // checkVolume on the record alone: an empty table stands for the cells until the data is read.
         Volume shape = v;
         shape.brickOf.assign(0, 0);
+        shape.codec = VolumeCodec::Float;  // (its bricks stay in the file: any codec)
         const double cells = double(v.brickCells[0]) * v.brickCells[1] * v.brickCells[2];
         if (cells > double(kMaxVolumeBrickCells))
             return Status::error(name + "brick grid of " + std::to_string(v.brickCells[0]) + " x " +
@@ -440,7 +447,7 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
                                  " cells exceeds the limit of " + std::to_string(kMaxVolumeBrickCells));
         shape.brickOf.assign(shape.cellCount(), kNoBrick);
         if (const std::string problem = checkVolume(shape); !problem.empty()) return Status::error(name + problem);
-        if (p.size != format::volumeDataBytes(version, v.cellCount(), p.brickCount, p.hasEmission))
+        if (p.size != format::volumeDataBytes(version, v.cellCount(), p.brickCount, v.codec, p.hasEmission))
             return Status::error(name + "data of " + std::to_string(p.size) + " bytes does not match its " +
                                  std::to_string(v.cellCount()) + " cells and " + std::to_string(p.brickCount) + " bricks");
         if (!finishVolumeTransform(v)) return Status::error(name + "the index-to-world map is not invertible");

@@ -293,10 +293,11 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::openVolumes() 
     for (size_t i = 0; i < info_.volumes.size(); ++i) {
         const PackageVolume& p = info_.volumes[i];
         Volume& v = volumes->emplace_back(p.volume);
-        VASTRAY_TRY(readVolumeTable(*file_, p, path_ + ": volume " + std::to_string(i) + " '" + p.volume.name + "': ",
+        VASTRAY_TRY(readVolumeTable(*file_, info_.formatVersion, p, path_ + ": volume " + std::to_string(i) + " '" + p.volume.name + "': ",
                                     v, stored[i]));
     }
-    auto source = std::make_shared<const PackageVolumeBricks>(file_, std::move(stored));
+    auto source = std::make_shared<const PackageVolumeBricks>(file_, std::move(stored),
+                                                              info_.formatVersion >= format::kFirstLeafBricksVersion);
     for (size_t i = 0; i < volumes->size(); ++i) {
         Volume& v = (*volumes)[i];
         v.bricks = {source, uint32_t(i), info_.volumes[i].brickCount, info_.volumes[i].hasEmission};
@@ -322,7 +323,8 @@ Result<std::shared_ptr<const std::vector<Volume>>> PackageReader::readVolumes() 
         for (uint64_t b = 0; b < bricks; ++b)
             VASTRAY_TRY(readVolumeBrick(v, b, v.voxels.data() + b * kVolumeBrickVoxels,
                                         v.emissionVoxels.empty() ? nullptr : v.emissionVoxels.data() + b * kVolumeBrickVoxels));
-        v.bricks = {};  // in memory now
+        v.bricks = {};  // in memory now, decoded: exact
+        v.codec = VolumeCodec::Float;
     }
     return std::shared_ptr<const std::vector<Volume>>(std::move(volumes));
 }

@@ -54,29 +54,34 @@ private:
 
 Status writeFailed(const std::string& path) { return Status::error(path + ": write failed: " + std::strerror(errno)); }
 
-// Writes a volume's data (format version 6) at the file's end: its cell table; its brick index,
-// per brick the XXH64 of its bytes, its largest density and a reserved 0; then each brick's
-// densities and emission. The bricks are read (readVolumeBrick) and written kWriteBatchBricks at
-// a time, so that only the table, the index and one batch are in memory; the index, known when
-// every brick is written, is written over the zeros that held its place. Sets p's checksum.
+// Writes a volume's data (format version 14) at the file's end: its cell table; its brick index,
+// per brick the XXH64 of its bytes, its largest density (of the values its leaves decode to) and
+// a reserved 0; then each brick's leaves in the volume's codec, the density's and the emission's.
+// The bricks are read (readVolumeLeaves: a package's leaves verbatim, else encoded from the
+// voxels read) and written kWriteBatchBricks at a time, so that only the table, the index and one
+// batch are in memory; the index, known when every brick is written, is written over the zeros
+// that held its place. Sets p's checksum.
 Status writeVolumeData(TempFile& file, const std::string& path, PackageVolume& p) {
     const Volume& v = p.volume;
     const bool emission = v.hasEmission();
-    const uint64_t bricks = v.brickCount(), brickBytes = format::volumeBrickBytes(emission);
+    const uint64_t bricks = v.brickCount(), brickBytes = format::volumeBrickBytes(format::kVersion, v.codec, emission);
+    const std::vector<std::array<int32_t, 3>> origins = volumeBrickOrigins(v);
     ByteWriter table;
     table.putArray(v.brickOf);
     const uint64_t indexAt = p.offset + table.bytes().size();
     table.bytes().resize(format::volumeTableBytes(format::kVersion, v.cellCount(), bricks));
     if (!file.write(table.bytes())) return writeFailed(path);
-    std::vector<float> batch(kWriteBatchBricks * brickBytes / 4);
+    std::vector<uint8_t> batch(kWriteBatchBricks * brickBytes);
+    std::vector<float> values(2 * kVolumeBrickVoxels);
     ByteWriter index;
     for (uint64_t first = 0; first < bricks; first += kWriteBatchBricks) {
         const uint64_t count = std::min<uint64_t>(kWriteBatchBricks, bricks - first);
         for (uint64_t b = 0; b < count; ++b) {
-            float* density = batch.data() + b * brickBytes / 4;
-            VASTRAY_TRY(readVolumeBrick(v, first + b, density, emission ? density + kVolumeBrickVoxels : nullptr));
-            index.put(checksum64(density, brickBytes));
-            index.put(*std::max_element(density, density + kVolumeBrickVoxels));
+            uint8_t* leaves = batch.data() + b * brickBytes;
+            VASTRAY_TRY(readVolumeLeaves(v, v.codec, first + b, origins[first + b], values.data(),
+                                         emission ? values.data() + kVolumeBrickVoxels : nullptr, leaves));
+            index.put(checksum64(leaves, brickBytes));
+            index.put(*std::max_element(values.data(), values.data() + kVolumeBrickVoxels));
             index.put(uint32_t(0));
         }
         if (!file.write(batch.data(), count * brickBytes)) return writeFailed(path);
@@ -126,7 +131,8 @@ Status writePackage(const std::string& path, PackageInfo& info, const std::vecto
         p.brickCount = uint32_t(p.volume.brickCount());
         p.hasEmission = p.volume.hasEmission();
         p.offset = offset;
-        p.size = format::volumeDataBytes(format::kVersion, p.volume.cellCount(), p.brickCount, p.hasEmission);
+        p.size = format::volumeDataBytes(format::kVersion, p.volume.cellCount(), p.brickCount, p.volume.codec,
+                                         p.hasEmission);
         p.checksum = 0;  // known once its bricks are written
         offset += p.size;
     }

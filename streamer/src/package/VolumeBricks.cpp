@@ -8,6 +8,7 @@
 #include "package/PackageFormat.h"
 #include "package/PackageHeader.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray {
 namespace {
@@ -23,7 +24,8 @@ int64_t firstOutOfRange(const float* values) {
 
 }  // namespace
 
-Status PackageVolumeBricks::readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const {
+Status PackageVolumeBricks::readBrick(uint32_t volume, uint32_t brick, float* density, float* emission,
+                                      uint8_t* leaves) const {
     if (volume >= volumes_.size())
         return Status::error("volume " + std::to_string(volume) + " does not exist (" + std::to_string(volumes_.size()) +
                              " volumes)");
@@ -31,13 +33,25 @@ Status PackageVolumeBricks::readBrick(uint32_t volume, uint32_t brick, float* de
     const std::string name = v.name + "brick " + std::to_string(brick);
     if (brick >= v.checksum.size())
         return Status::error(name + " does not exist (" + std::to_string(v.checksum.size()) + " bricks)");
-    const uint64_t bytes = format::volumeBrickBytes(v.emission), offset = v.firstBrick + brick * bytes;
-    float voxels[2 * kVolumeBrickVoxels];
-    if (!file_->read(offset, bytes, voxels))
+    const uint64_t bytes = format::volumeBrickBytes(v.version, v.codec, v.emission), offset = v.firstBrick + brick * bytes;
+    alignas(16) uint8_t stored[2 * std::max<uint64_t>(kMaxVolumeLeafBytes, 4 * kVolumeBrickVoxels)];
+    if (!file_->read(offset, bytes, stored))
         return Status::error(name + ": cannot read its " + std::to_string(bytes) + " bytes at offset " +
                              std::to_string(offset) + " (the file is shorter than its package says, or unreadable)");
-    if (const uint64_t computed = checksum64(voxels, bytes); computed != v.checksum[brick])
+    if (const uint64_t computed = checksum64(stored, bytes); computed != v.checksum[brick])
         return checksumMismatch(name + ":", v.checksum[brick], computed);
+    float voxels[2 * kVolumeBrickVoxels];
+    if (v.version >= format::kFirstLeafBricksVersion) {
+        const uint32_t leafBytes = volumeLeafBytes(v.codec);
+        for (uint32_t grid = 0; grid < (v.emission ? 2u : 1u); ++grid)
+            if (const std::string problem = decodeVolumeLeaf(v.codec, stored + grid * leafBytes, voxels + grid * kVolumeBrickVoxels);
+                !problem.empty())
+                return Status::error(name + (grid ? " emission" : "") + " (a NanoVDB " + volumeCodecName(v.codec) +
+                                     " leaf): " + problem);
+        if (leaves) std::memcpy(leaves, stored, bytes);
+    } else {
+        std::memcpy(voxels, stored, bytes);
+    }
     if (const int64_t bad = firstOutOfRange(voxels); bad >= 0)
         return Status::error(name + " voxel " + std::to_string(bad) + " has density " + std::to_string(voxels[bad]) +
                              " (not in [0, 1e18])");
@@ -58,8 +72,8 @@ Status PackageVolumeBricks::readBrick(uint32_t volume, uint32_t brick, float* de
     return Status::ok();
 }
 
-Status readVolumeTable(const PackageFile& file, const PackageVolume& p, const std::string& name, Volume& volume,
-                       StoredVolumeBricks& bricks) {
+Status readVolumeTable(const PackageFile& file, uint32_t version, const PackageVolume& p, const std::string& name,
+                       Volume& volume, StoredVolumeBricks& bricks) {
     const uint64_t cells = p.volume.cellCount(), count = p.brickCount;
     const uint64_t tableBytes = format::volumeTableBytes(format::kFirstBrickwiseVersion, cells, count);
     std::vector<uint8_t> table;
@@ -94,6 +108,8 @@ Status readVolumeTable(const PackageFile& file, const PackageVolume& p, const st
     bricks.name = name;
     bricks.firstBrick = p.offset + tableBytes;
     bricks.emission = p.hasEmission;
+    bricks.version = version;
+    bricks.codec = p.volume.codec;
     return Status::ok();
 }
 

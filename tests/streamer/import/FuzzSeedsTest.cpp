@@ -56,7 +56,8 @@ TEST(FuzzSeeds, AssimpSeedsImport) {
 // The package and chunk seeds of fuzz_package and fuzz_chunk are of a format this reader reads
 // (a seed of an older format stops at the version check, and the fuzzer never reaches the
 // decoders; version 3 seeds still read, volume.vast is version 4 with a volume, volume-bricks.vast
-// version 6 with a volume and its emission):
+// version 6 with a volume and its emission, volume-leaves.vast version 14 with the same as Fp16
+// NanoVDB leaves):
 // each package opens and verifies, and each chunk seed is its package's chunk 0 plus the byte
 // fuzz_chunk reads as the grid selector. Regenerate them as docs/HARDENING.md says.
 TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
@@ -75,7 +76,7 @@ TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
         EXPECT_EQ(0, std::memcmp(bytes.data(), blob->data(), blob->size())) << chunkSeed << " is not chunk 0 of " << entry.path();
         ++seeds;
     }
-    EXPECT_EQ(seeds, 16u);  // coatmap (version 13: a material's coat maps); emissive (version 12: an emitter section); small, coloured (normals and colours), cameras, textured (version 9: UVs); Draco and meshopt; a volume
+    EXPECT_EQ(seeds, 17u);  // volume-leaves (version 14: a volume's bricks as NanoVDB Fp16 leaves); coatmap (version 13: a material's coat maps); emissive (version 12: an emitter section); small, coloured (normals and colours), cameras, textured (version 9: UVs); Draco and meshopt; a volume
                             // (version 4) and one read brick by brick with emission (version 6); glossy
                             // (version 5 materials); lights (version 7); coated (version 8 materials:
                             // specular colour and clear coat); texturemap (version 10: two textures,

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -29,6 +30,13 @@ constexpr uint64_t kMaxVolumeBrickCells = uint64_t(1) << 24;   // brick grid cel
 constexpr uint64_t kMaxVolumeBricks = uint64_t(1) << 22;       // stored bricks (8 GiB of voxels)
 constexpr uint32_t kMaxVolumes = 64;                           // volumes per scene
 constexpr float kMaxVolumeDensity = 1e18f;                     // voxel values are in [0, this]
+
+// How a volume's bricks are stored in its package and held in the device's brick pool: NanoVDB
+// leaf nodes of float values (exact), or NanoVDB's quantized Fp16 and Fp8 leaves (a minimum and a
+// quantum per brick, a 16- or 8-bit code per voxel; core/VolumeLeaf.h). The voxels a render
+// reads are the ones the leaves decode to.
+enum class VolumeCodec : uint32_t { Float = 0, Fp16 = 1, Fp8 = 2 };
+constexpr uint32_t kVolumeCodecCount = 3;
 
 // How a volume scatters: extinction = densityScale * density; of what is extinguished, the
 // fraction `albedo` (per channel) scatters with the Henyey-Greenstein phase function of
@@ -53,7 +61,12 @@ public:
     // finite in [0, 1e18], its largest density the one the brick table recorded) and writes its
     // kVolumeBrickVoxels densities, and as many emission values when the volume has an emission
     // grid (else `emission` is not written). Errors name the file, the volume and the brick.
-    virtual Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission) const = 0;
+    // A source that stores its bricks as leaves (a version 14 package: leafCodec says their codec)
+    // also writes them to `leaves` when it is not null: the density's leaf, then the emission
+    // grid's (volumeLeafBytes each), the values written being what they decode to.
+    virtual Status readBrick(uint32_t volume, uint32_t brick, float* density, float* emission,
+                             uint8_t* leaves) const = 0;
+    virtual std::optional<VolumeCodec> leafCodec(uint32_t /*volume*/) const { return std::nullopt; }
 };
 
 struct Volume {
@@ -80,6 +93,10 @@ struct Volume {
     // are dropped: nothing absorbs there, so nothing glows), or empty: no emission.
     std::vector<float> emissionVoxels;
     VolumeMaterial material;
+    // The codec of its bricks' leaves: what a package writer stores (quantizing the voxels it
+    // reads), and for a volume whose bricks stay in their source what the device's pool holds
+    // (deviceVolumeCodec). A quantized volume read into memory is decoded: codec Float.
+    VolumeCodec codec = VolumeCodec::Float;
     Aabb worldBounds;  // the brick grid's box mapped to the world
     // Set when the voxels stay in their file: brickOf and majorant are here, `voxels` and
     // `emissionVoxels` empty, and each brick is read on demand (readVolumeBrick). The CPU
@@ -99,6 +116,21 @@ struct Volume {
 // Stored brick `brick`'s densities (kVolumeBrickVoxels) and, with an emission grid, its emission
 // values: copied from the voxels in memory, or read through the volume's brick source.
 Status readVolumeBrick(const Volume& volume, uint64_t brick, float* density, float* emission);
+// The same values and the brick's leaves in `codec` (the density's, then with an emission grid
+// the emission's; volumeLeafBytes each; core/VolumeLeaf.h): given verbatim by a source that
+// stores leaves of that codec, else encoded from the values read, which are then replaced by the
+// values the leaves decode to. `origin`: the index of the brick's first voxel (its cell's).
+Status readVolumeLeaves(const Volume& volume, VolumeCodec codec, uint64_t brick, std::array<int32_t, 3> origin,
+                        float* density, float* emission, uint8_t* leaves);
+// The codec of the leaves the device holds for a volume: its own when its bricks stay in their
+// source (a package's leaves go to the device as they are stored), float when its voxels are in
+// memory (held exactly, the values the CPU functions read).
+inline VolumeCodec deviceVolumeCodec(const Volume& volume) {
+    return volume.bricks.source ? volume.codec : VolumeCodec::Float;
+}
+// The index of brick cell `cell`'s first voxel, and per stored brick its cell's (from brickOf).
+std::array<int32_t, 3> volumeCellOrigin(const Volume& volume, uint64_t cell);
+std::vector<std::array<int32_t, 3>> volumeBrickOrigins(const Volume& volume);
 
 // The voxel at index ijk (0 outside the stored bricks).
 float volumeVoxel(const Volume& volume, int32_t i, int32_t j, int32_t k);

@@ -16,6 +16,7 @@
 #include "vastray/core/Result.h"
 #include "vastray/core/Texture.h"
 #include "vastray/core/Volume.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray {
 
@@ -71,9 +72,10 @@ struct PackageVolume {
     uint64_t offset = 0, size = 0, checksum = 0;
 
     // What a render keeps of it in device memory: brick table and majorants (4 bytes each per
-    // cell) and the voxels (twice with an emission grid).
+    // cell) and the bricks' leaves in its codec as the device keeps them (volumeDeviceLeafBytes;
+    // twice with an emission grid).
     uint64_t deviceBytes() const {
-        return 8 * volume.cellCount() + uint64_t(brickCount) * kVolumeBrickVoxels * 4 * (hasEmission ? 2 : 1);
+        return 8 * volume.cellCount() + uint64_t(brickCount) * volumeDeviceLeafBytes(volume.codec) * (hasEmission ? 2 : 1);
     }
 };
 

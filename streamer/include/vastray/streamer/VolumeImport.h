@@ -64,6 +64,9 @@ struct VolumeSource {
     // What the file's messages call it, in place of its file name (an upload's scratch file is
     // "cars.zip:smoke/fog.vdb" to its client); empty: the file name.
     std::string label;
+    // How the package stores its bricks (and the device holds them): NanoVDB float leaves, or
+    // Fp16 / Fp8 leaves quantized when the package is written (core/VolumeLeaf.h).
+    VolumeCodec codec = VolumeCodec::Float;
 };
 
 // The material's ranges: albedo in [0, 1], density scale in [0, kMaxVolumeDensity], anisotropy
