@@ -12,7 +12,8 @@
 #   usage (on the device machine, vastray and volume_cloud on PATH, Mitsuba on PYTHONPATH):
 #     bench/volume_vs_mitsuba.sh MITSUBA_VOLUME.py OUT_DIR
 #   Environment: N (512), SPP (64), DEPTH (8), DENSITY (40), ALBEDO (0.8), G (0.3),
-#   RESOLUTION (1024x1024), OOC_ROUNDS (2: out-of-core renders), KIND (cloud; box: a homogeneous
+#   RESOLUTION (1024x1024), OOC_ROUNDS (2: out-of-core renders), CODEC (float: the bricks' NanoVDB
+#   leaves, or fp16, fp8: --volume-codec), KIND (cloud; box: a homogeneous
 #   cube of density 1 times DENSITY, which Mitsuba renders with its own `homogeneous` medium).
 set -uo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 MITSUBA_VOLUME.py OUT_DIR" >&2; exit 2; }
@@ -33,7 +34,7 @@ with open(sys.argv[1], "wb") as o:
 PY
 start=$(date +%s.%N)
 vastray import "$out/far.ply" -o "$out/cloud.vast" --progress none --volume "$out/cloud.vdb" --volume-density "$density" \
-  --volume-albedo "$albedo" --volume-anisotropy "$g" > "$out/import.log" 2>&1 || { cat "$out/import.log"; exit 1; }
+  --volume-albedo "$albedo" --volume-anisotropy "$g" --volume-codec "${CODEC:-float}" > "$out/import.log" 2>&1 || { cat "$out/import.log"; exit 1; }
 echo "imported in $(python3 -c "import sys; print(round(float(sys.argv[1]) - float(sys.argv[2]), 2))" "$(date +%s.%N)" "$start") s: $(grep 'read volume' "$out/import.log")"
 meanOf() { python3 "$(dirname "$0")/pfm_mean.py" "$1"; }  # the mean R,G,B of a .pfm
 for round in 1 2 3; do
