@@ -276,6 +276,50 @@ TEST(VolumeRender, SingleScatteringMatchesTheQuadrature) {
     }
 }
 
+// Single scattering in a homogeneous sphere against its analytic value: a ray through the
+// sphere's centre with the sun behind the camera (one scattering event, a black sky). At depth t
+// into the sphere the camera's and the sun's paths are both t long and the light turns back
+// (phase at cos -1), so the pixel is E x albedo x phase(-1) x the integral from 0 to 2R of
+// sigma e^(-2 sigma t) dt = E x albedo x phase(-1) x (1 - e^(-4 sigma R)) / 2. The sphere is
+// voxels of density 1 within 31.5 voxels of its centre: along the ray the trilinear ramp at each
+// face is centred on R, so its chord integrates to 2R; on both backends.
+TEST(VolumeRender, SingleScatteringInASphereMatchesTheAnalyticValue) {
+    TriangleMesh mesh = test::farTriangle(-100);
+    VolumeMaterial m;
+    m.albedo = {0.8f, 0.8f, 0.8f};
+    m.densityScale = 1.5f;
+    m.anisotropy = 0.5f;
+    const float voxel = 1.0f / 32.0f, radius = 31.5f * voxel;
+    Volume sphere = test::makeVolume(
+        {-32, -32, -32}, {32, 32, 32},
+        [](int32_t i, int32_t j, int32_t k) { return i * i + j * j + k * k < 31.5f * 31.5f ? 1.0f : 0.0f; }, voxel,
+        {0, 0, 0}, m);
+    const std::string path = writePackage("single-scattering-sphere", std::move(mesh), {std::move(sphere)});
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.samplesPerPixel = 256;
+    o.maxDepth = 1;
+    o.frameScene = false;
+    o.camera.eye = {-3, 0, 0};
+    o.camera.target = {0, 0, 0};
+    o.camera.fovYDegrees = 0.1f;
+    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
+    o.environment.sunDirection = {-1, 0, 0};  // behind the camera: the light travels along +x
+    o.environment.sunIrradiance = {2, 2, 2};
+    o.volumes = volumesOf(path);
+    const double sigma = 1.5, g = 0.5;
+    const double phase = (1 - g * g) / (4 * kPi * std::pow(1 + g * g + 2 * g, 1.5));  // cos = -1
+    const double expected = 2.0 * 0.8 * phase * (1 - std::exp(-4 * sigma * radius)) / 2;
+    for (const char* backend : {"vulkan", "embree"}) {
+        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
+        ASSERT_TRUE(image) << backend << ": " << image.message();
+        const auto [mean, standardError] = test::pixelMean(*image);
+        std::printf("%s: mean %.6f, analytic %.6f, standard error %.6f\n", backend, mean, expected, standardError);
+        EXPECT_LT(standardError, 0.01 * expected);
+        EXPECT_NEAR(mean, expected, 4 * standardError + 2e-3 * expected) << backend;
+    }
+}
+
 RenderOptions foggyRender(uint32_t spp) {
     RenderOptions o;
     o.width = 48, o.height = 36;
