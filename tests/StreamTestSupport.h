@@ -12,6 +12,7 @@
 #include <string>
 
 #include "TestTmp.h"
+#include "vastray/core/EnvironmentMap.h"
 #include "vastray/core/RenderImage.h"
 #include "vastray/core/RenderOptions.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -116,6 +117,16 @@ inline Result<std::pair<RenderImage, RenderImage>> renderVulkanColdAndWarm(const
 }
 
 // sqrt(sum (a - b)^2 / sum b^2): the error of image a against reference b, relative to b's energy.
+// A lat-long environment map of w x h texels, every one (r, g, b).
+inline std::shared_ptr<const EnvironmentMap> constantEnvironmentMap(const std::string& name, uint32_t w, uint32_t h,
+                                                                    float r, float g, float b) {
+    const size_t texels = size_t(w) * h;
+    auto map = makeEnvironmentMap(name, w, h, std::vector<float>(texels, r), std::vector<float>(texels, g),
+                                  std::vector<float>(texels, b));
+    EXPECT_TRUE(map) << map.message();
+    return map ? *map : nullptr;
+}
+
 inline double relativeRmse(const std::vector<float>& a, const std::vector<float>& b) {
     double se = 0, energy = 0;
     for (size_t i = 0; i < b.size(); ++i) {

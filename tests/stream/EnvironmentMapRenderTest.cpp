@@ -28,10 +28,7 @@ std::string package(const std::string& name, GeneratorKind kind, uint64_t triang
 }
 
 std::shared_ptr<const EnvironmentMap> constantMap(float r, float g, float b) {
-    auto map = makeEnvironmentMap("constant", 8, 4, std::vector<float>(32, r), std::vector<float>(32, g),
-                                  std::vector<float>(32, b));
-    EXPECT_TRUE(map) << map.message();
-    return *map;
+    return test::constantEnvironmentMap("constant", 8, 4, r, g, b);
 }
 
 // A sky with a horizon, a dark ground and a small bright sun-like spot: the case importance

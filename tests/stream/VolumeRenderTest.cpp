@@ -487,13 +487,8 @@ TEST(VolumeRender, QuantizedBricksPageTheSameAndAgreeWithEmbree) {
 TEST(VolumeRender, ALargerMapOfAKeptOpenSceneStaysWithinTheBudget) {
     const std::string& path = cloudedTown();
     RenderOptions o = cloudedTownView(path, 16, 12, 2, 1);
-    const auto uniform = [](const char* name, uint32_t w, uint32_t h) {
-        const std::vector<float> one(size_t(w) * h, 1.0f);
-        auto map = makeEnvironmentMap(name, w, h, one, one, one);
-        EXPECT_TRUE(map) << map.message();
-        return *map;
-    };
-    const std::shared_ptr<const EnvironmentMap> small = uniform("small", 8, 4), large = uniform("large", 256, 128);
+    const std::shared_ptr<const EnvironmentMap> small = test::constantEnvironmentMap("small", 8, 4, 1, 1, 1),
+                                                large = test::constantEnvironmentMap("large", 256, 128, 1, 1, 1);
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     const PackageInfo info = (*reader)->info();
