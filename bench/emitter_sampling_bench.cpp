@@ -2,10 +2,15 @@
 // a closed box lit only by emissive triangles on its ceiling (one square lamp, or --lamps N
 // small ones over a grid), rendered with next-event estimation sampling the emitters and with
 // the emitters found by chance only, on the device (Vulkan, the scene in core) and the Embree
-// reference, each at several sample counts, against one high-sample reference image.
+// reference, each at several sample counts, against one high-sample reference image. --mapped
+// gives the lamps an emissive map (512^2, sRGB: bright bands over a dark ground, across each
+// lamp), which sampled points read at their UVs.
 //
 //   emitter_sampling_bench [--resolution 128x128] [--depth 5] [--spp 1,4,16] [--reference-spp 1024]
-//                          [--lamps 1] [--device I] [--no-embree] [--out FILE.md]
+//                          [--lamps 1] [--mapped] [--device I] [--no-embree] [--out FILE.md]
+//                          [--write-package FILE.vast]  (build the box's package there, nothing else)
+//                          [--package FILE.vast]  (render that package, built before with the same
+//                          --lamps and --mapped: a machine without OpenImageIO cannot encode the map)
 //                          [--reference-out FILE.pfm]  (the reference image, for bench/mitsuba_emitters.py)
 //                          [--reference-only]  (render and write the reference, nothing else)
 //
@@ -19,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -48,6 +54,8 @@ struct Args {
     bool embree = true;
     std::string out, referenceOut;
     bool referenceOnly = false;
+    bool mapped = false;
+    std::string writePackage, package;
 };
 
 Args parseArgs(int argc, char** argv) {
@@ -72,6 +80,9 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--out") a.out = value();
         else if (flag == "--reference-out") a.referenceOut = value();
         else if (flag == "--reference-only") a.referenceOnly = true;
+        else if (flag == "--mapped") a.mapped = true;
+        else if (flag == "--write-package") a.writePackage = value();
+        else if (flag == "--package") a.package = value();
         else fail("unknown flag " + flag + " (see the comment at the top of bench/emitter_sampling_bench.cpp)");
     }
     return a;
@@ -80,7 +91,7 @@ Args parseArgs(int argc, char** argv) {
 // The box [-1, 1]^3, open nowhere, its walls Lambertian (the left red, the right green, the
 // rest white), seen from inside; the ceiling's lamps: one square of side 0.5 under the ceiling,
 // or `lamps` squares (rounded to a square grid) sharing that square's area, facing down.
-TriangleMesh boxWithLamps(uint32_t lamps) {
+TriangleMesh boxWithLamps(uint32_t lamps, bool mapped) {
     TriangleMesh mesh;
     Material white{"white"}, red{"red"}, green{"green"}, lamp{"lamp"};
     white.baseColor = {0.7f, 0.7f, 0.7f, 1};
@@ -93,6 +104,7 @@ TriangleMesh boxWithLamps(uint32_t lamps) {
     auto quad = [&](Vec3f a, Vec3f b, Vec3f c, Vec3f d, uint32_t material) {  // counter-clockwise from the front
         const auto base = uint32_t(mesh.positions.size());
         mesh.positions.insert(mesh.positions.end(), {a, b, c, d});
+        mesh.uvs.insert(mesh.uvs.end(), {{0, 1}, {1, 1}, {1, 0}, {0, 0}});
         mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
         mesh.materialIds.insert(mesh.materialIds.end(), {material, material});
     };
@@ -110,6 +122,25 @@ TriangleMesh boxWithLamps(uint32_t lamps) {
             const float s = side == 1 ? cell : 0.8f * cell;  // a grid of lamps keeps gaps between them
             quad({x0, y, z0}, {x0 + s, y, z0}, {x0 + s, y, z0 + s}, {x0, y, z0 + s}, 3);  // facing -y
         }
+    if (!mapped) {
+        mesh.uvs.clear();
+        return mesh;
+    }
+    // Eight bright bands (white) over a dark ground (1/16), 512^2 texels.
+    const uint32_t n = 512;
+    std::vector<uint8_t> texels(4 * n * n);
+    for (uint32_t t = 0; t < n; ++t)
+        for (uint32_t s = 0; s < n; ++s) {
+            const uint8_t v = (s * 16 / n) % 2 == 0 ? 255 : 70;  // sRGB 70: about 1/16 linear
+            uint8_t* p = &texels[4 * (t * n + s)];
+            p[0] = p[1] = p[2] = v, p[3] = 255;
+        }
+    const std::filesystem::path png = std::filesystem::temp_directory_path() / "vastray-emitter-bench-bands.png";
+    if (!writeRgba8Png(png.string(), n, n, texels)) fail("cannot write " + png.string());
+    std::ifstream in(png, std::ios::binary);
+    mesh.textures.push_back({"bands.png", ".png", {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()},
+                             TextureWrap::Clamp, TextureWrap::Clamp, TextureEncoding::Srgb});
+    mesh.materials[3].textures.slots[uint32_t(TextureSlot::Emissive)].texture = 0;
     return mesh;
 }
 
@@ -138,11 +169,15 @@ int main(int argc, char** argv) {
     const Args args = parseArgs(argc, argv);
     const std::filesystem::path dir = std::filesystem::temp_directory_path() / "vastray-emitter-bench";
     std::filesystem::create_directories(dir);
-    const std::string path = (dir / "box.vast").string();
-    PackageBuildOptions build;
-    build.progress = Progress::Mode::None;
-    auto report = buildPackage(boxWithLamps(args.lamps), path, build);
-    if (!report) fail(report.message());
+    const std::string path =
+        !args.package.empty() ? args.package : !args.writePackage.empty() ? args.writePackage : (dir / "box.vast").string();
+    if (args.package.empty()) {
+        PackageBuildOptions build;
+        build.progress = Progress::Mode::None;
+        auto report = buildPackage(boxWithLamps(args.lamps, args.mapped), path, build);
+        if (!report) fail(report.message());
+        if (!args.writePackage.empty()) return 0;
+    }
     auto reader = PackageReader::open(path);
     if (!reader) fail(reader.message());
     const PackageInfo& info = (*reader)->info();

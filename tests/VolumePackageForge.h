@@ -245,10 +245,50 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
     return withoutMaterialBytes(std::move(bytes), 144, 112, 32, 7);
 }
 
+// A format 15 package laid out as format 14: each emitter record's corner UVs (its last 24 of 64
+// bytes) taken out and every offset after the emitter section moved back by as much (the blobs'
+// in the header and the directory, each volume's data in its record, the texture table's in the
+// texture head), with the emitters', the directory's, the records', the texture head's and the
+// header's checksums recomputed. The emitter section follows the volume records and the light
+// section (128 bytes a light, then 8); the header keeps the light count at byte 228. A package of
+// an older format is returned as it is.
+inline std::vector<uint8_t> withoutEmitterUvs(std::vector<uint8_t> bytes) {
+    auto get = [&](uint64_t at) { return word64(bytes, at); };
+    auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
+    uint32_t version = 0, chunks = 0, volumes = 0, lights = 0, count = 0;
+    std::memcpy(&version, bytes.data() + 8, 4);
+    if (version < 15) return bytes;
+    std::memcpy(&chunks, bytes.data() + 88, 4);
+    std::memcpy(&volumes, bytes.data() + 92, 4);
+    std::memcpy(&lights, bytes.data() + 228, 4);
+    const uint64_t records = get(232), directory = get(168), emitters = records + 256ull * volumes + 128ull * lights + 8;
+    std::memcpy(&count, bytes.data() + emitters, 4);
+    for (uint32_t e = count; e-- > 0;) {
+        const int64_t at = int64_t(emitters + 8 + 64ull * e + 40);
+        bytes.erase(bytes.begin() + at, bytes.begin() + at + 24);
+    }
+    const uint64_t covered = 8 + 40ull * count, moved = 24ull * count;
+    set(emitters + covered, checksum64(bytes.data() + emitters, covered));
+    set(176, get(176) - moved);
+    for (uint64_t c = 0; c < chunks; ++c) set(directory + 72 * c, get(directory + 72 * c) - moved);
+    for (uint64_t v = 0; v < volumes; ++v) set(records + 256 * v + 164, get(records + 256 * v + 164) - moved);
+    const uint64_t head = get(176) - 32;  // count, reserved, table offset and size, XXH64
+    set(head + 8, get(head + 8) - moved);
+    set(head + 24, checksum64(bytes.data() + head, 24));
+    const uint32_t fourteen = 14;
+    std::memcpy(bytes.data() + 8, &fourteen, 4);
+    set(16, bytes.size());
+    set(200, checksum64(bytes.data() + directory, 72ull * chunks));
+    set(240, checksum64(bytes.data() + records, 256ull * volumes));
+    set(248, checksum64(bytes.data(), 248));
+    return bytes;
+}
+
 // A format 13 package laid out as format 12: each material record's ior (the word at 136,
 // reserved before 13) zeroed and its coat maps (two of 28 bytes, after the five maps of format
 // 10, none here) taken out (withoutMaterialBytes).
 inline std::vector<uint8_t> withoutCoatMaps(std::vector<uint8_t> bytes) {
+    bytes = withoutEmitterUvs(std::move(bytes));  // (format 15's records first)
     uint32_t materials = 0;
     std::memcpy(&materials, bytes.data() + 80, 4);
     for (uint32_t m = 0; m < materials; ++m) std::memset(bytes.data() + 256 + 356 * size_t(m) + 136, 0, 4);

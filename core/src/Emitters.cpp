@@ -5,6 +5,7 @@
 
 #include "vastray/core/PathShading.h"
 #include "vastray/core/VecMath.h"
+#include "vastray/core/VertexAttributes.h"
 
 namespace vastray {
 namespace {
@@ -18,9 +19,7 @@ double triangleArea(Vec3f v0, Vec3f v1, Vec3f v2) { return 0.5 * double(length(g
 }  // namespace
 
 bool isSampledEmitter(const Material& m, uint64_t textureCount) {
-    const uint32_t map = m.textures.slots[uint32_t(TextureSlot::Emissive)].texture;
-    const bool mapped = map != kNoTexture && map < textureCount;
-    return emissionWeight(m) > 0.0 && std::isfinite(emissionWeight(m)) && !mapped && !isCutout(m, textureCount) &&
+    return emissionWeight(m) > 0.0 && std::isfinite(emissionWeight(m)) && !isCutout(m, textureCount) &&
            !isBlended(m, textureCount);
 }
 
@@ -38,7 +37,8 @@ std::vector<EmissiveTriangle> collectEmitters(const TriangleMesh& mesh, uint64_t
         const uint32_t material = mesh.materialOf(t);
         if (material >= sampled.size() || !sampled[material]) return;
         const uint32_t* i = &mesh.indices[3 * t];
-        const EmissiveTriangle e{mesh.positions[i[0]], mesh.positions[i[1]], mesh.positions[i[2]], material};
+        EmissiveTriangle e{mesh.positions[i[0]], mesh.positions[i[1]], mesh.positions[i[2]], material};
+        if (!mesh.uvs.empty()) e.t0 = mesh.uvs[i[0]], e.t1 = mesh.uvs[i[1]], e.t2 = mesh.uvs[i[2]];
         if (triangleArea(e.v0, e.v1, e.v2) > 0.0) out.push_back(e);
     };
     if (triangles.empty())
@@ -56,7 +56,7 @@ EmitterTable makeEmitterTable(std::span<const EmissiveTriangle> triangles, std::
     for (const EmissiveTriangle& t : triangles) {
         const double w = triangleArea(t.v0, t.v1, t.v2) * emissionWeight(materials[t.material]);
         if (!(w > 0.0) || !std::isfinite(w)) continue;
-        table.entries.push_back({t.v0, t.v1, t.v2, t.material, 1.0f, 0});
+        table.entries.push_back({t.v0, t.v1, t.v2, t.material, 1.0f, 0, t.t0, t.t1, t.t2});
         weights.push_back(w);
         power += w;
     }
@@ -102,6 +102,12 @@ Vec3f emitterPoint(const EmitterEntry& e, float u1, float u2) {
     const float s = std::sqrt(u1);
     const float u = u2 * s;
     return barycentricPosition(e.v0, e.v1, e.v2, u, s - u);
+}
+
+std::array<float, 2> emitterUv(const EmitterEntry& e, float u1, float u2) {
+    const float s = std::sqrt(u1);
+    const float u = u2 * s;
+    return interpolateUv(e.t0, e.t1, e.t2, u, s - u);
 }
 
 }  // namespace vastray

@@ -272,11 +272,13 @@ float emitterPickProbability(const Environment& env, std::span<const LightEntry>
     return sun || (env.map && env.map->sampleable) || !lights.empty() ? 0.5f : 1.0f;
 }
 
-bool sampleEmitter(const EmitterTable& table, std::span<const Material> materials, float emitterPick, Vec3f origin,
-                   RandomKey key, uint32_t seed, EmitterSample* sample) {
+bool sampleEmitter(const EmitterTable& table, std::span<const Material> materials,
+                   std::span<const DecodedTexture> textures, float emitterPick, Vec3f origin, RandomKey key,
+                   uint32_t seed, EmitterSample* sample) {
     const EmitterEntry& e = table.entries[pickEmitter(table, randomBits(key, kDimEmitterPick, seed),
                                                       randomFloat(key, kDimEmitterKeep, seed))];
-    const Vec3f y = emitterPoint(e, randomFloat(key, kDimEmitterU, seed), randomFloat(key, kDimEmitterV, seed));
+    const float u1 = randomFloat(key, kDimEmitterU, seed), u2 = randomFloat(key, kDimEmitterV, seed);
+    const Vec3f y = emitterPoint(e, u1, u2);
     const Material& m = materialAt(materials, e.material);
     const Vec3f front = normalize(geometricNormal(e.v0, e.v1, e.v2));
     const bool frontSeen = dot(front, origin - y) > 0.0f;
@@ -290,6 +292,14 @@ bool sampleEmitter(const EmitterTable& table, std::span<const Material> material
     const float cosine = -dot(facing, sample->direction);
     if (!(cosine > 0.0f)) return false;
     sample->radiance = emission(m);
+    const TextureBinding& map = m.textures.slots[uint32_t(TextureSlot::Emissive)];
+    if (map.texture != kNoTexture && map.texture < textures.size()) {
+        const std::array<float, 2> uv = emitterUv(e, u1, u2);
+        float u = 0.0f, v = 0.0f;
+        applyUvTransform(map.transform, uv[0], uv[1], u, v);
+        const TextureSample t = sampleTexture(textures[map.texture], u, v, 0.0f);
+        sample->radiance = mul(sample->radiance, Vec3f{t.r, t.g, t.b});
+    }
     sample->pdf = emitterPick * table.areaDensity[e.material] * (squared / cosine);
     return sample->pdf > 0.0f;
 }

@@ -45,7 +45,8 @@ Vec3f directLight(const ShadingContext& context, const SurfacePoint* point, Vec3
     const float pickEmitter = emitterPick(options);
     if (pickEmitter > 0.0f && randomFloat(key, kDimEmitter, options.seed) < pickEmitter) {
         EmitterSample s;
-        if (!sampleEmitter(*options.emitters, context.mesh.materials, pickEmitter, origin, key, options.seed, &s))
+        if (!sampleEmitter(*options.emitters, context.mesh.materials, context.textures, pickEmitter, origin, key,
+                           options.seed, &s))
             return {};
         Vec3f light;
         if (!point) light = emitterMediumLight(s, travel, g);

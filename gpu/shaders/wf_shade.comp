@@ -24,7 +24,6 @@
 #include "common/Environment.glsl"
 #include "common/Volume.glsl"
 #include "common/Lights.glsl"
-#include "common/Emitters.glsl"
 #include "common/Texture.glsl"
 #include "common/MaterialMaps.glsl"
 
@@ -45,6 +44,9 @@ layout(constant_id = 10) const bool kTextures = false;         // some material 
 layout(constant_id = 11) const bool kNormalMaps = false;       // some material has a normal map (and the hits frames)
 layout(constant_id = 12) const bool kEmitters = false;         // next-event estimation samples emissive triangles
 // (13-15, which leaf codecs the volumes use: common/Volume.glsl)
+
+// (after the constants: a drawn point on an emitter reads its emissive map only with kTextures)
+#include "common/Emitters.glsl"
 
 // Starts ray `ray` of path j (j, or its shadow ray) from `origin`, which both its rays share (a
 // path's shadow ray and bounce leave the same point), as does the ray cone's width there.
@@ -128,6 +130,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         vec3 punctualDirection, punctualIrradiance;
         float punctualDistance;
         bool event = false, shoots = false;
+        bool mapWaits = false;  // next-event estimation's point on an emitter read an absent page of its map
         Surface surface = Surface(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false, 0.0, 1.0, 0.0, vec3(1.0), 0.0, 0.0, 0.04,
                                   vec3(0.0));
         if (scattered) {
@@ -143,7 +146,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {
                 choice = kChoiceEmitter;
                 shoots = sampleEmitter(p, origin, pixel, sampleIndex, bounce, toLight, lightDistance, emitterRadiance,
-                                       emitterPdf);
+                                       emitterPdf, mapWaits);
                 if (shoots) light = emitterMediumLight(toLight, emitterRadiance, emitterPdf, direction, g);
             } else if (event && kLights)
                 choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection, punctualDistance,
@@ -210,7 +213,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 if (event && kEmitters && pickEmitterBranch(p, pixel, sampleIndex, bounce)) {
                     choice = kChoiceEmitter;
                     shoots = sampleEmitter(p, origin, pixel, sampleIndex, bounce, toLight, lightDistance,
-                                           emitterRadiance, emitterPdf) &&
+                                           emitterRadiance, emitterPdf, mapWaits) &&
                              emitterSurfaceLight(p, surface, toLight, emitterRadiance, emitterPdf, light);
                 } else if (event && kLights)
                     choice = choosePunctualLight(p, origin, pixel, sampleIndex, bounce, punctualDirection,
@@ -228,6 +231,9 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             storePark(p, j, park);
             return false;
         }
+        // Nothing of this shading is written yet: the path waits for the page and shades again
+        // from the same state (a volume's park, if it resumed from one, as it was).
+        if (kTextures && kEmitters && mapWaits) return false;
         if (event) {
             // The sun's or map's share of next-event estimation is 1 - punctualPick.
             if (kLights && shoots && choice == kChoiceEnvironment && p.punctualPick > 0.0)

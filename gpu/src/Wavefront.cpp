@@ -1048,7 +1048,7 @@ private:
         emitters.reserve(table.entries.size());
         for (const EmitterEntry& e : table.entries)
             emitters.push_back({e.v0.x, e.v0.y, e.v0.z, e.material, e.v1.x, e.v1.y, e.v1.z, e.keep, e.v2.x, e.v2.y,
-                                e.v2.z, e.alias});
+                                e.v2.z, e.alias, e.t0[0], e.t0[1], e.t1[0], e.t1[1], e.t2[0], e.t2[1], 0.0f, 0.0f});
         VASTRAY_TRY(upload(emitters, b_.tables.emitters));
         uploaded = {options_.emitters, b_.table, b_.tables.emitters};
         return Status::ok();

@@ -88,8 +88,8 @@ TEST(EmitterTable, ZeroWeightTrianglesAndNonEmittersAreLeftOut) {
     mesh.materials = {emitter("lamp", {0, 2, 0}), plain, mapped, cut};
     EXPECT_TRUE(isSampledEmitter(mesh.materials[0], 1));
     EXPECT_FALSE(isSampledEmitter(plain, 1));
-    EXPECT_FALSE(isSampledEmitter(mapped, 1)) << "an emissive map makes the radiance vary";
-    EXPECT_TRUE(isSampledEmitter(mapped, 0)) << "a map the scene does not have is not read";
+    EXPECT_TRUE(isSampledEmitter(mapped, 1)) << "an emissive map is read where the drawn point falls";
+    EXPECT_TRUE(isSampledEmitter(mapped, 0));
     EXPECT_FALSE(isSampledEmitter(cut, 1)) << "a cut-out's holes would shine";
     Material blend = emitter("veil", {1, 1, 1});
     blend.alphaBlend = true;
@@ -100,21 +100,36 @@ TEST(EmitterTable, ZeroWeightTrianglesAndNonEmittersAreLeftOut) {
     const std::vector<EmissiveTriangle> all = collectEmitters(mesh, 1);
     ASSERT_EQ(all.size(), 2u) << "the degenerate second triangle is left out";
     EXPECT_EQ(all[1].v1, (Vec3f{0, 1, 0})) << "corners as the mesh orders them";
+    EXPECT_EQ(all[1].t1, (std::array<float, 2>{0, 0})) << "no UVs: (0, 0)";
+    mesh.uvs = {{0.1f, 0.2f}, {0.3f, 0.4f}, {0.5f, 0.6f}, {0.7f, 0.8f}};
+    const std::vector<EmissiveTriangle> withUvs = collectEmitters(mesh, 1);
+    ASSERT_EQ(withUvs.size(), 2u);
+    EXPECT_EQ(withUvs[1].t0, (std::array<float, 2>{0.1f, 0.2f})) << "the corners' UVs, in the corners' order";
+    EXPECT_EQ(withUvs[1].t1, (std::array<float, 2>{0.5f, 0.6f}));
+    EXPECT_EQ(withUvs[1].t2, (std::array<float, 2>{0.3f, 0.4f}));
+    mesh.uvs.clear();
     const std::vector<uint32_t> kept = {2};
     EXPECT_EQ(collectEmitters(mesh, 1, kept).size(), 1u);
-    mesh.materialIds = {1, 2, 3};
+    mesh.materialIds = {1, 3, 3};
     EXPECT_TRUE(collectEmitters(mesh, 1).empty());
+    mesh.materialIds = {2, 1, 1};
+    EXPECT_EQ(collectEmitters(mesh, 1).size(), 1u) << "a mapped emitter is collected";
 }
 
 TEST(EmitterTable, PointsAreUniformOverTheTriangle) {
-    const EmitterEntry e{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 0, 1.0f, 0};
+    // UVs that follow x and z: a point's UV is where it lies.
+    const EmitterEntry e{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 0, 1.0f, 0, {0, 0}, {1, 0}, {0, 1}};
     // The four triangles of the midpoint subdivision each get a quarter.
     uint32_t counts[4] = {};
     const uint32_t draws = 100000;
     Vec3f sum{0, 0, 0};
     for (uint32_t k = 0; k < draws; ++k) {
         const RandomKey key{k, 1, 2};
-        const Vec3f p = emitterPoint(e, randomFloat(key, kDimEmitterU, 9), randomFloat(key, kDimEmitterV, 9));
+        const float u1 = randomFloat(key, kDimEmitterU, 9), u2 = randomFloat(key, kDimEmitterV, 9);
+        const Vec3f p = emitterPoint(e, u1, u2);
+        const std::array<float, 2> uv = emitterUv(e, u1, u2);
+        ASSERT_NEAR(uv[0], p.x, 1e-6f);
+        ASSERT_NEAR(uv[1], p.z, 1e-6f);
         ASSERT_GE(p.x, 0.0f);
         ASSERT_GE(p.z, 0.0f);
         ASSERT_LE(p.x + p.z, 1.0f + 1e-6f);
@@ -140,7 +155,7 @@ TEST(EmitterTable, SampleDensityIsAreaDensityTimesDistanceSquaredOverCosine) {
     uint32_t drawn = 0;
     for (uint32_t k = 0; k < 1000; ++k) {
         EmitterSample s;
-        ASSERT_TRUE(sampleEmitter(table, materials, 0.5f, origin, {k, 0, 1}, 3, &s));
+        ASSERT_TRUE(sampleEmitter(table, materials, {}, 0.5f, origin, {k, 0, 1}, 3, &s));
         const Vec3f y = origin + s.direction * s.distance;
         EXPECT_NEAR(y.y, 2.0f, 1e-4f) << "the point lies on the lamp (moved off it by 256 ULPs)";
         EXPECT_LT(y.y, 2.0f) << "moved towards the origin";
@@ -151,10 +166,10 @@ TEST(EmitterTable, SampleDensityIsAreaDensityTimesDistanceSquaredOverCosine) {
     }
     // From above, the single-sided lamp shows its back: nothing.
     EmitterSample s;
-    for (uint32_t k = 0; k < 100; ++k) EXPECT_FALSE(sampleEmitter(table, materials, 0.5f, {0, 5, 0}, {k, 0, 1}, 3, &s));
+    for (uint32_t k = 0; k < 100; ++k) EXPECT_FALSE(sampleEmitter(table, materials, {}, 0.5f, {0, 5, 0}, {k, 0, 1}, 3, &s));
     // Double-sided, it lights both sides.
     const std::vector<Material> twoSided = {emitter("lamp", {3, 2, 1}, true)};
-    EXPECT_TRUE(sampleEmitter(makeEmitterTable(square, twoSided), twoSided, 0.5f, {0, 5, 0}, {0, 0, 1}, 3, &s));
+    EXPECT_TRUE(sampleEmitter(makeEmitterTable(square, twoSided), twoSided, {}, 0.5f, {0, 5, 0}, {0, 0, 1}, 3, &s));
     EXPECT_LT(s.direction.y, 0.0f) << "down to the lamp";
     EXPECT_GT(s.distance, 2.9f);
 }

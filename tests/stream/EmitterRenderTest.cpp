@@ -4,20 +4,25 @@
 // centre, F the form factor of the square from a point below its centre (four corner-rectangle
 // factors). Sampled and found by chance only, both backends agree with it; sampling lowers the
 // noise; the device agrees with the Embree reference; a lamp seen from behind (single-sided) is
-// dark; a streamed render equals the in-core one; an emissive map keeps its triangles unsampled;
+// dark; a streamed render equals the in-core one; an emissive map's triangles are sampled too;
 // beside the sun and a punctual light, and in fog, sampling keeps the expectation.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 
 #include "../VolumePackageForge.h"
 #include "../VolumeTestSupport.h"
 #include "StreamTestSupport.h"
+#include "TestTextures.h"
 #include "TestTmp.h"
 #include "shared/WavefrontTypes.h"
+#include "vastray/core/ImageFile.h"
 #include "vastray/streamer/PackageBuilder.h"
 
 namespace vastray {
@@ -309,25 +314,53 @@ TEST(EmitterRender, FogUnderTheLampScattersItsLightOnBothBackends) {
     EXPECT_GT(expectSampledAsByChance(path, foggy, 1e-4, "lamp in fog").mean, 0.01);
 }
 
-TEST(EmitterRender, AnEmissiveMapKeepsItsTrianglesUnsampled) {
+// An emissive map over the lamp (1024^2 of noise, sRGB, UVs across the square): its triangles are
+// sampled, the drawn point reading the map at level 0 (docs/RENDERING.md "Emissive triangles").
+// At level 0 for both strategies (--texture-lod finest), sampled and by chance have one
+// expectation on both backends, and the device follows the reference; the map shows (the mean
+// well below the unmapped lamp's); and through a texture pool of a quarter of the map's pages the
+// sampled render equals the in-core one bit for bit (a drawn point on an absent page waits for it
+// as a hit does).
+TEST(EmitterRender, AnEmissiveMapIsSampledWhereItsTexelsShine) {
     TriangleMesh mesh = lampOverPlane(true);
     mesh.materials[1].textures.slots[uint32_t(TextureSlot::Emissive)].texture = 0;
     mesh.uvs.assign(mesh.positions.size(), {0.5f, 0.5f});
-    // A 1x1 white PNG.
-    static const uint8_t kWhitePng[] = {
-        0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00,
-        0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08, 0x02, 0x00, 0x00, 0x00, 0x90, 0x77, 0x53, 0xde, 0x00, 0x00, 0x00,
-        0x0c, 0x49, 0x44, 0x41, 0x54, 0x08, 0xd7, 0x63, 0xf8, 0xff, 0xff, 0x3f, 0x00, 0x05, 0xfe, 0x02, 0xfe, 0xdc,
-        0xcc, 0x59, 0xe7, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
-    TextureSource source;
-    source.name = "white.png";
-    source.extension = ".png";
-    source.bytes.assign(std::begin(kWhitePng), std::end(kWhitePng));
-    mesh.textures.push_back(source);
+    const size_t lamp = mesh.positions.size() - 4;
+    mesh.uvs[lamp] = {0, 0}, mesh.uvs[lamp + 1] = {1, 0}, mesh.uvs[lamp + 2] = {1, 1}, mesh.uvs[lamp + 3] = {0, 1};
+    const Rgba8Image noise = test::noiseImage(1024, 1024, 5);
+    const std::filesystem::path png = test::testTmpDir("emitters") / "glow.png";
+    std::filesystem::create_directories(png.parent_path());
+    ASSERT_TRUE(writeRgba8Png(png.string(), noise.width, noise.height, noise.texels));
+    std::ifstream in(png, std::ios::binary);
+    mesh.textures.push_back({"glow.png", ".png", {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()},
+                             TextureWrap::Clamp, TextureWrap::Clamp, TextureEncoding::Srgb});
     const std::string path = package("lamp-mapped", std::move(mesh));
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
-    EXPECT_TRUE((*reader)->info().emitters.empty()) << "its radiance varies with the map: found by chance only";
+    const PackageInfo info = (*reader)->info();
+    ASSERT_EQ(info.emitters.size(), 2u) << "the mapped lamp's triangles are sampled";
+    EXPECT_EQ(info.emitters[0].t1, (std::array<float, 2>{1, 0})) << "with their corners' UVs";
+    auto view = [&](bool sampled) {
+        RenderOptions o = slantView(path, sampled, 256);
+        o.textureLod = TextureLodMode::Finest;
+        return o;
+    };
+    const Mean mapped = expectSampledAsByChance(path, view, 1e-3, "mapped lamp");
+    EXPECT_LT(mapped.mean, 0.6 * expectedMean()) << "the noise's texels are darker than the factor alone";
+    EXPECT_GT(mapped.mean, 0.05 * expectedMean());
+    // The map's pages four times the pool's: the sampled render waits for the pages its points read.
+    const RenderOptions o = view(true);
+    StreamingStats ample, tight;
+    auto inCore = test::renderVulkan(path, o, 256ull << 20, &ample);
+    const uint64_t budget = gpu::textureBytes(info);
+    auto paged = test::renderVulkan(path, o, budget, &tight);
+    ASSERT_TRUE(inCore && paged) << inCore.message() << paged.message();
+    std::printf("mapped lamp paged: %llu page slots, %llu page loads\n", (unsigned long long)tight.texturePageSlots,
+                (unsigned long long)tight.texturePageLoads);
+    EXPECT_EQ(ample.texturePageSlots, 0u);
+    EXPECT_GT(tight.texturePageSlots, 0u);
+    EXPECT_GT(tight.texturePageLoads, tight.texturePageSlots) << "pages paged in more than once";
+    EXPECT_EQ(std::memcmp(paged->rgb.data(), inCore->rgb.data(), inCore->rgb.size() * 4), 0);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 // Sampled emissive triangles (core/Emitters.h's pickEmitter and emitterPoint, core/src/PathShading.cpp's
 // sampleEmitter, emitterSurfaceLight, emitterMediumLight and emitterHitWeight) in GLSL, step for
 // step: next-event estimation's emitter branch and the weight of the emission a bounce finds
-// (docs/RENDERING.md, "Emissive triangles"). Needs Shading.glsl, Environment.glsl (powerHeuristic)
-// and Volume.glsl (henyeyGreenstein) before it.
+// (docs/RENDERING.md, "Emissive triangles"). Needs Shading.glsl, Attributes.glsl (interpolateUv),
+// Environment.glsl (powerHeuristic), Volume.glsl (henyeyGreenstein) and MaterialMaps.glsl
+// (readMap) before it.
 #ifndef VASTRAY_EMITTERS_GLSL
 #define VASTRAY_EMITTERS_GLSL
 
@@ -24,10 +25,12 @@ uint pickEmitter(WavefrontParams p, uint bits, float u) {
 }
 
 // sampleEmitter at `origin`: the unit direction to a point drawn on an emissive triangle (moved
-// off it towards the origin), its distance (the shadow ray's tMax), its radiance and the
-// direction's solid-angle density, emitterPick included. false: it brings nothing to origin.
+// off it towards the origin), its distance (the shadow ray's tMax), its radiance (an emissive
+// map read at the point's UV, level 0) and the direction's solid-angle density, emitterPick
+// included. false: it brings nothing to origin, or (`mapWaits` set; paged textures) a page of its
+// map is not resident: it is asked for, and the path waits as for its own maps.
 bool sampleEmitter(WavefrontParams p, vec3 origin, uint pixel, uint sampleIndex, uint bounce, out vec3 direction,
-                   out float distance, out vec3 radiance, out float pdf) {
+                   out float distance, out vec3 radiance, out float pdf, inout bool mapWaits) {
     direction = vec3(0.0), distance = 0.0, radiance = vec3(0.0), pdf = 0.0;
     const uint i = pickEmitter(p, randomBits(pixel, sampleIndex, bounce, kDimEmitterPick, p.seed),
                                randomFloat(pixel, sampleIndex, bounce, kDimEmitterKeep, p.seed));
@@ -50,6 +53,17 @@ bool sampleEmitter(WavefrontParams p, vec3 origin, uint pixel, uint sampleIndex,
     const float cosine = -dot(facing, direction);
     if (!(cosine > 0.0)) return false;
     radiance = vec3(m.emitR, m.emitG, m.emitB);
+    if (kTextures && m.emissiveMap != kNoGpuTexture) {
+        const vec2 uv = interpolateUv(vec2(e.t0u, e.t0v), vec2(e.t1u, e.t1v), vec2(e.t2u, e.t2v), u, s - u);
+        bool absent = false;
+        uint pages[kMaxMapPages];
+        uint count = 0u;
+        radiance *= readMap(p, m.emissiveMap, m.emissiveUv, uv, MapFootprint(0.0, 0.0, 1.0), absent, pages, count).rgb;
+        if (!asksForPages(p, absent, pages, count)) {
+            mapWaits = true;
+            return false;
+        }
+    }
     pdf = p.emitterPick * m.emitterDensity * (squared / cosine);
     return pdf > 0.0;
 }

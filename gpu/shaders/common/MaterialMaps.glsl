@@ -64,6 +64,16 @@ vec4 readMap(WavefrontParams p, uint texture, float t[6], vec2 uv, MapFootprint 
     return value;
 }
 
+// Paged textures, a read that found `absent` pages: asks for every page it read (pages[count]: the
+// absent ones to be loaded, the resident ones to be kept while it waits, DeviceTextures::page)
+// and returns false. true when nothing was absent.
+bool asksForPages(WavefrontParams p, bool absent, uint pages[kMaxMapPages], uint count) {
+    if (!absent || p.textureDemand == 0ul) return !absent;
+    RwUintArray demand = RwUintArray(p.textureDemand);
+    for (uint i = 0u; i < count; ++i) atomicAdd(demand.v[pages[i]], 1u);
+    return false;
+}
+
 // v (the factors) times the material's maps at uv. false: a page it reads is absent (paged
 // textures; v is then not to be used): every page it reads is asked for in textureDemand (the
 // absent ones to be loaded, the resident ones to be kept while it waits: DeviceTextures::page).
@@ -92,10 +102,7 @@ bool sampleMaterialMaps(WavefrontParams p, WavefrontMaterial m, vec2 uv, MapFoot
         precise float z = 2.0 * t.b - 1.0;
         v.normalMapped = true, v.tangentNormal = vec3(x, y, z);
     }
-    if (!absent || p.textureDemand == 0ul) return !absent;
-    RwUintArray demand = RwUintArray(p.textureDemand);
-    for (uint i = 0u; i < count; ++i) atomicAdd(demand.v[pages[i]], 1u);
-    return false;
+    return asksForPages(p, absent, pages, count);
 }
 
 // makeSurfacePoint's normal-mapped shading normal (docs/RENDERING.md, "Normal maps"): the front

@@ -137,6 +137,8 @@ struct WavefrontEmitter {
     float keep;
     float v2x, v2y, v2z;
     uint alias;
+    float t0u, t0v, t1u, t1v, t2u, t2v;  // the corners' UVs (an emissive map reads the point's)
+    float padding0, padding1;
 };
 
 // A punctual light as the shading kernel reads it (vastray::LightEntry, core/Light.h): type
@@ -340,7 +342,7 @@ struct WavefrontPush {
 static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 4 * 6 * 4 + 4 * 4 + 2 * 4 + 2 * 6 * 4 + 2 * 4 &&
               offsetof(WavefrontMaterial, baseColorMap) == 64 && offsetof(WavefrontMaterial, clearcoatMap) == 192);
 static_assert(sizeof(WavefrontLight) == 64);
-static_assert(sizeof(WavefrontEmitter) == 48);
+static_assert(sizeof(WavefrontEmitter) == 80);
 static_assert(offsetof(WavefrontParams, eyeX) == 47 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);

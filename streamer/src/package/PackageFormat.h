@@ -9,7 +9,7 @@
 //   volumes    volumeCount × kVolumeRecordBytes (version 4)
 //   lights     lightCount × kLightBytes, then the XXH64 of those records (version 7; the count
 //              is the header's field after the camera count, 0 before version 7)
-//   emitters   (version 12) the emitter count (u32) and a 0 word, then count × kEmitterBytes, then
+//   emitters   (version 12) the emitter count (u32) and a 0 word, then count × emitterBytes, then
 //              the XXH64 of the count, the word and the records
 //   textures   the texture head, kTextureHeadBytes (version 10; TextureSection.h)
 //   blobs      one per chunk, in chunk-id order, at the offsets the directory gives
@@ -57,8 +57,12 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 14: a volume's bricks are NanoVDB leaf nodes of its codec (float, Fp16 or Fp8: record flags bits
 //     2-3; core/VolumeLeaf.h) where they were 512 f32 each; a version 3 to 13 package is still
 //     read, its bricks float.
-constexpr uint32_t kVersion = 14;
+// 15: an emitter record carries its corners' UVs (6 × f32 after the material: 64 bytes), and a
+//     triangle with an emissive map is sampled, the point reading the map; a version 12 to 14
+//     package, which samples no mapped triangle, is still read.
+constexpr uint32_t kVersion = 15;
 constexpr uint32_t kFirstLeafBricksVersion = 14;
+constexpr uint32_t kFirstEmitterUvVersion = 15;
 constexpr uint32_t kFirstCoatMapsVersion = 13;
 constexpr uint32_t kFirstEmittersVersion = 12;
 constexpr uint32_t kMaterialAlphaBlend = 1u;  // Material::alphaBlend (version 12)
@@ -101,12 +105,13 @@ constexpr uint32_t kLightBytes = kLightNameBytes + 4 + 3 * 4 + 4 * 4 + 6 * 4 + 2
 constexpr uint64_t lightsSectionBytes(uint32_t version, uint64_t lights) {
     return version >= kFirstLightsVersion ? lights * kLightBytes + 8 : 0;
 }
-// An emitter: its three corners (9 × f32) and its material (u32).
-constexpr uint32_t kEmitterBytes = 10 * 4;
+// An emitter: its three corners (9 × f32) and its material (u32); from version 15 then its
+// corners' UVs (6 × f32).
+constexpr uint32_t emitterBytes(uint32_t version) { return version >= kFirstEmitterUvVersion ? 16 * 4 : 10 * 4; }
 // The emitters section (version 12; before, nothing): its head (count, a 0 word), the records, their XXH64.
 constexpr uint64_t kEmittersHeadBytes = 8;
 constexpr uint64_t emittersSectionBytes(uint32_t version, uint64_t emitters) {
-    return version >= kFirstEmittersVersion ? kEmittersHeadBytes + emitters * kEmitterBytes + 8 : 0;
+    return version >= kFirstEmittersVersion ? kEmittersHeadBytes + emitters * emitterBytes(version) + 8 : 0;
 }
 constexpr uint32_t kVolumeNameBytes = 64;
 constexpr uint32_t kVolumeRecordBytes = 256;

@@ -8,6 +8,7 @@
 
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
+#include "vastray/core/VertexAttributes.h"
 #include "vastray/core/Microfacet.h"
 #include "vastray/core/Utf8.h"
 #include "vastray/streamer/Import.h"
@@ -330,7 +331,8 @@ Result<std::vector<PunctualLight>> parseLights(const std::vector<uint8_t>& bytes
 std::vector<uint8_t> serializeEmitters(const std::vector<EmissiveTriangle>& emitters) {
     ByteWriter out;
     out.put(uint32_t(emitters.size())), out.put(uint32_t(0));
-    for (const EmissiveTriangle& e : emitters) out.put(e.v0), out.put(e.v1), out.put(e.v2), out.put(e.material);
+    for (const EmissiveTriangle& e : emitters)
+        out.put(e.v0), out.put(e.v1), out.put(e.v2), out.put(e.material), out.put(e.t0), out.put(e.t1), out.put(e.t2);
     out.put(checksum64(out.bytes().data(), out.size()));
     return std::move(out.bytes());
 }
@@ -348,8 +350,9 @@ Result<uint32_t> parseEmittersHead(const std::vector<uint8_t>& bytes) {
 }
 
 Result<std::vector<EmissiveTriangle>> parseEmitters(const std::vector<uint8_t>& bytes, uint32_t count,
-                                                    const std::vector<Material>& materials, uint64_t textureCount) {
-    const uint64_t covered = format::kEmittersHeadBytes + uint64_t(count) * format::kEmitterBytes;
+                                                    const std::vector<Material>& materials, uint64_t textureCount,
+                                                    uint32_t version) {
+    const uint64_t covered = format::kEmittersHeadBytes + uint64_t(count) * format::emitterBytes(version);
     if (bytes.size() != covered + 8) return Status::error("truncated emitters");
     uint64_t stored = 0;
     std::memcpy(&stored, bytes.data() + covered, 8);
@@ -360,8 +363,14 @@ Result<std::vector<EmissiveTriangle>> parseEmitters(const std::vector<uint8_t>& 
     for (uint32_t i = 0; i < count; ++i) {
         EmissiveTriangle& e = emitters[i];
         in.get(e.v0), in.get(e.v1), in.get(e.v2), in.get(e.material);
+        if (version >= format::kFirstEmitterUvVersion) in.get(e.t0), in.get(e.t1), in.get(e.t2);
         if (!in.ok()) return Status::error("truncated emitters");
         const std::string what = "emitter " + std::to_string(i) + ": ";
+        for (const std::array<float, 2>& t : {e.t0, e.t1, e.t2})
+            for (float x : t)
+                if (!(std::fabs(x) <= kMaxAbsUv))
+                    return Status::error(what + "corner UV " + std::to_string(x) + " is not within +-" +
+                                         std::to_string(kMaxAbsUv));
         for (const Vec3f& v : {e.v0, e.v1, e.v2})
             for (int axis = 0; axis < 3; ++axis)
                 if (!(std::fabs(v[axis]) <= kMaxAbsCoordinate))

@@ -60,11 +60,12 @@ Result<std::vector<PunctualLight>> parseLights(const std::vector<uint8_t>& bytes
 std::vector<uint8_t> serializeEmitters(const std::vector<EmissiveTriangle>& emitters);
 // The count from the section's first kEmittersHeadBytes (at most kMaxEmitters, the word after it 0).
 Result<uint32_t> parseEmittersHead(const std::vector<uint8_t>& bytes);
-// The whole section: its checksum, each corner finite within +-kMaxAbsCoordinate, each material
-// one of `materials` that isSampledEmitter among `textureCount` textures ("emitter 4: material 9
-// of 3").
+// The whole section of a package of format `version`: its checksum, each corner finite within
+// +-kMaxAbsCoordinate, each UV (version 15) within +-kMaxAbsUv, each material one of `materials`
+// that isSampledEmitter among `textureCount` textures ("emitter 4: material 9 of 3").
 Result<std::vector<EmissiveTriangle>> parseEmitters(const std::vector<uint8_t>& bytes, uint32_t count,
-                                                    const std::vector<Material>& materials, uint64_t textureCount);
+                                                    const std::vector<Material>& materials, uint64_t textureCount,
+                                                    uint32_t version);
 
 std::vector<uint8_t> serializeVolumeRecords(const std::vector<PackageVolume>& volumes);
 // Each record's fields checked (limits, map, material, the data's size for the format `version`);

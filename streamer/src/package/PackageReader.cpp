@@ -184,7 +184,7 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     }
     if (emittersBytes > 0) {
         if (!reader->file_->read(emittersOffset, emittersBytes, bytes)) return fail(Status::error("cannot read emitters"));
-        auto emitters = parseEmitters(bytes, emitterCount, info.materials, textureHead.count);
+        auto emitters = parseEmitters(bytes, emitterCount, info.materials, textureHead.count, info.formatVersion);
         if (!emitters) return fail(emitters.status());
         info.emitters = std::move(*emitters);
     }

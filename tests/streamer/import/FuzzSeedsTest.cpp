@@ -76,7 +76,7 @@ TEST(FuzzSeeds, PackageAndChunkSeedsAreOfTheCurrentFormat) {
         EXPECT_EQ(0, std::memcmp(bytes.data(), blob->data(), blob->size())) << chunkSeed << " is not chunk 0 of " << entry.path();
         ++seeds;
     }
-    EXPECT_EQ(seeds, 17u);  // volume-leaves (version 14: a volume's bricks as NanoVDB Fp16 leaves); coatmap (version 13: a material's coat maps); emissive (version 12: an emitter section); small, coloured (normals and colours), cameras, textured (version 9: UVs); Draco and meshopt; a volume
+    EXPECT_EQ(seeds, 18u);  // emissivemap (version 15: emitter records with UVs, a mapped lamp); volume-leaves (version 14: a volume's bricks as NanoVDB Fp16 leaves); coatmap (version 13: a material's coat maps); emissive (version 12: an emitter section); small, coloured (normals and colours), cameras, textured (version 9: UVs); Draco and meshopt; a volume
                             // (version 4) and one read brick by brick with emission (version 6); glossy
                             // (version 5 materials); lights (version 7); coated (version 8 materials:
                             // specular colour and clear coat); texturemap (version 10: two textures,

@@ -48,10 +48,10 @@ protected:
     static void TearDownTestSuite() { delete bytes_; }
 
     static size_t recordAt(uint32_t index) {
-        return size_t(emittersAt_ + format::kEmittersHeadBytes) + size_t(index) * format::kEmitterBytes;
+        return size_t(emittersAt_ + format::kEmittersHeadBytes) + size_t(index) * format::emitterBytes(format::kVersion);
     }
     static void reseal(std::vector<uint8_t>& bytes, bool emitters) {
-        const uint64_t covered = format::kEmittersHeadBytes + uint64_t(count_) * format::kEmitterBytes;
+        const uint64_t covered = format::kEmittersHeadBytes + uint64_t(count_) * format::emitterBytes(format::kVersion);
         if (emitters) putAt(bytes, size_t(emittersAt_ + covered), checksum64(bytes.data() + emittersAt_, covered));
         putAt(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
     }
@@ -112,6 +112,9 @@ TEST_F(EmitterPackage, ForgedRecordsAreRefusedByEmitterAndField) {
     bytes = *bytes_;
     putAt(bytes, recordAt(5) + 36, uint32_t(9));
     expectRefused(bytes, true, "emitter 5: material 9 of 3");
+    bytes = *bytes_;
+    putAt(bytes, recordAt(2) + 40 + 12, std::numeric_limits<float>::infinity());  // t1.v (format 15)
+    expectRefused(bytes, true, "emitter 2: corner UV inf is not within +-");
     bytes = *bytes_;
     putAt(bytes, recordAt(0) + 36, uint32_t(2));
     expectRefused(bytes, true, "emitter 0: material 2 ('grey too') is not an emitter next-event estimation samples");

@@ -8,6 +8,7 @@
 // its material: areaDensity[material] = max(emissive) / sum over the table of area x
 // max(emissive); a hit on an emitter therefore finds next-event estimation's density from its
 // material, its distance and its cosine alone (no table lookup), for multiple importance sampling.
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -24,12 +25,16 @@ constexpr uint32_t kMaxEmitters = 1u << 22;
 struct EmissiveTriangle {
     Vec3f v0, v1, v2;  // world space, exactly as the renderer's triangle
     uint32_t material = 0;
+    // The corners' UVs (the mesh's; (0, 0) without any): where a point drawn on the triangle reads
+    // its material's emissive map.
+    std::array<float, 2> t0{}, t1{}, t2{};
 };
 
 // Whether next-event estimation samples triangles of `material` (among a scene's `textureCount`
-// textures): it emits (a channel of its emissive factor above 0), its emission is the factor
-// alone (no emissive map, which would make the radiance vary over the triangle) and it is neither a
-// cut-out (whose holes would shine) nor a blend (which rays meet only with its alpha).
+// textures): it emits (a channel of its emissive factor above 0) and it is neither a cut-out
+// (whose holes would shine) nor a blend (which rays meet only with its alpha). A triangle with an
+// emissive map is picked by its factor's largest channel, as one without; the point drawn on it
+// reads the map (level 0) at its UV.
 bool isSampledEmitter(const Material& material, uint64_t textureCount);
 
 // The sampled emitters among `triangles` of `mesh` (all of them when empty), in that order;
@@ -44,6 +49,7 @@ struct EmitterEntry {
     uint32_t material = 0;
     float keep = 1.0f;
     uint32_t alias = 0;
+    std::array<float, 2> t0{}, t1{}, t2{};  // the corners' UVs
 };
 
 struct EmitterTable {
@@ -62,7 +68,9 @@ EmitterTable makeEmitterTable(std::span<const EmissiveTriangle> triangles, std::
 uint32_t pickEmitter(const EmitterTable& table, uint32_t bits, float u);
 
 // A uniform point on the entry's triangle from u1, u2 in [0, 1): with s = sqrt(u1), the point
-// at barycentrics (u2 s, s - u2 s) (core barycentricPosition).
+// at barycentrics (u2 s, s - u2 s) (core barycentricPosition), and its UV at those barycentrics
+// (core interpolateUv).
 Vec3f emitterPoint(const EmitterEntry& entry, float u1, float u2);
+std::array<float, 2> emitterUv(const EmitterEntry& entry, float u1, float u2);
 
 }  // namespace vastray

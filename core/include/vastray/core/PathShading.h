@@ -192,14 +192,16 @@ float emitterPickProbability(const Environment& environment, std::span<const Lig
 struct EmitterSample {
     Vec3f direction;     // unit, from the origin to the point moved off its triangle towards the origin
     float distance = 0;  // to that point: the shadow ray's tMax
-    Vec3f radiance;      // its material's emission
+    Vec3f radiance;      // its material's emission there (with an emissive map: the factor times the map)
     float pdf = 0;       // the solid-angle density of the direction, emitterPick included
 };
-// Picks a triangle (kDimEmitterPick, kDimEmitterKeep) and a point on it (kDimEmitterU/V). false:
+// Picks a triangle (kDimEmitterPick, kDimEmitterKeep) and a point on it (kDimEmitterU/V); a
+// material with an emissive map (among `textures`) reads it at the point's UV, level 0. false:
 // the point brings nothing to `origin` (its triangle seen edge on, from behind when its material
 // is single-sided, or the point at the origin).
-bool sampleEmitter(const EmitterTable& table, std::span<const Material> materials, float emitterPick, Vec3f origin,
-                   RandomKey key, uint32_t seed, EmitterSample* sample);
+bool sampleEmitter(const EmitterTable& table, std::span<const Material> materials,
+                   std::span<const DecodedTexture> textures, float emitterPick, Vec3f origin, RandomKey key,
+                   uint32_t seed, EmitterSample* sample);
 // The light `point` reflects from the sample towards its outgoing direction, weighted by the power
 // heuristic against the bounce's density in that direction. false: none (below either normal).
 bool emitterSurfaceLight(const SurfacePoint& point, const EmitterSample& sample, Vec3f* light);
