@@ -222,6 +222,38 @@ TEST(VolumeRender, GlowingSlabMatchesTheQuadrature) {
     }
 }
 
+// One scattering event (maxDepth 1) along a narrow view from `eye` to `target` over a black
+// world, the sun of irradiance 2 towards `sun`: what the single-scattering tests render.
+RenderOptions singleScatteringView(const std::string& path, Vec3f eye, Vec3f target, Vec3f sun) {
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.samplesPerPixel = 256;
+    o.maxDepth = 1;
+    o.frameScene = false;
+    o.camera.eye = eye;
+    o.camera.target = target;
+    o.camera.fovYDegrees = 0.1f;
+    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
+    o.environment.sunDirection = sun;
+    o.environment.sunIrradiance = {2, 2, 2};
+    o.volumes = volumesOf(path);
+    return o;
+}
+
+// Both backends' pixel mean within 4 standard errors (and `slack` of it) of `expected`, each
+// standard error below 1 % of it.
+void expectSingleScattering(const std::string& path, const RenderOptions& o, double expected, double slack,
+                            const char* what) {
+    for (const char* backend : {"vulkan", "embree"}) {
+        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
+        ASSERT_TRUE(image) << backend << ": " << image.message();
+        const auto [mean, standardError] = test::pixelMean(*image);
+        std::printf("%s: mean %.6f, %s %.6f, standard error %.6f\n", backend, mean, what, expected, standardError);
+        EXPECT_LT(standardError, 0.01 * expected);
+        EXPECT_NEAR(mean, expected, 4 * standardError + slack * expected) << backend;
+    }
+}
+
 // Single scattering of the sun in a homogeneous box, seen along a ray through its middle with
 // the sun across it (one scattering event: --max-depth 1, a black sky): the pixel is
 // E x albedo x phase(90 degrees) x the integral over the ray of sigma(s) e^-tau_camera(s)
@@ -236,18 +268,7 @@ TEST(VolumeRender, SingleScatteringMatchesTheQuadrature) {
     Volume box = test::makeVolume({0, 0, 0}, {63, 63, 63}, [](int32_t, int32_t, int32_t) { return 1.0f; }, voxel, {0, 0, 0}, m);
     const Volume reference = box;
     const std::string path = writePackage("single-scattering", std::move(mesh), {std::move(box)});
-    RenderOptions o;
-    o.width = o.height = 16;
-    o.samplesPerPixel = 256;
-    o.maxDepth = 1;
-    o.frameScene = false;
-    o.camera.eye = {-3, 1, 1};
-    o.camera.target = {0, 1, 1};
-    o.camera.fovYDegrees = 0.1f;
-    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
-    o.environment.sunDirection = {0, 1, 0};
-    o.environment.sunIrradiance = {2, 2, 2};
-    o.volumes = volumesOf(path);
+    const RenderOptions o = singleScatteringView(path, {-3, 1, 1}, {0, 1, 1}, {0, 1, 0});
     // The quadrature: density along the ray (x from -1 to 3 at y = z = 1) and up to the sun.
     auto sigma = [&](float x, float y, float z) { return volumeDensity(reference, {x / voxel, y / voxel, z / voxel}); };
     const int steps = 4000, sunSteps = 1000;
@@ -265,15 +286,7 @@ TEST(VolumeRender, SingleScatteringMatchesTheQuadrature) {
         tauCamera += s * dx;
     }
     const double g = 0.5, phase = (1 - g * g) / (4 * kPi * std::pow(1 + g * g, 1.5));
-    const double expected = 2.0 * 0.8 * phase * integral;
-    for (const char* backend : {"vulkan", "embree"}) {
-        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
-        ASSERT_TRUE(image) << backend << ": " << image.message();
-        const auto [mean, standardError] = test::pixelMean(*image);
-        std::printf("%s: mean %.6f, quadrature %.6f, standard error %.6f\n", backend, mean, expected, standardError);
-        EXPECT_LT(standardError, 0.01 * expected);
-        EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected) << backend;
-    }
+    expectSingleScattering(path, o, 2.0 * 0.8 * phase * integral, 1e-3, "quadrature");
 }
 
 // Single scattering in a homogeneous sphere against its analytic value: a ray through the
@@ -295,29 +308,11 @@ TEST(VolumeRender, SingleScatteringInASphereMatchesTheAnalyticValue) {
         [](int32_t i, int32_t j, int32_t k) { return i * i + j * j + k * k < 31.5f * 31.5f ? 1.0f : 0.0f; }, voxel,
         {0, 0, 0}, m);
     const std::string path = writePackage("single-scattering-sphere", std::move(mesh), {std::move(sphere)});
-    RenderOptions o;
-    o.width = o.height = 16;
-    o.samplesPerPixel = 256;
-    o.maxDepth = 1;
-    o.frameScene = false;
-    o.camera.eye = {-3, 0, 0};
-    o.camera.target = {0, 0, 0};
-    o.camera.fovYDegrees = 0.1f;
-    o.environment.zenith = o.environment.horizon = o.environment.ground = {0, 0, 0};
-    o.environment.sunDirection = {-1, 0, 0};  // behind the camera: the light travels along +x
-    o.environment.sunIrradiance = {2, 2, 2};
-    o.volumes = volumesOf(path);
+    // The sun behind the camera: the light travels along +x.
+    const RenderOptions o = singleScatteringView(path, {-3, 0, 0}, {0, 0, 0}, {-1, 0, 0});
     const double sigma = 1.5, g = 0.5;
     const double phase = (1 - g * g) / (4 * kPi * std::pow(1 + g * g + 2 * g, 1.5));  // cos = -1
-    const double expected = 2.0 * 0.8 * phase * (1 - std::exp(-4 * sigma * radius)) / 2;
-    for (const char* backend : {"vulkan", "embree"}) {
-        auto image = std::string(backend) == "vulkan" ? test::renderVulkan(path, o, 256ull << 20) : test::renderEmbree(path, o);
-        ASSERT_TRUE(image) << backend << ": " << image.message();
-        const auto [mean, standardError] = test::pixelMean(*image);
-        std::printf("%s: mean %.6f, analytic %.6f, standard error %.6f\n", backend, mean, expected, standardError);
-        EXPECT_LT(standardError, 0.01 * expected);
-        EXPECT_NEAR(mean, expected, 4 * standardError + 2e-3 * expected) << backend;
-    }
+    expectSingleScattering(path, o, 2.0 * 0.8 * phase * (1 - std::exp(-4 * sigma * radius)) / 2, 2e-3, "analytic");
 }
 
 RenderOptions foggyRender(uint32_t spp) {
