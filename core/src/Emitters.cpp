@@ -16,6 +16,13 @@ double emissionWeight(const Material& m) {
 
 double triangleArea(Vec3f v0, Vec3f v1, Vec3f v2) { return 0.5 * double(length(geometricNormal(v0, v1, v2))); }
 
+// The barycentrics (u2 s, s - u2 s), s = sqrt(u1), of the uniform point emitterPoint draws.
+std::array<float, 2> emitterBarycentrics(float u1, float u2) {
+    const float s = std::sqrt(u1);
+    const float u = u2 * s;
+    return {u, s - u};
+}
+
 }  // namespace
 
 bool isSampledEmitter(const Material& m, uint64_t textureCount) {
@@ -99,15 +106,13 @@ uint32_t pickEmitter(const EmitterTable& table, uint32_t bits, float u) {
 }
 
 Vec3f emitterPoint(const EmitterEntry& e, float u1, float u2) {
-    const float s = std::sqrt(u1);
-    const float u = u2 * s;
-    return barycentricPosition(e.v0, e.v1, e.v2, u, s - u);
+    const auto [u, v] = emitterBarycentrics(u1, u2);
+    return barycentricPosition(e.v0, e.v1, e.v2, u, v);
 }
 
 std::array<float, 2> emitterUv(const EmitterEntry& e, float u1, float u2) {
-    const float s = std::sqrt(u1);
-    const float u = u2 * s;
-    return interpolateUv(e.t0, e.t1, e.t2, u, s - u);
+    const auto [u, v] = emitterBarycentrics(u1, u2);
+    return interpolateUv(e.t0, e.t1, e.t2, u, v);
 }
 
 }  // namespace vastray

@@ -20,6 +20,7 @@
 #include <cstdint>
 
 #include "vastray/core/Volume.h"
+#include "vastray/core/VolumeLeaf.h"
 
 namespace vastray::format {
 
@@ -119,11 +120,8 @@ constexpr uint32_t kFirstBrickwiseVersion = 6;
 constexpr uint32_t kVolumeBrickEntryBytes = 16;  // version 6 brick index: XXH64, largest density (f32), 0 (u32)
 // A stored brick's bytes: its densities, then (with an emission grid) its emission values: 512 f32
 // each before version 14, a leaf of the volume's codec each from it (volumeLeafBytes).
-constexpr uint64_t volumeBrickBytes(uint32_t version, VolumeCodec codec, bool emission) {
-    const uint64_t one = version >= kFirstLeafBricksVersion ? (codec == VolumeCodec::Float ? 2144u
-                                                               : codec == VolumeCodec::Fp16 ? 1120u
-                                                                                             : 608u)
-                                                            : 4ull * kVolumeBrickVoxels;
+inline uint64_t volumeBrickBytes(uint32_t version, VolumeCodec codec, bool emission) {
+    const uint64_t one = version >= kFirstLeafBricksVersion ? volumeLeafBytes(codec) : 4ull * kVolumeBrickVoxels;
     return one * (emission ? 2 : 1);
 }
 // The part of a volume's data its record's checksum covers: the cell table, and from version 6
@@ -131,8 +129,8 @@ constexpr uint64_t volumeBrickBytes(uint32_t version, VolumeCodec codec, bool em
 constexpr uint64_t volumeTableBytes(uint32_t version, uint64_t cells, uint64_t bricks) {
     return 4 * cells + (version >= kFirstBrickwiseVersion ? kVolumeBrickEntryBytes * bricks : 0);
 }
-constexpr uint64_t volumeDataBytes(uint32_t version, uint64_t cells, uint64_t bricks, VolumeCodec codec,
-                                   bool emission) {
+inline uint64_t volumeDataBytes(uint32_t version, uint64_t cells, uint64_t bricks, VolumeCodec codec,
+                                bool emission) {
     return volumeTableBytes(version, cells, bricks) + bricks * volumeBrickBytes(version, codec, emission);
 }
 

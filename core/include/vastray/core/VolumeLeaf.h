@@ -1,6 +1,6 @@
 #pragma once
 // A volume brick as a NanoVDB leaf node (docs/PACKAGE_FORMAT.md "Volumes", docs/RENDERING.md
-// "Volumes"): how version 13 packages store bricks and how the device's brick pool holds them (the
+// "Volumes"): how version 14 packages store bricks and how the device's brick pool holds them (the
 // kernels read them with PNanoVDB.h, common/Volume.glsl). A brick's 8^3 voxels are one
 // nanovdb::NanoLeaf of the volume's codec: float (exact), Fp16 or Fp8 (NanoVDB's quantized leaves:
 // per leaf a minimum and a quantum, a 16- or 8-bit code per voxel). Above the leaves vastray keeps
