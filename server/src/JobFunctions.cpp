@@ -292,13 +292,22 @@ ServiceStatus Service::watchJob(const v1::WatchJobRequest& request,
                                 const std::function<bool()>& clientGone) {
     v1::GetJobRequest get;
     get.set_id(request.id());
-    auto job = getJob(get);
-    if (!job) return job.status();
+    // `seen` is always taken before the job is read, never after: a change that lands between
+    // the two leaves the counter past `seen`, so the wait below returns at once and reads the
+    // job again. Taken after the read, the job's last change (its final state) could count as
+    // seen while the snapshot still said RUNNING, and the watch would wait for a change that
+    // never comes.
     uint64_t seen = 0;
-    v1::JobEvent last;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         seen = changeCounter_;
+    }
+    auto job = getJob(get);
+    if (!job) return job.status();
+    if (watchSnapshotReadHook_) watchSnapshotReadHook_();
+    v1::JobEvent last;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
         last = eventLocked(*job, v1::JobEvent::KIND_SNAPSHOT);
     }
     if (!emit(last)) return {StatusCode::Cancelled, "the client went away"};

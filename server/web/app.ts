@@ -568,7 +568,10 @@ async function followJob(job: Job): Promise<void> {
       else if (rays > first.rays && time > first.time)
         setFigure(card, "rays", `${formatCount(Math.round((rays - first.rays) / ((time - first.time) / 1000)))} rays/s`);
     });
-    showStats(card, await apiJson<Job>(`/v1/jobs/${id}`));
+    // The stream has ended: the card takes the job as stored, whatever the last event said.
+    const ended = await apiJson<Job>(`/v1/jobs/${id}`);
+    updateState(card, ended.state, ended.progress, ended.error);
+    showStats(card, ended);
   } catch (error) {
     card.error.textContent = (error as Error).message;
   }

@@ -163,6 +163,12 @@ public:
     std::vector<std::string> jobsLeftRunning() const;
     // With sharedStorage: this replica's name in the task rows (host name and a random suffix).
     const std::string& replicaId() const { return replicaId_; }
+    // Test-only: called by watchJob on the watcher's thread right after it has read the job for
+    // its snapshot, before the snapshot is built (WatchJobTest finishes the job there). Set it
+    // before any watch starts.
+    void setWatchSnapshotReadHookForTest(std::function<void()> hook) {
+        watchSnapshotReadHook_ = std::move(hook);
+    }
 
 private:
     friend class SceneUpload;
@@ -264,7 +270,8 @@ private:
     std::condition_variable workAvailable_, changed_, workerIdle_;
     std::set<QueueEntry> queue_;
     uint64_t nextOrder_ = 0;
-    uint64_t changeCounter_ = 0;
+    uint64_t changeCounter_ = 0;  // bumped under mutex_ at every change a watcher may see
+    std::function<void()> watchSnapshotReadHook_;
     std::vector<std::string> leftRunning_;
     static constexpr auto kLoadPublishInterval = std::chrono::milliseconds(100);
     size_t workersStopped_ = 0;
