@@ -20,6 +20,7 @@
 //                       [--no-stream-waves]  (out of core, a tile's wave at a time: for comparisons)
 //                       [--window-tiles N]  (streamed waves: the most tiles open at once; default: all that fit)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
+//                       [--path-state auto|device|host] [--host-state-paths N]  (gpu::PathStateMemory)
 //                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
 //                       [--upload auto|mapped|dma]  (how chunks reach the slots: gpu::ChunkUploadMode)
 //                       [--staging-bytes 4GiB]  (--upload dma: the pinned staging area's size; default:
@@ -74,6 +75,7 @@ struct Args {
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
     StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-stream-waves, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
+    gpu::PathStateOptions pathState;              // --path-state, --host-state-paths
     gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
 };
 
@@ -145,6 +147,14 @@ Args parseArgs(int argc, char** argv) {
             auto size = parseByteSize(value());
             if (!size) fail(size.message());
             a.upload.submitBytes = *size;
+        }
+        else if (flag == "--path-state") {
+            auto memory = gpu::parsePathStateMemory(value());
+            if (!memory) fail(memory.message());
+            a.pathState.memory = *memory;
+        } else if (flag == "--host-state-paths") {
+            a.pathState.hostPaths = uint32_t(std::stoul(value()));
+            if (a.pathState.hostPaths == 0) fail("--host-state-paths must be >= 1");
         }
         else if (flag == "--wave-share") {
             a.waveShare = std::stod(value());
@@ -260,7 +270,8 @@ int main(int argc, char** argv) {
             auto image = renderStreaming(
                 **reader, o, args.streaming,
                 [&](const PackageInfo& p, const ChunkAttributes& a) {
-                    return gpu::createVulkanChunkBackend(**device, p, a, budget, args.waveShare, upload);
+                    return gpu::createVulkanChunkBackend(**device, p, a, budget, args.waveShare, upload, 0,
+                                                         args.pathState);
                 },
                 &row.render, &row.streaming);
             if (!image) fail(label + ": " + image.message());
@@ -278,7 +289,8 @@ int main(int argc, char** argv) {
         auto scene = StreamingScene::open(**reader, attributes, args.streaming,
                                           [&](const PackageInfo& p, const ChunkAttributes& a) {
                                               return gpu::createVulkanChunkBackend(**device, p, a, budget,
-                                                                                   args.waveShare, args.upload);
+                                                                                   args.waveShare, args.upload, 0,
+                                                                                   args.pathState);
                                           });
         if (!scene) fail(scene.message());
         for (uint32_t depth : depths) {
@@ -364,7 +376,7 @@ int main(int argc, char** argv) {
         md << " (transfer queue " << ((*device)->separateTransferQueue() ? "of its own family" : "= the compute queue")
            << ", device-only slots " << ((*device)->hasSeparateMemory() ? "yes" : "no") << ")";
     md << ".\n\n";
-    md << "| render | budget | slots | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
+    md << "| render | budget | slots / wave paths (host: state in host memory) | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
           "host→device B | device→host B | decode s | upload s | touched | loads | loads/touched | "
           "per-wave loads/touched | time vs in core |\n";
@@ -386,9 +398,10 @@ int main(int argc, char** argv) {
         };
         char line[1024];
         std::snprintf(line, sizeof line,
-                      "| %s | %s | %u | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f | %.3f "
+                      "| %s | %s | %u / %u%s | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f | %.3f "
                       "| %llu | %llu | %.2f | %.3f | %s |\n",
-                      r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, r.render.renderSeconds,
+                      r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, s.wavePaths,
+                      s.pathStateHostBytes > 0 ? " host" : "", r.render.renderSeconds,
                       (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6, s.deviceSeconds,
                       s.kernelSeconds[StreamingStats::kKernelWalk], s.kernelSeconds[StreamingStats::kKernelShade],
                       s.kernelSeconds[StreamingStats::kKernelGenerate] + s.kernelSeconds[StreamingStats::kKernelAccumulate] +

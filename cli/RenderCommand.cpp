@@ -46,7 +46,7 @@ constexpr int64_t kMaxGpuDevice = 255;
 
 struct RenderArgs {
     std::string input, output, backend = "vulkan", resolution = "640x480";
-    std::string memoryBudget = "1GiB", hostCache = "auto";
+    std::string memoryBudget = "1GiB", hostCache = "auto", pathState = "auto";
     int64_t gpuDevice = -1;
     std::string camera, eye, target, up, upAxis = "y", sun, integrator = "path", aovs, statsJson, progress = "auto",
                 textureLod = "cone";
@@ -236,6 +236,7 @@ Status checkOutput(const RenderArgs& args, const RenderOptions& options) {
 // The sizes of --memory-budget and --host-cache (read by the vulkan backend only).
 struct StreamingSizes {
     uint64_t memoryBudget = 0, hostCache = 0;
+    gpu::PathStateMemory pathState = gpu::PathStateMemory::Auto;  // --path-state
 };
 
 // Every flag checked and mapped onto RenderOptions (and *sizes) before any file is read.
@@ -283,6 +284,9 @@ Result<RenderOptions> optionsFrom(const RenderArgs& args, StreamingSizes* sizes)
         sizes->hostCache = *hostCache;
     }
     sizes->memoryBudget = *budget;
+    auto pathState = gpu::parsePathStateMemory(args.pathState);
+    if (!pathState) return pathState.status().withContext("--path-state: ");
+    sizes->pathState = *pathState;
     if (!(args.environmentScale >= 0.0 && args.environmentScale <= kMaxEnvironmentRadiance))
         return Status::error("--environment-scale " + std::to_string(args.environmentScale) + " is outside [0, 1e18]");
     if (args.environmentScale != 1.0 && args.environment.empty())
@@ -385,6 +389,10 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
     if (!st) return;
     std::printf("  memory budget        %s (%u chunk slots), peak device %s\n",
                 formatBytes(st->memoryBudgetBytes).c_str(), st->slots, formatBytes(st->peakDeviceBytes).c_str());
+    if (st->wavePaths > 0)
+        std::printf("  wave                 %u paths, path state in %s\n", st->wavePaths,
+                    st->pathStateHostBytes > 0 ? ("host memory (" + formatBytes(st->pathStateHostBytes) + ")").c_str()
+                                               : "device memory");
     std::printf("  chunks               %llu touched of %llu, %llu loads, %llu decodes\n",
                 (unsigned long long)st->chunksTouched, (unsigned long long)st->chunksTotal,
                 (unsigned long long)st->chunkLoads, (unsigned long long)st->decodes);
@@ -441,6 +449,8 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["stream_chunks_touched"] = st->streamChunksTouched;
         j["stream_reloads"] = st->streamReloads;
         j["chunk_slots"] = st->slots;
+        j["wave_paths"] = st->wavePaths;
+        j["path_state_host_bytes"] = st->pathStateHostBytes;
         j["bytes_read"] = st->bytesRead;
         j["bytes_uploaded"] = st->bytesUploaded;
         j["decode_seconds"] = st->decodeSeconds;
@@ -551,7 +561,8 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
         timings.deviceWaitSeconds = secondsBetween(waiting, creating);
         auto backend = gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
                                                      gpu::environmentBytes(options.environment) +
-                                                         gpu::volumeReserveBytes(info, budget));
+                                                         gpu::volumeReserveBytes(info, budget),
+                                                     {sizes.pathState, gpu::kHostStatePaths});
         const auto ready = std::chrono::steady_clock::now();
         timings.backendSeconds = secondsBetween(creating, ready);
         timings.openSeconds = secondsBetween(timings.start, ready);
@@ -649,6 +660,12 @@ CommandRun addRenderCommand(CLI::App& app) {
     cmd->add_option("--memory-budget", args->memoryBudget,
                     "vulkan: device memory for chunk slots, the path state of a wave, tables and volumes, all of it (KiB/MiB/GiB); "
                     "volumes bigger than half of it page their bricks through a pool of that half, plus what the wave and the chunk slots leave")
+        ->capture_default_str();
+    cmd->add_option("--path-state", args->pathState,
+                    "vulkan, out of core: where a wave's path state lives: device (in the budget, beside the chunk slots), "
+                    "host (pinned host memory off the budget: a wave of 524288 paths and all of the budget for slots; "
+                    "kernels read the state across the bus; no volumes), or auto (host on a discrete GPU when the "
+                    "scene's chunks exceed 8 budgets and it has no volumes, else device)")
         ->capture_default_str();
     cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (KiB/MiB/GiB; 0 = none; auto = the whole decoded scene, up to a quarter of this machine's memory)")
         ->capture_default_str();

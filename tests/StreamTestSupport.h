@@ -74,7 +74,8 @@ inline gpu::VulkanDevice& sharedVulkanDevice() {
 inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOptions& options, uint64_t budget,
                                         StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21,
                                         bool overlapLoads = true, bool prefetchScene = true,
-                                        const gpu::ChunkUploadOptions& upload = {}, bool streamWaves = true) {
+                                        const gpu::ChunkUploadOptions& upload = {}, bool streamWaves = true,
+                                        const gpu::PathStateOptions& pathState = {}) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;
@@ -89,7 +90,8 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
         **reader, options, streaming,
         [&](const PackageInfo& info, const ChunkAttributes& a) {
             return gpu::createVulkanChunkBackend(sharedVulkanDevice(), info, a, budget, gpu::kWaveShareOutOfCore,
-                                                 upload, gpu::environmentBytes(options.environment) + gpu::volumeReserveBytes(info, budget));
+                                                 upload, gpu::environmentBytes(options.environment) + gpu::volumeReserveBytes(info, budget),
+                                                 pathState);
         },
         nullptr, &s);
 }

@@ -101,14 +101,18 @@ public:
         table_ = std::move(table).value();
         if (topNodeCount_ > 0)
             VASTRAY_TRY(table_.upload(package.topTree.data(), topNodeCount_ * sizeof(KdNode), tables_.topNodes));
-        auto state = device_.createBuffer(stateLayout(plan_.batchRays, attributes_.uvs, attributes_.tangents).totalBytes);
-        if (!state) return state.status();
+        auto state = device_.createBuffer(stateLayout(plan_.batchRays, attributes_.uvs, attributes_.tangents).totalBytes,
+                                          plan_.stateInHostMemory ? VulkanDevice::MemoryUse::Staging
+                                                                  : VulkanDevice::MemoryUse::DeviceLocal);
+        if (!state) return state.status().withContext("the wave's path state: ");
         state_ = std::move(state).value();
         auto output = device_.createBuffer(outputLayout(plan_.batchRays, stepCounterBytes(tables_)).totalBytes,
                                            VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
-        allocated_ += table_.allocatedBytes() + state_.allocatedBytes() +
+        // Path state in host memory outside the device's heaps is not the device's (PoolPlan).
+        const bool stateCounted = !plan_.stateInHostMemory || plan_.outputInDeviceMemory;
+        allocated_ += table_.allocatedBytes() + (stateCounted ? state_.allocatedBytes() : 0) +
                      (plan_.outputInDeviceMemory ? output_.allocatedBytes() : 0);
         for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
         // The budget less what init allocated (the plan counts whole granules; the device may round
@@ -215,6 +219,8 @@ public:
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
         b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;
+        stats.wavePaths = b.pathCapacity;
+        stats.pathStateHostBytes = plan_.stateInHostMemory ? state_.allocatedBytes() : 0;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors, b.uvs = attributes_.uvs;
         b.frames = attributes_.uvs && attributes_.tangents;
@@ -344,7 +350,7 @@ private:
 
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
                           bool outputInDeviceMemory, double waveShareOutOfCore, uint64_t stagingInDeviceMemory,
-                          uint64_t reservedBytes) {
+                          uint64_t reservedBytes, uint32_t hostStatePaths) {
     if (!(waveShareOutOfCore > 0 && waveShareOutOfCore < 1))
         return Status::error("the wave's share of an out-of-core budget must be in (0, 1), not " +
                              std::to_string(waveShareOutOfCore));
@@ -394,12 +400,25 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     };
     uint64_t rays = 0, slots = 0;
     split(0.25, kMaxBatchRays, rays, slots);
-    if (slots < chunks) split(waveShareOutOfCore, kMaxOutOfCoreBatchRays, rays, slots);
+    if (slots < chunks && hostStatePaths > 0) {
+        // The state in host memory: where that memory is the device's it counts (and the wave
+        // shrinks to what the budget holds besides a slot); else the slots take the budget.
+        plan.stateInHostMemory = true;
+        rays = std::clamp<uint64_t>(hostStatePaths, kMinBatchRays, kMaxBatchRays);
+        while (outputInDeviceMemory && rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget)
+            rays /= 2;
+        const uint64_t available = budget - (outputInDeviceMemory ? batchBytes(rays) : 0);
+        slots = available >= tableBytes(chunks) + slotAllocation ? (available - tableBytes(chunks)) / slotAllocation
+                                                                 : 1;
+        slots = std::min<uint64_t>(slots, chunks);
+    } else if (slots < chunks) {
+        split(waveShareOutOfCore, kMaxOutOfCoreBatchRays, rays, slots);
+    }
     const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
-    while (rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
+    while (!plan.stateInHostMemory && rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);
     plan.batchRays = uint32_t(rays);
-    plan.rayBytes = batchBytes(rays);
+    plan.rayBytes = plan.stateInHostMemory && !outputInDeviceMemory ? 0 : batchBytes(rays);
     plan.tableBytes = tableBytes(slots);
     plan.stagingBytes = staging;
     plan.reservedBytes = reserved;
@@ -407,6 +426,39 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     plan.totalBytes = slots * slotAllocation + plan.rayBytes + plan.tableBytes + staging + reserved;
     plan.spareBytes = budget - (slots * slotAllocation + plan.rayBytes + plan.tableBytes);
     return plan;
+}
+
+Result<PathStateMemory> parsePathStateMemory(std::string_view name) {
+    if (name == "auto") return PathStateMemory::Auto;
+    if (name == "device") return PathStateMemory::Device;
+    if (name == "host") return PathStateMemory::Host;
+    return Status::error("the path state's memory must be auto, device or host, not '" + std::string(name) + "'");
+}
+
+const char* pathStateMemoryName(PathStateMemory memory) {
+    switch (memory) {
+        case PathStateMemory::Auto: return "auto";
+        case PathStateMemory::Device: return "device";
+        case PathStateMemory::Host: return "host";
+    }
+    return "auto";
+}
+
+uint64_t residentChunkBytes(const PackageInfo& package, const ChunkAttributes& attributes) {
+    uint64_t bytes = 0;
+    for (const ChunkInfo& c : package.chunks) bytes += chunkLayout(c, attributes).totalBytes;
+    return bytes;
+}
+
+Result<PathStateMemory> resolvePathStateMemory(PathStateMemory asked, bool separateMemory, const PackageInfo& package,
+                                               const ChunkAttributes& attributes, uint64_t budget) {
+    if (asked == PathStateMemory::Host && !package.volumes.empty())
+        return Status::error("the path state cannot lie in host memory in a scene with volumes (their paged "
+                             "tracking keeps per-path records in device memory); ask for auto or device");
+    if (asked != PathStateMemory::Auto) return asked;
+    const bool pays = separateMemory && package.volumes.empty() &&
+                      double(residentChunkBytes(package, attributes)) > kHostStateOversubscription * double(budget);
+    return pays ? PathStateMemory::Host : PathStateMemory::Device;
 }
 
 uint64_t defaultStagingBytes() {
@@ -458,15 +510,19 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore,
                                                                const ChunkUploadOptions& given,
-                                                               uint64_t reservedBytes) {
+                                                               uint64_t reservedBytes,
+                                                               const PathStateOptions& pathState) {
     const ChunkUploadMode mode = resolveUploadMode(device, given.mode);
     ChunkUploadOptions upload = given;
     if (upload.stagingBytes == ChunkUploadOptions::kStagingAuto) upload.stagingBytes = defaultStagingBytes();
     const bool dmaStagingInDevice =
         mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
     const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;
+    auto memory = resolvePathStateMemory(pathState.memory, device.hasSeparateMemory(), package, attributes, budget);
+    if (!memory) return memory.status();
     auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
-                         stagingInDeviceMemory, reservedBytes);
+                         stagingInDeviceMemory, reservedBytes,
+                         *memory == PathStateMemory::Host ? std::max<uint32_t>(pathState.hostPaths, 1) : 0);
     if (!plan) return plan.status();
     auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes, upload, mode);
     VASTRAY_TRY(backend->init(package));

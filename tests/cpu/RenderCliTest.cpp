@@ -157,7 +157,7 @@ TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {
     CommandResult r = run("render --help");
     EXPECT_EQ(r.exitCode, 0);
     for (const char* text : {"vulkan (streaming path tracer on the GPU", "embree (CPU reference", "--memory-budget",
-                             "--host-cache", "--gpu-device", "chunkid,cost"})
+                             "--host-cache", "--gpu-device", "chunkid,cost", "--path-state"})
         EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
 }
 

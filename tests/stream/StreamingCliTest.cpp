@@ -114,7 +114,31 @@ TEST(StreamingCli, ErrorsNameTheProblem) {
     CommandResult budget = run("render " + terrainPackage() + " -o " + out + " --memory-budget lots");
     EXPECT_EQ(budget.exitCode, 2) << budget.output;
     EXPECT_NE(budget.output.find("--memory-budget"), std::string::npos) << budget.output;
+    CommandResult state = run("render " + terrainPackage() + " -o " + out + " --path-state gpu");
+    EXPECT_EQ(state.exitCode, 2) << state.output;
+    EXPECT_NE(state.output.find("--path-state: the path state's memory must be auto, device or host, not 'gpu'"),
+              std::string::npos)
+        << state.output;
     EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// --path-state host out of core: the figures say where the state was and how big the wave.
+TEST(StreamingCli, PathStateInHostMemoryIsReported) {
+    const std::string out = tmp("host-state.pfm"), stats = tmp("host-state.json");
+    CommandResult r = run("render " + terrainPackage() + " -o " + out +
+                          " --resolution 32x24 --spp 2 --memory-budget 512KiB --path-state host --stats --stats-json " +
+                          stats + " --progress none");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("path state in host memory"), std::string::npos) << r.output;
+    const std::string json = readFile(stats);
+    EXPECT_GT(jsonNumber(json, "wave_paths"), 0.0) << json;
+    EXPECT_GT(jsonNumber(json, "path_state_host_bytes"), 0.0) << json;
+    EXPECT_LT(jsonNumber(json, "chunk_slots"), jsonNumber(json, "chunks_total")) << "out of core";
+    CommandResult device = run("render " + terrainPackage() + " -o " + out +
+                               " --resolution 32x24 --spp 2 --memory-budget 512KiB --path-state device --stats-json " +
+                               stats + " --progress none");
+    ASSERT_EQ(device.exitCode, 0) << device.output;
+    EXPECT_EQ(jsonNumber(readFile(stats), "path_state_host_bytes"), 0.0);
 }
 
 }  // namespace

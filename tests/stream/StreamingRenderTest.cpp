@@ -425,6 +425,107 @@ TEST(StreamingRender, OutOfCoreWaveStopsAtItsCapAndSlotsTakeTheRest) {
     EXPECT_GT(small->rayBytes, (64ull << 20) * 2 / 5) << "about half of the budget";
 }
 
+// Path state in host memory (gpu::PathStateMemory::Host): off the budget where host memory is
+// not the device's, so the slots take all of it and the wave is the asked-for size; counted where
+// it is (lavapipe), the wave shrinking to what the budget holds. In core nothing moves.
+TEST(StreamingRender, PathStateInHostMemoryGivesTheSlotsTheBudget) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    PackageInfo big = (*reader)->info();
+    const std::vector<ChunkInfo> chunks = big.chunks;
+    while (big.chunks.size() < 20000) big.chunks.insert(big.chunks.end(), chunks.begin(), chunks.end());
+    const uint64_t budget = 64ull << 20;
+    auto device = gpu::planPool(big, ChunkAttributes{}, budget, false);
+    auto host = gpu::planPool(big, ChunkAttributes{}, budget, false, gpu::kWaveShareOutOfCore, 0, 0, gpu::kHostStatePaths);
+    ASSERT_TRUE(device && host) << device.message() << host.message();
+    ASSERT_LT(host->slots, big.chunks.size()) << "the test needs an out-of-core budget";
+    EXPECT_FALSE(device->stateInHostMemory);
+    EXPECT_TRUE(host->stateInHostMemory);
+    EXPECT_EQ(host->batchRays, gpu::kHostStatePaths);
+    EXPECT_EQ(host->rayBytes, 0u) << "state outside the device's heaps is not the device's";
+    EXPECT_GT(host->slots, device->slots * 17 / 10) << "the slots take the half the wave had";
+    EXPECT_LE(host->totalBytes, budget);
+    // Where host memory is the device's the state counts, and the wave is what fits.
+    auto counted = gpu::planPool(big, ChunkAttributes{}, budget, true, gpu::kWaveShareOutOfCore, 0, 0, gpu::kHostStatePaths);
+    ASSERT_TRUE(counted) << counted.message();
+    EXPECT_TRUE(counted->stateInHostMemory);
+    EXPECT_GT(counted->rayBytes, 0u);
+    EXPECT_LT(counted->batchRays, gpu::kHostStatePaths) << "512 k paths' state is more than 64 MiB";
+    EXPECT_LE(counted->totalBytes, budget);
+    // A budget that holds every chunk: in core, the state stays in device memory.
+    auto fits = gpu::planPool((*reader)->info(), ChunkAttributes{}, 256ull << 20, false, gpu::kWaveShareOutOfCore, 0, 0,
+                              gpu::kHostStatePaths);
+    ASSERT_TRUE(fits) << fits.message();
+    EXPECT_EQ(fits->slots, (*reader)->info().chunks.size());
+    EXPECT_FALSE(fits->stateInHostMemory);
+}
+
+// Auto moves the state to host memory only on a device with memory apart from the host's, for a
+// scene of more than kHostStateOversubscription budgets and without volumes; Host with volumes is
+// refused, naming them.
+TEST(StreamingRender, AutoPathStateMemoryFollowsTheOversubscription) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    PackageInfo info = (*reader)->info();
+    const ChunkAttributes a{};
+    const uint64_t resident = gpu::residentChunkBytes(info, a);
+    ASSERT_GT(resident, 0u);
+    using gpu::PathStateMemory;
+    auto resolve = [&](PathStateMemory asked, bool separate, uint64_t budget) {
+        auto r = gpu::resolvePathStateMemory(asked, separate, info, a, budget);
+        EXPECT_TRUE(r) << r.message();
+        return r ? *r : PathStateMemory::Auto;
+    };
+    const uint64_t deep = uint64_t(double(resident) / (gpu::kHostStateOversubscription + 1));
+    const uint64_t shallow = uint64_t(double(resident) / (gpu::kHostStateOversubscription - 1));
+    EXPECT_EQ(resolve(PathStateMemory::Auto, true, deep), PathStateMemory::Host);
+    EXPECT_EQ(resolve(PathStateMemory::Auto, true, shallow), PathStateMemory::Device);
+    EXPECT_EQ(resolve(PathStateMemory::Auto, false, deep), PathStateMemory::Device) << "one memory: nothing to gain";
+    EXPECT_EQ(resolve(PathStateMemory::Host, false, shallow), PathStateMemory::Host) << "asked for";
+    EXPECT_EQ(resolve(PathStateMemory::Device, true, deep), PathStateMemory::Device) << "asked for";
+    info.volumes.emplace_back();  // the rule reads only whether there are volumes
+    EXPECT_EQ(resolve(PathStateMemory::Auto, true, deep), PathStateMemory::Device) << "volumes keep per-path records";
+    auto refused = gpu::resolvePathStateMemory(PathStateMemory::Host, true, info, a, deep);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("volumes"), std::string::npos) << refused.message();
+    for (const char* name : {"auto", "device", "host"}) {
+        auto parsed = gpu::parsePathStateMemory(name);
+        ASSERT_TRUE(parsed) << name;
+        EXPECT_STREQ(gpu::pathStateMemoryName(*parsed), name);
+    }
+    EXPECT_FALSE(gpu::parsePathStateMemory("gpu"));
+}
+
+// The kernels read and write the path state wherever it lies: an out-of-core render with the
+// state in host memory (on lavapipe host-visible memory, counted against the budget) equals the
+// in-core render bit for bit, and its figures say where the state was.
+TEST(StreamingRender, PathStateInHostMemoryRendersTheInCoreImage) {
+    const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
+    RenderOptions o = smallRender(kAllAovs & ~kAovCost);
+    o.samplesPerPixel = 4;
+    const uint64_t tight = budgetForSlots(path, 3, o.aovs);
+    ASSERT_GT(tight, 0u);
+    StreamingStats ample, host, device;
+    auto a = renderVulkan(path, o, 256ull << 20, &ample);
+    ASSERT_TRUE(a) << a.message();
+    EXPECT_EQ(ample.pathStateHostBytes, 0u);
+    auto b = renderVulkan(path, o, tight, &host, 1u << 21, true, true, {}, true, {gpu::PathStateMemory::Host, 2048});
+    ASSERT_TRUE(b) << b.message();
+    expectIdentical(*a, *b, false);
+    EXPECT_LT(host.slots, host.chunksTotal);
+    EXPECT_GT(host.chunkLoads, host.chunksTouched) << "out of core";
+    EXPECT_GT(host.pathStateHostBytes, 0u);
+    EXPECT_GT(host.wavePaths, 0u);
+    EXPECT_LE(host.wavePaths, 2048u);
+    EXPECT_LE(host.peakDeviceBytes, tight);
+    auto c = renderVulkan(path, o, tight, &device, 1u << 21, true, true, {}, true, {gpu::PathStateMemory::Device});
+    ASSERT_TRUE(c) << c.message();
+    expectIdentical(*a, *c, false);
+    EXPECT_EQ(device.pathStateHostBytes, 0u);
+}
+
 TEST(StreamingRender, WaveShareSplitsAnOutOfCoreBudget) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     auto reader = PackageReader::open(path);

@@ -195,6 +195,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.memoryBudgetBytes = budget;
         s.chunksTotal = info.chunks.size();
         s.slots = st.backend->slotCount();
+        s.wavePaths = t.wavePaths, s.pathStateHostBytes = t.pathStateHostBytes;
         s.chunksTouched = st.pager->chunksTouchedThisRender();
         s.chunkLoads = t.chunkLoads - before.chunkLoads;
         s.streamChunksTouched = t.streamChunksTouched - before.streamChunksTouched;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "vastray/core/Result.h"
 #include "vastray/gpu/VulkanDevice.h"
@@ -37,6 +38,11 @@ struct PoolPlan {
     // slots beyond the chunk count are not made): paged volumes take it for brick slots besides
     // their reserve (docs/RENDERING.md, "Volumes out of core").
     uint64_t spareBytes = 0;
+    // The wave's path state (StateLayout) lies in host memory, read and written by the kernels
+    // across the bus (PathStateMemory): out of core only. Where host memory is outside the
+    // device's heaps (outputInDeviceMemory false) it is not counted against the budget and the
+    // slots take all of it; else it is counted as in device memory.
+    bool stateInHostMemory = false;
 };
 
 // How chunk data reaches the slots (gpu/src/ChunkUploader.h). Mapped: the host writes each chunk
@@ -99,6 +105,35 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 // 0.570 s, 450 k 0.638 s, 300 k 0.763 s). A budget below ~250 MiB never reaches it.
 constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
 
+// Where a wave's path state lives out of core (docs/RENDERING.md, "Path state in host memory").
+// Device: in the budget, beside the slots (a wave of waveShareOutOfCore of it, at most
+// kMaxOutOfCoreBatchRays paths). Host: in pinned host memory off the budget, a wave of
+// kHostStatePaths paths, the slots taking the whole budget; every kernel then reads and writes
+// the state across the bus (~200 bytes a path a bounce, each way), which costs more than a small
+// wave saves at 4x over budget and far less at 16x (PERF_NOTES 77, city 10M on an H100: 4x 0.85
+// s in device memory against 1.61 s in host memory, 8x 1.72 against 1.72 s, 16x 4.40 against
+// 1.93 s). Auto: Host where that pays, resolvePathStateMemory.
+enum class PathStateMemory { Auto, Device, Host };
+Result<PathStateMemory> parsePathStateMemory(std::string_view name);  // auto, device or host
+const char* pathStateMemoryName(PathStateMemory memory);
+// A wave in host memory: 2^19 paths (~160 MiB of host memory with its tile outputs). Of 256 k,
+// 512 k and 1 M paths 512 k was fastest at 8x and 16x and within 3 % at 4x (PERF_NOTES 77).
+constexpr uint32_t kHostStatePaths = 1u << 19;
+// Auto puts the state in host memory where the package's resident chunks exceed this many
+// budgets: the measured crossing of the two modes (PERF_NOTES 77; the ratio is the scene's, so
+// the rule holds for other frames only as far as their paths cost the same per bounce).
+constexpr double kHostStateOversubscription = 8.0;
+// Auto's answer: Host on a device whose memory is apart from the host's (separateMemory:
+// VulkanDevice::hasSeparateMemory, a discrete GPU; elsewhere host memory is the device's and
+// moving the state there only takes it from the slots), for a package without volumes (their
+// paged tracking keeps per-path records in device memory) whose chunks' resident bytes exceed
+// kHostStateOversubscription budgets; else Device. Device and Host are kept as asked, but Host for
+// a package with volumes is an error.
+Result<PathStateMemory> resolvePathStateMemory(PathStateMemory asked, bool separateMemory, const PackageInfo& package,
+                                               const ChunkAttributes& attributes, uint64_t budget);
+// The bytes of the package's chunks as slots hold them (ChunkLayout), all of them.
+uint64_t residentChunkBytes(const PackageInfo& package, const ChunkAttributes& attributes);
+
 // Splits `budget` between slots and the ray batch; an error (naming the minimum) when the
 // budget cannot hold one slot plus a minimal batch. The tile outputs the host reads back live
 // in host-cached memory: in system memory on a discrete GPU, where they do not count against
@@ -111,10 +146,13 @@ constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
 // stagingInDeviceMemory: for DMA uploads whose staging area is device memory, the staging bytes
 // asked for (ChunkUploadOptions::stagingBytes), kept from the budget as whole slots, two at least
 // and one per chunk at most (PoolPlan::stagingBytes); 0: none.
+// hostStatePaths > 0: out of core the wave's state lies in host memory (PoolPlan::stateInHostMemory),
+// a wave of that many paths (fewer where the state counts and the budget cannot hold them).
 constexpr double kWaveShareOutOfCore = 0.5;
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
                           bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore,
-                          uint64_t stagingInDeviceMemory = 0, uint64_t reservedBytes = 0);
+                          uint64_t stagingInDeviceMemory = 0, uint64_t reservedBytes = 0,
+                          uint32_t hostStatePaths = 0);
 
 // The upload mode Auto resolves to on this device.
 ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode);
@@ -148,6 +186,12 @@ uint64_t textureBytes(const PackageInfo& package);
 // they read while they wait.
 constexpr uint64_t kMinTexturePageSlots = 16;
 
+// Where the path state lives (resolvePathStateMemory decides Auto), and a Host wave's paths.
+struct PathStateOptions {
+    PathStateMemory memory = PathStateMemory::Auto;
+    uint32_t hostPaths = kHostStatePaths;
+};
+
 // device must outlive the backend. Every buffer is allocated here, once, but the environment
 // map's and the volumes': reservedBytes of the budget are kept for them (environmentBytes plus
 // volumeReserveBytes); the volumes are paged when they do not fit what the map leaves, and a
@@ -156,6 +200,7 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
                                                                const ChunkAttributes& attributes, uint64_t budget,
                                                                double waveShareOutOfCore = kWaveShareOutOfCore,
                                                                const ChunkUploadOptions& upload = {},
-                                                               uint64_t reservedBytes = 0);
+                                                               uint64_t reservedBytes = 0,
+                                                               const PathStateOptions& pathState = {});
 
 }  // namespace vastray::gpu

@@ -183,6 +183,10 @@ struct StreamingStats {
     uint64_t peakDeviceBytes = 0;   // peak_device_bytes
     uint64_t memoryBudgetBytes = 0; // memory_budget_bytes (set by the caller that knows it)
     uint32_t slots = 0;             // chunk slots the budget holds
+    // The device wavefront's wave: its paths (wave_paths), and the bytes of their state when it
+    // lies in host memory (path_state_host_bytes; 0: in device memory, gpu::PathStateMemory).
+    uint32_t wavePaths = 0;
+    uint64_t pathStateHostBytes = 0;
     uint64_t walkedRays = 0;        // walked_rays: rays walked on the device (camera, AOV, bounce and shadow)
     // The device wavefront's (ChunkBackend::renderOnDevice): command-buffer submissions, walk
     // passes (one per scattering event in core; three per paging step out of core), and the
