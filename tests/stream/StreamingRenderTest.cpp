@@ -399,16 +399,23 @@ TEST(StreamingRender, HostCacheAvoidsSecondDecodes) {
     EXPECT_LE(p.decodes, p.chunksTotal);
 }
 
-// A large out-of-core budget: the wave stops at kMaxOutOfCoreBatchRays paths and the slots take
-// the rest (PERF_NOTES 63). planPool reads only the package's chunk table, so a small package's
-// chunks repeated stand for a scene of several GiB.
-TEST(StreamingRender, OutOfCoreWaveStopsAtItsCapAndSlotsTakeTheRest) {
+// A small package's chunk table repeated to at least `chunks` chunks: a large scene for planPool,
+// which reads nothing else.
+PackageInfo standInScene(size_t chunks) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     auto reader = PackageReader::open(path);
-    ASSERT_TRUE(reader) << reader.message();
+    EXPECT_TRUE(reader) << reader.message();
+    if (!reader) return {};
     PackageInfo big = (*reader)->info();
-    const std::vector<ChunkInfo> chunks = big.chunks;
-    while (big.chunks.size() < 120000) big.chunks.insert(big.chunks.end(), chunks.begin(), chunks.end());
+    const std::vector<ChunkInfo> one = big.chunks;
+    while (big.chunks.size() < chunks) big.chunks.insert(big.chunks.end(), one.begin(), one.end());
+    return big;
+}
+
+// A large out-of-core budget: the wave stops at kMaxOutOfCoreBatchRays paths and the slots take
+// the rest (PERF_NOTES 63). The stand-in scene is several GiB.
+TEST(StreamingRender, OutOfCoreWaveStopsAtItsCapAndSlotsTakeTheRest) {
+    const PackageInfo big = standInScene(120000);
     ASSERT_GT(big.decodedBytes(), 4ull << 30) << "the stand-in scene must exceed the budget";
     const uint64_t budget = 2ull << 30;
     auto plan = gpu::planPool(big, ChunkAttributes{}, budget, false);
@@ -432,9 +439,7 @@ TEST(StreamingRender, PathStateInHostMemoryGivesTheSlotsTheBudget) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
-    PackageInfo big = (*reader)->info();
-    const std::vector<ChunkInfo> chunks = big.chunks;
-    while (big.chunks.size() < 20000) big.chunks.insert(big.chunks.end(), chunks.begin(), chunks.end());
+    const PackageInfo big = standInScene(20000);
     const uint64_t budget = 64ull << 20;
     auto device = gpu::planPool(big, ChunkAttributes{}, budget, false);
     auto host = gpu::planPool(big, ChunkAttributes{}, budget, false, gpu::kWaveShareOutOfCore, 0, 0, gpu::kHostStatePaths);
