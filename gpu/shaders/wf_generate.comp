@@ -41,61 +41,116 @@ void startPath(ParamsRef params, uint j, uint pixel, uint sampleIndex, bool jitt
     UVec2Array(params.p.pathInfo).v[j] = uvec2(pixel, pathWord(kPathAlive | (jitter ? kPathWalkClosest : 0u), 0u, sampleIndex));
 }
 
-// Streamed waves: group g's next block (or pixel). Returns the paths it started (from g *
-// sampleCount); idle: the window had no pixel for it.
-uint continueGroup(ParamsRef params, uint g, out bool idle) {
-    idle = false;
-    const uint groupSize = pc.sampleCount, spp = params.p.samplesPerPixel, first = g * groupSize;
+// Streamed waves: a workgroup's groups (a thread each: group g of the group queue, or of 0..
+// pixelCount - 1) add their finished blocks and start their next ones. The paths' samples are read
+// and their new states written by the whole workgroup together, kSampleBatch samples of a group
+// side by side, so that neighbouring invocations touch neighbouring paths: with the state in host
+// memory (PathStateMemory::Host) a thread walking its group's paths alone made a small transfer
+// across the bus per path and array. The sums are the same additions in the same order.
+const uint kSampleBatch = 16u;
+shared vec4 batchSamples[kWavefrontWorkgroupSize * kSampleBatch];  // radiance, camera hit
+shared uint groupFirst[kWavefrontWorkgroupSize], groupPixel[kWavefrontWorkgroupSize], groupNext[kWavefrontWorkgroupSize],
+    groupCount[kWavefrontWorkgroupSize], groupAt[kWavefrontWorkgroupSize];
+shared uint batchMax;
+
+// The largest of the workgroup's `count`s (every invocation must call it).
+uint workgroupMax(uint count) {
+    if (gl_LocalInvocationIndex == 0u) batchMax = 0u;
+    barrier();
+    atomicMax(batchMax, count);
+    barrier();
+    const uint m = batchMax;
+    barrier();
+    return m;
+}
+
+void generateStream(ParamsRef params, uint j) {
+    const uint lt = gl_LocalInvocationIndex, groupSize = pc.sampleCount, spp = params.p.samplesPerPixel;
+    const bool all = pc.pixelCount > 0u;
+    const bool live = all ? j < pc.pixelCount : j < queueCount(params, pc.groupQueue);
+    const uint g = !live ? 0u : all ? j : queueOf(params, pc.groupQueue).v[j];
+    const uint first = g * groupSize;
     StreamRef window = StreamRef(params.p.stream);
     UVec2Array states = UVec2Array(params.p.groupState);
     Vec4Array accum = Vec4Array(params.p.accum);
-    uvec2 state = states.v[g];
-    uint pixel = 0u, next = 0u;
-    if (state.x == 0u) {  // its block is done: add it to the pixel's sum, one sample at a time
+    uvec2 state = live ? states.v[g] : uvec2(kGroupIdle);
+    // A group whose block is done adds it to its pixel's sum, one sample at a time.
+    uint pixel = 0u, done = 0u, samples = 0u;
+    if (live && state.x == 0u) {
         const uvec2 info = UVec2Array(params.p.pathInfo).v[first];
-        const uint done = pathSample(info.y);
-        const uint samples = min(groupSize, spp - done);
-        const vec4 sum = addSamples(params, accum.v[g], first, samples);
+        pixel = info.x, done = pathSample(info.y);
+        samples = min(groupSize, spp - done);
+    }
+    groupFirst[lt] = first, groupCount[lt] = samples;
+    const uint most = workgroupMax(samples);
+    vec4 sum = samples > 0u ? accum.v[g] : vec4(0.0);
+    for (uint s0 = 0u; s0 < most; s0 += kSampleBatch) {
+        for (uint i = lt; i < kWavefrontWorkgroupSize * kSampleBatch; i += kWavefrontWorkgroupSize) {
+            const uint owner = i / kSampleBatch, s = s0 + i % kSampleBatch;
+            if (s < groupCount[owner]) {
+                const uint path = groupFirst[owner] + s;
+                const bool hit = (UVec2Array(params.p.pathInfo).v[path].y & kPathCameraHit) != 0u;
+                batchSamples[i] = vec4(Vec4Array(params.p.radiance).v[path].xyz, hit ? 1.0 : 0.0);
+            }
+        }
+        barrier();
+        for (uint i = 0u; i < kSampleBatch && s0 + i < samples; ++i) {
+            const vec4 v = batchSamples[lt * kSampleBatch + i];
+            sum.xyz += v.xyz;
+            sum.w += v.w;
+        }
+        barrier();
+    }
+    uint next = 0u, started = 0u;
+    bool idle = false;
+    if (samples > 0u) {
         accum.v[g] = sum;
-        pixel = info.x, next = done + samples;
+        next = done + samples;
         if (next >= spp) {  // the pixel is done
             Vec4Array(params.p.outColor).v[state.y] = pixelMean(params, sum);
             atomicAdd(window.w.done[state.y / params.p.tilePixels], 1u);
             state.x = kGroupIdle;
         }
     }
-    if (state.x == kGroupIdle) {  // the window's next pixel
+    if (live && state.x == kGroupIdle) {  // the window's next pixel
         const uint k = atomicAdd(window.w.cursor, 1u);
         uint start = 0u, tile = 0u;
         while (tile < window.w.tileCount && k >= start + window.w.tiles[4u * tile + 2u]) start += window.w.tiles[4u * tile + 2u], ++tile;
         if (tile == window.w.tileCount) {  // none left now (the host rewinds the cursor to the window's end)
             states.v[g] = uvec2(kGroupIdle);
             idle = true;
-            return 0u;
+        } else {
+            const uint local = k - start, tileWidth = window.w.tiles[4u * tile + 1u];
+            pixel = window.w.tiles[4u * tile] + (local / tileWidth) * params.p.imageWidth + local % tileWidth;
+            state.y = window.w.tiles[4u * tile + 3u] * params.p.tilePixels + local;
+            next = 0u;
+            accum.v[g] = vec4(0.0);
         }
-        const uint local = k - start, tileWidth = window.w.tiles[4u * tile + 1u];
-        pixel = window.w.tiles[4u * tile] + (local / tileWidth) * params.p.imageWidth + local % tileWidth;
-        state.y = window.w.tiles[4u * tile + 3u] * params.p.tilePixels + local;
-        next = 0u;
-        accum.v[g] = vec4(0.0);
     }
-    const uint samples = min(groupSize, spp - next);
-    for (uint s = 0u; s < samples; ++s) startPath(params, first + s, pixel, next + s, true);
-    states.v[g] = uvec2(samples, state.y);
-    return samples;
+    if (live && !idle) {
+        started = min(groupSize, spp - next);
+        states.v[g] = uvec2(started, state.y);
+    }
+    // The started paths, written side by side, and their entries in the walk queue.
+    const uint at = reserveInQueue(params, pc.queue, true, started);
+    groupFirst[lt] = first, groupPixel[lt] = pixel, groupNext[lt] = next, groupCount[lt] = started, groupAt[lt] = at;
+    const uint width = workgroupMax(started);
+    RwUintArray queue = queueOf(params, pc.queue);
+    for (uint i = lt; i < kWavefrontWorkgroupSize * width; i += kWavefrontWorkgroupSize) {
+        const uint owner = i / width, s = i % width;
+        if (s < groupCount[owner]) {
+            startPath(params, groupFirst[owner] + s, groupPixel[owner], groupNext[owner] + s, true);
+            queue.v[groupAt[owner] + s] = groupFirst[owner] + s;
+        }
+    }
+    appendToQueue(params, pc.groupQueue ^ 1u, false, idle ? 1u : 0u, g, 0u);
 }
 
 void main() {
     const uint j = gl_GlobalInvocationID.x;
     ParamsRef params = ParamsRef(pc.params);
     if (pc.mode == kGenerateStream) {
-        const bool all = pc.pixelCount > 0u;
-        const uint g = all ? j : j < queueCount(params, pc.groupQueue) ? queueOf(params, pc.groupQueue).v[j] : 0u;
-        uint started = 0u;
-        bool idle = false;
-        if (all ? j < pc.pixelCount : j < queueCount(params, pc.groupQueue)) started = continueGroup(params, g, idle);
-        appendRangeToQueue(params, pc.queue, true, started, g * pc.sampleCount);
-        appendToQueue(params, pc.groupQueue ^ 1u, false, idle ? 1u : 0u, g, 0u);
+        generateStream(params, j);
         return;
     }
     appendToQueue(params, pc.queue, true, j < wavePaths() ? 1u : 0u, j, 0u);

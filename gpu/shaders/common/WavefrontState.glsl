@@ -74,7 +74,7 @@ void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint firs
 
 // A pixel's sum (radiance, camera hits) with the samples of paths first .. first + samples - 1
 // added one at a time in sample order, and its mean over the pixel's samples: wf_accumulate.comp
-// and the streamed waves' groups (wf_generate.comp) add the same floats in the same order.
+// adds them here, the streamed waves' groups (wf_generate.comp) the same floats in the same order.
 vec4 addSamples(ParamsRef params, vec4 sum, uint first, uint samples) {
     for (uint s = 0u; s < samples; ++s) {
         sum.xyz += Vec4Array(params.p.radiance).v[first + s].xyz;
@@ -89,13 +89,5 @@ vec4 pixelMean(ParamsRef params, vec4 sum) {
 
 // Streamed waves: the window of open tiles (shared/WavefrontTypes.h, StreamWindow).
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer StreamRef { StreamWindow w; };
-
-// Appends `count` consecutive entries first, first + 1, ... to queue q (every invocation of the
-// workgroup must call it).
-void appendRangeToQueue(ParamsRef params, uint q, bool started, uint count, uint first) {
-    const uint at = reserveInQueue(params, q, started, count);
-    RwUintArray queue = queueOf(params, q);
-    for (uint i = 0u; i < count; ++i) queue.v[at + i] = first + i;
-}
 
 #endif  // VASTRAY_WAVEFRONT_STATE_GLSL
