@@ -234,8 +234,7 @@ int main(int argc, char** argv) {
     if (!device) fail(device.message());
 
     const ChunkAttributes attributes = requiredAttributes(info, RenderOptions{});
-    uint64_t residentBytes = 0;
-    for (const ChunkInfo& c : info.chunks) residentBytes += chunkLayout(c, attributes).totalBytes;
+    const uint64_t residentBytes = gpu::residentChunkBytes(info, attributes);
     auto fitPlan = gpu::planPool(info, attributes, 1ull << 40);
     if (!fitPlan) fail(fitPlan.message());
     // In core: every chunk gets a slot and the largest ray batch.

@@ -562,7 +562,7 @@ Result<RenderImage> renderVulkan(const RenderArgs& args, RenderOptions options, 
         auto backend = gpu::createVulkanChunkBackend(***device, info, attributes, budget, gpu::kWaveShareOutOfCore, {},
                                                      gpu::environmentBytes(options.environment) +
                                                          gpu::volumeReserveBytes(info, budget),
-                                                     {sizes.pathState, gpu::kHostStatePaths});
+                                                     {sizes.pathState});
         const auto ready = std::chrono::steady_clock::now();
         timings.backendSeconds = secondsBetween(creating, ready);
         timings.openSeconds = secondsBetween(timings.start, ready);

@@ -389,14 +389,22 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     // default): every wave pages the scene through the slots again, so out of core fewer, larger
     // waves mean fewer loads, and fewer slots only mean more walk passes per stream (PERF_NOTES 25);
     // but at most kMaxOutOfCoreBatchRays paths, beyond which more slots pay more (PERF_NOTES 63).
-    auto split = [&](double share, uint64_t maxRays, uint64_t& rays, uint64_t& slots) {
-        rays = std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, maxRays);
+    // A wave halved until the budget holds it besides one slot (kMinBatchRays at least), and the
+    // slots what a wave of `waveBytes` leaves (at least one, never more than the chunks).
+    auto fitWave = [&](uint64_t rays) {
         while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
-        rays = std::max<uint64_t>(rays, kMinBatchRays);
-        const uint64_t available = budget - batchBytes(rays);  // >= one slot and a one-slot table
-        slots = available >= tableBytes(chunks) + slotAllocation ? (available - tableBytes(chunks)) / slotAllocation
-                                                                 : 1;
-        slots = std::min<uint64_t>(slots, chunks);
+        return std::max<uint64_t>(rays, kMinBatchRays);
+    };
+    auto slotsBeside = [&](uint64_t waveBytes) {
+        const uint64_t available = budget - waveBytes;  // >= one slot and a one-slot table
+        const uint64_t slots = available >= tableBytes(chunks) + slotAllocation
+                                   ? (available - tableBytes(chunks)) / slotAllocation
+                                   : 1;
+        return std::min<uint64_t>(slots, chunks);
+    };
+    auto split = [&](double share, uint64_t maxRays, uint64_t& rays, uint64_t& slots) {
+        rays = fitWave(std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, maxRays));
+        slots = slotsBeside(batchBytes(rays));
     };
     uint64_t rays = 0, slots = 0;
     split(0.25, kMaxBatchRays, rays, slots);
@@ -405,12 +413,8 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         // shrinks to what the budget holds besides a slot); else the slots take the budget.
         plan.stateInHostMemory = true;
         rays = std::clamp<uint64_t>(hostStatePaths, kMinBatchRays, kMaxBatchRays);
-        while (outputInDeviceMemory && rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget)
-            rays /= 2;
-        const uint64_t available = budget - (outputInDeviceMemory ? batchBytes(rays) : 0);
-        slots = available >= tableBytes(chunks) + slotAllocation ? (available - tableBytes(chunks)) / slotAllocation
-                                                                 : 1;
-        slots = std::min<uint64_t>(slots, chunks);
+        if (outputInDeviceMemory) rays = fitWave(rays);
+        slots = slotsBeside(outputInDeviceMemory ? batchBytes(rays) : 0);
     } else if (slots < chunks) {
         split(waveShareOutOfCore, kMaxOutOfCoreBatchRays, rays, slots);
     }
@@ -433,15 +437,6 @@ Result<PathStateMemory> parsePathStateMemory(std::string_view name) {
     if (name == "device") return PathStateMemory::Device;
     if (name == "host") return PathStateMemory::Host;
     return Status::error("the path state's memory must be auto, device or host, not '" + std::string(name) + "'");
-}
-
-const char* pathStateMemoryName(PathStateMemory memory) {
-    switch (memory) {
-        case PathStateMemory::Auto: return "auto";
-        case PathStateMemory::Device: return "device";
-        case PathStateMemory::Host: return "host";
-    }
-    return "auto";
 }
 
 uint64_t residentChunkBytes(const PackageInfo& package, const ChunkAttributes& attributes) {

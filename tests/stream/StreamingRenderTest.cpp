@@ -495,10 +495,12 @@ TEST(StreamingRender, AutoPathStateMemoryFollowsTheOversubscription) {
     auto refused = gpu::resolvePathStateMemory(PathStateMemory::Host, true, info, a, deep);
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.message().find("volumes"), std::string::npos) << refused.message();
-    for (const char* name : {"auto", "device", "host"}) {
+    const std::pair<const char*, PathStateMemory> names[] = {
+        {"auto", PathStateMemory::Auto}, {"device", PathStateMemory::Device}, {"host", PathStateMemory::Host}};
+    for (const auto& [name, memory] : names) {
         auto parsed = gpu::parsePathStateMemory(name);
         ASSERT_TRUE(parsed) << name;
-        EXPECT_STREQ(gpu::pathStateMemoryName(*parsed), name);
+        EXPECT_EQ(*parsed, memory) << name;
     }
     EXPECT_FALSE(gpu::parsePathStateMemory("gpu"));
 }

@@ -115,7 +115,6 @@ constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
 // 1.93 s). Auto: Host where that pays, resolvePathStateMemory.
 enum class PathStateMemory { Auto, Device, Host };
 Result<PathStateMemory> parsePathStateMemory(std::string_view name);  // auto, device or host
-const char* pathStateMemoryName(PathStateMemory memory);
 // A wave in host memory: 2^19 paths (~160 MiB of host memory with its tile outputs). Of 256 k,
 // 512 k and 1 M paths 512 k was fastest at 8x and 16x and within 3 % at 4x (PERF_NOTES 77).
 constexpr uint32_t kHostStatePaths = 1u << 19;
