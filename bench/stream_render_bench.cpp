@@ -12,6 +12,8 @@
 //                       peer renderer's camera, e.g. ../shared/tools/mitsuba_bench.py)
 //                       [--no-embree]  (skip the Embree reference row: the same frame on the host's cores)
 //                       [--attributes]  (the generated mesh gets per-vertex normals and colours)
+//                       [--write-ply FILE.ply]  (also write the generated mesh, its positions and faces, as
+//                                                binary PLY: the same scene for mitsuba_bench.py, without the CLI)
 //                       [--steady-out-of-core]  (each ratio also rendered with its scene kept open, after a
 //                                                warm-up render: no decoding, as a service rendering one scene
 //                                                again; compared with the resident row)
@@ -70,6 +72,7 @@ struct Args {
     bool camera = false;        // --eye and --target given
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
     bool attributes = false;    // --attributes: the generated mesh gets per-vertex normals and colours
+    std::string writePly;       // --write-ply: the generated mesh as binary PLY too
     Vec3f eye, target;
     std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
@@ -129,6 +132,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--attributes") a.attributes = true;
+        else if (flag == "--write-ply") a.writePly = value();
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
         else if (flag == "--no-stream-waves") a.streaming.streamWaves = false;
         else if (flag == "--window-tiles") a.streaming.windowTiles = uint32_t(std::stoul(value()));
@@ -170,6 +174,7 @@ Args parseArgs(int argc, char** argv) {
             a.camera = true;
         } else fail("unknown flag " + flag);
     }
+    if (!a.writePly.empty() && !a.package.empty()) fail("--write-ply writes the generated scene; with --package there is none");
     return a;
 }
 
@@ -185,6 +190,9 @@ std::string makePackage(const Args& a, double* importSeconds) {
     if (!kind) fail(kind.message());
     g.kind = *kind;
     g.triangles = a.triangles;
+    // The same generator and options: the same positions and faces as the package's.
+    if (!a.writePly.empty())
+        if (Status s = generateToPly(g, a.writePly); !s) fail("--write-ply " + a.writePly + ": " + s.message());
     auto mesh = generateMesh(g);
     if (!mesh) fail(mesh.message());
     if (a.attributes) {
