@@ -110,7 +110,8 @@ public:
                                            VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
-        // Path state in host memory outside the device's heaps is not the device's (PoolPlan).
+        // Path state in host memory outside the device's heaps is not the device's (PoolPlan; its
+        // memory lies where the read-back memory does: createVulkanChunkBackend).
         const bool stateCounted = !plan_.stateInHostMemory || plan_.outputInDeviceMemory;
         allocated_ += table_.allocatedBytes() + (stateCounted ? state_.allocatedBytes() : 0) +
                      (plan_.outputInDeviceMemory ? output_.allocatedBytes() : 0);
@@ -513,7 +514,17 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
     const bool dmaStagingInDevice =
         mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
     const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;
-    auto memory = resolvePathStateMemory(pathState.memory, device.hasSeparateMemory(), package, attributes, budget);
+    // The plan counts a path state in host memory against the budget where the read-back memory
+    // is the device's (PoolPlan::stateInHostMemory); that holds only where the state's memory type
+    // (Staging) lies in the same kind of heap, as on every device we know. Elsewhere host memory
+    // is not offered.
+    const bool stateLikeOutput =
+        device.inDeviceMemory(VulkanDevice::MemoryUse::Staging) == device.readbackInDeviceMemory();
+    if (pathState.memory == PathStateMemory::Host && !stateLikeOutput)
+        return Status::error("the path state cannot lie in host memory on this device: its host-visible "
+                             "memory types lie in different heaps (staging and read-back); ask for auto or device");
+    auto memory = resolvePathStateMemory(pathState.memory, device.hasSeparateMemory() && stateLikeOutput, package,
+                                         attributes, budget);
     if (!memory) return memory.status();
     auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
                          stagingInDeviceMemory, reservedBytes,
