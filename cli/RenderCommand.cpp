@@ -663,7 +663,8 @@ CommandRun addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--path-state", args->pathState,
                     "vulkan, out of core: where a wave's path state lives: device (in the budget, beside the chunk slots), "
-                    "host (pinned host memory off the budget: a wave of 524288 paths and all of the budget for slots; "
+                    "host (pinned host memory off the budget: a wave of 524288 paths and the budget for slots but for the "
+                    "paths' walk bits, a byte a path; "
                     "kernels read the state across the bus; no volumes), or auto (host on a discrete GPU when the "
                     "scene's chunks exceed 8 budgets and it has no volumes, else device)")
         ->capture_default_str();

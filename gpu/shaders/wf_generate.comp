@@ -38,7 +38,9 @@ void startPath(ParamsRef params, uint j, uint pixel, uint sampleIndex, bool jitt
     UVec2Array(params.p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
     Vec4Array(params.p.radiance).v[j] = vec4(0.0, 0.0, 0.0, params.p.cameraSpread);  // w: the ray cone's spread
-    UVec2Array(params.p.pathInfo).v[j] = uvec2(pixel, pathWord(kPathAlive | (jitter ? kPathWalkClosest : 0u), 0u, sampleIndex));
+    const uint walks = jitter ? kWalkClosest : 0u;  // an AOV ray belongs to no path to shade
+    UVec2Array(params.p.pathInfo).v[j] = uvec2(pixel, pathWord(kPathAlive | walksInWord(params.p, walks), 0u, sampleIndex));
+    startWalksApart(params.p, j, walks);
 }
 
 // Streamed waves: a workgroup's groups (a thread each: group g of the group queue, or of 0..

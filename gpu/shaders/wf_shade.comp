@@ -43,6 +43,7 @@ layout(constant_id = 9) const bool kClearcoat = false;         // some material 
 layout(constant_id = 10) const bool kTextures = false;         // some material has maps (and the hits UVs)
 layout(constant_id = 11) const bool kNormalMaps = false;       // some material has a normal map (and the hits frames)
 layout(constant_id = 12) const bool kEmitters = false;         // next-event estimation samples emissive triangles
+layout(constant_id = 16) const bool kStateInHostMemory = false;  // the path state lies in host memory
 // (13-15, which leaf codecs the volumes use: common/Volume.glsl)
 
 // (after the constants: a drawn point on an emitter reads its emissive map only with kTextures)
@@ -73,7 +74,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
     ended = false;
     const WavefrontParams p = ParamsRef(pc.params).p;
     const uvec2 info = UVec2Array(p.pathInfo).v[j];
-    uint flags = pathFlags(info.y), nextBounce = pathBounce(info.y);
+    uint flags = pathFlags(info.y), nextBounce = pathBounce(info.y), walks = 0u;  // walks: the rays it starts
     if ((flags & (kPathAlive | kPathShadowPending)) == 0u) return true;
     const bool ao = kAmbientOcclusion;
     const uint shadow = shadowRayIndex(p, j);
@@ -173,7 +174,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             if (ao) {
                 const float range = p.aoDistance > 0.0 ? p.aoDistance : kInfinity;
                 startRay(p, j, shadow, origin, 0.0, cosineDirection(n, pixel, sampleIndex, 0u, p.seed), range, true);
-                flags |= kPathShadowPending | kPathWalkShadow;
+                flags |= kPathShadowPending, walks |= kWalkShadow;
                 first = shadow, count = 1u;
             } else {
                 const uvec4 ids = UVec4Array(p.hitIds).v[j];
@@ -254,7 +255,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
             if (shoots) {
                 Vec4Array(p.pendingSun).v[j] = vec4(scattered ? (throughput * albedo) * light : throughput * light, 0.0);
                 startRay(p, j, shadow, origin, coneWidth, toLight, lightDistance, !scattered);
-                flags |= kPathShadowPending | kPathWalkShadow;
+                flags |= kPathShadowPending, walks |= kWalkShadow;
                 first = shadow, count = 1u;
             }
             bool survives = false;
@@ -286,7 +287,7 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
                 Vec4Array(p.throughput).v[j] = vec4(throughput, kEnvironmentMap || kEmitters ? bouncePdf : 0.0);
                 if (kTextures) spread += scatterSpread(bouncePdf, p.scatterSpread);
                 startRay(p, j, j, origin, coneWidth, bounced, kInfinity, !scattered);
-                flags |= kPathAlive | kPathWalkClosest;
+                flags |= kPathAlive, walks |= kWalkClosest;
                 nextBounce = bounce + 1u;
                 if (count == 0u) first = j; else second = j;
                 ++count;
@@ -296,10 +297,15 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
     }
     if (shadowDone && (flags & kPathShadowPending) == 0u) UVec2Array(p.rayState).v[shadow] = uvec2(0u);
     Vec4Array(p.radiance).v[j] = vec4(radiance, spread);
-    UVec2Array(p.pathInfo).v[j].y = pathWord(flags, nextBounce, pathSample(info.y));
+    UVec2Array(p.pathInfo).v[j].y = pathWord(flags | walksInWord(p, walks), nextBounce, pathSample(info.y));
+    startWalksApart(p, j, walks);
     ended = count == 0u;
     return true;
 }
+
+// Streamed waves: the group of each path the workgroup ended (kNoGroup where it ended none).
+shared uint endedGroup[kWavefrontWorkgroupSize];
+const uint kNoGroup = 0xffffffffu;
 
 void main() {
     const uint k = gl_GlobalInvocationID.x;
@@ -313,8 +319,24 @@ void main() {
     appendToQueue(params, pc.queue, true, count, first, second);
     if (kVolumes || kTextures) appendToQueue(params, kShadeWaitQueue, false, waits ? 1u : 0u, path, 0u);
     if (pc.mode == kWaveStreamed) {  // streamed waves: the last path of a group's block queues the group
-        const uint g = path / pc.sampleCount;
-        const bool blockDone = ended && atomicAdd(UVec2Array(params.p.groupState).v[g].x, 0xffffffffu) == 1u;
+        // With the path state in host memory each atomic crosses the bus, so there it is one per
+        // group and workgroup, not per path (the queue keeps a group's paths mostly side by side):
+        // the workgroup's first invocation that ended a path of group g takes all of them off g's
+        // count. In device memory that costs more than the atomics it saves (PERF_NOTES 80).
+        const uint g = path / pc.sampleCount, lt = gl_LocalInvocationIndex;
+        bool lead = ended;
+        uint paths = 1u;
+        if (kStateInHostMemory) {
+            endedGroup[lt] = ended ? g : kNoGroup;
+            barrier();
+            paths = 0u;
+            for (uint i = 0u; lead && i < kWavefrontWorkgroupSize; ++i)
+                if (endedGroup[i] == g) {
+                    if (i < lt) lead = false;
+                    ++paths;
+                }
+        }
+        const bool blockDone = lead && atomicAdd(UVec2Array(params.p.groupState).v[g].x, 0u - paths) == paths;
         appendToQueue(params, pc.groupQueue, false, blockDone ? 1u : 0u, g, 0u);
     }
 }

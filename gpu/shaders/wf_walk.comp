@@ -16,8 +16,8 @@
 // cell's trace finds its hits up to the best so far inclusive, so an out-of-core render equals
 // the in-core one bit for bit (the cost AOV counts the work done, which is more out of core). A
 // cell is pruned once a hit lies before it (any hit, for shadow rays). A ray that finishes
-// clears its bit in its path's flags; the last of a path's rays to finish queues the path for
-// shading (kShadeQueue).
+// clears its bit in its path's walk bits (WavefrontParams::walkBits, device memory wherever the
+// path state lies); the last of a path's rays to finish queues the path for shading (kShadeQueue).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -288,9 +288,9 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
         atomicAdd(RwUintArray(params.p.outCost).v[2u * pixel + 1u], triangles);
     }
     if (!parked) {
-        const uint mine = anyHit ? kPathWalkShadow : kPathWalkClosest;
-        const uint before = atomicAnd(RwUintArray(params.p.pathInfo).v[2u * j + 1u], ~mine);
-        pathReady = (before & mine) != 0u && (before & (kPathWalkClosest | kPathWalkShadow) & ~mine) == 0u;
+        const uint mine = anyHit ? kWalkShadow : kWalkClosest;
+        const uint before = finishWalk(params.p, j, mine);
+        pathReady = (before & mine) != 0u && (before & (kWalkClosest | kWalkShadow) & ~mine) == 0u;
     }
 }
 

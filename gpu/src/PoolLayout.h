@@ -79,6 +79,10 @@ struct StateLayout {
     uint64_t rayOrigin, rayDirection, hitPosition, hitNormal, hitIds, throughput, radiance, pendingSun, accum, rayState,
         pathInfo, groupState, queues, hitUv, hitFrame, totalBytes;
 };
+// With the path state in host memory the paths' walk bits lie apart, a byte a path in whole words
+// in device memory (WavefrontParams::walkBits, walkBitsApart: the walk's atomics on them would
+// cross the bus); in device memory they lie in the paths' words.
+inline uint64_t walkBitsBytes(uint64_t paths) { return (paths + 3) / 4 * 4; }
 inline StateLayout stateLayout(uint64_t paths, bool uvs = false, bool frames = false) {
     StateLayout s{};
     const uint64_t perPath = paths * 16;
@@ -192,7 +196,9 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
 static_assert(kBytesPerPath == 16 + 2 * (16 + 8) + 3 * 16 + 3 * 16 + 8 + 16 + 8 + 8 && kBytesPerTilePixel == 84);
 // A path's word (shared/WavefrontTypes.h): flags, bounce and sample index fit their fields.
 static_assert(kPathFlagBits == kPathBounceShift && kPathBounceShift + kPathBounceBits == kPathSampleShift);
-static_assert((kPathAlive | kPathShadowPending | kPathCameraHit | kPathWalkClosest | kPathWalkShadow) < (1u << kPathFlagBits));
+// The walk bits lie above the other flags in the word, and fit a byte apart.
+static_assert((kPathAlive | kPathShadowPending | kPathCameraHit) < (1u << kPathWalkShift) &&
+              ((kWalkClosest | kWalkShadow) << kPathWalkShift) < (1u << kPathFlagBits) && (kWalkClosest | kWalkShadow) < 256u);
 static_assert(kMaxDepthLimit + 1 < (1u << kPathBounceBits) && kMaxSamplesPerPixel <= (1u << (32 - kPathSampleShift)));
 
 }  // namespace vastray::gpu

@@ -78,7 +78,7 @@ public:
                                                      !package.lights.empty(),
                                                      attributes_.uvs && !package.textures.empty(),
                                                      attributes_.uvs && attributes_.tangents,
-                                                     !package.emitters.empty()));
+                                                     !package.emitters.empty(), plan_.stateInHostMemory));
         const bool dma = mode_ == ChunkUploadMode::Dma;
         for (uint32_t s = 0; s < plan_.slots; ++s) {
             auto slot = device_.createBuffer(plan_.slotBytes, dma ? VulkanDevice::MemoryUse::DeviceOnly
@@ -101,19 +101,24 @@ public:
         table_ = std::move(table).value();
         if (topNodeCount_ > 0)
             VASTRAY_TRY(table_.upload(package.topTree.data(), topNodeCount_ * sizeof(KdNode), tables_.topNodes));
+        // Path state in host memory outside the device's heaps is not the device's (PoolPlan; its
+        // memory lies where the read-back memory does: createVulkanChunkBackend).
+        const bool stateCounted = !plan_.stateInHostMemory || plan_.outputInDeviceMemory;
         auto state = device_.createBuffer(stateLayout(plan_.batchRays, attributes_.uvs, attributes_.tangents).totalBytes,
                                           plan_.stateInHostMemory ? VulkanDevice::MemoryUse::Staging
                                                                   : VulkanDevice::MemoryUse::DeviceLocal);
         if (!state) return state.status().withContext("the wave's path state: ");
         state_ = std::move(state).value();
+        if (plan_.stateInHostMemory) {  // the walk's atomics stay on the device (PoolPlan::rayBytes)
+            auto walkBits = device_.createBuffer(walkBitsBytes(plan_.batchRays));
+            if (!walkBits) return walkBits.status().withContext("the wave's walk bits: ");
+            walkBits_ = std::move(walkBits).value();
+        }
         auto output = device_.createBuffer(outputLayout(plan_.batchRays, stepCounterBytes(tables_)).totalBytes,
                                            VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
-        // Path state in host memory outside the device's heaps is not the device's (PoolPlan; its
-        // memory lies where the read-back memory does: createVulkanChunkBackend).
-        const bool stateCounted = !plan_.stateInHostMemory || plan_.outputInDeviceMemory;
-        allocated_ += table_.allocatedBytes() + (stateCounted ? state_.allocatedBytes() : 0) +
+        allocated_ += table_.allocatedBytes() + (stateCounted ? state_.allocatedBytes() : 0) + walkBits_.allocatedBytes() +
                      (plan_.outputInDeviceMemory ? output_.allocatedBytes() : 0);
         for (const GpuBuffer& b : slots_) allocated_ += b.allocatedBytes();
         // The budget less what init allocated (the plan counts whole granules; the device may round
@@ -217,6 +222,8 @@ public:
                           StreamingStats& stats) override {
         WavefrontBuffers b;
         b.table = &table_, b.tables = tables_, b.state = &state_, b.output = &output_;
+        if (walkBits_.size() > 0) b.walkBits = &walkBits_;
+        b.stateInHostMemory = plan_.stateInHostMemory;
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
         b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;
@@ -335,7 +342,7 @@ private:
     uint32_t topNodeCount_, chunkCount_;
     std::unique_ptr<Wavefront> wavefront_;
     std::vector<GpuBuffer> slots_;
-    GpuBuffer table_, state_, output_;
+    GpuBuffer table_, state_, walkBits_, output_;
     std::shared_ptr<const EnvironmentMap> environment_;  // the map in environmentBuffer_
     GpuBuffer environmentBuffer_;
     DeviceVolumes volumes_;  // the render's volumes, in core or paged
@@ -374,12 +381,18 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
                               : 0;
     const uint64_t textures = textureReserveBytes(package, budget);
     const uint64_t reserved = (reservedBytes > 0 ? granules(reservedBytes) : 0) + textures;
-    plan.minimumBytes = slotAllocation + batchBytes(kMinBatchRays) + tableBytes(1) + staging + reserved;
+    // The wave's device bytes: its path state, or with the state in host memory its walk bits (a
+    // byte a path apart on the device) and, where host memory is the device's, the state too.
+    auto waveBytes = [&](uint64_t rays, bool hostState) {
+        return hostState ? granules(walkBitsBytes(rays)) + (outputInDeviceMemory ? batchBytes(rays) : 0) : batchBytes(rays);
+    };
+    const uint64_t minimumWave = std::max(batchBytes(kMinBatchRays), hostStatePaths > 0 ? waveBytes(kMinBatchRays, true) : 0);
+    plan.minimumBytes = slotAllocation + minimumWave + tableBytes(1) + staging + reserved;
     if (budget < plan.minimumBytes)
         return Status::error("--memory-budget " + formatBytes(budget) + " is below this scene's minimum of " +
                              formatBytes(plan.minimumBytes) + " = " + std::to_string(plan.minimumBytes) +
                              " bytes (one chunk slot of " + formatBytes(slotAllocation) + " plus a wave of " +
-                             std::to_string(kMinBatchRays) + " paths of " + formatBytes(batchBytes(kMinBatchRays)) +
+                             std::to_string(kMinBatchRays) + " paths of " + formatBytes(minimumWave) +
                              " plus tables of " + formatBytes(tableBytes(1)) +
                              (staging ? " plus a staging area of " + formatBytes(staging) : std::string()) +
                              (reserved ? " plus the environment map's, volumes' and textures' " + formatBytes(reserved) : std::string()) + ")");
@@ -392,8 +405,8 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     // but at most kMaxOutOfCoreBatchRays paths, beyond which more slots pay more (PERF_NOTES 63).
     // A wave halved until the budget holds it besides one slot (kMinBatchRays at least), and the
     // slots what a wave of `waveBytes` leaves (at least one, never more than the chunks).
-    auto fitWave = [&](uint64_t rays) {
-        while (rays > kMinBatchRays && batchBytes(rays) + slotAllocation + tableBytes(1) > budget) rays /= 2;
+    auto fitWave = [&](uint64_t rays, bool hostState) {
+        while (rays > kMinBatchRays && waveBytes(rays, hostState) + slotAllocation + tableBytes(1) > budget) rays /= 2;
         return std::max<uint64_t>(rays, kMinBatchRays);
     };
     auto slotsBeside = [&](uint64_t waveBytes) {
@@ -404,18 +417,18 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         return std::min<uint64_t>(slots, chunks);
     };
     auto split = [&](double share, uint64_t maxRays, uint64_t& rays, uint64_t& slots) {
-        rays = fitWave(std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, maxRays));
+        rays = fitWave(std::clamp<uint64_t>(uint64_t(double(budget) * share) / kRayBytes, kMinBatchRays, maxRays), false);
         slots = slotsBeside(batchBytes(rays));
     };
     uint64_t rays = 0, slots = 0;
     split(0.25, kMaxBatchRays, rays, slots);
     if (slots < chunks && hostStatePaths > 0) {
         // The state in host memory: where that memory is the device's it counts (and the wave
-        // shrinks to what the budget holds besides a slot); else the slots take the budget.
+        // shrinks to what the budget holds besides a slot); else the slots take the budget but
+        // for the walk bits (a byte a path).
         plan.stateInHostMemory = true;
-        rays = std::clamp<uint64_t>(hostStatePaths, kMinBatchRays, kMaxBatchRays);
-        if (outputInDeviceMemory) rays = fitWave(rays);
-        slots = slotsBeside(outputInDeviceMemory ? batchBytes(rays) : 0);
+        rays = fitWave(std::clamp<uint64_t>(hostStatePaths, kMinBatchRays, kMaxBatchRays), true);
+        slots = slotsBeside(waveBytes(rays, true));
     } else if (slots < chunks) {
         split(waveShareOutOfCore, kMaxOutOfCoreBatchRays, rays, slots);
     }
@@ -423,7 +436,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     while (!plan.stateInHostMemory && rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);
     plan.batchRays = uint32_t(rays);
-    plan.rayBytes = plan.stateInHostMemory && !outputInDeviceMemory ? 0 : batchBytes(rays);
+    plan.rayBytes = waveBytes(rays, plan.stateInHostMemory);
     plan.tableBytes = tableBytes(slots);
     plan.stagingBytes = staging;
     plan.reservedBytes = reserved;
@@ -511,15 +524,13 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
     const ChunkUploadMode mode = resolveUploadMode(device, given.mode);
     ChunkUploadOptions upload = given;
     if (upload.stagingBytes == ChunkUploadOptions::kStagingAuto) upload.stagingBytes = defaultStagingBytes();
-    const bool dmaStagingInDevice =
-        mode == ChunkUploadMode::Dma && device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
-    const uint64_t stagingInDeviceMemory = dmaStagingInDevice ? upload.stagingBytes : 0;
+    const bool stagingInDevice = device.inDeviceMemory(VulkanDevice::MemoryUse::Staging);
+    const uint64_t stagingInDeviceMemory = mode == ChunkUploadMode::Dma && stagingInDevice ? upload.stagingBytes : 0;
     // The plan counts a path state in host memory against the budget where the read-back memory
     // is the device's (PoolPlan::stateInHostMemory); that holds only where the state's memory type
     // (Staging) lies in the same kind of heap, as on every device we know. Elsewhere host memory
     // is not offered.
-    const bool stateLikeOutput =
-        device.inDeviceMemory(VulkanDevice::MemoryUse::Staging) == device.readbackInDeviceMemory();
+    const bool stateLikeOutput = stagingInDevice == device.readbackInDeviceMemory();
     if (pathState.memory == PathStateMemory::Host && !stateLikeOutput)
         return Status::error("the path state cannot lie in host memory on this device: its host-visible "
                              "memory types lie in different heaps (staging and read-back); ask for auto or device");

@@ -150,7 +150,7 @@ uint32_t variantKey(std::span<const uint32_t> constants) {
 
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, uint32_t volumeCodecs, bool lights, bool textures,
-                              bool frames, bool emitters) {
+                              bool frames, bool emitters, bool hostState) {
     bool emission = false, glossy = false, coated = false, mapped = false, normalMapped = false;
     for (const Material& m : materials) {
         emission = emission || m.emissive[0] > 0 || m.emissive[1] > 0 || m.emissive[2] > 0;
@@ -166,7 +166,7 @@ ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientO
     return {ambientOcclusion, sun, emission, normals, colors, environmentMap, volumeCodecs != 0, glossy, lights, coated,
             textures && mapped, textures && frames && normalMapped, emission && emitters,
             (volumeCodecs >> uint32_t(VolumeCodec::Float)) & 1u, (volumeCodecs >> uint32_t(VolumeCodec::Fp16)) & 1u,
-            (volumeCodecs >> uint32_t(VolumeCodec::Fp8)) & 1u};
+            (volumeCodecs >> uint32_t(VolumeCodec::Fp8)) & 1u, hostState};
 }
 
 uint32_t volumeCodecs(std::span<const Volume> volumes) {
@@ -276,7 +276,7 @@ public:
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
                            sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap,
                            volumes ? volumeCodecs(*options_.volumes) : 0u, lights,
-                           b_.textures && b_.uvs, b_.frames, emitters);
+                           b_.textures && b_.uvs, b_.frames, emitters, b_.stateInHostMemory);
         const bool glossy = constants[7] != 0;
         auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();
@@ -289,6 +289,11 @@ public:
         for (uint32_t q = 0; q < kQueueCount; ++q) args.insert(args.end(), {0u, 1u, 1u});
         VASTRAY_TRY(upload(args, b_.tables.queueArgs));
         VASTRAY_TRY(uploadResidency());
+        if (b_.walkBits)  // no path's rays are being walked (a failed render may have left some)
+            record([this](VkCommandBuffer cmd) {
+                vkCmdFillBuffer(cmd, b_.walkBits->handle(), 0, VK_WHOLE_SIZE, 0);
+                barrier(cmd);
+            });
         if (volumes && b_.volumes->paged())  // no path's tracking is parked (a failed render may have left some)
             record([this](VkCommandBuffer cmd) {
                 vkCmdFillBuffer(cmd, b_.volumes->buffer()->handle(), b_.volumes->parkOffset(), b_.volumes->parkBytes(), 0);
@@ -924,6 +929,8 @@ private:
         p.hitPosition = state + s.hitPosition, p.hitNormal = state + s.hitNormal, p.hitIds = state + s.hitIds;
         p.throughput = state + s.throughput, p.radiance = state + s.radiance, p.pendingSun = state + s.pendingSun;
         p.pathInfo = state + s.pathInfo, p.accum = state + s.accum, p.queues = state + s.queues;
+        p.walkBits = b_.walkBits ? b_.walkBits->address() : p.pathInfo;  // apart, or in the path words
+        p.walkBitsApart = b_.walkBits ? 1u : 0u;
         p.groupState = state + s.groupState, p.stream = table + t.stream;
         p.queueCounts = table + t.queueCounts, p.queueArgs = table + t.queueArgs;
         const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));

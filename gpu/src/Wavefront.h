@@ -30,8 +30,10 @@ struct WavefrontBuffers {
     TableLayout tables;
     GpuBuffer* state = nullptr;  // StateLayout for pathCapacity paths
     GpuBuffer* output = nullptr; // OutputLayout for pathCapacity pixels
+    GpuBuffer* walkBits = nullptr;  // the paths' walk bits apart (walkBitsBytes), with the state in host memory; else in the path words
     uint32_t pathCapacity = 0;
     bool outOfCore = false;  // fewer slots than chunks: waves are streamed (Wavefront.cpp, renderStreamed)
+    bool stateInHostMemory = false;  // PoolPlan::stateInHostMemory (the shade variant: ShadeConstants)
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
@@ -43,19 +45,22 @@ struct WavefrontBuffers {
     DeviceTextures* textures = nullptr; // the package's textures (DeviceRenderJob::textures), in core or paged; none without
 };
 
-// wf_shade.comp's specialization constants (constant_id 0-15, in that order): what a render's
+// wf_shade.comp's specialization constants (constant_id 0-16, in that order): what a render's
 // shading needs; kVolumes says the render has volumes (`volumeCodecs`, a bit per VolumeCodec its
 // volumes use: 0 none), kClearcoat that some material has a clear coat, kTextures that some
 // material has maps and the render has textures and the hits' UVs (`textures`), kNormalMaps that
 // some material has a normal map and the hits keep their UV derivatives (`frames`), kEmitters
-// that next-event estimation samples emissive triangles (`emitters`), and the last three
-// (common/Volume.glsl) which of the float, Fp16 and Fp8 leaf reads the volumes need.
-using ShadeConstants = std::array<uint32_t, 16>;
+// that next-event estimation samples emissive triangles (`emitters`), the next three
+// (common/Volume.glsl) which of the float, Fp16 and Fp8 leaf reads the volumes need; constant
+// 16 (kStateInHostMemory) that the path state lies in host memory (`hostState`,
+// PoolPlan::stateInHostMemory: the shading then takes a workgroup's ended paths off each group's
+// count with one atomic).
+using ShadeConstants = std::array<uint32_t, 17>;
 // wf_walk.comp's specialization: the cost AOV, paging, cut-outs (or blends), blends.
 using WalkConstants = std::array<uint32_t, 4>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, uint32_t volumeCodecs, bool lights, bool textures = false,
-                              bool frames = false, bool emitters = false);
+                              bool frames = false, bool emitters = false, bool hostState = false);
 
 // The bits of volumeCodecs for shadeConstants: a bit per VolumeCodec the volumes use.
 uint32_t volumeCodecs(std::span<const Volume> volumes);

@@ -24,6 +24,20 @@ uint shadowRayIndex(WavefrontParams p, uint j) { return p.pathCapacity + j; }
 uint pathWord(uint flags, uint bounce, uint sampleIndex) {
     return flags | (bounce << kPathBounceShift) | (sampleIndex << kPathSampleShift);
 }
+// Path j's walk bits (kWalkClosest, kWalkShadow; WavefrontParams::walkBits): set for the rays
+// generate or shade start (every bit of the path is clear then), cleared by the walk for each ray
+// that finishes, which gets the path's bits before its own was cleared. Where they lie in the
+// path word, the word's writer sets them (walksInWord); apart, startWalksApart does.
+uint walkWord(WavefrontParams p, uint j) { return p.walkBitsApart != 0u ? j >> 2u : 2u * j + 1u; }
+uint walkShift(WavefrontParams p, uint j) { return p.walkBitsApart != 0u ? 8u * (j & 3u) : kPathWalkShift; }
+uint walksInWord(WavefrontParams p, uint bits) { return p.walkBitsApart != 0u ? 0u : bits << kPathWalkShift; }
+void startWalksApart(WavefrontParams p, uint j, uint bits) {
+    if (p.walkBitsApart != 0u && bits != 0u) atomicOr(RwUintArray(p.walkBits).v[walkWord(p, j)], bits << walkShift(p, j));
+}
+uint finishWalk(WavefrontParams p, uint j, uint bit) {
+    const uint shift = walkShift(p, j);
+    return (atomicAnd(RwUintArray(p.walkBits).v[walkWord(p, j)], ~(bit << shift)) >> shift) & (kWalkClosest | kWalkShadow);
+}
 uint pathFlags(uint word) { return word & ((1u << kPathFlagBits) - 1u); }
 uint pathBounce(uint word) { return (word >> kPathBounceShift) & ((1u << kPathBounceBits) - 1u); }
 uint pathSample(uint word) { return word >> kPathSampleShift; }

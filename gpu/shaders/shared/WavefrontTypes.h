@@ -25,8 +25,14 @@ const uint kPathSampleShift = 16u;
 const uint kPathAlive = 1u;          // has a closest-hit ray to trace at the next stream
 const uint kPathShadowPending = 2u;  // has a shadow ray in the current stream
 const uint kPathCameraHit = 4u;      // its camera ray hit geometry (alpha)
-const uint kPathWalkClosest = 8u;    // its closest-hit ray is still being walked
-const uint kPathWalkShadow = 16u;    // its shadow ray is still being walked
+// A path's walk bits: its rays still being walked (the walk clears its ray's bit with an atomic,
+// and the last of a path's rays to finish queues the path for shading). They lie in its word
+// (kPathWalkShift up) where the path state lies in device memory; with the state in host memory
+// in a byte a path of their own on the device, so that those atomics do not cross the bus
+// (WavefrontParams::walkBits, walkBitsApart).
+const uint kWalkClosest = 1u;  // its closest-hit ray
+const uint kWalkShadow = 2u;   // its shadow ray
+const uint kPathWalkShift = 3u;
 
 // Walk state flags (rayState .x), besides kHitFound and kHitFrontFacing.
 const uint kRayPending = 4u;      // still to be walked: started, or parked at a cell whose chunk was not resident
@@ -215,6 +221,9 @@ struct WavefrontParams {
                            // environment map's), added if the shadow ray is unblocked
     uint64_t pathInfo;     // uvec2 per path: pixel, and its word: flags, the bounce of its closest-hit
                            // ray and its sample (kPathFlagBits, kPathBounceShift, kPathSampleShift)
+    uint64_t walkBits;     // the paths' walk bits (kWalkClosest, kWalkShadow): with walkBitsApart a
+                           // byte a path, four paths a word, in a buffer of their own on the device
+                           // (the state lies in host memory); else pathInfo (each path's word)
     uint64_t queues;       // two ray queues of 2 * pathCapacity ray indices each (queue q at
                            // queues + q * 8 * pathCapacity bytes): the rays a walk pass walks and
                            // the rays the next one walks; then the shade queue (kShadeQueue) of
@@ -301,7 +310,7 @@ struct WavefrontParams {
     uint emitterCount;      // sampled emissive triangles (0: none)
     float emitterPick;      // the probability that next-event estimation picks one
                             // (emitterPickProbability; 0: never)
-    uint padding;
+    uint walkBitsApart;     // 1: walkBits is a byte a path of its own; 0: the walk bits lie in the path words
 };
 
 // Streamed waves (out of core): the open tiles, oldest first, from which groups take pixels. The
@@ -343,7 +352,7 @@ static_assert(sizeof(WavefrontMaterial) == 64 + 4 * 4 + 4 * 6 * 4 + 4 * 4 + 2 * 
               offsetof(WavefrontMaterial, baseColorMap) == 64 && offsetof(WavefrontMaterial, clearcoatMap) == 192);
 static_assert(sizeof(WavefrontLight) == 64);
 static_assert(sizeof(WavefrontEmitter) == 80);
-static_assert(offsetof(WavefrontParams, eyeX) == 47 * 8 && sizeof(WavefrontParams) % 8 == 0);
+static_assert(offsetof(WavefrontParams, eyeX) == 48 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
 static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
