@@ -222,8 +222,7 @@ public:
                           StreamingStats& stats) override {
         WavefrontBuffers b;
         b.table = &table_, b.tables = tables_, b.state = &state_, b.output = &output_;
-        if (walkBits_.size() > 0) b.walkBits = &walkBits_;
-        b.stateInHostMemory = plan_.stateInHostMemory;
+        if (plan_.stateInHostMemory) b.walkBits = &walkBits_;
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
         b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;

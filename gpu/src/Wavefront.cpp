@@ -276,7 +276,7 @@ public:
             shadeConstants(job_.materials, options_.integrator == IntegratorKind::AmbientOcclusion,
                            sun[0] > 0 || sun[1] > 0 || sun[2] > 0, b_.normals, b_.colors, environmentMap,
                            volumes ? volumeCodecs(*options_.volumes) : 0u, lights,
-                           b_.textures && b_.uvs, b_.frames, emitters, b_.stateInHostMemory);
+                           b_.textures && b_.uvs, b_.frames, emitters, b_.walkBits != nullptr);
         const bool glossy = constants[7] != 0;
         auto shade = w_.variant(false, constants, stats_);
         if (!shade) return shade.status();

@@ -30,10 +30,12 @@ struct WavefrontBuffers {
     TableLayout tables;
     GpuBuffer* state = nullptr;  // StateLayout for pathCapacity paths
     GpuBuffer* output = nullptr; // OutputLayout for pathCapacity pixels
-    GpuBuffer* walkBits = nullptr;  // the paths' walk bits apart (walkBitsBytes), with the state in host memory; else in the path words
+    // The paths' walk bits apart (walkBitsBytes): set exactly when the path state lies in host
+    // memory (PoolPlan::stateInHostMemory, which also picks the shade variant: ShadeConstants); else
+    // they lie in the path words.
+    GpuBuffer* walkBits = nullptr;
     uint32_t pathCapacity = 0;
     bool outOfCore = false;  // fewer slots than chunks: waves are streamed (Wavefront.cpp, renderStreamed)
-    bool stateInHostMemory = false;  // PoolPlan::stateInHostMemory (the shade variant: ShadeConstants)
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
