@@ -190,11 +190,9 @@ std::string makePackage(const Args& a, double* importSeconds) {
     if (!kind) fail(kind.message());
     g.kind = *kind;
     g.triangles = a.triangles;
-    // The same generator and options: the same positions and faces as the package's.
-    if (!a.writePly.empty())
-        if (Status s = generateToPly(g, a.writePly); !s) fail("--write-ply " + a.writePly + ": " + s.message());
-    auto mesh = generateMesh(g);
-    if (!mesh) fail(mesh.message());
+    // With --write-ply the same pass writes the PLY: the same positions and faces as the package's.
+    auto mesh = generateMesh(g, a.writePly);
+    if (!mesh) fail((a.writePly.empty() ? std::string() : "--write-ply " + a.writePly + ": ") + mesh.message());
     if (a.attributes) {
         // What a scan with normals and colours costs: a normal leaning from each vertex towards
         // +Y (radial from below the scene), a colour from its position.

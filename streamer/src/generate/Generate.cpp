@@ -103,9 +103,12 @@ public:
 
 }  // namespace
 
-Result<TriangleMesh> generateMesh(const GenerateOptions& options) {
+Result<TriangleMesh> generateMesh(const GenerateOptions& options, const std::string& alsoPly) {
     MeshCollector collector;
-    VASTRAY_TRY(generate(options, collector));
+    if (alsoPly.empty())
+        VASTRAY_TRY(generate(options, collector));
+    else
+        VASTRAY_TRY(generateToPly(options, alsoPly, &collector));
     return std::move(collector.mesh);
 }
 

@@ -124,12 +124,38 @@ namespace {
 
 bool hasPlyExtension(const std::string& path) { return lowerExtension(path) == ".ply"; }
 
+// Passes everything to two sinks, the first one first; stops at the first error.
+class TeeSink final : public MeshSink {
+public:
+    TeeSink(MeshSink& first, MeshSink& second) : first_(first), second_(second) {}
+    Status begin(uint64_t vertices, uint64_t faces) override {
+        VASTRAY_TRY(first_.begin(vertices, faces));
+        return second_.begin(vertices, faces);
+    }
+    Status vertex(Vec3f p) override {
+        VASTRAY_TRY(first_.vertex(p));
+        return second_.vertex(p);
+    }
+    Status face(uint32_t a, uint32_t b, uint32_t c) override {
+        VASTRAY_TRY(first_.face(a, b, c));
+        return second_.face(a, b, c);
+    }
+    Status end() override {
+        VASTRAY_TRY(first_.end());
+        return second_.end();
+    }
+
+private:
+    MeshSink& first_;
+    MeshSink& second_;
+};
+
 }  // namespace
 }  // namespace vastray::gen
 
 namespace vastray {
 
-Status generateToPly(const GenerateOptions& options, const std::string& path) {
+Status generateToPly(const GenerateOptions& options, const std::string& path, MeshSink* also) {
     if (!gen::hasPlyExtension(path)) {
         return Status::error(path + ": generate writes PLY only; the output path must end in .ply");
     }
@@ -138,7 +164,9 @@ Status generateToPly(const GenerateOptions& options, const std::string& path) {
                           " seed=" + std::to_string(options.seed) +
                           " triangles=" + std::to_string(options.triangles);
     gen::PlyMeshSink sink(path, comment);
-    return generate(options, sink);
+    if (!also) return generate(options, sink);
+    gen::TeeSink tee(sink, *also);
+    return generate(options, tee);
 }
 
 }  // namespace vastray

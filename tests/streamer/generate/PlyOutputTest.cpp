@@ -74,6 +74,27 @@ TEST(PlyOutput, LargerThanTheBufferIsWrittenCompletely) {
     fs::remove(path);
 }
 
+// stream_render_bench --write-ply: one generation gives both the in-core mesh and the PLY.
+TEST(PlyOutput, MeshAndPlyFromOnePassMatchEachOnItsOwn) {
+    const GenerateOptions options{GeneratorKind::City, 2000, 7};
+    const fs::path alone = tmpDir() / "alone.ply", both = tmpDir() / "both.ply";
+    ASSERT_TRUE(generateToPly(options, alone.string()));
+    Result<TriangleMesh> plain = generateMesh(options);
+    Result<TriangleMesh> teed = generateMesh(options, both.string());
+    ASSERT_TRUE(plain && teed) << teed.message();
+    EXPECT_EQ(teed->positions, plain->positions);
+    EXPECT_EQ(teed->indices, plain->indices);
+    EXPECT_EQ(teed->materials.size(), plain->materials.size());
+    EXPECT_EQ(readAll(both), readAll(alone));
+    // A bad PLY path fails the mesh too, naming the path, and leaves no file.
+    const std::string bad = (tmpDir() / "mesh.obj").string();
+    Result<TriangleMesh> refused = generateMesh(options, bad);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find(bad), std::string::npos) << refused.message();
+    EXPECT_FALSE(fs::exists(bad));
+    fs::remove(alone), fs::remove(both);
+}
+
 TEST(PlyOutput, WrongExtensionIsAnErrorNamingThePath) {
     const std::string path = (tmpDir() / "mesh.obj").string();
     Status status = generateToPly({}, path);

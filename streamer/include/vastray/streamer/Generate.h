@@ -43,11 +43,13 @@ Result<GeneratedCounts> generatedCounts(const GenerateOptions& options);
 Status generate(const GenerateOptions& options, MeshSink& sink);
 
 // The generated scene as an in-core mesh with one default material (tests, benchmarks: it
-// holds every triangle in memory, unlike generateToPly).
-Result<TriangleMesh> generateMesh(const GenerateOptions& options);
+// holds every triangle in memory, unlike generateToPly). With `alsoPly`, the same pass writes it
+// to that PLY file too, as generateToPly does.
+Result<TriangleMesh> generateMesh(const GenerateOptions& options, const std::string& alsoPly = {});
 
 // Writes a binary little-endian PLY (vertex x,y,z float; face vertex_indices uchar/uint),
-// streaming, to a temporary name renamed on success.
-Status generateToPly(const GenerateOptions& options, const std::string& path);
+// streaming, to a temporary name renamed on success. With `also`, every vertex and face goes
+// to that sink too, in the same order.
+Status generateToPly(const GenerateOptions& options, const std::string& path, MeshSink* also = nullptr);
 
 }  // namespace vastray
