@@ -28,6 +28,8 @@
 //                       [--staging-bytes 4GiB]  (--upload dma: the pinned staging area's size; default:
 //                                                a sixteenth of the machine's memory, within 1-16 GiB)
 //                       [--dma-batch 0]  (--upload dma: bytes of chunk copies per transfer submission; 0: per chunk)
+//   stream_render_bench --kernel-stats [--device I]  (only: the driver's registers and sizes of the wavefront's
+//                                                     kernels, gpu/KernelStatistics.h; no scene)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
@@ -48,6 +50,7 @@
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
+#include "vastray/gpu/KernelStatistics.h"
 #include "vastray/gpu/VulkanDevice.h"
 #include "vastray/streamer/Generate.h"
 #include "vastray/streamer/PackageBuilder.h"
@@ -73,6 +76,7 @@ struct Args {
     bool embree = true;         // also render the frame with the Embree reference on the host's cores
     bool attributes = false;    // --attributes: the generated mesh gets per-vertex normals and colours
     std::string writePly;       // --write-ply: the generated mesh as binary PLY too
+    bool kernelStats = false;   // --kernel-stats: print the kernels' driver statistics and stop
     Vec3f eye, target;
     std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
@@ -129,6 +133,7 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--keep") a.keep = true;
         else if (flag == "--resident-only") a.residentOnly = true;
         else if (flag == "--steady-out-of-core") a.steadyOutOfCore = true;
+        else if (flag == "--kernel-stats") a.kernelStats = true;
         else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--attributes") a.attributes = true;
@@ -228,6 +233,16 @@ struct Row {
 
 int main(int argc, char** argv) {
     const Args args = parseArgs(argc, argv);
+    if (args.kernelStats) {
+        gpu::VulkanDeviceOptions options;
+        options.deviceIndex = args.device, options.kernelStatistics = true;
+        auto device = gpu::VulkanDevice::create(options);
+        if (!device) fail(device.message());
+        auto text = gpu::describeKernels(**device);
+        if (!text) fail(text.message());
+        std::fputs(text->c_str(), stdout);
+        return 0;
+    }
     double importSeconds = 0;
     const std::string path = args.package.empty() ? makePackage(args, &importSeconds) : args.package;
     auto reader = PackageReader::open(path);

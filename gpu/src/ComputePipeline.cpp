@@ -39,9 +39,54 @@ Status ComputePipeline::init(std::span<const uint32_t> spirv, std::span<const ui
                                    specialization.data()};
     if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;
     info.layout = layout_;
+    if (device_.kernelStatistics()) info.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
     const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(device, module, nullptr);  // the pipeline keeps what it needs
     return vkStatus(r, "vkCreateComputePipelines");
+}
+
+Result<std::string> ComputePipeline::statistics() const {
+    if (!device_.kernelStatistics())
+        return Status::error("the device keeps no kernel statistics (VK_KHR_pipeline_executable_properties "
+                             "not offered or not asked for)");
+    const VkDevice device = device_.handle();
+    auto properties = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
+        vkGetDeviceProcAddr(device, "vkGetPipelineExecutablePropertiesKHR"));
+    auto statistics = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
+        vkGetDeviceProcAddr(device, "vkGetPipelineExecutableStatisticsKHR"));
+    if (!properties || !statistics)
+        return Status::error("the driver has no vkGetPipelineExecutableStatisticsKHR");
+    auto pipelineInfo = vkStruct<VkPipelineInfoKHR>(VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR);
+    pipelineInfo.pipeline = pipeline_;
+    uint32_t executables = 0;
+    VASTRAY_VK_TRY(properties(device, &pipelineInfo, &executables, nullptr));
+    std::string text;
+    for (uint32_t e = 0; e < executables; ++e) {
+        auto executable = vkStruct<VkPipelineExecutableInfoKHR>(VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR);
+        executable.pipeline = pipeline_, executable.executableIndex = e;
+        uint32_t count = 0;
+        VASTRAY_VK_TRY(statistics(device, &executable, &count, nullptr));
+        std::vector<VkPipelineExecutableStatisticKHR> values(
+            count, vkStruct<VkPipelineExecutableStatisticKHR>(VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR));
+        VASTRAY_VK_TRY(statistics(device, &executable, &count, values.data()));
+        for (const VkPipelineExecutableStatisticKHR& v : values) {
+            text += (text.empty() ? "" : ", ") + std::string(v.name) + "=";
+            switch (v.format) {
+                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR:
+                    text += v.value.b32 ? "true" : "false";
+                    break;
+                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR:
+                    text += std::to_string(v.value.i64);
+                    break;
+                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
+                    text += std::to_string(v.value.u64);
+                    break;
+                default:
+                    text += std::to_string(v.value.f64);
+            }
+        }
+    }
+    return text;
 }
 
 ComputePipeline::~ComputePipeline() {

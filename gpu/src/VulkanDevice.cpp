@@ -154,10 +154,22 @@ Status VulkanDevice::init(const VulkanDeviceOptions& options) {
     timestampPeriodNs_ = props.limits.timestampPeriod;
     timestampValidBits_ = families[computeFamily_].timestampValidBits;
     transferTimestampValidBits_ = families[transferFamily_].timestampValidBits;
-    return createLogicalDevice(physical_);
+    return createLogicalDevice(physical_, options.kernelStatistics);
 }
 
-Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical) {
+// Whether the device offers extension `name`.
+static bool hasDeviceExtension(VkPhysicalDevice physical, const char* name) {
+    uint32_t count = 0;
+    if (vkEnumerateDeviceExtensionProperties(physical, nullptr, &count, nullptr) != VK_SUCCESS) return false;
+    std::vector<VkExtensionProperties> extensions(count);
+    if (vkEnumerateDeviceExtensionProperties(physical, nullptr, &count, extensions.data()) != VK_SUCCESS)
+        return false;
+    for (const VkExtensionProperties& e : extensions)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
+
+Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, bool kernelStatistics) {
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfos[2];
     for (uint32_t i = 0; i < 2; ++i) {
@@ -168,9 +180,15 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical) {
     }
     auto supported12 =
         vkStruct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    auto supportedStatistics = vkStruct<VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR>(
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR);
+    const char* statisticsExtension = VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME;
+    const bool statisticsOffered = kernelStatistics && hasDeviceExtension(physical, statisticsExtension);
+    if (statisticsOffered) supported12.pNext = &supportedStatistics;
     auto supported = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
     supported.pNext = &supported12;
     vkGetPhysicalDeviceFeatures2(physical, &supported);
+    kernelStatistics_ = statisticsOffered && supportedStatistics.pipelineExecutableInfo == VK_TRUE;
     // Host query resets time the transfer queue's copies (vkCmdResetQueryPool is not a
     // transfer-queue command); without them the copies go untimed.
     hostQueryReset_ = supported12.hostQueryReset == VK_TRUE;
@@ -181,8 +199,14 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical) {
     auto features = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
     features.pNext = &f12;
     features.features.shaderInt64 = VK_TRUE;
+    auto statistics = vkStruct<VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR>(
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR);
+    statistics.pipelineExecutableInfo = VK_TRUE;
+    if (kernelStatistics_) f12.pNext = &statistics;
     auto info = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
     info.pNext = &features;
+    info.enabledExtensionCount = kernelStatistics_ ? 1 : 0;
+    info.ppEnabledExtensionNames = kernelStatistics_ ? &statisticsExtension : nullptr;
     info.queueCreateInfoCount = separateTransferQueue() ? 2 : 1;
     info.pQueueCreateInfos = queueInfos;
     VASTRAY_VK_TRY(vkCreateDevice(physical, &info, nullptr, &device_));

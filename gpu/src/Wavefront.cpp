@@ -18,6 +18,7 @@
 #include "vastray/core/PathShading.h"
 #include "vastray/core/VecMath.h"
 #include "ChunkUploader.h"
+#include "vastray/gpu/KernelStatistics.h"
 #include "vastray/gpu/TileGrid.h"
 
 namespace vastray::gpu {
@@ -173,6 +174,42 @@ uint32_t volumeCodecs(std::span<const Volume> volumes) {
     uint32_t codecs = 0;
     for (const Volume& v : volumes) codecs |= 1u << uint32_t(deviceVolumeCodec(v));
     return codecs;
+}
+
+Result<std::string> describeKernels(VulkanDevice& device) {
+    if (!device.kernelStatistics())
+        return device.info().name +
+               ": the driver offers no kernel statistics (VK_KHR_pipeline_executable_properties) or the device was"
+               " not asked for them\n";
+    struct Kernel {
+        const char* name;
+        std::span<const uint32_t> spirv;
+        std::vector<uint32_t> constants;
+    };
+    // The shade the backend guesses for a scene of default materials under the default sun.
+    const ShadeConstants shade =
+        shadeConstants({}, false, true, false, false, false, 0, false, false, false, false, false);
+    ShadeConstants hostShade = shade;
+    hostShade.back() = 1u;  // kStateInHostMemory
+    const Kernel kernels[] = {
+        {"wf_walk in core", kWalkSpirv, {0u, 0u, 0u, 0u}},
+        {"wf_walk out of core", kWalkSpirv, {0u, 1u, 0u, 0u}},
+        {"wf_walk out of core, cost AOV", kWalkSpirv, {1u, 1u, 0u, 0u}},
+        {"wf_shade (sun, Lambertian)", kShadeSpirv, {shade.begin(), shade.end()}},
+        {"wf_shade (sun, Lambertian), state in host memory", kShadeSpirv, {hostShade.begin(), hostShade.end()}},
+        {"wf_generate", kGenerateSpirv, {}},
+        {"wf_accumulate", kAccumulateSpirv, {}},
+        {"wf_aov", kAovSpirv, {}},
+    };
+    std::string text = device.info().name + "\n";
+    for (const Kernel& k : kernels) {
+        auto pipeline = ComputePipeline::create(device, k.spirv, sizeof(WavefrontPush), k.constants);
+        if (!pipeline) return pipeline.status().withContext(std::string(k.name) + ": ");
+        auto figures = (*pipeline)->statistics();
+        if (!figures) return figures.status().withContext(std::string(k.name) + ": ");
+        text += std::string(k.name) + ": " + *figures + "\n";
+    }
+    return text;
 }
 
 std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 
 #include "vastray/core/Result.h"
 #include "vastray/gpu/VulkanDevice.h"
@@ -28,6 +29,10 @@ public:
     void record(VkCommandBuffer cmd, const void* pushConstants, uint32_t groupCount) const;
     // The same, with the workgroup counts read by the device from a VkDispatchIndirectCommand.
     void recordIndirect(VkCommandBuffer cmd, const void* pushConstants, VkBuffer args, uint64_t offset) const;
+    // The driver's statistics of the compiled kernel ("Register Count=96, Binary Size=43520, ..." as
+    // VK_KHR_pipeline_executable_properties names them), when the device keeps them
+    // (VulkanDevice::kernelStatistics); else an error saying so.
+    Result<std::string> statistics() const;
 
 private:
     explicit ComputePipeline(VulkanDevice& device) : device_(device) {}

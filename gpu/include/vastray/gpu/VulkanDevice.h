@@ -22,6 +22,10 @@ struct VulkanDeviceOptions {
     // A submission the device has not finished after this long fails, naming a hung device,
     // and the device takes no more work (its queue may still hold the submission).
     double submitTimeoutSeconds = 600;
+    // Asks the driver to keep each kernel's statistics (registers a thread, binary and memory sizes:
+    // VK_KHR_pipeline_executable_properties) where the device offers them: ComputePipeline::statistics,
+    // gpu/KernelStatistics.h. Off, pipelines are created as usual.
+    bool kernelStatistics = false;
 };
 
 struct VulkanDeviceInfo {
@@ -140,6 +144,8 @@ public:
     bool separateTransferQueue() const { return transferFamily_ != computeFamily_; }
     uint32_t transferTimestampValidBits() const { return transferTimestampValidBits_; }
     bool hostQueryReset() const { return hostQueryReset_; }  // vkResetQueryPool may be called
+    // VulkanDeviceOptions::kernelStatistics was asked for and the device offers them.
+    bool kernelStatistics() const { return kernelStatistics_; }
     double submitTimeoutSeconds() const { return submitTimeoutSeconds_; }
     // Marks the device failed (a lost device, a timeout seen elsewhere): later submits fail.
     void fail(const std::string& message) {
@@ -154,7 +160,7 @@ private:
     friend class GpuBuffer;
     VulkanDevice() = default;
     Status init(const VulkanDeviceOptions& options);
-    Status createLogicalDevice(VkPhysicalDevice physical);
+    Status createLogicalDevice(VkPhysicalDevice physical, bool kernelStatistics);
     Result<uint32_t> findMemoryType(uint32_t typeBits, MemoryUse use) const;
     void freeBuffer(GpuBuffer& buffer);
 
@@ -167,6 +173,7 @@ private:
     uint32_t computeFamily_ = 0, transferFamily_ = 0;
     uint32_t transferTimestampValidBits_ = 0;
     bool hostQueryReset_ = false;
+    bool kernelStatistics_ = false;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkCommandBuffer pending_ = VK_NULL_HANDLE;  // submitted, not yet waited for
