@@ -141,6 +141,10 @@ PendingPipeline createAsync(VulkanDevice& device, std::span<const uint32_t> spir
 // The texture a material's map names (kNoTexture: none).
 uint32_t materialMap(const Material& m, TextureSlot slot) { return m.textures.slots[uint32_t(slot)].texture; }
 
+// The walk variants a render of a scene without cut-outs and without the cost AOV needs: in core
+// and out of core (kPaging).
+constexpr WalkConstants kWalkInCore{0u, 0u, 0u, 0u}, kWalkOutOfCore{0u, 1u, 0u, 0u};
+
 uint32_t variantKey(std::span<const uint32_t> constants) {
     uint32_t key = 0, bit = 0;
     for (uint32_t c : constants) key |= (c ? 1u : 0u) << bit++;
@@ -187,14 +191,14 @@ Result<std::string> describeKernels(VulkanDevice& device) {
         std::vector<uint32_t> constants;
     };
     // The shade the backend guesses for a scene of default materials under the default sun.
-    const ShadeConstants shade =
-        shadeConstants({}, false, true, false, false, false, 0, false, false, false, false, false);
-    ShadeConstants hostShade = shade;
-    hostShade.back() = 1u;  // kStateInHostMemory
+    auto defaultShade = [](bool hostState) {
+        return shadeConstants({}, false, true, false, false, false, 0, false, false, false, false, hostState);
+    };
+    const ShadeConstants shade = defaultShade(false), hostShade = defaultShade(true);
     const Kernel kernels[] = {
-        {"wf_walk in core", kWalkSpirv, {0u, 0u, 0u, 0u}},
-        {"wf_walk out of core", kWalkSpirv, {0u, 1u, 0u, 0u}},
-        {"wf_walk out of core, cost AOV", kWalkSpirv, {1u, 1u, 0u, 0u}},
+        {"wf_walk in core", kWalkSpirv, {kWalkInCore.begin(), kWalkInCore.end()}},
+        {"wf_walk out of core", kWalkSpirv, {kWalkOutOfCore.begin(), kWalkOutOfCore.end()}},
+        {"wf_walk out of core, cost AOV", kWalkSpirv, {1u, 1u, 0u, 0u}},  // kWalkOutOfCore and kCountCost
         {"wf_shade (sun, Lambertian)", kShadeSpirv, {shade.begin(), shade.end()}},
         {"wf_shade (sun, Lambertian), state in host memory", kShadeSpirv, {hostShade.begin(), hostShade.end()}},
         {"wf_generate", kGenerateSpirv, {}},
@@ -219,8 +223,8 @@ std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, c
     w->pendingFixed_[0] = createAsync(device, kGenerateSpirv);
     w->pendingFixed_[1] = createAsync(device, kAccumulateSpirv);
     w->pendingFixed_[2] = createAsync(device, kAovSpirv);
-    w->startWalkVariants({{0u, 1u, 0u, 0u}});
-    if (inCore) w->startWalkVariants({{0u, 0u, 0u, 0u}});
+    w->startWalkVariants({kWalkOutOfCore});
+    if (inCore) w->startWalkVariants({kWalkInCore});
     return w;
 }
 
