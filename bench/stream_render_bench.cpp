@@ -398,7 +398,7 @@ int main(int argc, char** argv) {
     md << ".\n\n";
     md << "| render | budget | slots / wave paths (host: state in host memory) | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
-          "host→device B | device→host B | decode s | upload s | touched | loads | loads/touched | "
+          "host→device B | device→host B | decode s (waited) | upload s | touched | loads | loads/touched | "
           "per-wave loads/touched | time vs in core |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
@@ -418,7 +418,7 @@ int main(int argc, char** argv) {
         };
         char line[1024];
         std::snprintf(line, sizeof line,
-                      "| %s | %s | %u / %u%s | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f | %.3f "
+                      "| %s | %s | %u / %u%s | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f (%.3f) | %.3f "
                       "| %llu | %llu | %.2f | %.3f | %s |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, s.wavePaths,
                       s.pathStateHostBytes > 0 ? " host" : "", r.render.renderSeconds,
@@ -427,7 +427,7 @@ int main(int argc, char** argv) {
                       s.kernelSeconds[StreamingStats::kKernelGenerate] + s.kernelSeconds[StreamingStats::kKernelAccumulate] +
                           s.kernelSeconds[StreamingStats::kKernelAov], (unsigned long long)s.submits, (unsigned long long)s.walkPasses,
                       (unsigned long long)s.hostToDeviceBytes, (unsigned long long)s.deviceToHostBytes,
-                      s.decodeSeconds, s.uploadSeconds,
+                      s.decodeSeconds, s.decodeWaitSeconds, s.uploadSeconds,
                       (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,
                       s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
                       s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,

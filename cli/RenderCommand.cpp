@@ -398,11 +398,11 @@ void printStats(const RenderStats& s, const RenderOptions& o, const StreamingSta
                 (unsigned long long)st->chunkLoads, (unsigned long long)st->decodes);
     std::printf("  bytes                %s read, %s uploaded\n", formatBytes(st->bytesRead).c_str(),
                 formatBytes(st->bytesUploaded).c_str());
-    std::printf("  seconds              device %.3f (kernels: walk %.3f, shade %.3f), decode %.3f (workers), upload %.3f, "
+    std::printf("  seconds              device %.3f (kernels: walk %.3f, shade %.3f), decode %.3f (workers; waited %.3f), upload %.3f, "
                 "pipelines %.3f\n",
                 st->deviceSeconds, st->kernelSeconds[StreamingStats::kKernelWalk],
-                st->kernelSeconds[StreamingStats::kKernelShade], st->decodeSeconds, st->uploadSeconds,
-                st->pipelineSeconds);
+                st->kernelSeconds[StreamingStats::kKernelShade], st->decodeSeconds, st->decodeWaitSeconds,
+                st->uploadSeconds, st->pipelineSeconds);
     std::printf("  device               %llu submits, %llu walk passes, %s up, %s down (besides chunks)\n",
                 (unsigned long long)st->submits, (unsigned long long)st->walkPasses,
                 formatBytes(st->hostToDeviceBytes).c_str(), formatBytes(st->deviceToHostBytes).c_str());
@@ -454,6 +454,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["bytes_read"] = st->bytesRead;
         j["bytes_uploaded"] = st->bytesUploaded;
         j["decode_seconds"] = st->decodeSeconds;
+        j["decode_wait_seconds"] = st->decodeWaitSeconds;
         j["upload_seconds"] = st->uploadSeconds;
         j["device_seconds"] = st->deviceSeconds;
         j["walked_rays"] = st->walkedRays;

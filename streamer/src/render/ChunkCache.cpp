@@ -113,8 +113,11 @@ Result<ChunkHandle> ChunkCache::get(uint32_t id) {
         std::lock_guard<std::mutex> lock(mutex_);
         decoded = startLocked(id, false);
     }
+    const bool waits = decoded.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+    const auto start = std::chrono::steady_clock::now();
     Result<ChunkHandle> out = decoded.get();
     std::lock_guard<std::mutex> lock(mutex_);
+    if (waits) waitSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!out) {
         entries_.erase(id);  // a failed read is not cached: the next get reports it again
         return out;
@@ -151,6 +154,10 @@ uint64_t ChunkCache::decodes() const {
 double ChunkCache::decodeSeconds() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return decodeSeconds_;
+}
+double ChunkCache::waitSeconds() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return waitSeconds_;
 }
 
 }  // namespace vastray

@@ -45,6 +45,8 @@ public:
     uint64_t bytesRead() const;
     uint64_t decodes() const;
     double decodeSeconds() const;
+    // Time get() spent waiting for decodes (the render thread's: a cold start's loads).
+    double waitSeconds() const;
 
 private:
     using Decoded = std::shared_future<Result<ChunkHandle>>;
@@ -73,6 +75,7 @@ private:
     uint64_t bytesRead_ = 0;
     uint64_t decodes_ = 0;
     double decodeSeconds_ = 0;
+    double waitSeconds_ = 0;
 };
 
 }  // namespace vastray

@@ -146,7 +146,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     StreamingStats before = st.totals;
     if (st.rendered) {
         before.bytesRead = st.cache->bytesRead(), before.decodes = st.cache->decodes();
-        before.decodeSeconds = st.cache->decodeSeconds();
+        before.decodeSeconds = st.cache->decodeSeconds(), before.decodeWaitSeconds = st.cache->waitSeconds();
     }
     before.uploadSeconds = st.backend->uploadSeconds();
     before.deviceSeconds = st.backend->deviceSeconds(), before.bytesUploaded = st.backend->bytesUploaded();
@@ -217,6 +217,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.bytesRead = st.cache->bytesRead() - before.bytesRead;
         s.decodes = st.cache->decodes() - before.decodes;
         s.decodeSeconds = st.cache->decodeSeconds() - before.decodeSeconds;
+        s.decodeWaitSeconds = st.cache->waitSeconds() - before.decodeWaitSeconds;
         s.bytesUploaded = st.backend->bytesUploaded() - before.bytesUploaded;
         s.uploadSeconds = st.backend->uploadSeconds() - before.uploadSeconds;
         s.deviceSeconds = st.backend->deviceSeconds() - before.deviceSeconds;

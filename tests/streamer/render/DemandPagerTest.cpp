@@ -184,5 +184,18 @@ TEST_F(DemandPagerTest, BackgroundPrefetchDecodesEachChunkOnceAndGetStillServes)
     EXPECT_EQ(cache.decodes(), chunks);
 }
 
+// The time get() waits for a decode is counted (a render's decode_wait_seconds); a chunk already
+// decoded costs none.
+TEST_F(DemandPagerTest, CacheCountsTheTimeGetWaitsForADecode) {
+    ChunkCache cache(*reader_, 1ull << 30, 1);
+    EXPECT_EQ(cache.waitSeconds(), 0.0);
+    ASSERT_TRUE(cache.get(0));  // nobody asked before: decoded now, waited for
+    const double waited = cache.waitSeconds();
+    EXPECT_GT(waited, 0.0);
+    EXPECT_LE(waited, cache.decodeSeconds() + 1.0);
+    ASSERT_TRUE(cache.get(0));  // cached
+    EXPECT_EQ(cache.waitSeconds(), waited);
+}
+
 }  // namespace
 }  // namespace vastray::test

@@ -178,6 +178,7 @@ struct StreamingStats {
     uint64_t bytesUploaded = 0;     // bytes_uploaded
     uint64_t decodes = 0;           // chunks decoded (a host-cache hit decodes nothing)
     double decodeSeconds = 0;       // decode_seconds: read + decode time summed over workers
+    double decodeWaitSeconds = 0;   // decode_wait_seconds: the render thread waiting for decodes to load
     double uploadSeconds = 0;       // upload_seconds
     double deviceSeconds = 0;       // device_seconds: waiting for the device's submissions
     uint64_t peakDeviceBytes = 0;   // peak_device_bytes
