@@ -28,7 +28,7 @@ TEST(KernelStatistics, EveryKernelOrWhyNone) {
     }
 }
 
-TEST(KernelStatistics, NotAskedForIsAnErrorNotAFigure) {
+TEST(KernelStatistics, NotAskedForSaysSoInsteadOfFigures) {
     VASTRAY_REQUIRE_DEVICE(device);  // the tests' shared device is made without kernelStatistics
     ASSERT_FALSE(device.kernelStatistics());
     auto text = describeKernels(device);
