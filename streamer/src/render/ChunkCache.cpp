@@ -108,13 +108,15 @@ uint64_t ChunkCache::unusedBytes() const {
 Result<ChunkHandle> ChunkCache::get(uint32_t id) {
     if (id >= reader_.info().chunks.size())
         return Status::error(reader_.path() + ": chunk " + std::to_string(id) + " does not exist");
+    const auto start = std::chrono::steady_clock::now();
     Decoded decoded;
+    bool waits = false;  // the chunk was not decoded when asked for: the time until it is counts
     {
         std::lock_guard<std::mutex> lock(mutex_);
+        auto it = entries_.find(id);
+        waits = it == entries_.end() || it->second.decoded.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
         decoded = startLocked(id, false);
     }
-    const bool waits = decoded.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
-    const auto start = std::chrono::steady_clock::now();
     Result<ChunkHandle> out = decoded.get();
     std::lock_guard<std::mutex> lock(mutex_);
     if (waits) waitSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -45,7 +45,8 @@ public:
     uint64_t bytesRead() const;
     uint64_t decodes() const;
     double decodeSeconds() const;
-    // Time get() spent waiting for decodes (the render thread's: a cold start's loads).
+    // Time get() spent on chunks not yet decoded when asked for, until they were (the render
+    // thread's wait for decodes: a cold start's loads).
     double waitSeconds() const;
 
 private:
