@@ -462,6 +462,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["walk_passes"] = st->walkPasses;
         j["pipeline_seconds"] = st->pipelineSeconds;
         j["streamed_tiles"] = st->streamedTiles;
+        j["stream_window_tiles"] = st->streamWindowTiles;
         j["volume_brick_slots"] = st->volumeBrickSlots;
         j["volume_brick_loads"] = st->volumeBrickLoads;
         j["volume_bricks_read"] = st->volumeBricksRead;

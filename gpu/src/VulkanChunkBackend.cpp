@@ -114,7 +114,7 @@ public:
             if (!walkBits) return walkBits.status().withContext("the wave's walk bits: ");
             walkBits_ = std::move(walkBits).value();
         }
-        auto output = device_.createBuffer(outputLayout(plan_.batchRays, stepCounterBytes(tables_)).totalBytes,
+        auto output = device_.createBuffer(outputLayout(plan_.outputPixels, stepCounterBytes(tables_)).totalBytes,
                                            VulkanDevice::MemoryUse::Readback);
         if (!output) return output.status();
         output_ = std::move(output).value();
@@ -224,9 +224,11 @@ public:
         b.table = &table_, b.tables = tables_, b.state = &state_, b.output = &output_;
         if (plan_.stateInHostMemory) b.walkBits = &walkBits_;
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
+        b.outputPixels = uint32_t(plan_.outputPixels);
         b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;
         stats.wavePaths = b.pathCapacity;
+        stats.streamWindowTiles = 0;  // renderStreamed sets it
         stats.pathStateHostBytes = plan_.stateInHostMemory ? state_.allocatedBytes() : 0;
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors, b.uvs = attributes_.uvs;
@@ -435,6 +437,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
     while (!plan.stateInHostMemory && rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
     plan.slots = uint32_t(slots);
     plan.batchRays = uint32_t(rays);
+    plan.outputPixels = slots < chunks && !outputInDeviceMemory ? kOutOfCoreOutputScale * rays : rays;
     plan.rayBytes = waveBytes(rays, plan.stateInHostMemory);
     plan.tableBytes = tableBytes(slots);
     plan.stagingBytes = staging;

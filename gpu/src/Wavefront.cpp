@@ -55,6 +55,9 @@ enum Kernel : int {
 // Walk passes per paging step out of core (with shading between them): enough for paths that
 // stay in resident chunks to go on for a few bounces before the host pages again.
 constexpr uint32_t kPassesPerPagingStep = 3;
+// Streamed waves with volume bricks paged and the chunks resident: tiles of a sixteenth of the
+// wave's paths at most (Wavefront::render, PERF_NOTES 75).
+constexpr uint32_t kFineWindowTiles = 16;
 // Timestamps one submission takes at most; commands beyond them go untimed.
 constexpr uint32_t kMaxQueries = 16384;
 
@@ -347,7 +350,7 @@ public:
         // Out of core (chunks, volume bricks or texture pages paged), waves are streamed
         // (renderStreamed) when a group of a pixel's samples leaves room for a window of two tiles
         // or more. With volume bricks paged and the chunks resident, a streamed tile holds the
-        // pixels of at most a kMaxWindowTiles-th of the wave's paths, so that below 16 spp the
+        // pixels of at most a sixteenth of the wave's paths, so that below 16 spp the
         // window still has 16 tiles and a closing tile (which waits for its slowest path) holds
         // back a sixteenth of the wave, not 1/spp of it (PERF_NOTES 75: the 256^3 cloud at 4 spp
         // 226 -> 149 steps; chunks paged the same way took more loads and time, 16x over budget
@@ -357,7 +360,7 @@ public:
         const bool fineTiles = streamed && !b_.outOfCore && volumes && b_.volumes->paged();
         const TileGrid grid = planTiles(
             width, height,
-            std::max<uint64_t>(1, b_.pathCapacity / (fineTiles ? std::max(samplesPerWave, kMaxWindowTiles) : samplesPerWave)));
+            std::max<uint64_t>(1, b_.pathCapacity / (fineTiles ? std::max(samplesPerWave, kFineWindowTiles) : samplesPerWave)));
         if (streamed) {
             VASTRAY_TRY(renderStreamed(grid, samplesPerWave));
         } else {
@@ -399,7 +402,7 @@ private:
     // Zeroes the cost AOV of `count` output pixels from `first` (a tile's, or a window slot's).
     void clearCost(uint64_t first, uint64_t count) {
         if (!(image_.aovs & kAovCost)) return;
-        const uint64_t at = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables)).cost + 8 * first;
+        const uint64_t at = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables)).cost + 8 * first;
         record([=, this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.output->handle(), at, count * 8, 0);
             barrier(cmd);
@@ -588,7 +591,7 @@ private:
     // to ::queueArgs, or the window head at ::stream) in the output buffer.
     uint64_t stepCopyOf(uint64_t tableOffset) const {
         const TableLayout& t = b_.tables;
-        const uint64_t at = outputLayout(b_.pathCapacity, stepCounterBytes(t)).counters;
+        const uint64_t at = outputLayout(b_.outputPixels, stepCounterBytes(t)).counters;
         return tableOffset >= t.stream ? at + (t.queueArgs - t.touched) + (tableOffset - t.stream)
                                        : at + (tableOffset - t.touched);
     }
@@ -760,13 +763,17 @@ private:
     // last paths of a tile wait for their chunks, instead of a tile's wave running down to its
     // last path before the next tile starts. A tile's outputs lie in a ring slot of the output
     // buffer; the host closes a tile when the device has counted all its pixels done, reads it
-    // and opens the next. The AOVs come first, tile by tile, as in renderTile.
+    // and opens the next. A tile holds about as many pixels as the wave has groups, so the window
+    // is as wide as the output buffer holds tiles (PoolPlan::outputPixels: out of core with the
+    // outputs in host memory twice the wave's pixels, ~32 tiles), at most kMaxWindowTiles. The
+    // AOVs come first, tile by tile, as in renderTile.
     Status renderStreamed(const TileGrid& grid, uint32_t groupSize) {
         const uint64_t tiles = grid.count();
         const uint32_t tilePixels = grid.tileWidth * grid.tileHeight;
         const uint32_t groupCount = b_.pathCapacity / groupSize;
-        uint32_t ringSlots = uint32_t(std::min<uint64_t>(kMaxWindowTiles, b_.pathCapacity / tilePixels));
+        uint32_t ringSlots = uint32_t(std::min<uint64_t>(kMaxWindowTiles, b_.outputPixels / tilePixels));
         if (job_.windowTiles > 0) ringSlots = std::min(ringSlots, job_.windowTiles);
+        stats_.streamWindowTiles = std::min<uint64_t>(ringSlots, tiles);
         if (image_.aovs & ~kAovCost)
             for (uint64_t tile = 0; tile < tiles; ++tile) {
                 const Tile t = tileAt(grid, tile);
@@ -902,7 +909,7 @@ private:
 
     // The tile's colour and alpha from the output pixels at `first` on.
     Status readColor(const Tile& tile, uint64_t first) {
-        const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
+        const OutputLayout o = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables));
         const uint64_t count = tile.count();
         // RGBA in blocks on all cores: a 1080p tile is 33 MB, and one core copying and splitting
         // it (and faulting in the image's fresh pages) took longer than the device's 1 spp render.
@@ -927,7 +934,7 @@ private:
     // The tile's AOVs among `aovs` from the output pixels at `first` on; the cost AOV is added to
     // the image's with addCost (streamed waves: the AOV walk's cost, then the paths').
     Status readAovs(const Tile& tile, uint64_t first, uint32_t aovs, bool addCost) {
-        const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
+        const OutputLayout o = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables));
         if (aovs & kAovDepth) VASTRAY_TRY(readRows<float>(tile, 1, o.depth + 4 * first, image_.depth, false));
         if (aovs & kAovNormal) VASTRAY_TRY(readRows<float>(tile, 3, o.normal + 12 * first, image_.normal, false));
         if (aovs & kAovAlbedo) VASTRAY_TRY(readRows<float>(tile, 3, o.albedo + 12 * first, image_.albedo, false));
@@ -974,7 +981,7 @@ private:
         p.walkBitsApart = b_.walkBits ? 1u : 0u;
         p.groupState = state + s.groupState, p.stream = table + t.stream;
         p.queueCounts = table + t.queueCounts, p.queueArgs = table + t.queueArgs;
-        const OutputLayout o = outputLayout(b_.pathCapacity, stepCounterBytes(b_.tables));
+        const OutputLayout o = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables));
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
         p.outCost = out + o.cost, p.outUv = out + o.uv;

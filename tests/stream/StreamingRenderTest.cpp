@@ -17,6 +17,7 @@
 
 #include "StreamTestSupport.h"
 #include "shared/StreamTypes.h"
+#include "shared/WavefrontTypes.h"
 #include "TestTmp.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -359,9 +360,23 @@ TEST(StreamingRender, StreamedWavesEqualTileWaves) {
     ASSERT_TRUE(b) << b.message();
     auto c = renderVulkan(path, o, tight, &tiled, 333, true, true, {}, false);
     ASSERT_TRUE(c) << c.message();
+    StreamingStats narrow, wide;
+    auto n = renderVulkan(path, o, tight, &narrow, 333, true, true, {}, true, {}, 5);
+    ASSERT_TRUE(n) << n.message();
+    auto w = renderVulkan(path, o, tight, &wide, 150);
+    ASSERT_TRUE(w) << w.message();
     expectIdentical(*a, *b, false);
     expectIdentical(*a, *c, false);
-    // 333 paths: groups of 5 samples, tiles of at most 66 pixels, a window of 5 of the 20 tiles.
+    expectIdentical(*a, *n, false);
+    expectIdentical(*a, *w, false);
+    // 333 paths: groups of 5 samples, tiles of at most 66 pixels (20 tiles); the window is as
+    // many tiles as the output buffer holds (it holds the plan's wave, 1,024 paths or more here),
+    // or 5 when asked. 150 paths: tiles of 30 pixels, the widest window the kernels have.
+    EXPECT_EQ(narrow.streamWindowTiles, 5u);
+    EXPECT_GE(streamed.streamWindowTiles, 15u);
+    EXPECT_EQ(wide.streamWindowTiles, gpu::kMaxWindowTiles);
+    EXPECT_GE(narrow.streamedTiles, 20u);
+    EXPECT_GE(wide.streamedTiles, 40u);
     EXPECT_GE(streamed.streamedTiles, 20u);
     EXPECT_EQ(tiled.streamedTiles, 0u);
     EXPECT_EQ(ample.streamedTiles, 0u) << "in core, a tile's wave at a time";
@@ -430,6 +445,25 @@ TEST(StreamingRender, OutOfCoreWaveStopsAtItsCapAndSlotsTakeTheRest) {
     ASSERT_TRUE(small) << small.message();
     EXPECT_LT(small->batchRays, gpu::kMaxOutOfCoreBatchRays);
     EXPECT_GT(small->rayBytes, (64ull << 20) * 2 / 5) << "about half of the budget";
+}
+
+// The output buffer (tile colours and AOVs) holds twice the wave's pixels out of core when it lies
+// in host memory, off the budget (a streamed window of ~32 tiles); the wave's pixels in core, or
+// where it counts against the budget.
+TEST(StreamingRender, OutputBufferDoublesOutOfCoreOnlyOffTheBudget) {
+    const PackageInfo big = standInScene(120000);
+    const uint64_t budget = 2ull << 30;
+    auto host = gpu::planPool(big, ChunkAttributes{}, budget, false);
+    ASSERT_TRUE(host) << host.message();
+    ASSERT_LT(host->slots, big.chunks.size());
+    EXPECT_EQ(host->outputPixels, uint64_t(gpu::kOutOfCoreOutputScale) * host->batchRays);
+    auto counted = gpu::planPool(big, ChunkAttributes{}, budget, true);
+    ASSERT_TRUE(counted) << counted.message();
+    EXPECT_EQ(counted->outputPixels, counted->batchRays) << "in the budget: the wave's pixels";
+    auto inCore = gpu::planPool(big, ChunkAttributes{}, 1ull << 40, false);
+    ASSERT_TRUE(inCore) << inCore.message();
+    ASSERT_EQ(inCore->slots, big.chunks.size());
+    EXPECT_EQ(inCore->outputPixels, inCore->batchRays) << "in core nothing is streamed";
 }
 
 // Path state in host memory (gpu::PathStateMemory::Host): off the budget where host memory is

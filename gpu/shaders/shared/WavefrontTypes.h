@@ -56,9 +56,10 @@ const uint kShadeWaitQueue = 3u;
 const uint kGroupQueue = 4u;
 const uint kQueueCount = 6u;
 
-// Streamed waves: the most tiles open at once (the window), and a group's state
-// (WavefrontParams::groupState .x) between blocks.
-const uint kMaxWindowTiles = 16u;
+// Streamed waves: the most tiles open at once (the window; a tile holds about a wave's groups, so
+// a window wider than 16 tiles needs an output buffer larger than the wave: PoolPlan::outputPixels),
+// and a group's state (WavefrontParams::groupState .x) between blocks.
+const uint kMaxWindowTiles = 32u;
 const uint kGroupIdle = 0xffffffffu;
 
 // A paged volume's cell table entry (WavefrontVolume::brickOf) for a brick that is not resident:

@@ -205,6 +205,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.walkPasses = t.walkPasses - before.walkPasses;
         s.pipelineSeconds = t.pipelineSeconds - before.pipelineSeconds;
         s.streamedTiles = t.streamedTiles - before.streamedTiles;
+        s.streamWindowTiles = t.streamWindowTiles;
         s.volumeBrickSlots = t.volumeBrickSlots;
         s.volumeBrickLoads = t.volumeBrickLoads - before.volumeBrickLoads;
         s.volumeBricksRead = t.volumeBricksRead - before.volumeBricksRead;

@@ -18,6 +18,11 @@ struct PoolPlan {
     uint64_t slotBytes = 0;      // one chunk slot: the largest chunk's upload (ChunkLayout)
     uint32_t slots = 0;          // chunk slots (never more than the package's chunks)
     uint32_t batchRays = 0;      // paths per wave of the device wavefront
+    // Pixels of the output buffer (the tiles' colours and AOVs, read back by the host): a wave's,
+    // and out of core with the outputs off the budget (outputInDeviceMemory false)
+    // kOutOfCoreOutputScale times that, so that the streamed waves' window holds more tiles
+    // (up to kMaxWindowTiles) than the wave has groups for (docs/RENDERING.md, "Streamed waves").
+    uint64_t outputPixels = 0;
     uint64_t rayBytes = 0;       // their state (rays, walk records, path vectors), and the tile
                                  // outputs when those are in device memory (outputInDeviceMemory)
     uint64_t tableBytes = 0;     // slot table, top-level tree, per-chunk tables, parameters, materials
@@ -104,6 +109,12 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 // 64M at 4x over a 477 MiB budget, scene kept open: 1.25 M paths 0.745 s, 876 k 0.609 s, 625 k
 // 0.570 s, 450 k 0.638 s, 300 k 0.763 s). A budget below ~250 MiB never reaches it.
 constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
+
+// Out of core with the tile outputs in host memory (off the budget), the output buffer holds this
+// many waves' pixels: a streamed window of up to 32 tiles instead of 16 (PERF_NOTES 91: city 10M
+// at 4x over budget on an H100, 3,288 -> 2,872 loads and 0.66 -> 0.58 s kept open; 64 tiles no
+// better; 16x and city 64M unchanged). Host memory only: ~68 bytes a pixel.
+constexpr uint32_t kOutOfCoreOutputScale = 2;
 
 // Where a wave's path state lives out of core (docs/RENDERING.md, "Path state in host memory").
 // Device: in the budget, beside the slots (a wave of waveShareOutOfCore of it, at most

@@ -148,7 +148,7 @@ struct StreamingOptions {
     // tile's wave at a time, for comparisons; docs/RENDERING.md, "Streamed waves").
     bool streamWaves = true;
     // Streamed waves: the most tiles open at once (0: as many as the output buffer holds, at
-    // most 16); for comparisons.
+    // most 32: gpu::PoolPlan::outputPixels); for comparisons.
     uint32_t windowTiles = 0;
     // Out of core, every chunk the host cache can hold is queued for decoding when a render
     // starts, nearest the camera first, behind the chunks rays wait for: a later load then
@@ -201,6 +201,7 @@ struct StreamingStats {
     // disk cache makes cheaper in later processes)
     double pipelineSeconds = 0;
     uint64_t streamedTiles = 0;     // streamed_tiles: tiles rendered by streamed waves (out of core)
+    uint64_t streamWindowTiles = 0; // stream_window_tiles: the most tiles streamed waves held open at once (0: not streamed)
     uint64_t volumeBrickSlots = 0;  // volume_brick_slots: the pool's brick slots (0: volumes in core or none)
     uint64_t volumeBrickLoads = 0;  // volume_brick_loads: bricks loaded into those slots
     // volume_bricks_read: bricks read from the package and checked (2 KiB each, 4 KiB with an
