@@ -668,7 +668,7 @@ CommandRun addRenderCommand(CLI::App& app) {
                     "host (pinned host memory off the budget: a wave of 524288 paths and the budget for slots but for the "
                     "paths' walk bits, a byte a path; "
                     "kernels read the state across the bus; no volumes), or auto (host on a discrete GPU when the "
-                    "scene's chunks exceed 8 budgets and it has no volumes, else device)")
+                    "scene's chunks exceed 6 budgets and it has no volumes, else device)")
         ->capture_default_str();
     cmd->add_option("--host-cache", args->hostCache, "vulkan: decoded chunks kept in host memory (KiB/MiB/GiB; 0 = none; auto = the whole decoded scene, up to a quarter of this machine's memory)")
         ->capture_default_str();
