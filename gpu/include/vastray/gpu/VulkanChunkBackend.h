@@ -112,7 +112,7 @@ constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
 
 // Out of core with the tile outputs in host memory (off the budget), the output buffer holds this
 // many waves' pixels: a streamed window of up to 32 tiles instead of 16 (PERF_NOTES 91: city 10M
-// at 4x over budget on an H100, 3,288 -> 2,872 loads and 0.66 -> 0.58 s kept open; 64 tiles no
+// at 4x over budget on an H100, 3,288 -> 2,872 loads and 0.58-0.62 -> 0.53 s kept open; 64 tiles no
 // better; 16x and city 64M unchanged). Host memory only: ~68 bytes a pixel.
 constexpr uint32_t kOutOfCoreOutputScale = 2;
 
@@ -126,7 +126,7 @@ constexpr uint32_t kOutOfCoreOutputScale = 2;
 // 1.93 s). Auto: Host where that pays, resolvePathStateMemory.
 enum class PathStateMemory { Auto, Device, Host };
 Result<PathStateMemory> parsePathStateMemory(std::string_view name);  // auto, device or host
-// A wave in host memory: 2^19 paths (~160 MiB of host memory with its tile outputs). Of 256 k,
+// A wave in host memory: 2^19 paths (~180 MiB of host memory with its tile outputs). Of 256 k,
 // 512 k and 1 M paths 512 k was fastest at 8x and 16x and within 3 % at 4x (PERF_NOTES 77).
 constexpr uint32_t kHostStatePaths = 1u << 19;
 // Auto puts the state in host memory where the package's resident chunks exceed this many
