@@ -224,7 +224,7 @@ public:
         b.table = &table_, b.tables = tables_, b.state = &state_, b.output = &output_;
         if (plan_.stateInHostMemory) b.walkBits = &walkBits_;
         b.pathCapacity = job.maxPathsPerWave > 0 ? std::min(plan_.batchRays, job.maxPathsPerWave) : plan_.batchRays;
-        b.outputPixels = uint32_t(plan_.outputPixels);
+        b.outputPixels = plan_.outputPixels;
         b.outOfCore = plan_.slots < chunkCount_;
         b.bounds = bounds_;
         stats.wavePaths = b.pathCapacity;

@@ -399,10 +399,13 @@ private:
         return t;
     }
 
+    // Where the output buffer (b_.outputPixels pixels) keeps each output and the step's counters.
+    OutputLayout outputs() const { return outputLayout(b_.outputPixels, stepCounterBytes(b_.tables)); }
+
     // Zeroes the cost AOV of `count` output pixels from `first` (a tile's, or a window slot's).
     void clearCost(uint64_t first, uint64_t count) {
         if (!(image_.aovs & kAovCost)) return;
-        const uint64_t at = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables)).cost + 8 * first;
+        const uint64_t at = outputs().cost + 8 * first;
         record([=, this](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.output->handle(), at, count * 8, 0);
             barrier(cmd);
@@ -591,7 +594,7 @@ private:
     // to ::queueArgs, or the window head at ::stream) in the output buffer.
     uint64_t stepCopyOf(uint64_t tableOffset) const {
         const TableLayout& t = b_.tables;
-        const uint64_t at = outputLayout(b_.outputPixels, stepCounterBytes(t)).counters;
+        const uint64_t at = outputs().counters;
         return tableOffset >= t.stream ? at + (t.queueArgs - t.touched) + (tableOffset - t.stream)
                                        : at + (tableOffset - t.touched);
     }
@@ -909,7 +912,7 @@ private:
 
     // The tile's colour and alpha from the output pixels at `first` on.
     Status readColor(const Tile& tile, uint64_t first) {
-        const OutputLayout o = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables));
+        const OutputLayout o = outputs();
         const uint64_t count = tile.count();
         // RGBA in blocks on all cores: a 1080p tile is 33 MB, and one core copying and splitting
         // it (and faulting in the image's fresh pages) took longer than the device's 1 spp render.
@@ -934,7 +937,7 @@ private:
     // The tile's AOVs among `aovs` from the output pixels at `first` on; the cost AOV is added to
     // the image's with addCost (streamed waves: the AOV walk's cost, then the paths').
     Status readAovs(const Tile& tile, uint64_t first, uint32_t aovs, bool addCost) {
-        const OutputLayout o = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables));
+        const OutputLayout o = outputs();
         if (aovs & kAovDepth) VASTRAY_TRY(readRows<float>(tile, 1, o.depth + 4 * first, image_.depth, false));
         if (aovs & kAovNormal) VASTRAY_TRY(readRows<float>(tile, 3, o.normal + 12 * first, image_.normal, false));
         if (aovs & kAovAlbedo) VASTRAY_TRY(readRows<float>(tile, 3, o.albedo + 12 * first, image_.albedo, false));
@@ -981,7 +984,7 @@ private:
         p.walkBitsApart = b_.walkBits ? 1u : 0u;
         p.groupState = state + s.groupState, p.stream = table + t.stream;
         p.queueCounts = table + t.queueCounts, p.queueArgs = table + t.queueArgs;
-        const OutputLayout o = outputLayout(b_.outputPixels, stepCounterBytes(b_.tables));
+        const OutputLayout o = outputs();
         p.outColor = out + o.color, p.outDepth = out + o.depth, p.outNormal = out + o.normal;
         p.outAlbedo = out + o.albedo, p.outPrimId = out + o.primId, p.outChunkId = out + o.chunkId;
         p.outCost = out + o.cost, p.outUv = out + o.uv;

@@ -35,7 +35,7 @@ struct WavefrontBuffers {
     // they lie in the path words.
     GpuBuffer* walkBits = nullptr;
     uint32_t pathCapacity = 0;
-    uint32_t outputPixels = 0;  // the output buffer's pixels (>= pathCapacity)
+    uint64_t outputPixels = 0;  // the output buffer's pixels (PoolPlan::outputPixels, >= pathCapacity)
     bool outOfCore = false;  // fewer slots than chunks: waves are streamed (Wavefront.cpp, renderStreamed)
     Aabb bounds;  // the package's
     uint32_t topNodeCount = 0, chunkCount = 0;
