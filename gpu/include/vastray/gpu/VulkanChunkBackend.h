@@ -103,12 +103,14 @@ constexpr uint32_t kMaxBatchRays = 65535u * 32u;
 // grows into what the slots leave only up to this many paths (~77 MiB), so that scenes sharing
 // a service's pool do not each take all of it.
 constexpr uint32_t kGrowBatchRays = 1u << 18;
-// Out of core the wave takes waveShareOutOfCore of the budget up to this many paths (~125 MiB of
-// path state); what a larger wave would take goes to chunk slots. A wave of this size fills an
-// H200; beyond it the walk gains little while fewer slots mean more reloads (PERF_NOTES 63: city
-// 64M at 4x over a 477 MiB budget, scene kept open: 1.25 M paths 0.745 s, 876 k 0.609 s, 625 k
-// 0.570 s, 450 k 0.638 s, 300 k 0.763 s). A budget below ~250 MiB never reaches it.
-constexpr uint32_t kMaxOutOfCoreBatchRays = 640u * 1024u;
+// Out of core the wave takes waveShareOutOfCore of the budget up to this many paths (~188 MiB of
+// path state); what a larger wave would take goes to chunk slots. Beyond it the walk gains little
+// while fewer slots mean more reloads, and too few slots leave no room to upload beside the walk
+// (PERF_NOTES 95: city 64M, 16 MiB chunks, at 4x over a 475 MiB budget, scene kept open, H100:
+// 655 k paths 0.475 s, 786 k 0.464-0.471 s, 852 k 0.460-0.465 s, 983 k 0.411-0.417 s, 1.11 M
+// 0.585-0.605 s, 1.24 M 0.583-0.585 s; with 4 MiB chunks PERF_NOTES 63 had put it at 655 k). A
+// budget below ~400 MiB never reaches it.
+constexpr uint32_t kMaxOutOfCoreBatchRays = 960u * 1024u;
 
 // Out of core with the tile outputs in host memory (off the budget), the output buffer holds this
 // many waves' pixels: a streamed window of up to 32 tiles instead of 16 (PERF_NOTES 91: city 10M
