@@ -220,7 +220,7 @@ CommandRun addImportCommand(CLI::App& app) {
                     "Draco trade-off: 0 = smallest package, slowest import; 10 = fastest import, largest")
         ->capture_default_str();
     cmd->add_option("--resident-bytes-per-triangle", args->residentBytesPerTriangle,
-                    "cap each chunk's device bytes per triangle (BVH nodes, positions, indices) by building "
+                    "cap each chunk's device bytes per triangle (BVH nodes, positions, indices: 8 bytes a triangle) by building "
                     "its BVH with larger leaves (up to 16 triangles; a chunk that does not fit with those "
                     "keeps them): less memory, more triangle tests per ray, same hits; 0 = no cap")
         ->capture_default_str();

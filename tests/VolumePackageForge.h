@@ -245,6 +245,23 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
     return withoutMaterialBytes(std::move(bytes), 144, 112, 32, 7);
 }
 
+// A format 16 package laid out as format 15: each directory entry's flags (its last u32, at 44 of
+// 72 bytes) zeroed, as format 15 reserves it, with the directory's and the header's checksums
+// recomputed. A package of an older format is returned as it is.
+inline std::vector<uint8_t> withoutChunkFlags(std::vector<uint8_t> bytes) {
+    uint32_t version = 0, chunks = 0;
+    std::memcpy(&version, bytes.data() + 8, 4);
+    if (version < 16) return bytes;
+    std::memcpy(&chunks, bytes.data() + 88, 4);
+    const uint64_t directory = word64(bytes, 168);
+    for (uint64_t c = 0; c < chunks; ++c) std::memset(bytes.data() + directory + 72 * c + 44, 0, 4);
+    const uint32_t fifteen = 15;
+    std::memcpy(bytes.data() + 8, &fifteen, 4);
+    setWord64(bytes, 200, checksum64(bytes.data() + directory, 72ull * chunks));
+    setWord64(bytes, 248, checksum64(bytes.data(), 248));
+    return bytes;
+}
+
 // A format 15 package laid out as format 14: each emitter record's corner UVs (its last 24 of 64
 // bytes) taken out and every offset after the emitter section moved back by as much (the blobs'
 // in the header and the directory, each volume's data in its record, the texture table's in the
@@ -253,6 +270,7 @@ inline std::vector<uint8_t> withoutSpecularColours(std::vector<uint8_t> bytes) {
 // section (128 bytes a light, then 8); the header keeps the light count at byte 228. A package of
 // an older format is returned as it is.
 inline std::vector<uint8_t> withoutEmitterUvs(std::vector<uint8_t> bytes) {
+    bytes = withoutChunkFlags(std::move(bytes));  // (format 16's flags first)
     auto get = [&](uint64_t at) { return word64(bytes, at); };
     auto set = [&](uint64_t at, uint64_t v) { setWord64(bytes, at, v); };
     uint32_t version = 0, chunks = 0, volumes = 0, lights = 0, count = 0;

@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "shared/TraceTypes.h"
+#include "shared/StreamTypes.h"  // kSlotLongTriangle (KdTraversal.glsl)
 #include "common/KdTraversal.glsl"
 
 layout(local_size_x = kTraceWorkgroupSize) in;
@@ -22,7 +23,7 @@ void main() {
     const vec3 origin = vec3(ray.originX, ray.originY, ray.originZ);
     const vec3 direction = vec3(ray.directionX, ray.directionY, ray.directionZ);
     const ChunkView c = ChunkView(pc.nodes, pc.leafRefs, pc.positions, pc.indices, pc.singleSided, pc.nodeCount,
-                                  pc.hasSingleSided != 0u, vec3(pc.boundsLoX, pc.boundsLoY, pc.boundsLoZ),
+                                  pc.hasSingleSided != 0u, false, vec3(pc.boundsLoX, pc.boundsLoY, pc.boundsLoZ),
                                   vec3(pc.boundsHiX, pc.boundsHiY, pc.boundsHiZ));
     HitArray(pc.hits).v[i] = traverse(c, origin, direction, ray.tMin, ray.tMax, false, 0u);
 }

@@ -109,10 +109,8 @@ bool replaces(TraceHit h, uint chunk, bool found, float bestT, bool bestFront, u
 // is shaded.
 void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     const ChunkView c = chunkView(s);
-    UintArray indices = UintArray(c.indices);
-    const vec3 v0 = vertex(c, indices.v[3u * h.triangle]);
-    const vec3 v1 = vertex(c, indices.v[3u * h.triangle + 1u]);
-    const vec3 v2 = vertex(c, indices.v[3u * h.triangle + 2u]);
+    const uvec3 corner = triangleVertices(c, h.triangle);
+    const vec3 v0 = vertex(c, corner.x), v1 = vertex(c, corner.y), v2 = vertex(c, corner.z);
     precise vec3 e1 = v1 - v0;
     precise vec3 e2 = v2 - v0;
     precise vec3 position = v0 + e1 * h.u + e2 * h.v;
@@ -122,7 +120,6 @@ void writeHit(ParamsRef params, uint ray, ChunkSlot s, TraceHit h, uint chunk) {
     const uint primitive = (s.flags & kSlotPrimitiveIds) != 0u ? UintArray(s.primitiveIds).v[h.triangle] : 0xFFFFFFFFu;
     const uint material = (s.flags & kSlotMaterialIds) != 0u ? UintArray(s.materialIds).v[h.triangle] : 0u;
     uint shadingNormal = kNoNormal, color = 0x3FFFFFFFu;
-    const uvec3 corner = uvec3(indices.v[3u * h.triangle], indices.v[3u * h.triangle + 1u], indices.v[3u * h.triangle + 2u]);
     if ((s.flags & kSlotNormals) != 0u) {
         UintArray n = UintArray(s.normals);
         shadingNormal = interpolateNormal(n.v[corner.x], n.v[corner.y], n.v[corner.z], h.u, h.v);
@@ -200,7 +197,7 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     const uint doneBefore = flags >> kRayDoneShift;
     uint since = 0u, after = 0u, doneNow = 0u, waiting = 0u, firstWaitChunk = 0u;
 
-    const ChunkView top = ChunkView(0ul, 0ul, 0ul, 0ul, 0ul, params.p.topNodeCount, false,
+    const ChunkView top = ChunkView(0ul, 0ul, 0ul, 0ul, 0ul, params.p.topNodeCount, false, false,
                                     vec3(params.p.boundsLoX, params.p.boundsLoY, params.p.boundsLoZ),
                                     vec3(params.p.boundsHiX, params.p.boundsHiY, params.p.boundsHiZ));
     SlotTable slots = SlotTable(params.p.slotTable);

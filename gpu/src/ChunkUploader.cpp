@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "VkCheck.h"
+#include "shared/StreamTypes.h"
 
 namespace vastray::gpu {
 namespace {
@@ -17,6 +18,34 @@ constexpr uint32_t kCommandBuffers = 32;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Words [from, end) of a chunk's indices as kSlotIndexDeltas16 lays them out: two a triangle,
+// then three for each long one. `from` is even (pieces start at multiples of 256 KiB).
+void packIndexWords(const SlotCopy& c, uint64_t from, uint64_t end, uint32_t* out) {
+    const auto* indices = static_cast<const uint32_t*>(c.data);
+    const std::vector<uint32_t>& longs = *c.longTriangles;
+    const uint64_t pairWords = (c.size - 12 * longs.size()) / 4;
+    uint64_t w = from;
+    if (w < pairWords) {
+        uint64_t t = w / 2;
+        auto next = std::lower_bound(longs.begin(), longs.end(), uint32_t(t));
+        for (; w < std::min(end, pairWords); w += 2, ++t) {
+            if (next != longs.end() && *next == t) {
+                out[w - from] = uint32_t(pairWords + 3 * uint64_t(next - longs.begin()));
+                out[w + 1 - from] = kSlotLongTriangle;
+                ++next;
+                continue;
+            }
+            const uint32_t first = indices[3 * t];
+            out[w - from] = first;
+            out[w + 1 - from] = ((indices[3 * t + 1] - first) & 0xFFFFu) | (indices[3 * t + 2] - first) << 16;
+        }
+    }
+    for (; w < end; ++w) {
+        const uint64_t o = w - pairWords;
+        out[w - from] = indices[3 * uint64_t(longs[o / 3]) + o % 3];
+    }
 }
 
 }  // namespace
@@ -35,8 +64,14 @@ Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies
     for (const SlotCopy& c : copies)
         for (uint64_t at = 0; at < c.size; at += kPiece) pieces.push_back({&c, at, std::min(kPiece, c.size - at)});
     auto run = [&](const Piece& p) {
-        const auto* from = static_cast<const uint8_t*>(p.copy->data) + p.at;
-        return p.copy->size == 0 || to.upload(from, p.size, base + p.copy->offset + p.at).isOk();
+        if (p.copy->size == 0) return true;
+        if (!p.copy->longTriangles) {
+            const auto* from = static_cast<const uint8_t*>(p.copy->data) + p.at;
+            return to.upload(from, p.size, base + p.copy->offset + p.at).isOk();
+        }
+        std::vector<uint32_t> packed(p.size / 4);
+        packIndexWords(*p.copy, p.at / 4, (p.at + p.size) / 4, packed.data());
+        return to.upload(packed.data(), p.size, base + p.copy->offset + p.at).isOk();
     };
     std::atomic<bool> failed{false};
     if (pieces.size() == 1) failed = !run(pieces[0]);

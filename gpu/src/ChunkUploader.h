@@ -18,11 +18,15 @@
 
 namespace vastray::gpu {
 
-// One array of a chunk: `size` bytes at `data` go to `offset` in the slot.
+// One array of a chunk: `size` bytes at `data` go to `offset` in the slot. With longTriangles set,
+// `data` holds three uint32 vertex indices a triangle and the slot gets them as
+// kSlotIndexDeltas16 lays them out (shared/StreamTypes.h): `size` = 8 x triangles + 12 x the
+// long triangles (*longTriangles, ascending).
 struct SlotCopy {
     uint64_t offset;
     const void* data;
     uint64_t size;
+    const std::vector<uint32_t>* longTriangles = nullptr;
 };
 
 // Writes the arrays into the mapped buffer `to` at base + offset, in 256 KiB pieces on all cores.

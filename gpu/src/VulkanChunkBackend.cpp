@@ -153,7 +153,8 @@ public:
                 return Status::error("chunk " + std::to_string(chunk.id) + " has " + std::to_string(words) +
                                      " attribute values for " + std::to_string(chunk.positions.size()) + " vertices");
         const ChunkLayout layout =
-            chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, attributes_);
+            chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, chunk.indexDeltas16,
+                        chunk.longTriangles.size(), attributes_);
         if (layout.totalBytes > plan_.slotBytes)
             return Status::error("chunk " + std::to_string(chunk.id) + " needs " + std::to_string(layout.totalBytes) +
                                  " bytes, more than a slot's " + std::to_string(plan_.slotBytes) +
@@ -168,8 +169,15 @@ public:
         };
         put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node));
         put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
-        put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4);
         ChunkSlot entry{};
+        if (chunk.indexDeltas16) {
+            const uint64_t size = triangles * 8 + chunk.longTriangles.size() * 12;
+            bytes += size;
+            copies.push_back({layout.indices, chunk.indices.data(), size, &chunk.longTriangles});
+            entry.flags |= kSlotIndexDeltas16;
+        } else {
+            put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4);
+        }
         const uint64_t base = b.address();
         entry.nodes = base + layout.nodes;
         entry.positions = base + layout.positions, entry.indices = base + layout.indices;
@@ -330,7 +338,10 @@ private:
             return Status::error("material ids do not match the triangle count");
         // A chunk from the package reader has had the same checks on the decode worker
         // (ChunkBlob.cpp), off the load path; only hand-made chunks are checked here.
-        return c.validated ? Status::ok() : validateChunkGeometry(c.bvh, c.positions.size(), c.indices);
+        if (c.validated) return Status::ok();
+        if (c.indexDeltas16 && c.longTriangles != longTriangles(c.indices))
+            return Status::error("its long triangles are not those of its indices (indexDeltas16)");
+        return validateChunkGeometry(c.bvh, c.positions.size(), c.indices);
     }
 
     VulkanDevice& device_;

@@ -121,7 +121,7 @@ TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
     EXPECT_NE(i.output.find("textures: 1 (11 pages of 128 x 128 texels"), std::string::npos) << i.output;
     CommandResult text = run("info " + tmp("box.vast"));
     ASSERT_EQ(text.exitCode, 0) << text.output;
-    EXPECT_NE(text.output.find("vastray package v15"), std::string::npos) << text.output;
+    EXPECT_NE(text.output.find("vastray package v16"), std::string::npos) << text.output;
     EXPECT_NE(text.output.find("'image 0 ('CesiumLogoFlat.png') of BoxTextured.gltf': 211 x 211 texels, 8 levels, 11 pages"),
               std::string::npos)
         << text.output;

@@ -19,6 +19,8 @@
 #include "shared/StreamTypes.h"
 #include "shared/WavefrontTypes.h"
 #include "TestTmp.h"
+#include "VolumePackageForge.h"
+#include "BowlMesh.h"
 #include "vastray/core/ByteSize.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
@@ -794,25 +796,27 @@ TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
     ASSERT_TRUE(generateToPly(generate, ply));
     auto imported = importMesh(ply);
     ASSERT_TRUE(imported) << imported.message();
-    const std::string uncapped = tmpPath("city-cap-none.vast"), path = tmpPath("city-cap-32.vast");
+    const std::string uncapped = tmpPath("city-cap-none.vast"), path = tmpPath("city-cap-28.vast");
     PackageBuildOptions options;
     options.chunkSizeBytes = 64 << 10;
     options.progress = Progress::Mode::None;
     options.residentBytesPerTriangle = 0;
     ASSERT_TRUE(buildPackage(imported->mesh, uncapped, options));
-    options.residentBytesPerTriangle = 32;
+    options.residentBytesPerTriangle = 28;
     ASSERT_TRUE(buildPackage(imported->mesh, path, options));
     auto bytesPerTriangle = [](const std::string& package) {
         auto reader = PackageReader::open(package);
         EXPECT_TRUE(reader) << reader.message();
         double worst = 0;
         for (const ChunkInfo& c : (*reader)->info().chunks)
-            worst = std::max(worst, double(c.bvhNodeCount * sizeof(Bvh4Node) + c.vertexCount * 12 + c.triangleCount * 12) /
+            worst = std::max(worst, double(c.bvhNodeCount * sizeof(Bvh4Node) + c.vertexCount * 12 +
+                                           ((c.flags & kChunkIndexDeltas16) != 0 ? c.triangleCount * 8 + c.longTriangles * 12
+                                                                                  : c.triangleCount * 12)) /
                                         c.triangleCount);
         return worst;
     };
-    EXPECT_GT(bytesPerTriangle(uncapped), 32.0) << "the city's trees must need larger leaves for this test to mean anything";
-    EXPECT_LE(bytesPerTriangle(path), 32.0);
+    EXPECT_GT(bytesPerTriangle(uncapped), 28.0) << "the city's trees must need larger leaves for this test to mean anything";
+    EXPECT_LE(bytesPerTriangle(path), 28.0);
     const RenderOptions o = smallRender(kAllAovs);
     auto a = renderVulkan(uncapped, o, 64ull << 20);
     ASSERT_TRUE(a) << a.message();
@@ -822,6 +826,67 @@ TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
     EXPECT_TRUE(sameBits(a->depth, b->depth)) << "depth differs";
     EXPECT_TRUE(sameBits(a->normal, b->normal)) << "normal differs";
     EXPECT_TRUE(sameBits(a->primId, b->primId)) << "primid differs";
+}
+
+// The same package with its indices in 8 bytes a triangle (format 16, kChunkIndexDeltas16) and
+// in 12 (laid out as format 15, which has no flags): the same trees and hits, so the same image
+// bit for bit, streamed through two slots each, in smaller slots with the flag.
+TEST(StreamingRender, IndicesInEightBytesRenderLikeTwelve) {
+    const std::string path = generatedPackage(GeneratorKind::City, 20000, 64 << 10);
+    const std::string old = tmpPath("city-indices-twelve.vast");
+    test::writeBytes(old, test::withoutChunkFlags(test::fileBytes(path)));
+    auto compact = PackageReader::open(path);
+    ASSERT_TRUE(compact) << compact.message();
+    auto full = PackageReader::open(old);
+    ASSERT_TRUE(full) << full.message();
+    ASSERT_EQ((*full)->info().formatVersion, 15u);
+    const ChunkAttributes attributes{};
+    for (const ChunkInfo& c : (*compact)->info().chunks) {
+        ASSERT_EQ(c.flags, kChunkIndexDeltas16) << "chunk " << c.id;
+        const ChunkInfo& twelve = (*full)->info().chunks[c.id];
+        EXPECT_EQ(twelve.flags, 0u);
+        EXPECT_LE(chunkLayout(c, attributes).totalBytes + 4ull * c.triangleCount,
+                  chunkLayout(twelve, attributes).totalBytes + 16);  // (16-byte aligned sections)
+    }
+    const RenderOptions o = smallRender(kAllAovs);
+    StreamingStats cs, fs;
+    auto a = renderVulkan(path, o, budgetForSlots(path, 2, o.aovs), &cs);
+    ASSERT_TRUE(a) << a.message();
+    auto b = renderVulkan(old, o, budgetForSlots(old, 2, o.aovs), &fs);
+    ASSERT_TRUE(b) << b.message();
+    EXPECT_GT(cs.chunkLoads, cs.chunksTouched) << "the render should have streamed";
+    EXPECT_EQ(cs.chunkLoads, fs.chunkLoads);
+    EXPECT_LT(cs.bytesUploaded, fs.bytesUploaded);
+    expectIdentical(*a, *b);
+}
+
+// The bowl under two large triangles (tests/BowlMesh.h), whose vertex indices lie further apart
+// than 16-bit offsets reach: the walk reads them as long triangles (kSlotLongTriangle), they are
+// hit, and the image equals the same package's with 12-byte indices (format 15) bit for bit and
+// agrees with Embree's.
+TEST(StreamingRender, LongTrianglesOfEightByteIndicesAreHit) {
+    const std::string path = packageFromMesh("bowl-long-triangles", test::bowlUnderLongTriangles(), 64 << 20);
+    const std::string old = tmpPath("bowl-long-triangles-twelve.vast");
+    test::writeBytes(old, test::withoutChunkFlags(test::fileBytes(path)));
+    auto reader = PackageReader::open(path);
+    ASSERT_TRUE(reader) << reader.message();
+    ASSERT_EQ((*reader)->info().chunks.size(), 1u);
+    EXPECT_GE((*reader)->info().chunks[0].longTriangles, 1u) << "the large triangles must be long for this test to mean anything";
+    RenderOptions o = smallRender(kAllAovs);
+    o.frameScene = false;
+    o.camera = {{0.3f, -0.2f, 6.0f}, {0, 0, 1}, {0, 1, 0}, 45.0f};
+    auto a = renderVulkan(path, o, 256ull << 20);
+    ASSERT_TRUE(a) << a.message();
+    auto b = renderVulkan(old, o, 256ull << 20);
+    ASSERT_TRUE(b) << b.message();
+    expectIdentical(*a, *b);
+    uint64_t lidPixels = 0, slantPixels = 0;
+    for (uint32_t id : a->primId) lidPixels += id == test::kBowlLid, slantPixels += id == test::kBowlSlant;
+    EXPECT_GT(lidPixels, 100u);
+    EXPECT_GT(slantPixels, 20u);
+    auto reference = renderEmbree(path, o);
+    ASSERT_TRUE(reference) << reference.message();
+    expectAgrees(*a, *reference);
 }
 
 // The Vulkan backend checks a chunk the package reader did not (a hand-made one) before any

@@ -4,13 +4,15 @@
 // with anyHit, occludedKdTree) bit for bit. Included by trace.comp, stream_trace.comp and
 // stream_walk.comp.
 // Needs GL_EXT_buffer_reference and GL_EXT_shader_explicit_arithmetic_types_int64, and
-// shared/TraceTypes.h (TraceHit, kTraceStackSize, flag bits) before it.
+// shared/TraceTypes.h (TraceHit, kTraceStackSize, flag bits) and shared/StreamTypes.h
+// (kSlotLongTriangle) before it.
 #ifndef VASTRAY_KD_TRAVERSAL_GLSL
 #define VASTRAY_KD_TRAVERSAL_GLSL
 
 #include "common/Watertight.glsl"
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer UVec2Indices { uvec2 v[]; };
 #ifndef VASTRAY_FLOAT_ARRAY  // common/WavefrontState.glsl declares it for the wavefront kernels
 #define VASTRAY_FLOAT_ARRAY
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
@@ -25,6 +27,7 @@ struct ChunkView {
     uint64_t nodes, leafRefs, positions, indices, singleSided;
     uint nodeCount;
     bool hasSingleSided;
+    bool indexDeltas16;  // indices as kSlotIndexDeltas16 says (shared/StreamTypes.h): 2 words a triangle
     vec3 lo, hi;
 };
 
@@ -147,6 +150,21 @@ vec3 vertex(ChunkView c, uint i) {
     return vec3(p.v[3u * i], p.v[3u * i + 1u], p.v[3u * i + 2u]);
 }
 
+// The triangle's three vertex indices: three words, or with indexDeltas16 the first index and
+// the other two's 16-bit offsets from it in one 8-byte read (a long triangle's three words where
+// its first word says: kSlotLongTriangle, shared/StreamTypes.h).
+uvec3 triangleVertices(ChunkView c, uint tri) {
+    UintArray indices = UintArray(c.indices);
+    uint at = 3u * tri;
+    if (c.indexDeltas16) {
+        const uvec2 w = UVec2Indices(c.indices).v[tri];
+        if (w.y != kSlotLongTriangle)
+            return uvec3(w.x, w.x + uint(bitfieldExtract(int(w.y), 0, 16)), w.x + uint(int(w.y) >> 16));
+        at = w.x;
+    }
+    return uvec3(indices.v[at], indices.v[at + 1u], indices.v[at + 2u]);
+}
+
 bool isSingleSided(ChunkView c, uint triangle) {
     if (!c.hasSingleSided) return false;
     const uint word = UintArray(c.singleSided).v[triangle >> 2];
@@ -167,17 +185,15 @@ bool lessVertices(uvec3 a, uvec3 b) { return a.x != b.x ? a.x < b.x : (a.y != b.
 // order depends on how the tree was built) to the lower sorted vertex indices.
 bool testTriangle(ChunkView c, TraversalRay r, uint tri, float tMin, float tMax, bool tieByVertices,
                   inout TraceHit best, inout bool found) {
-    UintArray indices = UintArray(c.indices);
     TriangleHit h;
     ++best.trianglesTested;
-    const uvec3 i = uvec3(indices.v[3u * tri], indices.v[3u * tri + 1u], indices.v[3u * tri + 2u]);
+    const uvec3 i = triangleVertices(c, tri);
     const vec3 v0 = vertex(c, i.x), v1 = vertex(c, i.y), v2 = vertex(c, i.z);
     if (!intersectTriangle(r.watertight, v0, v1, v2, isSingleSided(c, tri), tMin, found ? best.t : tMax, h))
         return false;
     if (tieByVertices && found && h.t == best.t && h.frontFacing == ((best.flags & kHitFrontFacing) != 0u)) {
         const uint b = best.triangle;
-        const uvec3 bestVertices = uvec3(indices.v[3u * b], indices.v[3u * b + 1u], indices.v[3u * b + 2u]);
-        if (!lessVertices(sortedVertices(i), sortedVertices(bestVertices))) return false;
+        if (!lessVertices(sortedVertices(i), sortedVertices(triangleVertices(c, b)))) return false;
     } else if (!betterHit(h, tri, found, best)) {
         return false;
     }

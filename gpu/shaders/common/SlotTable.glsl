@@ -8,7 +8,8 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Slo
 
 ChunkView chunkView(ChunkSlot s) {
     return ChunkView(s.nodes, 0ul, s.positions, s.indices, s.singleSided, s.nodeCount,
-                     (s.flags & kSlotSingleSided) != 0u, vec3(s.boundsLoX, s.boundsLoY, s.boundsLoZ),
+                     (s.flags & kSlotSingleSided) != 0u, (s.flags & kSlotIndexDeltas16) != 0u,
+                     vec3(s.boundsLoX, s.boundsLoY, s.boundsLoZ),
                      vec3(s.boundsHiX, s.boundsHiY, s.boundsHiZ));
 }
 

@@ -18,6 +18,13 @@ const uint kSlotMaterialIds = 4u;
 const uint kSlotNormals = 8u;
 const uint kSlotColors = 16u;
 const uint kSlotUvs = 32u;
+// The indices as two words a triangle: its first vertex index, then the second's and the third's
+// offsets from it as 16-bit two's complement (low half, high half), each within +-32767; a long
+// triangle (an offset beyond that) has kSlotLongTriangle as its second word and, as its first, where
+// its three indices lie (in words from the array's start, after every triangle's two). Without
+// the flag, three words a triangle (vastray::kChunkIndexDeltas16).
+const uint kSlotIndexDeltas16 = 64u;
+const uint kSlotLongTriangle = 0x80008000u;
 
 // Entries of the chunk traversal's stack (Bvh4Traversal.glsl): three per level below the root
 // and three for the deepest nodes' children; checked against vastray::kBvh4MaxDepth on the host.
@@ -28,7 +35,7 @@ const uint kBvh4StackSize = 75u;
 struct ChunkSlot {
     uint64_t nodes;  // vastray::Bvh4Node
     uint64_t positions;
-    uint64_t indices;
+    uint64_t indices;       // 3 words a triangle, or as kSlotIndexDeltas16 says
     uint64_t singleSided;   // bytes packed four to a word; valid with kSlotSingleSided
     uint64_t primitiveIds;  // valid with kSlotPrimitiveIds
     uint64_t materialIds;   // valid with kSlotMaterialIds

@@ -94,6 +94,17 @@ std::vector<uint8_t> serializeChunkBlob(const std::vector<uint8_t>& geometry, Ge
     return std::move(out.bytes());
 }
 
+std::vector<uint32_t> longTriangles(const std::vector<uint32_t>& indices) {
+    auto fits = [](uint32_t from, uint32_t to) {
+        const int64_t delta = int64_t(to) - int64_t(from);
+        return delta >= -kMaxIndexDelta16 && delta <= kMaxIndexDelta16;
+    };
+    std::vector<uint32_t> out;
+    for (size_t t = 0; t + 2 < indices.size(); t += 3)
+        if (!fits(indices[t], indices[t + 1]) || !fits(indices[t], indices[t + 2])) out.push_back(uint32_t(t / 3));
+    return out;
+}
+
 uint64_t DecodedChunk::residentBytes() const {
     return positions.size() * 12 + indices.size() * 4 + primitiveIds.size() * 4 + materialIds.size() * 4 +
            normals.size() * 4 + colors.size() * 4 + uvs.size() * 8 + bvh.nodes.size() * sizeof(Bvh4Node);
@@ -157,6 +168,14 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     chunk.bvh.bounds = h.bvhBounds;
     chunk.bvh.maxDepth = h.bvhMaxDepth;
     VASTRAY_TRY(applyLeafOrder(order, chunk.indices));
+    chunk.indexDeltas16 = (info.flags & kChunkIndexDeltas16) != 0;
+    if (chunk.indexDeltas16) {
+        chunk.longTriangles = longTriangles(chunk.indices);
+        if (chunk.longTriangles.size() != info.longTriangles)
+            return Status::error(std::to_string(chunk.longTriangles.size()) +
+                                 " triangles have vertex indices beyond 16-bit offsets, its directory entry says " +
+                                 std::to_string(info.longTriangles));
+    }
     for (uint32_t id : chunk.primitiveIds)
         if (id >= importedTriangles) return Status::error("primitive id " + std::to_string(id) + " out of range");
     for (uint32_t m : chunk.materialIds)

@@ -148,9 +148,10 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
 }
 
 // What every render uploads of a chunk: BVH nodes, positions, indices (the cap of
-// --resident-bytes-per-triangle counts these).
-uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhNodes) {
-    return vertices * 12 + triangles * 12 + bvhNodes * sizeof(Bvh4Node);
+// --resident-bytes-per-triangle counts these; indices take 8 bytes a triangle on the device and
+// 12 more for each long triangle, kChunkIndexDeltas16).
+uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhNodes, uint64_t longTriangles) {
+    return vertices * 12 + triangles * 8 + longTriangles * 12 + bvhNodes * sizeof(Bvh4Node);
 }
 
 // The BVH of the first of these cost settings whose chunk fits the cap: leaves of about 2, 3, 5
@@ -158,13 +159,15 @@ uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhN
 constexpr std::array<Bvh4BuildOptions, 4> kBvhLadder{{{1.0f, 1.0f, 4, 16}, {1.0f, 0.5f, 4, 16},
                                                        {1.0f, 0.3f, 8, 16}, {1.0f, 0.15f, 16, 16}}};
 
-Bvh4 buildChunkBvh(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices, double bytesPerTriangle) {
+Bvh4 buildChunkBvh(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices, double bytesPerTriangle,
+                   uint64_t longTriangles) {
     const uint32_t triangles = uint32_t(indices.size() / 3);
     const double limit = bytesPerTriangle * triangles;
     Bvh4 bvh;
     for (const Bvh4BuildOptions& options : kBvhLadder) {
         bvh = buildBvh4(positions.data(), indices.data(), triangles, options);
-        if (bytesPerTriangle <= 0 || double(chunkGeometryBytes(positions.size(), triangles, bvh.nodes.size())) <= limit)
+        if (bytesPerTriangle <= 0 ||
+            double(chunkGeometryBytes(positions.size(), triangles, bvh.nodes.size(), longTriangles)) <= limit)
             break;
     }
     return bvh;
@@ -174,7 +177,7 @@ Bvh4 buildChunkBvh(const std::vector<Vec3f>& positions, const std::vector<uint32
 
 uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes,
                             uint32_t attributeWords) {
-    return chunkGeometryBytes(vertices, triangles, bvhNodes) + triangles * (4 + (materialIds ? 4 : 0)) +
+    return vertices * 12 + triangles * 12 + bvhNodes * sizeof(Bvh4Node) + triangles * (4 + (materialIds ? 4 : 0)) +
            vertices * 4 * attributeWords;
 }
 
@@ -208,7 +211,9 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     if (triangles > kBvh4MaxTriangles)
         return Status::error("a chunk of " + std::to_string(triangles) + " triangles exceeds the limit of " +
                              std::to_string(kBvh4MaxTriangles) + ": use a smaller --chunk-size");
-    Bvh4 bvh = buildChunkBvh(positions, decoded->indices, source.residentBytesPerTriangle);
+    // The leaf order moves triangles, not their corners: the count holds for the stored order too.
+    const uint64_t longCount = longTriangles(decoded->indices).size();
+    Bvh4 bvh = buildChunkBvh(positions, decoded->indices, source.residentBytesPerTriangle, longCount);
     // Ids travel in leaf order; the blob keeps the order so that the reader can sort the
     // decoded faces the same way.
     auto inLeafOrder = [&](std::vector<uint32_t>& ids) {
@@ -225,6 +230,8 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
     chunk.info.triangleCount = triangles;
     chunk.info.vertexCount = uint32_t(positions.size());
     chunk.info.bvhNodeCount = uint32_t(bvh.nodes.size());
+    chunk.info.flags = kChunkIndexDeltas16;
+    chunk.info.longTriangles = uint32_t(longCount);
     chunk.info.residentBytes = chunkResidentBytes(positions.size(), triangles, !materialIds.empty(), bvh.nodes.size(),
                                                   uint32_t(attributes.normals) + uint32_t(attributes.colors) +
                                                       2 * uint32_t(attributes.uvs));

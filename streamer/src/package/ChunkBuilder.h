@@ -34,7 +34,8 @@ struct BuiltChunk {
 
 Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<TriangleRef>& refs, const Aabb& cell);
 
-// Decoded resident footprint of a chunk with these counts (what the GPU will hold).
+// Decoded resident footprint of a chunk with these counts, indices at 12 bytes a triangle (the
+// host's decoded chunk; its device slot, vastray::chunkLayout, is no larger).
 // attributeWords: per-vertex attribute words (one each for normals and colours, two for UVs).
 uint64_t chunkResidentBytes(uint64_t vertices, uint64_t triangles, bool materialIds, uint64_t bvhNodes,
                             uint32_t attributeWords = 0);

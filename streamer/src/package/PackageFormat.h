@@ -61,7 +61,14 @@ constexpr char kMagic[8] = {'V', 'A', 'S', 'T', 'R', 'A', 'Y', '\0'};
 // 15: an emitter record carries its corners' UVs (6 × f32 after the material: 64 bytes), and a
 //     triangle with an emissive map is sampled, the point reading the map; a version 12 to 14
 //     package, which samples no mapped triangle, is still read.
-constexpr uint32_t kVersion = 15;
+// 16: a directory entry's last u32 (reserved, zero, before) holds the chunk's index layout on the
+//     device: bit 31 kChunkIndexDeltas16 (8 bytes a triangle, 16-bit offsets from its first
+//     index), bits 0-26 its long triangles (whose offsets do not fit), bits 27-30 zero; a version
+//     3 to 15 package is still read, its chunks' indices kept in 12 bytes a triangle on the device.
+constexpr uint32_t kVersion = 16;
+constexpr uint32_t kFirstChunkFlagsVersion = 16;
+constexpr uint32_t kDirectoryIndexDeltas16 = 1u << 31;
+constexpr uint32_t kDirectoryLongTriangleBits = 27;
 constexpr uint32_t kFirstLeafBricksVersion = 14;
 constexpr uint32_t kFirstEmitterUvVersion = 15;
 constexpr uint32_t kFirstCoatMapsVersion = 13;

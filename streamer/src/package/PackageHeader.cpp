@@ -465,27 +465,49 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
     return volumes;
 }
 
+namespace {
+std::string hex32(uint32_t v) {
+    char text[16];
+    std::snprintf(text, sizeof text, "%08x", v);
+    return text;
+}
+}  // namespace
+
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks) {
     ByteWriter out;
     for (const ChunkInfo& c : chunks) {
         for (uint64_t v : {c.offset, c.size, c.checksum, c.residentBytes}) out.put(v);
-        for (uint32_t v : {c.triangleCount, c.vertexCount, c.bvhNodeCount, 0u}) out.put(v);  // last: reserved
+        const uint32_t layout =
+            (c.flags & kChunkIndexDeltas16) != 0 ? format::kDirectoryIndexDeltas16 | c.longTriangles : 0u;
+        for (uint32_t v : {c.triangleCount, c.vertexCount, c.bvhNodeCount, layout}) out.put(v);
         out.put(c.cell.lo);
         out.put(c.cell.hi);
     }
     return std::move(out.bytes());
 }
 
-Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count) {
+Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version) {
     ByteReader in(bytes.data(), bytes.size());
     std::vector<ChunkInfo> chunks(count);
+    const uint32_t longMask = (1u << format::kDirectoryLongTriangleBits) - 1;
     for (uint32_t i = 0; i < count; ++i) {
         ChunkInfo& c = chunks[i];
         c.id = i;
+        const std::string name = "chunk " + std::to_string(i) + ": ";
         for (uint64_t* v : {&c.offset, &c.size, &c.checksum, &c.residentBytes}) in.get(*v);
-        uint32_t reserved = 0;
-        for (uint32_t* v : {&c.triangleCount, &c.vertexCount, &c.bvhNodeCount, &reserved}) in.get(*v);
-        if (reserved != 0) return Status::error("chunk " + std::to_string(i) + ": reserved directory field is not 0");
+        uint32_t layout = 0;
+        for (uint32_t* v : {&c.triangleCount, &c.vertexCount, &c.bvhNodeCount, &layout}) in.get(*v);
+        if (version < format::kFirstChunkFlagsVersion) {
+            if (layout != 0) return Status::error(name + "reserved directory field is not 0");
+        } else if (layout != 0) {
+            if ((layout & format::kDirectoryIndexDeltas16) == 0 || (layout & ~(format::kDirectoryIndexDeltas16 | longMask)) != 0)
+                return Status::error(name + "unknown index layout 0x" + hex32(layout) + " in its directory entry");
+            c.flags = kChunkIndexDeltas16;
+            c.longTriangles = layout & longMask;
+            if (c.longTriangles > c.triangleCount)
+                return Status::error(name + std::to_string(c.longTriangles) + " long triangles of " +
+                                     std::to_string(c.triangleCount));
+        }
         in.get(c.cell.lo);
         in.get(c.cell.hi);
     }

@@ -74,6 +74,6 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
                                                       uint32_t version);
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks);
-Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count);
+Result<std::vector<ChunkInfo>> parseDirectory(const std::vector<uint8_t>& bytes, uint32_t count, uint32_t version);
 
 }  // namespace vastray

@@ -163,7 +163,7 @@ Result<std::unique_ptr<PackageReader>> PackageReader::open(const std::string& pa
     info.topTree.resize(l.topNodeCount);
     std::memcpy(info.topTree.data(), bytes.data(), treeBytes);
     if (auto s = readSection(l.directoryOffset, directoryBytes, l.directoryChecksum, "chunk directory"); !s) return fail(s);
-    auto chunks = parseDirectory(bytes, l.chunkCount);
+    auto chunks = parseDirectory(bytes, l.chunkCount, info.formatVersion);
     if (!chunks) return fail(chunks.status());
     info.chunks = std::move(*chunks);
     if (auto s = readSection(l.camerasOffset, cameraBytes, l.camerasChecksum, "cameras"); !s) return fail(s);

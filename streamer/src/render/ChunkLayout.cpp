@@ -10,7 +10,8 @@ namespace {
 uint64_t align16(uint64_t bytes) { return (bytes + 15) / 16 * 16; }
 }  // namespace
 
-ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, const ChunkAttributes& attributes) {
+ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, bool indexDeltas16,
+                        uint64_t longTriangles, const ChunkAttributes& attributes) {
     ChunkLayout l;
     uint64_t at = 0;
     auto section = [&](uint64_t bytes) {
@@ -20,7 +21,7 @@ ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles
     };
     l.nodes = section(bvhNodes * sizeof(Bvh4Node));
     l.positions = section(vertices * 12);
-    l.indices = section(triangles * 12);
+    l.indices = section(indexDeltas16 ? triangles * 8 + longTriangles * 12 : triangles * 12);
     l.singleSided = section(attributes.singleSided ? (triangles + 3) / 4 * 4 : 0);
     l.primitiveIds = section(attributes.primitiveIds ? triangles * 4 : 0);
     l.materialIds = section(attributes.materialIds ? triangles * 4 : 0);

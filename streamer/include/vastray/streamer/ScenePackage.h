@@ -57,7 +57,22 @@ struct ChunkInfo {
     uint32_t triangleCount = 0; // references, duplicates included
     uint32_t vertexCount = 0;
     uint32_t bvhNodeCount = 0;  // Bvh4Node
+    uint32_t flags = 0;         // kChunkIndexDeltas16 (version 16; 0 before)
+    uint32_t longTriangles = 0; // with kChunkIndexDeltas16: triangles whose offsets do not fit
 };
+
+// ChunkInfo::flags: the device keeps the chunk's indices in 8 bytes a triangle, its first vertex
+// index and the other two's offsets from it in [-32767, 32767], and the `longTriangles` whose
+// offsets do not fit in 12 more bytes each (docs/GEOMETRY.md, "Chunk traversal"). Set by the
+// importer on every chunk from format 16; the count is checked when the chunk is decoded.
+inline constexpr uint32_t kChunkIndexDeltas16 = 1u;
+// The largest offset from a triangle's first vertex index that 8-byte indices hold (-32768 marks
+// a long triangle on the device).
+inline constexpr int32_t kMaxIndexDelta16 = 32767;
+
+// The triangles (ascending) whose second or third vertex index lies more than kMaxIndexDelta16
+// from its first: `indices` holds three per triangle.
+std::vector<uint32_t> longTriangles(const std::vector<uint32_t>& indices);
 
 // A volume as the package records it: everything but its voxels (`volume`'s brick table,
 // majorants and voxels are empty until PackageReader::openVolumes or readVolumes), and where its
@@ -156,6 +171,11 @@ struct DecodedChunk {
     // Set by the package reader once every index and BVH node is checked to lie in
     // range (backends then skip their own pass over the arrays); false for a hand-made chunk.
     bool validated = false;
+    // kChunkIndexDeltas16 of its directory entry: the device keeps its indices in 8 bytes a
+    // triangle, the long ones (longTriangles(indices), which the reader finds and checks against
+    // the directory's count) in 12 more. False for a hand-made chunk.
+    bool indexDeltas16 = false;
+    std::vector<uint32_t> longTriangles;
     uint64_t residentBytes() const;
 };
 

@@ -47,9 +47,13 @@ struct ChunkLayout {
     uint64_t uvs = 0;           // 2 x f32 per vertex
     uint64_t totalBytes = 0;
 };
-ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, const ChunkAttributes& attributes);
+// indexDeltas16: the indices as kChunkIndexDeltas16 says, 8 bytes a triangle and 12 more for each
+// of its longTriangles (else 12 a triangle).
+ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles, bool indexDeltas16,
+                        uint64_t longTriangles, const ChunkAttributes& attributes);
 inline ChunkLayout chunkLayout(const ChunkInfo& c, const ChunkAttributes& attributes) {
-    return chunkLayout(c.bvhNodeCount, c.vertexCount, c.triangleCount, attributes);
+    return chunkLayout(c.bvhNodeCount, c.vertexCount, c.triangleCount, (c.flags & kChunkIndexDeltas16) != 0,
+                       c.longTriangles, attributes);
 }
 
 struct StreamingStats;
