@@ -12,8 +12,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::memcpy(&info.triangleCount, data + 8, 4);
     std::memcpy(&info.vertexCount, data + 12, 4);
     std::memcpy(&info.bvhNodeCount, data + 16, 4);
+    // The last byte: lossless or quantized positions (bit 0), and 8-byte indices (bit 1) with
+    // its upper bits as the directory's long-triangle count (checked against the indices).
+    const uint8_t last = data[size - 1];
+    if (last & 2) info.flags = vastray::kChunkIndexDeltas16, info.longTriangles = last >> 2;
     vastray::QuantizationGrid grid;
-    grid.bits = data[size - 1] % 2 ? 0 : 20;  // lossless or quantized positions
+    grid.bits = last % 2 ? 0 : 20;
     const std::vector<uint8_t> blob(data, data + size - 1);
     (void)vastray::decodeChunkBlob(blob, info, grid, 4, 1u << 20);
     return 0;
