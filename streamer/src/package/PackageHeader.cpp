@@ -22,6 +22,12 @@ std::string formatReal(double v) {
     return text;
 }
 
+std::string hex32(uint32_t v) {
+    char text[16];
+    std::snprintf(text, sizeof text, "%08x", v);
+    return text;
+}
+
 // Every float the reader trusts from the header: the checksum only proves the bytes are the
 // ones written, not that a writer (or someone who recomputed it) wrote sane values. A NaN
 // bound or grid origin rendered sky; a grid range of 1e300 overflowed dequantization.
@@ -464,14 +470,6 @@ Result<std::vector<PackageVolume>> parseVolumeRecords(const std::vector<uint8_t>
     }
     return volumes;
 }
-
-namespace {
-std::string hex32(uint32_t v) {
-    char text[16];
-    std::snprintf(text, sizeof text, "%08x", v);
-    return text;
-}
-}  // namespace
 
 std::vector<uint8_t> serializeDirectory(const std::vector<ChunkInfo>& chunks) {
     ByteWriter out;
