@@ -171,7 +171,7 @@ public:
         put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
         ChunkSlot entry{};
         if (chunk.indexDeltas16) {
-            const uint64_t size = triangles * 8 + chunk.longTriangles.size() * 12;
+            const uint64_t size = deviceIndexBytes(triangles, true, chunk.longTriangles.size());
             bytes += size;
             copies.push_back({layout.indices, chunk.indices.data(), size, &chunk.longTriangles});
             entry.flags |= kSlotIndexDeltas16;

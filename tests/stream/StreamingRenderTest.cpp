@@ -810,8 +810,8 @@ TEST(StreamingRender, ResidentByteCapKeepsTheImage) {
         double worst = 0;
         for (const ChunkInfo& c : (*reader)->info().chunks)
             worst = std::max(worst, double(c.bvhNodeCount * sizeof(Bvh4Node) + c.vertexCount * 12 +
-                                           ((c.flags & kChunkIndexDeltas16) != 0 ? c.triangleCount * 8 + c.longTriangles * 12
-                                                                                  : c.triangleCount * 12)) /
+                                           deviceIndexBytes(c.triangleCount, (c.flags & kChunkIndexDeltas16) != 0,
+                                                            c.longTriangles)) /
                                         c.triangleCount);
         return worst;
     };

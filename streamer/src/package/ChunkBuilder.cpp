@@ -151,7 +151,7 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
 // --resident-bytes-per-triangle counts these; indices take 8 bytes a triangle on the device and
 // 12 more for each long triangle, kChunkIndexDeltas16).
 uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhNodes, uint64_t longTriangles) {
-    return vertices * 12 + triangles * 8 + longTriangles * 12 + bvhNodes * sizeof(Bvh4Node);
+    return vertices * 12 + deviceIndexBytes(triangles, true, longTriangles) + bvhNodes * sizeof(Bvh4Node);
 }
 
 // The BVH of the first of these cost settings whose chunk fits the cap: leaves of about 2, 3, 5

@@ -21,7 +21,7 @@ ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles
     };
     l.nodes = section(bvhNodes * sizeof(Bvh4Node));
     l.positions = section(vertices * 12);
-    l.indices = section(indexDeltas16 ? triangles * 8 + longTriangles * 12 : triangles * 12);
+    l.indices = section(deviceIndexBytes(triangles, indexDeltas16, longTriangles));
     l.singleSided = section(attributes.singleSided ? (triangles + 3) / 4 * 4 : 0);
     l.primitiveIds = section(attributes.primitiveIds ? triangles * 4 : 0);
     l.materialIds = section(attributes.materialIds ? triangles * 4 : 0);

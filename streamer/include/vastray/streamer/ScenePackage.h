@@ -70,6 +70,13 @@ inline constexpr uint32_t kChunkIndexDeltas16 = 1u;
 // a long triangle on the device).
 inline constexpr int32_t kMaxIndexDelta16 = 32767;
 
+// A chunk's indices on the device: 8 bytes a triangle and 12 more for each long one with
+// kChunkIndexDeltas16, else 12 a triangle. The one formula slot sizes, uploads and the import's
+// cap share.
+inline uint64_t deviceIndexBytes(uint64_t triangles, bool indexDeltas16, uint64_t longTriangles) {
+    return indexDeltas16 ? triangles * 8 + longTriangles * 12 : triangles * 12;
+}
+
 // The triangles (ascending) whose second or third vertex index lies more than kMaxIndexDelta16
 // from its first: `indices` holds three per triangle.
 std::vector<uint32_t> longTriangles(const std::vector<uint32_t>& indices);
