@@ -5,7 +5,7 @@
 // RenderStats of the renders it ran.
 //
 //   stream_render_bench [--kind city] [--triangles N] [--chunk-size 16MiB] [--resolution WxH]
-//                       [--spp N] [--depth D] [--ratios 4,16] [--device I] [--package P.vast]
+//                       [--spp N] [--depth D] [--ratios 4,16] [--budgets 512MiB,128MiB] [--device I] [--package P.vast]
 //                       [--codec draco|meshopt] [--repeat N] [--resident-only] [--keep] [--out FILE.md]
 //                       [--resident-bytes-per-triangle B]  (import option: cap the chunks' device bytes)
 //                       [--eye X,Y,Z --target X,Y,Z]  (default: frame the scene; give both to match a
@@ -28,6 +28,10 @@
 //                       [--staging-bytes 4GiB]  (--upload dma: the pinned staging area's size; default:
 //                                                a sixteenth of the machine's memory, within 1-16 GiB)
 //                       [--dma-batch 0]  (--upload dma: bytes of chunk copies per transfer submission; 0: per chunk)
+//                       [--float-positions]  (3 floats a vertex on the device even where the package's grid packs
+//                                             them in 8 bytes: ChunkAttributes::packedPositions, for comparisons)
+// --ratios sets out-of-core budgets as the scene's resident bytes over each ratio (so a smaller scene
+// gets a smaller budget); --budgets adds rows at budgets in bytes (the same memory for any package).
 //   stream_render_bench --kernel-stats [--device I]  (only: the driver's registers and sizes of the wavefront's
 //                                                     kernels, gpu/KernelStatistics.h; no scene)
 // --repeat N renders every row N times and keeps the run of median render time (the device
@@ -67,6 +71,8 @@ struct Args {
     uint64_t triangles = 10000000, chunkSize = 16ull << 20;
     uint32_t width = 1920, height = 1080, spp = 1, depth = 2;
     std::vector<double> ratios{4, 16};
+    std::vector<uint64_t> budgets;  // --budgets: out-of-core rows at these budgets in bytes
+    bool floatPositions = false;    // --float-positions
     int device = -1;
     int repeat = 1;
     bool keep = false;
@@ -120,7 +126,15 @@ Args parseArgs(int argc, char** argv) {
             a.ratios.clear();
             std::stringstream list(value());
             for (std::string item; std::getline(list, item, ',');) a.ratios.push_back(std::stod(item));
-        } else if (flag == "--device") a.device = std::stoi(value());
+        } else if (flag == "--budgets") {
+            std::stringstream list(value());
+            for (std::string item; std::getline(list, item, ',');) {
+                auto size = parseByteSize(item);
+                if (!size) fail("--budgets: " + size.message());
+                a.budgets.push_back(*size);
+            }
+        } else if (flag == "--float-positions") a.floatPositions = true;
+        else if (flag == "--device") a.device = std::stoi(value());
         else if (flag == "--package") a.package = value();
         else if (flag == "--out") a.out = value();
         else if (flag == "--codec") {
@@ -254,7 +268,13 @@ int main(int argc, char** argv) {
     auto device = gpu::VulkanDevice::create(deviceOptions);
     if (!device) fail(device.message());
 
-    const ChunkAttributes attributes = requiredAttributes(info, RenderOptions{});
+    ChunkAttributes attributes = requiredAttributes(info, RenderOptions{});
+    if (args.floatPositions) attributes.packedPositions = false;
+    // What a render's backend is created with: as asked for, but 3 floats a vertex with --float-positions.
+    auto asked = [&](ChunkAttributes a) {
+        if (args.floatPositions) a.packedPositions = false;
+        return a;
+    };
     const uint64_t residentBytes = gpu::residentChunkBytes(info, attributes);
     auto fitPlan = gpu::planPool(info, attributes, 1ull << 40);
     if (!fitPlan) fail(fitPlan.message());
@@ -290,7 +310,7 @@ int main(int argc, char** argv) {
             auto image = renderStreaming(
                 **reader, o, args.streaming,
                 [&](const PackageInfo& p, const ChunkAttributes& a) {
-                    return gpu::createVulkanChunkBackend(**device, p, a, budget, args.waveShare, upload, 0,
+                    return gpu::createVulkanChunkBackend(**device, p, asked(a), budget, args.waveShare, upload, 0,
                                                          args.pathState);
                 },
                 &row.render, &row.streaming);
@@ -308,7 +328,7 @@ int main(int argc, char** argv) {
     auto steady = [&](const std::string& prefix, uint64_t budget, std::initializer_list<uint32_t> depths) {
         auto scene = StreamingScene::open(**reader, attributes, args.streaming,
                                           [&](const PackageInfo& p, const ChunkAttributes& a) {
-                                              return gpu::createVulkanChunkBackend(**device, p, a, budget,
+                                              return gpu::createVulkanChunkBackend(**device, p, asked(a), budget,
                                                                                    args.waveShare, args.upload, 0,
                                                                                    args.pathState);
                                           });
@@ -361,24 +381,31 @@ int main(int argc, char** argv) {
         render("in core, primary", fitBudget, IntegratorKind::Path, 0);
         render("in core, path depth " + std::to_string(args.depth), fitBudget, IntegratorKind::Path, args.depth);
     }
+    // Out-of-core rows: by ratio, then by budget in bytes.
+    std::vector<std::pair<std::string, uint64_t>> outOfCore;
     for (double ratio : args.residentOnly ? std::vector<double>{} : args.ratios) {
-        const uint64_t budget = uint64_t(double(residentBytes) / ratio);
         char label[64];
-        std::snprintf(label, sizeof label, "%gx over budget, primary", ratio);
-        render(label, budget, IntegratorKind::Path, 0);
-        std::snprintf(label, sizeof label, "%gx over budget, path depth %u", ratio, args.depth);
-        render(label, budget, IntegratorKind::Path, args.depth);
-        if (args.steadyOutOfCore) {
-            std::snprintf(label, sizeof label, "steady %gx over budget", ratio);
-            steady(label, budget, {args.depth});
-        }
+        std::snprintf(label, sizeof label, "%gx over budget", ratio);
+        outOfCore.emplace_back(label, uint64_t(double(residentBytes) / ratio));
+    }
+    for (uint64_t budget : args.residentOnly ? std::vector<uint64_t>{} : args.budgets) {
+        char label[96];
+        std::snprintf(label, sizeof label, "%s budget (%.2fx over)", formatBytes(budget).c_str(),
+                      double(residentBytes) / double(budget));
+        outOfCore.emplace_back(label, budget);
+    }
+    for (const auto& [name, budget] : outOfCore) {
+        render(name + ", primary", budget, IntegratorKind::Path, 0);
+        render(name + ", path depth " + std::to_string(args.depth), budget, IntegratorKind::Path, args.depth);
+        if (args.steadyOutOfCore) steady("steady " + name, budget, {args.depth});
     }
 
     std::ostringstream md;
     md << "Scene: " << args.kind << ", " << info.triangleCount << " triangles, " << info.chunks.size()
        << " chunks (chunk size " << formatBytes(info.chunkSizeBytes) << "), resident "
        << formatBytes(residentBytes) << " = " << double(residentBytes) / double(info.triangleCount)
-       << " bytes/triangle; package " << formatBytes(info.fileBytes) << " (" << geometryCodecName(info.codec)
+       << " bytes/triangle (positions " << (attributes.packedPositions ? "packed, 8" : "12")
+       << " bytes a vertex); package " << formatBytes(info.fileBytes) << " (" << geometryCodecName(info.codec)
        << " chunks)";
     if (importSeconds > 0) md << ", imported in " << importSeconds << " s";
     md << ". Device: " << (*device)->info().name << ". Image " << args.width << "x" << args.height << ", "

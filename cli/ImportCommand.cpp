@@ -207,7 +207,8 @@ CommandRun addImportCommand(CLI::App& app) {
                     "resident size limit of one chunk (B, KiB, MiB, GiB; minimum 16KiB)")
         ->capture_default_str();
     cmd->add_option("--quantize-bits", args->quantizeBits,
-                    "position precision over the scene's extent, 1..30 bits; 0 = lossless")
+                    "position precision over the scene's extent, 1..30 bits (a power-of-two step: one 2^-bits to "
+                    "2^(1-bits) of the extent); up to 20 the device keeps a vertex in 8 bytes; 0 = lossless")
         ->capture_default_str();
     auto* ds = cmd->add_flag("--double-sided", args->doubleSided, "make every material double-sided");
     auto* ss = cmd->add_flag("--single-sided", args->singleSided, "make every material single-sided");
@@ -220,7 +221,8 @@ CommandRun addImportCommand(CLI::App& app) {
                     "Draco trade-off: 0 = smallest package, slowest import; 10 = fastest import, largest")
         ->capture_default_str();
     cmd->add_option("--resident-bytes-per-triangle", args->residentBytesPerTriangle,
-                    "cap each chunk's device bytes per triangle (BVH nodes, positions, indices: 8 bytes a triangle) by building "
+                    "cap each chunk's device bytes per triangle (BVH nodes; positions: 8 bytes a vertex with --quantize-bits "
+                    "of 1..20, else 12; indices: 8 bytes a triangle) by building "
                     "its BVH with larger leaves (up to 16 triangles; a chunk that does not fit with those "
                     "keeps them): less memory, more triangle tests per ray, same hits; 0 = no cap")
         ->capture_default_str();

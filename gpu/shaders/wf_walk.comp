@@ -28,6 +28,9 @@
 // (common/KdTraversal.glsl) asks cutAway, defined below, about every hit it would keep.
 #define VASTRAY_CUTOUTS 1
 bool cutAway(uint tri, uvec3 corners, float u, float v);
+// Positions in 8 bytes a vertex (vertex(), common/KdTraversal.glsl; the grid in pc).
+layout(constant_id = 4) const bool kPackedPositions = false;
+#define VASTRAY_PACKED_POSITIONS 1
 #include "common/KdTraversal.glsl"
 #include "common/Bvh4Traversal.glsl"
 #include "common/SlotTable.glsl"
@@ -43,6 +46,7 @@ layout(constant_id = 0) const bool kCountCost = true;  // the cost AOV: cells an
 layout(constant_id = 1) const bool kPaging = true;     // some chunk is not resident: rays may park
 layout(constant_id = 2) const bool kCutouts = false;   // some material is a cut-out or a blend (core isAlphaTested)
 layout(constant_id = 3) const bool kBlends = false;    // some material is a blend (core isBlended): rays draw coins
+// constant_id 4, kPackedPositions, is declared above (common/KdTraversal.glsl reads it).
 
 // The slot whose chunk the walk traces (cutAway reads its materials, UVs and primitive ids).
 ChunkSlot cutoutSlot;

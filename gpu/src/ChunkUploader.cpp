@@ -65,6 +65,12 @@ Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies
         for (uint64_t at = 0; at < c.size; at += kPiece) pieces.push_back({&c, at, std::min(kPiece, c.size - at)});
     auto run = [&](const Piece& p) {
         if (p.copy->size == 0) return true;
+        if (p.copy->grid) {  // 8 bytes a vertex; pieces start at multiples of 256 KiB
+            const auto* positions = static_cast<const Vec3f*>(p.copy->data) + p.at / 8;
+            std::vector<uint64_t> packed(p.size / 8);
+            p.copy->grid->packPositions(positions, packed.size(), packed.data());
+            return to.upload(packed.data(), p.size, base + p.copy->offset + p.at).isOk();
+        }
         if (!p.copy->longTriangles) {
             const auto* from = static_cast<const uint8_t*>(p.copy->data) + p.at;
             return to.upload(from, p.size, base + p.copy->offset + p.at).isOk();

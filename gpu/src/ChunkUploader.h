@@ -21,12 +21,14 @@ namespace vastray::gpu {
 // One array of a chunk: `size` bytes at `data` go to `offset` in the slot. With longTriangles set,
 // `data` holds three uint32 vertex indices a triangle and the slot gets them as
 // kSlotIndexDeltas16 lays them out (shared/StreamTypes.h): `size` = 8 x triangles + 12 x the
-// long triangles (*longTriangles, ascending).
+// long triangles (*longTriangles, ascending). With grid set, `data` holds Vec3f positions and the
+// slot gets each as grid->packedPosition's 8 bytes: `size` = 8 x vertices.
 struct SlotCopy {
     uint64_t offset;
     const void* data;
     uint64_t size;
     const std::vector<uint32_t>* longTriangles = nullptr;
+    const QuantizationGrid* grid = nullptr;
 };
 
 // Writes the arrays into the mapped buffer `to` at base + offset, in 256 KiB pieces on all cores.

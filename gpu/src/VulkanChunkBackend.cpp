@@ -68,11 +68,16 @@ public:
     }
 
     Status init(const PackageInfo& package) {
+        grid_ = package.grid;
+        if (attributes_.packedPositions && !grid_.packsPositions())
+            return Status::error("packed positions asked for, but the package's quantization grid (" +
+                                 std::to_string(grid_.bits) +
+                                 " bits) does not allow them (QuantizationGrid::packsPositions)");
         // The kernels compile while the pools are made; the shade variant guessed from the scene
         // and the default options (path integrator, the default sky's sun, no environment map).
         uint32_t codecs = 0;
         for (const PackageVolume& v : package.volumes) codecs |= 1u << uint32_t(v.volume.codec);
-        wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_,
+        wavefront_ = Wavefront::start(device_, plan_.slots >= chunkCount_, attributes_.packedPositions,
                                       shadeConstants(package.materials, false, true, attributes_.normals,
                                                      attributes_.colors, false, codecs,
                                                      !package.lights.empty(),
@@ -168,7 +173,13 @@ public:
             copies.push_back({offset, data, size});
         };
         put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node));
-        put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
+        if (attributes_.packedPositions) {
+            const uint64_t size = devicePositionBytes(chunk.positions.size(), true);
+            bytes += size;
+            copies.push_back({layout.positions, chunk.positions.data(), size, nullptr, &grid_});
+        } else {
+            put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
+        }
         ChunkSlot entry{};
         if (chunk.indexDeltas16) {
             const uint64_t size = deviceIndexBytes(triangles, true, chunk.longTriangles.size());
@@ -241,6 +252,9 @@ public:
         b.topNodeCount = topNodeCount_, b.chunkCount = chunkCount_;
         b.normals = attributes_.normals, b.colors = attributes_.colors, b.uvs = attributes_.uvs;
         b.frames = attributes_.uvs && attributes_.tangents;
+        b.packedPositions = attributes_.packedPositions;
+        if (b.packedPositions)
+            b.grid = {float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.step())};
         b.uploader = uploader_.get();
         VASTRAY_TRY(prepareEnvironment(job.options->environment, job.options->volumes, stats));
         VASTRAY_TRY(prepareVolumes(job.options->volumes, stats));
@@ -341,6 +355,11 @@ private:
         if (c.validated) return Status::ok();
         if (c.indexDeltas16 && c.longTriangles != longTriangles(c.indices))
             return Status::error("its long triangles are not those of its indices (indexDeltas16)");
+        if (attributes_.packedPositions)
+            for (size_t v = 0; v < c.positions.size(); ++v)
+                if (!grid_.packsExactly(c.positions[v]))
+                    return Status::error("vertex " + std::to_string(v) + " does not lie on the package's grid "
+                                         "(packed positions)");
         return validateChunkGeometry(c.bvh, c.positions.size(), c.indices);
     }
 
@@ -351,6 +370,7 @@ private:
     ChunkUploadMode mode_;  // Mapped or Dma
     TableLayout tables_;  // in table_
     Aabb bounds_;         // the package's: the top-level tree's bounds
+    QuantizationGrid grid_;  // the package's: packs positions with attributes_.packedPositions
     uint32_t topNodeCount_, chunkCount_;
     std::unique_ptr<Wavefront> wavefront_;
     std::vector<GpuBuffer> slots_;

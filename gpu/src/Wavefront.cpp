@@ -146,7 +146,11 @@ uint32_t materialMap(const Material& m, TextureSlot slot) { return m.textures.sl
 
 // The walk variants a render of a scene without cut-outs and without the cost AOV needs: in core
 // and out of core (kPaging).
-constexpr WalkConstants kWalkInCore{0u, 0u, 0u, 0u}, kWalkOutOfCore{0u, 1u, 0u, 0u};
+constexpr WalkConstants kWalkInCore{0u, 0u, 0u, 0u, 0u}, kWalkOutOfCore{0u, 1u, 0u, 0u, 0u};
+WalkConstants withPackedPositions(WalkConstants c, bool packed) {
+    c[4] = packed ? 1u : 0u;
+    return c;
+}
 
 uint32_t variantKey(std::span<const uint32_t> constants) {
     uint32_t key = 0, bit = 0;
@@ -201,7 +205,7 @@ Result<std::string> describeKernels(VulkanDevice& device) {
     const Kernel kernels[] = {
         {"wf_walk in core", kWalkSpirv, {kWalkInCore.begin(), kWalkInCore.end()}},
         {"wf_walk out of core", kWalkSpirv, {kWalkOutOfCore.begin(), kWalkOutOfCore.end()}},
-        {"wf_walk out of core, cost AOV", kWalkSpirv, {1u, 1u, 0u, 0u}},  // kWalkOutOfCore and kCountCost
+        {"wf_walk out of core, cost AOV", kWalkSpirv, {1u, 1u, 0u, 0u, 0u}},  // kWalkOutOfCore and kCountCost
         {"wf_shade (sun, Lambertian)", kShadeSpirv, {shade.begin(), shade.end()}},
         {"wf_shade (sun, Lambertian), state in host memory", kShadeSpirv, {hostShade.begin(), hostShade.end()}},
         {"wf_generate", kGenerateSpirv, {}},
@@ -219,15 +223,16 @@ Result<std::string> describeKernels(VulkanDevice& device) {
     return text;
 }
 
-std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade) {
+std::unique_ptr<Wavefront> Wavefront::start(VulkanDevice& device, bool inCore, bool packedPositions,
+                                            const ShadeConstants& likelyShade) {
     std::unique_ptr<Wavefront> w(new Wavefront(device));
     w->pendingShades_.emplace(variantKey(likelyShade),
                               createAsync(device, kShadeSpirv, std::vector<uint32_t>(likelyShade.begin(), likelyShade.end())));
     w->pendingFixed_[0] = createAsync(device, kGenerateSpirv);
     w->pendingFixed_[1] = createAsync(device, kAccumulateSpirv);
     w->pendingFixed_[2] = createAsync(device, kAovSpirv);
-    w->startWalkVariants({kWalkOutOfCore});
-    if (inCore) w->startWalkVariants({kWalkInCore});
+    w->startWalkVariants({withPackedPositions(kWalkOutOfCore, packedPositions)});
+    if (inCore) w->startWalkVariants({withPackedPositions(kWalkInCore, packedPositions)});
     return w;
 }
 
@@ -307,8 +312,9 @@ public:
         };
         cutouts_ = anyMaterial(isAlphaTested);
         blends_ = anyMaterial(isBlended);
-        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_, blends_}});
-        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_, blends_}});
+        const uint32_t packed = b_.packedPositions ? 1u : 0u;
+        if (!pager_.allResident()) w_.startWalkVariants({{cost, 1u, cutouts_, blends_, packed}});
+        if (!b_.outOfCore) w_.startWalkVariants({{cost, 0u, cutouts_, blends_, packed}});
         const bool emitters = options_.emitters && !options_.emitters->entries.empty();
         if (emitters && (options_.emitters->entries.size() > b_.tables.emitterCapacity ||
                          options_.emitters->areaDensity.size() != job_.materials.size()))
@@ -503,7 +509,13 @@ private:
         p.firstPixel = tile.first(), p.pixelCount = tile.count(), p.tileWidth = tile.width;
         p.firstSample = firstSample, p.sampleCount = samples;
         p.mode = mode;
+        putGrid(p);
         return p;
+    }
+
+    // The grid wf_walk's kPackedPositions rebuilds vertices with (zeros without it).
+    void putGrid(WavefrontPush& p) const {
+        p.gridOriginX = b_.grid[0], p.gridOriginY = b_.grid[1], p.gridOriginZ = b_.grid[2], p.gridStep = b_.grid[3];
     }
 
     // One walk pass over queue push.queue (its parked rays go to the other queue, which becomes
@@ -641,7 +653,8 @@ private:
         clearQueue(kShadeQueue);
         clearQueue(kShadeWaitQueue);
         // In core no ray parks: the walk without the paging code.
-        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, !pager_.allResident(), cutouts_, blends_}, stats_);
+        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, !pager_.allResident(), cutouts_, blends_,
+                                                            b_.packedPositions}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
@@ -787,7 +800,7 @@ private:
                 VASTRAY_TRY(readWalkedRays());
             }
         VASTRAY_TRY(uploadBytes(&tilePixels, 4, b_.tables.params + offsetof(WavefrontParams, tilePixels)));
-        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, 1u, cutouts_, blends_}, stats_);
+        auto walk = w_.variant(true, WalkConstants{(image_.aovs & kAovCost) != 0, 1u, cutouts_, blends_, b_.packedPositions}, stats_);
         if (!walk) return walk.status();
         walk_ = *walk;
         streamed_ = true;
@@ -805,6 +818,7 @@ private:
         WavefrontPush push{};
         push.params = b_.table->address() + b_.tables.params;
         push.sampleCount = groupSize, push.mode = kWaveStreamed, push.queue = 0, push.groupQueue = kGroupQueue;
+        putGrid(push);
 
         struct Open {
             uint64_t tile;

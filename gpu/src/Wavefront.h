@@ -42,6 +42,10 @@ struct WavefrontBuffers {
     bool normals = false, colors = false;  // slots hold shading normals, colours (ChunkAttributes)
     bool uvs = false;  // slots hold texture coordinates and the state buffer the hits' (StateLayout::hitUv)
     bool frames = false;  // the state buffer holds the hits' UV derivatives (StateLayout::hitFrame)
+    // Slots hold positions in 8 bytes a vertex (ChunkAttributes::packedPositions): the walk's
+    // kPackedPositions, with the grid's origin and step (exact floats) in its push constants.
+    bool packedPositions = false;
+    std::array<float, 4> grid{};  // origin x, y, z, step
     ChunkUploader* uploader = nullptr;  // DMA uploads: every submission waits for the copies before it
     GpuBuffer* environment = nullptr;   // EnvironmentLayout of the render's environment map; none without
     DeviceVolumes* volumes = nullptr;   // the render's volumes (RenderOptions::volumes), in core or paged; none without
@@ -59,8 +63,8 @@ struct WavefrontBuffers {
 // PoolPlan::stateInHostMemory: the shading then takes a workgroup's ended paths off each group's
 // count with one atomic).
 using ShadeConstants = std::array<uint32_t, 17>;
-// wf_walk.comp's specialization: the cost AOV, paging, cut-outs (or blends), blends.
-using WalkConstants = std::array<uint32_t, 4>;
+// wf_walk.comp's specialization: the cost AOV, paging, cut-outs (or blends), blends, packed positions.
+using WalkConstants = std::array<uint32_t, 5>;
 ShadeConstants shadeConstants(std::span<const Material> materials, bool ambientOcclusion, bool sun, bool normals,
                               bool colors, bool environmentMap, uint32_t volumeCodecs, bool lights, bool textures = false,
                               bool frames = false, bool emitters = false, bool hostState = false);
@@ -73,11 +77,12 @@ public:
     // Starts creating its kernels on threads of their own (a driver compiles each, 0.1-0.4 s on
     // the H200 with an empty cache): the three every render uses, the walk variants a render
     // without the cost AOV asks for (the paging one; with inCore, every chunk having a slot, the
-    // resident one too) and the shade variant `likelyShade` (the scene's with the default
+    // resident one too; packedPositions: ChunkAttributes::packedPositions) and the shade variant `likelyShade` (the scene's with the default
     // options), so that they compile while the backend allocates its pools. ready() waits for
     // the three; a render waits for the variants it uses (a render that needs another shade
     // variant creates its own).
-    static std::unique_ptr<Wavefront> start(VulkanDevice& device, bool inCore, const ShadeConstants& likelyShade);
+    static std::unique_ptr<Wavefront> start(VulkanDevice& device, bool inCore, bool packedPositions,
+                                            const ShadeConstants& likelyShade);
     Status ready();
 
     // deviceSeconds: time spent waiting for submissions.

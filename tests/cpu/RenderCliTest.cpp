@@ -204,7 +204,12 @@ TEST_F(RenderCli, MeshFileAndPackageGiveTheSamePrimIds) {
 }
 
 TEST_F(RenderCli, PackageSceneKeepsEachTriangleOnce) {
-    auto reader = PackageReader::open(test::tmpPath("terrain.vast"));
+    // A sphere: its triangles straddle the cells' planes wherever they lie (the terrain's regular
+    // grid of vertices can fall exactly on them, with a power-of-two grid step, and share none).
+    const std::string ply = test::tmpPath("keep-once-sphere.ply"), package = test::tmpPath("keep-once-sphere.vast");
+    ASSERT_EQ(run("generate sphere --triangles 20000 --seed 3 -o " + ply).exitCode, 0);
+    ASSERT_EQ(run("import " + ply + " -o " + package + " --chunk-size 64KiB --progress none").exitCode, 0);
+    auto reader = PackageReader::open(package);
     ASSERT_TRUE(reader) << reader.message();
     ASSERT_GT((*reader)->info().duplicatedReferences(), 0u) << "the test needs triangles shared by cells";
     auto scene = renderSceneFromPackage(**reader);

@@ -12,7 +12,7 @@
 #include "common/Watertight.glsl"
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer UVec2Indices { uvec2 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer UVec2Words { uvec2 v[]; };
 #ifndef VASTRAY_FLOAT_ARRAY  // common/WavefrontState.glsl declares it for the wavefront kernels
 #define VASTRAY_FLOAT_ARRAY
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
@@ -145,7 +145,20 @@ bool betterHit(TriangleHit h, uint triangle, bool found, TraceHit best) {
     return triangle < best.triangle;
 }
 
+// Vertex i of the chunk: 3 floats, or in a kernel that defines VASTRAY_PACKED_POSITIONS (with its
+// kPackedPositions constant and the grid in pc: wf_walk.comp) 8 bytes, the vertex's grid
+// coordinates from the origin, 21 bits an axis (vastray::QuantizationGrid::packedPosition): the
+// product is exact (a power-of-two step) and the sum rounds once, so the floats are those the
+// host decoded (docs/GEOMETRY.md).
 vec3 vertex(ChunkView c, uint i) {
+#ifdef VASTRAY_PACKED_POSITIONS
+    if (kPackedPositions) {
+        const uvec2 w = UVec2Words(c.positions).v[i];
+        const uvec3 m = uvec3(w.x & 0x1FFFFFu, (w.x >> 21) | ((w.y & 0x3FFu) << 11), w.y >> 10);
+        precise vec3 v = vec3(pc.gridOriginX, pc.gridOriginY, pc.gridOriginZ) + vec3(m) * pc.gridStep;
+        return v;
+    }
+#endif
     FloatArray p = FloatArray(c.positions);
     return vec3(p.v[3u * i], p.v[3u * i + 1u], p.v[3u * i + 2u]);
 }
@@ -157,7 +170,7 @@ uvec3 triangleVertices(ChunkView c, uint tri) {
     UintArray indices = UintArray(c.indices);
     uint at = 3u * tri;
     if (c.indexDeltas16) {
-        const uvec2 w = UVec2Indices(c.indices).v[tri];
+        const uvec2 w = UVec2Words(c.indices).v[tri];
         if (w.y != kSlotLongTriangle)
             return uvec3(w.x, w.x + uint(bitfieldExtract(int(w.y), 0, 16)), w.x + uint(int(w.y) >> 16));
         at = w.x;

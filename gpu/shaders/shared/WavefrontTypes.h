@@ -346,6 +346,9 @@ struct WavefrontPush {
     uint tileWidth;
     uint groupQueue;  // wf_generate.comp (kGenerateStream): the group queue it takes groups from
                       // (kGroupQueue or kGroupQueue + 1; it appends idle ones to the other)
+    // wf_walk.comp with kPackedPositions: the package grid's origin and step (floats, exact), a
+    // vertex at origin + float(m) * step (vastray::QuantizationGrid::packedPosition).
+    float gridOriginX, gridOriginY, gridOriginZ, gridStep;
 };
 
 #ifdef __cplusplus
@@ -356,7 +359,7 @@ static_assert(sizeof(WavefrontEmitter) == 80);
 static_assert(offsetof(WavefrontParams, eyeX) == 48 * 8 && sizeof(WavefrontParams) % 8 == 0);
 static_assert(sizeof(StreamWindow) == 16 + 4 * kMaxWindowTiles + 16 * kMaxWindowTiles);
 static_assert(sizeof(WavefrontVolume) == 4 * 8 + 12 * 4 + 6 * 4 + 8 * 4 + 2 * 4 + 8);
-static_assert(sizeof(WavefrontPush) == 48 && offsetof(WavefrontPush, tileWidth) == 40);
+static_assert(sizeof(WavefrontPush) == 64 && offsetof(WavefrontPush, tileWidth) == 40 && offsetof(WavefrontPush, gridStep) == 60);
 }  // namespace vastray::gpu
 #endif
 

@@ -149,9 +149,12 @@ std::vector<Vec3f> wordsToPositions(const std::vector<int32_t>& words, const Qua
 
 // What every render uploads of a chunk: BVH nodes, positions, indices (the cap of
 // --resident-bytes-per-triangle counts these; indices take 8 bytes a triangle on the device and
-// 12 more for each long triangle, kChunkIndexDeltas16).
-uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhNodes, uint64_t longTriangles) {
-    return vertices * 12 + deviceIndexBytes(triangles, true, longTriangles) + bvhNodes * sizeof(Bvh4Node);
+// 12 more for each long triangle, kChunkIndexDeltas16; positions 8 bytes a vertex where the grid
+// packs them).
+uint64_t chunkGeometryBytes(uint64_t vertices, uint64_t triangles, uint64_t bvhNodes, uint64_t longTriangles,
+                            bool packedPositions) {
+    return devicePositionBytes(vertices, packedPositions) + deviceIndexBytes(triangles, true, longTriangles) +
+           bvhNodes * sizeof(Bvh4Node);
 }
 
 // The BVH of the first of these cost settings whose chunk fits the cap: leaves of about 2, 3, 5
@@ -160,14 +163,15 @@ constexpr std::array<Bvh4BuildOptions, 4> kBvhLadder{{{1.0f, 1.0f, 4, 16}, {1.0f
                                                        {1.0f, 0.3f, 8, 16}, {1.0f, 0.15f, 16, 16}}};
 
 Bvh4 buildChunkBvh(const std::vector<Vec3f>& positions, const std::vector<uint32_t>& indices, double bytesPerTriangle,
-                   uint64_t longTriangles) {
+                   uint64_t longTriangles, bool packedPositions) {
     const uint32_t triangles = uint32_t(indices.size() / 3);
     const double limit = bytesPerTriangle * triangles;
     Bvh4 bvh;
     for (const Bvh4BuildOptions& options : kBvhLadder) {
         bvh = buildBvh4(positions.data(), indices.data(), triangles, options);
         if (bytesPerTriangle <= 0 ||
-            double(chunkGeometryBytes(positions.size(), triangles, bvh.nodes.size(), longTriangles)) <= limit)
+            double(chunkGeometryBytes(positions.size(), triangles, bvh.nodes.size(), longTriangles,
+                                      packedPositions)) <= limit)
             break;
     }
     return bvh;
@@ -213,7 +217,8 @@ Result<BuiltChunk> buildChunk(const ChunkSource& source, const std::vector<Trian
                              std::to_string(kBvh4MaxTriangles) + ": use a smaller --chunk-size");
     // The leaf order moves triangles, not their corners: the count holds for the stored order too.
     const uint64_t longCount = longTriangles(decoded->indices).size();
-    Bvh4 bvh = buildChunkBvh(positions, decoded->indices, source.residentBytesPerTriangle, longCount);
+    Bvh4 bvh = buildChunkBvh(positions, decoded->indices, source.residentBytesPerTriangle, longCount,
+                             source.grid->packsPositions());
     // Ids travel in leaf order; the blob keeps the order so that the reader can sort the
     // decoded faces the same way.
     auto inLeafOrder = [&](std::vector<uint32_t>& ids) {

@@ -20,7 +20,7 @@ ChunkLayout chunkLayout(uint64_t bvhNodes, uint64_t vertices, uint64_t triangles
         return offset;
     };
     l.nodes = section(bvhNodes * sizeof(Bvh4Node));
-    l.positions = section(vertices * 12);
+    l.positions = section(devicePositionBytes(vertices, attributes.packedPositions));
     l.indices = section(deviceIndexBytes(triangles, indexDeltas16, longTriangles));
     l.singleSided = section(attributes.singleSided ? (triangles + 3) / 4 * 4 : 0);
     l.primitiveIds = section(attributes.primitiveIds ? triangles * 4 : 0);

@@ -78,6 +78,7 @@ ChunkAttributes requiredAttributes(const PackageInfo& info, const RenderOptions&
     for (const Material& m : info.materials) a.primitiveIds |= isBlended(m, a.uvs ? info.textures.size() : 0);
     for (const Material& m : info.materials)
         a.tangents |= a.uvs && m.textures.slots[uint32_t(TextureSlot::Normal)].texture < info.textures.size();
+    a.packedPositions = info.grid.packsPositions();
     return a;
 }
 

@@ -27,6 +27,10 @@ struct QuantizationGrid {
     double origin[3] = {0, 0, 0};
     double range = 1;  // the same step on every axis: range / (2^bits - 1)
 
+    // The grid an import snaps a scene to: from 2026-12 (no format change) its step is a power
+    // of two and its origin a float on the grid, so that a position can be rebuilt in fp32
+    // exactly as dequantize() rounds it (packsPositions). Where that grid would leave the header's
+    // limits (coordinates near +-1e18), the earlier grid: origin at the bounds, range = extent.
     static QuantizationGrid forBounds(const Aabb& bounds, uint32_t bits);
     double step() const;
     // Integer grid coordinate of one axis value (bits > 0).
@@ -34,7 +38,27 @@ struct QuantizationGrid {
     float dequantize(int32_t q, int axis) const;
     // The position a chunk stores as three words: grid coordinates, or float bits if lossless.
     Vec3f position(const int32_t* words) const;
+
+    // Whether the device may keep a vertex as packedPosition's 8 bytes instead of 3 floats: at
+    // most 20 bits, a power-of-two step (a normal float), origins that are floats on the grid, and
+    // the largest coordinate's float spacing at most 2^20 steps (a scene larger than one float
+    // ulp of its coordinates). Then every dequantized position p = float(o + q s) is o + m s for
+    // an integer m in [0, 2^21) that packedPosition finds exactly, and fp32's o + float(m) * s
+    // (a product that is exact, a sum rounded once) gives p again, bit for bit (docs/GEOMETRY.md).
+    bool packsPositions() const;
+    // A dequantized position's grid coordinates from the origin, 21 bits an axis: x in bits 0-20,
+    // y in 21-41, z in 42-62 (with packsPositions).
+    uint64_t packedPosition(const Vec3f& p) const;
+    void packPositions(const Vec3f* positions, size_t count, uint64_t* out) const;  // the same, for many
+    // What the device rebuilds from packed (wf_walk's vertex(): origin + float(m) * step in fp32).
+    Vec3f unpackedPosition(uint64_t packed) const;
+    // Whether p is a finite position that unpackedPosition(packedPosition(p)) gives back bit for
+    // bit: true for every position a chunk of a grid that packsPositions decodes to.
+    bool packsExactly(const Vec3f& p) const;
 };
+
+// Bits an axis of QuantizationGrid::packedPosition.
+inline constexpr uint32_t kPackedPositionBits = 21;
 
 // How chunk geometry is compressed (one codec per package). Draco edgebreaker is the default
 // (smallest files); meshoptimizer's index and vertex codecs decode 10-30x faster for about
@@ -76,6 +100,10 @@ inline constexpr int32_t kMaxIndexDelta16 = 32767;
 inline uint64_t deviceIndexBytes(uint64_t triangles, bool indexDeltas16, uint64_t longTriangles) {
     return indexDeltas16 ? triangles * 8 + longTriangles * 12 : triangles * 12;
 }
+
+// A chunk's positions on the device: 8 bytes a vertex where the package grid packs them
+// (QuantizationGrid::packsPositions), else 3 floats. Shared like deviceIndexBytes.
+inline uint64_t devicePositionBytes(uint64_t vertices, bool packed) { return vertices * (packed ? 8 : 12); }
 
 // The triangles (ascending) whose second or third vertex index lies more than kMaxIndexDelta16
 // from its first: `indices` holds three per triangle.

@@ -33,6 +33,9 @@ struct ChunkAttributes {
     bool colors = false;        // the package has per-vertex colours
     bool uvs = false;           // the package has texture coordinates and the render reads them (maps, uv AOV)
     bool tangents = false;      // with uvs: some material has a normal map (hits keep their UV derivatives)
+    // Not an attribute but how positions lie: 8 bytes a vertex, the package grid's coordinates
+    // (QuantizationGrid::packedPosition), where its grid allows it (packsPositions); else 3 floats.
+    bool packedPositions = false;
 };
 
 // Where each array of a chunk lies in a device slot: byte offsets of 16-byte aligned sections
