@@ -34,10 +34,7 @@ std::vector<uint8_t> withLayoutWord(std::vector<uint8_t> bytes, uint32_t chunk, 
 TEST(ChunkFlags, EveryChunkCountsItsLongTriangles) {
     for (GeometryCodec codec : {GeometryCodec::Draco, GeometryCodec::Meshopt}) {
         const std::string name = geometryCodecName(codec);
-        PackageBuildOptions options;
-        options.codec = codec;
-        options.chunkSizeBytes = 64 << 10;
-        auto city = buildAndOpen(generatedMesh(GeneratorKind::City, 6000), tempPath("flags-city-" + name + ".vast"), options);
+        auto city = smallCity(codec, "flags-city");
         ASSERT_TRUE(city);
         ASSERT_GT(city->info().chunks.size(), 2u);
         for (const ChunkInfo& c : city->info().chunks) {
@@ -48,6 +45,8 @@ TEST(ChunkFlags, EveryChunkCountsItsLongTriangles) {
             EXPECT_TRUE(chunk->indexDeltas16);
             EXPECT_TRUE(chunk->longTriangles.empty());
         }
+        PackageBuildOptions options;
+        options.codec = codec;
         options.chunkSizeBytes = 64 << 20;
         auto bowl = buildAndOpen(bowlUnderLongTriangles(), tempPath("flags-bowl-" + name + ".vast"), options);
         ASSERT_TRUE(bowl);

@@ -53,6 +53,15 @@ inline std::unique_ptr<PackageReader> buildAndOpen(TriangleMesh mesh, const std:
     return reader ? std::move(*reader) : nullptr;
 }
 
+// The 6,000-triangle generated city in 64 KiB chunks of `codec`, built as `name`-<codec>.vast and opened.
+inline std::unique_ptr<PackageReader> smallCity(GeometryCodec codec, const std::string& name) {
+    PackageBuildOptions options;
+    options.codec = codec;
+    options.chunkSizeBytes = 64 << 10;
+    return buildAndOpen(generatedMesh(GeneratorKind::City, 6000),
+                        tempPath(name + "-" + geometryCodecName(codec) + ".vast"), options);
+}
+
 // A forger's edit: `value`'s bytes at byte `at`.
 template <typename T>
 void putAt(std::vector<uint8_t>& bytes, size_t at, T value) {

@@ -113,10 +113,7 @@ TEST(PackedPositions, GridsThatCannotPackSayNo) {
 TEST(PackedPositions, EveryDecodedVertexPacks) {
     for (GeometryCodec codec : {GeometryCodec::Draco, GeometryCodec::Meshopt}) {
         const std::string name = geometryCodecName(codec);
-        PackageBuildOptions options;
-        options.codec = codec;
-        options.chunkSizeBytes = 64 << 10;
-        auto city = buildAndOpen(generatedMesh(GeneratorKind::City, 6000), tempPath("packed-city-" + name + ".vast"), options);
+        auto city = smallCity(codec, "packed-city");
         ASSERT_TRUE(city);
         const QuantizationGrid& grid = city->info().grid;
         ASSERT_TRUE(grid.packsPositions()) << name;
