@@ -129,6 +129,7 @@ nlohmann::json infoJson(const PackageInfo& info) {
             {"file_bytes", info.fileBytes},
             {"quantize_bits", info.grid.bits},
             {"quantize_step", info.grid.step()},
+            {"device_position_bytes", info.grid.packsPositions() ? 8 : 12},
             {"codec", geometryCodecName(info.codec)},
             {"vertex_normals", info.hasNormals},
             {"vertex_colors", info.hasColors},
@@ -154,9 +155,10 @@ void printHuman(const std::string& path, const PackageInfo& info) {
                 formatBytes(info.maxChunkResidentBytes).c_str());
     std::printf("  bounds               (%g, %g, %g) .. (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     if (info.grid.bits)
-        std::printf("  quantization         %u bits, step %.3g\n", info.grid.bits, info.grid.step());
+        std::printf("  quantization         %u bits, step %.3g (device positions: %s)\n", info.grid.bits,
+                    info.grid.step(), info.grid.packsPositions() ? "8 bytes a vertex" : "12 bytes a vertex");
     else
-        std::printf("  quantization         lossless\n");
+        std::printf("  quantization         lossless (device positions: 12 bytes a vertex)\n");
     std::printf("  chunk codec          %s\n", geometryCodecName(info.codec));
     std::string attributes;
     for (auto [present, name] : {std::pair{info.hasNormals, "shading normals"}, {info.hasColors, "colours"},

@@ -194,6 +194,24 @@ TEST_F(Cli, AssimpEmbeddedTextureIsStoredAndInfoListsIt) {
     EXPECT_NE(info.output.find("uv_test.png') of box.FBX': 512 x 512 texels"), std::string::npos) << info.output;
 }
 
+// info says how the device keeps positions: 8 bytes a vertex on the import's grid of 20 bits
+// (QuantizationGrid::packsPositions), 12 with more bits or lossless.
+TEST_F(Cli, InfoSaysHowTheDeviceKeepsPositions) {
+    CommandResult text = run("info " + tmp("terrain.vast"));
+    EXPECT_NE(text.output.find("20 bits, step"), std::string::npos) << text.output;
+    EXPECT_NE(text.output.find("(device positions: 8 bytes a vertex)"), std::string::npos) << text.output;
+    EXPECT_NE(run("info " + tmp("terrain.vast") + " --json").output.find("\"device_position_bytes\": 8"),
+              std::string::npos);
+    for (const char* bits : {"22", "0"}) {
+        const std::string package = tmp(std::string("terrain-") + bits + ".vast");
+        CommandResult i = run("import " + tmp("terrain.ply") + " -o " + package + " --quantize-bits " + bits +
+                              " --progress none");
+        ASSERT_EQ(i.exitCode, 0) << i.output;
+        CommandResult info = run("info " + package + " --json");
+        EXPECT_NE(info.output.find("\"device_position_bytes\": 12"), std::string::npos) << bits << ": " << info.output;
+    }
+}
+
 // A textured OBJ (vt, and an MTL map_Kd of a PNG beside it): the package stores the texture and
 // info lists it, says the package has texture coordinates, in text and JSON, and both backends
 // render the uv AOV into an EXR (its values: UvRender.*).
