@@ -155,7 +155,16 @@ Result<DecodedChunk> decodeChunkBlob(const std::vector<uint8_t>& blob, const Chu
     for (uint32_t index : chunk.indices)
         if (index >= h.vertexCount) return Status::error("vertex index out of range");
     chunk.positions.resize(h.vertexCount);
+    // Grid coordinates beyond the grid (a forged stream) would dequantize off it, where the
+    // device's packed positions (QuantizationGrid::packsPositions) could not follow them.
+    const int64_t gridTop = grid.bits == 0 ? 0 : (int64_t(1) << grid.bits) - 1;
     for (size_t v = 0; v < h.vertexCount; ++v) {
+        if (grid.bits != 0)
+            for (int axis = 0; axis < 3; ++axis)
+                if (const int32_t q = geometry->vertexWords[3 * v + axis]; q < 0 || q > gridTop)
+                    return Status::error("vertex " + std::to_string(v) + " grid coordinate " + std::to_string(q) +
+                                         " is outside the " + std::to_string(grid.bits) + "-bit grid [0, " +
+                                         std::to_string(gridTop) + "]");
         chunk.positions[v] = grid.position(&geometry->vertexWords[3 * v]);
         // Lossless chunks carry raw float bits: a resealed blob could hold NaN or Inf.
         if (!isFinite(chunk.positions[v])) return Status::error("vertex " + std::to_string(v) + " is not finite");

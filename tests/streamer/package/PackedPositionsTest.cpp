@@ -10,6 +10,8 @@
 #include <random>
 
 #include "PackageTestUtil.h"
+#include "VolumePackageForge.h"
+#include "vastray/core/Checksum.h"
 
 namespace vastray::test {
 namespace {
@@ -126,6 +128,31 @@ TEST(PackedPositions, EveryDecodedVertexPacks) {
         EXPECT_GT(vertices, 3000u);
         EXPECT_EQ(failures, 0u) << name;
     }
+}
+
+// A forged header whose grid has fewer bits than the chunks' coordinates use: the reader refuses
+// the chunk, naming the vertex, its coordinate and the grid, instead of dequantizing it off the
+// grid (where the device's packed positions could not follow).
+TEST(PackedPositions, CoordinatesBeyondTheGridAreRefused) {
+    auto city = smallCity(GeometryCodec::Meshopt, "beyond-grid-city");
+    ASSERT_TRUE(city);
+    const std::string path = tempPath("beyond-grid-city-meshopt.vast"), forged = tempPath("beyond-grid-forged.vast");
+    constexpr size_t kBitsAt = 8 + 4 + 4 + 7 * 8 + 4, kHeaderChecksumAt = 248;
+    std::vector<uint8_t> bytes = fileBytes(path);
+    putAt(bytes, kBitsAt, uint32_t(12));
+    setWord64(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
+    writeBytes(forged, bytes);
+    auto reader = PackageReader::open(forged);
+    ASSERT_TRUE(reader) << reader.message();
+    ASSERT_EQ((*reader)->info().grid.bits, 12u);
+    uint64_t refused = 0;
+    for (const ChunkInfo& c : (*reader)->info().chunks) {
+        auto chunk = (*reader)->readChunk(c.id);
+        if (chunk) continue;
+        ++refused;
+        EXPECT_NE(chunk.message().find("is outside the 12-bit grid [0, 4095]"), std::string::npos) << chunk.message();
+    }
+    EXPECT_GT(refused, 0u);
 }
 
 }  // namespace
