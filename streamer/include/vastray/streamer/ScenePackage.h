@@ -41,8 +41,8 @@ struct QuantizationGrid {
 
     // Whether the device may keep a vertex as packedPosition's 8 bytes instead of 3 floats: at
     // most 20 bits, a power-of-two step (a normal float), origins that are floats on the grid, and
-    // the largest coordinate's float spacing at most 2^20 steps (a scene larger than one float
-    // ulp of its coordinates). Then every dequantized position p = float(o + q s) is o + m s for
+    // the largest coordinate's float spacing at most 2^19 steps (a scene at least about twice as
+    // large as the float spacing of its coordinates; the argument needs 2^20). Then every dequantized position p = float(o + q s) is o + m s for
     // an integer m in [0, 2^21) that packedPosition finds exactly, and fp32's o + float(m) * s
     // (a product that is exact, a sum rounded once) gives p again, bit for bit (docs/GEOMETRY.md).
     bool packsPositions() const;
