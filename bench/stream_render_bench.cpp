@@ -268,13 +268,12 @@ int main(int argc, char** argv) {
     auto device = gpu::VulkanDevice::create(deviceOptions);
     if (!device) fail(device.message());
 
-    ChunkAttributes attributes = requiredAttributes(info, RenderOptions{});
-    if (args.floatPositions) attributes.packedPositions = false;
     // What a render's backend is created with: as asked for, but 3 floats a vertex with --float-positions.
     auto asked = [&](ChunkAttributes a) {
         if (args.floatPositions) a.packedPositions = false;
         return a;
     };
+    const ChunkAttributes attributes = asked(requiredAttributes(info, RenderOptions{}));
     const uint64_t residentBytes = gpu::residentChunkBytes(info, attributes);
     auto fitPlan = gpu::planPool(info, attributes, 1ull << 40);
     if (!fitPlan) fail(fitPlan.message());
