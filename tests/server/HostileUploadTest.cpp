@@ -5,11 +5,6 @@
 namespace vastray::test {
 namespace {
 
-std::string errorMessage(const httplib::Result& res) {
-    const json body = json::parse(res->body, nullptr, false);
-    return body.is_object() ? body["error"].value("message", "") : "";
-}
-
 // Killed the server (SIGSEGV in tinygltf's JSON walk).
 TEST_F(ServerTest, DeeplyNestedGltfUploadIsRefusedAndTheServerStaysUp) {
     startServer();

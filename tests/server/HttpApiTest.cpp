@@ -16,11 +16,6 @@ std::string errorCode(const httplib::Result& res) {
                                                       : "no error body: " + res->body;
 }
 
-std::string errorMessage(const httplib::Result& res) {
-    auto body = json::parse(res ? res->body : "", nullptr, false);
-    return body.is_object() && body.contains("error") ? body["error"].value("message", "") : "";
-}
-
 TEST_F(ServerTest, HttpUploadSubmitWatchAndDownloadMatchesCliRender) {
     startServer();
     const json scene = uploadSphere();

@@ -121,4 +121,10 @@ inline json smallJob(const std::string& sceneId) {
     return {{"scene_id", sceneId}, {"width", 32}, {"height", 32}, {"spp", 2}};
 }
 
+// The message of an HTTP error body ({"error": {"message": ...}}); empty without one.
+inline std::string errorMessage(const httplib::Result& res) {
+    auto body = json::parse(res ? res->body : "", nullptr, false);
+    return body.is_object() && body.contains("error") ? body["error"].value("message", "") : "";
+}
+
 }  // namespace vastray::test
