@@ -23,6 +23,8 @@
 //                       [--window-tiles N]  (streamed waves: the most tiles open at once; default: all that fit)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
 //                       [--path-state auto|device|host] [--host-state-paths N]  (gpu::PathStateMemory)
+//                       [--device-wave-cap N]  (out of core, state in the budget: the wave's cap in paths,
+//                                               gpu::kMaxOutOfCoreBatchRays by default; for comparisons)
 //                       [--no-prefetch-scene]  (out of core, decode chunks only when rays reach them: for comparisons)
 //                       [--upload auto|mapped|dma]  (how chunks reach the slots: gpu::ChunkUploadMode)
 //                       [--staging-bytes 4GiB]  (--upload dma: the pinned staging area's size; default:
@@ -88,7 +90,7 @@ struct Args {
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
     StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-stream-waves, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
-    gpu::PathStateOptions pathState;              // --path-state, --host-state-paths
+    gpu::PathStateOptions pathState;              // --path-state, --host-state-paths, --device-wave-cap
     gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
 };
 
@@ -178,6 +180,8 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--host-state-paths") {
             a.pathState.hostPaths = uint32_t(std::stoul(value()));
             if (a.pathState.hostPaths == 0) fail("--host-state-paths must be >= 1");
+        } else if (flag == "--device-wave-cap") {
+            a.pathState.deviceWaveCap = uint32_t(std::stoul(value()));
         }
         else if (flag == "--wave-share") {
             a.waveShare = std::stod(value());

@@ -390,10 +390,13 @@ private:
 
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
                           bool outputInDeviceMemory, double waveShareOutOfCore, uint64_t stagingInDeviceMemory,
-                          uint64_t reservedBytes, uint32_t hostStatePaths) {
+                          uint64_t reservedBytes, uint32_t hostStatePaths, uint32_t maxOutOfCorePaths) {
     if (!(waveShareOutOfCore > 0 && waveShareOutOfCore < 1))
         return Status::error("the wave's share of an out-of-core budget must be in (0, 1), not " +
                              std::to_string(waveShareOutOfCore));
+    if (maxOutOfCorePaths < kMinBatchRays || maxOutOfCorePaths > kMaxBatchRays)
+        return Status::error("the out-of-core wave's cap must be within " + std::to_string(kMinBatchRays) + " and " +
+                             std::to_string(kMaxBatchRays) + " paths, not " + std::to_string(maxOutOfCorePaths));
     PoolPlan plan;
     plan.outputInDeviceMemory = outputInDeviceMemory;
     const uint64_t counterBytes = stepCounterBytes(tableLayout(1, package));
@@ -462,7 +465,7 @@ Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& att
         rays = fitWave(std::clamp<uint64_t>(hostStatePaths, kMinBatchRays, kMaxBatchRays), true);
         slots = slotsBeside(waveBytes(rays, true));
     } else if (slots < chunks) {
-        split(waveShareOutOfCore, kMaxOutOfCoreBatchRays, rays, slots);
+        split(waveShareOutOfCore, maxOutOfCorePaths, rays, slots);
     }
     const uint64_t left = budget - slots * slotAllocation - tableBytes(slots);
     while (!plan.stateInHostMemory && rays * 2 <= kGrowBatchRays && batchBytes(rays * 2) <= left) rays *= 2;
@@ -572,7 +575,8 @@ Result<std::unique_ptr<ChunkBackend>> createVulkanChunkBackend(VulkanDevice& dev
     if (!memory) return memory.status();
     auto plan = planPool(package, attributes, budget, device.readbackInDeviceMemory(), waveShareOutOfCore,
                          stagingInDeviceMemory, reservedBytes,
-                         *memory == PathStateMemory::Host ? std::max<uint32_t>(pathState.hostPaths, 1) : 0);
+                         *memory == PathStateMemory::Host ? std::max<uint32_t>(pathState.hostPaths, 1) : 0,
+                         pathState.deviceWaveCap);
     if (!plan) return plan.status();
     auto backend = std::make_unique<VulkanChunkBackend>(device, package, *plan, attributes, upload, mode);
     VASTRAY_TRY(backend->init(package));

@@ -163,11 +163,13 @@ uint64_t residentChunkBytes(const PackageInfo& package, const ChunkAttributes& a
 // and one per chunk at most (PoolPlan::stagingBytes); 0: none.
 // hostStatePaths > 0: out of core the wave's state lies in host memory (PoolPlan::stateInHostMemory),
 // a wave of that many paths (fewer where the state counts and the budget cannot hold them).
+// maxOutOfCorePaths: out of core with the state in the budget, the wave's cap (kMaxOutOfCoreBatchRays
+// by default; at least kMinBatchRays, at most kMaxBatchRays).
 constexpr double kWaveShareOutOfCore = 0.5;
 Result<PoolPlan> planPool(const PackageInfo& package, const ChunkAttributes& attributes, uint64_t budget,
                           bool outputInDeviceMemory = true, double waveShareOutOfCore = kWaveShareOutOfCore,
                           uint64_t stagingInDeviceMemory = 0, uint64_t reservedBytes = 0,
-                          uint32_t hostStatePaths = 0);
+                          uint32_t hostStatePaths = 0, uint32_t maxOutOfCorePaths = kMaxOutOfCoreBatchRays);
 
 // The upload mode Auto resolves to on this device.
 ChunkUploadMode resolveUploadMode(const VulkanDevice& device, ChunkUploadMode mode);
@@ -201,10 +203,12 @@ uint64_t textureBytes(const PackageInfo& package);
 // they read while they wait.
 constexpr uint64_t kMinTexturePageSlots = 16;
 
-// Where the path state lives (resolvePathStateMemory decides Auto), and a Host wave's paths.
+// Where the path state lives (resolvePathStateMemory decides Auto), a Host wave's paths, and
+// the cap of a Device wave out of core (planPool's maxOutOfCorePaths; for comparisons).
 struct PathStateOptions {
     PathStateMemory memory = PathStateMemory::Auto;
     uint32_t hostPaths = kHostStatePaths;
+    uint32_t deviceWaveCap = kMaxOutOfCoreBatchRays;
 };
 
 // device must outlive the backend. Every buffer is allocated here, once, but the environment
