@@ -447,6 +447,19 @@ TEST(StreamingRender, OutOfCoreWaveStopsAtItsCapAndSlotsTakeTheRest) {
     ASSERT_TRUE(small) << small.message();
     EXPECT_LT(small->batchRays, gpu::kMaxOutOfCoreBatchRays);
     EXPECT_GT(small->rayBytes, (64ull << 20) * 2 / 5) << "about half of the budget";
+    // Another cap (stream_render_bench --device-wave-cap) moves the split; one outside the
+    // dispatchable range is refused by name.
+    const uint32_t higher = gpu::kMaxOutOfCoreBatchRays + (128u << 10);
+    auto raised = gpu::planPool(big, ChunkAttributes{}, budget, false, gpu::kWaveShareOutOfCore, 0, 0, 0, higher);
+    ASSERT_TRUE(raised) << raised.message();
+    EXPECT_EQ(raised->batchRays, higher);
+    EXPECT_LT(raised->slots, plan->slots) << "the larger wave takes slots";
+    EXPECT_LE(raised->totalBytes, budget);
+    for (uint32_t cap : {gpu::kMinBatchRays - 1, gpu::kMaxBatchRays + 1}) {
+        auto refused = gpu::planPool(big, ChunkAttributes{}, budget, false, gpu::kWaveShareOutOfCore, 0, 0, 0, cap);
+        ASSERT_FALSE(refused);
+        EXPECT_NE(refused.message().find("out-of-core wave's cap"), std::string::npos) << refused.message();
+    }
 }
 
 // The output buffer (tile colours and AOVs) holds twice the wave's pixels out of core when it lies
