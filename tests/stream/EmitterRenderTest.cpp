@@ -28,7 +28,7 @@
 namespace vastray {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPiDouble = 3.14159265358979323846;
 constexpr float kAlbedo = 0.5f, kHeight = 1.0f, kHalfSide = 1.0f, kRadiance = 2.0f;
 constexpr uint32_t kSide = 16;
 
@@ -36,7 +36,7 @@ constexpr uint32_t kSide = 16;
 // above it at height 1 (Howell's catalogue, C-11), in units of the height.
 double cornerFactor(double x, double y) {
     const double a = std::sqrt(1 + x * x), b = std::sqrt(1 + y * y);
-    return (x / a * std::atan(y / a) + y / b * std::atan(x / b)) / (2 * kPi);
+    return (x / a * std::atan(y / a) + y / b * std::atan(x / b)) / (2 * kPiDouble);
 }
 // Below the lamp at (x, 0, z), inside its shadow: the four rectangles it cuts the lamp into.
 double radianceAt(double x, double z) {
@@ -48,7 +48,7 @@ double radianceAt(double x, double z) {
 }
 double expectedRadiance() { return radianceAt(0, 0); }
 
-std::string package(const std::string& name, TriangleMesh mesh, uint64_t chunkBytes = 64 << 10) {
+std::string lampPackage(const std::string& name, TriangleMesh mesh, uint64_t chunkBytes = 64 << 10) {
     return test::meshPackage("emitters", name, std::move(mesh), chunkBytes);
 }
 
@@ -110,7 +110,7 @@ RenderOptions slantView(const std::string& path, bool sampleEmitters, uint32_t s
 // the mean by far less than the noise). The image is symmetric: the average does not depend on
 // which way rows and columns run.
 double expectedMean() {
-    const double half = std::tan(kFovDegrees * kPi / 360);
+    const double half = std::tan(kFovDegrees * kPiDouble / 360);
     const double ex = kEye.x, ey = kEye.y, ez = kEye.z, length = std::sqrt(ey * ey + ez * ez);
     const double fy = -ey / length, fz = -ez / length;  // forward; right is +x; up is (0, fz, -fy) turned up
     const double uy = -fz, uz = fy;
@@ -155,7 +155,7 @@ Mean expectSampledAsByChance(const std::string& path, const std::function<Render
 }
 
 TEST(EmitterRender, LampOverAPlaneShowsTheFormFactorOnBothBackends) {
-    const std::string path = package("lamp", lampOverPlane(true));
+    const std::string path = lampPackage("lamp", lampOverPlane(true));
     {
         auto reader = PackageReader::open(path);
         ASSERT_TRUE(reader) << reader.message();
@@ -193,7 +193,7 @@ TEST(EmitterRender, GlossyPlaneUnderTheLampMatchesWithAndWithoutSampling) {
     TriangleMesh mesh = lampOverPlane(true);
     mesh.materials[0].metallic = 0.6f;
     mesh.materials[0].roughness = 0.35f;
-    const std::string path = package("lamp-glossy", std::move(mesh));
+    const std::string path = lampPackage("lamp-glossy", std::move(mesh));
     // The power heuristic between the lamp's density and the GGX lobe's: both estimators have one
     // expectation.
     expectSampledAsByChance(path, [&](bool sampled) { return slantView(path, sampled, 256); }, 1e-3, "glossy lamp");
@@ -201,7 +201,7 @@ TEST(EmitterRender, GlossyPlaneUnderTheLampMatchesWithAndWithoutSampling) {
 
 TEST(EmitterRender, SingleSidedLampSeenFromBehindIsDark) {
     // Facing up: the plane sees its back. Neither next-event estimation nor a bounce finds light.
-    const std::string path = package("lamp-up", lampOverPlane(false));
+    const std::string path = lampPackage("lamp-up", lampOverPlane(false));
     for (bool sampling : {true, false}) {
         const RenderOptions o = slantView(path, sampling, 16);
         auto device = test::renderVulkan(path, o, 256ull << 20);
@@ -211,7 +211,7 @@ TEST(EmitterRender, SingleSidedLampSeenFromBehindIsDark) {
         EXPECT_EQ(pixelMean(*reference).mean, 0.0) << "sampling " << sampling;
     }
     // Double-sided, the same lamp lights the plane as when it faces down.
-    const std::string both = package("lamp-up-both", lampOverPlane(false, 1, true));
+    const std::string both = lampPackage("lamp-up-both", lampOverPlane(false, 1, true));
     auto lit = test::renderEmbree(both, slantView(both, true, 64));
     ASSERT_TRUE(lit) << lit.message();
     const Mean m = pixelMean(*lit);
@@ -220,7 +220,7 @@ TEST(EmitterRender, SingleSidedLampSeenFromBehindIsDark) {
 
 TEST(EmitterRender, StreamedEqualsInCoreWithSampledEmitters) {
     // A plane of 2 x 48^2 triangles in small chunks: two slots page them in and out.
-    const std::string path = package("lamp-chunked", lampOverPlane(true, 48), 16 << 10);
+    const std::string path = lampPackage("lamp-chunked", lampOverPlane(true, 48), 16 << 10);
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     const uint64_t chunks = (*reader)->info().chunks.size();
@@ -238,7 +238,7 @@ TEST(EmitterRender, StreamedEqualsInCoreWithSampledEmitters) {
 // the device uploads it at the first render only; a new table, even of the same triangles, is
 // uploaded again. Each render is the same image.
 TEST(EmitterRender, AKeptOpenSceneUploadsItsEmitterTableOnce) {
-    const std::string path = package("lamp-kept-open", lampOverPlane(true, 4));
+    const std::string path = lampPackage("lamp-kept-open", lampOverPlane(true, 4));
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     const RenderOptions o = slantView(path, true, 2);
@@ -271,7 +271,7 @@ TEST(EmitterRender, BesideTheSunAndAPointLightTheExpectationHolds) {
     PunctualLight bulb{"bulb", LightType::Point, {1, 1, 1}, 3.0f};
     bulb.position = {0.5f, 0.6f, 1.5f};
     mesh.lights = {bulb};
-    const std::string path = package("lamp-sun-bulb", std::move(mesh));
+    const std::string path = lampPackage("lamp-sun-bulb", std::move(mesh));
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     auto lit = [&](bool sampled) {
@@ -334,7 +334,7 @@ TEST(EmitterRender, AnEmissiveMapIsSampledWhereItsTexelsShine) {
     std::ifstream in(png, std::ios::binary);
     mesh.textures.push_back({"glow.png", ".png", {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()},
                              TextureWrap::Clamp, TextureWrap::Clamp, TextureEncoding::Srgb});
-    const std::string path = package("lamp-mapped", std::move(mesh));
+    const std::string path = lampPackage("lamp-mapped", std::move(mesh));
     auto reader = PackageReader::open(path);
     ASSERT_TRUE(reader) << reader.message();
     const PackageInfo info = (*reader)->info();

@@ -14,7 +14,7 @@ namespace {
 
 using test::CommandResult;
 
-std::string tmp(const std::string& name) {
+std::string cliTmp(const std::string& name) {
     const std::filesystem::path dir = test::testTmpDir("stream-cli");
     std::filesystem::create_directories(dir);
     return (dir / name).string();
@@ -23,9 +23,9 @@ std::string tmp(const std::string& name) {
 CommandResult run(const std::string& args) { return test::runVastray(args); }
 
 // A small terrain package with many chunks, made once per binary through the CLI itself.
-const std::string& terrainPackage() {
+const std::string& cliTerrainPackage() {
     static const std::string path = [] {
-        const std::string ply = tmp("terrain.ply"), vast = tmp("terrain.vast");
+        const std::string ply = cliTmp("terrain.ply"), vast = cliTmp("terrain.vast");
         EXPECT_EQ(run("generate terrain --triangles 20000 -o " + ply).exitCode, 0);
         EXPECT_EQ(run("import " + ply + " -o " + vast + " --chunk-size 64KiB --progress none").exitCode, 0);
         return vast;
@@ -47,8 +47,8 @@ double jsonNumber(const std::string& json, const std::string& key) {
 }
 
 TEST(StreamingCli, DefaultBackendIsVulkanAndReportsTheStreamingFigures) {
-    const std::string out = tmp("v.png"), stats = tmp("v.json");
-    CommandResult r = run("render " + terrainPackage() + " -o " + out +
+    const std::string out = cliTmp("v.png"), stats = cliTmp("v.json");
+    CommandResult r = run("render " + cliTerrainPackage() + " -o " + out +
                           " --resolution 32x24 --spp 1 --memory-budget 512KiB --stats --stats-json " + stats +
                           " --progress none");
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -73,10 +73,10 @@ TEST(StreamingCli, DefaultBackendIsVulkanAndReportsTheStreamingFigures) {
 }
 
 TEST(StreamingCli, ChunkIdAndCostBecomeExrChannels) {
-    const std::string a = tmp("aov.exr"), b = tmp("plain.exr");
+    const std::string a = cliTmp("aov.exr"), b = cliTmp("plain.exr");
     const std::string view = " --resolution 32x24 --spp 1 --progress none";
-    ASSERT_EQ(run("render " + terrainPackage() + " -o " + a + view + " --aovs primid,chunkid,cost").exitCode, 0);
-    ASSERT_EQ(run("render " + terrainPackage() + " -o " + b + view + " --aovs primid").exitCode, 0);
+    ASSERT_EQ(run("render " + cliTerrainPackage() + " -o " + a + view + " --aovs primid,chunkid,cost").exitCode, 0);
+    ASSERT_EQ(run("render " + cliTerrainPackage() + " -o " + b + view + " --aovs primid").exitCode, 0);
     CommandResult d = run("diff " + a + " " + b);
     EXPECT_EQ(d.exitCode, 1) << d.output;
     for (const char* channel : {"chunkid", "cost.cells", "cost.triangles"})
@@ -84,17 +84,17 @@ TEST(StreamingCli, ChunkIdAndCostBecomeExrChannels) {
 }
 
 TEST(StreamingCli, StreamedPrimIdsMatchTheReference) {
-    const std::string a = tmp("streamed.exr"), b = tmp("reference.exr");
+    const std::string a = cliTmp("streamed.exr"), b = cliTmp("reference.exr");
     const std::string view = " --resolution 48x40 --spp 1 --max-depth 1 --aovs primid,depth --progress none";
-    ASSERT_EQ(run("render " + terrainPackage() + " -o " + a + view + " --memory-budget 512KiB").exitCode, 0);
-    ASSERT_EQ(run("render " + terrainPackage() + " -o " + b + view + " --backend embree").exitCode, 0);
+    ASSERT_EQ(run("render " + cliTerrainPackage() + " -o " + a + view + " --memory-budget 512KiB").exitCode, 0);
+    ASSERT_EQ(run("render " + cliTerrainPackage() + " -o " + b + view + " --backend embree").exitCode, 0);
     CommandResult d = run("diff " + a + " " + b + " --json");
     ASSERT_EQ(d.exitCode, 0) << d.output;
     EXPECT_GE(jsonNumber(d.output, "primid_agreement"), 0.9999) << d.output;
 }
 
 TEST(StreamingCli, MeshFileIsImportedToATemporaryPackage) {
-    const std::string ply = tmp("sphere.ply"), out = tmp("sphere.png");
+    const std::string ply = cliTmp("sphere.ply"), out = cliTmp("sphere.png");
     ASSERT_EQ(run("generate sphere --triangles 5000 -o " + ply).exitCode, 0);
     CommandResult r = run("render " + ply + " -o " + out + " --resolution 24x24 --spp 1 --progress none");
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -105,18 +105,18 @@ TEST(StreamingCli, MeshFileIsImportedToATemporaryPackage) {
 }
 
 TEST(StreamingCli, ErrorsNameTheProblem) {
-    const std::string out = tmp("never.png");
+    const std::string out = cliTmp("never.png");
     std::filesystem::remove(out);
-    CommandResult small = run("render " + terrainPackage() + " -o " + out + " --memory-budget 64KiB");
+    CommandResult small = run("render " + cliTerrainPackage() + " -o " + out + " --memory-budget 64KiB");
     EXPECT_EQ(small.exitCode, 1) << small.output;
     EXPECT_NE(small.output.find("below this scene's minimum of"), std::string::npos) << small.output;
-    CommandResult device = run("render " + terrainPackage() + " -o " + out + " --gpu-device 99");
+    CommandResult device = run("render " + cliTerrainPackage() + " -o " + out + " --gpu-device 99");
     EXPECT_EQ(device.exitCode, 1) << device.output;
     EXPECT_NE(device.output.find("device 99"), std::string::npos) << device.output;
-    CommandResult budget = run("render " + terrainPackage() + " -o " + out + " --memory-budget lots");
+    CommandResult budget = run("render " + cliTerrainPackage() + " -o " + out + " --memory-budget lots");
     EXPECT_EQ(budget.exitCode, 2) << budget.output;
     EXPECT_NE(budget.output.find("--memory-budget"), std::string::npos) << budget.output;
-    CommandResult state = run("render " + terrainPackage() + " -o " + out + " --path-state gpu");
+    CommandResult state = run("render " + cliTerrainPackage() + " -o " + out + " --path-state gpu");
     EXPECT_EQ(state.exitCode, 2) << state.output;
     EXPECT_NE(state.output.find("--path-state: the path state's memory must be auto, device or host, not 'gpu'"),
               std::string::npos)
@@ -129,12 +129,12 @@ TEST(StreamingCli, ErrorsNameTheProblem) {
 // minimum is a granule above the one with the state in device memory: 512 KiB, enough there, is
 // refused here with the minimum stated.
 TEST(StreamingCli, PathStateInHostMemoryIsReported) {
-    const std::string out = tmp("host-state.pfm"), stats = tmp("host-state.json");
-    CommandResult small = run("render " + terrainPackage() + " -o " + out +
+    const std::string out = cliTmp("host-state.pfm"), stats = cliTmp("host-state.json");
+    CommandResult small = run("render " + cliTerrainPackage() + " -o " + out +
                               " --resolution 32x24 --spp 2 --memory-budget 512KiB --path-state host --progress none");
     EXPECT_NE(small.exitCode, 0) << small.output;
     EXPECT_NE(small.output.find("is below this scene's minimum of 576.0 KiB"), std::string::npos) << small.output;
-    CommandResult r = run("render " + terrainPackage() + " -o " + out +
+    CommandResult r = run("render " + cliTerrainPackage() + " -o " + out +
                           " --resolution 32x24 --spp 2 --memory-budget 640KiB --path-state host --stats --stats-json " +
                           stats + " --progress none");
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -143,7 +143,7 @@ TEST(StreamingCli, PathStateInHostMemoryIsReported) {
     EXPECT_GT(jsonNumber(json, "wave_paths"), 0.0) << json;
     EXPECT_GT(jsonNumber(json, "path_state_host_bytes"), 0.0) << json;
     EXPECT_LT(jsonNumber(json, "chunk_slots"), jsonNumber(json, "chunks_total")) << "out of core";
-    CommandResult device = run("render " + terrainPackage() + " -o " + out +
+    CommandResult device = run("render " + cliTerrainPackage() + " -o " + out +
                                " --resolution 32x24 --spp 2 --memory-budget 512KiB --path-state device --stats-json " +
                                stats + " --progress none");
     ASSERT_EQ(device.exitCode, 0) << device.output;
@@ -157,7 +157,7 @@ namespace vastray {
 namespace {
 
 TEST(StreamingCli, ServeRejectsAnUnknownBackendBeforeStarting) {
-    const std::string dir = tmp("serve-data");
+    const std::string dir = cliTmp("serve-data");
     test::CommandResult r = test::runVastray("serve --data-dir " + dir +
                                              " --grpc 127.0.0.1:0 --http 127.0.0.1:0 --backend optix");
     EXPECT_EQ(r.exitCode, 2) << r.output;

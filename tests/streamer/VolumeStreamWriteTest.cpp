@@ -28,7 +28,7 @@ using openvdb::FloatGrid;
 
 constexpr const char* kFolder = "volume-stream";
 
-std::string vdbPath(const std::string& name) {
+std::string streamVdbPath(const std::string& name) {
     std::filesystem::create_directories(testTmpDir(kFolder));
     return (testTmpDir(kFolder) / name).string();
 }
@@ -68,7 +68,7 @@ std::string gridsFile() {
     heat->fill(CoordBBox(Coord(128, 0, 0), Coord(135, 7, 7)), 40.0f, true);
     d.setValue(Coord(-300, 5, 7), 3.0f);
     e.setValue(Coord(-600, 5, 7), 9.0f);
-    const std::string path = vdbPath("grids.vdb");
+    const std::string path = streamVdbPath("grids.vdb");
     openvdb::io::File file(path);
     file.write({density, heat});
     file.close();
@@ -198,7 +198,7 @@ TEST(VolumeStreamWrite, BrickFailingHalfWayLeavesNoPackage) {
 // A .vdb cut short after its volume was opened (its grids scanned): the brick whose leaf lies past
 // the cut fails the write, naming the file, and no package is left.
 TEST(VolumeStreamWrite, VdbCutAfterOpeningFailsTheWriteByName) {
-    const std::string vdb = vdbPath("cut-later.vdb");
+    const std::string vdb = streamVdbPath("cut-later.vdb");
     std::filesystem::copy_file(gridsFile(), vdb, std::filesystem::copy_options::overwrite_existing);
     auto streamed = openVdbVolume(vdb, "density", {});
     ASSERT_TRUE(streamed) << streamed.message();

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "import/AlphaMask.h"
+#include "PngBytes.h"
 #include "import/PngWriter.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/core/Texture.h"
@@ -17,12 +18,6 @@ namespace vastray::test {
 namespace {
 
 constexpr const char* kQuad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
-
-std::string png(uint32_t width, uint32_t height, uint32_t channels, const std::vector<uint8_t>& texels) {
-    auto bytes = import::encodePng(width, height, channels, texels);
-    EXPECT_TRUE(bytes.isOk()) << bytes.message();
-    return bytes ? std::string(bytes->begin(), bytes->end()) : std::string();
-}
 
 Rgba8Image decoded(const TextureSource& t) {
     auto image = decodeRgba8Image(t.name, t.extension, t.bytes, 1u << 20);

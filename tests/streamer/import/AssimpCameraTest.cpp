@@ -14,7 +14,7 @@ constexpr double kPi = 3.14159265358979323846;
 // One triangle and two perspective cameras: "Eye" inside a translated parent, turned 90 degrees
 // about +Y, with yfov 40 and aspect 2; "Down" turned -90 degrees about +X, with xfov 50 and no
 // aspect ratio (taken as square).
-const std::string kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
+const std::string kCameraCollada = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
   <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
   <library_cameras>
@@ -37,16 +37,10 @@ const std::string kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
 </COLLADA>
 )";
 
-void expectNear(const Vec3f& a, const Vec3f& b, float tolerance, const char* what) {
-    EXPECT_NEAR(a.x, b.x, tolerance) << what;
-    EXPECT_NEAR(a.y, b.y, tolerance) << what;
-    EXPECT_NEAR(a.z, b.z, tolerance) << what;
-}
-
 Vec3f viewDirection(const Camera& c) { return normalize(c.target - c.eye); }
 
 TEST(AssimpCameras, ColladaCamerasArePlacedByTheirNodesInWorldSpace) {
-    auto r = importMesh(writeFile("cameras.dae", kCollada));
+    auto r = importMesh(writeFile("cameras.dae", kCameraCollada));
     ASSERT_TRUE(r.isOk()) << r.message();
     ASSERT_EQ(r->mesh.cameras.size(), 2u);
     const SceneCamera& eye = r->mesh.cameras[0];
@@ -69,7 +63,7 @@ TEST(AssimpCameras, ColladaCamerasArePlacedByTheirNodesInWorldSpace) {
 // A camera whose node is scaled to nothing has no view direction: dropped with a warning,
 // the other kept.
 TEST(AssimpCameras, DegenerateCameraIsDroppedWithAWarning) {
-    std::string text = kCollada;
+    std::string text = kCameraCollada;
     const std::string rotate = "<rotate>1 0 0 -90</rotate>";
     text.replace(text.find(rotate), rotate.size(), "<scale>0 0 0</scale>");
     auto r = importMesh(writeFile("degenerate-camera.dae", text));

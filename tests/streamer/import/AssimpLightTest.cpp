@@ -17,7 +17,7 @@ constexpr float kDegree = 3.14159265358979323846f / 180.0f;
 // One triangle and four lights: point "Bulb" inside a translated parent (colour 2 4 1, pure
 // quadratic attenuation 0.5), spot "Cone" turned to shine down (full cone angles 40 and 60
 // degrees, FCOLLADA's outer_cone), directional "Sun" turned 90 degrees about +Y, ambient "Fill".
-const std::string kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
+const std::string kLightCollada = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
   <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
   <library_lights>
@@ -49,12 +49,6 @@ const std::string kCollada = R"(<?xml version="1.0" encoding="utf-8"?>
 </COLLADA>
 )";
 
-void expectNear(const Vec3f& a, const Vec3f& b, float tolerance, const std::string& what) {
-    EXPECT_NEAR(a.x, b.x, tolerance) << what;
-    EXPECT_NEAR(a.y, b.y, tolerance) << what;
-    EXPECT_NEAR(a.z, b.z, tolerance) << what;
-}
-
 const PunctualLight* find(const std::vector<PunctualLight>& lights, const std::string& name) {
     for (const PunctualLight& l : lights)
         if (l.name == name) return &l;
@@ -74,7 +68,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 // Positions and directions come through float matrix products: 1e-5 of the unit coordinates.
 TEST(AssimpLights, ColladaLightsArePlacedAndConvertedAsGltfLights) {
-    auto r = importMesh(writeFile("lights.dae", kCollada));
+    auto r = importMesh(writeFile("lights.dae", kLightCollada));
     ASSERT_TRUE(r.isOk()) << r.message();
     ASSERT_EQ(r->mesh.lights.size(), 3u) << "the ambient light is not imported";
 
@@ -111,21 +105,21 @@ TEST(AssimpLights, ColladaLightsArePlacedAndConvertedAsGltfLights) {
 // The light's value crosses vastray's limit: the import fails naming the file, the light and
 // the limit, as a glTF light's does.
 TEST(AssimpLights, HostileLightIsRefusedByName) {
-    const std::string huge = replaced(kCollada, "<color>2 4 1</color>", "<color>1e12 1e12 1e12</color>");
+    const std::string huge = replaced(kLightCollada, "<color>2 4 1</color>", "<color>1e12 1e12 1e12</color>");
     auto r = importMesh(writeFile("huge-light.dae", huge));
     ASSERT_FALSE(r.isOk());
     EXPECT_NE(r.message().find("huge-light.dae"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("light 'Bulb'"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("intensity 1e+12 is outside [0, 1e+09]"), std::string::npos) << r.message();
 
-    const std::string nan = replaced(kCollada, "<color>3 3 3</color>", "<color>nan 1 1</color>");
+    const std::string nan = replaced(kLightCollada, "<color>3 3 3</color>", "<color>nan 1 1</color>");
     r = importMesh(writeFile("nan-light.dae", nan));
     ASSERT_FALSE(r.isOk());
     EXPECT_NE(r.message().find("light 'Cone'"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("intensity nan is outside"), std::string::npos) << r.message();
 
     const std::string negative =
-        replaced(kCollada, "<quadratic_attenuation>0.5</quadratic_attenuation>", "<quadratic_attenuation>-1</quadratic_attenuation>");
+        replaced(kLightCollada, "<quadratic_attenuation>0.5</quadratic_attenuation>", "<quadratic_attenuation>-1</quadratic_attenuation>");
     r = importMesh(writeFile("negative-attenuation.dae", negative));
     ASSERT_FALSE(r.isOk());
     EXPECT_NE(r.message().find("light 'Bulb': attenuation (constant 0, linear 0, quadratic -1) is not finite and >= 0"),
@@ -137,7 +131,7 @@ TEST(AssimpLights, HostileLightIsRefusedByName) {
 // limit above it: clamped to the limit with a warning, not refused.
 TEST(AssimpLights, IntensityLiftedByTheAttenuationIsClampedToTheLimit) {
     const std::string tiny =
-        replaced(kCollada, "<quadratic_attenuation>0.5</quadratic_attenuation>", "<quadratic_attenuation>1e-30</quadratic_attenuation>");
+        replaced(kLightCollada, "<quadratic_attenuation>0.5</quadratic_attenuation>", "<quadratic_attenuation>1e-30</quadratic_attenuation>");
     auto r = importMesh(writeFile("tiny-attenuation.dae", tiny));
     ASSERT_TRUE(r.isOk()) << r.message();
     const PunctualLight* bulb = find(r->mesh.lights, "Bulb");
@@ -149,7 +143,7 @@ TEST(AssimpLights, IntensityLiftedByTheAttenuationIsClampedToTheLimit) {
 // A spot cone wider than a hemisphere (Collada's default falloff_angle is 180 degrees) is
 // narrowed to one with a warning.
 TEST(AssimpLights, WideSpotIsNarrowedToAHemisphere) {
-    const std::string wide = replaced(kCollada, "<outer_cone>60</outer_cone>", "<outer_cone>300</outer_cone>");
+    const std::string wide = replaced(kLightCollada, "<outer_cone>60</outer_cone>", "<outer_cone>300</outer_cone>");
     auto r = importMesh(writeFile("wide-spot.dae", wide));
     ASSERT_TRUE(r.isOk()) << r.message();
     const PunctualLight* cone = find(r->mesh.lights, "Cone");

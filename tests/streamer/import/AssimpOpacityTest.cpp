@@ -12,17 +12,12 @@
 #include <array>
 
 #include "import/AssimpTextures.h"
+#include "PngBytes.h"
 #include "import/PngWriter.h"
 #include "vastray/core/ImageFile.h"
 
 namespace vastray::test {
 namespace {
-
-std::string png(uint32_t width, uint32_t height, uint32_t channels, const std::vector<uint8_t>& texels) {
-    auto bytes = import::encodePng(width, height, channels, texels);
-    EXPECT_TRUE(bytes.isOk()) << bytes.message();
-    return bytes ? std::string(bytes->begin(), bytes->end()) : std::string();
-}
 
 // A textured quad whose Phong effect reads `diffuse` and, as <transparent>, `opacity`.
 std::string opacityCollada(const std::string& diffuse, const std::string& opacity) {

@@ -10,6 +10,7 @@
 
 #include "ImportTestFiles.h"
 #include "Ktx2Writer.h"
+#include "GltfTextureRead.h"
 #include "import/GltfLoader.h"
 #include "import/GltfTextures.h"
 #include "package/TexturePages.h"
@@ -46,7 +47,7 @@ std::string dataUri(const std::string& mediaType, const std::vector<uint8_t>& by
 }
 
 // A triangle with UVs whose materials, textures and images are the caller's.
-std::string texturedGltf(const std::string& materials, const std::string& rest) {
+std::string uvTexturedGltf(const std::string& materials, const std::string& rest) {
     GltfBuilder b;
     const int pos = b.addPositions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     std::string uv;
@@ -56,13 +57,6 @@ std::string texturedGltf(const std::string& materials, const std::string& rest) 
                   R"(,"TEXCOORD_0":)" + std::to_string(uvs) +
                   R"(},"material":0}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"materials":)" + materials + "," +
                   rest);
-}
-
-Result<GltfTextures> readTextures(const std::string& name, const std::string& json, ImportReport& report) {
-    const std::string path = writeFile(name, json);
-    auto model = import::loadGltfModel(path, false);
-    if (!model) return model.status();
-    return import::readGltfTextures(*model, name, std::filesystem::path(path).parent_path().string(), report);
 }
 
 const char* kBaseColour = R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])";
@@ -78,7 +72,7 @@ TEST(GltfKtx2, BasisuExtensionAndPlainKtx2ImagesAreReadWithoutWarnings) {
             R"(","name":"albedo"}])"};
     for (const std::string& rest : images) {
         ImportReport report;
-        auto textures = readTextures("ktx2.gltf", texturedGltf(kBaseColour, rest), report);
+        auto textures = readTextures("ktx2.gltf", uvTexturedGltf(kBaseColour, rest), report);
         ASSERT_TRUE(textures) << textures.message();
         ASSERT_EQ(textures->textures.size(), 1u) << rest;
         const TextureSource& t = textures->textures[0];
@@ -100,7 +94,7 @@ TEST(GltfKtx2, FormatsNotReadAreWarnedByNameOrGiveWayToTheFallback) {
            "images":[{"uri":")" + dataUri("image/ktx2", bc1Ktx2()) + R"("},{"uri":"data:image/png;base64,)" +
         base64(tinyPng()) + R"("}])";
     ImportReport report;
-    auto textures = readTextures("fallback.gltf", texturedGltf(kBaseColour, fallback), report);
+    auto textures = readTextures("fallback.gltf", uvTexturedGltf(kBaseColour, fallback), report);
     ASSERT_TRUE(textures) << textures.message();
     ASSERT_EQ(textures->textures.size(), 1u);
     EXPECT_EQ(textures->textures[0].extension, ".png");
@@ -111,7 +105,7 @@ TEST(GltfKtx2, FormatsNotReadAreWarnedByNameOrGiveWayToTheFallback) {
     const std::string alone = R"("textures":[{"extensions":{"KHR_texture_basisu":{"source":0}}}],
            "images":[{"uri":")" + dataUri("image/ktx2", bc1Ktx2()) + R"("}])";
     report = {};
-    textures = readTextures("bc1.gltf", texturedGltf(kBaseColour, alone), report);
+    textures = readTextures("bc1.gltf", uvTexturedGltf(kBaseColour, alone), report);
     ASSERT_TRUE(textures) << textures.message();
     EXPECT_TRUE(textures->textures.empty());
     EXPECT_FALSE(textures->materials[0].any());
@@ -129,7 +123,7 @@ TEST(GltfKtx2, ATransferFunctionTheMapDisagreesWithIsWarnedAndTheMapsEncodingKep
     ImportReport report;
     auto textures = readTextures(
         "mismatch.gltf",
-        texturedGltf(R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"normalTexture":{"index":1}}])", rest),
+        uvTexturedGltf(R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"normalTexture":{"index":1}}])", rest),
         report);
     ASSERT_TRUE(textures) << textures.message();
     ASSERT_EQ(textures->textures.size(), 2u);
@@ -147,14 +141,14 @@ TEST(GltfKtx2, ABrokenContainerFailsTheImportNamingTheImageAndTheField) {
     const std::string rest =
         R"("textures":[{"source":0}],"images":[{"uri":")" + dataUri("image/ktx2", ktx2) + R"(","name":"x.ktx2"}])";
     ImportReport report;
-    auto textures = readTextures("model.gltf", texturedGltf(kBaseColour, rest), report);
+    auto textures = readTextures("model.gltf", uvTexturedGltf(kBaseColour, rest), report);
     ASSERT_FALSE(textures);
     EXPECT_NE(textures.message().find("image 0 ('x.ktx2') of model.gltf: KTX2 level 0 byte length 99 at offset"),
               std::string::npos)
         << textures.message();
     // A KHR_texture_basisu source that names no image is refused by texture.
     const std::string noSource = R"("textures":[{"extensions":{"KHR_texture_basisu":{"source":"a"}}}],"images":[])";
-    textures = readTextures("model.gltf", texturedGltf(kBaseColour, noSource), report);
+    textures = readTextures("model.gltf", uvTexturedGltf(kBaseColour, noSource), report);
     ASSERT_FALSE(textures);
     EXPECT_NE(textures.message().find("texture 0 KHR_texture_basisu source is not an image index"), std::string::npos)
         << textures.message();
@@ -165,7 +159,7 @@ TEST(GltfKtx2, AnImportedKtx2TextureIsStoredPageForPageAsItsDecodedImage) {
     const std::string rest = R"("textures":[{"extensions":{"KHR_texture_basisu":{"source":0}}}],
         "extensionsUsed":["KHR_texture_basisu"],"images":[{"uri":")" +
                              dataUri("image/ktx2", ktx2) + R"(","name":"albedo"}])";
-    const std::string path = writeFile("ktx2-scene.gltf", texturedGltf(kBaseColour, rest));
+    const std::string path = writeFile("ktx2-scene.gltf", uvTexturedGltf(kBaseColour, rest));
     auto imported = importMesh(path);
     ASSERT_TRUE(imported) << imported.message();
     EXPECT_TRUE(imported->report.warnings.empty()) << imported->report.warnings[0];

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "ImportTestFiles.h"
+#include "GltfTextureRead.h"
 #include "import/GltfLoader.h"
 #include "import/GltfTextures.h"
 
@@ -26,13 +27,6 @@ std::string texturedGltf(const std::string& materials, const std::string& rest) 
     return b.json(R"("meshes":[{"primitives":[{"attributes":{"POSITION":)" + std::to_string(pos) +
                   R"(},"material":0}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"materials":)" + materials +
                   "," + rest);
-}
-
-Result<GltfTextures> readTextures(const std::string& name, const std::string& json, ImportReport& report) {
-    const std::string path = writeFile(name, json);
-    auto model = import::loadGltfModel(path, false);
-    if (!model) return model.status();
-    return import::readGltfTextures(*model, name, std::filesystem::path(path).parent_path().string(), report);
 }
 
 TEST(GltfTextures, MapsSamplersAndTransformsAreReadAndSharedTexturesStored) {

@@ -15,6 +15,13 @@
 
 namespace vastray::test {
 
+// Each coordinate of a within `tolerance` of b's, `what` naming the vector in a failure.
+inline void expectNear(const Vec3f& a, const Vec3f& b, float tolerance, const std::string& what) {
+    EXPECT_NEAR(a.x, b.x, tolerance) << what;
+    EXPECT_NEAR(a.y, b.y, tolerance) << what;
+    EXPECT_NEAR(a.z, b.z, tolerance) << what;
+}
+
 inline std::string tmpPath(const std::string& name) {
     const std::filesystem::path dir = vastray::test::testTmpDir("import");
     std::filesystem::create_directories(dir);

@@ -11,13 +11,14 @@
 #include "BowlMesh.h"
 #include "PackageTestUtil.h"
 #include "VolumePackageForge.h"
+#include "HeaderOffsets.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray::test {
 namespace {
 
-constexpr uint64_t kDirectoryOffsetAt = 168, kDirectoryChecksumAt = 200, kFlagsInEntry = 44;
+constexpr uint64_t kFlagsInEntry = 44;  // in a directory entry
 
 // The package's bytes with chunk `chunk`'s layout word set to `word` and the directory's and the
 // header's checksums recomputed: a forger's package that opens as far as its fields allow.

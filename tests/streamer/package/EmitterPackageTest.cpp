@@ -12,15 +12,13 @@
 
 #include "../../VolumePackageForge.h"
 #include "PackageTestUtil.h"
+#include "HeaderOffsets.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray::test {
 namespace {
 
-// Offsets in the header (ForgedCameraTest.cpp spells them out): the volume records' offset.
-constexpr size_t kVolumesOffsetAt = 8 + 4 + 4 + 7 * 8 + 6 * 4 + 6 * 4 + 4 * 8 + 7 * 8 + 8 + 8 + 4 + 4;
-constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 
 // A generated soup (material 0, grey) with every seventh triangle given material 1, a lamp, and
 // every eleventh material 2, grey too.

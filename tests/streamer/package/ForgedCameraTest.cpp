@@ -8,18 +8,13 @@
 #include <limits>
 
 #include "PackageTestUtil.h"
+#include "HeaderOffsets.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray::test {
 namespace {
 
-// Offsets in the header, as serializeHeader writes it: magic, version, header size, 7 u64, 6 u32,
-// bounds (6 f32), grid origin (3 f64) and range, 7 section u64s, then the cameras' fields.
-constexpr size_t kCamerasOffsetAt = 8 + 4 + 4 + 7 * 8 + 6 * 4 + 6 * 4 + 4 * 8 + 7 * 8;
-constexpr size_t kCamerasChecksumAt = kCamerasOffsetAt + 8;
-constexpr size_t kCameraCountAt = kCamerasChecksumAt + 8;
-constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 // In a camera: name, then eye, target, up (3 f32 each), fov.
 constexpr size_t kEyeAt = format::kCameraNameBytes;
 constexpr size_t kTargetAt = kEyeAt + 12;

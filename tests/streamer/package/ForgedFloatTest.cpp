@@ -11,19 +11,13 @@
 #include <tuple>
 
 #include "PackageTestUtil.h"
+#include "HeaderOffsets.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray::test {
 namespace {
 
-// Offsets in the header, as serializeHeader writes it.
-constexpr size_t kBoundsLoAt = 8 + 4 + 4 + 7 * 8 + 6 * 4;
-constexpr size_t kBoundsHiAt = kBoundsLoAt + 12;
-constexpr size_t kOriginAt = kBoundsHiAt + 12;
-constexpr size_t kRangeAt = kOriginAt + 24;
-constexpr size_t kDirectoryChecksumAt = kRangeAt + 8 + 6 * 8;
-constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 // In a directory entry: offset, size, checksum, resident bytes, four counts, then the cell.
 constexpr size_t kEntryChecksumAt = 2 * 8;
 constexpr size_t kEntryCellAt = 4 * 8 + 4 * 4;
@@ -215,7 +209,6 @@ TEST_F(ForgedFloats, VersionThreeWithoutVolumesStillReads) {
 // A version 5 material's metallic-roughness factors are fractions; a forger who recomputes the
 // materials' checksum still meets the range check.
 TEST_F(ForgedFloats, MaterialFactorsOutsideTheUnitIntervalAreRefused) {
-    constexpr size_t kMaterialsChecksumAt = kDirectoryChecksumAt - 2 * 8;
     constexpr size_t kMetallicAt = format::kHeaderBytes + 4 * 4 + 3 * 4 + 4;
     for (const auto& [at, value, expected] :
          {std::tuple{kMetallicAt, 2.0f, "material 0 (''): metallic 2 is outside [0, 1]"},

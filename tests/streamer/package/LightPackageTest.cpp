@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "PackageTestUtil.h"
+#include "HeaderOffsets.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 #include "vastray/core/VecMath.h"
@@ -15,12 +16,6 @@
 namespace vastray::test {
 namespace {
 
-// Offsets in the header (ForgedCameraTest.cpp spells them out): the camera count, then the light
-// count, then the volume records' offset.
-constexpr size_t kCameraCountAt = 8 + 4 + 4 + 7 * 8 + 6 * 4 + 6 * 4 + 4 * 8 + 7 * 8 + 8 + 8;
-constexpr size_t kLightCountAt = kCameraCountAt + 4;
-constexpr size_t kVolumesOffsetAt = kLightCountAt + 4;
-constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 // In a light record: name, type, colour (3 f32), intensity.
 constexpr size_t kTypeAt = format::kLightNameBytes;
 constexpr size_t kIntensityAt = kTypeAt + 4 + 12;

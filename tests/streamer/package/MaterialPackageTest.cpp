@@ -11,16 +11,13 @@
 
 #include "PackageTestUtil.h"
 #include "VolumePackageForge.h"
+#include "HeaderOffsets.h"
 #include "package/PackageFormat.h"
 #include "vastray/core/Checksum.h"
 
 namespace vastray::test {
 namespace {
 
-// Offsets in the header (ForgedFloatTest.cpp spells them out): the materials' XXH64 follows the
-// bounds, the quantization grid and the four section offsets.
-constexpr size_t kMaterialsChecksumAt = 8 + 4 + 4 + 7 * 8 + 6 * 4 + 6 * 4 + 4 * 8 + 4 * 8;
-constexpr size_t kHeaderChecksumAt = format::kHeaderBytes - 8;
 // In a version 8 record: the specular colour after the name, the coat and its roughness, then
 // three reserved words.
 constexpr size_t kSpecularColorAt = format::kMaterialBytesBefore8;

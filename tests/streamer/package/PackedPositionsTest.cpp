@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 
+#include "HeaderOffsets.h"
 #include "PackageTestUtil.h"
 #include "VolumePackageForge.h"
 #include "vastray/core/Checksum.h"
@@ -60,7 +61,9 @@ TEST(PackedPositions, ImportGridsPackEveryPosition) {
         EXPECT_EQ(std::frexp(grid.step(), &exponent), 0.5) << c.what << ": the step is a power of two";
         const double extent = std::max({double(c.bounds.extent().x), double(c.bounds.extent().y),
                                         double(c.bounds.extent().z)});
-        if (extent > 0) EXPECT_LE(grid.step(), 2.0 * extent / double((1u << 20) - 3)) << c.what << ": at most twice as coarse";
+        if (extent > 0) {
+            EXPECT_LE(grid.step(), 2.0 * extent / double((1u << 20) - 3)) << c.what << ": at most twice as coarse";
+        }
         for (int axis = 0; axis < 3; ++axis) {
             EXPECT_LE(grid.origin[axis], c.bounds.lo[axis]) << c.what;
             EXPECT_GT(grid.origin[axis] + grid.step(), c.bounds.lo[axis]) << c.what;
@@ -137,9 +140,8 @@ TEST(PackedPositions, CoordinatesBeyondTheGridAreRefused) {
     auto city = smallCity(GeometryCodec::Meshopt, "beyond-grid-city");
     ASSERT_TRUE(city);
     const std::string path = tempPath("beyond-grid-city-meshopt.vast"), forged = tempPath("beyond-grid-forged.vast");
-    constexpr size_t kBitsAt = 8 + 4 + 4 + 7 * 8 + 4, kHeaderChecksumAt = 248;
     std::vector<uint8_t> bytes = fileBytes(path);
-    putAt(bytes, kBitsAt, uint32_t(12));
+    putAt(bytes, kGridBitsAt, uint32_t(12));
     setWord64(bytes, kHeaderChecksumAt, checksum64(bytes.data(), kHeaderChecksumAt));
     writeBytes(forged, bytes);
     auto reader = PackageReader::open(forged);
