@@ -448,6 +448,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["chunk_decodes"] = st->decodes;
         j["stream_chunks_touched"] = st->streamChunksTouched;
         j["stream_reloads"] = st->streamReloads;
+        j["idle_load_steps"] = st->idleLoadSteps;
         j["chunk_slots"] = st->slots;
         j["wave_paths"] = st->wavePaths;
         j["path_state_host_bytes"] = st->pathStateHostBytes;

@@ -766,6 +766,7 @@ private:
             auto done = pager_.loadPlanned();
             if (!done) return done.status();
             st.loaded += done->size(), st.planned = false;
+            ++stats_.idleLoadSteps;
         }
         if (plan.empty() && st.loaded == 0)
             return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");

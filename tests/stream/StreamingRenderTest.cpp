@@ -186,6 +186,9 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
     ASSERT_TRUE(c) << c.message();
     expectIdentical(*a, *c, false);
     EXPECT_GT(between.chunkLoads, between.chunksTouched);
+    EXPECT_GT(between.idleLoadSteps, 0u) << "without overlap every paging step loads with the device idle";
+    EXPECT_LE(between.idleLoadSteps, between.chunkLoads) << "a step that loads loads a chunk at least";
+    EXPECT_LE(ample.idleLoadSteps, 1u) << "in core only the first step waits, for the chunks its rays start in";
     // Decoding chunks only when rays reach them (no scene prefetch): the same image too.
     StreamingStats onDemand;
     auto d = renderVulkan(path, o, tight, &onDemand, 1u << 21, true, false);

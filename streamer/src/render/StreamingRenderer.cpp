@@ -203,6 +203,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.streamReloads = t.streamReloads - before.streamReloads;
         s.walkedRays = t.walkedRays - before.walkedRays;
         s.submits = t.submits - before.submits;
+        s.idleLoadSteps = t.idleLoadSteps - before.idleLoadSteps;
         s.walkPasses = t.walkPasses - before.walkPasses;
         s.pipelineSeconds = t.pipelineSeconds - before.pipelineSeconds;
         s.streamedTiles = t.streamedTiles - before.streamedTiles;

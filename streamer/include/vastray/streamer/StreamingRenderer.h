@@ -202,6 +202,10 @@ struct StreamingStats {
     // tables up; demand and look-ahead counters, queue sizes, touched flags and the image with
     // its AOVs down.
     uint64_t submits = 0;           // submits
+    // idle_load_steps: paging steps (out of core) whose planned chunks were loaded before the
+    // step ran, the device idle: no waiting ray could go on without them (or overlapLoads off);
+    // the other steps load while the device walks.
+    uint64_t idleLoadSteps = 0;
     uint64_t walkPasses = 0;        // walk_passes
     // pipeline_seconds: creating the compute pipelines this render needs that the scene had not
     // created before (its shade and walk variants; a driver compilation, which the driver's own
