@@ -109,7 +109,8 @@ constexpr uint32_t kGrowBatchRays = 1u << 18;
 // (PERF_NOTES 95: city 64M, 16 MiB chunks, at 4x over a 475 MiB budget, scene kept open, H100:
 // 655 k paths 0.475 s, 786 k 0.464-0.471 s, 852 k 0.460-0.465 s, 983 k 0.411-0.417 s, 1.11 M
 // 0.585-0.605 s, 1.24 M 0.583-0.585 s; with 4 MiB chunks PERF_NOTES 63 had put it at 655 k). A
-// budget below ~400 MiB never reaches it.
+// budget below ~400 MiB never reaches it. Measured again with 8-byte positions (PERF_NOTES 99: at
+// 512 MiB, 49 slots, 0.367 s kept open; 1.11-1.38 M paths 0.49-0.50 s): the cliff follows the wave.
 constexpr uint32_t kMaxOutOfCoreBatchRays = 960u * 1024u;
 
 // Out of core with the tile outputs in host memory (off the budget), the output buffer holds this
