@@ -19,6 +19,8 @@
 //                                                again; compared with the resident row)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
+//                       [--no-partial-residency]  (every paging step waits for every chunk copy before it:
+//                                                  for comparisons; StreamingOptions::partialResidency)
 //                       [--no-stream-waves]  (out of core, a tile's wave at a time: for comparisons)
 //                       [--window-tiles N]  (streamed waves: the most tiles open at once; default: all that fit)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
@@ -88,7 +90,7 @@ struct Args {
     Vec3f eye, target;
     std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
-    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-stream-waves, --no-prefetch-scene
+    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-partial-residency, --no-stream-waves, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
     gpu::PathStateOptions pathState;              // --path-state, --host-state-paths, --device-wave-cap
     gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
@@ -155,6 +157,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--attributes") a.attributes = true;
         else if (flag == "--write-ply") a.writePly = value();
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
+        else if (flag == "--no-partial-residency") a.streaming.partialResidency = false;
         else if (flag == "--no-stream-waves") a.streaming.streamWaves = false;
         else if (flag == "--window-tiles") a.streaming.windowTiles = uint32_t(std::stoul(value()));
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
@@ -429,8 +432,8 @@ int main(int argc, char** argv) {
     md << "| render | budget | slots / wave paths (host: state in host memory) | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
           "host→device B | device→host B | decode s (waited) | upload s | touched | loads | loads/touched | "
-          "per-wave loads/touched | time vs in core | steps loading with the device idle |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "per-wave loads/touched | time vs in core | steps loading with the device idle | late chunks | host gap s |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
         double reference = 0;
@@ -449,7 +452,7 @@ int main(int argc, char** argv) {
         char line[1024];
         std::snprintf(line, sizeof line,
                       "| %s | %s | %u / %u%s | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f (%.3f) | %.3f "
-                      "| %llu | %llu | %.2f | %.3f | %s | %llu |\n",
+                      "| %llu | %llu | %.2f | %.3f | %s | %llu | %llu | %.3f |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, s.wavePaths,
                       s.pathStateHostBytes > 0 ? " host" : "", r.render.renderSeconds,
                       (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6, s.deviceSeconds,
@@ -461,7 +464,8 @@ int main(int argc, char** argv) {
                       (unsigned long long)s.chunksTouched, (unsigned long long)s.chunkLoads,
                       s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
                       s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,
-                      ratio(reference).c_str(), (unsigned long long)s.idleLoadSteps);
+                      ratio(reference).c_str(), (unsigned long long)s.idleLoadSteps,
+                      (unsigned long long)s.lateChunks, s.hostGapSeconds);
         md << line;
     }
     md << "\nUploads per row: host copy s (into slots or staging) / DMA s (transfer queue, timestamps) / "

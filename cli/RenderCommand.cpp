@@ -449,6 +449,8 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["stream_chunks_touched"] = st->streamChunksTouched;
         j["stream_reloads"] = st->streamReloads;
         j["idle_load_steps"] = st->idleLoadSteps;
+        j["late_chunks"] = st->lateChunks;
+        j["host_gap_seconds"] = st->hostGapSeconds;
         j["chunk_slots"] = st->slots;
         j["wave_paths"] = st->wavePaths;
         j["path_state_host_bytes"] = st->pathStateHostBytes;

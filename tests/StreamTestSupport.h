@@ -75,7 +75,8 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
                                         StreamingStats* stats = nullptr, uint32_t maxPathsPerWave = 1u << 21,
                                         bool overlapLoads = true, bool prefetchScene = true,
                                         const gpu::ChunkUploadOptions& upload = {}, bool streamWaves = true,
-                                        const gpu::PathStateOptions& pathState = {}, uint32_t windowTiles = 0) {
+                                        const gpu::PathStateOptions& pathState = {}, uint32_t windowTiles = 0,
+                                        bool partialResidency = true) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;
@@ -84,6 +85,7 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
     streaming.prefetchScene = prefetchScene;
     streaming.streamWaves = streamWaves;
     streaming.windowTiles = windowTiles;
+    streaming.partialResidency = partialResidency;
     StreamingStats local;
     StreamingStats& s = stats ? *stats : local;
     s.memoryBudgetBytes = budget;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <utility>
 
 #include "VkCheck.h"
 #include "shared/StreamTypes.h"
@@ -90,9 +91,10 @@ Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies
 
 Result<std::unique_ptr<ChunkUploader>> ChunkUploader::create(VulkanDevice& device, uint64_t stagingBytes,
                                                              uint64_t largestUpload, uint32_t chunks,
-                                                             uint64_t submitBytes) {
+                                                             uint64_t submitBytes, bool seenLate) {
     std::unique_ptr<ChunkUploader> u(new ChunkUploader(device));
     u->submitBytes_ = submitBytes;
+    u->seenLate_ = seenLate;
     u->blockBytes_ = (std::max<uint64_t>(largestUpload, 1) + 255) / 256 * 256;
     const uint64_t blocks = std::clamp<uint64_t>(stagingBytes / u->blockBytes_, 2, std::max<uint32_t>(chunks, 2));
     u->blocks_.resize(blocks);
@@ -290,16 +292,32 @@ Status ChunkUploader::close() {
     return Status::ok();
 }
 
-Result<SubmitWait> ChunkUploader::pending() {
+Result<SubmitWait> ChunkUploader::pending(uint64_t upTo) {
     VASTRAY_TRY(close());
     SubmitWait wait;
-    if (submitted_ <= waitedFor_) return wait;
-    waitedFor_ = submitted_;
+    const uint64_t value = std::min(upTo, submitted_);
+    if (value <= waitedFor_) return wait;
+    waitedFor_ = value;
     wait.semaphore = timeline_;
-    wait.value = submitted_;
+    wait.value = value;
     // Only the kernels read the slots (fills and copies of the compute queue never do).
     wait.stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
     return wait;
+}
+
+Result<uint64_t> ChunkUploader::completed() {
+    uint64_t value = 0;
+    const VkResult r = vkGetSemaphoreCounterValue(device_.handle(), timeline_, &value);
+    if (r == VK_ERROR_DEVICE_LOST) device_.fail(device_.info().name + ": the device was lost (VK_ERROR_DEVICE_LOST)");
+    VASTRAY_VK_TRY(r);
+    completed_ = std::max(completed_, value);
+    if (!seenLate_) return completed_;
+    return std::exchange(lastSeen_, completed_);
+}
+
+uint64_t ChunkUploader::copyValue(uint32_t chunk) const {
+    const uint32_t b = chunk < chunkBlock_.size() ? chunkBlock_[chunk] : kNoChunk;
+    return b == kNoChunk ? 0 : blocks_[b].value;
 }
 
 Status ChunkUploader::finish() {

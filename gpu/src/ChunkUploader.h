@@ -39,9 +39,11 @@ public:
     // stagingBytes: the staging area's size, cut into blocks of the largest upload
     // (`largestUpload`), at least two and at most `chunks`; copies are submitted in batches of
     // at least submitBytes (0: a submission per chunk), and before every compute submission
-    // (pending).
+    // (pending). seenLate: completed() answers what the timeline said at the call before
+    // (ChunkUploadOptions::copiesSeenLate, for tests).
     static Result<std::unique_ptr<ChunkUploader>> create(VulkanDevice& device, uint64_t stagingBytes,
-                                                         uint64_t largestUpload, uint32_t chunks, uint64_t submitBytes);
+                                                         uint64_t largestUpload, uint32_t chunks, uint64_t submitBytes,
+                                                         bool seenLate = false);
     ~ChunkUploader();  // waits for the copies still running
     ChunkUploader(const ChunkUploader&) = delete;
     ChunkUploader& operator=(const ChunkUploader&) = delete;
@@ -52,9 +54,15 @@ public:
     // submission running or waiting for pending() may read what the copy writes (the pager
     // evicts a slot before it is loaded again).
     Status upload(uint32_t chunk, const GpuBuffer& slot, std::span<const SlotCopy> copies, uint64_t span);
-    // Submits the open batch; what the next compute submission must wait for: every copy so far
-    // (no semaphore when there is none since the last call).
-    Result<SubmitWait> pending();
+    // Submits the open batch; what the next compute submission must wait for: every copy so far,
+    // or with upTo the copies up to that timeline value (no semaphore when there is none since
+    // the last call). A submission that waits for less must not read the slots of later copies.
+    Result<SubmitWait> pending(uint64_t upTo = ~0ull);
+    // The timeline value of the copies the device has finished (asked now, no wait), and the
+    // value of chunk `chunk`'s last copy (0: none the uploader still tracks, so it is done).
+    // copied(c, completed()) holds once chunk c's arrays are in its slot.
+    Result<uint64_t> completed();
+    uint64_t copyValue(uint32_t chunk) const;
     // Waits for every copy and adds the last copies' device times to the figures.
     Status finish();
 
@@ -94,6 +102,8 @@ private:
     std::vector<uint32_t> chunkBlock_;  // per chunk: its block or kNoChunk
     uint64_t tick_ = 0;
     uint64_t submitted_ = 0, completed_ = 0, waitedFor_ = 0;  // timeline values
+    bool seenLate_ = false;
+    uint64_t lastSeen_ = 0;  // seenLate_: what completed() found at its last call
     ChunkUploadFigures figures_;
 };
 

@@ -96,7 +96,8 @@ public:
             // what the plan kept of the budget for it.
             const uint64_t staging = plan_.stagingBytes > 0 ? plan_.stagingBytes : upload_.stagingBytes;
             auto uploader =
-                ChunkUploader::create(device_, staging, plan_.slotBytes, chunkCount_, upload_.submitBytes);
+                ChunkUploader::create(device_, staging, plan_.slotBytes, chunkCount_, upload_.submitBytes,
+                                      upload_.copiesSeenLate);
             if (!uploader) return uploader.status();
             uploader_ = std::move(uploader).value();
             if (plan_.stagingBytes > 0) allocated_ += uploader_->stagingAllocatedBytes();

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <future>
+#include <optional>
 #include <vector>
 
 #include "vastray/core/Camera.h"
@@ -704,7 +705,7 @@ private:
 
     // The last step: chunks it loaded become resident on the device too; the stream's chunks.
     Status finishPaging(const Paging& st) {
-        if (st.loaded > 0) VASTRAY_TRY(uploadResidency());
+        if (st.loaded > 0 || residencyMasked_) VASTRAY_TRY(uploadResidency());
         pager_.streamTouched(st.waveTouched);
         return Status::ok();
     }
@@ -725,6 +726,7 @@ private:
             st.loaded = done->size(), st.planned = false;
         }
         VASTRAY_TRY(finishSubmit());
+        stepEnded_ = std::chrono::steady_clock::now();
         const TableLayout& t = b_.tables;
         VASTRAY_TRY(download(st.demand.data(), st.demand.size() * 4, *b_.output, stepCopyOf(t.demand)));
         VASTRAY_TRY(download(st.ahead.data(), st.ahead.size() * 4, *b_.output, stepCopyOf(t.ahead)));
@@ -753,24 +755,40 @@ private:
     // After a step that did not finish: plans the chunks the parked rays wait for. With overlap
     // they load while the device walks the next step, when it has work without them (`ready`:
     // paths to shade or groups to start, plus parked rays that wait for chunks resident now),
-    // else now.
+    // else now. With partial residency the next step sees the chunks whose copies still run as
+    // absent, and does not wait for them, when it has work without them too (`arrived`).
     Status pageChunks(Paging& st, uint64_t ready) {
+        const bool partial = job_.partialResidency && job_.overlapLoads && b_.uploader;
+        uint64_t completed = kAllCopies;  // the copies done by now (all without partial residency)
+        if (partial && (st.demand[b_.chunkCount] > 0 || st.loaded > 0 || residencyMasked_)) {
+            auto done = b_.uploader->completed();
+            if (!done) return done.status();
+            completed = *done;
+        }
         if (st.demand[b_.chunkCount] == 0)  // nobody waits: the paths go on
-            return st.loaded > 0 ? uploadResidency() : Status::ok();
+            return st.loaded > 0 || residencyMasked_ ? uploadResidency(completed) : Status::ok();
         const auto plan = pager_.planLoads(std::span<const uint32_t>(st.demand).first(b_.chunkCount), st.ahead);
         st.planned = !plan.empty();
         const std::span<const uint32_t> slots = pager_.chunkSlots();
+        uint64_t arrived = ready, arriving = 0;
         for (uint32_t c = 0; c < b_.chunkCount; ++c)
-            if (slots[c] != kEmptyCell) ready += st.demand[c] + st.ahead[c];
-        if (st.planned && (!job_.overlapLoads || ready == 0)) {
+            if (slots[c] != kEmptyCell)
+                (copyRunning(c, completed) ? arriving : arrived) += uint64_t(st.demand[c]) + st.ahead[c];
+        if (st.planned && (!job_.overlapLoads || arrived + arriving == 0)) {
             auto done = pager_.loadPlanned();
             if (!done) return done.status();
             st.loaded += done->size(), st.planned = false;
             ++stats_.idleLoadSteps;
         }
-        if (plan.empty() && st.loaded == 0)
+        // Chunks the step just run saw absent while their copies ran are on their way.
+        if (plan.empty() && st.loaded == 0 && !residencyMasked_)
             return Status::error("rays wait for chunks, but the pager loaded none (no evictable slot)");
-        return uploadResidency();
+        return uploadResidency(arrived > 0 ? completed : kAllCopies);
+    }
+
+    // Whether chunk c's copy into its slot (DMA) was still running at timeline value `completed`.
+    bool copyRunning(uint32_t c, uint64_t completed) const {
+        return b_.uploader && b_.uploader->copyValue(c) > completed;
     }
 
     // Streamed waves (out of core; docs/RENDERING.md, "Streamed waves"). The wave's paths form
@@ -1127,9 +1145,24 @@ private:
         return Status::ok();
     }
 
-    Status uploadResidency() {
+    // The pager's chunk slots into the device's table. With `completed` below kAllCopies (out of
+    // core, DMA uploads: the timeline value of the copies done), chunks whose copies still run
+    // are written absent, and the next submission waits only for the copies done
+    // (copiesWaitUpTo_): its kernels do not read the others' slots.
+    static constexpr uint64_t kAllCopies = ~0ull;
+    Status uploadResidency(uint64_t completed = kAllCopies) {
         const std::span<const uint32_t> slots = pager_.chunkSlots();
-        return uploadBytes(slots.data(), slots.size_bytes(), b_.tables.chunkSlots);
+        residencyMasked_ = false;
+        if (completed == kAllCopies || !b_.uploader)
+            return uploadBytes(slots.data(), slots.size_bytes(), b_.tables.chunkSlots);
+        std::vector<uint32_t> table(slots.begin(), slots.end());
+        for (uint32_t c = 0; c < table.size(); ++c)
+            if (table[c] != kEmptyCell && copyRunning(c, completed)) {
+                table[c] = kEmptyCell, residencyMasked_ = true;
+                ++stats_.lateChunks;
+            }
+        if (residencyMasked_) copiesWaitUpTo_ = completed;
+        return upload(table, b_.tables.chunkSlots);
     }
 
     template <typename T>
@@ -1184,7 +1217,7 @@ private:
         // wait for those copies on the device, the host does not.
         SubmitWait copies;
         if (b_.uploader) {
-            auto pending = b_.uploader->pending();
+            auto pending = b_.uploader->pending(std::exchange(copiesWaitUpTo_, kAllCopies));
             if (!pending) {
                 ops_.clear();
                 return pending.status();
@@ -1201,7 +1234,10 @@ private:
                 if (i + 1 < queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, uint32_t(i + 1));
             }
         }, copies.semaphore ? &copies : nullptr);
-        deviceSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const auto submitted = std::chrono::steady_clock::now();
+        deviceSeconds_ += std::chrono::duration<double>(submitted - start).count();
+        if (stepEnded_) stats_.hostGapSeconds += std::chrono::duration<double>(submitted - *stepEnded_).count();
+        stepEnded_.reset();
         ++stats_.submits;
         if (!s.isOk()) ops_.clear();
         return s;
@@ -1251,6 +1287,12 @@ private:
     uint32_t cutouts_ = 0;                    // the walk's kCutouts: some material is a cut-out or a blend
     uint32_t blends_ = 0;                     // the walk's kBlends: some material is a blend
     bool streamed_ = false;                   // renderStreamed runs: shading regenerates groups
+    // Partial residency (uploadResidency): the device's table shows some resident chunks absent,
+    // and the timeline value of the copies the next submission waits for (~0: all).
+    bool residencyMasked_ = false;
+    uint64_t copiesWaitUpTo_ = kAllCopies;
+    // When the last paging step's wait returned (host_gap_seconds counts from it to the next submission).
+    std::optional<std::chrono::steady_clock::time_point> stepEnded_;
 };
 
 Status Wavefront::render(const WavefrontBuffers& buffers, const DeviceRenderJob& job, ChunkPager& pager,

@@ -173,6 +173,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     if (job.materials.empty()) job.materials = std::span<const Material>(&fallback, 1);
     job.maxPathsPerWave = st.options.maxPathsPerWave;
     job.overlapLoads = st.options.overlapLoads;
+    job.partialResidency = st.options.partialResidency;
     job.streamWaves = st.options.streamWaves;
     job.windowTiles = st.options.windowTiles;
     job.progress = progress;
@@ -204,6 +205,8 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.walkedRays = t.walkedRays - before.walkedRays;
         s.submits = t.submits - before.submits;
         s.idleLoadSteps = t.idleLoadSteps - before.idleLoadSteps;
+        s.lateChunks = t.lateChunks - before.lateChunks;
+        s.hostGapSeconds = t.hostGapSeconds - before.hostGapSeconds;
         s.walkPasses = t.walkPasses - before.walkPasses;
         s.pipelineSeconds = t.pipelineSeconds - before.pipelineSeconds;
         s.streamedTiles = t.streamedTiles - before.streamedTiles;

@@ -90,6 +90,12 @@ struct ChunkUploadOptions {
     // Dma: chunk copies are submitted to the transfer queue in batches of at least this many
     // bytes (0: one submission per chunk), and whatever is staged before each compute submission.
     uint64_t submitBytes = 0;
+    // Dma, for tests: the uploader sees a copy done one query later than the timeline says (a
+    // render with partial residency then finds every copy it made during a step still running
+    // after it, as a fast device does when the bus is the bottleneck; lavapipe's copies are done
+    // long before its kernels). Later than true is always safe: the step waits for less and
+    // reads less.
+    bool copiesSeenLate = false;
     // When set, the backend adds its figures here when it is destroyed.
     ChunkUploadFigures* figures = nullptr;
 };

@@ -108,6 +108,7 @@ struct DeviceRenderJob {
     std::function<Status(uint32_t texture, uint32_t page, uint8_t* out)> readTexturePage;
     uint32_t maxPathsPerWave = 0;         // StreamingOptions::maxPathsPerWave (the budget may allow fewer)
     bool overlapLoads = true;             // StreamingOptions::overlapLoads
+    bool partialResidency = true;         // StreamingOptions::partialResidency
     bool streamWaves = true;              // StreamingOptions::streamWaves
     uint32_t windowTiles = 0;             // StreamingOptions::windowTiles
     std::function<void(uint64_t done, uint64_t total)> progress;  // optional
@@ -150,6 +151,12 @@ struct StreamingOptions {
     // Out of core, chunks are loaded while the device walks the next paging step (they serve the
     // step after it); false: between steps, the device idle meanwhile (for comparisons).
     bool overlapLoads = true;
+    // Out of core with chunks copied by the transfer queue (gpu::ChunkUploadMode::Dma), a paging
+    // step does not wait for copies still running when it is submitted: their chunks count as
+    // absent for that step (the rays waiting for them wait one step more) while the kernels walk
+    // what has arrived, unless nothing else has work; false: every step waits for every copy
+    // made before it (for comparisons). Images are the same either way.
+    bool partialResidency = true;
     // Out of core, waves are streamed: a group of a pixel's samples that is done starts the next
     // pixel at once, so the wave stays full while a tile's last paths wait for chunks (false: a
     // tile's wave at a time, for comparisons; docs/RENDERING.md, "Streamed waves").
@@ -206,6 +213,14 @@ struct StreamingStats {
     // step ran, the device idle: no waiting ray could go on without them (or overlapLoads off);
     // the other steps load while the device walks.
     uint64_t idleLoadSteps = 0;
+    // late_chunks: out of core with partial residency (StreamingOptions::partialResidency),
+    // chunks a paging step saw absent because their copies still ran when it was submitted,
+    // summed over steps (a chunk late for two steps counts twice).
+    uint64_t lateChunks = 0;
+    // host_gap_seconds: out of core, the time from a paging step's end (its wait returned) to the
+    // next submission: the host reading counters, closing tiles, planning and recording, the
+    // compute queue idle meanwhile (the transfer queue may still copy).
+    double hostGapSeconds = 0;
     uint64_t walkPasses = 0;        // walk_passes
     // pipeline_seconds: creating the compute pipelines this render needs that the scene had not
     // created before (its shade and walk variants; a driver compilation, which the driver's own
