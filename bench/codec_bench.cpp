@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -31,6 +30,7 @@
 
 #include "../streamer/src/package/ByteIo.h"
 #include "../streamer/src/package/ChunkCodec.h"
+#include "BenchFlags.h"
 #include "vastray/streamer/Generate.h"
 #include "vastray/streamer/Import.h"
 #include "vastray/streamer/PackageBuilder.h"
@@ -377,14 +377,6 @@ std::string report(const std::vector<Row>& rows, const std::vector<std::string>&
 
 // ---- command line -------------------------------------------------------------------------
 
-Result<uint64_t> parseCount(const std::string& flag, const std::string& text, uint64_t most) {
-    uint64_t value = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size() || value == 0 || value > most)
-        return Status::error(flag + " " + text + ": expected a whole number in 1.." + std::to_string(most));
-    return value;
-}
-
 Result<BenchOptions> parseArgs(int argc, char** argv) {
     BenchOptions o;
     for (int i = 1; i < argc; ++i) {
@@ -401,7 +393,8 @@ Result<BenchOptions> parseArgs(int argc, char** argv) {
             continue;
         }
         const bool runs = arg == "--encode-runs" || arg == "--decode-runs";
-        auto n = parseCount(arg, value, runs ? 101 : (arg == "--triangles" ? 1ull << 31 : 1ull << 24));
+        const uint64_t most = runs ? 101 : (arg == "--triangles" ? 1ull << 31 : 1ull << 24);
+        auto n = bench::parseFlagNumber<uint64_t>(arg, value, 1, most);
         if (!n) return n.status();
         if (arg == "--triangles") o.triangles = *n;
         else if (arg == "--chunk-triangles") o.chunkTriangles = uint32_t(*n);

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -14,9 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "BenchFlags.h"
 #include "vastray/core/Camera.h"
 #include "vastray/core/Random.h"
 #include "vastray/core/RayOffset.h"
+#include "vastray/core/RenderOptions.h"
 #include "vastray/core/RenderStats.h"
 #include "vastray/core/Sampling.h"
 #include "vastray/cpu/EmbreeScene.h"
@@ -41,7 +44,9 @@ Result<RenderScene> loadScene(const std::string& spec) {
     if (!kind || colon == std::string::npos) return Status::error(spec + ": expected gen:KIND:TRIANGLES");
     GenerateOptions options;
     options.kind = *kind;
-    options.triangles = std::stoull(spec.substr(colon + 1));
+    auto triangles = bench::parseFlagNumber<uint64_t>(spec, spec.substr(colon + 1), 0, UINT64_MAX);
+    if (!triangles) return triangles.status();
+    options.triangles = *triangles;
     const std::string path =
         (std::filesystem::temp_directory_path() / ("vastray-bench-" + spec.substr(4) + ".ply")).string();
     VASTRAY_TRY(generateToPly(options, path));
@@ -158,17 +163,19 @@ int main(int argc, char** argv) {
     unsigned threads = 0;
     std::vector<std::string> scenes;
     bool help = false;
+    const vastray::bench::FlagNumbers number("embree_rays_bench", 2);
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h"))
+        if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
             help = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
-            threads = unsigned(std::stoul(argv[++i]));
-        else if (!std::strcmp(argv[i], "--resolution") && i + 1 < argc) {
-            if (std::sscanf(argv[++i], "%ux%u", &bench.width, &bench.height) != 2 || !bench.width ||
-                !bench.height)
-                return 2;
-        } else
+        } else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
+            threads = number.get<unsigned>("--threads", argv[++i]);
+        } else if (!std::strcmp(argv[i], "--resolution") && i + 1 < argc) {
+            const auto size =
+                number.list<uint32_t>("--resolution", argv[++i], 'x', 1, vastray::kMaxImageSide, 2);
+            bench.width = size[0], bench.height = size[1];
+        } else {
             scenes.push_back(argv[i]);
+        }
     }
     if (scenes.empty() || help) {
         std::fprintf(stderr,

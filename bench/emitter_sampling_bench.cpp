@@ -18,6 +18,7 @@
 // alone: the scene is open and its pipelines built), relative RMSE against the reference, and
 // RMSE x sqrt(seconds) (lower is better at equal time). The reference is the Embree reference
 // sampling the emitters at --reference-spp (an independent seed).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,7 +30,10 @@
 #include <string>
 #include <vector>
 
+#include "BenchFlags.h"
+#include "vastray/core/Emitters.h"
 #include "vastray/core/ImageFile.h"
+#include "vastray/core/RenderOptions.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
 #include "vastray/gpu/VulkanChunkBackend.h"
@@ -47,6 +51,12 @@ namespace {
     std::exit(1);
 }
 
+// --lamps N at most kMaxLampSide^2: the grid, ceil(sqrt(N)) lamps a side and two emissive
+// triangles a lamp, then stays within kMaxEmitters; a package with more samples none of them.
+constexpr uint32_t kMaxLampSide = 1448;
+static_assert(2 * kMaxLampSide * kMaxLampSide <= kMaxEmitters &&
+              2 * (kMaxLampSide + 1) * (kMaxLampSide + 1) > kMaxEmitters);
+
 struct Args {
     uint32_t width = 128, height = 128, depth = 5, referenceSpp = 1024, lamps = 1;
     std::vector<uint32_t> spp{1, 4, 16};
@@ -60,6 +70,7 @@ struct Args {
 
 Args parseArgs(int argc, char** argv) {
     Args a;
+    const bench::FlagNumbers number("emitter_sampling_bench", 1);  // 1: fail()'s status
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
         auto value = [&]() -> std::string {
@@ -67,15 +78,15 @@ Args parseArgs(int argc, char** argv) {
             return argv[++i];
         };
         if (flag == "--resolution") {
-            if (std::sscanf(value().c_str(), "%ux%u", &a.width, &a.height) != 2) fail("--resolution WxH");
-        } else if (flag == "--depth") a.depth = uint32_t(std::stoul(value()));
-        else if (flag == "--reference-spp") a.referenceSpp = uint32_t(std::stoul(value()));
-        else if (flag == "--lamps") a.lamps = std::max(1u, uint32_t(std::stoul(value())));
-        else if (flag == "--spp") {
-            a.spp.clear();
-            std::stringstream list(value());
-            for (std::string item; std::getline(list, item, ',');) a.spp.push_back(uint32_t(std::stoul(item)));
-        } else if (flag == "--device") a.device = std::stoi(value());
+            const auto size = number.list<uint32_t>(flag, value(), 'x', 1, kMaxImageSide, 2);
+            a.width = size[0], a.height = size[1];
+        } else if (flag == "--depth") a.depth = number.get<uint32_t>(flag, value(), 0, kMaxDepthLimit);
+        else if (flag == "--reference-spp")
+            a.referenceSpp = number.get<uint32_t>(flag, value(), 1, kMaxSamplesPerPixel);
+        else if (flag == "--lamps")  // 0 is taken as 1
+            a.lamps = std::max(1u, number.get<uint32_t>(flag, value(), 0, kMaxLampSide * kMaxLampSide));
+        else if (flag == "--spp") a.spp = number.list<uint32_t>(flag, value(), ',', 1, kMaxSamplesPerPixel);
+        else if (flag == "--device") a.device = number.get<int>(flag, value(), -1);  // -1: VulkanDevice picks
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--out") a.out = value();
         else if (flag == "--reference-out") a.referenceOut = value();

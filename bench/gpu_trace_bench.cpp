@@ -10,12 +10,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "BenchFlags.h"
 #include "vastray/core/Camera.h"
 #include "vastray/core/KdTree.h"
+#include "vastray/core/RenderOptions.h"
 #include "vastray/gpu/GpuChunkTracer.h"
 #include "vastray/gpu/VulkanDevice.h"
 #include "vastray/streamer/Generate.h"
@@ -109,21 +111,23 @@ void measure(gpu::GpuChunkTracer& tracer, const std::vector<TraceRay>& rays, con
                 double(tests) / double(hits.size()));
 }
 
+// Every flag takes a value. A bad number ends the program with its message; anything else
+// wrong returns false (the usage line).
 bool parseArgs(int argc, char** argv, Args& args) {
-    for (int i = 1; i < argc; ++i) {
-        const bool hasValue = i + 1 < argc;
-        if (!std::strcmp(argv[i], "--triangles") && hasValue)
-            args.triangles = std::strtoull(argv[++i], nullptr, 10);
-        else if (!std::strcmp(argv[i], "--resolution") && hasValue) {
-            if (std::sscanf(argv[++i], "%ux%u", &args.width, &args.height) != 2) return false;
-        } else if (!std::strcmp(argv[i], "--repeat") && hasValue)
-            args.repeat = uint32_t(std::strtoul(argv[++i], nullptr, 10));
-        else if (!std::strcmp(argv[i], "--device") && hasValue)
-            args.device = std::atoi(argv[++i]);
-        else
-            return false;
+    const bench::FlagNumbers number("gpu_trace_bench", 2);
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string flag = argv[i], value = argv[i + 1];
+        if (flag == "--triangles") args.triangles = number.get<uint64_t>(flag, value, 20);
+        else if (flag == "--resolution") {
+            const auto size = number.list<uint32_t>(flag, value, 'x', 1, kMaxImageSide, 2);
+            args.width = size[0], args.height = size[1];
+        } else if (flag == "--repeat")  // measure() makes repeat + 1 calls, counted in a uint32_t
+            args.repeat = number.get<uint32_t>(flag, value, 1, std::numeric_limits<uint32_t>::max() - 1);
+        else if (flag == "--device")  // -1: VulkanDevice picks
+            args.device = number.get<int>(flag, value, -1);
+        else return false;
     }
-    return args.triangles >= 20 && args.width && args.height && args.repeat;
+    return argc % 2 == 1;
 }
 
 }  // namespace

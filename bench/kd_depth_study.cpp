@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "BenchFlags.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/streamer/Generate.h"
 
@@ -20,7 +21,8 @@ using namespace vastray;
 
 int main(int argc, char** argv) {
     const std::string kindName = argc > 1 ? argv[1] : "city";
-    const uint64_t triangles = argc > 2 ? std::stoull(argv[2]) : 100000;
+    const bench::FlagNumbers number("kd_depth_study", 2);
+    const uint64_t triangles = argc > 2 ? number.get<uint64_t>("TRIANGLES", argv[2]) : 100000;
     auto kind = parseGeneratorKind(kindName);
     if (!kind) {
         std::fprintf(stderr, "kd_depth_study: %s\n", kind.message().c_str());

@@ -41,6 +41,7 @@
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
@@ -48,12 +49,15 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <optional>
 #include <vector>
 
+#include "BenchFlags.h"
 #include "vastray/core/ByteSize.h"
+#include "vastray/core/RenderOptions.h"
 #include "vastray/core/VertexAttributes.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 #include "vastray/cpu/RenderScene.h"
@@ -103,6 +107,7 @@ struct Args {
 
 Args parseArgs(int argc, char** argv) {
     Args a;
+    const bench::FlagNumbers number("stream_render_bench", 1);  // 1: fail()'s status
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
         auto value = [&]() -> std::string {
@@ -110,26 +115,24 @@ Args parseArgs(int argc, char** argv) {
             return argv[++i];
         };
         if (flag == "--kind") a.kind = value();
-        else if (flag == "--triangles") a.triangles = std::stoull(value());
+        else if (flag == "--triangles") a.triangles = number.get<uint64_t>(flag, value());
         else if (flag == "--chunk-size") {
             auto size = parseByteSize(value());
             if (!size) fail(size.message());
             a.chunkSize = *size;
         } else if (flag == "--resolution") {
-            const std::string v = value();
-            if (std::sscanf(v.c_str(), "%ux%u", &a.width, &a.height) != 2) fail("--resolution WxH");
+            const auto size = number.list<uint32_t>(flag, value(), 'x', 1, kMaxImageSide, 2);
+            a.width = size[0], a.height = size[1];
         } else if (flag == "--region") {
-            PixelBounds r;
-            const std::string v = value();
-            if (std::sscanf(v.c_str(), "%u,%u,%u,%u", &r.x0, &r.y0, &r.x1, &r.y1) != 4 || r.x1 <= r.x0 || r.y1 <= r.y0)
-                fail("--region X0,Y0,X1,Y1 (X1 > X0, Y1 > Y0)");
+            const auto v = number.list<uint32_t>(flag, value(), ',', 0, kMaxImageSide, 4);
+            const PixelBounds r{v[0], v[1], v[2], v[3]};
+            if (r.x1 <= r.x0 || r.y1 <= r.y0) fail("--region X0,Y0,X1,Y1 (X1 > X0, Y1 > Y0)");
             a.region = r;
-        } else if (flag == "--spp") a.spp = uint32_t(std::stoul(value()));
-        else if (flag == "--depth") a.depth = uint32_t(std::stoul(value()));
+        } else if (flag == "--spp") a.spp = number.get<uint32_t>(flag, value(), 1, kMaxSamplesPerPixel);
+        else if (flag == "--depth") a.depth = number.get<uint32_t>(flag, value(), 0, kMaxDepthLimit);
         else if (flag == "--ratios") {
-            a.ratios.clear();
-            std::stringstream list(value());
-            for (std::string item; std::getline(list, item, ',');) a.ratios.push_back(std::stod(item));
+            // At least 1: a budget at most the scene's resident bytes (and its cast to bytes defined).
+            a.ratios = number.list<double>(flag, value(), ',', 1.0, std::numeric_limits<double>::max());
         } else if (flag == "--budgets") {
             std::stringstream list(value());
             for (std::string item; std::getline(list, item, ',');) {
@@ -138,7 +141,7 @@ Args parseArgs(int argc, char** argv) {
                 a.budgets.push_back(*size);
             }
         } else if (flag == "--float-positions") a.floatPositions = true;
-        else if (flag == "--device") a.device = std::stoi(value());
+        else if (flag == "--device") a.device = number.get<int>(flag, value(), -1);  // -1: VulkanDevice picks
         else if (flag == "--package") a.package = value();
         else if (flag == "--out") a.out = value();
         else if (flag == "--codec") {
@@ -146,20 +149,21 @@ Args parseArgs(int argc, char** argv) {
             if (!codec) fail(codec.message());
             a.codec = *codec;
         } else if (flag == "--repeat") {
-            a.repeat = std::stoi(value());
-            if (a.repeat < 1) fail("--repeat must be >= 1");
+            // The steady rows count their passes to repeat + 1 in an int.
+            a.repeat = number.get<int>(flag, value(), 1, INT_MAX - 1);
         } else if (flag == "--keep") a.keep = true;
         else if (flag == "--resident-only") a.residentOnly = true;
         else if (flag == "--steady-out-of-core") a.steadyOutOfCore = true;
         else if (flag == "--kernel-stats") a.kernelStats = true;
-        else if (flag == "--resident-bytes-per-triangle") a.residentBytesPerTriangle = std::stod(value());
+        else if (flag == "--resident-bytes-per-triangle")  // [0, 1e6]: buildPackage's limit
+            a.residentBytesPerTriangle = number.get<double>(flag, value(), 0, 1e6);
         else if (flag == "--no-embree") a.embree = false;
         else if (flag == "--attributes") a.attributes = true;
         else if (flag == "--write-ply") a.writePly = value();
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
         else if (flag == "--no-partial-residency") a.streaming.partialResidency = false;
         else if (flag == "--no-stream-waves") a.streaming.streamWaves = false;
-        else if (flag == "--window-tiles") a.streaming.windowTiles = uint32_t(std::stoul(value()));
+        else if (flag == "--window-tiles") a.streaming.windowTiles = number.get<uint32_t>(flag, value());
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
         else if (flag == "--upload") {
             const std::string v = value();
@@ -181,22 +185,21 @@ Args parseArgs(int argc, char** argv) {
             if (!memory) fail(memory.message());
             a.pathState.memory = *memory;
         } else if (flag == "--host-state-paths") {
-            a.pathState.hostPaths = uint32_t(std::stoul(value()));
-            if (a.pathState.hostPaths == 0) fail("--host-state-paths must be >= 1");
+            a.pathState.hostPaths = number.get<uint32_t>(flag, value(), 1);
         } else if (flag == "--device-wave-cap") {
-            a.pathState.deviceWaveCap = uint32_t(std::stoul(value()));
+            a.pathState.deviceWaveCap =
+                number.get<uint32_t>(flag, value(), gpu::kMinBatchRays, gpu::kMaxBatchRays);
         }
         else if (flag == "--wave-share") {
-            a.waveShare = std::stod(value());
-            if (!(a.waveShare > 0 && a.waveShare < 1)) fail("--wave-share must be in (0, 1)");
+            a.waveShare = number.get<double>(flag, value(), 0, 1);
+            if (a.waveShare == 0 || a.waveShare == 1) fail("--wave-share must be in (0, 1)");
         } else if (flag == "--max-paths-per-wave") {
-            a.streaming.maxPathsPerWave = uint32_t(std::stoul(value()));
-            if (a.streaming.maxPathsPerWave == 0) fail("--max-paths-per-wave must be >= 1");
+            a.streaming.maxPathsPerWave = number.get<uint32_t>(flag, value(), 1);
         }
         else if (flag == "--eye" || flag == "--target") {
-            Vec3f v;
-            if (std::sscanf(value().c_str(), "%f,%f,%f", &v.x, &v.y, &v.z) != 3) fail(flag + " X,Y,Z");
-            (flag == "--eye" ? a.eye : a.target) = v;
+            const auto v = number.list<float>(flag, value(), ',', std::numeric_limits<float>::lowest(),
+                                              std::numeric_limits<float>::max(), 3);
+            (flag == "--eye" ? a.eye : a.target) = Vec3f{v[0], v[1], v[2]};
             a.camera = true;
         } else fail("unknown flag " + flag);
     }

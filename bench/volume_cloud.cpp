@@ -15,10 +15,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "BenchFlags.h"
 
 namespace {
 
@@ -62,11 +63,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     const bool box = kind == "box";
-    const int n = std::atoi(argv[1]);
-    if (n < 8 || n > 2048) {
-        std::fprintf(stderr, "N must be in [8, 2048]\n");
-        return 2;
-    }
+    const int n = vastray::bench::FlagNumbers("volume_cloud", 2).get<int>("N", argv[1], 8, 2048);
     std::vector<float> voxels(size_t(n) * n * n);
     const float scale = 2.0f / float(n);
     tbb::parallel_for(0, n, [&](int k) {
