@@ -1,4 +1,5 @@
 // The command line as a user drives it: exit codes, messages, files.
+#include "CliTestSupport.h"
 #include "CommandRunner.h"
 #include "TestTmp.h"
 #include "vastray/core/ImageFile.h"
@@ -16,41 +17,34 @@
 namespace {
 
 using vastray::test::CommandResult;
-
-CommandResult run(const std::string& arguments) { return vastray::test::runVastray(arguments); }
-
-std::string tmp(const std::string& name) {
-    const std::filesystem::path dir = vastray::test::testTmpDir("cli");
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
-}
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using vastray::test::runVastray;
+using vastray::test::slurp;
 
 class Cli : public ::testing::Test {
 protected:
+    // A file in this suite's scratch folder.
+    static std::string tmp(const std::string& name) {
+        const std::filesystem::path dir = vastray::test::testTmpDir("cli");
+        std::filesystem::create_directories(dir);
+        return (dir / name).string();
+    }
     static void SetUpTestSuite() {
-        CommandResult g = run("generate terrain --triangles 20000 --seed 4 -o " + tmp("terrain.ply"));
+        CommandResult g = runVastray("generate terrain --triangles 20000 --seed 4 -o " + tmp("terrain.ply"));
         ASSERT_EQ(g.exitCode, 0) << g.output;
-        CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("terrain.vast") + " --chunk-size 64KiB --progress lines");
+        CommandResult i = runVastray("import " + tmp("terrain.ply") + " -o " + tmp("terrain.vast") + " --chunk-size 64KiB --progress lines");
         ASSERT_EQ(i.exitCode, 0) << i.output;
     }
 };
 
 TEST_F(Cli, ImportPrintsProgressLinesWithoutATerminal) {
-    CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("again.vast") + " --chunk-size 64KiB");
+    CommandResult i = runVastray("import " + tmp("terrain.ply") + " -o " + tmp("again.vast") + " --chunk-size 64KiB");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_NE(i.output.find("import: 100%"), std::string::npos) << i.output;
     EXPECT_EQ(i.output.find('\r'), std::string::npos) << "no bar redraws in a log";
 }
 
 TEST_F(Cli, InfoJsonHasTheDocumentedFields) {
-    CommandResult r = run("info " + tmp("terrain.vast") + " --json");
+    CommandResult r = runVastray("info " + tmp("terrain.vast") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* key : {"\"triangles\"", "\"chunks\"", "\"chunk_size_bytes\": 65536", "\"max_chunk_resident_bytes\"",
                             "\"bounds\"", "\"min\"", "\"max\"", "\"file_bytes\"", "\"duplicated_references\"",
@@ -74,10 +68,11 @@ TEST_F(Cli, InfoJsonListsTheMaterialExtensions) {
             "KHR_materials_ior":{"ior":1.25}}}],
         "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
     std::ofstream(tmp("coat.gltf")) << gltf;
-    CommandResult i = run("import " + tmp("coat.gltf") + " -o " + tmp("coat.vast") + " --progress none");
+    CommandResult i =
+        runVastray("import " + tmp("coat.gltf") + " -o " + tmp("coat.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_NE(i.output.find("1 KHR_materials_clearcoat normal textures read but not used"), std::string::npos) << i.output;
-    CommandResult r = run("info " + tmp("coat.vast") + " --json");
+    CommandResult r = runVastray("info " + tmp("coat.vast") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* key : {"\"name\": \"lacquer\"", "\"specular_color\"", "0.5", "2.0", "\"clearcoat\": 0.75",
                             "\"clearcoat_roughness\": 0.125", "\"ior\": 1.25"})
@@ -99,13 +94,13 @@ TEST_F(Cli, InfoCountsAlphaCutouts) {
     ASSERT_NE(gltf.find(name), std::string::npos);
     gltf.replace(gltf.find(name), name.size(), name + ", \"alphaMode\": \"MASK\", \"alphaCutoff\": 0.3");
     std::ofstream((dir / "masked.gltf").string()) << gltf;
-    CommandResult i = run("import " + (dir / "masked.gltf").string() + " -o " + tmp("masked.vast") + " --progress none");
+    CommandResult i = runVastray("import " + (dir / "masked.gltf").string() + " -o " + tmp("masked.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_EQ(i.output.find("MASK"), std::string::npos) << i.output;
-    CommandResult text = run("info " + tmp("masked.vast"));
+    CommandResult text = runVastray("info " + tmp("masked.vast"));
     ASSERT_EQ(text.exitCode, 0) << text.output;
     EXPECT_NE(text.output.find("materials            1 (1 alpha cut-outs)"), std::string::npos) << text.output;
-    CommandResult json = run("info " + tmp("masked.vast") + " --json");
+    CommandResult json = runVastray("info " + tmp("masked.vast") + " --json");
     ASSERT_EQ(json.exitCode, 0) << json.output;
     EXPECT_NE(json.output.find("\"alpha_cutoff\": 0.30000001192092896"), std::string::npos) << json.output;
 }
@@ -116,25 +111,25 @@ TEST_F(Cli, InfoCountsAlphaCutouts) {
 TEST_F(Cli, TexturedGltfStoresItsTextureAndInfoListsIt) {
     const std::string file = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
     if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";
-    CommandResult i = run("import " + file + " -o " + tmp("box.vast") + " --progress none");
+    CommandResult i = runVastray("import " + file + " -o " + tmp("box.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_NE(i.output.find("textures: 1 (11 pages of 128 x 128 texels"), std::string::npos) << i.output;
-    CommandResult text = run("info " + tmp("box.vast"));
+    CommandResult text = runVastray("info " + tmp("box.vast"));
     ASSERT_EQ(text.exitCode, 0) << text.output;
     EXPECT_NE(text.output.find("vastray package v16"), std::string::npos) << text.output;
     EXPECT_NE(text.output.find("'image 0 ('CesiumLogoFlat.png') of BoxTextured.gltf': 211 x 211 texels, 8 levels, 11 pages"),
               std::string::npos)
         << text.output;
-    CommandResult json = run("info " + tmp("box.vast") + " --json");
+    CommandResult json = runVastray("info " + tmp("box.vast") + " --json");
     ASSERT_EQ(json.exitCode, 0) << json.output;
     for (const char* key : {"\"textures\"", "\"baseColorTexture\"", "\"wrap\"", "\"mirror\"", "\"stored_bytes\""})
         EXPECT_NE(json.output.find(key), std::string::npos) << key << " in " << json.output;
-    CommandResult r = run("render " + tmp("box.vast") + " -o " + tmp("box.png") +
-                          " --backend vulkan --resolution 16x16 --spp 1 --progress none");
+    CommandResult r = runVastray("render " + tmp("box.vast") + " -o " + tmp("box.png") +
+                                 " --backend vulkan --resolution 16x16 --spp 1 --progress none");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(r.output.find("note:"), std::string::npos) << "the vulkan backend renders its base colour map: " << r.output;
-    CommandResult e = run("render " + tmp("box.vast") + " -o " + tmp("box-embree.png") +
-                          " --backend embree --resolution 16x16 --spp 1 --progress none");
+    CommandResult e = runVastray("render " + tmp("box.vast") + " -o " + tmp("box-embree.png") +
+                                 " --backend embree --resolution 16x16 --spp 1 --progress none");
     ASSERT_EQ(e.exitCode, 0) << e.output;
     EXPECT_EQ(e.output.find("note:"), std::string::npos) << "the embree backend renders its base colour map: " << e.output;
 }
@@ -161,14 +156,15 @@ TEST_F(Cli, NormalMapsRenderAndOcclusionMapsAreSaidNotApplied) {
     std::ofstream(tmp("occluded.gltf")) << quad(R"("normalTexture":{"index":0},"occlusionTexture":{"index":0})");
     for (const char* name : {"normal-mapped", "occluded"}) {
         const std::string package = tmp(std::string(name) + ".vast");
-        CommandResult i = run("import " + tmp(std::string(name) + ".gltf") + " -o " + package + " --progress none");
+        CommandResult i = runVastray("import " + tmp(std::string(name) + ".gltf") + " -o " + package + " --progress none");
         ASSERT_EQ(i.exitCode, 0) << i.output;
         const bool occluded = std::string(name) == "occluded";
         EXPECT_EQ(i.output.find("occlusion maps: stored, not applied by design") != std::string::npos, occluded)
             << i.output;
         for (const char* backend : {"embree", "vulkan"}) {
-            CommandResult e = run("render " + package + " -o " + tmp(std::string(name) + backend + ".png") +
-                                  " --backend " + backend + " --resolution 16x16 --spp 1 --progress none");
+            CommandResult e = runVastray("render " + package + " -o " +
+                                         tmp(std::string(name) + backend + ".png") + " --backend " + backend +
+                                         " --resolution 16x16 --spp 1 --progress none");
             ASSERT_EQ(e.exitCode, 0) << e.output;
             if (!occluded) {
                 EXPECT_EQ(e.output.find("note:"), std::string::npos) << backend << " renders normal maps: " << e.output;
@@ -187,9 +183,9 @@ TEST_F(Cli, NormalMapsRenderAndOcclusionMapsAreSaidNotApplied) {
 TEST_F(Cli, AssimpEmbeddedTextureIsStoredAndInfoListsIt) {
     const std::string file = "/usr/share/assimp/models/FBX/embedded_ascii/box.FBX";
     if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is absent (assimp-testmodels not installed)";
-    CommandResult i = run("import " + file + " -o " + tmp("fbx-box.vast") + " --progress none");
+    CommandResult i = runVastray("import " + file + " -o " + tmp("fbx-box.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
-    CommandResult info = run("info " + tmp("fbx-box.vast"));
+    CommandResult info = runVastray("info " + tmp("fbx-box.vast"));
     ASSERT_EQ(info.exitCode, 0) << info.output;
     EXPECT_NE(info.output.find("uv_test.png') of box.FBX': 512 x 512 texels"), std::string::npos) << info.output;
 }
@@ -197,17 +193,18 @@ TEST_F(Cli, AssimpEmbeddedTextureIsStoredAndInfoListsIt) {
 // info says how the device keeps positions: 8 bytes a vertex on the import's grid of 20 bits
 // (QuantizationGrid::packsPositions), 12 with more bits or lossless.
 TEST_F(Cli, InfoSaysHowTheDeviceKeepsPositions) {
-    CommandResult text = run("info " + tmp("terrain.vast"));
+    CommandResult text = runVastray("info " + tmp("terrain.vast"));
     EXPECT_NE(text.output.find("20 bits, step"), std::string::npos) << text.output;
     EXPECT_NE(text.output.find("(device positions: 8 bytes a vertex)"), std::string::npos) << text.output;
-    EXPECT_NE(run("info " + tmp("terrain.vast") + " --json").output.find("\"device_position_bytes\": 8"),
-              std::string::npos);
+    EXPECT_NE(
+        runVastray("info " + tmp("terrain.vast") + " --json").output.find("\"device_position_bytes\": 8"),
+        std::string::npos);
     for (const char* bits : {"22", "0"}) {
         const std::string package = tmp(std::string("terrain-") + bits + ".vast");
-        CommandResult i = run("import " + tmp("terrain.ply") + " -o " + package + " --quantize-bits " + bits +
-                              " --progress none");
+        CommandResult i = runVastray("import " + tmp("terrain.ply") + " -o " + package + " --quantize-bits " +
+                                     bits + " --progress none");
         ASSERT_EQ(i.exitCode, 0) << i.output;
-        CommandResult info = run("info " + package + " --json");
+        CommandResult info = runVastray("info " + package + " --json");
         EXPECT_NE(info.output.find("\"device_position_bytes\": 12"), std::string::npos) << bits << ": " << info.output;
     }
 }
@@ -221,16 +218,17 @@ TEST_F(Cli, TexturedObjKeepsUvsAndRendersTheUvAov) {
                                           "f 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/4/1 3/3/1\n";
     std::ofstream(tmp("textured.mtl")) << "newmtl painted\nKd 1 1 1\nmap_Kd -s 2 2 wood.png\n";
     ASSERT_TRUE(vastray::writeRgba8Png(tmp("wood.png"), 4, 2, std::vector<uint8_t>(4 * 2 * 4, 200)).isOk());
-    CommandResult i = run("import " + tmp("textured.obj") + " -o " + tmp("textured.vast") + " --progress none");
+    CommandResult i = runVastray("import " + tmp("textured.obj") + " -o " + tmp("textured.vast") + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
-    CommandResult info = run("info " + tmp("textured.vast"));
+    CommandResult info = runVastray("info " + tmp("textured.vast"));
     EXPECT_NE(info.output.find("'wood.png' of textured.obj': 4 x 2 texels"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("vertex attributes    shading normals, texture coordinates"), std::string::npos) << info.output;
-    EXPECT_NE(run("info " + tmp("textured.vast") + " --json").output.find("\"vertex_uvs\": true"), std::string::npos);
-    EXPECT_NE(run("info " + tmp("terrain.vast") + " --json").output.find("\"vertex_uvs\": false"), std::string::npos);
+    EXPECT_NE(runVastray("info " + tmp("textured.vast") + " --json").output.find("\"vertex_uvs\": true"), std::string::npos);
+    EXPECT_NE(runVastray("info " + tmp("terrain.vast") + " --json").output.find("\"vertex_uvs\": false"), std::string::npos);
     for (const char* backend : {"embree", "vulkan"}) {
-        CommandResult r = run("render " + tmp("textured.vast") + " --backend " + backend +
-                              " --resolution 16x16 --spp 1 --aovs uv --progress none -o " + tmp("uv.exr"));
+        CommandResult r = runVastray("render " + tmp("textured.vast") + " --backend " + backend +
+                                     " --resolution 16x16 --spp 1 --aovs uv --progress none -o " +
+                                     tmp("uv.exr"));
         EXPECT_EQ(r.exitCode, 0) << backend << ": " << r.output;
         EXPECT_TRUE(std::filesystem::exists(tmp("uv.exr"))) << backend;
         std::filesystem::remove(tmp("uv.exr"));
@@ -238,18 +236,18 @@ TEST_F(Cli, TexturedObjKeepsUvsAndRendersTheUvAov) {
 }
 
 TEST_F(Cli, MeshoptCodecImportsVerifiesAndSaysSo) {
-    CommandResult i = run("import " + tmp("terrain.ply") + " -o " + tmp("meshopt.vast") +
-                          " --chunk-size 64KiB --codec meshopt --progress none");
+    CommandResult i = runVastray("import " + tmp("terrain.ply") + " -o " + tmp("meshopt.vast") +
+                                 " --chunk-size 64KiB --codec meshopt --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_NE(i.output.find("meshopt encode"), std::string::npos) << i.output;
-    CommandResult info = run("info " + tmp("meshopt.vast") + " --verify");
+    CommandResult info = runVastray("info " + tmp("meshopt.vast") + " --verify");
     ASSERT_EQ(info.exitCode, 0) << info.output;
     EXPECT_NE(info.output.find("chunk codec          meshopt"), std::string::npos) << info.output;
-    EXPECT_NE(run("info " + tmp("meshopt.vast") + " --json").output.find("\"codec\": \"meshopt\""), std::string::npos);
+    EXPECT_NE(runVastray("info " + tmp("meshopt.vast") + " --json").output.find("\"codec\": \"meshopt\""), std::string::npos);
 }
 
 TEST_F(Cli, VerifyNamesTheDamagedChunkAndFails) {
-    ASSERT_EQ(run("info " + tmp("terrain.vast") + " --verify").exitCode, 0);
+    ASSERT_EQ(runVastray("info " + tmp("terrain.vast") + " --verify").exitCode, 0);
     // Damage the last byte of the file: it belongs to the last chunk.
     std::filesystem::copy_file(tmp("terrain.vast"), tmp("damaged.vast"), std::filesystem::copy_options::overwrite_existing);
     {
@@ -260,14 +258,15 @@ TEST_F(Cli, VerifyNamesTheDamagedChunkAndFails) {
         f.seekp(-1, std::ios::end);
         f.put(char(c ^ 0x40));
     }
-    CommandResult r = run("info " + tmp("damaged.vast") + " --verify");
+    CommandResult r = runVastray("info " + tmp("damaged.vast") + " --verify");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.output.find(": checksum mismatch"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("1 of "), std::string::npos) << r.output;
 }
 
 TEST_F(Cli, ExportCellsWritesOneBoxPerCell) {
-    CommandResult r = run("info " + tmp("terrain.vast") + " --json --export-cells " + tmp("cells.obj"));
+    CommandResult r =
+        runVastray("info " + tmp("terrain.vast") + " --json --export-cells " + tmp("cells.obj"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const std::string obj = slurp(tmp("cells.obj"));
     size_t objects = 0, vertices = 0;
@@ -279,9 +278,9 @@ TEST_F(Cli, ExportCellsWritesOneBoxPerCell) {
     EXPECT_GT(objects, 1u);
     EXPECT_EQ(vertices, objects * 8);
     EXPECT_NE(obj.find("o chunk_0\n"), std::string::npos);
-    ASSERT_EQ(run("info " + tmp("terrain.vast") + " --export-cells " + tmp("cells.ply")).exitCode, 0);
+    ASSERT_EQ(runVastray("info " + tmp("terrain.vast") + " --export-cells " + tmp("cells.ply")).exitCode, 0);
     EXPECT_NE(slurp(tmp("cells.ply")).find("property int chunk_id"), std::string::npos);
-    CommandResult bad = run("info " + tmp("terrain.vast") + " --export-cells " + tmp("cells.txt"));
+    CommandResult bad = runVastray("info " + tmp("terrain.vast") + " --export-cells " + tmp("cells.txt"));
     EXPECT_NE(bad.exitCode, 0);
     EXPECT_NE(bad.output.find("must end in .obj or .ply"), std::string::npos) << bad.output;
 }
@@ -306,7 +305,7 @@ TEST_F(Cli, BadArgumentsAreClearErrors) {
         {"info " + tmp("terrain.ply"), "not a vastray package"},
     };
     for (const Case& c : cases) {
-        CommandResult r = run(c.arguments);
+        CommandResult r = runVastray(c.arguments);
         EXPECT_NE(r.exitCode, 0) << c.arguments;
         EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.arguments << "\n" << r.output;
     }
@@ -314,13 +313,13 @@ TEST_F(Cli, BadArgumentsAreClearErrors) {
 }
 
 TEST_F(Cli, SizesAcceptBinarySuffixes) {
-    CommandResult r = run("import " + tmp("terrain.ply") + " -o " + tmp("big.vast") + " --chunk-size 1MiB --progress none");
+    CommandResult r = runVastray("import " + tmp("terrain.ply") + " -o " + tmp("big.vast") + " --chunk-size 1MiB --progress none");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(run("info " + tmp("big.vast") + " --json").output.find("\"chunk_size_bytes\": 1048576"), std::string::npos);
+    EXPECT_NE(runVastray("info " + tmp("big.vast") + " --json").output.find("\"chunk_size_bytes\": 1048576"), std::string::npos);
 }
 
 TEST_F(Cli, HelpListsEveryCommand) {
-    CommandResult r = run("--help");
+    CommandResult r = runVastray("--help");
     EXPECT_EQ(r.exitCode, 0);
     for (const char* command : {"generate", "import", "info"}) EXPECT_NE(r.output.find(command), std::string::npos);
 }

@@ -13,19 +13,18 @@ namespace {
 
 using vastray::test::CommandResult;
 
-// `timeout`: a regression that blocks (a FIFO) fails the test instead of stalling the suite.
-CommandResult run(const std::string& arguments) {
-    return vastray::test::runShell("timeout 60 " + std::string(VASTRAY_BINARY) + " " + arguments);
-}
-
-std::string tmp(const std::string& name) {
-    const std::filesystem::path dir = vastray::test::testTmpDir("cli-hostile");
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
-}
-
 class HostileCli : public ::testing::Test {
 protected:
+    // `timeout`: a regression that blocks (a FIFO) fails the test instead of stalling the suite.
+    static CommandResult run(const std::string& arguments) {
+        return vastray::test::runShell("timeout 60 " + std::string(VASTRAY_BINARY) + " " + arguments);
+    }
+    // A file in this suite's scratch folder.
+    static std::string tmp(const std::string& name) {
+        const std::filesystem::path dir = vastray::test::testTmpDir("cli-hostile");
+        std::filesystem::create_directories(dir);
+        return (dir / name).string();
+    }
     static void SetUpTestSuite() {
         std::ofstream(tmp("tri.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
         CommandResult i = run("import " + tmp("tri.obj") + " -o " + tmp("tri.vast") + " --progress none");

@@ -33,7 +33,7 @@ std::shared_ptr<const EnvironmentMap> variedMap() {
     return *map;
 }
 
-float u01(uint32_t i, uint32_t d) { return randomFloat({i, 0, 0}, d, 1234); }
+float envU01(uint32_t i, uint32_t d) { return randomFloat({i, 0, 0}, d, 1234); }
 
 TEST(EnvironmentMap, SamplesFollowTheTexelWeights) {
     const auto map = variedMap();
@@ -44,7 +44,7 @@ TEST(EnvironmentMap, SamplesFollowTheTexelWeights) {
     // A direction drawn within float rounding of a texel's edge may look up its neighbour.
     uint32_t elsewhere = 0;
     for (uint32_t i = 0; i < n; ++i) {
-        const EnvironmentSample s = sampleEnvironment(*map, frame, u01(i, 0), u01(i, 1));
+        const EnvironmentSample s = sampleEnvironment(*map, frame, envU01(i, 0), envU01(i, 1));
         ASSERT_GT(s.pdf, 0.0f);
         // The lookup and the density at the drawn direction are the sample's.
         const Vec3f looked = environmentRadiance(*map, frame, s.direction);
@@ -93,7 +93,7 @@ TEST(EnvironmentMap, DensityIntegratesToOneOverTheSphere) {
         const uint32_t n = 400000;
         double sum = 0, squares = 0;
         for (uint32_t i = 0; i < n; ++i) {
-            const float z = 1.0f - 2.0f * u01(i, 2), phi = 2 * kPi * u01(i, 3);
+            const float z = 1.0f - 2.0f * envU01(i, 2), phi = 2 * kPi * envU01(i, 3);
             const float r = std::sqrt(std::fmax(0.0f, 1 - z * z));
             const double value = double(environmentPdf(*map, frame, {r * std::cos(phi), r * std::sin(phi), z})) * 4 * kPi;
             sum += value, squares += value * value;

@@ -6,6 +6,7 @@
 #include <random>
 #include <utility>
 
+#include "Infinity.h"
 #include "TestMeshes.h"
 #include "vastray/core/KdTree.h"
 #include "vastray/core/TriangleIntersect.h"
@@ -13,8 +14,7 @@
 namespace vastray {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
+using test::kInf;
 using test::makeAxisGrid;
 using test::makeIcosphere;
 using test::makeSoup;

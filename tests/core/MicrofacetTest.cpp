@@ -16,7 +16,7 @@
 namespace vastray {
 namespace {
 
-float u01(uint32_t i, uint32_t d) { return randomFloat({i, 0, 0}, d, 99); }
+float bsdfU01(uint32_t i, uint32_t d) { return randomFloat({i, 0, 0}, d, 99); }
 
 Vec3f outgoing(float mu) { return {std::sqrt(1.0f - mu * mu), 0.0f, mu}; }
 
@@ -28,7 +28,7 @@ Vec3f albedoTowards(const Bsdf& b, Vec3f wo, uint32_t n) {
     for (uint32_t i = 0; i < n; ++i) {
         Vec3f wi, weight;
         float pdf;
-        if (!sampleBsdf(b, wo, u01(i, 0), u01(i, 1), u01(i, 2), t, &wi, &weight, &pdf)) continue;
+        if (!sampleBsdf(b, wo, bsdfU01(i, 0), bsdfU01(i, 1), bsdfU01(i, 2), t, &wi, &weight, &pdf)) continue;
         for (int c = 0; c < 3; ++c) sum[c] += weight[c];
     }
     return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
@@ -204,7 +204,7 @@ TEST(Microfacet, SamplesFollowTheReportedDensity) {
             for (uint32_t i = 0; i < n; ++i) {
                 Vec3f wi, weight;
                 float pdf;
-                if (!sampleBsdf(b, wo, u01(i, 0), u01(i, 1), u01(i, 2), t, &wi, &weight, &pdf)) {
+                if (!sampleBsdf(b, wo, bsdfU01(i, 0), bsdfU01(i, 1), bsdfU01(i, 2), t, &wi, &weight, &pdf)) {
                     ++below;
                     continue;
                 }

@@ -3,21 +3,20 @@
 #include <cmath>
 #include <random>
 
+#include "Infinity.h"
+#include "TestMeshes.h"
 #include "vastray/core/RayOffset.h"
 #include "vastray/core/TriangleIntersect.h"
+#include "vastray/core/VecMath.h"
 
 namespace vastray {
 namespace {
 
-Vec3f cross(Vec3f a, Vec3f b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double dot(Vec3f a, Vec3f b) { return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z; }
+using test::kInf;
+using test::randomVec;
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-Vec3f randomVec(std::mt19937& rng, float lo, float hi) {
-    std::uniform_real_distribution<float> d(lo, hi);
-    return {d(rng), d(rng), d(rng)};
-}
+// The double-precision reference's dot product (VecMath's dot sums in float).
+double dotDouble(Vec3f a, Vec3f b) { return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z; }
 
 TEST(TriangleIntersect, ExactHitHasExactTAndBarycentrics) {
     // Dyadic coordinates: every operation of the test is exact, so compare exactly.
@@ -93,13 +92,13 @@ TEST(TriangleIntersect, AgreesWithDoubleReference) {
         const Vec3f aim = v0 + (v1 - v0) * 0.3f + (v2 - v0) * 0.3f + randomVec(rng, -0.2f, 0.2f);
         const Ray ray{origin, aim - origin};
         const Vec3f n = cross(v1 - v0, v2 - v0);
-        const double dn = dot(ray.direction, n);
-        const double len = std::sqrt(dot(n, n) * dot(ray.direction, ray.direction));
+        const double dn = dotDouble(ray.direction, n);
+        const double len = std::sqrt(dotDouble(n, n) * dotDouble(ray.direction, ray.direction));
         TriangleHit h;
         if (!intersectTriangle(ray, v0, v1, v2, false, 0, kInf, &h)) continue;
         if (std::abs(dn) < 0.05 * len) continue;  // grazing: ill-conditioned t
         ++hits;
-        const double tRef = dot(v0 - ray.origin, n) / dn;
+        const double tRef = dotDouble(v0 - ray.origin, n) / dn;
         EXPECT_NEAR(h.t, tRef, 1e-4 * std::max(1.0, std::abs(tRef)));
         EXPECT_EQ(h.frontFacing, dn < 0);
         const Vec3f p = ray.origin + ray.direction * h.t;

@@ -4,11 +4,14 @@
 #include <cmath>
 #include <cstring>
 
+#include "TestRenders.h"
 #include "TestScenes.h"
 #include "vastray/cpu/EmbreeRenderer.h"
 
 namespace vastray {
 namespace {
+
+using test::renderEmbree;
 
 RenderOptions smallRender(uint32_t width, uint32_t height, uint32_t spp) {
     RenderOptions o;
@@ -29,19 +32,13 @@ void uniformSkyNoSun(RenderOptions& o, float radiance) {
     o.environment.sunIrradiance = {0, 0, 0};
 }
 
-RenderImage render(const RenderScene& scene, const RenderOptions& options) {
-    auto image = renderWithEmbree(scene, options);
-    EXPECT_TRUE(image) << image.message();
-    return image ? std::move(*image) : RenderImage{};
-}
-
 TEST(AnalyticRender, UnitSphereFromDistanceThreeIsTwoAwayAtTheCentre) {
     const RenderScene sphere = test::unitSphere();
     ASSERT_GT(sphere.mesh.triangleCount(), 0u);
     RenderOptions o = smallRender(65, 65, 1);  // odd: the centre pixel's centre ray is the axis
     lookFrom(o, {0, 0, 3}, {0, 0, 0});
     o.aovs = kAovDepth | kAovPrimId | kAovNormal;
-    const RenderImage image = render(sphere, o);
+    const RenderImage image = renderEmbree(sphere, o);
     const size_t centre = 32 * 65 + 32;
     // Every vertex lies on the unit sphere, so the facet is at most 1 from the origin
     // (depth >= 2) and at least the smallest facet-plane distance h (depth <= 3 - h).
@@ -66,7 +63,7 @@ TEST(AnalyticRender, ConvexDiffuseSphereUnderUniformSkyShowsAlbedoTimesSky) {
     RenderOptions o = smallRender(48, 48, 4);
     lookFrom(o, {0, 0.5f, 3}, {0, 0, 0});
     uniformSkyNoSun(o, sky);
-    const RenderImage image = render(sphere, o);
+    const RenderImage image = renderEmbree(sphere, o);
     uint64_t covered = 0;
     for (size_t p = 0; p < image.pixelCount(); ++p) {
         const float expected = image.alpha[p] == 1.0f ? albedo * sky : (image.alpha[p] == 0.0f ? sky : NAN);
@@ -91,7 +88,7 @@ double insideSphereMean(uint32_t maxDepth, double* standardError) {
     lookFrom(o, {0.1f, 0.2f, 0.05f}, {0.3f, -0.2f, -1});
     o.camera.fovYDegrees = 90;
     o.maxDepth = maxDepth;
-    const RenderImage image = render(sphere, o);
+    const RenderImage image = renderEmbree(sphere, o);
     double sum = 0, sumSquares = 0;
     for (size_t p = 0; p < image.pixelCount(); ++p) {
         sum += image.rgb[3 * p];
@@ -130,7 +127,7 @@ TEST(AnalyticRender, SingleSidedPlaneIsInvisibleFromBehindDoubleSidedIsNot) {
         RenderOptions o = smallRender(16, 16, 1);
         lookFrom(o, {0, 0, -3}, {0, 0, 0});  // behind the quad
         o.aovs = kAovPrimId | kAovNormal;
-        const RenderImage image = render(scene, o);
+        const RenderImage image = renderEmbree(scene, o);
         const size_t centre = 8 * 16 + 8;
         if (!doubleSided) {
             EXPECT_EQ(image.primId[centre], kMissPrimId);
@@ -157,16 +154,16 @@ TEST(AnalyticRender, BitIdenticalAcrossRunsAndThreadCounts) {
     ASSERT_TRUE(scene) << scene.message();
     RenderOptions o = smallRender(48, 40, 4);
     o.aovs = kAovDepth | kAovPrimId;
-    const RenderImage first = render(*scene, o);
-    const RenderImage second = render(*scene, o);
+    const RenderImage first = renderEmbree(*scene, o);
+    const RenderImage second = renderEmbree(*scene, o);
     o.threads = 1;
-    const RenderImage single = render(*scene, o);
+    const RenderImage single = renderEmbree(*scene, o);
     EXPECT_TRUE(sameBits(first.rgb, second.rgb));
     EXPECT_TRUE(sameBits(first.rgb, single.rgb));
     EXPECT_TRUE(sameBits(first.depth, single.depth));
     EXPECT_EQ(first.primId, single.primId);
     o.seed = 1;
-    EXPECT_FALSE(sameBits(first.rgb, render(*scene, o).rgb)) << "the seed must matter";
+    EXPECT_FALSE(sameBits(first.rgb, renderEmbree(*scene, o).rgb)) << "the seed must matter";
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "HeadOnView.h"
+#include "TestRenders.h"
 #include "TestScenes.h"
 #include "vastray/core/ImageFile.h"
 #include "vastray/cpu/EmbreeRenderer.h"
@@ -41,18 +41,10 @@ std::string writeMaskedQuadObj() {
     return obj;
 }
 
-// Looking straight at the front quad from +z, the quad filling the image: pixel centres are
-// texel centres.
-RenderOptions headOn() {
-    RenderOptions o = test::headOnUnitQuad(kPixels);
-    o.aovs = kAovAlbedo;
-    return o;
-}
-
 // Columns 0-3 (mask alpha below 0.5) show the green quad behind, 4-7 the red map; the albedo is
 // exact (1 and 0 in linear) but for float noise, tolerance 1e-6.
 void expectCutLeftHalf(const RenderScene& scene, const char* what) {
-    auto rendered = renderWithEmbree(scene, headOn(), nullptr, {});
+    auto rendered = renderWithEmbree(scene, test::headOnAlbedo(kPixels), nullptr, {});
     ASSERT_TRUE(rendered) << rendered.message();
     for (uint32_t y = 0; y < kPixels; ++y)
         for (uint32_t x = 0; x < kPixels; ++x) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "TestRenders.h"
 #include "TestScenes.h"
 #include "vastray/core/PathShading.h"
 #include "vastray/core/Sampling.h"
@@ -16,6 +17,8 @@
 
 namespace vastray {
 namespace {
+
+using test::renderEmbree;
 
 constexpr float kAlbedo = 0.5f;
 constexpr uint32_t kSide = 8;
@@ -90,12 +93,6 @@ RenderOptions sunlit(Vec3f sun, bool fromBehind = false) {
 // What glTF's decoding makes of a texel: normalize(rgb * 2 - 1) (scale 1).
 Vec3f decoded(Texel t) { return normalize(decodeNormalTexel(t.r / 255.0f, t.g / 255.0f, t.b / 255.0f, 1.0f)); }
 
-RenderImage render(const RenderScene& scene, const RenderOptions& o) {
-    auto image = renderWithEmbree(scene, o, nullptr, {});
-    EXPECT_TRUE(image) << image.message();
-    return image ? std::move(image).value() : RenderImage{};
-}
-
 // Every pixel of a flat-quad render (the quad fills the view) against the Lambertian closed form
 // for shading normal n: albedo / pi * cos(n, sun). Float rounding of a few products: 1e-5.
 void expectLambertian(const RenderImage& image, Vec3f n, Vec3f sun) {
@@ -112,9 +109,9 @@ constexpr Texel kTiltUpImage{128, 191, 238};
 
 TEST(NormalMapRender, TiltAlongPlusULightsAsTheQuadTurnedTowardsPlusX) {
     const Vec3f sun{1, 0, 1};
-    const RenderImage mapped = render(mappedQuad(&kTiltAlongU), sunlit(sun));
+    const RenderImage mapped = renderEmbree(mappedQuad(&kTiltAlongU), sunlit(sun));
     expectLambertian(mapped, decoded(kTiltAlongU), sun);
-    const RenderImage turned = render(tiltedQuad(decoded(kTiltAlongU)), sunlit(sun));
+    const RenderImage turned = renderEmbree(tiltedQuad(decoded(kTiltAlongU)), sunlit(sun));
     const size_t centre = 3 * (size_t(kSide / 2) * kSide + kSide / 2);
     EXPECT_NEAR(mapped.rgb[centre], turned.rgb[centre], 1e-5f);
 }
@@ -122,9 +119,9 @@ TEST(NormalMapRender, TiltAlongPlusULightsAsTheQuadTurnedTowardsPlusX) {
 TEST(NormalMapRender, TiltUpTheImageLightsAsTheQuadTurnedTowardsPlusY) {
     // Up the image is -v in glTF's texture space, +y on this quad.
     const Vec3f sun{0, 1, 1};
-    const RenderImage mapped = render(mappedQuad(&kTiltUpImage), sunlit(sun));
+    const RenderImage mapped = renderEmbree(mappedQuad(&kTiltUpImage), sunlit(sun));
     expectLambertian(mapped, decoded(kTiltUpImage), sun);
-    const RenderImage turned = render(tiltedQuad(decoded(kTiltUpImage)), sunlit(sun));
+    const RenderImage turned = renderEmbree(tiltedQuad(decoded(kTiltUpImage)), sunlit(sun));
     const size_t centre = 3 * (size_t(kSide / 2) * kSide + kSide / 2);
     EXPECT_NEAR(mapped.rgb[centre], turned.rgb[centre], 1e-5f);
 }
@@ -134,7 +131,7 @@ TEST(NormalMapRender, SeenFromBehindTheBentNormalIsTurnedWhole) {
     // to the back, (-x, -y, -z) of the front's bent normal; the sun behind, towards +x.
     const Vec3f sun{-1, 0, -1};
     const Vec3f front = decoded(kTiltAlongU);
-    expectLambertian(render(mappedQuad(&kTiltAlongU), sunlit(sun, true)), front * -1.0f, sun);
+    expectLambertian(renderEmbree(mappedQuad(&kTiltAlongU), sunlit(sun, true)), front * -1.0f, sun);
 }
 
 TEST(NormalMapRender, AFlatEightBitMapTiltsOnlyByItsRounding) {
@@ -143,8 +140,8 @@ TEST(NormalMapRender, AFlatEightBitMapTiltsOnlyByItsRounding) {
     // cosine by at most sin 0.32 degrees = 0.0055, under 1 % of this sun's cosine (0.67).
     const Texel flat{128, 128, 255};
     const Vec3f sun{1, 0.5f, 1};
-    const RenderImage mapped = render(mappedQuad(&flat), sunlit(sun));
-    const RenderImage plain = render(mappedQuad(nullptr), sunlit(sun));
+    const RenderImage mapped = renderEmbree(mappedQuad(&flat), sunlit(sun));
+    const RenderImage plain = renderEmbree(mappedQuad(nullptr), sunlit(sun));
     expectLambertian(mapped, decoded(flat), sun);
     for (size_t i = 0; i < plain.rgb.size(); ++i)
         ASSERT_NEAR(mapped.rgb[i], plain.rgb[i], 1e-2f * plain.rgb[i]) << i;
@@ -153,23 +150,23 @@ TEST(NormalMapRender, AFlatEightBitMapTiltsOnlyByItsRounding) {
 TEST(NormalMapRender, NormalScaleZeroChangesNothing) {
     const Vec3f sun{1, 0.5f, 1};
     const Texel full{255, 255, 255};  // scale 0 leaves (0, 0, 1)
-    const RenderImage mapped = render(mappedQuad(&full, 0.0f), sunlit(sun));
-    const RenderImage plain = render(mappedQuad(nullptr), sunlit(sun));
+    const RenderImage mapped = renderEmbree(mappedQuad(&full, 0.0f), sunlit(sun));
+    const RenderImage plain = renderEmbree(mappedQuad(nullptr), sunlit(sun));
     EXPECT_EQ(mapped.rgb, plain.rgb);
     // And scale 1 does change it (the map is read).
-    EXPECT_NE(render(mappedQuad(&full, 1.0f), sunlit(sun)).rgb, plain.rgb);
+    EXPECT_NE(renderEmbree(mappedQuad(&full, 1.0f), sunlit(sun)).rgb, plain.rgb);
 }
 
 TEST(NormalMapRender, DegenerateUvsLeaveTheNormalAndNoNaN) {
     const Vec3f sun{1, 0.5f, 1};
-    const RenderImage plain = render(mappedQuad(nullptr), sunlit(sun));
+    const RenderImage plain = renderEmbree(mappedQuad(nullptr), sunlit(sun));
     // All four corners at one UV, then on one line: no triangle spans a UV area.
     for (const std::vector<std::array<float, 2>>& uvs :
          {std::vector<std::array<float, 2>>(4, {0.5f, 0.5f}),
           std::vector<std::array<float, 2>>{{0, 0}, {0.5f, 0.5f}, {1, 1}, {0.25f, 0.25f}}}) {
         RenderScene scene = mappedQuad(&kTiltAlongU);
         scene.mesh.uvs = uvs;
-        const RenderImage image = render(scene, sunlit(sun));
+        const RenderImage image = renderEmbree(scene, sunlit(sun));
         for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v));
         EXPECT_EQ(image.rgb, plain.rgb);
     }
@@ -195,8 +192,8 @@ TEST(NormalMapRender, AKhronosSampleBendsItsMappedSpheresAndNothingElse) {
     o.samplesPerPixel = 2;
     o.maxDepth = 1;  // direct light only: an unmapped surface's pixels cannot see the maps
     o.aovs = kAovPrimId;
-    const RenderImage a = render(*mapped, o);
-    const RenderImage b = render(plain, o);
+    const RenderImage a = renderEmbree(*mapped, o);
+    const RenderImage b = renderEmbree(plain, o);
     ASSERT_EQ(a.rgb.size(), b.rgb.size());
     size_t mappedPixels = 0, mappedChanged = 0, otherPixels = 0, otherChanged = 0;
     for (size_t p = 0; p < a.pixelCount(); ++p) {

@@ -15,13 +15,13 @@ namespace vastray {
 namespace {
 
 using test::CommandResult;
+using test::runVastray;
 
-CommandResult run(const std::string& arguments) { return test::runVastray(arguments); }
 
 class RegionCli : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        CommandResult g = run("generate terrain --triangles 5000 --seed 5 -o " + scene());
+        CommandResult g = runVastray("generate terrain --triangles 5000 --seed 5 -o " + scene());
         ASSERT_EQ(g.exitCode, 0) << g.output;
     }
     static std::string scene() { return test::tmpPath("region-terrain.ply"); }
@@ -33,7 +33,7 @@ protected:
     static std::string renderTile(const std::string& name, const std::string& flags,
                                   const std::string& extra = " --aovs depth,primid") {
         const std::string out = test::tmpPath(name);
-        CommandResult r = run("render " + embree(extra) + " -o " + out + " --progress none " + flags);
+        CommandResult r = runVastray("render " + embree(extra) + " -o " + out + " --progress none " + flags);
         EXPECT_EQ(r.exitCode, 0) << flags << "\n" << r.output;
         return out;
     }
@@ -93,7 +93,7 @@ TEST_F(RegionCli, BadRegionsAreClearErrorsNamingTheOptionAndTheLimit) {
     const std::string out = test::tmpPath("never-region.exr");
     for (const auto& [flags, message] : cases) {
         std::filesystem::remove(out);
-        CommandResult r = run("render " + embree() + " -o " + out + " " + flags);
+        CommandResult r = runVastray("render " + embree() + " -o " + out + " " + flags);
         EXPECT_EQ(r.exitCode, 2) << flags << "\n" << r.output;
         EXPECT_NE(r.output.find(message), std::string::npos) << flags << "\n" << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << flags;
@@ -109,7 +109,7 @@ TEST_F(RegionCli, AssembleRefusesOverlapsGapsAndMismatchesNamingTheFile) {
     const std::string out = test::tmpPath("assembled-bad.exr");
     const auto refuses = [&](const std::string& tiles, const std::string& message) {
         std::filesystem::remove(out);
-        CommandResult r = run("assemble " + tiles + " -o " + out);
+        CommandResult r = runVastray("assemble " + tiles + " -o " + out);
         EXPECT_EQ(r.exitCode, 1) << tiles << "\n" << r.output;
         EXPECT_NE(r.output.find(message), std::string::npos) << tiles << "\n" << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << tiles;
@@ -123,8 +123,8 @@ TEST_F(RegionCli, AssembleRefusesOverlapsGapsAndMismatchesNamingTheFile) {
     refuses(left + " " + noAovs, noAovs + ": channels R,G,B,A differ from " + left + "'s R,G,B,A,Z,primid");
     // Another --resolution: another frame.
     const std::string other = test::tmpPath("other-frame.exr");
-    ASSERT_EQ(run("render " + scene() + " --backend embree --resolution 50x40 --spp 1 --aovs depth,primid -o " + other +
-                  " --region 25,0,50,37 --progress none").exitCode, 0);
+    ASSERT_EQ(runVastray("render " + scene() + " --backend embree --resolution 50x40 --spp 1 --aovs depth,primid -o " + other +
+                         " --region 25,0,50,37 --progress none").exitCode, 0);
     refuses(left + " " + other, other + ": full frame 50x40 differs from " + left + "'s 50x37");
     // Another camera (EXR worldToCamera / worldToNDC): tiles of another view.
     const std::string turned = renderTile("turned.exr", "--region 25,0,50,37 --fov 60");
@@ -135,11 +135,12 @@ TEST_F(RegionCli, AssembleRefusesOverlapsGapsAndMismatchesNamingTheFile) {
     refuses(left + " " + junk, junk);
     refuses(left + " " + test::tmpPath("absent.exr"), test::tmpPath("absent.exr"));
     // Usage: formats must agree.
-    CommandResult mixed = run("assemble " + left + " " + right + " -o " + test::tmpPath("assembled.png"));
+    CommandResult mixed =
+        runVastray("assemble " + left + " " + right + " -o " + test::tmpPath("assembled.png"));
     EXPECT_EQ(mixed.exitCode, 2) << mixed.output;
     EXPECT_NE(mixed.output.find(left + ": tiles must have the output's format"), std::string::npos) << mixed.output;
     // And the good pair works.
-    CommandResult good = run("assemble " + right + " " + left + " -o " + out);
+    CommandResult good = runVastray("assemble " + right + " " + left + " -o " + out);
     EXPECT_EQ(good.exitCode, 0) << good.output;
 }
 

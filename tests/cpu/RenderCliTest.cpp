@@ -17,8 +17,8 @@ namespace vastray {
 namespace {
 
 using vastray::test::CommandResult;
+using vastray::test::runVastray;
 
-CommandResult run(const std::string& arguments) { return vastray::test::runVastray(arguments); }
 
 double jsonNumber(const std::string& json, const std::string& key) {
     const size_t at = json.find("\"" + key + "\":");
@@ -29,10 +29,10 @@ class RenderCli : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         CommandResult g =
-            run("generate terrain --triangles 20000 --seed 3 -o " + test::tmpPath("terrain.ply"));
+            runVastray("generate terrain --triangles 20000 --seed 3 -o " + test::tmpPath("terrain.ply"));
         ASSERT_EQ(g.exitCode, 0) << g.output;
-        CommandResult i = run("import " + test::tmpPath("terrain.ply") + " -o " +
-                              test::tmpPath("terrain.vast") + " --chunk-size 64KiB --progress none");
+        CommandResult i = runVastray("import " + test::tmpPath("terrain.ply") + " -o " +
+                                     test::tmpPath("terrain.vast") + " --chunk-size 64KiB --progress none");
         ASSERT_EQ(i.exitCode, 0) << i.output;
     }
     static std::string terrain() { return test::tmpPath("terrain.ply"); }
@@ -63,12 +63,13 @@ TEST_F(RenderCli, BadInputIsAClearErrorBeforeAnyWork) {
     const std::string out = test::tmpPath("never.exr");
     for (const auto& [flags, message] : cases) {
         std::filesystem::remove(out);
-        CommandResult r = run("render " + terrain() + " -o " + out + " " + flags);
+        CommandResult r = runVastray("render " + terrain() + " -o " + out + " " + flags);
         EXPECT_EQ(r.exitCode, 2) << flags << "\n" << r.output;
         EXPECT_NE(r.output.find(message), std::string::npos) << flags << "\n" << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << flags;
     }
-    CommandResult png = run("render " + terrain() + " -o " + test::tmpPath("never.png") + " --aovs depth");
+    CommandResult png =
+        runVastray("render " + terrain() + " -o " + test::tmpPath("never.png") + " --aovs depth");
     EXPECT_EQ(png.exitCode, 2) << png.output;
 }
 
@@ -114,7 +115,7 @@ TEST_F(RenderCli, PfmIsWrittenWithoutTheImageModule) {
                                                    pfm + flags);
     ASSERT_EQ(render.exitCode, 0) << render.output;
     EXPECT_EQ(render.output.find("libOpenImageIO"), std::string::npos) << "the module was loaded";
-    ASSERT_EQ(run("render " + terrain() + " -o " + exr + flags).exitCode, 0);
+    ASSERT_EQ(runVastray("render " + terrain() + " -o " + exr + flags).exitCode, 0);
 
     std::ifstream in(pfm, std::ios::binary);
     std::string magic;
@@ -146,7 +147,7 @@ TEST_F(RenderCli, PfmIsWrittenWithoutTheImageModule) {
     for (const char* extra : {" --aovs depth", " --region 0,0,8,8"}) {
         const std::string never = test::tmpPath("never.pfm");
         std::filesystem::remove(never);
-        CommandResult refused = run("render " + terrain() + " -o " + never + flags + extra);
+        CommandResult refused = runVastray("render " + terrain() + " -o " + never + flags + extra);
         EXPECT_EQ(refused.exitCode, 2) << extra << "\n" << refused.output;
         EXPECT_NE(refused.output.find(".exr"), std::string::npos) << extra << "\n" << refused.output;
         EXPECT_FALSE(std::filesystem::exists(never)) << extra;
@@ -154,7 +155,7 @@ TEST_F(RenderCli, PfmIsWrittenWithoutTheImageModule) {
 }
 
 TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {
-    CommandResult r = run("render --help");
+    CommandResult r = runVastray("render --help");
     EXPECT_EQ(r.exitCode, 0);
     for (const char* text : {"vulkan (streaming path tracer on the GPU", "embree (CPU reference", "--memory-budget",
                              "--host-cache", "--gpu-device", "chunkid,cost", "--path-state"})
@@ -163,8 +164,9 @@ TEST_F(RenderCli, HelpNamesBothBackendsAndTheBudget) {
 
 TEST_F(RenderCli, WritesAPngAndTheStatsJson) {
     const std::string png = test::tmpPath("terrain.png"), stats = test::tmpPath("stats.json");
-    CommandResult r = run("render --backend embree " + terrain() + " -o " + png +
-                          " --resolution 48x32 --spp 2 --stats --stats-json " + stats + " --progress openjd");
+    CommandResult r = runVastray("render --backend embree " + terrain() + " -o " + png +
+                                 " --resolution 48x32 --spp 2 --stats --stats-json " + stats +
+                                 " --progress openjd");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(std::filesystem::exists(png));
     EXPECT_NE(r.output.find("openjd_progress: 100"), std::string::npos) << r.output;
@@ -180,9 +182,10 @@ TEST_F(RenderCli, WritesAPngAndTheStatsJson) {
 TEST_F(RenderCli, TwoRendersAreIdenticalAndDiffSaysSo) {
     const std::string a = test::tmpPath("same-a.exr"), b = test::tmpPath("same-b.exr");
     const std::string flags = " --resolution 40x30 --spp 2 --aovs depth,primid --progress none";
-    ASSERT_EQ(run("render --backend embree " + terrain() + " -o " + a + flags).exitCode, 0);
-    ASSERT_EQ(run("render --backend embree " + terrain() + " -o " + b + flags + " --threads 1").exitCode, 0);
-    CommandResult d = run("diff " + a + " " + b + " --json");
+    ASSERT_EQ(runVastray("render --backend embree " + terrain() + " -o " + a + flags).exitCode, 0);
+    ASSERT_EQ(
+        runVastray("render --backend embree " + terrain() + " -o " + b + flags + " --threads 1").exitCode, 0);
+    CommandResult d = runVastray("diff " + a + " " + b + " --json");
     ASSERT_EQ(d.exitCode, 0) << d.output;
     EXPECT_EQ(jsonNumber(d.output, "rmse"), 0.0) << d.output;
     EXPECT_EQ(jsonNumber(d.output, "primid_agreement"), 1.0) << d.output;
@@ -191,10 +194,11 @@ TEST_F(RenderCli, TwoRendersAreIdenticalAndDiffSaysSo) {
 TEST_F(RenderCli, MeshFileAndPackageGiveTheSamePrimIds) {
     const std::string a = test::tmpPath("mesh.exr"), b = test::tmpPath("package.exr");
     const std::string flags = " --resolution 64x64 --spp 1 --aovs depth,primid --progress none";
-    ASSERT_EQ(run("render --backend embree " + terrain() + " -o " + a + flags).exitCode, 0);
-    CommandResult r = run("render --backend embree " + test::tmpPath("terrain.vast") + " -o " + b + flags);
+    ASSERT_EQ(runVastray("render --backend embree " + terrain() + " -o " + a + flags).exitCode, 0);
+    CommandResult r =
+        runVastray("render --backend embree " + test::tmpPath("terrain.vast") + " -o " + b + flags);
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    CommandResult d = run("diff " + b + " " + a + " --json");
+    CommandResult d = runVastray("diff " + b + " " + a + " --json");
     ASSERT_EQ(d.exitCode, 0) << d.output;
     // 20-bit quantization moves a vertex by at most half a step (~1e-6 of the scene size):
     // only a pixel-centre ray passing that close to an edge may pick the neighbouring
@@ -207,8 +211,9 @@ TEST_F(RenderCli, PackageSceneKeepsEachTriangleOnce) {
     // A sphere: its triangles straddle the cells' planes wherever they lie (the terrain's regular
     // grid of vertices can fall exactly on them, with a power-of-two grid step, and share none).
     const std::string ply = test::tmpPath("keep-once-sphere.ply"), package = test::tmpPath("keep-once-sphere.vast");
-    ASSERT_EQ(run("generate sphere --triangles 20000 --seed 3 -o " + ply).exitCode, 0);
-    ASSERT_EQ(run("import " + ply + " -o " + package + " --chunk-size 64KiB --progress none").exitCode, 0);
+    ASSERT_EQ(runVastray("generate sphere --triangles 20000 --seed 3 -o " + ply).exitCode, 0);
+    ASSERT_EQ(
+        runVastray("import " + ply + " -o " + package + " --chunk-size 64KiB --progress none").exitCode, 0);
     auto reader = PackageReader::open(package);
     ASSERT_TRUE(reader) << reader.message();
     ASSERT_GT((*reader)->info().duplicatedReferences(), 0u) << "the test needs triangles shared by cells";
@@ -221,19 +226,19 @@ TEST_F(RenderCli, DiffFailsOnDifferentSizesOrChannels) {
     const std::string small = test::tmpPath("small.exr"), big = test::tmpPath("big.exr"),
                       aov = test::tmpPath("aov.exr");
     ASSERT_EQ(
-        run("render --backend embree " + terrain() + " -o " + small + " --resolution 16x16 --spp 1 --progress none").exitCode,
+        runVastray("render --backend embree " + terrain() + " -o " + small + " --resolution 16x16 --spp 1 --progress none").exitCode,
         0);
     ASSERT_EQ(
-        run("render --backend embree " + terrain() + " -o " + big + " --resolution 16x17 --spp 1 --progress none").exitCode,
+        runVastray("render --backend embree " + terrain() + " -o " + big + " --resolution 16x17 --spp 1 --progress none").exitCode,
         0);
     ASSERT_EQ(
-        run("render --backend embree " + terrain() + " -o " + aov + " --resolution 16x16 --spp 1 --aovs depth --progress none")
-            .exitCode,
+        runVastray("render --backend embree " + terrain() + " -o " + aov + " --resolution 16x16 --spp 1 --aovs depth --progress none")
+                   .exitCode,
         0);
-    CommandResult sizes = run("diff " + small + " " + big);
+    CommandResult sizes = runVastray("diff " + small + " " + big);
     EXPECT_NE(sizes.exitCode, 0);
     EXPECT_NE(sizes.output.find("sizes differ"), std::string::npos) << sizes.output;
-    CommandResult channels = run("diff " + small + " " + aov);
+    CommandResult channels = runVastray("diff " + small + " " + aov);
     EXPECT_NE(channels.exitCode, 0);
     EXPECT_NE(channels.output.find("channels differ"), std::string::npos) << channels.output;
 }
@@ -267,7 +272,7 @@ TEST_F(RenderCli, EnvironmentMapLightsTheRenderAndBadMapsAreNamed) {
     std::vector<std::vector<float>> images;
     for (const std::string scale : {"1", "2", "0"}) {
         const std::string out = test::tmpPath("env-" + scale + ".exr");
-        CommandResult r = run("render " + terrain() + " -o " + out + " --backend embree --environment-scale " + scale + flags);
+        CommandResult r = runVastray("render " + terrain() + " -o " + out + " --backend embree --environment-scale " + scale + flags);
         ASSERT_EQ(r.exitCode, 0) << r.output;
         auto rgb = readImageChannels(out, {"R", "G", "B"});
         ASSERT_TRUE(rgb) << rgb.message();
@@ -284,7 +289,7 @@ TEST_F(RenderCli, EnvironmentMapLightsTheRenderAndBadMapsAreNamed) {
     EXPECT_GT(energy, 0.0);
     // The Vulkan backend (the map's device bytes kept from the budget) renders it too.
     const std::string device = test::tmpPath("env-vulkan.exr");
-    CommandResult vulkan = run("render " + test::tmpPath("terrain.vast") + " -o " + device + flags);
+    CommandResult vulkan = runVastray("render " + test::tmpPath("terrain.vast") + " -o " + device + flags);
     ASSERT_EQ(vulkan.exitCode, 0) << vulkan.output;
 
     const std::string nan = test::tmpPath("nan.pfm"), huge = test::tmpPath("huge.pfm"), text = test::tmpPath("text.exr");
@@ -305,7 +310,7 @@ TEST_F(RenderCli, EnvironmentMapLightsTheRenderAndBadMapsAreNamed) {
         {"--environment " + sky + " --integrator ao", 2, "--integrator ao has no lights"},
     };
     for (const auto& [flag, code, message] : cases) {
-        CommandResult r = run("render " + terrain() + " -o " + out + " --backend embree --progress none " + flag);
+        CommandResult r = runVastray("render " + terrain() + " -o " + out + " --backend embree --progress none " + flag);
         EXPECT_EQ(r.exitCode, code) << flag << "\n" << r.output;
         EXPECT_NE(r.output.find(message), std::string::npos) << flag << "\n" << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << flag;

@@ -15,7 +15,7 @@ namespace vastray {
 namespace {
 
 using test::CommandResult;
-CommandResult run(const std::string& arguments) { return test::runVastray(arguments); }
+using test::runVastray;
 
 // Two quads' worth of triangles and three cameras: "Front" at (0, 0, 5) looking down -Z,
 // "Side" at (5, 0.5, 0) turned 90 degrees about Y (looking down -X), and an orthographic one.
@@ -36,7 +36,7 @@ class SceneCameraCli : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         std::ofstream(test::tmpPath("cameras.gltf")) << kGltf;
-        CommandResult i = run("import " + test::tmpPath("cameras.gltf") + " -o " + package() + " --progress none");
+        CommandResult i = runVastray("import " + test::tmpPath("cameras.gltf") + " -o " + package() + " --progress none");
         ASSERT_EQ(i.exitCode, 0) << i.output;
         importOutput() = i.output;
     }
@@ -58,7 +58,7 @@ protected:
                " --fov " + fov;
     }
     static bool sameImage(const std::string& a, const std::string& b) {
-        CommandResult d = run("diff " + a + " " + b + " --json");
+        CommandResult d = runVastray("diff " + a + " " + b + " --json");
         const size_t brace = d.output.find('{');
         if (brace == std::string::npos) return false;
         const nlohmann::json j = nlohmann::json::parse(d.output.substr(brace), nullptr, false);
@@ -68,7 +68,7 @@ protected:
 
 TEST_F(SceneCameraCli, CamerasAreImportedInFileOrderAndListed) {
     EXPECT_NE(importOutput().find("1 cameras read but not used (orthographic"), std::string::npos) << importOutput();
-    CommandResult info = run("info " + package() + " --json");
+    CommandResult info = runVastray("info " + package() + " --json");
     ASSERT_EQ(info.exitCode, 0) << info.output;
     const nlohmann::json cameras = nlohmann::json::parse(info.output)["cameras"];
     ASSERT_EQ(cameras.size(), 2u) << info.output;
@@ -84,7 +84,7 @@ TEST_F(SceneCameraCli, CamerasAreImportedInFileOrderAndListed) {
 }
 
 TEST_F(SceneCameraCli, PickedCameraRendersLikeItsExplicitValues) {
-    const nlohmann::json cameras = nlohmann::json::parse(run("info " + package() + " --json").output)["cameras"];
+    const nlohmann::json cameras = nlohmann::json::parse(runVastray("info " + package() + " --json").output)["cameras"];
     const std::string flags = " --resolution 48x32 --spp 2 --progress none";
     for (const std::string backend : {"embree", "vulkan"}) {
         const std::string picked = test::tmpPath("picked-" + backend + ".png");
@@ -93,11 +93,11 @@ TEST_F(SceneCameraCli, PickedCameraRendersLikeItsExplicitValues) {
         const std::string byDefault = test::tmpPath("default-" + backend + ".png");
         const std::string front = test::tmpPath("front-" + backend + ".png");
         const std::string base = "render --backend " + backend + " " + package() + flags + " -o ";
-        ASSERT_EQ(run(base + picked + " --camera Side").exitCode, 0) << backend;
-        ASSERT_EQ(run(base + byIndex + " --camera 1").exitCode, 0) << backend;
-        ASSERT_EQ(run(base + explicitly + explicitFlags(cameras[1])).exitCode, 0) << backend;
-        ASSERT_EQ(run(base + byDefault).exitCode, 0) << backend;
-        ASSERT_EQ(run(base + front + explicitFlags(cameras[0])).exitCode, 0) << backend;
+        ASSERT_EQ(runVastray(base + picked + " --camera Side").exitCode, 0) << backend;
+        ASSERT_EQ(runVastray(base + byIndex + " --camera 1").exitCode, 0) << backend;
+        ASSERT_EQ(runVastray(base + explicitly + explicitFlags(cameras[1])).exitCode, 0) << backend;
+        ASSERT_EQ(runVastray(base + byDefault).exitCode, 0) << backend;
+        ASSERT_EQ(runVastray(base + front + explicitFlags(cameras[0])).exitCode, 0) << backend;
         EXPECT_TRUE(sameImage(picked, explicitly)) << backend;
         EXPECT_TRUE(sameImage(picked, byIndex)) << backend;
         EXPECT_TRUE(sameImage(byDefault, front)) << backend << ": the default is the first camera";
@@ -108,17 +108,17 @@ TEST_F(SceneCameraCli, PickedCameraRendersLikeItsExplicitValues) {
 TEST_F(SceneCameraCli, BadChoicesAreNamedErrors) {
     const std::string base = "render --backend embree " + package() + " --resolution 16x16 --spp 1 --progress none -o " +
                              test::tmpPath("bad.png");
-    CommandResult unknown = run(base + " --camera Top");
+    CommandResult unknown = runVastray(base + " --camera Top");
     EXPECT_NE(unknown.exitCode, 0);
     EXPECT_NE(unknown.output.find("scene camera 'Top': no camera of that name or index; the scene has 0 'Front', 1 'Side'"),
               std::string::npos)
         << unknown.output;
-    CommandResult both = run(base + " --camera Front --eye 0,0,3 --target 0,0,0");
+    CommandResult both = runVastray(base + " --camera Front --eye 0,0,3 --target 0,0,0");
     EXPECT_NE(both.exitCode, 0);
     EXPECT_NE(both.output.find("--camera Front and --eye/--target exclude each other"), std::string::npos) << both.output;
     std::ofstream(test::tmpPath("no-camera.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    CommandResult none = run("render --backend embree " + test::tmpPath("no-camera.obj") +
-                             " --resolution 16x16 --spp 1 --progress none --camera 0 -o " + test::tmpPath("none.png"));
+    CommandResult none = runVastray("render --backend embree " + test::tmpPath("no-camera.obj") +
+                                    " --resolution 16x16 --spp 1 --progress none --camera 0 -o " + test::tmpPath("none.png"));
     EXPECT_NE(none.exitCode, 0);
     EXPECT_NE(none.output.find("scene camera '0': the scene defines no cameras"), std::string::npos) << none.output;
 }
@@ -135,27 +135,28 @@ TEST_F(SceneCameraCli, LongCameraNameIsCutReportedAndPickedByEitherName) {
     gltf.replace(gltf.find("\"Front\""), 7, "\"" + longName + "\"");
     std::ofstream(test::tmpPath("long-camera.gltf")) << gltf;
     const std::string package = test::tmpPath("long-camera.vast");
-    CommandResult i = run("import " + test::tmpPath("long-camera.gltf") + " -o " + package + " --progress none");
+    CommandResult i = runVastray("import " + test::tmpPath("long-camera.gltf") + " -o " + package + " --progress none");
     ASSERT_EQ(i.exitCode, 0) << i.output;
     EXPECT_NE(i.output.find("warning: " + test::tmpPath("long-camera.gltf") + ": camera 0 name '" + longName +
                             "' (100 bytes) is stored as '" + stored + "' (64 bytes; names are kept to 64)"),
               std::string::npos)
         << i.output;
-    CommandResult info = run("info " + package + " --json");
+    CommandResult info = runVastray("info " + package + " --json");
     ASSERT_EQ(info.exitCode, 0) << info.output;
     EXPECT_EQ(nlohmann::json::parse(info.output)["cameras"][0]["name"], stored);
 
     const std::string base = "render --backend embree " + package + " --resolution 24x16 --spp 1 --progress none -o ";
     const std::string byIndex = test::tmpPath("long-index.png"), byStored = test::tmpPath("long-stored.png"),
                       byFull = test::tmpPath("long-full.png");
-    ASSERT_EQ(run(base + byIndex + " --camera 0").exitCode, 0);
-    CommandResult s = run(base + byStored + " --camera '" + stored + "'");
+    ASSERT_EQ(runVastray(base + byIndex + " --camera 0").exitCode, 0);
+    CommandResult s = runVastray(base + byStored + " --camera '" + stored + "'");
     ASSERT_EQ(s.exitCode, 0) << s.output;
-    CommandResult f = run(base + byFull + " --camera '" + longName + "'");
+    CommandResult f = runVastray(base + byFull + " --camera '" + longName + "'");
     ASSERT_EQ(f.exitCode, 0) << f.output;
     EXPECT_TRUE(sameImage(byStored, byIndex));
     EXPECT_TRUE(sameImage(byFull, byIndex));
-    CommandResult other = run(base + test::tmpPath("long-other.png") + " --camera " + std::string(70, 'z'));
+    CommandResult other =
+        runVastray(base + test::tmpPath("long-other.png") + " --camera " + std::string(70, 'z'));
     EXPECT_NE(other.exitCode, 0);
     EXPECT_NE(other.output.find("no camera of that name or index; the scene has 0 '" + stored + "', 1 'Side'"),
               std::string::npos)

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "HeadOnView.h"
+#include "TestRenders.h"
 #include "TestScenes.h"
 #include "TestTextures.h"
 #include "vastray/core/ImageFile.h"
@@ -55,14 +55,6 @@ RenderScene texturedQuad(const Rgba8Image& image, bool emissive) {
     return scene;
 }
 
-// Looking straight at the quad from +z, the quad exactly filling a kTexels x kTexels image: each
-// pixel centre is a texel centre.
-RenderOptions headOn() {
-    RenderOptions o = test::headOnUnitQuad(kTexels);
-    o.aovs = kAovAlbedo;
-    return o;
-}
-
 TEST(TextureRender, AnImageWithoutBytesIsRefusedByName) {
     auto texture = decodeTexture({"image 4 of a.glb", ".png", {}, TextureWrap::Clamp, TextureWrap::Clamp,
                                   TextureEncoding::Srgb});
@@ -74,7 +66,7 @@ TEST(TextureRender, TexelsLandOnThePixelsTheyCover) {
     const Rgba8Image image = test::noiseImage(kTexels, kTexels, 3);
     const RenderScene scene = texturedQuad(image, false);
     ASSERT_EQ(scene.textures.size(), 1u);
-    RenderOptions o = headOn();
+    RenderOptions o = test::headOnAlbedo(kTexels);
     o.textureLod = TextureLodMode::Finest;  // level 0: one texel a pixel (cones: "ConesPick...")
     auto rendered = renderWithEmbree(scene, o, nullptr, {});
     ASSERT_TRUE(rendered) << rendered.message();
@@ -98,7 +90,7 @@ TEST(TextureRender, ConesPickTheLevelTheFootprintAsksFor) {
     ASSERT_EQ(scene.textures.size(), 1u);
     const DecodedTexture& texture = scene.textures[0];
     ASSERT_GE(texture.layout.levelCount, 3u);
-    RenderOptions o = headOn();
+    RenderOptions o = test::headOnAlbedo(kTexels);
     auto cones = renderWithEmbree(scene, o, nullptr, {});
     ASSERT_TRUE(cones) << cones.message();
     o.textureLod = TextureLodMode::Finest;
@@ -150,7 +142,7 @@ TEST(TextureRender, TheEmissiveMapIsTheRadianceSeenWithoutLight) {
     Rgba8Image image{kTexels, kTexels, {}};
     for (uint32_t i = 0; i < kTexels * kTexels; ++i) image.texels.insert(image.texels.end(), {200, 100, 50, 255});
     const RenderScene scene = texturedQuad(image, true);
-    RenderOptions o = headOn();
+    RenderOptions o = test::headOnAlbedo(kTexels);
     o.maxDepth = 0;  // emitters and sky only
     auto rendered = renderWithEmbree(scene, o, nullptr, {});
     ASSERT_TRUE(rendered) << rendered.message();

@@ -51,7 +51,7 @@ void expectSlotsHoldTheirPages(const DeviceTextures& t) {
 
 // Three steps asking for pages 0-15, 16-31, then 0-15 again through 16 slots; a host cache of
 // `cachePages` pages. Returns the pages read at each step.
-std::vector<uint64_t> pageBackAndForth(VulkanDevice& device, uint64_t cachePages) {
+std::vector<uint64_t> pageTexturesBackAndForth(VulkanDevice& device, uint64_t cachePages) {
     FakeTextures fake;
     DeviceTextures t(device, cachePages * kTexturePageBytes);
     StreamingStats stats;
@@ -77,12 +77,12 @@ std::vector<uint64_t> pageBackAndForth(VulkanDevice& device, uint64_t cachePages
 TEST(DeviceTextures, TheHostCacheKeepsPagesWithinItsBound) {
     VASTRAY_REQUIRE_DEVICE(device);
     // Room for every page: the third step reads none.
-    EXPECT_EQ(pageBackAndForth(device, 1000), (std::vector<uint64_t>{16, 16, 0}));
+    EXPECT_EQ(pageTexturesBackAndForth(device, 1000), (std::vector<uint64_t>{16, 16, 0}));
     // Room for 20: the second step drops the first's 12 oldest, which the third reads again; the
     // 4 it kept come from the cache.
-    EXPECT_EQ(pageBackAndForth(device, 20), (std::vector<uint64_t>{16, 16, 12}));
+    EXPECT_EQ(pageTexturesBackAndForth(device, 20), (std::vector<uint64_t>{16, 16, 12}));
     // No room: every load reads.
-    EXPECT_EQ(pageBackAndForth(device, 0), (std::vector<uint64_t>{16, 16, 16}));
+    EXPECT_EQ(pageTexturesBackAndForth(device, 0), (std::vector<uint64_t>{16, 16, 16}));
 }
 
 TEST(DeviceTextures, TooFewBytesForTheFewestSlotsAreRefusedNamingBoth) {

@@ -82,7 +82,7 @@ struct SourcedPool {
 // Walks wait for the bricks of columns x0 to x0 + 3 (64 bricks, a pool's worth; a column of 16 a
 // step, since more than a third of the free slots would load a region), then of 12 to 15, then of
 // 0 to 3 again, and every resident slot's voxels are checked.
-Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
+Steps pageBricksBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
     SourcedPool sourced(device, hostCacheBytes);
     auto& [source, volumes, pool, stats, ready] = sourced;
     Steps steps;
@@ -126,14 +126,14 @@ Steps pageBackAndForth(VulkanDevice& device, uint64_t hostCacheBytes) {
 TEST(DeviceVolumes, HostCacheKeepsTheBricksItReadAndSlotsHoldTheirBricks) {
     VASTRAY_REQUIRE_DEVICE(device);
     // A cache of the default size holds all 256 bricks: the third step reads none.
-    const Steps roomy = pageBackAndForth(device, kVolumeHostCacheBytes);
+    const Steps roomy = pageBricksBackAndForth(device, kVolumeHostCacheBytes);
     ASSERT_EQ(roomy.reads.size(), 3u);
     EXPECT_EQ(roomy.reads[0], kMinVolumeSlots);
     EXPECT_EQ(roomy.reads[1], kMinVolumeSlots);
     EXPECT_EQ(roomy.reads[2], 0u) << "a brick still in the host cache is read again";
     // A cache of one pool's worth loses the first step's bricks to the second: the third step
     // reads them again, and the slots still hold the right voxels.
-    const Steps tight = pageBackAndForth(device, 1);
+    const Steps tight = pageBricksBackAndForth(device, 1);
     ASSERT_EQ(tight.reads.size(), 3u);
     EXPECT_EQ(tight.reads[0], kMinVolumeSlots);
     EXPECT_EQ(tight.reads[1], kMinVolumeSlots);
