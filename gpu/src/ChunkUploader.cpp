@@ -17,6 +17,11 @@ namespace {
 // Command buffers in the ring: a batch of copies each, so as many batches may be in flight.
 constexpr uint32_t kCommandBuffers = 32;
 
+// A lost device takes no more work (VulkanDevice::fail), whichever call found it.
+void failIfLost(VulkanDevice& device, VkResult r) {
+    if (r == VK_ERROR_DEVICE_LOST) device.fail(device.info().name + ": the device was lost (VK_ERROR_DEVICE_LOST)");
+}
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -164,7 +169,7 @@ Status ChunkUploader::waitFor(uint64_t value) {
         device_.fail(message);
         return Status::error(message);
     }
-    if (r == VK_ERROR_DEVICE_LOST) device_.fail(device_.info().name + ": the device was lost (VK_ERROR_DEVICE_LOST)");
+    failIfLost(device_, r);
     VASTRAY_VK_TRY(r);
     completed_ = value;
     return Status::ok();
@@ -283,7 +288,7 @@ Status ChunkUploader::close() {
     submit.signalSemaphoreCount = 1;
     submit.pSignalSemaphores = &timeline_;
     const VkResult r = vkQueueSubmit(device_.transferQueue(), 1, &submit, VK_NULL_HANDLE);
-    if (r == VK_ERROR_DEVICE_LOST) device_.fail(device_.info().name + ": the device was lost (VK_ERROR_DEVICE_LOST)");
+    failIfLost(device_, r);
     VASTRAY_VK_TRY(r);
     submitted_ = value;
     commandValue_[index] = value;
@@ -308,7 +313,7 @@ Result<SubmitWait> ChunkUploader::pending(uint64_t upTo) {
 Result<uint64_t> ChunkUploader::completed() {
     uint64_t value = 0;
     const VkResult r = vkGetSemaphoreCounterValue(device_.handle(), timeline_, &value);
-    if (r == VK_ERROR_DEVICE_LOST) device_.fail(device_.info().name + ": the device was lost (VK_ERROR_DEVICE_LOST)");
+    failIfLost(device_, r);
     VASTRAY_VK_TRY(r);
     completed_ = std::max(completed_, value);
     if (!seenLate_) return completed_;

@@ -59,8 +59,8 @@ public:
     // the last call). A submission that waits for less must not read the slots of later copies.
     Result<SubmitWait> pending(uint64_t upTo = ~0ull);
     // The timeline value of the copies the device has finished (asked now, no wait), and the
-    // value of chunk `chunk`'s last copy (0: none the uploader still tracks, so it is done).
-    // copied(c, completed()) holds once chunk c's arrays are in its slot.
+    // value of chunk `chunk`'s last copy (0: none the uploader still tracks, so it is done):
+    // chunk c's arrays are in its slot once copyValue(c) <= completed().
     Result<uint64_t> completed();
     uint64_t copyValue(uint32_t chunk) const;
     // Waits for every copy and adds the last copies' device times to the figures.

@@ -760,7 +760,7 @@ private:
     Status pageChunks(Paging& st, uint64_t ready) {
         const bool partial = job_.partialResidency && job_.overlapLoads && b_.uploader;
         uint64_t completed = kAllCopies;  // the copies done by now (all without partial residency)
-        if (partial && (st.demand[b_.chunkCount] > 0 || st.loaded > 0 || residencyMasked_)) {
+        if (partial) {
             auto done = b_.uploader->completed();
             if (!done) return done.status();
             completed = *done;
