@@ -19,8 +19,8 @@
 //                                                again; compared with the resident row)
 //                       [--max-paths-per-wave N]  (cap the device wave, e.g. to compare wave sizes in one call)
 //                       [--no-overlap-loads]  (load chunks between paging steps, the device idle: for comparisons)
-//                       [--partial-residency]  (a paging step does not wait for chunk copies still running:
-//                                               StreamingOptions::partialResidency, off by default)
+//                       [--no-partial-residency]  (every paging step waits for every chunk copy before it:
+//                                                  for comparisons; StreamingOptions::partialResidency)
 //                       [--no-stream-waves]  (out of core, a tile's wave at a time: for comparisons)
 //                       [--window-tiles N]  (streamed waves: the most tiles open at once; default: all that fit)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
@@ -94,7 +94,7 @@ struct Args {
     Vec3f eye, target;
     std::optional<PixelBounds> region;  // --region X0,Y0,X1,Y1: one tile of the frame (bench/tiles_shared_gpu.sh)
     double residentBytesPerTriangle = PackageBuildOptions{}.residentBytesPerTriangle;  // import option
-    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --partial-residency, --no-stream-waves, --no-prefetch-scene
+    StreamingOptions streaming;  // --max-paths-per-wave, --no-overlap-loads, --no-partial-residency, --no-stream-waves, --no-prefetch-scene
     double waveShare = gpu::kWaveShareOutOfCore;  // --wave-share: the wave's part of an out-of-core budget
     gpu::PathStateOptions pathState;              // --path-state, --host-state-paths, --device-wave-cap
     gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
@@ -161,7 +161,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--attributes") a.attributes = true;
         else if (flag == "--write-ply") a.writePly = value();
         else if (flag == "--no-overlap-loads") a.streaming.overlapLoads = false;
-        else if (flag == "--partial-residency") a.streaming.partialResidency = true;
+        else if (flag == "--no-partial-residency") a.streaming.partialResidency = false;
         else if (flag == "--no-stream-waves") a.streaming.streamWaves = false;
         else if (flag == "--window-tiles") a.streaming.windowTiles = number.get<uint32_t>(flag, value());
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;

@@ -76,7 +76,7 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
                                         bool overlapLoads = true, bool prefetchScene = true,
                                         const gpu::ChunkUploadOptions& upload = {}, bool streamWaves = true,
                                         const gpu::PathStateOptions& pathState = {}, uint32_t windowTiles = 0,
-                                        bool partialResidency = false) {
+                                        bool partialResidency = true) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;

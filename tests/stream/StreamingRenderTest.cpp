@@ -247,7 +247,7 @@ TEST(StreamingRender, DmaUploadsEqualMappedUploads) {
     auto a = renderVulkan(path, o, budgetForSlots(path, 2, o.aovs), &mapped, 1u << 21, true, true, upload);
     ASSERT_TRUE(a) << a.message();
     auto render = [&](uint64_t stagingBytes, uint64_t submitBytes, bool overlap, StreamingStats& stats,
-                      gpu::ChunkUploadFigures& figures, bool partialResidency = false) {
+                      gpu::ChunkUploadFigures& figures, bool partialResidency = true) {
         upload.mode = gpu::ChunkUploadMode::Dma;
         upload.stagingBytes = stagingBytes, upload.submitBytes = submitBytes, upload.figures = &figures;
         const uint64_t budget = budgetForSlots(path, 2, o.aovs, stagingInDevice ? stagingBytes : 0);
@@ -286,9 +286,9 @@ TEST(StreamingRender, DmaUploadsEqualMappedUploads) {
     upload.copiesSeenLate = true;
     StreamingStats late, waited;
     gpu::ChunkUploadFigures lateFigures, waitedFigures;
-    render(1ull << 30, 0, true, late, lateFigures, true);
+    render(1ull << 30, 0, true, late, lateFigures);
     EXPECT_GT(late.lateChunks, 0u);
-    render(1ull << 30, 0, true, waited, waitedFigures);
+    render(1ull << 30, 0, true, waited, waitedFigures, false);
     EXPECT_EQ(waited.lateChunks, 0u);
     upload.copiesSeenLate = false;
     std::printf("dma: %llu loads; all chunks staged: %llu copies of chunks still staged\n",

@@ -108,7 +108,7 @@ struct DeviceRenderJob {
     std::function<Status(uint32_t texture, uint32_t page, uint8_t* out)> readTexturePage;
     uint32_t maxPathsPerWave = 0;         // StreamingOptions::maxPathsPerWave (the budget may allow fewer)
     bool overlapLoads = true;             // StreamingOptions::overlapLoads
-    bool partialResidency = false;        // StreamingOptions::partialResidency
+    bool partialResidency = true;         // StreamingOptions::partialResidency
     bool streamWaves = true;              // StreamingOptions::streamWaves
     uint32_t windowTiles = 0;             // StreamingOptions::windowTiles
     std::function<void(uint64_t done, uint64_t total)> progress;  // optional
@@ -155,9 +155,8 @@ struct StreamingOptions {
     // step does not wait for copies still running when it is submitted: their chunks count as
     // absent for that step (the rays waiting for them wait one step more) while the kernels walk
     // what has arrived, unless nothing else has work; false: every step waits for every copy
-    // made before it. Images are the same either way. Off by default until it is measured on a
-    // GPU whose bus bounds the render (PERF_NOTES 100; lavapipe's copies finish before its steps).
-    bool partialResidency = false;
+    // made before it (for comparisons). Images are the same either way.
+    bool partialResidency = true;
     // Out of core, waves are streamed: a group of a pixel's samples that is done starts the next
     // pixel at once, so the wave stays full while a tile's last paths wait for chunks (false: a
     // tile's wave at a time, for comparisons; docs/RENDERING.md, "Streamed waves").
