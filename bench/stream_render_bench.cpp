@@ -435,8 +435,8 @@ int main(int argc, char** argv) {
     md << "| render | budget | slots / wave paths (host: state in host memory) | render s | rays | rays/s (render) | device s | kernels s: walk / shade / other | "
           "submits | walk passes | "
           "host→device B | device→host B | decode s (waited) | upload s | touched | loads | loads/touched | "
-          "per-wave loads/touched | time vs in core | steps loading with the device idle | late chunks | host gap s |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "per-wave loads/touched | time vs in core | steps loading with the device idle | late chunks | host gap s | device idle s |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
         const StreamingStats& s = r.streaming;
         double reference = 0;
@@ -455,7 +455,7 @@ int main(int argc, char** argv) {
         char line[1024];
         std::snprintf(line, sizeof line,
                       "| %s | %s | %u / %u%s | %.3f | %llu | %.1f M | %.3f | %.3f / %.3f / %.3f | %llu | %llu | %llu | %llu | %.3f (%.3f) | %.3f "
-                      "| %llu | %llu | %.2f | %.3f | %s | %llu | %llu | %.3f |\n",
+                      "| %llu | %llu | %.2f | %.3f | %s | %llu | %llu | %.3f | %.3f |\n",
                       r.label.c_str(), formatBytes(r.budget).c_str(), s.slots, s.wavePaths,
                       s.pathStateHostBytes > 0 ? " host" : "", r.render.renderSeconds,
                       (unsigned long long)r.render.rays, r.render.raysPerSecond() / 1e6, s.deviceSeconds,
@@ -468,7 +468,7 @@ int main(int argc, char** argv) {
                       s.chunksTouched ? double(s.chunkLoads) / double(s.chunksTouched) : 0.0,
                       s.streamChunksTouched ? double(s.streamChunksTouched + s.streamReloads) / double(s.streamChunksTouched) : 0.0,
                       ratio(reference).c_str(), (unsigned long long)s.idleLoadSteps,
-                      (unsigned long long)s.lateChunks, s.hostGapSeconds);
+                      (unsigned long long)s.lateChunks, s.hostGapSeconds, s.deviceIdleSeconds);
         md << line;
     }
     md << "\nUploads per row: host copy s (into slots or staging) / DMA s (transfer queue, timestamps) / "

@@ -451,6 +451,7 @@ Status writeStatsJson(const std::string& path, const RenderStats& s, const Strea
         j["idle_load_steps"] = st->idleLoadSteps;
         j["late_chunks"] = st->lateChunks;
         j["host_gap_seconds"] = st->hostGapSeconds;
+        j["device_idle_seconds"] = st->deviceIdleSeconds;
         j["chunk_slots"] = st->slots;
         j["wave_paths"] = st->wavePaths;
         j["path_state_host_bytes"] = st->pathStateHostBytes;

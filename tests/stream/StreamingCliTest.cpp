@@ -67,6 +67,7 @@ TEST(StreamingCli, DefaultBackendIsVulkanAndReportsTheStreamingFigures) {
     EXPECT_GE(jsonNumber(json, "idle_load_steps"), 0.0) << json;
     EXPECT_GE(jsonNumber(json, "late_chunks"), 0.0) << json;
     EXPECT_GT(jsonNumber(json, "host_gap_seconds"), 0.0) << json;
+    EXPECT_GT(jsonNumber(json, "device_idle_seconds"), 0.0) << json;
     EXPECT_EQ(jsonNumber(json, "memory_budget_bytes"), 512.0 * 1024);
     EXPECT_LE(jsonNumber(json, "peak_device_bytes"), jsonNumber(json, "memory_budget_bytes"));
     EXPECT_LE(jsonNumber(json, "chunks_touched"), jsonNumber(json, "chunks_total"));

@@ -190,6 +190,7 @@ TEST(StreamingRender, TightBudgetEqualsAmpleBudgetAndReallyStreams) {
     EXPECT_LE(between.idleLoadSteps, between.chunkLoads) << "a step that loads loads a chunk at least";
     EXPECT_LE(ample.idleLoadSteps, 1u) << "in core only the first step waits, for the chunks its rays start in";
     EXPECT_GT(small.hostGapSeconds, 0.0) << "the host reads and plans between paging steps";
+    EXPECT_GT(small.deviceIdleSeconds, 0.0) << "the device waits for the host between paging steps";
     EXPECT_EQ(small.lateChunks, 0u) << "mapped uploads are done before a step is submitted";
     // Decoding chunks only when rays reach them (no scene prefetch): the same image too.
     StreamingStats onDemand;

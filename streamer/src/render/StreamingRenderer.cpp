@@ -207,6 +207,7 @@ void StreamingScene::reportStats(State& st, const StreamingStats& before, Render
         s.idleLoadSteps = t.idleLoadSteps - before.idleLoadSteps;
         s.lateChunks = t.lateChunks - before.lateChunks;
         s.hostGapSeconds = t.hostGapSeconds - before.hostGapSeconds;
+        s.deviceIdleSeconds = t.deviceIdleSeconds - before.deviceIdleSeconds;
         s.walkPasses = t.walkPasses - before.walkPasses;
         s.pipelineSeconds = t.pipelineSeconds - before.pipelineSeconds;
         s.streamedTiles = t.streamedTiles - before.streamedTiles;

@@ -221,6 +221,10 @@ struct StreamingStats {
     // next submission: the host reading counters, closing tiles, planning and recording, the
     // compute queue idle meanwhile (the transfer queue may still copy).
     double hostGapSeconds = 0;
+    // device_idle_seconds: between two submissions of the render, the device's time from the one's
+    // last command to the next one's first, read from their timestamps: the host gap plus the
+    // latencies of waking the host and of starting a submission (0 without timestamp queries).
+    double deviceIdleSeconds = 0;
     uint64_t walkPasses = 0;        // walk_passes
     // pipeline_seconds: creating the compute pipelines this render needs that the scene had not
     // created before (its shade and walk variants; a driver compilation, which the driver's own
