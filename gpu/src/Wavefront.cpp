@@ -493,11 +493,12 @@ private:
     }
 
     // Empties queue q (its count) before kernels append to it.
-    void clearQueue(uint32_t q) {
+    // Empties queue q; `besideNext`: the op recorded next does not touch q (no barrier between).
+    void clearQueue(uint32_t q, bool besideNext = false) {
         recordFill([this, q](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * q, 4, 0);
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueArgs + 12ull * q, 4, 0);
-        });
+        }, besideNext);
     }
 
     WavefrontPush makePush(const Tile& tile, uint32_t firstSample, uint32_t samples, uint32_t mode) {
@@ -537,7 +538,9 @@ private:
     }
     void shadeReady(WavefrontPush& push) {
         dispatchQueue(*shade_, kShade, push, kShadeQueue);
-        clearQueue(kShadeQueue);
+        // Streamed: the generate kernel next touches the group and walk queues, not this one, so
+        // the clear runs beside it, behind the same barrier.
+        clearQueue(kShadeQueue, streamed_);
         if (streamed_) regenerate(push, 0);
     }
     // Streamed waves: the groups of queue push.groupQueue (those whose block the shading just
@@ -1201,12 +1204,15 @@ private:
     }
 
     void record(std::function<void(VkCommandBuffer)> op, int kernel = kNoKernel) {
-        ops_.push_back({kernel, std::move(op), false});
+        ops_.push_back({kernel, std::move(op), false, false});
     }
     // An op of fills and buffer updates only, each to its own range (no two adjacent ones touch
     // the same bytes): adjacent ones share one barrier, after the last (the queue clears and
-    // counter fills between two kernels, ~6 barriers a paging step fewer).
-    void recordFill(std::function<void(VkCommandBuffer)> op) { ops_.push_back({kNoKernel, std::move(op), true}); }
+    // counter fills between two kernels, ~6 barriers a paging step fewer). `besideNext`: the op
+    // recorded next does not touch these bytes either, and shares that barrier too.
+    void recordFill(std::function<void(VkCommandBuffer)> op, bool besideNext = false) {
+        ops_.push_back({kNoKernel, std::move(op), true, besideNext});
+    }
     void dispatch(const ComputePipeline& pipeline, Kernel kernel, const WavefrontPush& push, uint64_t threads) {
         if (threads == 0) return;
         record(
@@ -1257,7 +1263,7 @@ private:
             }
             for (size_t i = 0; i < ops_.size(); ++i) {
                 ops_[i].record(cmd);
-                if (ops_[i].fill && !(i + 1 < ops_.size() && ops_[i + 1].fill)) barrier(cmd);
+                if (ops_[i].fill && !(i + 1 < ops_.size() && (ops_[i + 1].fill || ops_[i].besideNext))) barrier(cmd);
                 if (i + 1 < queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, uint32_t(i + 1));
             }
         }, copies.semaphore ? &copies : nullptr);
@@ -1302,7 +1308,8 @@ private:
     struct Op {
         int kernel;
         std::function<void(VkCommandBuffer)> record;  // with its barrier, unless `fill`
-        bool fill;  // recordFill: the barrier follows the last of adjacent fills
+        bool fill;        // recordFill: the barrier follows the last of adjacent fills
+        bool besideNext;  // a fill the next op does not touch: the barrier follows that op
     };
 
     Wavefront& w_;
