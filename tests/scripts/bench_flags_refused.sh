@@ -31,6 +31,9 @@ expect 1 '--depth: 99999999999 is above the largest' stream_render_bench --depth
 expect 1 "--budgets: size '12QiB' has unknown unit" stream_render_bench --budgets 12QiB
 expect 1 '--spp: "1e3" is not a whole number in [1, 65536]' emitter_sampling_bench --spp 1e3
 expect 2 '--threads: "-1" is not a whole number' embree_rays_bench --threads -1
+# A scene that cannot be loaded is named; the exit status says it failed (1).
+expect 1 'gen:city:abc: "abc" is not a whole number' embree_rays_bench --resolution 8x8 gen:city:abc
+expect 1 'gen:cube:100: expected gen:KIND:TRIANGLES' embree_rays_bench --resolution 8x8 gen:cube:100
 expect 2 '--triangles: "1.5" is not a whole number in [20,' gpu_trace_bench --triangles 1.5
 expect 2 'TRIANGLES: "nan" is not a whole number' kd_depth_study sphere nan
 expect 2 'N: "abc" is not an integer in [8, 2048]' volume_cloud abc /nonexistent/a.vdb /nonexistent/a.vol
