@@ -17,7 +17,8 @@
 // Prints a Markdown table: backend, emitters sampled or not, spp, render seconds (the render
 // alone: the scene is open and its pipelines built), relative RMSE against the reference, and
 // RMSE x sqrt(seconds) (lower is better at equal time). The reference is the Embree reference
-// sampling the emitters at --reference-spp (an independent seed).
+// sampling the emitters at --reference-spp (an independent seed). Exit status: 2 for a bad
+// command line, 1 when a run fails.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -46,10 +47,12 @@ using namespace vastray;
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) {
+[[noreturn]] void fail(const std::string& message, int status = 1) {
     std::fprintf(stderr, "emitter_sampling_bench: %s\n", message.c_str());
-    std::exit(1);
+    std::exit(status);
 }
+// A bad command line: status 2, as every benchmark (bench/BenchFlags.h); 1 is for a run that failed.
+[[noreturn]] void usage(const std::string& message) { fail(message, 2); }
 
 // --lamps N at most kMaxLampSide^2: the grid, ceil(sqrt(N)) lamps a side and two emissive
 // triangles a lamp, then stays within kMaxEmitters; a package with more samples none of them.
@@ -70,11 +73,11 @@ struct Args {
 
 Args parseArgs(int argc, char** argv) {
     Args a;
-    const bench::FlagNumbers number("emitter_sampling_bench", 1);  // 1: fail()'s status
+    const bench::FlagNumbers number("emitter_sampling_bench", 2);  // 2: usage()'s status
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
         auto value = [&]() -> std::string {
-            if (i + 1 >= argc) fail(flag + " needs a value");
+            if (i + 1 >= argc) usage(flag + " needs a value");
             return argv[++i];
         };
         if (flag == "--resolution") {
@@ -94,7 +97,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--mapped") a.mapped = true;
         else if (flag == "--write-package") a.writePackage = value();
         else if (flag == "--package") a.package = value();
-        else fail("unknown flag " + flag + " (see the comment at the top of bench/emitter_sampling_bench.cpp)");
+        else usage("unknown flag " + flag + " (see the comment at the top of bench/emitter_sampling_bench.cpp)");
     }
     return a;
 }

@@ -40,6 +40,7 @@
 //                                                     kernels, gpu/KernelStatistics.h; no scene)
 // --repeat N renders every row N times and keeps the run of median render time (the device
 // machine's host-side timings vary by tens of percent between single runs).
+// Exit status: 2 for a bad command line (the flag and the limit named), 1 when a run fails.
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -100,25 +101,27 @@ struct Args {
     gpu::ChunkUploadOptions upload;               // --upload, --staging-bytes
 };
 
-[[noreturn]] void fail(const std::string& message) {
+[[noreturn]] void fail(const std::string& message, int status = 1) {
     std::fprintf(stderr, "stream_render_bench: %s\n", message.c_str());
-    std::exit(1);
+    std::exit(status);
 }
+// A bad command line: status 2, as every benchmark (bench/BenchFlags.h); 1 is for a run that failed.
+[[noreturn]] void usage(const std::string& message) { fail(message, 2); }
 
 Args parseArgs(int argc, char** argv) {
     Args a;
-    const bench::FlagNumbers number("stream_render_bench", 1);  // 1: fail()'s status
+    const bench::FlagNumbers number("stream_render_bench", 2);  // 2: usage()'s status
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
         auto value = [&]() -> std::string {
-            if (i + 1 >= argc) fail(flag + " needs a value");
+            if (i + 1 >= argc) usage(flag + " needs a value");
             return argv[++i];
         };
         if (flag == "--kind") a.kind = value();
         else if (flag == "--triangles") a.triangles = number.get<uint64_t>(flag, value());
         else if (flag == "--chunk-size") {
             auto size = parseByteSize(value());
-            if (!size) fail(size.message());
+            if (!size) usage(size.message());
             a.chunkSize = *size;
         } else if (flag == "--resolution") {
             const auto size = number.list<uint32_t>(flag, value(), 'x', 1, kMaxImageSide, 2);
@@ -126,7 +129,7 @@ Args parseArgs(int argc, char** argv) {
         } else if (flag == "--region") {
             const auto v = number.list<uint32_t>(flag, value(), ',', 0, kMaxImageSide, 4);
             const PixelBounds r{v[0], v[1], v[2], v[3]};
-            if (r.x1 <= r.x0 || r.y1 <= r.y0) fail("--region X0,Y0,X1,Y1 (X1 > X0, Y1 > Y0)");
+            if (r.x1 <= r.x0 || r.y1 <= r.y0) usage("--region X0,Y0,X1,Y1 (X1 > X0, Y1 > Y0)");
             a.region = r;
         } else if (flag == "--spp") a.spp = number.get<uint32_t>(flag, value(), 1, kMaxSamplesPerPixel);
         else if (flag == "--depth") a.depth = number.get<uint32_t>(flag, value(), 0, kMaxDepthLimit);
@@ -137,7 +140,7 @@ Args parseArgs(int argc, char** argv) {
             std::stringstream list(value());
             for (std::string item; std::getline(list, item, ',');) {
                 auto size = parseByteSize(item);
-                if (!size) fail("--budgets: " + size.message());
+                if (!size) usage("--budgets: " + size.message());
                 a.budgets.push_back(*size);
             }
         } else if (flag == "--float-positions") a.floatPositions = true;
@@ -146,7 +149,7 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--out") a.out = value();
         else if (flag == "--codec") {
             auto codec = parseGeometryCodec(value());
-            if (!codec) fail(codec.message());
+            if (!codec) usage(codec.message());
             a.codec = *codec;
         } else if (flag == "--repeat") {
             // The steady rows count their passes to repeat + 1 in an int.
@@ -170,19 +173,19 @@ Args parseArgs(int argc, char** argv) {
             if (v == "auto") a.upload.mode = gpu::ChunkUploadMode::Auto;
             else if (v == "mapped") a.upload.mode = gpu::ChunkUploadMode::Mapped;
             else if (v == "dma") a.upload.mode = gpu::ChunkUploadMode::Dma;
-            else fail("--upload auto|mapped|dma");
+            else usage("--upload auto|mapped|dma");
         } else if (flag == "--staging-bytes") {
             auto size = parseByteSize(value());
-            if (!size) fail(size.message());
+            if (!size) usage(size.message());
             a.upload.stagingBytes = *size;
         } else if (flag == "--dma-batch") {
             auto size = parseByteSize(value());
-            if (!size) fail(size.message());
+            if (!size) usage(size.message());
             a.upload.submitBytes = *size;
         }
         else if (flag == "--path-state") {
             auto memory = gpu::parsePathStateMemory(value());
-            if (!memory) fail(memory.message());
+            if (!memory) usage(memory.message());
             a.pathState.memory = *memory;
         } else if (flag == "--host-state-paths") {
             a.pathState.hostPaths = number.get<uint32_t>(flag, value(), 1);
@@ -192,7 +195,7 @@ Args parseArgs(int argc, char** argv) {
         }
         else if (flag == "--wave-share") {
             a.waveShare = number.get<double>(flag, value(), 0, 1);
-            if (a.waveShare == 0 || a.waveShare == 1) fail("--wave-share must be in (0, 1)");
+            if (a.waveShare == 0 || a.waveShare == 1) usage("--wave-share must be in (0, 1)");
         } else if (flag == "--max-paths-per-wave") {
             a.streaming.maxPathsPerWave = number.get<uint32_t>(flag, value(), 1);
         }
@@ -201,9 +204,9 @@ Args parseArgs(int argc, char** argv) {
                                               std::numeric_limits<float>::max(), 3);
             (flag == "--eye" ? a.eye : a.target) = Vec3f{v[0], v[1], v[2]};
             a.camera = true;
-        } else fail("unknown flag " + flag);
+        } else usage("unknown flag " + flag);
     }
-    if (!a.writePly.empty() && !a.package.empty()) fail("--write-ply writes the generated scene; with --package there is none");
+    if (!a.writePly.empty() && !a.package.empty()) usage("--write-ply writes the generated scene; with --package there is none");
     return a;
 }
 

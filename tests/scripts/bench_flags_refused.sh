@@ -21,15 +21,15 @@ expect() {
     failed=1
   fi
 }
-# stream_render_bench and emitter_sampling_bench exit 1 on any error; the others exit 2 on usage errors.
-expect 1 '--spp: "abc" is not a whole number in [1, 65536]' stream_render_bench --spp abc
-expect 1 '--triangles: "-5" is not a whole number' stream_render_bench --triangles -5
-expect 1 '--ratios "4,x": "x" is not a finite number' stream_render_bench --ratios 4,x
-expect 1 '--wave-share: "inf" is not a finite number in [0, 1]' stream_render_bench --wave-share inf
-expect 1 '--device-wave-cap: "1e99" is not a whole number in [1024, 2097120]' stream_render_bench --device-wave-cap 1e99
-expect 1 '--depth: 99999999999 is above the largest' stream_render_bench --depth 99999999999
-expect 1 "--budgets: size '12QiB' has unknown unit" stream_render_bench --budgets 12QiB
-expect 1 '--spp: "1e3" is not a whole number in [1, 65536]' emitter_sampling_bench --spp 1e3
+# Every benchmark exits 2 on a bad command line.
+expect 2 '--spp: "abc" is not a whole number in [1, 65536]' stream_render_bench --spp abc
+expect 2 '--triangles: "-5" is not a whole number' stream_render_bench --triangles -5
+expect 2 '--ratios "4,x": "x" is not a finite number' stream_render_bench --ratios 4,x
+expect 2 '--wave-share: "inf" is not a finite number in [0, 1]' stream_render_bench --wave-share inf
+expect 2 '--device-wave-cap: "1e99" is not a whole number in [1024, 2097120]' stream_render_bench --device-wave-cap 1e99
+expect 2 '--depth: 99999999999 is above the largest' stream_render_bench --depth 99999999999
+expect 2 "--budgets: size '12QiB' has unknown unit" stream_render_bench --budgets 12QiB
+expect 2 '--spp: "1e3" is not a whole number in [1, 65536]' emitter_sampling_bench --spp 1e3
 expect 2 '--threads: "-1" is not a whole number' embree_rays_bench --threads -1
 # A scene that cannot be loaded is named; the exit status says it failed (1).
 expect 1 'gen:city:abc: "abc" is not a whole number' embree_rays_bench --resolution 8x8 gen:city:abc
