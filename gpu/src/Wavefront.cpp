@@ -492,8 +492,8 @@ private:
         return readTile(tile);
     }
 
-    // Empties queue q (its count) before kernels append to it.
-    // Empties queue q; `besideNext`: the op recorded next does not touch q (no barrier between).
+    // Empties queue q (its count) before kernels append to it; `besideNext`: the op recorded next
+    // does not touch q, so no barrier between them.
     void clearQueue(uint32_t q, bool besideNext = false) {
         recordFill([this, q](VkCommandBuffer cmd) {
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.queueCounts + 4ull * q, 4, 0);

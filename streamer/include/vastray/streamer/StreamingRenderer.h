@@ -222,8 +222,9 @@ struct StreamingStats {
     // compute queue idle meanwhile (the transfer queue may still copy).
     double hostGapSeconds = 0;
     // device_idle_seconds: between two submissions of the render, the device's time from the one's
-    // last command to the next one's first, read from their timestamps: the host gap plus the
-    // latencies of waking the host and of starting a submission (0 without timestamp queries).
+    // last command to the next one's first, read from their timestamps: the host gap, the
+    // latencies of waking the host and of starting a submission, and a submission's wait for chunk
+    // copies (0 without timestamp queries).
     double deviceIdleSeconds = 0;
     uint64_t walkPasses = 0;        // walk_passes
     // pipeline_seconds: creating the compute pipelines this render needs that the scene had not
