@@ -1232,18 +1232,27 @@ private:
             kernel);
     }
     // Submits what was recorded and waits. With timestamps, one before the first command and
-    // one after each: the difference is the command's device time (commands are serialized by
-    // barriers), added to its kernel's figure.
+    // one after each barrier (after every kernel, and after the last of adjacent fills): the
+    // difference is the device time of the commands between (barriers serialize them), added to
+    // the figure of the kernel among them (a fill beside a kernel counts in that kernel's).
     Status flush() {
         VASTRAY_TRY(beginSubmit());
         return finishSubmit();
+    }
+    // Whether a barrier follows op i (every op but a fill that shares the next op's barrier).
+    bool barrierAfter(size_t i) const {
+        return !ops_[i].fill || !(i + 1 < ops_.size() && (ops_[i + 1].fill || ops_[i].besideNext));
     }
     // flush in two halves: the host may work between them (on what the submission does not read).
     Status beginSubmit() {
         if (ops_.empty()) return Status::ok();
         const VkQueryPool pool = queries_.handle();
-        submittedQueries_ = pool ? uint32_t(std::min<size_t>(ops_.size() + 1, kMaxQueries)) : 0;
-        const uint32_t queries = submittedQueries_;
+        // The timestamp after each op (0: none; 1..: the query), as long as the pool has queries.
+        stamps_.assign(ops_.size(), 0);
+        uint32_t queries = pool ? 1 : 0;
+        for (size_t i = 0; i < ops_.size() && pool && queries < kMaxQueries; ++i)
+            if (barrierAfter(i)) stamps_[i] = queries++;
+        submittedQueries_ = queries;
         const auto start = std::chrono::steady_clock::now();
         // Chunks loaded since the last submission are copied on the transfer queue: the kernels
         // wait for those copies on the device, the host does not.
@@ -1263,8 +1272,8 @@ private:
             }
             for (size_t i = 0; i < ops_.size(); ++i) {
                 ops_[i].record(cmd);
-                if (ops_[i].fill && !(i + 1 < ops_.size() && (ops_[i + 1].fill || ops_[i].besideNext))) barrier(cmd);
-                if (i + 1 < queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, uint32_t(i + 1));
+                if (ops_[i].fill && barrierAfter(i)) barrier(cmd);
+                if (stamps_[i] > 0) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, stamps_[i]);
             }
         }, copies.semaphore ? &copies : nullptr);
         const auto submitted = std::chrono::steady_clock::now();
@@ -1293,16 +1302,18 @@ private:
         const uint32_t bits = w_.device_.timestampValidBits();
         const uint64_t mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
         const double seconds = w_.device_.timestampPeriodNs() * 1e-9;
-        for (uint32_t i = 0; i + 1 < queries; ++i) {
-            if (ops_[i].kernel == kNoKernel) continue;
-            const uint64_t delta = (ticks[i + 1] - ticks[i]) & mask;
-            stats_.kernelSeconds[ops_[i].kernel] += double(delta) * seconds;
+        uint32_t before = 0;  // the query before the op's group
+        for (size_t i = 0; i < ops_.size(); ++i) {
+            if (stamps_[i] == 0) continue;
+            const uint64_t delta = (ticks[stamps_[i]] - ticks[before]) & mask;
+            if (ops_[i].kernel != kNoKernel) stats_.kernelSeconds[ops_[i].kernel] += double(delta) * seconds;
+            before = stamps_[i];
         }
         // The device idle since the last submission's last command (its timestamp follows that
-        // command only when every command got one).
+        // command only when the pool had a query left for it).
         if (lastTick_) stats_.deviceIdleSeconds += double((ticks[0] - *lastTick_) & mask) * seconds;
         lastTick_.reset();
-        if (queries == ops_.size() + 1) lastTick_ = ticks[queries - 1];
+        if (stamps_.back() != 0) lastTick_ = ticks[stamps_.back()];
     }
 
     struct Op {
@@ -1322,6 +1333,7 @@ private:
     double& deviceSeconds_;
     std::vector<Op> ops_;  // recorded, or submitted and not yet finished
     uint32_t submittedQueries_ = 0;
+    std::vector<uint32_t> stamps_;      // the submitted ops' timestamps (beginSubmit)
     std::optional<uint64_t> lastTick_;  // the last submission's timestamp after its last command
     QueryPool queries_;
     const ComputePipeline* shade_ = nullptr;  // this render's specialization
