@@ -145,7 +145,7 @@ void generateStream(ParamsRef params, uint j) {
             queue.v[groupAt[owner] + s] = groupFirst[owner] + s;
         }
     }
-    appendToQueue(params, pc.groupQueue ^ 1u, false, idle ? 1u : 0u, g, 0u);
+    appendToQueue(params, 2u * kGroupQueue + 1u - pc.groupQueue, false, idle ? 1u : 0u, g, 0u);  // the other one
 }
 
 void main() {

@@ -1,23 +1,24 @@
 // One walk pass: the rays of queue pc.queue, closest-hit rays (index j, path j) and shadow rays
-// (pathCapacity + j) that generate or shade started, and rays parked by earlier passes. Each ray
-// walks its cells of the top-level tree front to back and traces those of resident chunks. Out of
-// core, a cell whose chunk is not resident does not stop the walk: the ray goes on tracing the
-// resident cells beyond it, and at the end it is parked if it still waits for such a cell (a
-// shadow ray that found a hit waits for nothing): counted in the demand counter of the first such
-// cell's chunk and in the look-ahead counters of the others' (the pager loads by the first,
-// decodes the others early and fills free slots with them), and queued on the other queue for
-// the next pass. Its state keeps the first cell it waits for (the cells before it are done) and
-// which of the kRayDoneBits cells after it are done; a parked ray walks again in the first pass
-// of the next paging step (look-ahead) and traces the resident cells it has not done, and in the
-// step's later passes, where nothing new is resident, it is queued again without a walk. So
-// every resident chunk a waiting ray needs is traced by it at once, and a chunk need not come
-// back for rays that waited elsewhere while it was resident. The hit does not depend on the order
-// cells are traced in: hits merge under one total order (t, front before back, lower chunk) and a
-// cell's trace finds its hits up to the best so far inclusive, so an out-of-core render equals
-// the in-core one bit for bit (the cost AOV counts the work done, which is more out of core). A
-// cell is pruned once a hit lies before it (any hit, for shadow rays). A ray that finishes
-// clears its bit in its path's walk bits (WavefrontParams::walkBits, device memory wherever the
-// path state lies); the last of a path's rays to finish queues the path for shading (kShadeQueue).
+// (pathCapacity + j) that generate or shade started (kWalkQueue), or rays parked by the paging
+// step before (a park queue). Each ray walks its cells of the top-level tree front to back and
+// traces those of resident chunks. Out of core, a cell whose chunk is not resident does not stop
+// the walk: the ray goes on tracing the resident cells beyond it, and at the end it is parked if
+// it still waits for such a cell (a shadow ray that found a hit waits for nothing): counted in
+// the demand counter of the first such cell's chunk and in the look-ahead counters of the
+// others' (the pager loads by the first, decodes the others early and fills free slots with
+// them), and queued on the step's park queue (pc.parkQueue). Its state keeps the first cell it
+// waits for (the cells before it are done) and which of the kRayDoneBits cells after it are done;
+// a parked ray walks again in the first pass of the next paging step (the step's later passes do
+// not see it: nothing new is resident during a step) and traces the resident cells it has not
+// done. So every resident chunk a waiting ray needs is traced by it at once, and a chunk need not
+// come back for rays that waited elsewhere while it was resident. The hit does not depend on the
+// order cells are traced in: hits merge under one total order (t, front before back, lower chunk)
+// and a cell's trace finds its hits up to the best so far inclusive, so an out-of-core render
+// equals the in-core one bit for bit (the cost AOV counts the work done, which is more out of
+// core). A cell is pruned once a hit lies before it (any hit, for shadow rays). A ray that
+// finishes clears its bit in its path's walk bits (WavefrontParams::walkBits, device memory
+// wherever the path state lies); the last of a path's rays to finish queues the path for shading
+// (kShadeQueue).
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -172,16 +173,6 @@ void walk(ParamsRef params, uint ray, out bool parked, out bool pathReady) {
     UintArray chunkSlots = UintArray(params.p.chunkSlots);
     const uint parkWord = state.y;  // the leaf of the first cell it waits for + 1, or 0
     if (kBlends) alphaBase = rayAlphaBase(params, j, anyHit);
-    if (kPaging && parkWord != 0u && pc.lookAhead == 0u) {  // nothing came since its walk: queued again
-        const uint chunk = topNodes.v[2u * (parkWord - 1u)];
-        if (chunkSlots.v[chunk] == kWalkNoHit) {
-            atomicAdd(demand.v[chunk], 1u);
-            atomicAdd(demand.v[chunkCount], 1u);
-            parked = true;
-            return;
-        }
-    }
-
     gRayFromSurface = (flags & kRayFromSurface) != 0u;
     const vec4 d = Vec4Array(params.p.rayDirection).v[ray];
     const vec3 origin = Vec4Array(params.p.rayOrigin).v[j].xyz, direction = d.xyz;  // both rays' origin
@@ -302,6 +293,6 @@ void main() {
     bool parked = false, pathReady = false;
     if (ray != 0xFFFFFFFFu) walk(params, ray, parked, pathReady);
     const uint capacity = params.p.pathCapacity;
-    appendToQueue(params, pc.queue ^ 1u, false, parked ? 1u : 0u, ray, 0u);
+    appendToQueue(params, pc.parkQueue, false, parked ? 1u : 0u, ray, 0u);
     appendToQueue(params, kShadeQueue, false, pathReady ? 1u : 0u, ray >= capacity ? ray - capacity : ray, 0u);
 }

@@ -63,11 +63,12 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
 // per tile pixel: sections in the order of WavefrontParams' addresses.
 // Streamed waves' groups (two paths or more each) of a wave of `paths` paths, at most.
 inline uint64_t groupCapacity(uint64_t paths) { return (paths + 1) / 2; }
-// Queue q's byte offset from StateLayout::queues (common/WavefrontState.glsl's queueOf): the two
-// ray queues hold 2 * paths entries, the shade and volume wait queues paths entries, the two
-// group queues groupCapacity entries.
+// Queue q's byte offset from StateLayout::queues (common/WavefrontState.glsl's queueOf): the
+// three ray queues hold 2 * paths entries, the shade and volume wait queues paths entries, the
+// two group queues groupCapacity entries.
 inline uint64_t queueOffset(uint32_t q, uint64_t paths) {
-    if (q <= kGroupQueue) return q < kShadeQueue ? uint64_t(q) * 8 * paths : (16 + uint64_t(q - kShadeQueue) * 4) * paths;
+    if (q <= kGroupQueue)
+        return q < kShadeQueue ? uint64_t(q) * 8 * paths : (8 * kShadeQueue + uint64_t(q - kShadeQueue) * 4) * paths;
     return queueOffset(kGroupQueue, paths) + uint64_t(q - kGroupQueue) * 4 * groupCapacity(paths);
 }
 // The 16-byte vectors first (per path, rays' directions per ray), then the 8-byte ones, then
@@ -193,7 +194,7 @@ inline PagedVolumeLayout pagedVolumeLayout(std::span<const VolumeShape> volumes,
     return l;
 }
 
-static_assert(kBytesPerPath == 16 + 2 * (16 + 8) + 3 * 16 + 3 * 16 + 8 + 16 + 8 + 8 && kBytesPerTilePixel == 84);
+static_assert(kBytesPerPath == 16 + 2 * (16 + 8) + 3 * 16 + 3 * 16 + 8 + 24 + 8 + 8 && kBytesPerTilePixel == 84);
 // A path's word (shared/WavefrontTypes.h): flags, bounce and sample index fit their fields.
 static_assert(kPathFlagBits == kPathBounceShift && kPathBounceShift + kPathBounceBits == kPathSampleShift);
 // The walk bits lie above the other flags in the word, and fit a byte apart.

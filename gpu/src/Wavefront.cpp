@@ -506,7 +506,7 @@ private:
         p.params = b_.table->address() + b_.tables.params;
         p.firstPixel = tile.first(), p.pixelCount = tile.count(), p.tileWidth = tile.width;
         p.firstSample = firstSample, p.sampleCount = samples;
-        p.mode = mode;
+        p.mode = mode, p.queue = kWalkQueue, p.parkQueue = kParkQueue;
         putGrid(p);
         return p;
     }
@@ -516,25 +516,34 @@ private:
         p.gridOriginX = b_.grid[0], p.gridOriginY = b_.grid[1], p.gridOriginZ = b_.grid[2], p.gridStep = b_.grid[3];
     }
 
-    // One walk pass over queue push.queue (its parked rays go to the other queue, which becomes
-    // push.queue), then, when shading, the shading of the paths it finished (their new rays join
-    // the parked ones).
-    // With lookAhead, parked rays walk again (whether or not their first chunk came: others they
-    // wait for may have) and count the chunks they wait for besides the first (the look-ahead
-    // counters are cleared first).
-    void walkRound(WavefrontPush& push, bool shade, bool countDemand, bool lookAhead) {
-        clearQueue(push.queue ^ 1u);
-        if (countDemand || lookAhead)
-            recordFill([this, countDemand, lookAhead](VkCommandBuffer cmd) {
-                if (countDemand)
-                    vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand, (uint64_t(b_.chunkCount) + 1) * 4, 0);
-                if (lookAhead) vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.ahead, uint64_t(b_.chunkCount) * 4, 0);
-            });
-        push.lookAhead = lookAhead ? 1u : 0u;
-        dispatchQueue(*walk_, kWalk, push, push.queue);
+    // One walk pass over the walk queue (the rays generate and shade started; emptied after it),
+    // in a paging step's first pass (`parked`) beside a walk of the rays the step before parked
+    // (the park queue other than push.parkQueue, which the rays parked now join; the two walks
+    // share a barrier), then, when shading, the shading of the paths it finished (their new rays
+    // join the walk queue).
+    void walkRound(WavefrontPush& push, bool shade, bool parked) {
+        if (parked) {
+            WavefrontPush p = push;
+            p.queue = otherParkQueue(push.parkQueue);
+            dispatchQueue(*walk_, kWalk, p, p.queue, true);
+        }
+        dispatchQueue(*walk_, kWalk, push, kWalkQueue);
         ++stats_.walkPasses;
-        push.queue ^= 1u;
+        clearQueue(kWalkQueue);
         if (shade) shadeReady(push);
+    }
+    static uint32_t otherParkQueue(uint32_t q) { return q == kParkQueue ? kParkQueue + 1 : kParkQueue; }
+    // A paging step's start: the park queues trade places (the rays the last step parked walk in
+    // this step's first pass, beside the walk queue's), the rays this step parks go to the other
+    // one, emptied, and the demand (with its total) and look-ahead counters start from zero: a
+    // ray parks at most once a step, so after the step they count every parked ray once.
+    void beginPagingStep(WavefrontPush& push) {
+        push.parkQueue = otherParkQueue(push.parkQueue);
+        clearQueue(push.parkQueue);
+        recordFill([this](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand, (uint64_t(b_.chunkCount) + 1) * 4, 0);
+            vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.ahead, uint64_t(b_.chunkCount) * 4, 0);
+        });
     }
     void shadeReady(WavefrontPush& push) {
         dispatchQueue(*shade_, kShade, push, kShadeQueue);
@@ -554,7 +563,7 @@ private:
         else
             dispatchQueue(*kernels().generate, kGenerate, g, push.groupQueue);
         clearQueue(push.groupQueue);
-        push.groupQueue ^= 1u;
+        push.groupQueue = 2 * kGroupQueue + 1 - push.groupQueue;  // the other one (kGroupQueue is odd)
     }
     // Paged volumes or textures: the paths of the wait queue move to the (empty) shade queue and
     // shade again; those that still miss a brick or page join the wait queue again.
@@ -657,19 +666,23 @@ private:
         DeviceVolumes* volumes = shade && b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
         DeviceTextures* textures = shade ? pagedTextures() : nullptr;
         if (pager_.allResident() && !volumes && !textures) {
-            for (uint32_t e = 0; e < events; ++e) walkRound(push, shade, false, false);
+            for (uint32_t e = 0; e < events; ++e) walkRound(push, shade, false);
             return Status::ok();
         }
+        clearQueue(kParkQueue);
+        clearQueue(kParkQueue + 1);
         pager_.beginStream();
         Paging st(b_.chunkCount, volumes, textures);
         const std::vector<uint32_t>& counts = st.counts;
         // Paging bricks or pages: a step's passes take every path it resumes to its end or its
         // next park (for bricks, pages or chunks; a pass over an empty queue costs an empty
         // dispatch), so that no path needs the step's region in a later step. Paging chunks
-        // only: a few passes, then the host pages again.
-        const uint32_t passes = volumes || textures ? events : kPassesPerPagingStep;
+        // only: a few passes, then the host pages again; one without shading (no pass after the
+        // first has rays to walk).
+        const uint32_t passes = !shade ? 1u : volumes || textures ? events : kPassesPerPagingStep;
         for (uint64_t step = 0;; ++step) {
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
+            beginPagingStep(push);
             if (volumes) clearVolumeCounters(*volumes);
             if (textures) clearTextureCounters(*textures);
             if (step > 0 && shade) shadeReady(push);  // the paths the last step's final pass finished
@@ -677,12 +690,9 @@ private:
             recordFill([this](VkCommandBuffer cmd) {
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
             });
-            for (uint32_t r = 0; r < passes; ++r) {
-                const bool last = r + 1 == passes;
-                walkRound(push, shade && !last, last, r == 0);
-            }
+            for (uint32_t r = 0; r < passes; ++r) walkRound(push, shade && r + 1 < passes, r == 0);
             VASTRAY_TRY(runStep(st, volumes, textures));
-            if (counts[push.queue] == 0 && counts[kShadeQueue] == 0 && counts[kShadeWaitQueue] == 0)
+            if (counts[push.parkQueue] == 0 && counts[kShadeQueue] == 0 && counts[kShadeWaitQueue] == 0)
                 return finishPaging(st);
             VASTRAY_TRY(pageChunks(st, counts[kShadeQueue]));
         }
@@ -837,10 +847,11 @@ private:
             vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
             barrier(cmd);
         });
-        for (uint32_t q : {0u, 1u, kShadeQueue, kShadeWaitQueue, kGroupQueue, kGroupQueue + 1}) clearQueue(q);
+        for (uint32_t q = 0; q < kQueueCount; ++q) clearQueue(q);
         WavefrontPush push{};
         push.params = b_.table->address() + b_.tables.params;
-        push.sampleCount = groupSize, push.mode = kWaveStreamed, push.queue = 0, push.groupQueue = kGroupQueue;
+        push.sampleCount = groupSize, push.mode = kWaveStreamed, push.queue = kWalkQueue, push.groupQueue = kGroupQueue;
+        push.parkQueue = kParkQueue;
         putGrid(push);
 
         struct Open {
@@ -906,6 +917,7 @@ private:
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.demand + 4ull * (b_.chunkCount + 1), 4, 0);
                 vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.touched, uint64_t(b_.chunkCount) * 4, 0);
             });
+            beginPagingStep(push);
             if (volumes) clearVolumeCounters(*volumes);
             if (textures) clearTextureCounters(*textures);
             if (step == 0)
@@ -913,10 +925,7 @@ private:
             else
                 shadeReady(push);  // the paths the last step's final pass finished (and the groups after them)
             if ((volumes || textures) && counts[kShadeWaitQueue] > 0) retryWaiting(push);
-            for (uint32_t r = 0; r < passes; ++r) {
-                const bool last = r + 1 == passes;
-                walkRound(push, !last, last, r == 0);
-            }
+            for (uint32_t r = 0; r < passes; ++r) walkRound(push, r + 1 < passes, r == 0);
             VASTRAY_TRY(runStep(st, volumes, textures, readClosed));
             // The head the step's end copied (copyStepCounters).
             VASTRAY_TRY(download(windowHead.data(), windowHead.size() * 4, *b_.output, stepCopyOf(streamOffset)));
@@ -1203,33 +1212,30 @@ private:
         return from.download(data, bytes, offset);
     }
 
-    void record(std::function<void(VkCommandBuffer)> op, int kernel = kNoKernel) {
-        ops_.push_back({kernel, std::move(op), false, false});
-    }
+    // An op that records its own barrier.
+    void record(std::function<void(VkCommandBuffer)> op) { ops_.push_back({kNoKernel, std::move(op), false, false, true}); }
     // An op of fills and buffer updates only, each to its own range (no two adjacent ones touch
     // the same bytes): adjacent ones share one barrier, after the last (the queue clears and
     // counter fills between two kernels, ~6 barriers a paging step fewer). `besideNext`: the op
     // recorded next does not touch these bytes either, and shares that barrier too.
     void recordFill(std::function<void(VkCommandBuffer)> op, bool besideNext = false) {
-        ops_.push_back({kNoKernel, std::move(op), true, besideNext});
+        ops_.push_back({kNoKernel, std::move(op), true, besideNext, false});
     }
     void dispatch(const ComputePipeline& pipeline, Kernel kernel, const WavefrontPush& push, uint64_t threads) {
         if (threads == 0) return;
-        record(
-            [&pipeline, push, threads](VkCommandBuffer cmd) {
-                pipeline.record(cmd, &push, groups(threads));
-                barrier(cmd);
-            },
-            kernel);
+        ops_.push_back({kernel, [&pipeline, push, threads](VkCommandBuffer cmd) { pipeline.record(cmd, &push, groups(threads)); },
+                        false, false, false});
     }
     // One thread per entry of queue q (an indirect dispatch: the count is on the device).
-    void dispatchQueue(const ComputePipeline& pipeline, Kernel kernel, const WavefrontPush& push, uint32_t q) {
-        record(
-            [this, &pipeline, push, q](VkCommandBuffer cmd) {
-                pipeline.recordIndirect(cmd, &push, b_.table->handle(), b_.tables.queueArgs + 12ull * q);
-                barrier(cmd);
-            },
-            kernel);
+    // `besideNext`: the op recorded next touches nothing this kernel does but through atomics
+    // (appends to the same queues, counters), and shares its barrier.
+    void dispatchQueue(const ComputePipeline& pipeline, Kernel kernel, const WavefrontPush& push, uint32_t q,
+                       bool besideNext = false) {
+        ops_.push_back({kernel,
+                        [this, &pipeline, push, q](VkCommandBuffer cmd) {
+                            pipeline.recordIndirect(cmd, &push, b_.table->handle(), b_.tables.queueArgs + 12ull * q);
+                        },
+                        false, besideNext, false});
     }
     // Submits what was recorded and waits. With timestamps, one before the first command and
     // one after each barrier (after every kernel, and after the last of adjacent fills): the
@@ -1239,9 +1245,10 @@ private:
         VASTRAY_TRY(beginSubmit());
         return finishSubmit();
     }
-    // Whether a barrier follows op i (every op but a fill that shares the next op's barrier).
+    // Whether a barrier follows op i (every op but one that shares the next op's barrier).
     bool barrierAfter(size_t i) const {
-        return !ops_[i].fill || !(i + 1 < ops_.size() && (ops_[i + 1].fill || ops_[i].besideNext));
+        const Op& op = ops_[i];
+        return op.ownBarrier || !(i + 1 < ops_.size() && (op.besideNext || (op.fill && ops_[i + 1].fill)));
     }
     // flush in two halves: the host may work between them (on what the submission does not read).
     Status beginSubmit() {
@@ -1272,7 +1279,7 @@ private:
             }
             for (size_t i = 0; i < ops_.size(); ++i) {
                 ops_[i].record(cmd);
-                if (ops_[i].fill && barrierAfter(i)) barrier(cmd);
+                if (!ops_[i].ownBarrier && barrierAfter(i)) barrier(cmd);
                 if (stamps_[i] > 0) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, stamps_[i]);
             }
         }, copies.semaphore ? &copies : nullptr);
@@ -1318,9 +1325,10 @@ private:
 
     struct Op {
         int kernel;
-        std::function<void(VkCommandBuffer)> record;  // with its barrier, unless `fill`
+        std::function<void(VkCommandBuffer)> record;
         bool fill;        // recordFill: the barrier follows the last of adjacent fills
-        bool besideNext;  // a fill the next op does not touch: the barrier follows that op
+        bool besideNext;  // the next op does not touch what this one does: the barrier follows that op
+        bool ownBarrier;  // record: it records its barrier itself
     };
 
     Wavefront& w_;

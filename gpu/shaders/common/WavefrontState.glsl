@@ -42,17 +42,18 @@ uint pathFlags(uint word) { return word & ((1u << kPathFlagBits) - 1u); }
 uint pathBounce(uint word) { return (word >> kPathBounceShift) & ((1u << kPathBounceBits) - 1u); }
 uint pathSample(uint word) { return word >> kPathSampleShift; }
 
-// Queue q: ray queues 0 and 1 (the ray indices a walk pass walks, and the ones the next pass
-// walks), kShadeQueue (the paths whose rays are all walked) or kShadeWaitQueue (paths waiting
-// for volume bricks or texture pages; pathCapacity entries each after the ray queues), and the group queues
-// (kGroupQueue, kGroupQueue + 1; (pathCapacity + 1) / 2 entries each, gpu/src/PoolLayout.h's
-// queueOffset); dense, in no particular order (each ray's walk and each path's shading is
-// independent of the others', so the order changes nothing but the schedule).
+// Queue q: the ray queues (kWalkQueue: the rays every walk pass walks; kParkQueue and
+// kParkQueue + 1: the rays a paging step parks, and those the one before parked), kShadeQueue (the
+// paths whose rays are all walked) or kShadeWaitQueue (paths waiting for volume bricks or texture
+// pages; pathCapacity entries each after the ray queues), and the group queues (kGroupQueue,
+// kGroupQueue + 1; (pathCapacity + 1) / 2 entries each, gpu/src/PoolLayout.h's queueOffset);
+// dense, in no particular order (each ray's walk and each path's shading is independent of the
+// others', so the order changes nothing but the schedule).
 RwUintArray queueOf(ParamsRef params, uint q) {
     const uint64_t capacity = params.p.pathCapacity;
     const uint64_t at = q < kShadeQueue ? uint64_t(q) * 8ul * capacity
-                      : q <= kGroupQueue ? (16ul + uint64_t(q - kShadeQueue) * 4ul) * capacity
-                                         : 24ul * capacity + 4ul * ((capacity + 1ul) / 2ul);
+                      : q <= kGroupQueue ? (8ul * kShadeQueue + uint64_t(q - kShadeQueue) * 4ul) * capacity
+                                         : (8ul * kShadeQueue + 8ul) * capacity + 4ul * ((capacity + 1ul) / 2ul);
     return RwUintArray(params.p.queues + at);
 }
 uint queueCount(ParamsRef params, uint q) { return RwUintArray(params.p.queueCounts).v[q]; }

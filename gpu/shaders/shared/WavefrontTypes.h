@@ -43,18 +43,23 @@ const uint kRayFromSurface = 8u;  // leaves a surface: hits within t's rounding 
 const uint kRayDoneShift = 8u;
 const uint kRayDoneBits = 24u;
 
-
+// The ray queues (2 * pathCapacity ray indices each): the walk queue, the rays generate and shade
+// start, which every walk pass walks (and empties); and two park queues, the rays a paging step
+// parks (WavefrontPush::parkQueue) and those the step before parked, which only the step's first
+// pass walks: nothing else becomes resident during a step (docs/RENDERING.md, "Paging steps").
+const uint kWalkQueue = 0u;
+const uint kParkQueue = 1u;  // and kParkQueue + 1
 // The queue of paths ready to shade (WavefrontParams::queues, queueCounts), and the queue of
 // paths whose shading read a volume brick or a texture page that was not resident (volumes or
 // textures paged through a pool of slots): they shade again once the host has loaded what they
 // asked for. wf_aov.comp uses both for the pixels whose albedo waits for a texture page.
-const uint kShadeQueue = 2u;
-const uint kShadeWaitQueue = 3u;
+const uint kShadeQueue = 3u;
+const uint kShadeWaitQueue = 4u;
 // Streamed waves (out of core): the two queues of path groups whose block of samples is done or
 // that have none (pathCapacity entries each): wf_generate takes one and appends those it could
-// not give a pixel to the other.
-const uint kGroupQueue = 4u;
-const uint kQueueCount = 6u;
+// not give a pixel to the other (2 * kGroupQueue + 1 - q: kGroupQueue is odd, no XOR).
+const uint kGroupQueue = 5u;
+const uint kQueueCount = 7u;
 
 // Streamed waves: the most tiles open at once (the window; a tile holds about a wave's groups, so
 // a window wider than 16 tiles needs an output buffer larger than the wave: PoolPlan::outputPixels),
@@ -86,11 +91,11 @@ const uint kWaveStreamed = 1u;
 
 // Device bytes per path of the state arrays (one ray origin both its rays share, two rays'
 // directions and walk states, the closest hit's record, three path vectors and its pixel and
-// word, a slot in each of the two ray queues for each ray, a slot in the shade queue and one
+// word, a slot in each of the three ray queues for each ray, a slot in the shade queue and one
 // in the volume wait queue, and per two paths a group's state and a slot in each of the two
 // group queues: streamed waves' groups have two paths or more) and per tile pixel (the sum, the
 // colour and the AOVs at most). The host sizes waves from the budget with these.
-const uint kBytesPerPath = 16u + 2u * (16u + 8u) + 3u * 16u + 3u * 16u + 8u + 2u * 2u * 4u + 2u * 4u + (8u + 2u * 4u) / 2u;
+const uint kBytesPerPath = 16u + 2u * (16u + 8u) + 3u * 16u + 3u * 16u + 8u + 3u * 2u * 4u + 2u * 4u + (8u + 2u * 4u) / 2u;
 const uint kBytesPerTilePixel = 16u + 16u + 4u + 12u + 12u + 4u + 4u + 8u + 8u;
 // Per path besides, when the render reads the scene's texture coordinates: the closest hit's UV
 // and its triangle's world area per unit of UV area (WavefrontParams::hitUv, kHitUvFloats
@@ -225,9 +230,9 @@ struct WavefrontParams {
     uint64_t walkBits;     // the paths' walk bits (kWalkClosest, kWalkShadow): with walkBitsApart a
                            // byte a path, four paths a word, in a buffer of their own on the device
                            // (the state lies in host memory); else pathInfo (each path's word)
-    uint64_t queues;       // two ray queues of 2 * pathCapacity ray indices each (queue q at
-                           // queues + q * 8 * pathCapacity bytes): the rays a walk pass walks and
-                           // the rays the next one walks; then the shade queue (kShadeQueue) of
+    uint64_t queues;       // three ray queues of 2 * pathCapacity ray indices each (queue q at
+                           // queues + q * 8 * pathCapacity bytes): the walk queue and the two park
+                           // queues (kWalkQueue, kParkQueue); then the shade queue (kShadeQueue) of
                            // pathCapacity path indices: the paths whose rays are all walked; the
                            // volume wait queue (pathCapacity); the two group queues (groupCapacity)
     uint64_t queueCounts;  // kQueueCount uints: the entries of each queue
@@ -339,9 +344,9 @@ struct WavefrontPush {
     uint firstSample;
     uint sampleCount;
     uint bounce;   // wf_shade.comp: the scattering event being shaded
-    uint lookAhead; // wf_walk.comp: 1 = parked rays walk again (no shortcut) and count ahead
+    uint parkQueue; // wf_walk.comp: the queue its parked rays join (kParkQueue or kParkQueue + 1)
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
-    uint queue;    // wf_walk.comp: the queue it walks (parked rays go to the other one);
+    uint queue;    // wf_walk.comp: the queue it walks (kWalkQueue, or the other park queue);
                    // wf_generate.comp, wf_shade.comp: the queue their new rays are appended to
     uint tileWidth;
     uint groupQueue;  // wf_generate.comp (kGenerateStream): the group queue it takes groups from
