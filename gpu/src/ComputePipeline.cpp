@@ -16,13 +16,61 @@ Result<std::unique_ptr<ComputePipeline>> ComputePipeline::create(VulkanDevice& d
     return pipeline;
 }
 
+// A compiled kernel: destroyed (when the device is idle) once neither the device's cache nor a
+// ComputePipeline holds it.
+struct ComputePipeline::Handles {
+    VulkanDevice& device;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    explicit Handles(VulkanDevice& d) : device(d) {}
+    Handles(const Handles&) = delete;
+    Handles& operator=(const Handles&) = delete;
+    ~Handles() {
+        if (!pipeline && !layout) return;
+        device.destroyWhenIdle([pipeline = pipeline, layout = layout](VkDevice d) {
+            if (pipeline) vkDestroyPipeline(d, pipeline, nullptr);
+            if (layout) vkDestroyPipelineLayout(d, layout, nullptr);
+        });
+    }
+};
+
+namespace {
+
+// The cache key: everything the compiled kernel depends on (the device's options are its own).
+std::string kernelKey(std::span<const uint32_t> spirv, uint32_t pushConstantBytes,
+                      std::span<const uint32_t> specialization) {
+    std::string key;
+    const uint32_t counts[2] = {pushConstantBytes, uint32_t(specialization.size())};
+    key.append(reinterpret_cast<const char*>(counts), sizeof(counts));
+    key.append(reinterpret_cast<const char*>(specialization.data()), specialization.size_bytes());
+    key.append(reinterpret_cast<const char*>(spirv.data()), spirv.size_bytes());
+    return key;
+}
+
+}  // namespace
+
 Status ComputePipeline::init(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization) {
+    const std::string key = kernelKey(spirv, pushConstantBytes_, specialization);
+    if (auto cached = device_.cachedKernel(key)) {
+        handles_ = std::static_pointer_cast<const Handles>(cached);
+        layout_ = handles_->layout, pipeline_ = handles_->pipeline;
+        return Status::ok();
+    }
+    auto handles = std::make_shared<Handles>(device_);
+    VASTRAY_TRY(compile(*handles, spirv, specialization));
+    handles_ = std::static_pointer_cast<const Handles>(device_.keepKernel(key, std::move(handles)));
+    layout_ = handles_->layout, pipeline_ = handles_->pipeline;
+    return Status::ok();
+}
+
+Status ComputePipeline::compile(Handles& handles, std::span<const uint32_t> spirv,
+                                std::span<const uint32_t> specialization) {
     const VkDevice device = device_.handle();
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes_};
     auto layoutInfo = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
     layoutInfo.pushConstantRangeCount = 1;
     layoutInfo.pPushConstantRanges = &range;
-    VASTRAY_VK_TRY(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout_));
+    VASTRAY_VK_TRY(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &handles.layout));
     auto moduleInfo = vkStruct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
     moduleInfo.codeSize = spirv.size_bytes();
     moduleInfo.pCode = spirv.data();
@@ -38,9 +86,9 @@ Status ComputePipeline::init(std::span<const uint32_t> spirv, std::span<const ui
     VkSpecializationInfo constants{uint32_t(entries.size()), entries.data(), specialization.size_bytes(),
                                    specialization.data()};
     if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;
-    info.layout = layout_;
+    info.layout = handles.layout;
     if (device_.kernelStatistics()) info.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
-    const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+    const VkResult r = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &handles.pipeline);
     vkDestroyShaderModule(device, module, nullptr);  // the pipeline keeps what it needs
     return vkStatus(r, "vkCreateComputePipelines");
 }
@@ -89,13 +137,7 @@ Result<std::string> ComputePipeline::statistics() const {
     return text;
 }
 
-ComputePipeline::~ComputePipeline() {
-    if (!pipeline_ && !layout_) return;
-    device_.destroyWhenIdle([pipeline = pipeline_, layout = layout_](VkDevice d) {
-        if (pipeline) vkDestroyPipeline(d, pipeline, nullptr);
-        if (layout) vkDestroyPipelineLayout(d, layout, nullptr);
-    });
-}
+ComputePipeline::~ComputePipeline() = default;  // handles_ goes with the last holder
 
 void ComputePipeline::record(VkCommandBuffer cmd, const void* pushConstants, uint32_t groupCount) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);

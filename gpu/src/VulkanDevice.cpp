@@ -225,6 +225,7 @@ Status VulkanDevice::createLogicalDevice(VkPhysicalDevice physical, bool kernelS
 VulkanDevice::~VulkanDevice() {
     if (device_) {
         vkDeviceWaitIdle(device_);
+        kernels_.clear();  // their pipelines are destroyed here (or queued below after a failure)
         for (const auto& destroy : abandonedObjects_) destroy(device_);
         for (const auto& [buffer, memory] : abandoned_) {
             vkDestroyBuffer(device_, buffer, nullptr);
@@ -331,6 +332,28 @@ Status VulkanDevice::begin(const std::function<void(VkCommandBuffer)>& record, c
     pending_ = cmd;
     freeOnError.cmd = VK_NULL_HANDLE;
     return Status::ok();
+}
+
+std::shared_ptr<const void> VulkanDevice::cachedKernel(const std::string& key) {
+    std::lock_guard<std::mutex> lock(kernelMutex_);
+    const auto found = kernels_.find(key);
+    return found == kernels_.end() ? nullptr : found->second;
+}
+
+std::shared_ptr<const void> VulkanDevice::keepKernel(const std::string& key, std::shared_ptr<const void> kernel) {
+    std::shared_ptr<const void> givenUp;  // released after the lock (its destructor destroys a pipeline)
+    std::lock_guard<std::mutex> lock(kernelMutex_);
+    const auto [at, inserted] = kernels_.emplace(key, std::move(kernel));
+    if (inserted) {
+        kernelOrder_.push_back(key);
+        if (kernelOrder_.size() > kKernelCacheEntries) {
+            const auto oldest = kernels_.find(kernelOrder_.front());
+            givenUp = std::move(oldest->second);
+            kernels_.erase(oldest);
+            kernelOrder_.pop_front();
+        }
+    }
+    return at->second;
 }
 
 void VulkanDevice::destroyWhenIdle(const std::function<void(VkDevice)>& destroy) {

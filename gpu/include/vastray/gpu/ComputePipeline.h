@@ -36,10 +36,13 @@ public:
 
 private:
     explicit ComputePipeline(VulkanDevice& device) : device_(device) {}
+    struct Handles;
     Status init(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization);
+    Status compile(Handles& handles, std::span<const uint32_t> spirv, std::span<const uint32_t> specialization);
 
     VulkanDevice& device_;
     uint32_t pushConstantBytes_ = 0;
+    std::shared_ptr<const Handles> handles_;  // shared through the device's kernel cache
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
