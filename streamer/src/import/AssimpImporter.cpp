@@ -300,6 +300,41 @@ Result<ImportedMesh> readWithAssimp(const std::string& path, std::vector<import:
 // How long assimp may take on one file before its process is killed and the import fails.
 constexpr int kAssimpSecondsLimit = 600;
 
+// The memory assimp's process may take beyond what it inherits (ChildReader::memoryLimitBytes):
+// kAssimpMemoryBaseBytes plus kAssimpMemoryPerFileByte times the model file's size. A header
+// may claim any count, and assimp allocates (and zeroes) what it claims before reading a vertex:
+// invalid/OutOfMemory.off of assimp-testmodels (309 bytes) claims 353535235358 vertices, which
+// assimp's 32-bit count keeps as 1347917086, and took ~20 GB and ~45 s before assimp refused it.
+// Honest files need far less: the child's address space grew by 4.9x the file's size for a
+// 100 MB binary STL (2 M triangles) and by 3.9x for a 55 MB text OFF (2 M triangles): assimp's
+// scene, the converted mesh and the encoded answer. The multiple leaves room for compressed
+// formats (3MF is a zip, FBX arrays are deflated), the base for small files with large external
+// parts; texture files raise the limit as they are read (AssimpTextures.cpp).
+constexpr uint64_t kAssimpMemoryBaseBytes = uint64_t(4) << 30;
+constexpr uint64_t kAssimpMemoryPerFileByte = 64;
+
+uint64_t assimpMemoryLimit(const std::string& path) {
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    return kAssimpMemoryBaseBytes + (ec ? 0 : std::min<uint64_t>(size, uint64_t(1) << 40) * kAssimpMemoryPerFileByte);
+}
+
+// readWithAssimp's error, or what it says once the child ran out of its memory limit (assimp
+// catches std::bad_alloc and reports only its name).
+Status limitedError(const std::string& path, const Status& error) {
+    if (!import::childRanOutOfMemory()) return error;
+    const std::string name = import::fileNameOf(path);
+    std::string why = error.message();
+    if (why.rfind(name + ": ", 0) == 0) why.erase(0, name.size() + 2);
+    if (import::childMemoryLimit() == 0)  // a lower `ulimit -v` of the caller's, or no limit at all
+        return import::errorIn(name, "assimp ran out of memory reading the file; refused (" + why + ")");
+    return import::errorIn(name,
+                           "assimp ran out of its " + import::memoryLimitText(import::childMemoryLimit()) +
+                               " memory limit (" + import::memoryLimitText(kAssimpMemoryBaseBytes) + " + " +
+                               std::to_string(kAssimpMemoryPerFileByte) +
+                               " x the file's size + 4 x its texture files') reading the file; refused (" + why + ")");
+}
+
 // In the child: readWithAssimp's answer, encoded, to the parent. Only this thread exists
 // here: no locks of other threads' making are taken (assimp logs nothing without a logger;
 // malloc is fork-safe in glibc).
@@ -308,9 +343,11 @@ void childReads(int fd, const std::string& path) {
     try {
         std::vector<import::AlphaMaskRequest> masks;
         Result<ImportedMesh> read = readWithAssimp(path, masks);
+        if (!read) read = limitedError(path, read.status());
         answer = import::encodeAssimpAnswer(read, masks);
     } catch (const std::exception& e) {
-        answer = import::encodeAssimpAnswer(import::errorIn(import::fileNameOf(path), std::string("assimp: ") + e.what()));
+        answer = import::encodeAssimpAnswer(
+            limitedError(path, import::errorIn(import::fileNameOf(path), std::string("assimp: ") + e.what())));
     } catch (...) {
         answer = import::encodeAssimpAnswer(import::errorIn(import::fileNameOf(path), "assimp: unknown exception"));
     }
@@ -318,13 +355,15 @@ void childReads(int fd, const std::string& path) {
 }
 
 // Runs readWithAssimp in a child process and returns its answer; a child that crashes, is
-// killed, or outlives kAssimpSecondsLimit fails the import by the file's name.
+// killed, or outlives kAssimpSecondsLimit fails the import by the file's name; one that reaches
+// its memory limit (assimpMemoryLimit) fails it naming the limit.
 Result<ImportedMesh> readInChildProcess(const std::string& path) {
     const std::string name = import::fileNameOf(path);
     Result<ImportedMesh> imported = Status::error("no answer");
     std::vector<import::AlphaMaskRequest> masks;
+    const uint64_t memoryLimit = assimpMemoryLimit(path);
     const Status status = import::runInChildProcess(
-        name, {"assimp", "assimp", kAssimpSecondsLimit}, [&](int fd) { childReads(fd, path); },
+        name, {"assimp", "assimp", kAssimpSecondsLimit, memoryLimit}, [&](int fd) { childReads(fd, path); },
         [&](import::ChildAnswer& in) {
             std::vector<uint8_t> answer;
             if (!in.readToEnd(answer)) return import::errorIn(name, "reading the assimp process's answer: " + in.error());

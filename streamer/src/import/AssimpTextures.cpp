@@ -7,8 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <set>
+#include <tuple>
 
+#include "import/ChildProcess.h"
 #include "import/ImportCommon.h"
 #include "import/TextureFiles.h"
 
@@ -29,7 +32,7 @@ constexpr SlotTypes kSlots[] = {{TextureSlot::BaseColor, aiTextureType_BASE_COLO
 class Reader {
 public:
     Reader(const aiScene& scene, const std::string& folder, const std::string& fileName, ImportReport& report)
-        : scene_(scene), fileName_(fileName), report_(report), files_(folder, fileName) {}
+        : scene_(scene), fileName_(fileName), report_(report), folder_(folder), files_(folder, fileName) {}
 
     Result<AssimpTextures> read() {
         AssimpTextures out;
@@ -189,12 +192,21 @@ private:
         std::string name = path;
         std::replace(name.begin(), name.end(), '\\', '/');
         if (!isSafeRelativeUri(name, why)) return ++outside_, kNoTexture;  // FBX often names absolute paths
+        // Held here up to four times (the file's bytes, the texture's, the answer's, growth): the
+        // child's memory limit (AssimpImporter.cpp) grows by that for each new texture.
+        if (sampled_.insert({name, int(wrapS), int(wrapT), int(encoding)}).second) {
+            std::error_code ec;
+            const uint64_t size = std::filesystem::file_size(folder_ / name, ec);
+            if (!ec) allowMoreChildMemory(4 * size);
+        }
         return files_.addFile(name, wrapS, wrapT, encoding);
     }
 
     const aiScene& scene_;
     const std::string& fileName_;
     ImportReport& report_;
+    std::filesystem::path folder_;
+    std::set<std::tuple<std::string, int, int, int>> sampled_;  // texture files' samplings seen
     TextureFiles files_;
     uint64_t otherMaps_ = 0, separatePbr_ = 0, layered_ = 0, otherUvSet_ = 0, projected_ = 0, uncompressed_ = 0,
              outside_ = 0, opacitySampling_ = 0, maskWithoutMap_ = 0, blend_ = 0;

@@ -3,12 +3,15 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <new>
 
 #include "import/ImportCommon.h"
 
@@ -18,9 +21,59 @@ namespace {
 // One read or write moves at most this much (a pipe takes far less at a time anyway).
 constexpr uint64_t kMaxTransfer = uint64_t(1) << 30;
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
+#define VASTRAY_SANITIZER_SHADOW 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define VASTRAY_SANITIZER_SHADOW 1
+#endif
+
+// Set in the child by the new-handler once an allocation failed.
+volatile sig_atomic_t ranOutOfMemory = 0;
+// In the child: the limit's allowance once it is set (limitMemory, allowMoreChildMemory).
+uint64_t memoryAllowance = 0;
+
+void noteOutOfMemory() {
+    ranOutOfMemory = 1;
+    throw std::bad_alloc();
+}
+
+// The address space this process has mapped (/proc/self/statm's first field); 0 if unknown.
+uint64_t mappedBytes() {
+    const int fd = ::open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    char text[64] = {};
+    const ssize_t n = ::read(fd, text, sizeof text - 1);
+    ::close(fd);
+    if (n <= 0) return 0;
+    unsigned long long pages = 0;
+    if (std::sscanf(text, "%llu", &pages) != 1) return 0;
+    return uint64_t(pages) * uint64_t(::sysconf(_SC_PAGESIZE));
+}
+
+// In the child: at most `bytes` more address space than it inherited (see ChildReader).
+void limitMemory(uint64_t bytes) {
+    std::set_new_handler(noteOutOfMemory);
+#ifndef VASTRAY_SANITIZER_SHADOW
+    if (bytes == 0) return;
+    const uint64_t inherited = mappedBytes();
+    rlimit limit{};
+    if (inherited == 0 || ::getrlimit(RLIMIT_AS, &limit) != 0) return;
+    const uint64_t wanted = inherited + bytes;
+    if (limit.rlim_cur != RLIM_INFINITY && uint64_t(limit.rlim_cur) <= wanted) return;  // a lower ulimit -v stays
+    limit.rlim_cur = rlim_t(wanted);
+    // Lowering one's own soft limit needs no privilege.
+    if (::setrlimit(RLIMIT_AS, &limit) == 0) memoryAllowance = bytes;
+#else
+    (void)bytes;
+#endif
+}
+
 // Runs in the child: `child` writes the answer, then the child ends without the parent's
 // destructors or atexit handlers.
-[[noreturn]] void runChild(int fd, const std::function<void(int)>& child) {
+[[noreturn]] void runChild(int fd, uint64_t memoryLimitBytes, const std::function<void(int)>& child) {
     // A fault ends the child by its signal, whatever handlers the parent installed (the
     // sanitizers' own would turn it into an exit status).
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGPIPE}) ::signal(sig, SIG_DFL);
@@ -31,6 +84,7 @@ constexpr uint64_t kMaxTransfer = uint64_t(1) << 30;
         (void)written;  // without it the child is only as likely a choice as its size makes it
         ::close(score);
     }
+    limitMemory(memoryLimitBytes);
     try {
         child(fd);
     } catch (...) {
@@ -66,6 +120,28 @@ std::string childFailure(const ChildReader& reader, const ChildAnswer& answer, i
 }
 
 }  // namespace
+
+bool childRanOutOfMemory() { return ranOutOfMemory != 0; }
+
+void allowMoreChildMemory(uint64_t bytes) {
+    rlimit limit{};
+    if (memoryAllowance == 0 || bytes == 0 || ::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return;
+    const uint64_t room = limit.rlim_max == RLIM_INFINITY ? UINT64_MAX / 2 : uint64_t(limit.rlim_max);
+    const uint64_t raised = std::min(room, uint64_t(limit.rlim_cur) + std::min(bytes, room));
+    limit.rlim_cur = rlim_t(raised);
+    if (::setrlimit(RLIMIT_AS, &limit) == 0) memoryAllowance += bytes;
+}
+
+uint64_t childMemoryLimit() { return memoryAllowance; }
+
+std::string memoryLimitText(uint64_t bytes) {
+    constexpr uint64_t kMiB = uint64_t(1) << 20, kGiB = uint64_t(1) << 30;
+    if (bytes < kGiB) return std::to_string((bytes + kMiB - 1) / kMiB) + " MiB";
+    if (bytes % kGiB == 0) return std::to_string(bytes / kGiB) + " GiB";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(kGiB));
+    return text;
+}
 
 void writeToParent(int fd, const void* data, uint64_t size) {
     const char* at = static_cast<const char*>(data);
@@ -131,7 +207,7 @@ Status runInChildProcess(const std::string& fileName, const ChildReader& reader,
     }
     if (pid == 0) {
         ::close(fds[0]);
-        runChild(fds[1], child);
+        runChild(fds[1], reader.memoryLimitBytes, child);
     }
     ::close(fds[1]);
     ChildAnswer answer(fds[0], std::chrono::steady_clock::now() + std::chrono::seconds(reader.secondsLimit));

@@ -73,7 +73,29 @@ struct ChildReader {
     std::string library;  // "assimp", "OpenVDB"
     std::string process;  // what crashes: "assimp", "the OpenVDB reader process"
     int secondsLimit;     // past this the child is killed and the file refused
+    // Address space the child may map beyond what it inherits from the parent (RLIMIT_AS, set
+    // in the child after the fork: the parent's own mappings, a GPU driver's reservations
+    // included, do not count against it); 0: no limit. An allocation past it fails at once
+    // (std::bad_alloc; childRanOutOfMemory() tells) instead of paging the machine full. A lower
+    // `ulimit -v` the parent runs under is kept. Not applied in sanitizer builds, whose
+    // allocators die instead of failing (and ASan's shadow lives in the address space).
+    uint64_t memoryLimitBytes = 0;
 };
+
+// In the child: whether an allocation (operator new) failed since the fork, which with a
+// memory limit means the limit was reached. A reader that catches std::bad_alloc itself (assimp
+// turns it into an error string) still fails with an error that says so.
+bool childRanOutOfMemory();
+
+// In the child: raises its memory limit by `bytes` (files a reader holds whose size only
+// reading the model tells, such as texture images: they are on disk, not claimed by a header).
+// Nothing without a limit.
+void allowMoreChildMemory(uint64_t bytes);
+// In the child: its memory limit with what allowMoreChildMemory added; 0: none.
+uint64_t childMemoryLimit();
+
+// "4 GiB", "1.5 GiB", "300 MiB": a memory limit in messages.
+std::string memoryLimitText(uint64_t bytes);
 
 // Forks a child that runs `child(fd)`, which writes its answer to `fd`, then ends without the
 // parent's destructors or atexit handlers. A fault ends the child by its signal, whatever
