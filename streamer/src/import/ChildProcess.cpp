@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -29,6 +30,9 @@ constexpr uint64_t kMaxTransfer = uint64_t(1) << 30;
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define VASTRAY_SANITIZER_SHADOW 1
 #endif
+
+// The child's exit status when its parent was gone before it could ask to die with it.
+constexpr int kParentGoneExit = 5;
 
 // Set in the child by the new-handler once an allocation failed.
 volatile sig_atomic_t ranOutOfMemory = 0;
@@ -73,7 +77,13 @@ void limitMemory(uint64_t bytes) {
 
 // Runs in the child: `child` writes the answer, then the child ends without the parent's
 // destructors or atexit handlers.
-[[noreturn]] void runChild(int fd, uint64_t memoryLimitBytes, const std::function<void(int)>& child) {
+[[noreturn]] void runChild(int fd, pid_t parent, uint64_t memoryLimitBytes, const std::function<void(int)>& child) {
+    // The child dies with its parent: a `vastray import` or `vastray serve` killed by SIGKILL (no
+    // handler runs that could end the child) would leave its reader running, for up to the time
+    // limit or for ever. The signal comes when the thread that forked ends; that thread waits
+    // for this child in runInChildProcess. A parent gone between the fork and the prctl shows
+    // as another parent (init or a subreaper).
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(kParentGoneExit);
     // A fault ends the child by its signal, whatever handlers the parent installed (the
     // sanitizers' own would turn it into an exit status).
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGPIPE}) ::signal(sig, SIG_DFL);
@@ -200,6 +210,7 @@ Status runInChildProcess(const std::string& fileName, const ChildReader& reader,
                          const std::function<Status(ChildAnswer& answer)>& parent) {
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) return errorIn(fileName, std::string("pipe: ") + std::strerror(errno));
+    const pid_t self = ::getpid();
     const pid_t pid = ::fork();
     if (pid < 0) {
         ::close(fds[0]), ::close(fds[1]);
@@ -207,7 +218,7 @@ Status runInChildProcess(const std::string& fileName, const ChildReader& reader,
     }
     if (pid == 0) {
         ::close(fds[0]);
-        runChild(fds[1], reader.memoryLimitBytes, child);
+        runChild(fds[1], self, reader.memoryLimitBytes, child);
     }
     ::close(fds[1]);
     ChildAnswer answer(fds[0], std::chrono::steady_clock::now() + std::chrono::seconds(reader.secondsLimit));

@@ -99,9 +99,10 @@ std::string memoryLimitText(uint64_t bytes);
 
 // Forks a child that runs `child(fd)`, which writes its answer to `fd`, then ends without the
 // parent's destructors or atexit handlers. A fault ends the child by its signal, whatever
-// handlers the parent installed, and the kernel's OOM killer takes the child before any other
-// process. Here `parent(answer)` reads the answer; when it fails, the child (stuck or still
-// writing) is killed. The child is always reaped. Errors name `fileName`: the time limit, a
+// handlers the parent installed, the kernel's OOM killer takes the child before any other
+// process, and the child is sent SIGKILL when the calling thread ends (its process killed, even
+// by SIGKILL, included). Here `parent(answer)` reads the answer; when it fails, the child (stuck
+// or still writing) is killed. The child is always reaped. Errors name `fileName`: the time limit, a
 // child that died by a signal or exited non-zero before its answer was whole, or else what
 // `parent` returned.
 Status runInChildProcess(const std::string& fileName, const ChildReader& reader,
