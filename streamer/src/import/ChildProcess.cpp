@@ -133,6 +133,13 @@ std::string childFailure(const ChildReader& reader, const ChildAnswer& answer, i
 
 bool childRanOutOfMemory() { return ranOutOfMemory != 0; }
 
+std::string outOfMemoryText(const ChildReader& reader, uint64_t limit) {
+    if (limit == 0)  // a lower `ulimit -v` of the caller's, or no limit at all
+        return reader.library + " ran out of memory reading the file; refused";
+    return reader.library + " ran out of its " + memoryLimitText(limit) + " memory limit (" + reader.memoryRule +
+           ") reading the file; refused";
+}
+
 void allowMoreChildMemory(uint64_t bytes) {
     rlimit limit{};
     if (memoryAllowance == 0 || bytes == 0 || ::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return;

@@ -80,6 +80,8 @@ struct ChildReader {
     // `ulimit -v` the parent runs under is kept. Not applied in sanitizer builds, whose
     // allocators die instead of failing (and ASan's shadow lives in the address space).
     uint64_t memoryLimitBytes = 0;
+    // How the limit is computed, for messages: "4 GiB + 64 x the file's size".
+    std::string memoryRule;
 };
 
 // In the child: whether an allocation (operator new) failed since the fork, which with a
@@ -93,6 +95,11 @@ bool childRanOutOfMemory();
 void allowMoreChildMemory(uint64_t bytes);
 // In the child: its memory limit with what allowMoreChildMemory added; 0: none.
 uint64_t childMemoryLimit();
+
+// "<library> ran out of its 4.5 GiB memory limit (<memoryRule>) reading the file; refused", or
+// without a limit of its own (0) "<library> ran out of memory reading the file; refused": after
+// the file's name, in the child once childRanOutOfMemory().
+std::string outOfMemoryText(const ChildReader& reader, uint64_t limit);
 
 // "4 GiB", "1.5 GiB", "300 MiB": a memory limit in messages.
 std::string memoryLimitText(uint64_t bytes);

@@ -287,7 +287,7 @@ TEST(HostileInput, ReaderChildDiesWithTheProcessThatForkedIt) {
     ASSERT_GE(parent, 0);
     if (parent == 0) {
         ::close(ready[0]);
-        const import::ChildReader reader{"the test reader", "the test reader", 60, 0};
+        const import::ChildReader reader{"the test reader", "the test reader", 60, 0, ""};
         (void)import::runInChildProcess(
             "hang.bin", reader,
             [](int fd) {
