@@ -77,8 +77,10 @@ struct ChildReader {
     // in the child after the fork: the parent's own mappings, a GPU driver's reservations
     // included, do not count against it); 0: no limit. An allocation past it fails at once
     // (std::bad_alloc; childRanOutOfMemory() tells) instead of paging the machine full. A lower
-    // `ulimit -v` the parent runs under is kept. Not applied in sanitizer builds, whose
-    // allocators die instead of failing (and ASan's shadow lives in the address space).
+    // `ulimit -v` the parent runs under is kept. Under AddressSanitizer (whose allocator dies
+    // instead of failing, and serves small blocks from regions reserved at start-up) the child
+    // also counts its heap, and ends past the limit; the import fails all the same, naming the
+    // limit (outOfMemoryText). None under MemorySanitizer or ThreadSanitizer.
     uint64_t memoryLimitBytes = 0;
     // How the limit is computed, for messages: "4 GiB + 64 x the file's size".
     std::string memoryRule;
@@ -98,7 +100,8 @@ uint64_t childMemoryLimit();
 
 // "<library> ran out of its 4.5 GiB memory limit (<memoryRule>) reading the file; refused", or
 // without a limit of its own (0) "<library> ran out of memory reading the file; refused": after
-// the file's name, in the child once childRanOutOfMemory().
+// the file's name, in the child (once childRanOutOfMemory()) and in the parent (a child the
+// sanitizer's allocator ended).
 std::string outOfMemoryText(const ChildReader& reader, uint64_t limit);
 
 // "4 GiB", "1.5 GiB", "300 MiB": a memory limit in messages.

@@ -8,6 +8,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <memory>
+#include <new>
 #include <sstream>
 
 #include "ImportTestFiles.h"
@@ -327,5 +330,36 @@ TEST(HostileInput, ReaderChildDiesWithTheProcessThatForkedIt) {
     EXPECT_TRUE(ended) << "the reader's child (pid " << child << ") outlived its killed parent by 10 s";
 }
 
+
+// A reader whose child allocates past its memory limit in 64 KiB blocks (each too small for a
+// mapping of its own under AddressSanitizer, whose allocator serves them from memory reserved at
+// start-up, out of RLIMIT_AS's sight): the file is refused naming the limit, with RLIMIT_AS
+// (std::bad_alloc in the child) or under AddressSanitizer (its heap counted; the child ends).
+TEST(HostileInput, ReaderChildPastItsMemoryLimitIsRefusedNamingIt) {
+    const import::ChildReader reader{"the test reader", "the test reader", 60, uint64_t(256) << 20, "256 MiB"};
+    const Status status = import::runInChildProcess(
+        "hog.bin", reader,
+        [&](int fd) {
+            std::vector<std::unique_ptr<char[]>> blocks;
+            std::string answer = "allocated 1 GiB";
+            try {
+                for (int i = 0; i < 16384; ++i) {
+                    blocks.emplace_back(new char[64 << 10]);
+                    std::memset(blocks.back().get(), 1, 64 << 10);
+                }
+            } catch (const std::bad_alloc&) {
+                blocks.clear();
+                answer = import::childRanOutOfMemory() ? import::outOfMemoryText(reader, import::childMemoryLimit())
+                                                       : "std::bad_alloc without the limit";
+            }
+            import::writeToParent(fd, answer.data(), answer.size());
+        },
+        [](import::ChildAnswer& answer) {
+            std::vector<uint8_t> text;
+            if (!answer.readToEnd(text)) return Status::error(answer.error());
+            return Status::error("hog.bin: " + std::string(text.begin(), text.end()));
+        });
+    EXPECT_EQ(status.message(), "hog.bin: the test reader ran out of its 256 MiB memory limit (256 MiB) reading the file; refused");
+}
 }  // namespace
 }  // namespace vastray::test
