@@ -331,7 +331,8 @@ Status limitedError(const std::string& path, const Status& error) {
     const std::string name = import::fileNameOf(path);
     std::string why = error.message();
     if (why.rfind(name + ": ", 0) == 0) why.erase(0, name.size() + 2);
-    return import::errorIn(name, import::outOfMemoryText(assimpReader(path), import::childMemoryLimit()) + " (" + why + ")");
+    return import::errorIn(name,
+                           import::outOfMemoryText(assimpReader(path), import::childMemoryLimit()) + " (" + why + ")");
 }
 
 // In the child: readWithAssimp's answer, encoded, to the parent. Only this thread exists

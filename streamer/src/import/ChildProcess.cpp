@@ -100,16 +100,19 @@ uint64_t mappedBytes() {
 std::atomic<int64_t> heapGrowth{0};
 void countAllocation(const volatile void*, size_t size) {
     const int64_t now = heapGrowth.fetch_add(int64_t(size), std::memory_order_relaxed) + int64_t(size);
-    if (memoryAllowance != 0 && now > int64_t(std::min<uint64_t>(memoryAllowance, INT64_MAX))) ::_exit(kOutOfMemoryExit);
+    if (memoryAllowance != 0 && now > int64_t(std::min<uint64_t>(memoryAllowance, INT64_MAX)))
+        ::_exit(kOutOfMemoryExit);
 }
 void countFree(const volatile void* p) {
-    heapGrowth.fetch_sub(int64_t(__sanitizer_get_allocated_size(const_cast<const void*>(p))), std::memory_order_relaxed);
+    const size_t size = __sanitizer_get_allocated_size(const_cast<const void*>(p));
+    heapGrowth.fetch_sub(int64_t(size), std::memory_order_relaxed);
 }
 
 // In the child under AddressSanitizer: its report of an allocation that failed (a mapping past
 // RLIMIT_AS, or a size beyond the allocator's) ends the child as the limit does.
 void endOnOutOfMemoryReport(const char* report) {
-    if (std::strstr(report, "out-of-memory") || std::strstr(report, "allocation-size-too-big")) ::_exit(kOutOfMemoryExit);
+    if (std::strstr(report, "out-of-memory") || std::strstr(report, "allocation-size-too-big"))
+        ::_exit(kOutOfMemoryExit);
 }
 #endif
 
@@ -280,7 +283,8 @@ Status runInChildProcess(const std::string& fileName, const ChildReader& reader,
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) return errorIn(fileName, std::string("pipe: ") + std::strerror(errno));
     // Where the child keeps its memory limit for the parent to read (kOutOfMemoryExit).
-    void* page = ::mmap(nullptr, sizeof(std::atomic<uint64_t>), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    void* page =
+        ::mmap(nullptr, sizeof(std::atomic<uint64_t>), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     auto* allowance = page == MAP_FAILED ? nullptr : new (page) std::atomic<uint64_t>(0);
     const pid_t self = ::getpid();
     const pid_t pid = ::fork();

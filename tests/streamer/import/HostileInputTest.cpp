@@ -264,7 +264,8 @@ std::vector<pid_t> readerChildrenOf(pid_t parent) {
         const std::string name = entry.path().filename().string();
         if (name.find_first_not_of("0123456789") != std::string::npos) continue;
         ReaderProcessStat stat;
-        if (readerProcessStat(pid_t(std::stoi(name)), stat) && stat.parent == parent) children.push_back(pid_t(std::stoi(name)));
+        const pid_t pid = pid_t(std::stoi(name));
+        if (readerProcessStat(pid, stat) && stat.parent == parent) children.push_back(pid);
     }
     return children;
 }
@@ -359,7 +360,8 @@ TEST(HostileInput, ReaderChildPastItsMemoryLimitIsRefusedNamingIt) {
             if (!answer.readToEnd(text)) return Status::error(answer.error());
             return Status::error("hog.bin: " + std::string(text.begin(), text.end()));
         });
-    EXPECT_EQ(status.message(), "hog.bin: the test reader ran out of its 256 MiB memory limit (256 MiB) reading the file; refused");
+    EXPECT_EQ(status.message(),
+              "hog.bin: the test reader ran out of its 256 MiB memory limit (256 MiB) reading the file; refused");
 }
 }  // namespace
 }  // namespace vastray::test
