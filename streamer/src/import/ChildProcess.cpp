@@ -143,10 +143,11 @@ void limitMemory(uint64_t bytes) {
 // destructors or atexit handlers.
 [[noreturn]] void runChild(int fd, pid_t parent, uint64_t memoryLimitBytes, const std::function<void(int)>& child) {
     // The child dies with its parent: a `vastray import` or `vastray serve` killed by SIGKILL (no
-    // handler runs that could end the child) would leave its reader running, for up to the time
-    // limit or for ever. The signal comes when the thread that forked ends; that thread waits
-    // for this child in runInChildProcess. A parent gone between the fork and the prctl shows
-    // as another parent (init or a subreaper).
+    // handler runs that could end the child) would leave its reader running until it finished
+    // (its answer then meets a closed pipe) or, in a reader that hangs, for ever: the time limit
+    // is the parent's to enforce. The signal comes when the thread that forked ends; that thread
+    // waits for this child in runInChildProcess. A parent gone between the fork and the prctl
+    // shows as another parent (init or a subreaper).
     if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(kParentGoneExit);
     // A fault ends the child by its signal, whatever handlers the parent installed (the
     // sanitizers' own would turn it into an exit status).
