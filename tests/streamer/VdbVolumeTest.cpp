@@ -4,10 +4,13 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -449,6 +452,43 @@ TEST(VdbVolume, NotVdbFilesAreRefusedByName) {
     EXPECT_TRUE(
         refusedWith(read(vdbPath("missing.vdb")), {"missing.vdb: cannot open: No such file or directory"}));
     EXPECT_TRUE(refusedWith(read(testTmpDir("vdb").string()), {"only regular files are read"}));
+}
+
+// A grid name whose length field claims 2^31 - 1 bytes: OpenVDB allocates (and fills) the string
+// before it reads a byte of it, 2.1 GB for a file of a few hundred bytes. In the child process
+// (the service's path) the allocation fails at once against the child's memory limit (1 GiB +
+// 64 x the file's size) and the file is refused naming the limit.
+TEST(VdbVolume, LengthFieldClaimingGigabytesFailsAgainstTheChildsMemoryLimit) {
+    const std::string path = oneVoxelFile("claims.vdb", Coord(1, 2, 3), 0.5f);
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    // The grid descriptor's unique name, the file's first "density": a uint32 length, then the name.
+    const size_t name = bytes.find("density");
+    ASSERT_NE(name, std::string::npos);
+    ASSERT_GE(name, 4u);
+    uint32_t length = 0;
+    std::memcpy(&length, &bytes[name - 4], 4);
+    ASSERT_EQ(length, 7u);
+    length = 0x7fffffff;
+    std::memcpy(&bytes[name - 4], &length, 4);
+    std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
+
+    VolumeSource source;
+    source.path = path;
+    VolumeReadOptions child;
+    child.childProcess = true;
+    const auto start = std::chrono::steady_clock::now();
+    auto r = readVolumes({source}, child);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_FALSE(r.isOk());
+    const std::string expected =
+        "claims.vdb: OpenVDB ran out of its 1.0 GiB memory limit (1 GiB + 64 x the file's size) reading the file; "
+        "refused";
+    EXPECT_EQ(r.message().rfind(expected, 0), 0u) << r.message();
+    EXPECT_LT(seconds, 5.0) << r.message();
 }
 
 // Sparse: the size check comes before OpenVDB reads a byte.

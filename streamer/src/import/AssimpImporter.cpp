@@ -313,10 +313,15 @@ constexpr int kAssimpSecondsLimit = 600;
 constexpr uint64_t kAssimpMemoryBaseBytes = uint64_t(4) << 30;
 constexpr uint64_t kAssimpMemoryPerFileByte = 64;
 
-uint64_t assimpMemoryLimit(const std::string& path) {
+// The child process's limits for `path` (its memory limit by the rule above).
+import::ChildReader assimpReader(const std::string& path) {
     std::error_code ec;
     const uint64_t size = std::filesystem::file_size(path, ec);
-    return kAssimpMemoryBaseBytes + (ec ? 0 : std::min<uint64_t>(size, uint64_t(1) << 40) * kAssimpMemoryPerFileByte);
+    const uint64_t limit =
+        kAssimpMemoryBaseBytes + (ec ? 0 : std::min<uint64_t>(size, uint64_t(1) << 40) * kAssimpMemoryPerFileByte);
+    return {"assimp", "assimp", kAssimpSecondsLimit, limit,
+            import::memoryLimitText(kAssimpMemoryBaseBytes) + " + " + std::to_string(kAssimpMemoryPerFileByte) +
+                " x the file's size + 4 x its texture files'"};
 }
 
 // readWithAssimp's error, or what it says once the child ran out of its memory limit (assimp
@@ -326,13 +331,8 @@ Status limitedError(const std::string& path, const Status& error) {
     const std::string name = import::fileNameOf(path);
     std::string why = error.message();
     if (why.rfind(name + ": ", 0) == 0) why.erase(0, name.size() + 2);
-    if (import::childMemoryLimit() == 0)  // a lower `ulimit -v` of the caller's, or no limit at all
-        return import::errorIn(name, "assimp ran out of memory reading the file; refused (" + why + ")");
     return import::errorIn(name,
-                           "assimp ran out of its " + import::memoryLimitText(import::childMemoryLimit()) +
-                               " memory limit (" + import::memoryLimitText(kAssimpMemoryBaseBytes) + " + " +
-                               std::to_string(kAssimpMemoryPerFileByte) +
-                               " x the file's size + 4 x its texture files') reading the file; refused (" + why + ")");
+                           import::outOfMemoryText(assimpReader(path), import::childMemoryLimit()) + " (" + why + ")");
 }
 
 // In the child: readWithAssimp's answer, encoded, to the parent. Only this thread exists
@@ -356,14 +356,13 @@ void childReads(int fd, const std::string& path) {
 
 // Runs readWithAssimp in a child process and returns its answer; a child that crashes, is
 // killed, or outlives kAssimpSecondsLimit fails the import by the file's name; one that reaches
-// its memory limit (assimpMemoryLimit) fails it naming the limit.
+// its memory limit (assimpReader) fails it naming the limit.
 Result<ImportedMesh> readInChildProcess(const std::string& path) {
     const std::string name = import::fileNameOf(path);
     Result<ImportedMesh> imported = Status::error("no answer");
     std::vector<import::AlphaMaskRequest> masks;
-    const uint64_t memoryLimit = assimpMemoryLimit(path);
     const Status status = import::runInChildProcess(
-        name, {"assimp", "assimp", kAssimpSecondsLimit, memoryLimit}, [&](int fd) { childReads(fd, path); },
+        name, assimpReader(path), [&](int fd) { childReads(fd, path); },
         [&](import::ChildAnswer& in) {
             std::vector<uint8_t> answer;
             if (!in.readToEnd(answer)) return import::errorIn(name, "reading the assimp process's answer: " + in.error());

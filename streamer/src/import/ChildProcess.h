@@ -77,9 +77,13 @@ struct ChildReader {
     // in the child after the fork: the parent's own mappings, a GPU driver's reservations
     // included, do not count against it); 0: no limit. An allocation past it fails at once
     // (std::bad_alloc; childRanOutOfMemory() tells) instead of paging the machine full. A lower
-    // `ulimit -v` the parent runs under is kept. Not applied in sanitizer builds, whose
-    // allocators die instead of failing (and ASan's shadow lives in the address space).
+    // `ulimit -v` the parent runs under is kept. Under AddressSanitizer (whose allocator dies
+    // instead of failing, and serves small blocks from regions reserved at start-up) the child
+    // also counts its heap, and ends past the limit; the import fails all the same, naming the
+    // limit (outOfMemoryText). None under MemorySanitizer or ThreadSanitizer.
     uint64_t memoryLimitBytes = 0;
+    // How the limit is computed, for messages: "4 GiB + 64 x the file's size".
+    std::string memoryRule;
 };
 
 // In the child: whether an allocation (operator new) failed since the fork, which with a
@@ -94,14 +98,21 @@ void allowMoreChildMemory(uint64_t bytes);
 // In the child: its memory limit with what allowMoreChildMemory added; 0: none.
 uint64_t childMemoryLimit();
 
+// "<library> ran out of its 4.5 GiB memory limit (<memoryRule>) reading the file; refused", or
+// without a limit of its own (0) "<library> ran out of memory reading the file; refused": after
+// the file's name, in the child (once childRanOutOfMemory()) and in the parent (a child the
+// sanitizer's allocator ended).
+std::string outOfMemoryText(const ChildReader& reader, uint64_t limit);
+
 // "4 GiB", "1.5 GiB", "300 MiB": a memory limit in messages.
 std::string memoryLimitText(uint64_t bytes);
 
 // Forks a child that runs `child(fd)`, which writes its answer to `fd`, then ends without the
 // parent's destructors or atexit handlers. A fault ends the child by its signal, whatever
-// handlers the parent installed, and the kernel's OOM killer takes the child before any other
-// process. Here `parent(answer)` reads the answer; when it fails, the child (stuck or still
-// writing) is killed. The child is always reaped. Errors name `fileName`: the time limit, a
+// handlers the parent installed, the kernel's OOM killer takes the child before any other
+// process, and the child is sent SIGKILL when the calling thread ends (its process killed, even
+// by SIGKILL, included). Here `parent(answer)` reads the answer; when it fails, the child (stuck
+// or still writing) is killed. The child is always reaped. Errors name `fileName`: the time limit, a
 // child that died by a signal or exited non-zero before its answer was whole, or else what
 // `parent` returned.
 Status runInChildProcess(const std::string& fileName, const ChildReader& reader,

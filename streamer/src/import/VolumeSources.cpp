@@ -12,6 +12,7 @@
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <type_traits>
 
@@ -175,13 +176,49 @@ Result<Volume> receiveAnswer(import::ChildAnswer& in, const std::string& name, s
     return v;
 }
 
+// The memory the OpenVDB child may take beyond what it inherits (ChildReader::memoryLimitBytes):
+// kVdbMemoryBaseBytes plus kVdbMemoryPerFileByte times the .vdb file's size. What an honest file
+// needs while it is opened (openVdbVolume; its bricks go to the temporary file one at a time):
+// - bounded by the volume limits, whatever the file's size (active tiles make cells and bricks
+//   out of a few bytes): the cell table and majorants (8 bytes a cell, 2^24 cells: 128 MiB), and
+//   per brick its largest value (twice), its sources in the file (8 bytes a grid) and the
+//   answer's copy (2^22 bricks: about 160 MiB); the base leaves room for these and the libraries.
+//   Measured at the limits (2^22 bricks of active tiles in a grid of 16.4 M cells, a 10 KB file,
+//   an 8 GiB temporary file): within this limit, 221 MB resident at the peak;
+// - in proportion to the file: OpenVDB's topology. A leaf takes ~110 bytes for its 64-byte mask
+//   in the file (and 16 bytes in the nonzero leaves' list); an internal node 8 bytes per child
+//   slot (32 KiB, 256 KiB) for its two masks in the file (1 KiB, 8 KiB): at most ~33x the file.
+//   A grid read whole (a file written to a stream, or of format 221 or older) holds its leaves'
+//   voxels too: 2 KiB for at least 129 bytes of file (two masks and a compression byte), ~17x.
+//   The multiple doubles the larger.
+// What it catches: a length field that claims more than the file could hold (OpenVDB allocates a
+// string, a metadata value or a compressed block as long as the file says before reading it): a
+// grid name claiming 2^31 - 1 bytes in a 10 KB file took 2.1 GB and 1.7 s before its read failed;
+// now the allocation fails at once.
+constexpr uint64_t kVdbMemoryBaseBytes = uint64_t(1) << 30;
+constexpr uint64_t kVdbMemoryPerFileByte = 64;
+
+import::ChildReader vdbReader(const std::string& path) {
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    const uint64_t limit =
+        kVdbMemoryBaseBytes + (ec ? 0 : std::min<uint64_t>(size, kMaxVdbFileBytes) * kVdbMemoryPerFileByte);
+    return {"OpenVDB", "the OpenVDB reader process", kVdbReadSecondsLimit, limit,
+            import::memoryLimitText(kVdbMemoryBaseBytes) + " + " + std::to_string(kVdbMemoryPerFileByte) +
+                " x the file's size"};
+}
+
 // Runs in the child: opens the volume (one thread: the parent's TBB workers do not exist here,
-// so OpenVDB's parallel loops run in an arena that asks for none) and sends it.
+// so OpenVDB's parallel loops run in an arena that asks for none) and sends it. An error after
+// an allocation failed names the memory limit.
 void childReads(int fd, int spool, const VolumeSource& source) {
+    const std::string name = import::fileNameOf(source.path);
     tbb::task_arena arena(1);
     arena.execute([&] {
-        sendAnswer(fd, spool, import::fileNameOf(source.path),
-                   openVdbVolume(source.path, source.grid, source.material, source.emissionGrid));
+        Result<Volume> volume = openVdbVolume(source.path, source.grid, source.material, source.emissionGrid);
+        if (!volume && import::childRanOutOfMemory())
+            volume = import::errorIn(name, import::outOfMemoryText(vdbReader(source.path), import::childMemoryLimit()));
+        sendAnswer(fd, spool, name, std::move(volume));
     });
 }
 
@@ -192,7 +229,7 @@ Result<Volume> readInChildProcess(const VolumeSource& source) {
     bool owned = false;  // once the volume's source holds it
     Result<Volume> volume = Status::error("no answer");
     const Status status = import::runInChildProcess(
-        name, {"OpenVDB", "the OpenVDB reader process", kVdbReadSecondsLimit},
+        name, vdbReader(source.path),
         [&](int fd) { childReads(fd, fileno(spool), source); },
         [&](import::ChildAnswer& in) {
             volume = receiveAnswer(in, name, spool);

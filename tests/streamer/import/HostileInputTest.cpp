@@ -1,12 +1,20 @@
 // Issue 16: inputs a hostile user would try. Each is refused by name, quickly, without a
 // crash, a hang or reading a file outside the model's folder.
+#include <poll.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <sstream>
 
 #include "ImportTestFiles.h"
+#include "import/ChildProcess.h"
 
 namespace vastray::test {
 namespace {
@@ -226,5 +234,134 @@ TEST(HostileInput, AssimpCrashFailsTheImportNotTheProcess) {
     EXPECT_EQ(imported->mesh.triangleCount(), 1u);
 }
 
+// What /proc/<pid>/stat says of a process: its state, its parent and when it started (clock
+// ticks after boot: a pid used again belongs to a process that started later).
+struct ReaderProcessStat {
+    char state = '?';
+    pid_t parent = 0;
+    unsigned long long startTicks = 0;
+};
+
+// False when the process is gone (reaped).
+bool readerProcessStat(pid_t pid, ReaderProcessStat& out) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string text;
+    if (!std::getline(in, text)) return false;
+    const size_t nameEnd = text.rfind(')');  // the command name may hold spaces and parentheses
+    if (nameEnd == std::string::npos) return false;
+    std::istringstream fields(text.substr(nameEnd + 1));
+    fields >> out.state >> out.parent;  // fields 3 and 4
+    std::string skipped;
+    for (int field = 5; field < 22; ++field) fields >> skipped;
+    fields >> out.startTicks;  // field 22
+    return bool(fields);
+}
+
+// The processes whose parent is `parent`.
+std::vector<pid_t> readerChildrenOf(pid_t parent) {
+    std::vector<pid_t> children;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+        const std::string name = entry.path().filename().string();
+        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+        ReaderProcessStat stat;
+        const pid_t pid = pid_t(std::stoi(name));
+        if (readerProcessStat(pid, stat) && stat.parent == parent) children.push_back(pid);
+    }
+    return children;
+}
+
+// Whether the process that started at `startTicks` has ended (gone, or a zombie its new parent
+// has not reaped yet).
+bool readerHasEnded(pid_t pid, unsigned long long startTicks) {
+    ReaderProcessStat stat;
+    return !readerProcessStat(pid, stat) || stat.startTicks != startTicks || stat.state == 'Z' || stat.state == 'X';
+}
+
+// The readers' child process (streamer/src/import/ChildProcess.h: assimp's, and OpenVDB's in the
+// service) dies with the process that forked it. A process (standing in for `vastray import` or
+// the server) runs a reader whose child never
+// answers; once the child runs its reader, the process is killed with SIGKILL, which runs no
+// code of its. The child must end too, within a few seconds (it is sent SIGKILL as its parent
+// dies): before PR_SET_PDEATHSIG it waited for its time limit (600 s for assimp and OpenVDB),
+// or for ever in a reader that hangs.
+TEST(HostileInput, ReaderChildDiesWithTheProcessThatForkedIt) {
+    int ready[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    const pid_t parent = ::fork();
+    ASSERT_GE(parent, 0);
+    if (parent == 0) {
+        ::close(ready[0]);
+        const import::ChildReader reader{"the test reader", "the test reader", 60, 0, ""};
+        (void)import::runInChildProcess(
+            "hang.bin", reader,
+            [](int fd) {
+                const char running = 1;
+                import::writeToParent(fd, &running, 1);
+                for (;;) ::pause();  // a reader that never finishes
+            },
+            [&](import::ChildAnswer& answer) {
+                char running = 0;
+                if (!answer.value(running)) return Status::error(answer.error());
+                const ssize_t told = ::write(ready[1], &running, 1);  // the child runs its reader
+                (void)told;
+                answer.value(running);  // blocks until the time limit
+                return Status::ok();
+            });
+        ::_exit(0);
+    }
+    ::close(ready[1]);
+    pollfd p{ready[0], POLLIN, 0};
+    ASSERT_EQ(::poll(&p, 1, 30000), 1) << "the reader's child did not start within 30 s";
+    ::close(ready[0]);
+    const std::vector<pid_t> children = readerChildrenOf(parent);
+    ASSERT_EQ(children.size(), 1u);
+    const pid_t child = children[0];
+    ReaderProcessStat stat;
+    ASSERT_TRUE(readerProcessStat(child, stat));
+
+    ASSERT_EQ(::kill(parent, SIGKILL), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(parent, &status, 0), parent);
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!readerHasEnded(child, stat.startTicks) && std::chrono::steady_clock::now() < deadline)
+        ::usleep(10000);
+    const bool ended = readerHasEnded(child, stat.startTicks);
+    if (!ended) ::kill(child, SIGKILL);  // not left behind by a failing test
+    EXPECT_TRUE(ended) << "the reader's child (pid " << child << ") outlived its killed parent by 10 s";
+}
+
+
+// A reader whose child allocates past its memory limit in 64 KiB blocks (each too small for a
+// mapping of its own under AddressSanitizer, whose allocator serves them from memory reserved at
+// start-up, out of RLIMIT_AS's sight): the file is refused naming the limit, with RLIMIT_AS
+// (std::bad_alloc in the child) or under AddressSanitizer (its heap counted; the child ends).
+TEST(HostileInput, ReaderChildPastItsMemoryLimitIsRefusedNamingIt) {
+    const import::ChildReader reader{"the test reader", "the test reader", 60, uint64_t(256) << 20, "256 MiB"};
+    const Status status = import::runInChildProcess(
+        "hog.bin", reader,
+        [&](int fd) {
+            std::vector<std::unique_ptr<char[]>> blocks;
+            std::string answer = "allocated 1 GiB";
+            try {
+                for (int i = 0; i < 16384; ++i) {
+                    blocks.emplace_back(new char[64 << 10]);
+                    std::memset(blocks.back().get(), 1, 64 << 10);
+                }
+            } catch (const std::bad_alloc&) {
+                blocks.clear();
+                answer = import::childRanOutOfMemory() ? import::outOfMemoryText(reader, import::childMemoryLimit())
+                                                       : "std::bad_alloc without the limit";
+            }
+            import::writeToParent(fd, answer.data(), answer.size());
+        },
+        [](import::ChildAnswer& answer) {
+            std::vector<uint8_t> text;
+            if (!answer.readToEnd(text)) return Status::error(answer.error());
+            return Status::error("hog.bin: " + std::string(text.begin(), text.end()));
+        });
+    EXPECT_EQ(status.message(),
+              "hog.bin: the test reader ran out of its 256 MiB memory limit (256 MiB) reading the file; refused");
+}
 }  // namespace
 }  // namespace vastray::test

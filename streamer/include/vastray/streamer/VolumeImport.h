@@ -78,7 +78,8 @@ struct VolumeReadOptions {
     // Read each .vdb in a child process (fork), as assimp's formats are read: a crash or a hang
     // of OpenVDB on a hostile file (past kVdbReadSecondsLimit) fails the import by the file's
     // name instead of ending the caller, and the child, not the caller, is the kernel's first
-    // choice when memory runs out (OpenVDB allocates what a file's length fields say). The
+    // choice when memory runs out (OpenVDB allocates what a file's length fields say), and it
+    // may take at most 1 GiB + 64 x the file's size (VolumeSources.cpp kVdbMemoryBaseBytes). The
     // volume comes back through a pipe, its bricks through a temporary file, and is checked
     // again (checkVolume, and each brick when it is read). The render service sets it; the CLI
     // reads in its own process.
