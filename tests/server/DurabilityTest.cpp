@@ -48,9 +48,7 @@ TEST_F(ServerTest, QueuedJobsRunAfterKillAndRestartInPriorityOrder) {
 TEST_F(ServerTest, RunningJobIsRenderedAgainAfterKill) {
     startServer();
     const std::string sceneId = uploadSphere()["id"];
-    // Large enough to be caught RUNNING (about a second on two cores).
-    const json body = {{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}};
-    auto res = submit(body);
+    auto res = submit(slowJob(sceneId));
     ASSERT_EQ(res->status, 202);
     const std::string id = json::parse(res->body)["id"];
     waitForState(id, "JOB_STATE_RUNNING");
@@ -60,7 +58,7 @@ TEST_F(ServerTest, RunningJobIsRenderedAgainAfterKill) {
     startServer();
     const json job = waitForState(id, "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(job["attempts"], 2) << "the interrupted render ran again";
-    EXPECT_EQ(result(id), cliRender(sceneId, "--resolution 160x160 --spp 48"));
+    EXPECT_EQ(result(id), cliRender(sceneId, kSlowJobFlags));
     EXPECT_TRUE(std::filesystem::is_empty(dataDir() / "tmp"));
 }
 
@@ -161,13 +159,10 @@ TEST_F(ServerTest, ScenesShareThePoolAndStayOpenWhileTheyFit) {
 // SIGTERM: a running job either finishes within the grace or stays RUNNING and runs again at
 // the next start; either way it finishes exactly once.
 TEST_F(ServerTest, SigtermFinishesOrHandsOverTheRunningJob) {
-    const json slow = {{"width", 160}, {"height", 160}, {"spp", 48}};
     for (const char* grace : {"30", "0"}) {
         SCOPED_TRACE(std::string("--shutdown-grace ") + grace);
         startServer({"--shutdown-grace", grace});
-        json body = slow;
-        body["scene_id"] = uploadSphere()["id"];
-        auto res = submit(body);
+        auto res = submit(slowJob(uploadSphere()["id"]));
         ASSERT_EQ(res->status, 202);
         const std::string id = json::parse(res->body)["id"];
         waitForState(id, "JOB_STATE_RUNNING");
@@ -186,7 +181,7 @@ TEST_F(ServerTest, SigtermFinishesOrHandsOverTheRunningJob) {
 TEST_F(ServerTest, CancellingARunningJobDiscardsItsImage) {
     startServer();
     const std::string sceneId = uploadSphere()["id"];
-    auto res = submit({{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}});
+    auto res = submit(slowJob(sceneId));
     ASSERT_EQ(res->status, 202);
     const std::string id = json::parse(res->body)["id"];
     waitForState(id, "JOB_STATE_RUNNING");

@@ -101,7 +101,6 @@ protected:
     int cliRenders_ = 0;
 };
 
-// A small job: 32x32, 2 spp, the sphere framed by the default camera.
 // The data of every SSE block of GET /v1/jobs/ID/events, in order (the stream ends after the
 // job's final state).
 inline std::vector<json> watchEvents(httplib::Client client, const std::string& jobId) {
@@ -117,9 +116,20 @@ inline std::vector<json> watchEvents(httplib::Client client, const std::string& 
     return events;
 }
 
+// A small job: 32x32, 2 spp, the sphere framed by the default camera.
 inline json smallJob(const std::string& sceneId) {
     return {{"scene_id", sceneId}, {"width", 32}, {"height", 32}, {"spp", 2}};
 }
+
+// A job large enough to be caught RUNNING by a 20 ms poll, and on a two-worker server to run
+// while the other worker runs another: 128x128, 16 spp (lavapipe, 2 cores: ~1-2 s of pipeline
+// builds, then ~1-2 s of walk and shade kernels; the 160x160, 48 spp job before it took 6-7 s
+// of CPU a render, and some tests render it six times). kSlowJobFlags: the same job for
+// `vastray render` (cliRender).
+inline json slowJob(const std::string& sceneId) {
+    return {{"scene_id", sceneId}, {"width", 128}, {"height", 128}, {"spp", 16}};
+}
+inline const std::string kSlowJobFlags = "--resolution 128x128 --spp 16";
 
 // The message of an HTTP error body ({"error": {"message": ...}}); empty without one.
 inline std::string errorMessage(const httplib::Result& res) {

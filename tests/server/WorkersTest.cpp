@@ -16,10 +16,11 @@ using google::protobuf::util::TimeUtil;
 
 const std::vector<std::string> kTwoWorkers = {"--backend", "vulkan", "--gpu-device", "0,0"};
 
-// Large enough that two of them overlap (about a second each alone on two cores), small
-// enough for lavapipe.
-json slowJob(const std::string& sceneId, int seed) {
-    return {{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}, {"seed", seed}};
+// slowJob (ServerTestSupport.h) with a seed of its own: two of them overlap on two workers.
+json seededSlowJob(const std::string& sceneId, int seed) {
+    json body = slowJob(sceneId);
+    body["seed"] = seed;
+    return body;
 }
 
 uint64_t u64(const json& value) {
@@ -76,7 +77,7 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
     EXPECT_NE(server_.log().find("backend vulkan, 2 workers\n"), std::string::npos) << server_.log();
     EXPECT_NE(server_.log().find("worker 1 on Vulkan device [0] "), std::string::npos) << server_.log();
     const std::string sceneId = uploadSphere()["id"];
-    const std::string a = submitId(slowJob(sceneId, 1)), b = submitId(slowJob(sceneId, 2));
+    const std::string a = submitId(seededSlowJob(sceneId, 1)), b = submitId(seededSlowJob(sceneId, 2));
     // Both jobs watched from the start: each stream's progress is its own job's.
     std::vector<json> eventsA, eventsB;
     std::thread watchA([&] { eventsA = watchEventsOn(server_.httpPort(), a); });
@@ -118,7 +119,7 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
 
     // The same jobs on a one-worker server (the default --gpu-device): the same bytes.
     startServer({"--backend", "vulkan"});
-    const std::string a1 = submitId(slowJob(sceneId, 1)), b1 = submitId(slowJob(sceneId, 2));
+    const std::string a1 = submitId(seededSlowJob(sceneId, 1)), b1 = submitId(seededSlowJob(sceneId, 2));
     EXPECT_EQ(waitForState(a1, "JOB_STATE_SUCCEEDED")["stats"]["worker"], 0);
     waitForState(b1, "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(result(a1), imageA);
@@ -128,7 +129,7 @@ TEST_F(WorkersTest, TwoWorkersRenderTwoJobsAtOnceAsOneWorkerDoes) {
 TEST_F(WorkersTest, CancellingOneOfTwoRunningJobsLeavesTheOther) {
     startServer(kTwoWorkers);
     const std::string sceneId = uploadSphere()["id"];
-    const std::string a = submitId(slowJob(sceneId, 1)), b = submitId(slowJob(sceneId, 2));
+    const std::string a = submitId(seededSlowJob(sceneId, 1)), b = submitId(seededSlowJob(sceneId, 2));
     ASSERT_TRUE(waitUntilBothRunning(a, b));
     auto res = http().Post(("/v1/jobs/" + a + ":cancel").c_str(), "{}", "application/json");
     ASSERT_EQ(res->status, 200) << res->body;
@@ -140,7 +141,7 @@ TEST_F(WorkersTest, CancellingOneOfTwoRunningJobsLeavesTheOther) {
     EXPECT_EQ(getJob(a)["state"], "JOB_STATE_CANCELLED");
     EXPECT_EQ(http().Get(("/v1/jobs/" + a + "/result").c_str())->status, 409);
     EXPECT_FALSE(std::filesystem::exists(dataDir() / "results" / (a + ".png")));
-    EXPECT_EQ(result(b), cliRender(sceneId, "--resolution 160x160 --spp 48 --seed 2"))
+    EXPECT_EQ(result(b), cliRender(sceneId, kSlowJobFlags + " --seed 2"))
         << "the other job's image is whole";
 }
 
@@ -153,7 +154,7 @@ TEST_F(WorkersTest, SigtermFinishesOrHandsOverBothRunningJobs) {
         flags.insert(flags.end(), {"--shutdown-grace", grace});
         startServer(flags);
         const std::string sceneId = uploadSphere()["id"];
-        const std::string a = submitId(slowJob(sceneId, 1)), b = submitId(slowJob(sceneId, 2));
+        const std::string a = submitId(seededSlowJob(sceneId, 1)), b = submitId(seededSlowJob(sceneId, 2));
         ASSERT_TRUE(waitUntilBothRunning(a, b));
         const int status = server_.kill(SIGTERM);
         EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << server_.log();

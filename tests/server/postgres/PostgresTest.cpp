@@ -170,8 +170,7 @@ TEST_F(PostgresServeTest, JobsSurviveKillAndRestart) {
     startServer(database());
     EXPECT_NE(server_.log().find("job store " + cluster_.url() + "\n"), std::string::npos) << server_.log();
     const std::string sceneId = uploadSphere()["id"];
-    // Large enough to be caught RUNNING (about a second on two cores).
-    auto res = submit({{"scene_id", sceneId}, {"width", 160}, {"height", 160}, {"spp", 48}});
+    auto res = submit(slowJob(sceneId));
     ASSERT_EQ(res->status, 202) << res->body;
     const std::string running = json::parse(res->body)["id"];
     json queued = smallJob(sceneId);
@@ -186,7 +185,7 @@ TEST_F(PostgresServeTest, JobsSurviveKillAndRestart) {
     startServer(database());
     const json job = waitForState(running, "JOB_STATE_SUCCEEDED");
     EXPECT_EQ(job["attempts"], 2) << "the interrupted render ran again";
-    EXPECT_EQ(result(running), cliRender(sceneId, "--resolution 160x160 --spp 48"));
+    EXPECT_EQ(result(running), cliRender(sceneId, kSlowJobFlags));
     EXPECT_EQ(waitForState(queuedId, "JOB_STATE_SUCCEEDED")["attempts"], 1);
     res = submit(queued);
     ASSERT_EQ(res->status, 200) << "the request id is known after the restart: " << res->body;

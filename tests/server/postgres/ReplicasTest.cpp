@@ -100,8 +100,10 @@ TEST_F(ReplicasTest, ATiledJobSurvivesAReplicaKilledWhileItHoldsALease) {
     auto put = client(0).Put("/v1/scenes?name=sphere.ply", readBytes(spherePath_), "application/octet-stream");
     ASSERT_TRUE(put && put->status == 200) << (put ? put->body : "no response");
     const std::string sceneId = json::parse(put->body)["id"];
-    // About half a second of rendering per tile on two cores: long enough to catch leases held.
-    const json body = {{"scene_id", sceneId}, {"width", 128}, {"height", 128}, {"spp", 256}, {"tiles", {4, 4}}};
+    // Long enough to catch leases held: a 32x32 tile at 64 spp is ~0.2-0.8 s of walk and shade
+    // kernels on lavapipe (2 cores). At 256 spp the tiles and the whole-frame render below took
+    // ~40 s of CPU.
+    const json body = {{"scene_id", sceneId}, {"width", 128}, {"height", 128}, {"spp", 64}, {"tiles", {4, 4}}};
     auto res = client(1).Post("/v1/jobs", body.dump(), "application/json");
     ASSERT_TRUE(res && res->status == 202) << (res ? res->body : "no response");
     const std::string jobId = json::parse(res->body)["id"];
@@ -169,7 +171,7 @@ TEST_F(ReplicasTest, ATiledJobSurvivesAReplicaKilledWhileItHoldsALease) {
     ASSERT_TRUE(result && result->status == 200);
     const auto out = dir_ / "whole.png";
     const auto run = runVastray("render " + (storage() / "scenes" / (sceneId + ".vast")).string() + " -o " +
-                                out.string() + " --backend vulkan --progress none --resolution 128x128 --spp 256");
+                                out.string() + " --backend vulkan --progress none --resolution 128x128 --spp 64");
     ASSERT_EQ(run.exitCode, 0) << run.output;
     EXPECT_EQ(result->body, readBytes(out)) << "assembled tiles = the whole-frame render";
 }
