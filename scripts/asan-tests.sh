@@ -13,7 +13,10 @@ JOBS=${JOBS:-$(nproc)}
 if [ ! -f "$BUILD/build.ninja" ]; then
   cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 -DVASTRAY_FUZZ=ON
 fi
-cmake --build "$BUILD" -j "$JOBS" --target core_tests streamer_tests
+# ASAN_BUILD_ALSO: more targets of the same build to compile in the same ninja run (CI names
+# fuzz_targets, which fuzz-smoke builds next: one run keeps both cores busy where the tests' last
+# large files would compile alone).
+cmake --build "$BUILD" -j "$JOBS" --target core_tests streamer_tests ${ASAN_BUILD_ALSO:-}
 ROOT=$PWD
 cd "$BUILD"
 # Leaks are failures too (except inside libassimp: fuzz/lsan.supp says why); UBSan stops at the
