@@ -54,8 +54,20 @@ enum Kernel : int {
     kNoKernel = -1
 };
 // Walk passes per paging step out of core (with shading between them): enough for paths that
-// stay in resident chunks to go on for a few bounces before the host pages again.
+// stay in resident chunks to go on for a few bounces before the host pages again. A step's later
+// passes walk only the rays the shading between them started (parked rays wait for the next
+// step), so more of them pay only where the wave is large or the steps cost more to start
+// (PERF_NOTES 103):
+// - 3 by default (the 10M city at 4x over budget, a wave of ~158 k paths: 4 passes 11 % slower);
+// - 5 for a step whose chunk table holds chunks absent because their copies still run (partial
+//   residency): the step then outlasts those copies instead of ending before them and paging
+//   again (the 64M city at 512 MiB, a wave of 983 k paths: 1 % faster on a lease whose bus moved
+//   ~42 GB/s; 5 passes in every step 10 % faster on one at ~30 GB/s);
+// - 5 with the path state in host memory (a wave of 524 k paths whose steps cost more to start:
+//   the 10M city at 16x over budget 9-15 % faster kept open).
 constexpr uint32_t kPassesPerPagingStep = 3;
+constexpr uint32_t kPassesWhileCopiesRun = 5;
+constexpr uint32_t kPassesWithHostState = 5;
 // Streamed waves with volume bricks paged and the chunks resident: tiles of a sixteenth of the
 // wave's paths at most (Wavefront::render, PERF_NOTES 75).
 constexpr uint32_t kFineWindowTiles = 16;
@@ -679,8 +691,9 @@ private:
         // dispatch), so that no path needs the step's region in a later step. Paging chunks
         // only: a few passes, then the host pages again; one without shading (no pass after the
         // first has rays to walk).
-        const uint32_t passes = !shade ? 1u : volumes || textures ? events : kPassesPerPagingStep;
+        const uint32_t pagingPasses = !shade ? 1u : volumes || textures ? events : 0u;
         for (uint64_t step = 0;; ++step) {
+            const uint32_t passes = pagingPasses > 0 ? pagingPasses : chunkPagingPasses();
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             beginPagingStep(push);
             if (volumes) clearVolumeCounters(*volumes);
@@ -800,6 +813,11 @@ private:
         return uploadResidency(arrived > 0 ? completed : kAllCopies);
     }
 
+    // Walk passes of the next paging step when it pages chunks only (kPassesPerPagingStep).
+    uint32_t chunkPagingPasses() const {
+        return b_.walkBits ? kPassesWithHostState : residencyMasked_ ? kPassesWhileCopiesRun : kPassesPerPagingStep;
+    }
+
     // Whether chunk c's copy into its slot (DMA) was still running at timeline value `completed`.
     bool copyRunning(uint32_t c, uint64_t completed) const {
         return b_.uploader && b_.uploader->copyValue(c) > completed;
@@ -840,8 +858,8 @@ private:
         DeviceVolumes* volumes = b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
         DeviceTextures* textures = pagedTextures();
         // Paging bricks or pages: every path a step resumes runs to its end or its next park (walkWave).
-        const uint32_t passes = volumes || textures ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u)
-                                        : kPassesPerPagingStep;
+        const uint32_t pagingPasses =
+            volumes || textures ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u) : 0u;
         const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs, b_.frames);
         record([=, this](VkCommandBuffer cmd) {  // every group idle
             vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
@@ -888,6 +906,7 @@ private:
             return Status::ok();
         };
         for (uint64_t step = 0;; ++step) {
+            const uint32_t passes = pagingPasses > 0 ? pagingPasses : chunkPagingPasses();
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             // Open tiles in the free slots, and write the window.
             // (A slot whose tile closed after the last step is free once the host has read it.)
