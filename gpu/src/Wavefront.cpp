@@ -691,9 +691,8 @@ private:
         // dispatch), so that no path needs the step's region in a later step. Paging chunks
         // only: a few passes, then the host pages again; one without shading (no pass after the
         // first has rays to walk).
-        const uint32_t pagingPasses = !shade ? 1u : volumes || textures ? events : 0u;
         for (uint64_t step = 0;; ++step) {
-            const uint32_t passes = pagingPasses > 0 ? pagingPasses : chunkPagingPasses();
+            const uint32_t passes = !shade ? 1u : volumes || textures ? events : chunkPagingPasses();
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             beginPagingStep(push);
             if (volumes) clearVolumeCounters(*volumes);
@@ -858,8 +857,7 @@ private:
         DeviceVolumes* volumes = b_.volumes && b_.volumes->paged() ? b_.volumes : nullptr;
         DeviceTextures* textures = pagedTextures();
         // Paging bricks or pages: every path a step resumes runs to its end or its next park (walkWave).
-        const uint32_t pagingPasses =
-            volumes || textures ? (options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u) : 0u;
+        const uint32_t events = options_.integrator == IntegratorKind::AmbientOcclusion ? 2u : options_.maxDepth + 1u;
         const StateLayout state = stateLayout(b_.pathCapacity, b_.uvs, b_.frames);
         record([=, this](VkCommandBuffer cmd) {  // every group idle
             vkCmdFillBuffer(cmd, b_.state->handle(), state.groupState, uint64_t(groupCount) * 8, kGroupIdle);
@@ -906,7 +904,7 @@ private:
             return Status::ok();
         };
         for (uint64_t step = 0;; ++step) {
-            const uint32_t passes = pagingPasses > 0 ? pagingPasses : chunkPagingPasses();
+            const uint32_t passes = volumes || textures ? events : chunkPagingPasses();
             if (job_.cancel && job_.cancel->load()) return Status::error("render cancelled");
             // Open tiles in the free slots, and write the window.
             // (A slot whose tile closed after the last step is free once the host has read it.)
