@@ -11,6 +11,7 @@
 
 #include "render/ChunkCache.h"
 #include "render/DemandPager.h"
+#include "render/PrefetchOrder.h"
 #include "vastray/core/Camera.h"
 #include "vastray/core/PathShading.h"
 #include "vastray/core/RenderMemory.h"
@@ -26,24 +27,14 @@ double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Out of core, queues the chunks for decoding in the background, nearest the eye first, as many
-// as the host cache holds (with what it holds already): the first wave's rays mostly wait for
-// the nearest ones, and each later load then finds its chunk decoded (PERF_NOTES 43).
-void prefetchForRender(const PackageInfo& info, ChunkCache& cache, const Vec3f& eye) {
-    std::vector<std::pair<float, uint32_t>> order;
-    order.reserve(info.chunks.size());
-    for (const ChunkInfo& c : info.chunks) {
-        float d2 = 0;
-        for (int a = 0; a < 3; ++a) {
-            const float below = c.cell.lo[a] - eye[a], above = eye[a] - c.cell.hi[a];
-            const float d = std::max({below, above, 0.0f});
-            d2 += d * d;
-        }
-        order.emplace_back(d2, c.id);
-    }
-    std::sort(order.begin(), order.end());
+// Out of core, queues the chunks for decoding in the background, as many as the host cache
+// holds (with what it holds already), in the order the streamed tiles first see them
+// (prefetchOrder: the rows of the image, top first): the first waves' rays wait for the chunks
+// the top of the image shows, and each later load then finds its chunk decoded (PERF_NOTES 43, 104).
+void prefetchForRender(const PackageInfo& info, ChunkCache& cache, const Camera& camera, const PixelBounds& bounds,
+                       uint32_t frameWidth, uint32_t frameHeight) {
     uint64_t bytes = 0;
-    for (const auto& [d2, id] : order) {
+    for (uint32_t id : prefetchOrder(info, camera, bounds, frameWidth, frameHeight)) {
         bytes += info.chunks[id].residentBytes;
         if (bytes > cache.capacity()) break;
         cache.prefetchBackground(id);
@@ -159,7 +150,7 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     const Clock::time_point start = Clock::now();
     st.pager->beginRender();
     if (st.options.prefetchScene && st.backend->slotCount() < info.chunks.size())
-        prefetchForRender(info, *st.cache, camera.eye);
+        prefetchForRender(info, *st.cache, camera, bounds, options.width, options.height);
     DeviceRenderJob job;
     job.options = &options;
     job.camera = camera;

@@ -165,8 +165,9 @@ struct StreamingOptions {
     // most 32: gpu::PoolPlan::outputPixels); for comparisons.
     uint32_t windowTiles = 0;
     // Out of core, every chunk the host cache can hold is queued for decoding when a render
-    // starts, nearest the camera first, behind the chunks rays wait for: a later load then
-    // finds its chunk decoded instead of waiting for it (false: decode on demand only).
+    // starts, in the order the image's rows (top first) first show them (render/PrefetchOrder.h),
+    // behind the chunks rays wait for: a later load then finds its chunk decoded instead of
+    // waiting for it (false: decode on demand only).
     bool prefetchScene = true;
     // When the host cache holds the whole decoded scene, every chunk is queued for decoding as
     // the scene opens, before the backend factory runs: a factory that waits for a device being
