@@ -97,6 +97,34 @@ void ChunkCache::prefetchBackground(uint32_t id) {
     startLocked(id, true);
 }
 
+namespace {
+// Sorts `items` (whose ids `idOf` gives) so that those `first` names come first, in its order
+// (an id's first place in it), the others after them in their own order.
+template <typename Items, typename IdOf>
+void putFirst(Items& items, std::span<const uint32_t> first, IdOf idOf) {
+    std::unordered_map<uint32_t, size_t> rank;
+    for (uint32_t id : first) rank.emplace(id, rank.size());
+    auto rankOf = [&](const auto& item) {
+        auto it = rank.find(idOf(item));
+        return it == rank.end() ? rank.size() : it->second;
+    };
+    std::stable_sort(items.begin(), items.end(), [&](const auto& a, const auto& b) { return rankOf(a) < rankOf(b); });
+}
+}  // namespace
+
+std::vector<uint32_t> speculativeOrder(std::span<const uint32_t> waiting, std::span<const uint32_t> first) {
+    std::vector<uint32_t> order(waiting.begin(), waiting.end());
+    putFirst(order, first, [](uint32_t id) { return id; });
+    return order;
+}
+
+void ChunkCache::prefetchBackground(std::span<const uint32_t> ids) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (uint32_t id : ids)
+        if (id < reader_.info().chunks.size()) startLocked(id, true);  // new ones join the queue's end
+    putFirst(background_, ids, [](const Job& job) { return job.first; });
+}
+
 uint64_t ChunkCache::unusedBytes() const {
     std::lock_guard<std::mutex> lock(mutex_);
     uint64_t total = 0;

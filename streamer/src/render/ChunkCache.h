@@ -10,6 +10,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -20,6 +21,10 @@
 namespace vastray {
 
 using ChunkHandle = std::shared_ptr<const DecodedChunk>;
+
+// The speculative queue's order once `first` is asked for ahead of it: the ids of `first` that
+// are `waiting`, in `first`'s order (each once), then the other waiting ids in their order.
+std::vector<uint32_t> speculativeOrder(std::span<const uint32_t> waiting, std::span<const uint32_t> first);
 
 class ChunkCache {
 public:
@@ -35,6 +40,10 @@ public:
     // probably need later. Speculative chunks are kept until their first get(), so the caller
     // bounds their bytes (see prefetchForRender).
     void prefetchBackground(uint32_t id);
+    // The same for `ids`, in this order ahead of every other speculative chunk: those already
+    // waiting in the background queue move there (a render's order replaces the order the
+    // scene's chunks were queued in as it opened, StreamingOptions::decodeOnOpen).
+    void prefetchBackground(std::span<const uint32_t> ids);
     // Bytes of the chunks decoded or in flight that no get() has used yet.
     uint64_t unusedBytes() const;
     // The decoded chunk (waits for its decode; decodes it now when nobody asked before).

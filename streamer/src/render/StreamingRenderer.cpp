@@ -31,14 +31,15 @@ double secondsSince(Clock::time_point start) {
 // holds (with what it holds already), in the order the streamed tiles first see them
 // (prefetchOrder: the rows of the image, top first): the first waves' rays wait for the chunks
 // the top of the image shows, and each later load then finds its chunk decoded (PERF_NOTES 43, 104).
+// Chunks queued as the scene opened (decodeOnOpen, in id order) and not yet decoded take this order.
 void prefetchForRender(const PackageInfo& info, ChunkCache& cache, const Camera& camera, const PixelBounds& bounds,
                        uint32_t frameWidth, uint32_t frameHeight) {
+    std::vector<uint32_t> order = prefetchOrder(info, camera, bounds, frameWidth, frameHeight);
     uint64_t bytes = 0;
-    for (uint32_t id : prefetchOrder(info, camera, bounds, frameWidth, frameHeight)) {
-        bytes += info.chunks[id].residentBytes;
-        if (bytes > cache.capacity()) break;
-        cache.prefetchBackground(id);
-    }
+    size_t fits = 0;
+    while (fits < order.size() && (bytes += info.chunks[order[fits]].residentBytes) <= cache.capacity()) ++fits;
+    order.resize(fits);
+    cache.prefetchBackground(order);
 }
 
 }  // namespace
