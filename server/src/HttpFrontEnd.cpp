@@ -10,7 +10,6 @@
 // the route takes (bodyLimit); unsupported content types are 415; each read waits at most
 // kReadTimeoutSeconds; connections get a thread each from a pool that grows to
 // kMaxHttpThreads, so that slow clients holding some threads do not stop the others.
-#include <google/protobuf/util/json_util.h>
 #include <httplib.h>
 
 #include <algorithm>
@@ -26,24 +25,6 @@
 #include "vastray/server/FrontEnds.h"
 
 namespace vastray::server {
-
-std::string toJson(const google::protobuf::Message& message) {
-    google::protobuf::util::JsonPrintOptions options;
-    options.always_print_primitive_fields = true;
-    options.preserve_proto_field_names = true;
-    std::string json;
-    (void)google::protobuf::util::MessageToJsonString(message, &json, options);
-    return json;
-}
-
-ServiceStatus fromJson(const std::string& body, google::protobuf::Message* message) {
-    if (body.empty()) return {};
-    if (body.size() > kMaxJsonBodyBytes) return invalidArgument("body", "larger than 1 MiB");
-    google::protobuf::util::JsonParseOptions options;  // unknown fields are errors
-    auto status = google::protobuf::util::JsonStringToMessage(body, message, options);
-    if (!status.ok()) return invalidArgument("body", std::string(status.message()));
-    return {};
-}
 
 namespace {
 
