@@ -7,9 +7,8 @@
 
 namespace vastray {
 
-uint32_t firstRowSeen(const Aabb& cell, const Camera& camera, const PixelBounds& bounds, uint32_t frameWidth,
+uint32_t firstRowSeen(const Aabb& cell, const CameraRays& rays, const PixelBounds& bounds, uint32_t frameWidth,
                       uint32_t frameHeight) {
-    const CameraRays rays(camera, frameWidth, frameHeight);
     const Vec3f f = rays.forward(), u = rays.up(), r = rays.right();
     const float uu = dot(u, u), rr = dot(r, r);
     float lowY = 1e30f, highY = -1e30f, lowX = 1e30f, highX = -1e30f;
@@ -41,6 +40,7 @@ uint32_t firstRowSeen(const Aabb& cell, const Camera& camera, const PixelBounds&
 
 std::vector<uint32_t> prefetchOrder(const PackageInfo& package, const Camera& camera, const PixelBounds& bounds,
                                     uint32_t frameWidth, uint32_t frameHeight) {
+    const CameraRays rays(camera, frameWidth, frameHeight);
     const uint32_t band = std::max(1u, bounds.height() / 16);
     std::vector<std::tuple<uint32_t, float, uint32_t>> keyed;
     keyed.reserve(package.chunks.size());
@@ -50,7 +50,7 @@ std::vector<uint32_t> prefetchOrder(const PackageInfo& package, const Camera& ca
             const float d = std::max({c.cell.lo[a] - camera.eye[a], camera.eye[a] - c.cell.hi[a], 0.0f});
             d2 += d * d;
         }
-        const uint32_t row = firstRowSeen(c.cell, camera, bounds, frameWidth, frameHeight);
+        const uint32_t row = firstRowSeen(c.cell, rays, bounds, frameWidth, frameHeight);
         keyed.emplace_back(row >= bounds.height() ? UINT32_MAX : row / band, d2, c.id);
     }
     std::sort(keyed.begin(), keyed.end());

@@ -10,10 +10,10 @@
 namespace vastray {
 
 // The first row of the region `bounds` (frame pixels, rows growing downwards) that the box
-// `cell` may cover on a `frameWidth` x `frameHeight` image seen by `camera`: its corners
-// projected, a corner at or behind the eye's plane putting the box at row 0 (it may then cover
-// any row); `bounds.height()` where the box lies wholly behind the eye or outside the region.
-uint32_t firstRowSeen(const Aabb& cell, const Camera& camera, const PixelBounds& bounds, uint32_t frameWidth,
+// `cell` may cover on the `frameWidth` x `frameHeight` image of `rays` (made for that size): its
+// corners projected, a corner at or behind the eye's plane putting the box at row 0 (it may then
+// cover any row); `bounds.height()` where the box lies wholly behind the eye or outside the region.
+uint32_t firstRowSeen(const Aabb& cell, const CameraRays& rays, const PixelBounds& bounds, uint32_t frameWidth,
                       uint32_t frameHeight);
 
 // Every chunk of `package`, in the order the device wavefront's streamed tiles (rows of the

@@ -25,34 +25,38 @@ Aabb box(Vec3f lo, Vec3f hi) {
 
 const PixelBounds kFrame{0, 0, 100, 100};
 
+uint32_t firstRowSeen(const Aabb& cell, const Camera& camera, const PixelBounds& bounds) {
+    return vastray::firstRowSeen(cell, CameraRays(camera, 100, 100), bounds, 100, 100);
+}
+
 TEST(PrefetchOrder, FirstRowIsTheProjectedTopOfTheBox) {
     const Camera camera = frontCamera();
     // Top corners at y = 2, nearest the eye at z = 0.1: row (1 - 2 / 4.9) * 50 = 29.6.
-    EXPECT_EQ(firstRowSeen(box({-0.5f, 1, -0.1f}, {0.5f, 2, 0.1f}), camera, kFrame, 100, 100), 29u);
+    EXPECT_EQ(firstRowSeen(box({-0.5f, 1, -0.1f}, {0.5f, 2, 0.1f}), camera, kFrame), 29u);
     // Below the centre: the top y = -1 lies farthest from the eye's level at z = -0.1: row 59.8.
-    EXPECT_EQ(firstRowSeen(box({-0.5f, -2, -0.1f}, {0.5f, -1, 0.1f}), camera, kFrame, 100, 100), 59u);
+    EXPECT_EQ(firstRowSeen(box({-0.5f, -2, -0.1f}, {0.5f, -1, 0.1f}), camera, kFrame), 59u);
     // A box reaching above the frame starts at row 0.
-    EXPECT_EQ(firstRowSeen(box({-0.5f, -1, -0.1f}, {0.5f, 9, 0.1f}), camera, kFrame, 100, 100), 0u);
+    EXPECT_EQ(firstRowSeen(box({-0.5f, -1, -0.1f}, {0.5f, 9, 0.1f}), camera, kFrame), 0u);
 }
 
 TEST(PrefetchOrder, BoxesBehindTheEyeOrOutsideTheViewAreUnseen) {
     const Camera camera = frontCamera();
-    EXPECT_EQ(firstRowSeen(box({-1, -1, 6}, {1, 1, 7}), camera, kFrame, 100, 100), 100u);      // behind
-    EXPECT_EQ(firstRowSeen(box({20, -1, -1}, {21, 1, 1}), camera, kFrame, 100, 100), 100u);    // far right
-    EXPECT_EQ(firstRowSeen(box({-1, 20, -1}, {1, 21, 1}), camera, kFrame, 100, 100), 100u);    // far above
+    EXPECT_EQ(firstRowSeen(box({-1, -1, 6}, {1, 1, 7}), camera, kFrame), 100u);      // behind
+    EXPECT_EQ(firstRowSeen(box({20, -1, -1}, {21, 1, 1}), camera, kFrame), 100u);    // far right
+    EXPECT_EQ(firstRowSeen(box({-1, 20, -1}, {1, 21, 1}), camera, kFrame), 100u);    // far above
     // A box around the eye may cover any row.
-    EXPECT_EQ(firstRowSeen(box({-1, -1, 4}, {1, 1, 6}), camera, kFrame, 100, 100), 0u);
+    EXPECT_EQ(firstRowSeen(box({-1, -1, 4}, {1, 1, 6}), camera, kFrame), 0u);
 }
 
 TEST(PrefetchOrder, RowsCountFromTheRegionsTop) {
     const Camera camera = frontCamera();
     const PixelBounds lowerHalf{0, 50, 100, 100};
-    EXPECT_EQ(firstRowSeen(box({-0.5f, -2, -0.1f}, {0.5f, -1, 0.1f}), camera, lowerHalf, 100, 100), 9u);
-    EXPECT_EQ(firstRowSeen(box({-0.5f, 1, -0.1f}, {0.5f, 2, 0.1f}), camera, lowerHalf, 100, 100), 50u);  // above it
+    EXPECT_EQ(firstRowSeen(box({-0.5f, -2, -0.1f}, {0.5f, -1, 0.1f}), camera, lowerHalf), 9u);
+    EXPECT_EQ(firstRowSeen(box({-0.5f, 1, -0.1f}, {0.5f, 2, 0.1f}), camera, lowerHalf), 50u);  // above it
     // Spanning the region's top edge: its first row.
-    EXPECT_EQ(firstRowSeen(box({-0.5f, -2, -0.1f}, {0.5f, 2, 0.1f}), camera, lowerHalf, 100, 100), 0u);
+    EXPECT_EQ(firstRowSeen(box({-0.5f, -2, -0.1f}, {0.5f, 2, 0.1f}), camera, lowerHalf), 0u);
     const PixelBounds leftQuarter{0, 0, 25, 100};
-    EXPECT_EQ(firstRowSeen(box({1, 1, -0.1f}, {2, 2, 0.1f}), camera, leftQuarter, 100, 100), 100u);  // right of it
+    EXPECT_EQ(firstRowSeen(box({1, 1, -0.1f}, {2, 2, 0.1f}), camera, leftQuarter), 100u);  // right of it
 }
 
 TEST(PrefetchOrder, TopBandsFirstNearerFirstWithinABandUnseenLast) {
