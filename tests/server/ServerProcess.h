@@ -2,6 +2,7 @@
 // Runs the real `vastray serve` on loopback ports chosen by the kernel (port 0), as a child
 // process whose output goes to a log file, and parses the ports it prints.
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -50,8 +51,13 @@ public:
         for (char** e = environ; *e; ++e) environment.emplace_back(*e);
         for (const auto& [name, value] : environment_) environment.push_back(name + "=" + value);
         grpcPort_ = httpPort_ = 0;
+        const pid_t parent = ::getpid();
         pid_ = ::fork();
         if (pid_ == 0) {
+            // The server dies with the test (a crashed or killed test leaves no server behind
+            // holding its ports and files); the check covers a parent gone before the prctl.
+            ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+            if (::getppid() != parent) std::_Exit(127);
             if (addressSpaceLimit_ > 0) {
                 const rlimit limit{addressSpaceLimit_, addressSpaceLimit_};
                 ::setrlimit(RLIMIT_AS, &limit);
