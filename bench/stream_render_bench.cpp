@@ -32,6 +32,8 @@
 //                       [--staging-bytes 4GiB]  (--upload dma: the pinned staging area's size; default:
 //                                                a sixteenth of the machine's memory, within 1-16 GiB)
 //                       [--dma-batch 0]  (--upload dma: bytes of chunk copies per transfer submission; 0: per chunk)
+//                       [--no-stage-on-decode]  (--upload dma: the render thread writes each chunk into staging at its
+//                                                first load, not the thread that decoded it: for comparisons)
 //                       [--float-positions]  (3 floats a vertex on the device even where the package's grid packs
 //                                             them in 8 bytes: ChunkAttributes::packedPositions, for comparisons)
 // --ratios sets out-of-core budgets as the scene's resident bytes over each ratio (so a smaller scene
@@ -178,7 +180,8 @@ Args parseArgs(int argc, char** argv) {
             auto size = parseByteSize(value());
             if (!size) usage(size.message());
             a.upload.stagingBytes = *size;
-        } else if (flag == "--dma-batch") {
+        } else if (flag == "--no-stage-on-decode") a.upload.stageOnDecode = false;
+        else if (flag == "--dma-batch") {
             auto size = parseByteSize(value());
             if (!size) usage(size.message());
             a.upload.submitBytes = *size;
@@ -476,15 +479,16 @@ int main(int argc, char** argv) {
     }
     md << "\nUploads per row: host copy s (into slots or staging) / DMA s (transfer queue, timestamps) / "
           "staging wait s / DMA GB / transfer submissions / copies of chunks still staged (no host copy) / "
-          "staging area:\n\n";
+          "chunks staged as decoded (worker s) / staging area:\n\n";
     for (const Row& r : rows) {
         const gpu::ChunkUploadFigures& u = r.upload;
         if (u.hostCopySeconds == 0 && u.dmaCopies == 0) continue;
         char dma[32] = "-", line[512];
         if (u.dmaCopies > 0) std::snprintf(dma, sizeof dma, u.dmaTimed ? "%.3f" : "untimed", u.dmaSeconds);
-        std::snprintf(line, sizeof line, "- %s: %.3f / %s / %.3f / %.2f / %llu / %llu / %s\n", r.label.c_str(),
-                      u.hostCopySeconds, dma, u.stagingWaitSeconds, double(u.dmaBytes) / 1e9,
+        std::snprintf(line, sizeof line, "- %s: %.3f / %s / %.3f / %.2f / %llu / %llu / %llu (%.3f) / %s\n",
+                      r.label.c_str(), u.hostCopySeconds, dma, u.stagingWaitSeconds, double(u.dmaBytes) / 1e9,
                       (unsigned long long)u.dmaSubmits, (unsigned long long)u.stagingHits,
+                      (unsigned long long)u.stagedOnDecode, u.stageSeconds,
                       u.stagingBytes ? formatBytes(u.stagingBytes).c_str() : "-");
         md << line;
     }

@@ -60,7 +60,7 @@ void packIndexWords(const SlotCopy& c, uint64_t from, uint64_t end, uint32_t* ou
 // takes (most arrays of a 4 MiB chunk are under 1 MiB, so larger pieces left them to one core),
 // and a loop per array paid its start and join for each (PERF_NOTES 40): one loop over the
 // pieces of all arrays.
-Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies) {
+Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies, bool parallel) {
     constexpr uint64_t kPiece = 256 << 10;
     struct Piece {
         const SlotCopy* copy;
@@ -86,8 +86,10 @@ Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies
         return to.upload(packed.data(), p.size, base + p.copy->offset + p.at).isOk();
     };
     std::atomic<bool> failed{false};
-    if (pieces.size() == 1) failed = !run(pieces[0]);
-    else if (pieces.size() > 1)
+    if (!parallel || pieces.size() == 1) {
+        for (const Piece& p : pieces)
+            if (!run(p)) failed = true;
+    } else if (pieces.size() > 1)
         tbb::parallel_for(size_t(0), pieces.size(), [&](size_t i) {
             if (!run(pieces[i])) failed = true;
         });
@@ -175,26 +177,75 @@ Status ChunkUploader::waitFor(uint64_t value) {
     return Status::ok();
 }
 
-// An empty block, else the least recently used; a copy still reading it is waited for.
+// An empty block, else the least recently used, reserved for the caller's write; a copy still
+// reading it is waited for. Blocks that stage() is writing are not taken (when every block is,
+// this waits for one).
 Result<uint32_t> ChunkUploader::victim() {
-    uint32_t best = 0;
-    for (uint32_t b = 0; b < blocks_.size(); ++b) {
-        if (blocks_[b].chunk == kNoChunk) {
-            best = b;
-            break;
+    uint32_t best = kNoChunk;
+    uint64_t value = 0;
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            for (uint32_t b = 0; b < blocks_.size(); ++b) {
+                if (blocks_[b].reserved) continue;
+                if (blocks_[b].chunk == kNoChunk) {
+                    best = b;
+                    break;
+                }
+                if (best == kNoChunk || blocks_[b].lastUse < blocks_[best].lastUse) best = b;
+            }
+            if (best != kNoChunk) break;
+            released_.wait(lock);
         }
-        if (blocks_[b].lastUse < blocks_[best].lastUse) best = b;
+        Block& block = blocks_[best];
+        block.reserved = true;
+        if (block.chunk != kNoChunk && chunkBlock_[block.chunk] == best) chunkBlock_[block.chunk] = kNoChunk;
+        block.chunk = kNoChunk;
+        value = block.value;
     }
-    Block& block = blocks_[best];
-    if (block.value > completed_) {
+    if (value > completed_) {
         const auto start = std::chrono::steady_clock::now();
-        if (block.value > submitted_) VASTRAY_TRY(close());  // read by the batch still open
-        VASTRAY_TRY(waitFor(block.value));
+        Status s = value > submitted_ ? close() : Status::ok();  // read by the batch still open
+        if (s.isOk()) s = waitFor(value);
         figures_.stagingWaitSeconds += secondsSince(start);
+        if (!s.isOk()) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            blocks_[best].reserved = false;
+            return s;
+        }
     }
-    if (block.chunk != kNoChunk) chunkBlock_[block.chunk] = kNoChunk;
-    block.chunk = kNoChunk;
     return best;
+}
+
+Status ChunkUploader::stage(uint32_t chunk, std::span<const SlotCopy> copies, uint64_t span) {
+    if (chunk >= chunkBlock_.size() || span > blockBytes_)
+        return Status::error("chunk " + std::to_string(chunk) + " of " + std::to_string(span) +
+                             " bytes does not fit the staging blocks");
+    uint32_t b = kNoChunk;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (chunkBlock_[chunk] != kNoChunk) return Status::ok();
+        // A block no copy has read (value 0): nothing to wait for, and nobody's chunk is lost.
+        for (uint32_t i = 0; i < blocks_.size() && b == kNoChunk; ++i)
+            if (blocks_[i].chunk == kNoChunk && !blocks_[i].reserved && blocks_[i].value == 0) b = i;
+        if (b == kNoChunk) return Status::ok();
+        blocks_[b].reserved = true;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const Status s = copyPieces(staging_, b * blockBytes_, copies, false);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Block& block = blocks_[b];
+        block.reserved = false;
+        if (s.isOk() && chunkBlock_[chunk] == kNoChunk) {  // else the render thread staged it meanwhile
+            block.chunk = chunk, block.span = span, block.lastUse = ++tick_;
+            chunkBlock_[chunk] = b;
+            ++figures_.stagedOnDecode;
+            figures_.stageSeconds += secondsSince(start);
+        }
+    }
+    released_.notify_all();
+    return s;
 }
 
 void ChunkUploader::collectTimes(uint32_t index) {
@@ -213,21 +264,40 @@ Status ChunkUploader::upload(uint32_t chunk, const GpuBuffer& slot, std::span<co
     if (chunk >= chunkBlock_.size() || span > blockBytes_)
         return Status::error("chunk " + std::to_string(chunk) + " of " + std::to_string(span) +
                              " bytes does not fit the staging blocks");
-    uint32_t b = chunkBlock_[chunk];
-    if (b != kNoChunk && blocks_[b].span == span) {
-        ++figures_.stagingHits;  // staged before and kept: the device copies it again
-    } else {
+    uint32_t b = kNoChunk;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const uint32_t held = chunkBlock_[chunk];
+        if (held != kNoChunk && blocks_[held].span == span) {
+            b = held;
+            ++figures_.stagingHits;  // staged before (or as it was decoded) and kept: the device copies it
+        }
+    }
+    if (b == kNoChunk) {
         auto free = victim();
         if (!free) return free.status();
         b = *free;
         const auto start = std::chrono::steady_clock::now();
-        VASTRAY_TRY(copyPieces(staging_, b * blockBytes_, copies));
+        const Status copied = copyPieces(staging_, b * blockBytes_, copies);
         figures_.hostCopySeconds += secondsSince(start);
-        blocks_[b].chunk = chunk, blocks_[b].span = span, chunkBlock_[chunk] = b;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            blocks_[b].reserved = false;
+            if (copied.isOk()) {
+                const uint32_t old = chunkBlock_[chunk];  // a block of other arrays of the chunk: now free
+                if (old != kNoChunk && old != b) blocks_[old].chunk = kNoChunk;
+                blocks_[b].chunk = chunk, blocks_[b].span = span, chunkBlock_[chunk] = b;
+            }
+        }
+        released_.notify_all();
+        VASTRAY_TRY(copied);
     }
-    Block& block = blocks_[b];
-    block.lastUse = ++tick_;
-    block.value = submitted_ + 1;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Block& block = blocks_[b];
+        block.lastUse = ++tick_;
+        block.value = submitted_ + 1;
+    }
     const uint64_t at = b * blockBytes_;
     if (open_ < 0) VASTRAY_TRY(open());
     std::vector<VkBufferCopy> regions;
@@ -321,6 +391,7 @@ Result<uint64_t> ChunkUploader::completed() {
 }
 
 uint64_t ChunkUploader::copyValue(uint32_t chunk) const {
+    std::lock_guard<std::mutex> lock(mutex_);
     const uint32_t b = chunk < chunkBlock_.size() ? chunkBlock_[chunk] : kNoChunk;
     return b == kNoChunk ? 0 : blocks_[b].value;
 }

@@ -6,9 +6,13 @@
 // compute submission waits for the copies on a timeline semaphore (PERF_NOTES 44). A block
 // keeps its chunk until it is needed for another (least recently used first): a chunk paged in
 // again while its block holds it is only copied by the device, the host writes nothing.
-// Both run on the render thread, which also submits the compute work.
+// Both run on the render thread, which also submits the compute work; with DMA a decoding
+// thread may stage a chunk it has just decoded into a block no chunk has used yet (stage), so
+// that the render thread's load of it only records the device's copy (PERF_NOTES 105).
+#include <condition_variable>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -31,8 +35,9 @@ struct SlotCopy {
     const QuantizationGrid* grid = nullptr;
 };
 
-// Writes the arrays into the mapped buffer `to` at base + offset, in 256 KiB pieces on all cores.
-Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies);
+// Writes the arrays into the mapped buffer `to` at base + offset, in 256 KiB pieces on all cores
+// (parallel), or on the calling thread alone.
+Status copyPieces(GpuBuffer& to, uint64_t base, std::span<const SlotCopy> copies, bool parallel = true);
 
 class ChunkUploader {
 public:
@@ -54,6 +59,11 @@ public:
     // submission running or waiting for pending() may read what the copy writes (the pager
     // evicts a slot before it is loaded again).
     Status upload(uint32_t chunk, const GpuBuffer& slot, std::span<const SlotCopy> copies, uint64_t span);
+    // Any thread, beside the render thread's calls: writes chunk `chunk`'s arrays into a staging
+    // block no chunk has used yet, on the calling thread, so that a later upload() of the same
+    // arrays (`span` bytes) only copies them on the device. Does nothing when a block holds the
+    // chunk already or no unused block is left (it never evicts: the render thread's chunks stay).
+    Status stage(uint32_t chunk, std::span<const SlotCopy> copies, uint64_t span);
     // Submits the open batch; what the next compute submission must wait for: every copy so far,
     // or with upTo the copies up to that timeline value (no semaphore when there is none since
     // the last call). A submission that waits for less must not read the slots of later copies.
@@ -74,7 +84,7 @@ private:
     explicit ChunkUploader(VulkanDevice& device) : device_(device) {}
     Status init(uint64_t stagingBytes);
     Status waitFor(uint64_t value);                 // host wait on the timeline
-    Result<uint32_t> victim();                       // the block to stage into, its copies done
+    Result<uint32_t> victim();                       // a block reserved to stage into, its copies done
     Status open();   // a batch in the ring's next command buffer
     Status close();  // submits the open batch (nothing when none is open)
     void collectTimes(uint32_t index);              // the copy's timestamps, once it is done
@@ -85,6 +95,7 @@ private:
         uint64_t span = 0;       // the chunk's bytes
         uint64_t value = 0;      // timeline value of the last copy reading the block
         uint64_t lastUse = 0;
+        bool reserved = false;   // being written (stage, or upload's copy): no other writer takes it
     };
     VulkanDevice& device_;
     GpuBuffer staging_;
@@ -98,6 +109,10 @@ private:
     int open_ = -1;  // the command buffer recording a batch, or -1
     uint64_t openBytes_ = 0, submitBytes_ = 0;
     uint64_t blockBytes_ = 0;
+    // blocks_, chunkBlock_, tick_ and the figures stage() adds to are shared with the decoding
+    // threads: mutex_ guards them; `released` wakes a render thread waiting for a reserved block.
+    mutable std::mutex mutex_;
+    std::condition_variable released_;
     std::vector<Block> blocks_;
     std::vector<uint32_t> chunkBlock_;  // per chunk: its block or kNoChunk
     uint64_t tick_ = 0;

@@ -63,6 +63,7 @@ public:
             to->stagingWaitSeconds += figures_.stagingWaitSeconds;
             to->dmaBytes += figures_.dmaBytes, to->dmaCopies += figures_.dmaCopies;
             to->dmaSubmits += figures_.dmaSubmits, to->stagingHits += figures_.stagingHits;
+            to->stagedOnDecode += figures_.stagedOnDecode, to->stageSeconds += figures_.stageSeconds;
             to->dmaTimed = figures_.dmaTimed, to->stagingBytes = figures_.stagingBytes;
         }
     }
@@ -149,93 +150,51 @@ public:
     Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) override {
         if (slot >= slots_.size()) return Status::error("slot " + std::to_string(slot) + " does not exist");
         const auto start = std::chrono::steady_clock::now();
-        const Bvh4& tree = chunk.bvh;
-        const uint64_t triangles = chunk.indices.size() / 3;
-        // Constant time for the package reader's chunks (DecodedChunk::validated); a pass over
-        // the arrays only for hand-made ones.
-        VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
-        for (size_t words : {chunk.normals.size(), chunk.colors.size(), chunk.uvs.size()})
-            if (words != 0 && words != chunk.positions.size())
-                return Status::error("chunk " + std::to_string(chunk.id) + " has " + std::to_string(words) +
-                                     " attribute values for " + std::to_string(chunk.positions.size()) + " vertices");
-        const ChunkLayout layout =
-            chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, chunk.indexDeltas16,
-                        chunk.longTriangles.size(), attributes_);
-        if (layout.totalBytes > plan_.slotBytes)
-            return Status::error("chunk " + std::to_string(chunk.id) + " needs " + std::to_string(layout.totalBytes) +
-                                 " bytes, more than a slot's " + std::to_string(plan_.slotBytes) +
-                                 " (the package directory understates it: damaged package?)");
+        SlotArrays arrays;
+        VASTRAY_TRY(slotArrays(chunk, singleSided, arrays));
+        const ChunkLayout& layout = arrays.layout;
         GpuBuffer& b = slots_[slot];
-        uint64_t bytes = 0;
-        std::vector<SlotCopy> copies;
-        std::vector<uint8_t> padded;
-        auto put = [&](uint64_t offset, const void* data, uint64_t size) {
-            bytes += size;
-            copies.push_back({offset, data, size});
-        };
-        put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node));
-        if (attributes_.packedPositions) {
-            const uint64_t size = devicePositionBytes(chunk.positions.size(), true);
-            bytes += size;
-            copies.push_back({layout.positions, chunk.positions.data(), size, nullptr, &grid_});
-        } else {
-            put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
-        }
-        ChunkSlot entry{};
-        if (chunk.indexDeltas16) {
-            const uint64_t size = deviceIndexBytes(triangles, true, chunk.longTriangles.size());
-            bytes += size;
-            copies.push_back({layout.indices, chunk.indices.data(), size, &chunk.longTriangles});
-            entry.flags |= kSlotIndexDeltas16;
-        } else {
-            put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4);
-        }
-        const uint64_t base = b.address();
-        entry.nodes = base + layout.nodes;
-        entry.positions = base + layout.positions, entry.indices = base + layout.indices;
-        if (attributes_.singleSided) {
-            // One byte per triangle, read four to a word: the bytes in order, zero padded.
-            padded.assign((triangles + 3) / 4 * 4, 0);
-            std::copy(singleSided.begin(), singleSided.end(), padded.begin());
-            put(layout.singleSided, padded.data(), padded.size());
-            entry.singleSided = base + layout.singleSided, entry.flags |= kSlotSingleSided;
-        }
-        if (attributes_.primitiveIds) {
-            put(layout.primitiveIds, chunk.primitiveIds.data(), triangles * 4);
-            entry.primitiveIds = base + layout.primitiveIds, entry.flags |= kSlotPrimitiveIds;
-        }
-        if (attributes_.materialIds && !chunk.materialIds.empty()) {
-            put(layout.materialIds, chunk.materialIds.data(), triangles * 4);
-            entry.materialIds = base + layout.materialIds, entry.flags |= kSlotMaterialIds;
-        }
-        if (attributes_.normals && !chunk.normals.empty()) {
-            put(layout.normals, chunk.normals.data(), chunk.normals.size() * 4);
-            entry.normals = base + layout.normals, entry.flags |= kSlotNormals;
-        }
-        if (attributes_.colors && !chunk.colors.empty()) {
-            put(layout.colors, chunk.colors.data(), chunk.colors.size() * 4);
-            entry.colors = base + layout.colors, entry.flags |= kSlotColors;
-        }
-        if (attributes_.uvs && !chunk.uvs.empty()) {
-            put(layout.uvs, chunk.uvs.data(), chunk.uvs.size() * 8);
-            entry.uvs = base + layout.uvs, entry.flags |= kSlotUvs;
-        }
         if (uploader_) {
-            VASTRAY_TRY(uploader_->upload(chunk.id, b, copies, layout.totalBytes)
+            VASTRAY_TRY(uploader_->upload(chunk.id, b, arrays.copies, layout.totalBytes)
                             .withContext("chunk " + std::to_string(chunk.id) + ": "));
         } else {
             const auto copyStart = std::chrono::steady_clock::now();
-            VASTRAY_TRY(copyPieces(b, 0, copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
+            VASTRAY_TRY(copyPieces(b, 0, arrays.copies).withContext("chunk " + std::to_string(chunk.id) + ": "));
             const auto copied = std::chrono::steady_clock::now() - copyStart;
             figures_.hostCopySeconds += std::chrono::duration<double>(copied).count();
         }
+        const Bvh4& tree = chunk.bvh;
+        const uint64_t base = b.address();
+        ChunkSlot entry{};
+        entry.flags = arrays.flags;
+        entry.nodes = base + layout.nodes;
+        entry.positions = base + layout.positions, entry.indices = base + layout.indices;
+        const auto at = [&](uint32_t flag, uint64_t offset) { return (arrays.flags & flag) ? base + offset : 0; };
+        entry.singleSided = at(kSlotSingleSided, layout.singleSided);
+        entry.primitiveIds = at(kSlotPrimitiveIds, layout.primitiveIds);
+        entry.materialIds = at(kSlotMaterialIds, layout.materialIds);
+        entry.normals = at(kSlotNormals, layout.normals);
+        entry.colors = at(kSlotColors, layout.colors);
+        entry.uvs = at(kSlotUvs, layout.uvs);
         entry.nodeCount = uint32_t(tree.nodes.size());
         entry.boundsLoX = tree.bounds.lo.x, entry.boundsLoY = tree.bounds.lo.y, entry.boundsLoZ = tree.bounds.lo.z;
         entry.boundsHiX = tree.bounds.hi.x, entry.boundsHiY = tree.bounds.hi.y, entry.boundsHiZ = tree.bounds.hi.z;
         VASTRAY_TRY(table_.upload(&entry, sizeof(entry), slot * sizeof(ChunkSlot)));
-        uploaded_ += bytes + sizeof(entry);
+        uploaded_ += arrays.bytes + sizeof(entry);
         uploadSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return Status::ok();
+    }
+
+    // DMA with ChunkUploadOptions::stageOnDecode: the chunk's arrays into a staging block of their
+    // own now, on the calling (decoding) thread, while unused blocks are left; load() then finds
+    // them staged. Reads only what init() set, so any number of threads may call it beside load().
+    bool stagesChunks() const override { return uploader_ && upload_.stageOnDecode; }
+    Status stage(const DecodedChunk& chunk, std::span<const uint8_t> singleSided) override {
+        if (!uploader_ || !upload_.stageOnDecode) return Status::ok();
+        SlotArrays arrays;
+        VASTRAY_TRY(slotArrays(chunk, singleSided, arrays));
+        return uploader_->stage(chunk.id, arrays.copies, arrays.layout.totalBytes)
+            .withContext("chunk " + std::to_string(chunk.id) + ": ");
     }
 
     Status renderOnDevice(const DeviceRenderJob& job, ChunkPager& pager, RenderImage& image,
@@ -267,6 +226,83 @@ public:
     }
 
 private:
+    // A chunk's arrays as a slot holds them (ChunkLayout), the copies that write them (pointing
+    // into the chunk, and into `padded` for the single-sided bytes) and the slot entry's flags.
+    struct SlotArrays {
+        ChunkLayout layout;
+        std::vector<SlotCopy> copies;
+        std::vector<uint8_t> padded;
+        uint64_t bytes = 0;
+        uint32_t flags = 0;
+    };
+    Status slotArrays(const DecodedChunk& chunk, std::span<const uint8_t> singleSided, SlotArrays& out) const {
+        const Bvh4& tree = chunk.bvh;
+        const uint64_t triangles = chunk.indices.size() / 3;
+        // Constant time for the package reader's chunks (DecodedChunk::validated); a pass over
+        // the arrays only for hand-made ones.
+        VASTRAY_TRY(validate(chunk, singleSided).withContext("chunk " + std::to_string(chunk.id) + ": "));
+        for (size_t words : {chunk.normals.size(), chunk.colors.size(), chunk.uvs.size()})
+            if (words != 0 && words != chunk.positions.size())
+                return Status::error("chunk " + std::to_string(chunk.id) + " has " + std::to_string(words) +
+                                     " attribute values for " + std::to_string(chunk.positions.size()) + " vertices");
+        out.layout = chunkLayout(tree.nodes.size(), chunk.positions.size(), triangles, chunk.indexDeltas16,
+                                 chunk.longTriangles.size(), attributes_);
+        const ChunkLayout& layout = out.layout;
+        if (layout.totalBytes > plan_.slotBytes)
+            return Status::error("chunk " + std::to_string(chunk.id) + " needs " + std::to_string(layout.totalBytes) +
+                                 " bytes, more than a slot's " + std::to_string(plan_.slotBytes) +
+                                 " (the package directory understates it: damaged package?)");
+        std::vector<SlotCopy>& copies = out.copies;
+        auto put = [&](uint64_t offset, const void* data, uint64_t size) {
+            out.bytes += size;
+            copies.push_back({offset, data, size});
+        };
+        put(layout.nodes, tree.nodes.data(), tree.nodes.size() * sizeof(Bvh4Node));
+        if (attributes_.packedPositions) {
+            const uint64_t size = devicePositionBytes(chunk.positions.size(), true);
+            out.bytes += size;
+            copies.push_back({layout.positions, chunk.positions.data(), size, nullptr, &grid_});
+        } else {
+            put(layout.positions, chunk.positions.data(), chunk.positions.size() * 12);
+        }
+        if (chunk.indexDeltas16) {
+            const uint64_t size = deviceIndexBytes(triangles, true, chunk.longTriangles.size());
+            out.bytes += size;
+            copies.push_back({layout.indices, chunk.indices.data(), size, &chunk.longTriangles});
+            out.flags |= kSlotIndexDeltas16;
+        } else {
+            put(layout.indices, chunk.indices.data(), chunk.indices.size() * 4);
+        }
+        if (attributes_.singleSided) {
+            // One byte per triangle, read four to a word: the bytes in order, zero padded.
+            out.padded.assign((triangles + 3) / 4 * 4, 0);
+            std::copy(singleSided.begin(), singleSided.end(), out.padded.begin());
+            put(layout.singleSided, out.padded.data(), out.padded.size());
+            out.flags |= kSlotSingleSided;
+        }
+        if (attributes_.primitiveIds) {
+            put(layout.primitiveIds, chunk.primitiveIds.data(), triangles * 4);
+            out.flags |= kSlotPrimitiveIds;
+        }
+        if (attributes_.materialIds && !chunk.materialIds.empty()) {
+            put(layout.materialIds, chunk.materialIds.data(), triangles * 4);
+            out.flags |= kSlotMaterialIds;
+        }
+        if (attributes_.normals && !chunk.normals.empty()) {
+            put(layout.normals, chunk.normals.data(), chunk.normals.size() * 4);
+            out.flags |= kSlotNormals;
+        }
+        if (attributes_.colors && !chunk.colors.empty()) {
+            put(layout.colors, chunk.colors.data(), chunk.colors.size() * 4);
+            out.flags |= kSlotColors;
+        }
+        if (attributes_.uvs && !chunk.uvs.empty()) {
+            put(layout.uvs, chunk.uvs.data(), chunk.uvs.size() * 8);
+            out.flags |= kSlotUvs;
+        }
+        return Status::ok();
+    }
+
     // The environment map's arrays in their own buffer (EnvironmentLayout), in the bytes the plan
     // kept for it; kept while the next render uses the same map.
     Status prepareEnvironment(const Environment& environment, const std::shared_ptr<const std::vector<Volume>>& volumes,

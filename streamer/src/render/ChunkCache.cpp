@@ -22,8 +22,18 @@ ChunkCache::~ChunkCache() {
 void ChunkCache::workerLoop() {
     for (;;) {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return stopping_ || !queue_.empty() || !background_.empty(); });
+        wake_.wait(lock, [this] {
+            return stopping_ || !queue_.empty() || !background_.empty() || !hookBacklog_.empty();
+        });
         if (stopping_) return;  // speculative or not, nobody waits for the rest once the cache goes
+        if (queue_.empty() && !hookBacklog_.empty()) {
+            const ChunkHandle chunk = std::move(hookBacklog_.front());
+            hookBacklog_.pop_front();
+            const std::shared_ptr<const DecodedHook> hook = hook_;
+            lock.unlock();
+            (*hook)(*chunk);
+            continue;
+        }
         std::deque<Job>& from = !queue_.empty() ? queue_ : background_;
         auto [id, promise] = std::move(from.front());
         from.pop_front();
@@ -54,7 +64,9 @@ void ChunkCache::workerLoop() {
         ++decodes_;
         auto it = entries_.find(id);
         if (it != entries_.end() && out) it->second.bytes = (*out)->residentBytes();
+        const std::shared_ptr<const DecodedHook> hook = hook_;
         lock.unlock();
+        if (hook && out) (*hook)(**out);  // before get() has the chunk: no load of it runs meanwhile
         promise->set_value(std::move(out));
     }
 }
@@ -123,6 +135,19 @@ void ChunkCache::prefetchBackground(std::span<const uint32_t> ids) {
     for (uint32_t id : ids)
         if (id < reader_.info().chunks.size()) startLocked(id, true);  // new ones join the queue's end
     putFirst(background_, ids, [](const Job& job) { return job.first; });
+}
+
+void ChunkCache::setDecodedHook(DecodedHook hook) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    hook_ = hook ? std::make_shared<const DecodedHook>(std::move(hook)) : nullptr;
+    hookBacklog_.clear();
+    if (!hook_) return;
+    for (const auto& [id, e] : entries_)
+        if (e.decoded.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+            const Result<ChunkHandle>& decoded = e.decoded.get();
+            if (decoded) hookBacklog_.push_back(*decoded);
+        }
+    if (!hookBacklog_.empty()) wake_.notify_all();
 }
 
 uint64_t ChunkCache::unusedBytes() const {

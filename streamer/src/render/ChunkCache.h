@@ -7,6 +7,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -44,6 +45,12 @@ public:
     // waiting in the background queue move there (a render's order replaces the order the
     // scene's chunks were queued in as it opened, StreamingOptions::decodeOnOpen).
     void prefetchBackground(std::span<const uint32_t> ids);
+    // Runs `hook` on the decoding thread for each chunk decoded from now on, before get() returns
+    // it, and on the workers for the chunks decoded already (after the chunks asked for by
+    // prefetch() or get(), before the speculative ones): ChunkBackend::stage, which prepares loads
+    // off the render thread. The hook must be safe to call from several threads at once.
+    using DecodedHook = std::function<void(const DecodedChunk&)>;
+    void setDecodedHook(DecodedHook hook);
     // Bytes of the chunks decoded or in flight that no get() has used yet.
     uint64_t unusedBytes() const;
     // The decoded chunk (waits for its decode; decodes it now when nobody asked before).
@@ -78,6 +85,8 @@ private:
     std::condition_variable wake_;
     std::deque<Job> queue_;       // asked for now
     std::deque<Job> background_;  // speculative: taken when queue_ is empty
+    std::shared_ptr<const DecodedHook> hook_;  // setDecodedHook
+    std::deque<ChunkHandle> hookBacklog_;      // decoded before the hook was set: it runs on them
     std::unordered_map<uint32_t, Entry> entries_;
     std::vector<std::thread> threads_;
     bool stopping_ = false;

@@ -104,6 +104,17 @@ Result<std::unique_ptr<StreamingScene>> StreamingScene::open(const PackageReader
     if (!backend) return backend.status();
     s.backend = std::move(backend).value();
     s.pager = std::make_unique<DemandPager>(reader.info(), attributes, *s.backend, *s.cache, s.totals);
+    // Chunks go into the backend's staging memory as they are decoded (and those decoded while
+    // the backend was made), off the render thread (PERF_NOTES 105). The cache's workers stop
+    // before the backend goes (State's members are destroyed in reverse order).
+    if (s.backend->stagesChunks()) {
+        ChunkBackend* backend = s.backend.get();
+        const PackageInfo& info = reader.info();
+        s.cache->setDecodedHook([backend, &info, attributes](const DecodedChunk& chunk) {
+            // An error here is the load's to report (it prepares the same arrays): nothing is lost.
+            (void)backend->stage(chunk, singleSidedFlags(info, attributes, chunk));
+        });
+    }
     return scene;
 }
 

@@ -68,6 +68,8 @@ struct ChunkUploadFigures {
     double stagingWaitSeconds = 0;  // waiting for staging memory still being copied (Dma)
     uint64_t dmaBytes = 0, dmaCopies = 0, dmaSubmits = 0;
     uint64_t stagingHits = 0;    // DMA copies of a chunk the staging area still held (no host copy)
+    uint64_t stagedOnDecode = 0;  // chunks the decoding threads wrote into staging (stageOnDecode)
+    double stageSeconds = 0;      // their time doing it (summed over the threads, off the render thread)
     bool dmaTimed = false;       // the transfer queue has timestamps
     uint64_t stagingBytes = 0;   // the staging ring (host memory on a discrete GPU)
 };
@@ -96,6 +98,11 @@ struct ChunkUploadOptions {
     // long before its kernels). Later than true is always safe: the step waits for less and
     // reads less.
     bool copiesSeenLate = false;
+    // Dma: a chunk is written into a staging block as soon as it is decoded, by the thread that
+    // decoded it (ChunkBackend::stage), while a block no chunk has used is left; its load then only
+    // records the device's copy. Off: the render thread writes each chunk at its first load (for
+    // comparisons; PERF_NOTES 105).
+    bool stageOnDecode = true;
     // When set, the backend adds its figures here when it is destroyed.
     ChunkUploadFigures* figures = nullptr;
 };

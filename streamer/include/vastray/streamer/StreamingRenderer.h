@@ -124,6 +124,13 @@ public:
     // Makes `chunk` resident in `slot`, replacing what was there. singleSided: one byte per
     // triangle (nonzero: invisible from behind) when attributes.singleSided, else empty.
     virtual Status load(uint32_t slot, const DecodedChunk& chunk, std::span<const uint8_t> singleSided) = 0;
+    // Called by the threads that decode chunks, as each chunk is decoded, any number at once and
+    // beside the render thread's calls: may prepare a later load() of the chunk (the Vulkan
+    // backend with DMA writes it into staging memory; PERF_NOTES 105). Doing nothing is correct.
+    virtual Status stage(const DecodedChunk& /*chunk*/, std::span<const uint8_t> /*singleSided*/) {
+        return Status::ok();
+    }
+    virtual bool stagesChunks() const { return false; }  // stage() does something: worth calling
 
     // The whole render on the device (camera rays, the walk, traversal, shading, accumulation):
     // fills image (allocated by the caller) and the device figures of stats (submits, bytes each
