@@ -368,6 +368,31 @@ int main(int argc, char** argv) {
         }
     };
     steady("resident", fitBudget, {0u, args.depth});
+    if (!args.residentOnly) {
+        render("in core, primary", fitBudget, IntegratorKind::Path, 0);
+        render("in core, path depth " + std::to_string(args.depth), fitBudget, IntegratorKind::Path, args.depth);
+    }
+    // Out-of-core rows: by ratio, then by budget in bytes.
+    std::vector<std::pair<std::string, uint64_t>> outOfCore;
+    for (double ratio : args.residentOnly ? std::vector<double>{} : args.ratios) {
+        char label[64];
+        std::snprintf(label, sizeof label, "%gx over budget", ratio);
+        outOfCore.emplace_back(label, uint64_t(double(residentBytes) / ratio));
+    }
+    for (uint64_t budget : args.residentOnly ? std::vector<uint64_t>{} : args.budgets) {
+        char label[96];
+        std::snprintf(label, sizeof label, "%s budget (%.2fx over)", formatBytes(budget).c_str(),
+                      double(residentBytes) / double(budget));
+        outOfCore.emplace_back(label, budget);
+    }
+    for (const auto& [name, budget] : outOfCore) {
+        render(name + ", primary", budget, IntegratorKind::Path, 0);
+        render(name + ", path depth " + std::to_string(args.depth), budget, IntegratorKind::Path, args.depth);
+        if (args.steadyOutOfCore) steady("steady " + name, budget, {args.depth});
+    }
+    // The Embree row last: while it keeps the host's cores busy for seconds the GPU idles, and the
+    // GPU rows right after it ran up to 3x slower on the device machine (sessions 42-43: the in-core
+    // rows after it walked 0.308 s where other runs walked 0.105 s; the GPU's clocks, presumably).
     std::string embreeNote;
     if (args.embree) {
         auto scene = loadRenderScene(path);
@@ -391,28 +416,6 @@ int main(int argc, char** argv) {
                       "relative RMSE %.2e.",
                       row.render.buildSeconds, std::sqrt(se / std::max(energy, 1e-30)));
         embreeNote = note;
-    }
-    if (!args.residentOnly) {
-        render("in core, primary", fitBudget, IntegratorKind::Path, 0);
-        render("in core, path depth " + std::to_string(args.depth), fitBudget, IntegratorKind::Path, args.depth);
-    }
-    // Out-of-core rows: by ratio, then by budget in bytes.
-    std::vector<std::pair<std::string, uint64_t>> outOfCore;
-    for (double ratio : args.residentOnly ? std::vector<double>{} : args.ratios) {
-        char label[64];
-        std::snprintf(label, sizeof label, "%gx over budget", ratio);
-        outOfCore.emplace_back(label, uint64_t(double(residentBytes) / ratio));
-    }
-    for (uint64_t budget : args.residentOnly ? std::vector<uint64_t>{} : args.budgets) {
-        char label[96];
-        std::snprintf(label, sizeof label, "%s budget (%.2fx over)", formatBytes(budget).c_str(),
-                      double(residentBytes) / double(budget));
-        outOfCore.emplace_back(label, budget);
-    }
-    for (const auto& [name, budget] : outOfCore) {
-        render(name + ", primary", budget, IntegratorKind::Path, 0);
-        render(name + ", path depth " + std::to_string(args.depth), budget, IntegratorKind::Path, args.depth);
-        if (args.steadyOutOfCore) steady("steady " + name, budget, {args.depth});
     }
 
     std::ostringstream md;
