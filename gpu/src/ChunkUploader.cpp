@@ -289,7 +289,6 @@ Status ChunkUploader::upload(uint32_t chunk, const GpuBuffer& slot, std::span<co
                 blocks_[b].chunk = chunk, blocks_[b].span = span, chunkBlock_[chunk] = b;
             }
         }
-        released_.notify_all();
         VASTRAY_TRY(copied);
     }
     {

@@ -110,7 +110,8 @@ private:
     uint64_t openBytes_ = 0, submitBytes_ = 0;
     uint64_t blockBytes_ = 0;
     // blocks_, chunkBlock_, tick_ and the figures stage() adds to are shared with the decoding
-    // threads: mutex_ guards them; `released` wakes a render thread waiting for a reserved block.
+    // threads: mutex_ guards them; released_ wakes the render thread's victim() waiting for a block
+    // that stage() reserved (only stage() releases blocks another thread may wait for).
     mutable std::mutex mutex_;
     std::condition_variable released_;
     std::vector<Block> blocks_;
