@@ -17,135 +17,15 @@
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
-// Path j starts at image pixel `pixel`, sample `sampleIndex` (jittered unless an AOV ray).
-void startPath(ParamsRef params, uint j, uint pixel, uint sampleIndex, bool jitter) {
-    const uint seed = params.p.seed, width = params.p.imageWidth;
-    float jx = 0.5, jy = 0.5;
-    if (jitter) {
-        jx = randomFloat(pixel, sampleIndex, 0u, kDimPixelX, seed);
-        jy = randomFloat(pixel, sampleIndex, 0u, kDimPixelY, seed);
-    }
-    const float sx = 2.0 * (float(pixel % width) + jx) / params.p.width - 1.0;
-    const float sy = 1.0 - 2.0 * (float(pixel / width) + jy) / params.p.height;
-    const vec3 forward = vec3(params.p.forwardX, params.p.forwardY, params.p.forwardZ);
-    const vec3 right = vec3(params.p.rightX, params.p.rightY, params.p.rightZ);
-    const vec3 up = vec3(params.p.upX, params.p.upY, params.p.upZ);
-    const vec3 direction = normalize(forward + right * sx + up * sy);
-    const uint shadow = shadowRayIndex(params.p, j);
-    Vec4Array(params.p.rayOrigin).v[j] = vec4(params.p.eyeX, params.p.eyeY, params.p.eyeZ, 0.0);  // w: cone width 0
-    Vec4Array(params.p.rayDirection).v[j] = vec4(direction, kInfinity);
-    UVec2Array(params.p.rayState).v[j] = uvec2(kRayPending, 0u);
-    UVec2Array(params.p.rayState).v[shadow] = uvec2(0u);
-    Vec4Array(params.p.throughput).v[j] = vec4(1.0, 1.0, 1.0, 0.0);
-    Vec4Array(params.p.radiance).v[j] = vec4(0.0, 0.0, 0.0, params.p.cameraSpread);  // w: the ray cone's spread
-    const uint walks = jitter ? kWalkClosest : 0u;  // an AOV ray belongs to no path to shade
-    UVec2Array(params.p.pathInfo).v[j] = uvec2(pixel, pathWord(kPathAlive | walksInWord(params.p, walks), 0u, sampleIndex));
-    startWalksApart(params.p, j, walks);
-}
+#include "common/StreamGroups.glsl"
 
-// Streamed waves: a workgroup's groups (a thread each: group g of the group queue, or of 0..
-// pixelCount - 1) add their finished blocks and start their next ones. The paths' samples are read
-// and their new states written by the whole workgroup together, kSampleBatch samples of a group
-// side by side, so that neighbouring invocations touch neighbouring paths: with the state in host
-// memory (PathStateMemory::Host) a thread walking its group's paths alone made a small transfer
-// across the bus per path and array. The sums are the same additions in the same order.
-const uint kSampleBatch = 16u;
-shared vec4 batchSamples[kWavefrontWorkgroupSize * kSampleBatch];  // radiance, camera hit
-shared uint groupFirst[kWavefrontWorkgroupSize], groupPixel[kWavefrontWorkgroupSize], groupNext[kWavefrontWorkgroupSize],
-    groupCount[kWavefrontWorkgroupSize], groupAt[kWavefrontWorkgroupSize];
-shared uint batchMax;
-
-// The largest of the workgroup's `count`s (every invocation must call it).
-uint workgroupMax(uint count) {
-    if (gl_LocalInvocationIndex == 0u) batchMax = 0u;
-    barrier();
-    atomicMax(batchMax, count);
-    barrier();
-    const uint m = batchMax;
-    barrier();
-    return m;
-}
-
+// Streamed waves: the groups of queue pc.groupQueue, or with pc.pixelCount > 0 the groups 0 ..
+// pixelCount - 1 (a thread each); idle ones go to the other group queue.
 void generateStream(ParamsRef params, uint j) {
-    const uint lt = gl_LocalInvocationIndex, groupSize = pc.sampleCount, spp = params.p.samplesPerPixel;
     const bool all = pc.pixelCount > 0u;
     const bool live = all ? j < pc.pixelCount : j < queueCount(params, pc.groupQueue);
     const uint g = !live ? 0u : all ? j : queueOf(params, pc.groupQueue).v[j];
-    const uint first = g * groupSize;
-    StreamRef window = StreamRef(params.p.stream);
-    UVec2Array states = UVec2Array(params.p.groupState);
-    Vec4Array accum = Vec4Array(params.p.accum);
-    uvec2 state = live ? states.v[g] : uvec2(kGroupIdle);
-    // A group whose block is done adds it to its pixel's sum, one sample at a time.
-    uint pixel = 0u, done = 0u, samples = 0u;
-    if (live && state.x == 0u) {
-        const uvec2 info = UVec2Array(params.p.pathInfo).v[first];
-        pixel = info.x, done = pathSample(info.y);
-        samples = min(groupSize, spp - done);
-    }
-    groupFirst[lt] = first, groupCount[lt] = samples;
-    const uint most = workgroupMax(samples);
-    vec4 sum = samples > 0u ? accum.v[g] : vec4(0.0);
-    for (uint s0 = 0u; s0 < most; s0 += kSampleBatch) {
-        for (uint i = lt; i < kWavefrontWorkgroupSize * kSampleBatch; i += kWavefrontWorkgroupSize) {
-            const uint owner = i / kSampleBatch, s = s0 + i % kSampleBatch;
-            if (s < groupCount[owner]) {
-                const uint path = groupFirst[owner] + s;
-                const bool hit = (UVec2Array(params.p.pathInfo).v[path].y & kPathCameraHit) != 0u;
-                batchSamples[i] = vec4(Vec4Array(params.p.radiance).v[path].xyz, hit ? 1.0 : 0.0);
-            }
-        }
-        barrier();
-        for (uint i = 0u; i < kSampleBatch && s0 + i < samples; ++i) {
-            const vec4 v = batchSamples[lt * kSampleBatch + i];
-            sum.xyz += v.xyz;
-            sum.w += v.w;
-        }
-        barrier();
-    }
-    uint next = 0u, started = 0u;
-    bool idle = false;
-    if (samples > 0u) {
-        accum.v[g] = sum;
-        next = done + samples;
-        if (next >= spp) {  // the pixel is done
-            Vec4Array(params.p.outColor).v[state.y] = pixelMean(params, sum);
-            atomicAdd(window.w.done[state.y / params.p.tilePixels], 1u);
-            state.x = kGroupIdle;
-        }
-    }
-    if (live && state.x == kGroupIdle) {  // the window's next pixel
-        const uint k = atomicAdd(window.w.cursor, 1u);
-        uint start = 0u, tile = 0u;
-        while (tile < window.w.tileCount && k >= start + window.w.tiles[4u * tile + 2u]) start += window.w.tiles[4u * tile + 2u], ++tile;
-        if (tile == window.w.tileCount) {  // none left now (the host rewinds the cursor to the window's end)
-            states.v[g] = uvec2(kGroupIdle);
-            idle = true;
-        } else {
-            const uint local = k - start, tileWidth = window.w.tiles[4u * tile + 1u];
-            pixel = window.w.tiles[4u * tile] + (local / tileWidth) * params.p.imageWidth + local % tileWidth;
-            state.y = window.w.tiles[4u * tile + 3u] * params.p.tilePixels + local;
-            next = 0u;
-            accum.v[g] = vec4(0.0);
-        }
-    }
-    if (live && !idle) {
-        started = min(groupSize, spp - next);
-        states.v[g] = uvec2(started, state.y);
-    }
-    // The started paths, written side by side, and their entries in the walk queue.
-    const uint at = reserveInQueue(params, pc.queue, true, started);
-    groupFirst[lt] = first, groupPixel[lt] = pixel, groupNext[lt] = next, groupCount[lt] = started, groupAt[lt] = at;
-    const uint width = workgroupMax(started);
-    RwUintArray queue = queueOf(params, pc.queue);
-    for (uint i = lt; i < kWavefrontWorkgroupSize * width; i += kWavefrontWorkgroupSize) {
-        const uint owner = i / width, s = i % width;
-        if (s < groupCount[owner]) {
-            startPath(params, groupFirst[owner] + s, groupPixel[owner], groupNext[owner] + s, true);
-            queue.v[groupAt[owner] + s] = groupFirst[owner] + s;
-        }
-    }
-    appendToQueue(params, 2u * kGroupQueue + 1u - pc.groupQueue, false, idle ? 1u : 0u, g, 0u);  // the other one
+    restartGroups(params, live, g, pc.queue, 2u * kGroupQueue + 1u - pc.groupQueue);
 }
 
 void main() {

@@ -11,7 +11,9 @@
 // where it parked.
 // Each path carries its own bounce, so paths of one wave may be at different bounces. Streamed
 // waves (pc.mode kWaveStreamed): a path that starts no ray has ended; the last of its group's
-// block to end queues the group (pc.groupQueue) for wf_generate.comp.
+// block to end restarts the group at once with pc.restartGroups (common/StreamGroups.glsl: its
+// block added to its pixel, its next block started; a group the window has no pixel for joins
+// pc.groupQueue, idle), else queues the group (pc.groupQueue) for wf_generate.comp.
 #version 460
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -28,6 +30,11 @@
 #include "common/MaterialMaps.glsl"
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
+
+// Streamed waves' restarts (pc.restartGroups): a workgroup ends few groups at once, so it loads
+// their samples 4 at a time (4 KiB of shared memory, not wf_generate's 16 KiB).
+#define VASTRAY_SAMPLE_BATCH 4u
+#include "common/StreamGroups.glsl"
 
 // Specialization constants (Wavefront.cpp): what a render does not need is not compiled in.
 layout(constant_id = 0) const bool kAmbientOcclusion = false;  // the ao integrator, else path
@@ -296,8 +303,9 @@ bool shade(uint j, inout uint count, inout uint first, inout uint second, out bo
         if (kVolumes && resumed) storePark(p, j, noPark());
     }
     if (shadowDone && (flags & kPathShadowPending) == 0u) UVec2Array(p.rayState).v[shadow] = uvec2(0u);
-    Vec4Array(p.radiance).v[j] = vec4(radiance, spread);
-    UVec2Array(p.pathInfo).v[j].y = pathWord(flags | walksInWord(p, walks), nextBounce, pathSample(info.y));
+    // (Coherent: a restart of the path's group in another workgroup of this dispatch reads them.)
+    CoherentVec4Array(p.radiance).v[j] = vec4(radiance, spread);
+    CoherentUVec2Array(p.pathInfo).v[j].y = pathWord(flags | walksInWord(p, walks), nextBounce, pathSample(info.y));
     startWalksApart(p, j, walks);
     ended = count == 0u;
     return true;
@@ -336,7 +344,15 @@ void main() {
                     ++paths;
                 }
         }
+        // The ended paths' radiance and words (written by shade) before their group's count: a
+        // restart in this dispatch, in another workgroup, reads them.
+        if (pc.restartGroups != 0u) memoryBarrierBuffer();
         const bool blockDone = lead && atomicAdd(UVec2Array(params.p.groupState).v[g].x, 0u - paths) == paths;
-        appendToQueue(params, pc.groupQueue, false, blockDone ? 1u : 0u, g, 0u);
+        if (pc.restartGroups != 0u) {
+            memoryBarrierBuffer();
+            restartGroups(params, blockDone, g, pc.queue, pc.groupQueue);
+        } else {
+            appendToQueue(params, pc.groupQueue, false, blockDone ? 1u : 0u, g, 0u);
+        }
     }
 }

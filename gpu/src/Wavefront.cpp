@@ -557,12 +557,19 @@ private:
             vkCmdFillBuffer(cmd, b_.table->handle(), b_.tables.ahead, uint64_t(b_.chunkCount) * 4, 0);
         });
     }
+    // Streamed waves restart the groups the shading ends in the shading itself
+    // (StreamingOptions::restartInShade): a generate kernel after each shading cost ~30 us of
+    // device time a dispatch at 10M over 4x, ~1,800 of them a frame (PERF_NOTES 106, 107).
+    bool restartInShade() const { return streamed_ && job_.restartInShade; }
     void shadeReady(WavefrontPush& push) {
-        dispatchQueue(*shade_, kShade, push, kShadeQueue);
-        // Streamed: the generate kernel next touches the group and walk queues, not this one, so
-        // the clear runs beside it, behind the same barrier.
-        clearQueue(kShadeQueue, streamed_);
-        if (streamed_) regenerate(push, 0);
+        WavefrontPush s = push;
+        s.restartGroups = restartInShade() ? 1u : 0u;
+        dispatchQueue(*shade_, kShade, s, kShadeQueue);
+        // Streamed, restarted by a generate kernel: that kernel touches the group and walk queues,
+        // not this one, so the clear runs beside it, behind the same barrier.
+        const bool generate = streamed_ && !restartInShade();
+        clearQueue(kShadeQueue, generate);
+        if (generate) regenerate(push, 0);
     }
     // Streamed waves: the groups of queue push.groupQueue (those whose block the shading just
     // finished, and idle ones), or with allGroups > 0 the groups 0..allGroups-1, add their block
@@ -825,7 +832,8 @@ private:
     // Streamed waves (out of core; docs/RENDERING.md, "Streamed waves"). The wave's paths form
     // groups of `groupSize` (a pixel's block of samples); a group whose block is done adds it to
     // its pixel's sum and starts the pixel's next block, or the next pixel of a window of open
-    // tiles, at once (wf_generate.comp, after every shading), so the wave stays full while the
+    // tiles, at once (in the shading that ended it, common/StreamGroups.glsl, or with
+    // restartInShade off in wf_generate.comp after every shading), so the wave stays full while the
     // last paths of a tile wait for their chunks, instead of a tile's wave running down to its
     // last path before the next tile starts. A tile's outputs lie in a ring slot of the output
     // buffer; the host closes a tile when the device has counted all its pixels done, reads it
@@ -937,10 +945,14 @@ private:
             beginPagingStep(push);
             if (volumes) clearVolumeCounters(*volumes);
             if (textures) clearTextureCounters(*textures);
-            if (step == 0)
+            if (step == 0) {
                 regenerate(push, groupCount);
-            else
+            } else {
+                // Groups left idle (the window had no pixel for them) take the pixels of the tiles
+                // just opened; with restarts in the shading nothing else restarts them.
+                if (restartInShade() && counts[push.groupQueue] > 0) regenerate(push, 0);
                 shadeReady(push);  // the paths the last step's final pass finished (and the groups after them)
+            }
             if ((volumes || textures) && counts[kShadeWaitQueue] > 0) retryWaiting(push);
             for (uint32_t r = 0; r < passes; ++r) walkRound(push, r + 1 < passes, r == 0);
             VASTRAY_TRY(runStep(st, volumes, textures, readClosed));

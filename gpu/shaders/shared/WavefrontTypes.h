@@ -57,7 +57,9 @@ const uint kShadeQueue = 3u;
 const uint kShadeWaitQueue = 4u;
 // Streamed waves (out of core): the two queues of path groups whose block of samples is done or
 // that have none (pathCapacity entries each): wf_generate takes one and appends those it could
-// not give a pixel to the other (2 * kGroupQueue + 1 - q: kGroupQueue is odd, no XOR).
+// not give a pixel to the other (2 * kGroupQueue + 1 - q: kGroupQueue is odd, no XOR). With
+// restarts in the shading (WavefrontPush::restartGroups) the shading restarts the groups it
+// ends and queues only the idle ones; wf_generate then runs once a paging step, for those.
 const uint kGroupQueue = 5u;
 const uint kQueueCount = 7u;
 
@@ -343,14 +345,16 @@ struct WavefrontPush {
     uint pixelCount;
     uint firstSample;
     uint sampleCount;
-    uint bounce;   // wf_shade.comp: the scattering event being shaded
+    uint restartGroups;  // wf_shade.comp, streamed waves: 1 = restart the groups whose block it ends
+                         // (common/StreamGroups.glsl), 0 = queue them on groupQueue for wf_generate.comp
     uint parkQueue; // wf_walk.comp: the queue its parked rays join (kParkQueue or kParkQueue + 1)
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
     uint queue;    // wf_walk.comp: the queue it walks (kWalkQueue, or the other park queue);
                    // wf_generate.comp, wf_shade.comp: the queue their new rays are appended to
     uint tileWidth;
     uint groupQueue;  // wf_generate.comp (kGenerateStream): the group queue it takes groups from
-                      // (kGroupQueue or kGroupQueue + 1; it appends idle ones to the other)
+                      // (kGroupQueue or kGroupQueue + 1; it appends idle ones to the other);
+                      // wf_shade.comp: the one it queues the groups it ends on (restartGroups: idle ones)
     // wf_walk.comp with kPackedPositions: the package grid's origin and step (floats, exact), a
     // vertex at origin + float(m) * step (vastray::QuantizationGrid::packedPosition).
     float gridOriginX, gridOriginY, gridOriginZ, gridStep;

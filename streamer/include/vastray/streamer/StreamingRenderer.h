@@ -111,6 +111,7 @@ struct DeviceRenderJob {
     bool partialResidency = true;         // StreamingOptions::partialResidency
     bool streamWaves = true;              // StreamingOptions::streamWaves
     uint32_t windowTiles = 0;             // StreamingOptions::windowTiles
+    bool restartInShade = true;           // StreamingOptions::restartInShade
     std::function<void(uint64_t done, uint64_t total)> progress;  // optional
     const std::atomic<bool>* cancel = nullptr;                   // optional: set stops the render
 };
@@ -171,6 +172,10 @@ struct StreamingOptions {
     // Streamed waves: the most tiles open at once (0: as many as the output buffer holds, at
     // most 32: gpu::PoolPlan::outputPixels); for comparisons.
     uint32_t windowTiles = 0;
+    // Streamed waves: the shading kernel that ends a group's block adds it to its pixel and starts
+    // the group's next block in the same dispatch (false: a generate kernel after each shading
+    // does, as before; for comparisons). Images are the same either way.
+    bool restartInShade = true;
     // Out of core, every chunk the host cache can hold is queued for decoding when a render
     // starts, in the order the image's rows (top first) first show them (render/PrefetchOrder.h),
     // behind the chunks rays wait for: a later load then finds its chunk decoded instead of
