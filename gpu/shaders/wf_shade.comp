@@ -11,7 +11,7 @@
 // where it parked.
 // Each path carries its own bounce, so paths of one wave may be at different bounces. Streamed
 // waves (pc.mode kWaveStreamed): a path that starts no ray has ended; the last of its group's
-// block to end restarts the group at once with pc.restartGroups (common/StreamGroups.glsl: its
+// block to end restarts the group at once with kKernelRestartGroups (common/StreamGroups.glsl: its
 // block added to its pixel, its next block started; a group the window has no pixel for joins
 // pc.groupQueue, idle), else queues the group (pc.groupQueue) for wf_generate.comp.
 #version 460
@@ -31,7 +31,7 @@
 
 layout(local_size_x = kWavefrontWorkgroupSize) in;
 
-// Streamed waves' restarts (pc.restartGroups): a workgroup ends few groups at once, so it loads
+// Streamed waves' restarts (kKernelRestartGroups): a workgroup ends few groups at once, so it loads
 // their samples 4 at a time (4 KiB of shared memory, not wf_generate's 16 KiB).
 #define VASTRAY_SAMPLE_BATCH 4u
 #include "common/StreamGroups.glsl"
@@ -346,13 +346,15 @@ void main() {
         }
         // The ended paths' radiance and words (written by shade) before their group's count: a
         // restart in this dispatch, in another workgroup, reads them.
-        if (pc.restartGroups != 0u) memoryBarrierBuffer();
+        const bool restarts = (pc.kernelFlags & kKernelRestartGroups) != 0u;
+        if (restarts) memoryBarrierBuffer();
         const bool blockDone = lead && atomicAdd(UVec2Array(params.p.groupState).v[g].x, 0u - paths) == paths;
-        if (pc.restartGroups != 0u) {
+        if (restarts) {
             memoryBarrierBuffer();
             restartGroups(params, blockDone, g, pc.queue, pc.groupQueue);
         } else {
             appendToQueue(params, pc.groupQueue, false, blockDone ? 1u : 0u, g, 0u);
         }
     }
+    emptyQueueAfterDispatch(params, kShadeQueue);
 }

@@ -58,10 +58,21 @@ const uint kShadeWaitQueue = 4u;
 // Streamed waves (out of core): the two queues of path groups whose block of samples is done or
 // that have none (pathCapacity entries each): wf_generate takes one and appends those it could
 // not give a pixel to the other (2 * kGroupQueue + 1 - q: kGroupQueue is odd, no XOR). With
-// restarts in the shading (WavefrontPush::restartGroups) the shading restarts the groups it
+// restarts in the shading (kKernelRestartGroups) the shading restarts the groups it
 // ends and queues only the idle ones; wf_generate then runs once a paging step, for those.
 const uint kGroupQueue = 5u;
 const uint kQueueCount = 7u;
+// The word after the queue counts (WavefrontParams::queueCounts): how many workgroups of the
+// running dispatch that empties its queue have finished (kKernelEmptiesQueue); zero between them.
+const uint kQueueDoneWord = kQueueCount;
+
+// WavefrontPush::kernelFlags.
+// wf_shade.comp, streamed waves: restart the groups whose block it ends (common/StreamGroups.glsl),
+// else queue them on groupQueue for wf_generate.comp.
+const uint kKernelRestartGroups = 1u;
+// wf_walk.comp and wf_shade.comp: the dispatch's last workgroup empties the queue it read (its count
+// and indirect dispatch), so that no fill and barrier follow it before the kernels that append to it.
+const uint kKernelEmptiesQueue = 2u;
 
 // Streamed waves: the most tiles open at once (the window; a tile holds about a wave's groups, so
 // a window wider than 16 tiles needs an output buffer larger than the wave: PoolPlan::outputPixels),
@@ -237,7 +248,7 @@ struct WavefrontParams {
                            // queues (kWalkQueue, kParkQueue); then the shade queue (kShadeQueue) of
                            // pathCapacity path indices: the paths whose rays are all walked; the
                            // volume wait queue (pathCapacity); the two group queues (groupCapacity)
-    uint64_t queueCounts;  // kQueueCount uints: the entries of each queue
+    uint64_t queueCounts;  // kQueueCount uints: the entries of each queue; then kQueueDoneWord
     uint64_t queueArgs;    // per queue a VkDispatchIndirectCommand (x, 1, 1): x = the workgroups of
                            // one thread per entry (the walk and shading are dispatched from them)
     uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
@@ -345,8 +356,7 @@ struct WavefrontPush {
     uint pixelCount;
     uint firstSample;
     uint sampleCount;
-    uint restartGroups;  // wf_shade.comp, streamed waves: 1 = restart the groups whose block it ends
-                         // (common/StreamGroups.glsl), 0 = queue them on groupQueue for wf_generate.comp
+    uint kernelFlags;  // kKernelRestartGroups, kKernelEmptiesQueue
     uint parkQueue; // wf_walk.comp: the queue its parked rays join (kParkQueue or kParkQueue + 1)
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
     uint queue;    // wf_walk.comp: the queue it walks (kWalkQueue, or the other park queue);
@@ -354,7 +364,7 @@ struct WavefrontPush {
     uint tileWidth;
     uint groupQueue;  // wf_generate.comp (kGenerateStream): the group queue it takes groups from
                       // (kGroupQueue or kGroupQueue + 1; it appends idle ones to the other);
-                      // wf_shade.comp: the one it queues the groups it ends on (restartGroups: idle ones)
+                      // wf_shade.comp: the one it queues the groups it ends on (kKernelRestartGroups: idle ones)
     // wf_walk.comp with kPackedPositions: the package grid's origin and step (floats, exact), a
     // vertex at origin + float(m) * step (vastray::QuantizationGrid::packedPosition).
     float gridOriginX, gridOriginY, gridOriginZ, gridStep;
