@@ -63,8 +63,9 @@ uint workgroupMax(uint count) {
     return m;
 }
 
-// Path state the shading of other workgroups wrote in the same dispatch (wf_shade.comp's
-// restarts): read past any incoherent cache, after the group's count reached zero.
+// Path and group state that other workgroups wrote in the same dispatch (wf_shade.comp's
+// restarts: the ended paths' radiance and words, the group's count): read past any incoherent
+// cache, after the group's count reached zero.
 layout(buffer_reference, std430, buffer_reference_align = 16) coherent buffer CoherentVec4Array { vec4 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) coherent buffer CoherentUVec2Array { uvec2 v[]; };
 
@@ -78,7 +79,9 @@ void restartGroups(ParamsRef params, bool live, uint g, uint walkQueue, uint idl
     const uint lt = gl_LocalInvocationIndex, groupSize = pc.sampleCount, spp = params.p.samplesPerPixel;
     const uint first = g * groupSize;
     StreamRef window = StreamRef(params.p.stream);
-    UVec2Array states = UVec2Array(params.p.groupState);
+    // Coherent: in wf_shade the group's count reached zero through other workgroups' atomics in
+    // this dispatch, and a cache line read earlier (a neighbouring group's) may hold it stale.
+    CoherentUVec2Array states = CoherentUVec2Array(params.p.groupState);
     Vec4Array accum = Vec4Array(params.p.accum);
     CoherentVec4Array radiance = CoherentVec4Array(params.p.radiance);
     CoherentUVec2Array pathInfo = CoherentUVec2Array(params.p.pathInfo);
