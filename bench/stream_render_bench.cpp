@@ -25,8 +25,6 @@
 //                       [--window-tiles N]  (streamed waves: the most tiles open at once; default: all that fit)
 //                       [--no-restart-in-shade]  (streamed waves: a generate kernel after each shading restarts
 //                        the groups it ended, instead of the shading itself; for comparisons)
-//                       [--host-clears-queues]  (a fill and a barrier empty the walk and shade queues after each
-//                        pass, instead of the kernels' last workgroups; for comparisons)
 //                       [--wave-share F]  (out of core, the wave's part of the budget; default 0.5)
 //                       [--path-state auto|device|host] [--host-state-paths N]  (gpu::PathStateMemory)
 //                       [--device-wave-cap N]  (out of core, state in the budget: the wave's cap in paths,
@@ -174,7 +172,6 @@ Args parseArgs(int argc, char** argv) {
         else if (flag == "--no-stream-waves") a.streaming.streamWaves = false;
         else if (flag == "--window-tiles") a.streaming.windowTiles = number.get<uint32_t>(flag, value());
         else if (flag == "--no-restart-in-shade") a.streaming.restartInShade = false;
-        else if (flag == "--host-clears-queues") a.streaming.kernelsEmptyQueues = false;
         else if (flag == "--no-prefetch-scene") a.streaming.prefetchScene = false;
         else if (flag == "--upload") {
             const std::string v = value();

@@ -76,8 +76,7 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
                                         bool overlapLoads = true, bool prefetchScene = true,
                                         const gpu::ChunkUploadOptions& upload = {}, bool streamWaves = true,
                                         const gpu::PathStateOptions& pathState = {}, uint32_t windowTiles = 0,
-                                        bool partialResidency = true, bool restartInShade = true,
-                                        bool kernelsEmptyQueues = true) {
+                                        bool partialResidency = true, bool restartInShade = true) {
     auto reader = PackageReader::open(path);
     if (!reader) return reader.status();
     StreamingOptions streaming;
@@ -88,7 +87,6 @@ inline Result<RenderImage> renderVulkan(const std::string& path, const RenderOpt
     streaming.windowTiles = windowTiles;
     streaming.partialResidency = partialResidency;
     streaming.restartInShade = restartInShade;
-    streaming.kernelsEmptyQueues = kernelsEmptyQueues;
     StreamingStats local;
     StreamingStats& s = stats ? *stats : local;
     s.memoryBudgetBytes = budget;

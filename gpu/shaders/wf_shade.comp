@@ -356,5 +356,4 @@ void main() {
             appendToQueue(params, pc.groupQueue, false, blockDone ? 1u : 0u, g, 0u);
         }
     }
-    emptyQueueAfterDispatch(params, kShadeQueue);
 }

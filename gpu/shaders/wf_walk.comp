@@ -295,5 +295,4 @@ void main() {
     const uint capacity = params.p.pathCapacity;
     appendToQueue(params, pc.parkQueue, false, parked ? 1u : 0u, ray, 0u);
     appendToQueue(params, kShadeQueue, false, pathReady ? 1u : 0u, ray >= capacity ? ray - capacity : ray, 0u);
-    emptyQueueAfterDispatch(params, pc.queue);
 }

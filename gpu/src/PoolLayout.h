@@ -46,7 +46,7 @@ inline TableLayout tableLayout(uint64_t slots, const PackageInfo& package) {
     t.demand = t.touched + align(chunks * 4);
     t.ahead = t.demand + align((chunks + 2) * 4);
     t.queueCounts = t.ahead + align(chunks * 4);
-    t.queueArgs = t.queueCounts + align((kQueueDoneWord + 1) * 4);
+    t.queueArgs = t.queueCounts + align(kQueueCount * 4);
     t.params = t.queueArgs + align(kQueueCount * 12);
     t.materials = t.params + align(sizeof(WavefrontParams));
     t.microfacet = t.materials + align(std::max<uint64_t>(package.materials.size(), 1) * sizeof(WavefrontMaterial));

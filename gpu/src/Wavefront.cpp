@@ -351,8 +351,6 @@ public:
         std::vector<uint32_t> args;
         for (uint32_t q = 0; q < kQueueCount; ++q) args.insert(args.end(), {0u, 1u, 1u});
         VASTRAY_TRY(upload(args, b_.tables.queueArgs));
-        // No dispatch that empties its queue is running (a failed render may have left the word).
-        VASTRAY_TRY(upload(std::vector<uint32_t>(1, 0), b_.tables.queueCounts + 4ull * kQueueDoneWord));
         VASTRAY_TRY(uploadResidency());
         if (b_.walkBits)  // no path's rays are being walked (a failed render may have left some)
             record([this](VkCommandBuffer cmd) {
@@ -541,11 +539,9 @@ private:
             p.queue = otherParkQueue(push.parkQueue);
             dispatchQueue(*walk_, kWalk, p, p.queue, true);
         }
-        WavefrontPush w = push;
-        w.kernelFlags = emptiesQueues() ? kKernelEmptiesQueue : 0u;
-        dispatchQueue(*walk_, kWalk, w, kWalkQueue);
+        dispatchQueue(*walk_, kWalk, push, kWalkQueue);
         ++stats_.walkPasses;
-        if (!emptiesQueues()) clearQueue(kWalkQueue);
+        clearQueue(kWalkQueue);
         if (shade) shadeReady(push);
     }
     static uint32_t otherParkQueue(uint32_t q) { return q == kParkQueue ? kParkQueue + 1 : kParkQueue; }
@@ -565,18 +561,14 @@ private:
     // (StreamingOptions::restartInShade): a generate kernel after each shading cost ~30 us of
     // device time a dispatch at 10M over 4x, ~1,800 of them a frame (PERF_NOTES 106, 107).
     bool restartInShade() const { return streamed_ && job_.restartInShade; }
-    // The walk over the walk queue and the shading empty their queues themselves
-    // (StreamingOptions::kernelsEmptyQueues; kKernelEmptiesQueue): a fill and a barrier fewer
-    // after each.
-    bool emptiesQueues() const { return job_.kernelsEmptyQueues; }
     void shadeReady(WavefrontPush& push) {
         WavefrontPush s = push;
-        s.kernelFlags = (restartInShade() ? kKernelRestartGroups : 0u) | (emptiesQueues() ? kKernelEmptiesQueue : 0u);
+        s.kernelFlags = restartInShade() ? kKernelRestartGroups : 0u;
         dispatchQueue(*shade_, kShade, s, kShadeQueue);
         // Streamed, restarted by a generate kernel: that kernel touches the group and walk queues,
         // not this one, so the clear runs beside it, behind the same barrier.
         const bool generate = streamed_ && !restartInShade();
-        if (!emptiesQueues()) clearQueue(kShadeQueue, generate);
+        clearQueue(kShadeQueue, generate);
         if (generate) regenerate(push, 0);
     }
     // Streamed waves: the groups of queue push.groupQueue (those whose block the shading just

@@ -385,8 +385,7 @@ TEST(StreamingRender, SmallWavesEqualOneWave) {
 // Out of core, waves are streamed: a group of a pixel's samples that is done starts the next
 // pixel of the window at once. With small waves the window holds several tiles and turns over
 // many times; the image equals the in-core render and the tile-at-a-time schedule bit for bit,
-// whether the shading restarts the groups it ends or a generate kernel after it does (and
-// whether the kernels or fills between them empty the queues).
+// whether the shading restarts the groups it ends or a generate kernel after it does.
 TEST(StreamingRender, StreamedWavesEqualTileWaves) {
     const std::string path = generatedPackage(GeneratorKind::Terrain, 20000, 64 << 10);
     RenderOptions o = smallRender(kAllAovs);
@@ -404,10 +403,9 @@ TEST(StreamingRender, StreamedWavesEqualTileWaves) {
     ASSERT_TRUE(n) << n.message();
     auto w = renderVulkan(path, o, tight, &wide, 150);
     ASSERT_TRUE(w) << w.message();
-    // Groups restarted by a generate kernel after each shading, not by the shading itself, and
-    // queues emptied by fills between the kernels, not by the kernels.
+    // Groups restarted by a generate kernel after each shading, not by the shading itself.
     StreamingStats generated;
-    auto g = renderVulkan(path, o, tight, &generated, 333, true, true, {}, true, {}, 0, true, false, false);
+    auto g = renderVulkan(path, o, tight, &generated, 333, true, true, {}, true, {}, 0, true, false);
     ASSERT_TRUE(g) << g.message();
     expectIdentical(*a, *b, false);
     expectIdentical(*a, *g, false);

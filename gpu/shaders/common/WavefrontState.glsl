@@ -78,23 +78,6 @@ uint reserveInQueue(ParamsRef params, uint q, bool started, uint count) {
     barrier();
     return groupAppendBase + local;
 }
-// With kKernelEmptiesQueue: the last workgroup of this dispatch over queue q to finish empties q
-// (its count and indirect dispatch) and zeroes the finished-workgroups word for the next such
-// dispatch. Every workgroup read q's count and entries before it counts itself finished, so none
-// reads q after it is emptied; the dispatch's size was read from q's indirect arguments before any
-// workgroup ran. Two such dispatches never run beside each other (a barrier between them, the host's
-// order). Every invocation must call it, after its last read of q.
-void emptyQueueAfterDispatch(ParamsRef params, uint q) {
-    if ((pc.kernelFlags & kKernelEmptiesQueue) == 0u) return;
-    barrier();
-    if (gl_LocalInvocationIndex != 0u) return;
-    RwUintArray counts = RwUintArray(params.p.queueCounts);
-    if (atomicAdd(counts.v[kQueueDoneWord], 1u) + 1u != gl_NumWorkGroups.x) return;
-    counts.v[q] = 0u;
-    RwUintArray(params.p.queueArgs).v[3u * q] = 0u;
-    counts.v[kQueueDoneWord] = 0u;
-}
-
 // Appends up to two entries per invocation to queue q (every invocation of the workgroup must
 // call it).
 void appendToQueue(ParamsRef params, uint q, bool started, uint count, uint first, uint second) {

@@ -62,17 +62,11 @@ const uint kShadeWaitQueue = 4u;
 // ends and queues only the idle ones; wf_generate then runs once a paging step, for those.
 const uint kGroupQueue = 5u;
 const uint kQueueCount = 7u;
-// The word after the queue counts (WavefrontParams::queueCounts): how many workgroups of the
-// running dispatch that empties its queue have finished (kKernelEmptiesQueue); zero between them.
-const uint kQueueDoneWord = kQueueCount;
 
 // WavefrontPush::kernelFlags.
 // wf_shade.comp, streamed waves: restart the groups whose block it ends (common/StreamGroups.glsl),
 // else queue them on groupQueue for wf_generate.comp.
 const uint kKernelRestartGroups = 1u;
-// wf_walk.comp and wf_shade.comp: the dispatch's last workgroup empties the queue it read (its count
-// and indirect dispatch), so that no fill and barrier follow it before the kernels that append to it.
-const uint kKernelEmptiesQueue = 2u;
 
 // Streamed waves: the most tiles open at once (the window; a tile holds about a wave's groups, so
 // a window wider than 16 tiles needs an output buffer larger than the wave: PoolPlan::outputPixels),
@@ -248,7 +242,7 @@ struct WavefrontParams {
                            // queues (kWalkQueue, kParkQueue); then the shade queue (kShadeQueue) of
                            // pathCapacity path indices: the paths whose rays are all walked; the
                            // volume wait queue (pathCapacity); the two group queues (groupCapacity)
-    uint64_t queueCounts;  // kQueueCount uints: the entries of each queue; then kQueueDoneWord
+    uint64_t queueCounts;  // kQueueCount uints: the entries of each queue
     uint64_t queueArgs;    // per queue a VkDispatchIndirectCommand (x, 1, 1): x = the workgroups of
                            // one thread per entry (the walk and shading are dispatched from them)
     uint64_t accum;        // vec4 per tile pixel: radiance sum, camera hits
@@ -356,7 +350,7 @@ struct WavefrontPush {
     uint pixelCount;
     uint firstSample;
     uint sampleCount;
-    uint kernelFlags;  // kKernelRestartGroups, kKernelEmptiesQueue
+    uint kernelFlags;  // kKernelRestartGroups
     uint parkQueue; // wf_walk.comp: the queue its parked rays join (kParkQueue or kParkQueue + 1)
     uint mode;     // wf_generate.comp: kGeneratePaths or kGenerateAov; wf_accumulate.comp: 1 = resolve too
     uint queue;    // wf_walk.comp: the queue it walks (kWalkQueue, or the other park queue);

@@ -180,7 +180,6 @@ Result<RenderImage> StreamingScene::render(const RenderOptions& options, RenderS
     job.streamWaves = st.options.streamWaves;
     job.windowTiles = st.options.windowTiles;
     job.restartInShade = st.options.restartInShade;
-    job.kernelsEmptyQueues = st.options.kernelsEmptyQueues;
     job.progress = progress;
     job.cancel = cancel;
     VASTRAY_TRY(st.backend->renderOnDevice(job, *st.pager, image, st.totals));

@@ -112,7 +112,6 @@ struct DeviceRenderJob {
     bool streamWaves = true;              // StreamingOptions::streamWaves
     uint32_t windowTiles = 0;             // StreamingOptions::windowTiles
     bool restartInShade = true;           // StreamingOptions::restartInShade
-    bool kernelsEmptyQueues = true;       // StreamingOptions::kernelsEmptyQueues
     std::function<void(uint64_t done, uint64_t total)> progress;  // optional
     const std::atomic<bool>* cancel = nullptr;                   // optional: set stops the render
 };
@@ -177,10 +176,6 @@ struct StreamingOptions {
     // the group's next block in the same dispatch (false: a generate kernel after each shading
     // does, as before; for comparisons). Images are the same either way.
     bool restartInShade = true;
-    // The walk and shading kernels empty the queue they read (the last workgroup of the dispatch
-    // to finish), instead of a fill and a barrier after each (false, for comparisons). Images are
-    // the same either way.
-    bool kernelsEmptyQueues = true;
     // Out of core, every chunk the host cache can hold is queued for decoding when a render
     // starts, in the order the image's rows (top first) first show them (render/PrefetchOrder.h),
     // behind the chunks rays wait for: a later load then finds its chunk decoded instead of
