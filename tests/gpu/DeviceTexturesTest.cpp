@@ -4,6 +4,7 @@
 // out bytes it dropped.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstring>
 #include <vector>
 
@@ -14,10 +15,11 @@ namespace vastray::gpu {
 namespace {
 
 // One 1024^2 texture (92 pages with its levels) whose page p reads as bytes derived from p, the
-// reads counted.
+// reads counted (atomically: DeviceTextures reads pages on worker threads; a plain counter lost
+// increments, and the test failed ~1 run in 15).
 struct FakeTextures {
     std::vector<PackageTexture> textures;
-    uint64_t reads = 0;
+    std::atomic<uint64_t> reads{0};
     FakeTextures() {
         PackageTexture t;
         t.name = "fake";
