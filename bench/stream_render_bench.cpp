@@ -260,7 +260,28 @@ struct Row {
     RenderStats render;
     StreamingStats streaming;
     gpu::ChunkUploadFigures upload;  // the render's backend's
+    std::string imageCheck;          // at --depth: its image against the resident render's (sameImage)
 };
+
+// Whether two renders of one frame are the same bit for bit (the beauty and its alpha): "equal",
+// or how many values differ and by how much at most.
+std::string sameImage(const RenderImage& a, const RenderImage& b) {
+    if (a.rgb.size() != b.rgb.size() || a.alpha.size() != b.alpha.size()) return "different sizes";
+    uint64_t differ = 0;
+    double most = 0;
+    auto compare = [&](const std::vector<float>& x, const std::vector<float>& y) {
+        for (size_t i = 0; i < x.size(); ++i)
+            if (std::memcmp(&x[i], &y[i], sizeof(float)) != 0)
+                ++differ, most = std::max(most, std::abs(double(x[i]) - double(y[i])));
+    };
+    compare(a.rgb, b.rgb);
+    compare(a.alpha, b.alpha);
+    if (differ == 0) return "equal";
+    char text[128];
+    std::snprintf(text, sizeof text, "%llu of %zu values differ (at most %.3g)", (unsigned long long)differ,
+                  a.rgb.size() + a.alpha.size(), most);
+    return text;
+}
 
 }  // namespace
 
@@ -319,6 +340,7 @@ int main(int argc, char** argv) {
         o.integrator = integrator, o.maxDepth = depth;
         o.region = args.region;
         std::vector<Row> runs;
+        std::string imageCheck;
         for (int run = 0; run < args.repeat; ++run) {
             Row row;
             row.label = label, row.budget = budget;
@@ -335,8 +357,13 @@ int main(int argc, char** argv) {
             if (!image) fail(label + ": " + image.message());
             std::fprintf(stderr, "%s: %.3f s\n", label.c_str(), row.render.renderSeconds);
             runs.push_back(row);
+            if (depth == args.depth && !residentImage.rgb.empty()) {
+                const std::string check = sameImage(*image, residentImage);
+                if (imageCheck.empty() || check != "equal") imageCheck = check;  // any run that differs
+            }
         }
         rows.push_back(median(runs));
+        rows.back().imageCheck = imageCheck;
     };
     render("warm-up (in core, primary)", fitBudget, IntegratorKind::Path, 0);
     rows.clear();
@@ -357,6 +384,7 @@ int main(int argc, char** argv) {
             o.width = args.width, o.height = args.height, o.samplesPerPixel = args.spp, o.maxDepth = depth;
             o.region = args.region;
             std::vector<Row> runs;
+            std::string imageCheck;
             for (int pass = 0; pass <= args.repeat; ++pass) {
                 Row row;
                 row.label = prefix + (depth == 0 ? ", primary" : ", path depth " + std::to_string(depth));
@@ -365,9 +393,15 @@ int main(int argc, char** argv) {
                 auto image = (*scene)->render(o, &row.render, &row.streaming);
                 if (!image) fail(row.label + ": " + image.message());
                 if (pass > 0) runs.push_back(row);  // pass 0 warmed the scene up
-                if (budget == fitBudget && depth == args.depth) residentImage = std::move(image).value();
+                if (budget == fitBudget && depth == args.depth) {
+                    residentImage = std::move(image).value();
+                } else if (depth == args.depth && !residentImage.rgb.empty()) {
+                    const std::string check = sameImage(*image, residentImage);
+                    if (imageCheck.empty() || check != "equal") imageCheck = check;
+                }
             }
             rows.push_back(median(runs));
+            rows.back().imageCheck = imageCheck;
         }
     };
     steady("resident", fitBudget, {0u, args.depth});
@@ -497,6 +531,17 @@ int main(int argc, char** argv) {
                       (unsigned long long)u.stagedOnDecode, u.stageSeconds,
                       u.stagingBytes ? formatBytes(u.stagingBytes).c_str() : "-");
         md << line;
+    }
+    // Out of core a render equals the in-core one bit for bit (docs/RENDERING.md): each row at
+    // --depth, every run of it, against the resident render on the same device.
+    bool checked = false;
+    for (const Row& r : rows) {
+        if (r.imageCheck.empty()) continue;
+        if (!checked)
+            md << "\nImages at path depth " << args.depth
+               << " against the resident render (beauty and alpha, bit for bit, every run):\n\n";
+        checked = true;
+        md << "- " << r.label << ": " << r.imageCheck << "\n";
     }
     std::fputs(md.str().c_str(), stdout);
     if (!args.out.empty()) std::ofstream(args.out) << md.str();
