@@ -321,12 +321,20 @@ int main(int argc, char** argv) {
     const uint64_t fitBudget = fitPlan->totalBytes;
 
     std::vector<Row> rows;
-    RenderImage residentImage;  // the resident path render, against which Embree's is compared
+    RenderImage residentImage;  // the resident path render: Embree's and every row's image at --depth are compared with it
     // The run of median render time among `runs`.
     auto median = [](std::vector<Row> runs) {
         std::sort(runs.begin(), runs.end(),
                   [](const Row& a, const Row& b) { return a.render.renderSeconds < b.render.renderSeconds; });
         return runs[runs.size() / 2];
+    };
+    // A row's image check (Row::imageCheck) after one more run's image: "equal" while every run so
+    // far was, else what the last run that differed found. Only at --depth, once the resident
+    // image exists.
+    auto checkImage = [&](std::string& check, uint32_t depth, const RenderImage& image) {
+        if (depth != args.depth || residentImage.rgb.empty()) return;
+        const std::string found = sameImage(image, residentImage);
+        if (check.empty() || found != "equal") check = found;
     };
     auto setCamera = [&](RenderOptions& o) {
         if (!args.camera) return;
@@ -357,10 +365,7 @@ int main(int argc, char** argv) {
             if (!image) fail(label + ": " + image.message());
             std::fprintf(stderr, "%s: %.3f s\n", label.c_str(), row.render.renderSeconds);
             runs.push_back(row);
-            if (depth == args.depth && !residentImage.rgb.empty()) {
-                const std::string check = sameImage(*image, residentImage);
-                if (imageCheck.empty() || check != "equal") imageCheck = check;  // any run that differs
-            }
+            checkImage(imageCheck, depth, *image);
         }
         rows.push_back(median(runs));
         rows.back().imageCheck = imageCheck;
@@ -393,12 +398,10 @@ int main(int argc, char** argv) {
                 auto image = (*scene)->render(o, &row.render, &row.streaming);
                 if (!image) fail(row.label + ": " + image.message());
                 if (pass > 0) runs.push_back(row);  // pass 0 warmed the scene up
-                if (budget == fitBudget && depth == args.depth) {
+                if (budget == fitBudget && depth == args.depth)
                     residentImage = std::move(image).value();
-                } else if (depth == args.depth && !residentImage.rgb.empty()) {
-                    const std::string check = sameImage(*image, residentImage);
-                    if (imageCheck.empty() || check != "equal") imageCheck = check;
-                }
+                else
+                    checkImage(imageCheck, depth, *image);
             }
             rows.push_back(median(runs));
             rows.back().imageCheck = imageCheck;

@@ -1,5 +1,5 @@
 // Camera paths, and the restart of streamed waves' groups: wf_generate.comp runs them over its
-// queue of groups; wf_shade.comp (pc.restartGroups) restarts the groups whose block its shading
+// queue of groups; wf_shade.comp (kKernelRestartGroups) restarts the groups whose block its shading
 // ended, in the same dispatch. Include after common/WavefrontPrelude.glsl and common/Random.glsl;
 // VASTRAY_SAMPLE_BATCH (default 16) sets how many samples of a group a workgroup loads side by
 // side (shared memory: 16 bytes per invocation and sample).
